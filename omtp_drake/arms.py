@@ -1,0 +1,193 @@
+"""The classic UR arms: the course's named poses, loading, and position control.
+
+Each arm is position-controlled like a real UR: desired joint positions in,
+measured state out. Inside, a discrete derivative turns the position command
+into a desired state and Drake's ``InverseDynamicsController`` (computed torque
+with a model of the arm plus its gripper) tracks it, so gravity is compensated.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.systems.controllers import InverseDynamicsController
+from pydrake.systems.framework import DiagramBuilder
+from pydrake.trajectories import PiecewisePolynomial
+from pydrake.systems.primitives import StateInterpolatorWithDiscreteDerivative
+
+from omtp_drake.assets import MODELS_DIR, expand_xacro, ur_urdf
+from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.scenario import RobotConfig
+
+#: Joint order of every pose: pan, lift, elbow, wrist 1, wrist 2, wrist 3.
+JOINT_NAMES = (
+    "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+    "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
+)
+
+#: The course's named poses (radians), by their course names.
+NAMED_POSES: Mapping[str, tuple[float, ...]] = {
+    "R1Up": (0.0, -1.5708, 0.0, -1.5708, 0.0, 0.0),
+    "R1Home": (1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 0.0),
+    "R1PreGrasp": (0.785398, -1.5708, 1.5708, -1.5708, -1.5708, 0.0),
+    "R1Place": (-1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 0.0),
+    "R2Up": (0.0, -1.5708, 0.0, -1.5708, 0.0, 0.0),
+    "R2Home": (1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 0.0),
+    "R2PreGrasp": (0.785398, -1.5708, 1.5708, -1.5708, -1.5708, 0.0),
+    "R2Place": (2.5952, -1.161, 0.7512, -1.2293, -1.5708, 0.0),
+}
+
+
+def named_pose(name: str, robot: RobotConfig | None = None) -> np.ndarray:
+    """Joint positions of a named pose.
+
+    ``name`` is a course name (``R2Place``) or, with ``robot``, a short name
+    resolved with the robot's prefix (``Place`` -> ``R2Place`` for robot 2).
+    """
+    key = name
+    if robot is not None and name not in NAMED_POSES:
+        key = robot.pose_prefix + name
+    if key not in NAMED_POSES:
+        valid = list(NAMED_POSES)
+        if robot is not None:
+            valid += [k[len(robot.pose_prefix):] for k in NAMED_POSES if k.startswith(robot.pose_prefix)]
+        raise UnknownNameError("named pose", name, valid)
+    return np.array(NAMED_POSES[key])
+
+
+def pose_names(robot: RobotConfig) -> list[str]:
+    """Short names of the poses of ``robot`` (``Home``, ``Place``...)."""
+    return [k[len(robot.pose_prefix):] for k in NAMED_POSES if k.startswith(robot.pose_prefix)]
+
+
+def add_arm_models(parser: Parser, robot: RobotConfig) -> tuple[ModelInstanceIndex, ModelInstanceIndex | None]:
+    """Adds the arm (and its gripper, welded to tool0) to ``parser``'s plant.
+
+    The arm's base is not welded: the caller places it.
+    Returns (arm instance, gripper instance or None).
+    """
+    plant = parser.plant()
+    (arm,) = parser.AddModels(str(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.joint_limit)))
+    gripper = None
+    if robot.gripper:
+        text = expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper})
+        (gripper,) = parser.AddModelsFromString(text, "urdf")
+        plant.WeldFrames(
+            plant.GetFrameByName(f"{robot.name}_tool0", arm),
+            plant.GetFrameByName(f"{robot.gripper}_base_link", gripper),
+        )
+    return arm, gripper
+
+
+def make_control_plant(robot: RobotConfig) -> MultibodyPlant:
+    """A continuous plant of the arm alone (plus its gripper), base welded at the origin.
+
+    Used for inverse dynamics and differential IK. The pedestal only translates
+    and yaws the base, so gravity seen by the arm is the same as in the factory.
+    """
+    plant = MultibodyPlant(time_step=0.0)
+    arm, _ = add_arm_models(Parser(plant), robot)
+    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(f"{robot.name}_base_link", arm))
+    plant.Finalize()
+    return plant
+
+
+def add_arm_controller(
+    builder: DiagramBuilder,
+    plant: MultibodyPlant,
+    arm: ModelInstanceIndex,
+    robot: RobotConfig,
+) -> tuple[StateInterpolatorWithDiscreteDerivative, InverseDynamicsController, MultibodyPlant]:
+    """Adds the position servo of one arm and connects it to ``plant``.
+
+    Returns the (position -> desired state) interpolator, whose input is the
+    arm's position command, the inverse-dynamics controller, and the
+    controller's model of the arm. The caller must keep that plant alive as
+    long as the diagram: the controller only refers to it (pydrake does not
+    keep it alive; a collected plant crashes the simulation).
+    """
+    control_plant = make_control_plant(robot)
+    n = control_plant.num_positions()
+    controller = builder.AddNamedSystem(
+        f"{robot.name}.controller",
+        InverseDynamicsController(
+            control_plant,
+            kp=np.full(n, robot.kp),
+            ki=np.full(n, robot.ki),
+            kd=np.full(n, robot.kd),
+            has_reference_acceleration=False,
+        ),
+    )
+    interpolator = builder.AddNamedSystem(
+        f"{robot.name}.desired_state_from_position",
+        StateInterpolatorWithDiscreteDerivative(n, plant.time_step(), suppress_initial_transient=True),
+    )
+    builder.Connect(plant.get_state_output_port(arm), controller.get_input_port_estimated_state())
+    builder.Connect(interpolator.get_output_port(), controller.get_input_port_desired_state())
+    builder.Connect(controller.get_output_port_control(), plant.get_actuation_input_port(arm))
+    return interpolator, controller, control_plant
+
+
+def base_pose(robot: RobotConfig) -> RigidTransform:
+    """``X_WB``: the arm's base_link on top of its pedestal."""
+    x, y = robot.xy
+    return RigidTransform(RollPitchYaw(0.0, 0.0, robot.yaw), [x, y, robot.pedestal_height])
+
+
+def joint_trajectory(
+    robot: RobotConfig,
+    poses: list[str],
+    *,
+    start_time: float = 0.0,
+    dwell: float = 0.5,
+    speed_fraction: float = 0.5,
+    velocity_limits: np.ndarray | None = None,
+) -> PiecewisePolynomial:
+    """A smooth joint-space trajectory through named poses, at rest at each one.
+
+    Each move is a cubic with zero end velocities whose duration keeps every
+    joint under ``speed_fraction`` of its velocity limit (a cubic peaks at 1.5x
+    its mean speed); the arm then dwells ``dwell`` seconds.
+    """
+    if len(poses) < 1:
+        raise ConfigError("joint_trajectory needs at least one pose")
+    if not 0 < speed_fraction <= 1:
+        raise ConfigError(f"speed_fraction must be in (0, 1], got {speed_fraction}")
+    vmax = np.asarray(velocity_limits if velocity_limits is not None
+                      else VELOCITY_LIMITS[robot.model], dtype=float)
+    qs = [named_pose(p, robot) for p in poses]
+    times, knots = [start_time], [qs[0]]
+
+    def add(duration: float, q: np.ndarray) -> None:
+        if duration > 0:
+            times.append(times[-1] + duration)
+            knots.append(q)
+
+    for q in qs[1:]:
+        add(dwell, knots[-1])
+        add(max(0.5, float(np.max(1.5 * np.abs(q - knots[-1]) / (speed_fraction * vmax)))), q)
+    add(dwell, knots[-1])
+    if len(times) == 1:
+        add(1e-3, knots[-1])
+    zero = np.zeros(6)
+    segments = []
+    for i in range(len(times) - 1):
+        segments.append(PiecewisePolynomial.CubicHermite(
+            [times[i], times[i + 1]], np.column_stack([knots[i], knots[i + 1]]),
+            np.column_stack([zero, zero])))
+    trajectory = segments[0]
+    for segment in segments[1:]:
+        trajectory.ConcatenateInTime(segment)
+    return trajectory
+
+
+#: Joint velocity limits (rad/s) of the classic arms, pan ... wrist 3.
+VELOCITY_LIMITS: Mapping[str, tuple[float, ...]] = {
+    "ur10": (2.16, 2.16, 3.15, 3.2, 3.2, 3.2),
+    "ur5": (3.15, 3.15, 3.15, 3.2, 3.2, 3.2),
+}

@@ -1,0 +1,235 @@
+"""Model files: the project's xacro sources and the classic UR arms.
+
+Two sources of models feed the factory:
+
+* ``models/*.xacro`` (shipped with this package): every piece of the cell built
+  from primitives. They are expanded with the PyPI ``xacro`` package, without
+  ROS: ``$(find PKG)`` is resolved from :data:`PACKAGES` instead of the ament
+  index.
+* The classic UR5 / UR10 of the installed ``example-robot-data`` package. Drake
+  1.51 cannot use them as shipped (``.stl`` collision meshes are rejected,
+  Meshcat does not draw ``.stl``, ``.dae`` doubles the replay size, the URDF
+  welds ``base_link`` to a ``world`` link). :func:`ur_urdf` converts the meshes
+  once (``.stl`` -> ``.obj``, ``.dae`` -> ``.gltf``), writes a URDF whose link
+  and joint names carry a prefix (``robot1_base_link``), and caches both under
+  :func:`cache_dir`. Nothing converted is committed to the repository.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import hashlib
+import importlib.metadata
+import logging
+import math
+import os
+import tempfile
+import xml.etree.ElementTree as ET
+from pathlib import Path
+from typing import Iterator, Mapping
+
+from omtp_drake.errors import ConfigError, UnknownNameError
+
+_log = logging.getLogger(__name__)
+
+#: The repository folder of model sources (``models/``).
+MODELS_DIR = Path(__file__).resolve().parent.parent / "models"
+
+#: ``$(find PKG)`` targets known to the xacro expansion.
+PACKAGES: Mapping[str, Path] = {"omtp_drake_models": MODELS_DIR}
+
+#: Arms this project can load, by the name used in scenarios.
+UR_MODELS = ("ur5", "ur10")
+
+# Bump when the conversion below changes, so stale caches are not reused.
+_CONVERTER_VERSION = "3"
+_DRAKE_NS = "http://drake.mit.edu"
+
+
+# ----------------------------------------------------------------------------
+# xacro without ROS
+
+
+@contextlib.contextmanager
+def _find_from(packages: Mapping[str, Path]) -> Iterator[None]:
+    """Temporarily route xacro's ``$(find PKG)`` to ``packages``."""
+    from xacro import substitution_args
+
+    def find(pkg: str) -> str:
+        if pkg not in packages:
+            raise UnknownNameError("xacro package", pkg, packages)
+        return str(packages[pkg])
+
+    saved = substitution_args._eval_find
+    saved_dict = substitution_args._eval_dict["find"]
+    substitution_args._eval_find = find
+    substitution_args._eval_dict["find"] = find
+    try:
+        yield
+    finally:
+        substitution_args._eval_find = saved
+        substitution_args._eval_dict["find"] = saved_dict
+
+
+def expand_xacro(path: Path | str, args: Mapping[str, object] | None = None) -> str:
+    """Expands the xacro file ``path`` with ``args`` and returns the URDF text."""
+    import xacro
+
+    path = Path(path)
+    if not path.is_file():
+        raise ConfigError(f"xacro file {str(path)!r} does not exist")
+    mappings = {k: _xacro_value(v) for k, v in (args or {}).items()}
+    with _find_from(PACKAGES):
+        try:
+            doc = xacro.process_file(str(path), mappings=mappings)
+        except xacro.XacroException as e:
+            raise ConfigError(f"cannot expand {path.name} with {mappings}: {e}") from e
+    return doc.toprettyxml(indent="  ")
+
+
+def _xacro_value(v: object) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (list, tuple)):
+        return " ".join(repr(float(x)) for x in v)
+    return str(v)
+
+
+# ----------------------------------------------------------------------------
+# Cache
+
+
+def cache_dir() -> Path:
+    """Folder of converted models: ``$OMTP_DRAKE_CACHE`` or ``~/.cache/omtp_drake``."""
+    root = os.environ.get("OMTP_DRAKE_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "omtp_drake")
+    key = hashlib.sha1(f"{_erd_version()}/{_CONVERTER_VERSION}".encode()).hexdigest()[:10]
+    path = Path(root) / f"models-{key}"
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    """Writes ``data`` so concurrent readers never see a half-written file."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".")
+    with os.fdopen(fd, "wb") as f:
+        f.write(data)
+    os.replace(tmp, path)
+
+
+# ----------------------------------------------------------------------------
+# UR arms from example-robot-data
+
+
+@functools.cache
+def _erd_version() -> str:
+    return importlib.metadata.version("example-robot-data")
+
+
+@functools.cache
+def ur_description_dir() -> Path:
+    """The installed ``ur_description`` folder of ``example-robot-data``."""
+    dist = importlib.metadata.distribution("example-robot-data")
+    path = Path(str(dist.locate_file("cmeel.prefix/share/example-robot-data/robots/ur_description")))
+    if not (path / "urdf").is_dir():
+        raise ConfigError(f"example-robot-data is installed but has no ur_description at {path}")
+    return path
+
+
+def _convert_mesh(src: Path, dst: Path) -> None:
+    """Converts one mesh: ``.stl`` -> ``.obj`` (collision), ``.dae`` -> ``.gltf`` (visual)."""
+    import trimesh
+
+    if dst.suffix == ".obj":
+        mesh = trimesh.load(src, force="mesh")
+        _write_atomic(dst, mesh.export(file_type="obj").encode())
+        return
+    scene = trimesh.load(src, force="scene")
+    # glTF is y-up: Drake turns a glTF +90 deg about x when loading it, so
+    # pre-rotate -90 deg about x to keep the link's own z-up geometry.
+    scene.apply_transform(trimesh.transformations.rotation_matrix(-math.pi / 2, [1, 0, 0]))
+    files = trimesh.exchange.gltf.export_gltf(scene, embed_buffers=True)
+    _write_atomic(dst, files["model.gltf"])
+
+
+def _converted_meshes(model: str) -> Path:
+    """Converts (once) the meshes of ``model`` and returns their cache folder."""
+    out = cache_dir() / model
+    out.mkdir(parents=True, exist_ok=True)
+    src_root = ur_description_dir() / "meshes" / model
+    for kind, src_ext, dst_ext in (("collision", ".stl", ".obj"), ("visual", ".dae", ".gltf")):
+        for src in sorted((src_root / kind).glob(f"*{src_ext}")):
+            dst = out / kind / (src.stem + dst_ext)
+            if not dst.exists():
+                dst.parent.mkdir(parents=True, exist_ok=True)
+                _log.info("converting %s -> %s", src, dst)
+                _convert_mesh(src, dst)
+    return out
+
+
+def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
+    """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
+
+    Args:
+        model: ``"ur5"`` or ``"ur10"``.
+        prefix: prepended to link, joint and actuator names (``"robot1_"``).
+        joint_limit: symmetric position limit of every joint (the course: pi).
+
+    The ``world`` link and its joint are dropped (the station welds
+    ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
+    removed, collision meshes are declared convex and mesh paths point into the
+    cache. The robot is named ``prefix`` without its trailing underscore.
+    """
+    if model not in UR_MODELS:
+        raise UnknownNameError("arm model", model, UR_MODELS)
+    meshes = _converted_meshes(model)
+    src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
+    name = prefix.rstrip("_") or model
+    dst = cache_dir() / f"{name}_{model}_{_limit_tag(joint_limit)}.urdf"
+    if dst.exists():
+        return dst
+
+    ET.register_namespace("drake", _DRAKE_NS)
+    root = ET.parse(src).getroot()
+    root.set("name", name)
+    for el in root.findall("gazebo"):
+        root.remove(el)
+    for joint in root.findall("joint"):
+        if joint.find("parent").get("link") == "world":
+            root.remove(joint)
+    for link in root.findall("link"):
+        if link.get("name") == "world":
+            root.remove(link)
+        if link.get("name") == "ee_link":
+            for col in link.findall("collision"):
+                link.remove(col)
+    for link in root.findall("link"):
+        link.set("name", prefix + link.get("name"))
+    for joint in root.findall("joint"):
+        joint.set("name", prefix + joint.get("name"))
+        for tag in ("parent", "child"):
+            el = joint.find(tag)
+            el.set("link", prefix + el.get("link"))
+        limit = joint.find("limit")
+        if limit is not None and joint.get("type") == "revolute":
+            limit.set("lower", repr(-joint_limit))
+            limit.set("upper", repr(joint_limit))
+    for trans in root.findall("transmission"):
+        trans.set("name", prefix + trans.get("name"))
+        trans.find("joint").set("name", prefix + trans.find("joint").get("name"))
+        actuator = trans.find("actuator")
+        actuator.set("name", prefix + actuator.get("name"))
+    for mesh in root.iter("mesh"):
+        kind = "collision" if "/collision/" in mesh.get("filename") else "visual"
+        stem = Path(mesh.get("filename")).stem
+        ext = ".obj" if kind == "collision" else ".gltf"
+        mesh.set("filename", str(meshes / kind / (stem + ext)))
+        if kind == "collision":
+            ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+    _write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    return dst
+
+
+def _limit_tag(limit: float) -> str:
+    return f"lim{round(limit * 1e4)}"

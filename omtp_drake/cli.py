@@ -1,0 +1,140 @@
+"""The ``omtp-drake`` command line.
+
+Every command that takes SCENARIO accepts a name from ``diagrams/`` or the path
+of a scenario YAML file. Errors are printed as one line on stderr with exit
+code 2; no traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import math
+import sys
+from typing import Sequence
+
+import numpy as np
+
+from omtp_drake.errors import ConfigError, OmtpError
+
+_log = logging.getLogger("omtp_drake")
+
+
+def _parse_poses(items: Sequence[str]) -> dict[str, str]:
+    poses = {}
+    for item in items:
+        robot, sep, pose = item.partition("=")
+        if not sep or not robot or not pose:
+            raise ConfigError(f"--pose takes ROBOT=POSE (e.g. robot1=R1Home), got {item!r}")
+        poses[robot] = pose
+    return poses
+
+
+def cmd_scenarios(args: argparse.Namespace) -> int:
+    from omtp_drake.scenario import load_scenario, scenario_names
+
+    for name in scenario_names():
+        print(f"{name:28s} {load_scenario(name).description}")
+    return 0
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    from omtp_drake.demos import named_pose_tour
+
+    stats = named_pose_tour(args.scenario, meshcat=args.meshcat, record=args.record)
+    print(f"simulated {stats.sim_time_s:.2f} s in {stats.wall_time_s:.2f} s "
+          f"(real-time factor {stats.real_time_factor:.1f}, build {stats.build_time_s:.2f} s)")
+    if args.record:
+        print(f"replay: {args.record}")
+    if args.meshcat:
+        input("Meshcat is still serving; press Enter to quit. ")
+    return 0
+
+
+def format_transform(X, time: float = 0.0) -> str:
+    """Like ROS ``tf_echo``."""
+    q = X.rotation().ToQuaternion()
+    from pydrake.math import RollPitchYaw
+
+    rpy = RollPitchYaw(X.rotation()).vector()
+    t = X.translation()
+    return (f"At time {time:.3f}\n"
+            f"- Translation: [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}]\n"
+            f"- Rotation: in Quaternion [{q.x():.3f}, {q.y():.3f}, {q.z():.3f}, {q.w():.3f}]\n"
+            f"            in RPY (radian) [{rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}]\n"
+            f"            in RPY (degree) [{math.degrees(rpy[0]):.3f}, {math.degrees(rpy[1]):.3f}, "
+            f"{math.degrees(rpy[2]):.3f}]")
+
+
+def cmd_tf_echo(args: argparse.Namespace) -> int:
+    from omtp_drake import arms
+    from omtp_drake.frames import FrameTree
+    from omtp_drake.station import build_station
+
+    station = build_station(args.scenario)
+    poses = _parse_poses(args.pose)
+    for robot in poses:
+        station.arm(robot)  # unknown robot: one clear error
+    positions = {name: arms.named_pose(poses.get(name, "Home"), h.config)
+                 for name, h in station.arms.items()}
+    context = station.create_context(positions)
+    tree = FrameTree(station.plant)
+    X = tree.lookup_transform(station.plant.GetMyContextFromRoot(context), args.source, args.target)
+    if args.json:
+        q = X.rotation().ToQuaternion()
+        print(json.dumps({"translation": [float(v) for v in X.translation()],
+                          "rotation_xyzw": [q.x(), q.y(), q.z(), q.w()]}))
+    else:
+        print(format_transform(X))
+    return 0
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="omtp-drake", description="The OMTP factory cell simulated with Drake.")
+    parser.add_argument("-v", "--verbose", action="store_true", help="log progress")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("scenarios", help="list the scenario names")
+    p.set_defaults(func=cmd_scenarios)
+
+    p = sub.add_parser("demo", help="the main demo (both arms through their named poses)")
+    p.add_argument("--scenario", default="omtp_factory", help="scenario name or YAML path")
+    p.add_argument("--meshcat", action="store_true", help="serve a live Meshcat view")
+    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
+    p.set_defaults(func=cmd_demo)
+
+    p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("source", metavar="SOURCE")
+    p.add_argument("target", metavar="TARGET")
+    p.add_argument("--pose", action="append", default=[], metavar="ROBOT=POSE",
+                   help="arm at a named pose (default Home), e.g. robot1=R1Up")
+    p.add_argument("--json", action="store_true", help="print JSON")
+    p.set_defaults(func=cmd_tf_echo)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        format="%(levelname)s %(name)s: %(message)s")
+    # Drake warns on every build that the floor plane takes no deformable contact.
+    # (pydrake sets its logger's level when first imported, so import it first.)
+    import pydrake.common  # noqa: F401
+
+    logging.getLogger("drake").setLevel(logging.INFO if args.verbose else logging.ERROR)
+    np.set_printoptions(precision=4, suppress=True)
+    try:
+        return args.func(args)
+    except OmtpError as e:
+        print(f"omtp-drake: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

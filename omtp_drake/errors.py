@@ -1,0 +1,54 @@
+"""One exception hierarchy for every user-facing error of omtp_drake.
+
+Every error names the bad value and, where there is a closed set of valid
+choices, lists them, so the message alone tells the user what to type instead.
+"""
+
+from __future__ import annotations
+
+import difflib
+from typing import Iterable
+
+
+class OmtpError(Exception):
+    """Base class of every error raised on purpose by omtp_drake."""
+
+
+class ConfigError(OmtpError, ValueError):
+    """A configuration value (scenario field, system parameter) is invalid."""
+
+
+class ScenarioError(OmtpError):
+    """A scenario cannot be found or loaded (unknown name, missing file, bad YAML)."""
+
+
+class UnknownNameError(OmtpError, KeyError):
+    """A name (frame, pose, robot, camera, part...) is not one of the valid ones."""
+
+    def __init__(self, kind: str, name: str, valid: Iterable[str], *, closest: bool = False):
+        self.kind = kind
+        self.name = name
+        self.valid = sorted(valid)
+        if closest:
+            near = difflib.get_close_matches(name, self.valid, n=5, cutoff=0.4)
+            hint = f"closest: {', '.join(near)}" if near else f"valid: {_short_list(self.valid)}"
+        else:
+            hint = f"valid: {_short_list(self.valid)}"
+        super().__init__(f"unknown {kind} {name!r}; {hint}")
+
+    def __str__(self) -> str:  # KeyError would otherwise quote the message
+        return self.args[0]
+
+
+class FrameError(OmtpError):
+    """A transform cannot be looked up (e.g. a time outside the buffer's history)."""
+
+
+class SimulationError(OmtpError):
+    """The simulation cannot do what was asked (e.g. no free part left in the pool)."""
+
+
+def _short_list(names: list[str], limit: int = 40) -> str:
+    if len(names) <= limit:
+        return ", ".join(names)
+    return ", ".join(names[:limit]) + f", ... ({len(names) - limit} more)"

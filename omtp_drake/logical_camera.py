@@ -1,0 +1,544 @@
+"""A Gazebo-like *logical camera*: names, types and poses of the models in view.
+
+A logical camera does not render an image. Every update it reports which
+models of the plant overlap its view frustum, and where each model's origin is
+in the camera frame, like the ``LogicalCamera`` sensor of Gazebo that the
+original course used (``osrf_gear/LogicalCameraImage``).
+
+Frames (monogram notation, ``X_AB`` is the pose of frame B in frame A):
+
+* ``W``: the world frame.
+* ``C``: the camera frame (the station's ``<name>_frame``, at
+  :meth:`LogicalCameraConfig.X_PC` in its parent). Gazebo's convention: the
+  camera looks along **+Cx**, +Cz is up and the image width runs along Cy. With
+  rpy (0, 1.5708, 0) in the world the camera looks straight down.
+* ``O``: the optical frame, the usual vision convention: +Oz forward (= +Cx),
+  +Ox right (= -Cy), +Oy down (= -Cz); its pose in C is
+  :func:`X_CameraOptical`.
+* ``B``: a body frame; ``M``: a model's origin, the frame of the model
+  instance's first body.
+
+Typical use, once the plant (which has the camera frame) is finalized::
+
+    camera = add_logical_camera(builder, plant, scene_graph, frame, config,
+                                exclude=[camera_model_instance], seed=scenario_seed)
+"""
+
+# (no `from __future__ import annotations`: the config is a YAML schema)
+
+import copy
+import logging
+import math
+import re
+import zlib
+from dataclasses import dataclass, field
+from typing import Any, Optional, Sequence
+
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.geometry import GeometryId, Role, SceneGraph, SceneGraphInspector
+from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import BodyIndex, Frame, ModelInstanceIndex
+from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, State
+
+from omtp_drake.errors import ConfigError
+
+_log = logging.getLogger(__name__)
+
+_TRAILING_INDEX = re.compile(r"_\d+$")
+
+# The plant's model instances that are never candidates: world (0) and default (1).
+_RESERVED_INSTANCES = (0, 1)
+
+
+# ----------------------------------------------------------------------------
+# Configuration
+
+
+@dataclass
+class LogicalCameraConfig:
+    """Parameters of one logical camera (part of the scenario YAML schema).
+
+    Attributes:
+        name: the camera's name; also the system's name.
+        parent: the name of the plant frame the camera is attached to.
+        xyz: camera position in ``parent`` [m].
+        rpy: camera orientation in ``parent``, roll-pitch-yaw [rad].
+        near: distance of the near clipping plane along +Cx [m].
+        far: distance of the far clipping plane along +Cx [m].
+        horizontal_fov: full horizontal opening angle (about Cz) [rad].
+        aspect_ratio: image width / height; the vertical half-extent of the
+            frustum is the horizontal half-extent divided by it.
+        update_rate_hz: sampling rate [Hz]; samples at t = k / rate.
+        position_noise_sigma: std. dev. of the Gaussian noise added to each
+            axis of a reported position (in the camera frame) [m]; 0 = off.
+        orientation_noise_sigma: std. dev. of the Gaussian roll, pitch and yaw
+            of the rotation that perturbs a reported orientation [rad]; 0 = off.
+        known_types: report only models of these types; empty = all types.
+        known_names: report only models of these names; empty = all names.
+        anonymize: report every model with an empty name (its type is kept).
+        seed: noise seed of this camera; ``None`` = the scenario's seed.
+    """
+
+    name: str = "logical_camera"
+    parent: str = "world"
+    xyz: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    rpy: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    near: float = 0.2
+    far: float = 1.0
+    horizontal_fov: float = 1.1
+    aspect_ratio: float = 1.5
+    update_rate_hz: float = 10.0
+    position_noise_sigma: float = 0.0
+    orientation_noise_sigma: float = 0.0
+    known_types: list[str] = field(default_factory=list)
+    known_names: list[str] = field(default_factory=list)
+    anonymize: bool = False
+    seed: Optional[int] = None
+
+    def validate(self) -> None:
+        """Raises ConfigError naming the first invalid field, its value and the valid range."""
+        prefix = f"logical camera {self.name!r}:"
+        if not self.name:
+            raise ConfigError(f"logical camera: name={self.name!r} is invalid; it must be non-empty")
+        for key in ("xyz", "rpy"):
+            value = getattr(self, key)
+            if len(value) != 3 or not all(math.isfinite(v) for v in value):
+                raise ConfigError(f"{prefix} {key}={value!r} is invalid; it must be 3 finite numbers")
+        _check(prefix, "near", self.near, self.near > 0, "near > 0")
+        _check(prefix, "far", self.far, self.far > self.near, f"far > near (= {self.near})")
+        _check(prefix, "horizontal_fov", self.horizontal_fov,
+               0 < self.horizontal_fov < math.pi, "0 < horizontal_fov < pi")
+        _check(prefix, "aspect_ratio", self.aspect_ratio, self.aspect_ratio > 0, "aspect_ratio > 0")
+        _check(prefix, "update_rate_hz", self.update_rate_hz, self.update_rate_hz > 0,
+               "update_rate_hz > 0")
+        for key in ("position_noise_sigma", "orientation_noise_sigma"):
+            value = getattr(self, key)
+            _check(prefix, key, value, value >= 0, f"{key} >= 0")
+        if self.seed is not None and self.seed < 0:
+            raise ConfigError(f"{prefix} seed={self.seed!r} is invalid; valid: null or seed >= 0")
+
+    def X_PC(self) -> RigidTransform:
+        """The camera frame's pose in its parent frame, from ``xyz`` and ``rpy``."""
+        return RigidTransform(RollPitchYaw(self.rpy), self.xyz)
+
+
+def _check(prefix: str, key: str, value: float, ok: bool, valid: str) -> None:
+    # `ok` is False for NaN in every comparison used above; infinities are also rejected.
+    if not ok or not math.isfinite(value):
+        raise ConfigError(f"{prefix} {key}={value!r} is invalid; valid: {valid} (finite)")
+
+
+def X_CameraOptical() -> RigidTransform:
+    """The optical frame O in the camera frame C: Oz = Cx, Ox = -Cy, Oy = -Cz."""
+    R_CO = RotationMatrix(np.array([[0.0, 0.0, 1.0],
+                                    [-1.0, 0.0, 0.0],
+                                    [0.0, -1.0, 0.0]]))
+    return RigidTransform(R_CO, np.zeros(3))
+
+
+# ----------------------------------------------------------------------------
+# Output values
+
+
+def model_type(name: str) -> str:
+    """The type of a model: its name without a trailing ``_<digits>`` (``object_3`` -> ``object``)."""
+    return _TRAILING_INDEX.sub("", name)
+
+
+def _pose_dict(X: RigidTransform) -> dict[str, list[float]]:
+    q = X.rotation().ToQuaternion()
+    return {"translation": [float(v) for v in X.translation()],
+            "rotation_xyzw": [float(q.x()), float(q.y()), float(q.z()), float(q.w())]}
+
+
+def _pose_lines(X: RigidTransform, indent: str) -> list[str]:
+    pose = _pose_dict(X)
+    lines = [f"{indent}pose:", f"{indent}  position:"]
+    lines += [f"{indent}    {k}: {v!r}" for k, v in zip("xyz", pose["translation"])]
+    lines.append(f"{indent}  orientation:")
+    lines += [f"{indent}    {k}: {v!r}" for k, v in zip("xyzw", pose["rotation_xyzw"])]
+    return lines
+
+
+@dataclass(frozen=True)
+class DetectedModel:
+    """One model in view.
+
+    Attributes:
+        name: the model instance's name (``""`` when the camera anonymizes).
+        type: the name without a trailing ``_<digits>`` (see :func:`model_type`).
+        X_CM: pose of the model's origin M (its first body's frame) in the camera frame C.
+    """
+
+    name: str
+    type: str
+    X_CM: RigidTransform
+
+
+@dataclass(frozen=True)
+class LogicalCameraImage:
+    """One sample of a logical camera.
+
+    Attributes:
+        time: the sample time [s].
+        camera_name: the camera's name.
+        X_WC: the camera frame's pose in the world at ``time``.
+        models: the models in view, in the plant's model-instance order.
+
+    Images are values: the poses they hold must not be mutated (copies of an
+    image share them).
+    """
+
+    time: float
+    camera_name: str
+    X_WC: RigidTransform
+    models: tuple[DetectedModel, ...]
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> "LogicalCameraImage":
+        # Drake clones abstract state values on every update; an image is immutable.
+        return self
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data (for JSON/YAML); quaternions are [x, y, z, w] with w >= 0."""
+        return {"time": self.time,
+                "camera_name": self.camera_name,
+                "camera_pose": _pose_dict(self.X_WC),
+                "models": [{"name": m.name, "type": m.type, "pose": _pose_dict(m.X_CM)}
+                           for m in self.models]}
+
+    def __str__(self) -> str:
+        """Renders like ``rostopic echo`` of the original ``LogicalCameraImage`` message."""
+        lines = [f"time: {self.time!r}", f'camera_name: "{self.camera_name}"']
+        lines += _pose_lines(self.X_WC, "")
+        if not self.models:
+            lines.append("models: []")
+        else:
+            lines.append("models:")
+            for m in self.models:
+                lines += ["  -", f'    name: "{m.name}"', f'    type: "{m.type}"']
+                lines += _pose_lines(m.X_CM, "    ")
+        lines.append("---")
+        return "\n".join(lines)
+
+
+# ----------------------------------------------------------------------------
+# The frustum overlap test (separating axes)
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    """[v]x, so that ``_skew(v) @ a == np.cross(v, a)``."""
+    x, y, z = v
+    return np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]], float)
+
+
+class _FrustumOverlap:
+    """Exact overlap test of many oriented boxes against the view frustum.
+
+    The frustum, in C, is {near <= x <= far, |y| <= x ty, |z| <= x tz} with
+    ty = tan(fov / 2), tz = ty / aspect: the intersection of the 6 half-spaces
+    n_k . p <= b_k. Both shapes are convex polyhedra, so they are disjoint iff
+    their projections on one of these axes L are (the separating-axis
+    theorem): the frustum face normals n_k, the 3 box face normals, and the 18
+    cross products of a frustum edge direction (6) with a box edge direction
+    (3).
+
+    Projections: a box with centre c, axes a_i and half-extents h_i projects
+    on L to c . L +- sum_i |a_i . L| h_i. The frustum's vertices are
+    d (1, +-ty, +-tz) for d in {near, far}, so it projects to
+    [min(near g-, far g-), max(near g+, far g+)] with
+    g+- = Lx +- (ty |Ly| + tz |Lz|).
+
+    A cross product of parallel edges is the zero vector: both projections are
+    the point 0 and it never separates. A tiny one from rounding is still a
+    genuine direction, so no axis needs special treatment.
+    """
+
+    def __init__(self, config: LogicalCameraConfig):
+        ty = math.tan(config.horizontal_fov / 2)
+        tz = ty / config.aspect_ratio
+        self._near = config.near
+        self._far = config.far
+        self._lateral = np.array([0.0, ty, tz])
+        # Half-spaces n_k . p <= b_k: near, far, +y, -y, +z, -z sides.
+        self._face_normals = np.array(
+            [[-1, 0, 0], [1, 0, 0], [-ty, 1, 0], [-ty, -1, 0], [-tz, 0, 1], [-tz, 0, -1]], float)
+        self._face_offsets = np.array([-config.near, config.far, 0, 0, 0, 0], float)
+        edges = np.array(
+            [[0, 1, 0], [0, 0, 1], [1, ty, tz], [1, ty, -tz], [1, -ty, tz], [1, -ty, -tz]], float)
+        # A row vector a times this (3, 21) matrix = the rows a, e_0 x a, ..., e_5 x a.
+        self._axis_rows = np.concatenate([np.eye(3)] + [_skew(e).T for e in edges], axis=1)
+
+    def overlaps(self, p_CB: np.ndarray, R_CB: np.ndarray, half: np.ndarray) -> np.ndarray:
+        """Which of n boxes overlap the frustum (touching counts).
+
+        The face normals first: a box is out if one separates it, in if its
+        centre is in every half-space; the other axes only for the rest.
+
+        Args:
+            p_CB: (n, 3) box centres in C.
+            R_CB: (n, 3, 3) box orientations in C (columns: the box axes).
+            half: (n, 3) half-extents along the box axes.
+        Returns:
+            (n,) bool.
+        """
+        distance = p_CB @ self._face_normals.T - self._face_offsets  # (n, 6), > 0: outside
+        radius = (np.abs(self._face_normals @ R_CB) @ half[:, :, None])[:, :, 0]
+        result = (distance <= 0).all(axis=1)
+        undecided = np.flatnonzero(~(result | (distance > radius).any(axis=1)))
+        if len(undecided):
+            result[undecided] = self._not_separated_by_edges_or_box(
+                p_CB[undecided], R_CB[undecided], half[undecided])
+        return result
+
+    def _not_separated_by_edges_or_box(self, p_CB: np.ndarray, R_CB: np.ndarray,
+                                       half: np.ndarray) -> np.ndarray:
+        """No box normal nor edge cross product separates (arguments as :meth:`overlaps`)."""
+        n = len(p_CB)
+        axes = (R_CB.transpose(0, 2, 1).reshape(-1, 3) @ self._axis_rows).reshape(n, 21, 3)
+        lateral = np.abs(axes) @ self._lateral  # (n, 21)
+        g_plus = axes[:, :, 0] + lateral
+        g_minus = axes[:, :, 0] - lateral
+        frustum_max = np.maximum(self._near * g_plus, self._far * g_plus)
+        frustum_min = np.minimum(self._near * g_minus, self._far * g_minus)
+        centre = (axes @ p_CB[:, :, None])[:, :, 0]
+        radius = (np.abs(axes @ R_CB) @ half[:, :, None])[:, :, 0]
+        separated = (centre - radius > frustum_max) | (centre + radius < frustum_min)
+        return ~separated.any(axis=1)
+
+
+# ----------------------------------------------------------------------------
+# Bounding boxes
+
+
+def _geometries(plant: MultibodyPlant, inspector: SceneGraphInspector,
+                body_index: BodyIndex) -> list[GeometryId]:
+    """The proximity and illustration geometries of a body."""
+    frame_id = plant.GetBodyFrameIdIfExists(body_index)
+    if frame_id is None:
+        return []
+    geometries = set(inspector.GetGeometries(frame_id, Role.kProximity))
+    geometries |= set(inspector.GetGeometries(frame_id, Role.kIllustration))
+    return sorted(geometries, key=lambda g: g.get_value())
+
+
+_BOX_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+
+
+def _bounding_box(inspector: SceneGraphInspector, geometries: Sequence[GeometryId]
+                  ) -> Optional[tuple[np.ndarray, np.ndarray]]:
+    """The axis-aligned box (centre, half-extents), in the frame F they are
+    registered to, of the oriented bounding boxes of ``geometries`` (analytic
+    for primitives, from the vertices for meshes); None if one of them is
+    unbounded (a HalfSpace)."""
+    corners = []
+    for geometry_id in geometries:
+        obb = inspector.GetObbInGeometryFrame(geometry_id)
+        if obb is None:
+            return None
+        X_FO = inspector.GetPoseInFrame(geometry_id) @ obb.pose()
+        corners.append(X_FO.rotation().matrix() @ (_BOX_CORNERS * obb.half_width()).T
+                       + X_FO.translation()[:, None])
+    points = np.concatenate(corners, axis=1)
+    low, high = points.min(axis=1), points.max(axis=1)
+    return (low + high) / 2, (high - low) / 2
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    """A model the camera may report, as it reports it."""
+
+    name: str  # "" when anonymized
+    type: str
+    origin_body: int  # body index of M
+
+
+# ----------------------------------------------------------------------------
+# The system
+
+
+class LogicalCamera(LeafSystem):
+    """Reports the models of a MultibodyPlant that overlap a view frustum.
+
+    .. pydrake_system::
+
+        name: LogicalCamera
+        input_ports:
+        - body_poses
+        output_ports:
+        - image
+
+    - ``body_poses`` (abstract ``list[RigidTransform]``): the plant's
+      ``get_body_poses_output_port()``, X_WB of every body by body index.
+    - ``image`` (abstract :class:`LogicalCameraImage`): the last sample. The
+      camera samples at ``config.update_rate_hz`` from t = 0 (and at
+      initialization), and holds the sample in between: at t = 0.25 with
+      10 Hz the image's time is 0.2. Before the context is initialized the
+      image is empty with time NaN.
+
+    Frames: the camera frame C is the plant frame ``frame``; it looks along +Cx,
+    +Cz up, the width along Cy (Gazebo's logical camera; see the module
+    docstring and :func:`X_CameraOptical` for the optical frame).
+
+    Frustum: the truncated pyramid between the planes x = near and x = far of
+    C, with half-width x tan(fov / 2) along Cy and half-height
+    x tan(fov / 2) / aspect_ratio along Cz.
+
+    Candidates: every model instance of the plant except world, default and
+    ``exclude`` (the camera's own model), that has geometry (proximity or
+    illustration) and passes ``known_types`` / ``known_names``. A model with a
+    HalfSpace (unbounded, e.g. a floor) is never reported. The bounding box of
+    a body is the axis-aligned box, in the body frame, of its geometries'
+    oriented bounding boxes (meshes: of their vertices).
+
+    A model is seen when the oriented bounding box of any of its bodies
+    overlaps the frustum (exact separating-axis test; partial overlap counts).
+    It is reported with the pose X_CM of its origin M, the frame of its first
+    body; with ``anonymize`` its name is reported as "".
+
+    Noise (when the sigmas are positive), in C: p_CM += N(0, sigma_p) per axis,
+    R_CM <- R(roll, pitch, yaw) R_CM with roll, pitch, yaw ~ N(0, sigma_o).
+    The draws are a function of (seed, camera name, sample index = round(t *
+    rate), model): the same seed gives the same sequence, without hidden state.
+    """
+
+    def __init__(self, plant: MultibodyPlant, scene_graph_inspector: SceneGraphInspector,
+                 frame: Frame, config: LogicalCameraConfig, *,
+                 exclude: Sequence[ModelInstanceIndex] = (), seed: int = 0):
+        super().__init__()
+        config.validate()
+        if seed < 0:
+            raise ConfigError(f"logical camera {config.name!r}: seed={seed!r} is invalid; "
+                              "valid: seed >= 0")
+        if not plant.is_finalized():
+            raise ConfigError(f"logical camera {config.name!r}: the plant must be finalized first")
+        self.set_name(config.name)
+        self._config = copy.deepcopy(config)
+        self._name = config.name
+        self._rate = config.update_rate_hz
+        self._seed_key = (config.seed if config.seed is not None else seed,
+                          zlib.crc32(config.name.encode()))
+        self._camera_body = int(frame.body().index())
+        self._X_BC = frame.GetFixedPoseInBodyFrame()
+        self._frustum = _FrustumOverlap(config)
+        self._init_candidates(plant, scene_graph_inspector, {int(i) for i in exclude})
+
+        self.DeclareAbstractInputPort(
+            "body_poses", plant.get_body_poses_output_port().Allocate())
+        period = 1.0 / config.update_rate_hz
+        state = self.DeclareAbstractState(AbstractValue.Make(LogicalCameraImage(
+            time=math.nan, camera_name=config.name, X_WC=RigidTransform(), models=())))
+        self.DeclareInitializationUnrestrictedUpdateEvent(self._update)
+        self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
+        self.DeclareForcedUnrestrictedUpdateEvent(self._update)
+        self.DeclareStateOutputPort("image", state)
+
+    def _init_candidates(self, plant: MultibodyPlant, inspector: SceneGraphInspector,
+                         exclude: set[int]) -> None:
+        """Sets the candidate models and the bounding boxes of their bodies
+        (rows of ``_box_*``; candidate k owns rows [_box_starts[k], _box_starts[k + 1]))."""
+        config = self._config
+        candidates: list[_Candidate] = []
+        box_body: list[int] = []
+        box_centre: list[np.ndarray] = []
+        box_half: list[np.ndarray] = []
+        box_starts: list[int] = []
+        for i in range(plant.num_model_instances()):
+            instance = ModelInstanceIndex(i)
+            name = plant.GetModelInstanceName(instance)
+            if (i in _RESERVED_INSTANCES or i in exclude
+                    or (config.known_types and model_type(name) not in config.known_types)
+                    or (config.known_names and name not in config.known_names)):
+                continue
+            bodies = plant.GetBodyIndices(instance)
+            boxes = []
+            for body in bodies:
+                geometries = _geometries(plant, inspector, body)
+                if geometries:
+                    boxes.append((int(body), _bounding_box(inspector, geometries)))
+            if not boxes:
+                continue
+            if any(box is None for _, box in boxes):
+                _log.debug("%s: model %r has a HalfSpace; never reported", self._name, name)
+                continue
+            candidates.append(_Candidate("" if config.anonymize else name, model_type(name),
+                                         int(bodies[0])))
+            box_starts.append(len(box_body))
+            for body, (centre, half) in boxes:
+                box_body.append(body)
+                box_centre.append(centre)
+                box_half.append(half)
+        self._candidates = tuple(candidates)
+        self._box_body = tuple(box_body)
+        self._box_centre = np.array(box_centre).reshape(-1, 3, 1)
+        self._box_half = np.array(box_half).reshape(-1, 3)
+        self._box_starts = np.array(box_starts, dtype=np.intp)
+        _log.debug("%s: %d candidate models, %d boxes", self._name, len(candidates), len(box_body))
+
+    @property
+    def config(self) -> LogicalCameraConfig:
+        """A copy of the camera's configuration."""
+        return copy.deepcopy(self._config)
+
+    def _update(self, context: Context, state: State) -> None:
+        state.get_mutable_abstract_state(0).set_value(self._capture(context))
+
+    def _capture(self, context: Context) -> "LogicalCameraImage":
+        """The image at the context's time."""
+        time = context.get_time()
+        X_WB = self.get_input_port(0).Eval(context)
+        X_WC = X_WB[self._camera_body] @ self._X_BC
+        if not self._candidates:
+            return LogicalCameraImage(time, self._name, X_WC, ())
+        X_CW = X_WC.inverse()
+        T_CW = X_CW.GetAsMatrix34()
+        # [R_CB | R_CW p_WB] of the bodies with boxes, then the box centres in C.
+        T = T_CW[:, :3] @ np.array([X_WB[b].GetAsMatrix34() for b in self._box_body])
+        R_CB = T[:, :, :3]
+        p_CB = T[:, :, 3] + (R_CB @ self._box_centre)[:, :, 0] + T_CW[:, 3]
+        seen = np.logical_or.reduceat(self._frustum.overlaps(p_CB, R_CB, self._box_half),
+                                      self._box_starts)
+        indices = np.flatnonzero(seen).tolist()
+        if not indices:
+            return LogicalCameraImage(time, self._name, X_WC, ())
+        noise = self._noise(time)
+        models = []
+        for k in indices:
+            candidate = self._candidates[k]
+            X_CM = X_CW @ X_WB[candidate.origin_body]
+            if noise is not None:
+                X_CM = RigidTransform(
+                    RollPitchYaw(noise[k, 3:]).ToRotationMatrix() @ X_CM.rotation(),
+                    X_CM.translation() + noise[k, :3])
+            models.append(DetectedModel(candidate.name, candidate.type, X_CM))
+        return LogicalCameraImage(time, self._name, X_WC, tuple(models))
+
+    def _noise(self, time: float) -> Optional[np.ndarray]:
+        """(candidates, 6) rows [dx, dy, dz, roll, pitch, yaw] of the sample at ``time``,
+        or None without noise."""
+        sigma_p = self._config.position_noise_sigma
+        sigma_o = self._config.orientation_noise_sigma
+        if sigma_p == 0 and sigma_o == 0:
+            return None
+        rng = np.random.default_rng((*self._seed_key, round(time * self._rate)))
+        return rng.standard_normal((len(self._candidates), 6)) * np.repeat([sigma_p, sigma_o], 3)
+
+
+def add_logical_camera(builder: DiagramBuilder, plant: MultibodyPlant, scene_graph: SceneGraph,
+                       frame: Frame, config: LogicalCameraConfig, *,
+                       exclude: Sequence[ModelInstanceIndex] = (), seed: int = 0
+                       ) -> LogicalCamera:
+    """Adds a LogicalCamera (named ``config.name``) to ``builder`` and connects
+    the plant's body poses to it. ``frame``, ``exclude`` and ``seed`` are as in
+    :class:`LogicalCamera`; the plant must be finalized.
+
+    Raises:
+        ConfigError: invalid ``config`` or ``seed`` (nothing is added then).
+    """
+    config.validate()
+    camera = LogicalCamera(plant, scene_graph.model_inspector(), frame, config,
+                           exclude=exclude, seed=seed)
+    builder.AddSystem(camera)
+    builder.Connect(plant.get_body_poses_output_port(), camera.get_input_port(0))
+    return camera

@@ -1,0 +1,293 @@
+"""The factory station: one function builds the whole cell as a Drake diagram.
+
+:func:`build_station` turns a :class:`~omtp_drake.scenario.Scenario` into a
+diagram holding the MultibodyPlant (floor, conveyor, bins, pedestals, UR arms
+with vacuum grippers, logical cameras, break beam, deletion wall, parts), the
+SceneGraph, the arms' position servos, the logical cameras and, optionally, a
+Meshcat visualizer.
+
+Exported ports are named ``<instance>.<signal>``:
+
+=============================  ======  ==========================================
+port                           kind    meaning
+=============================  ======  ==========================================
+``robotN.position``            input   desired joint positions (6)
+``robotN.position_measured``   output  joint positions (6)
+``robotN.velocity_estimated``  output  joint velocities (6)
+``robotN.state_estimated``     output  [q; v] (12)
+``robotN.torque_commanded``    output  joint torques of the servo (6)
+``<camera>.image``             output  :class:`LogicalCameraImage`
+``body_poses``                 output  world poses of every body
+``contact_results``            output  the plant's contact results
+``query_object``               output  SceneGraph's query object
+``plant_state``                output  the plant's full state
+=============================  ======  ==========================================
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+from pydrake.geometry import (
+    Box,
+    HalfSpace,
+    CollisionFilterDeclaration,
+    GeometrySet,
+    Meshcat,
+    MeshcatVisualizer,
+    MeshcatVisualizerParams,
+    Role,
+    SceneGraph,
+)
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import AddMultibodyPlant, CoulombFriction, MultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex, PdControllerGains
+from pydrake.systems.framework import Context, Diagram, DiagramBuilder
+from pydrake.systems.primitives import ConstantVectorSource, Demultiplexer
+
+from omtp_drake import arms
+from omtp_drake.assets import MODELS_DIR, expand_xacro
+from omtp_drake.errors import UnknownNameError
+from omtp_drake.logical_camera import LogicalCamera, add_logical_camera
+from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
+
+_log = logging.getLogger(__name__)
+
+#: Reference poses of the fixed pieces of the cell (world frame).
+X_W_CONVEYOR = RigidTransform([1.2, 0.0, 0.0])
+X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.575, 1.9, 0.925])
+X_W_DELETION_WALL = RigidTransform(RollPitchYaw(0.0, 0.0, 1.5708), [1.2, -5.1, 1.425])
+#: Full belt speed (power 100), m/s, toward world -y.
+BELT_MAX_SPEED = 0.2
+#: Damping gain of the belt's velocity servo (N s/m).
+_BELT_KD = 1e4
+
+
+@dataclass
+class ArmHandles:
+    """What the station knows of one arm."""
+
+    config: RobotConfig
+    arm: ModelInstanceIndex
+    gripper: Optional[ModelInstanceIndex]
+    pedestal: ModelInstanceIndex
+    #: The servo's model of the arm and gripper (base at the origin); also
+    #: what differential IK plans with. Held here to keep it alive.
+    control_plant: Optional[MultibodyPlant] = None
+
+
+@dataclass
+class Station:
+    """A built factory diagram and handles into it."""
+
+    scenario: Scenario
+    diagram: Diagram
+    plant: MultibodyPlant
+    scene_graph: SceneGraph
+    arms: dict[str, ArmHandles]
+    cameras: dict[str, LogicalCamera]
+    parts: dict[str, ModelInstanceIndex]
+    meshcat: Optional[Meshcat] = None
+    visualizer: Optional[MeshcatVisualizer] = None
+    _interpolators: dict = field(default_factory=dict, repr=False)
+
+    def arm(self, name: str) -> ArmHandles:
+        """Handles of the arm ``name`` (``robot1``...)."""
+        if name not in self.arms:
+            raise UnknownNameError("robot", name, self.arms)
+        return self.arms[name]
+
+    def create_context(self, positions: dict[str, np.ndarray] | None = None,
+                       *, hold: bool = True) -> Context:
+        """A context of the station with each arm at rest at its initial pose.
+
+        ``positions`` overrides the pose of some arms (name -> joint positions).
+        With ``hold``, each arm's position command is fixed to its pose, so a
+        simulation of the station alone holds still.
+        """
+        context = self.diagram.CreateDefaultContext()
+        for name, handles in self.arms.items():
+            q = (positions or {}).get(name)
+            if q is None:
+                q = arms.named_pose(handles.config.initial_pose, handles.config)
+            self.set_arm_positions(context, name, q)
+            if hold:
+                self.diagram.GetInputPort(f"{name}.position").FixValue(context, q)
+        return context
+
+    def set_arm_positions(self, root_context: Context, name: str, q: np.ndarray) -> None:
+        """Puts arm ``name`` at rest at ``q`` and starts its servo from there.
+
+        ``root_context`` may be the station's context or that of a diagram
+        containing the station.
+        """
+        handles = self.arm(name)
+        q = np.asarray(q, dtype=float)
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        self.plant.SetPositions(plant_context, handles.arm, q)
+        self.plant.SetVelocities(plant_context, handles.arm, np.zeros_like(q))
+        interpolator = self._interpolators[name]
+        interpolator.set_initial_position(
+            interpolator.GetMyMutableContextFromRoot(root_context), q)
+
+
+def _add_xacro(parser: Parser, file: str, args: dict | None = None) -> ModelInstanceIndex:
+    text = expand_xacro(MODELS_DIR / file, args or {})
+    (instance,) = parser.AddModelsFromString(text, "sdf" if ".sdf" in file else "urdf")
+    return instance
+
+
+def _add_floor(plant: MultibodyPlant) -> None:
+    """The floor: the plane z = 0 for contact, drawn as the original's 20.1 m square.
+
+    It is registered on the world body itself: an unbounded HalfSpace on any
+    other body (even one welded to the world) lands in SceneGraph's dynamic
+    broad-phase tree, where Drake 1.51 crashes on its infinite bounding box.
+    """
+    world = plant.world_body()
+    plant.RegisterCollisionGeometry(
+        world, RigidTransform(), HalfSpace(), "floor", CoulombFriction(0.8, 0.6))
+    plant.RegisterVisualGeometry(
+        world, RigidTransform([0.0, 0.0, -0.005]), Box(20.1, 20.1, 0.01), "floor",
+        np.array([0.82, 0.82, 0.78, 1.0]))
+
+
+def _weld(plant: MultibodyPlant, frame_name: str, X_WF: RigidTransform, parent=None) -> None:
+    plant.WeldFrames(parent or plant.world_frame(), plant.GetFrameByName(frame_name), X_WF)
+
+
+def build_station(
+    scenario: Scenario | str,
+    *,
+    meshcat: Optional[Meshcat] = None,
+) -> Station:
+    """Builds the factory diagram described by ``scenario`` (a Scenario, name or path).
+
+    With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
+    other systems, add ``station.diagram`` to a builder of your own.
+    """
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
+    scenario.validate()
+    inner = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlant(scenario.plant_config, inner)
+    plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
+    parser = Parser(plant)
+
+    _add_floor(plant)
+    arm_handles: dict[str, ArmHandles] = {}
+    for robot in scenario.robots:
+        x, y = robot.xy
+        pedestal = _add_xacro(
+            parser, "pedestal.urdf.xacro",
+            {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height})
+        _weld(plant, f"{robot.name}_pedestal_link",
+              RigidTransform(RollPitchYaw(0, 0, robot.yaw), [x, y, 0.0]))
+        arm, gripper = arms.add_arm_models(parser, robot)
+        _weld(plant, f"{robot.name}_base_link", arms.base_pose(robot))
+        arm_handles[robot.name] = ArmHandles(robot, arm, gripper, pedestal)
+
+    for b in scenario.bins:
+        _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
+        _weld(plant, f"{b.name}_base_link", RigidTransform(RollPitchYaw(0, 0, b.yaw), b.xyz))
+
+    conveyor = None
+    if scenario.conveyor is not None:
+        conveyor = _add_xacro(parser, "conveyor.urdf.xacro")
+        _weld(plant, "conveyor_base", X_W_CONVEYOR)
+    if scenario.break_beam:
+        _add_xacro(parser, "break_beam.urdf.xacro")
+        _weld(plant, "break_beam_base_link", X_W_BREAK_BEAM)
+    if scenario.deletion_wall:
+        _add_xacro(parser, "deletion_wall.urdf.xacro")
+        _weld(plant, "deletion_wall", X_W_DELETION_WALL)
+
+    camera_instances = {}
+    for cam in scenario.cameras:
+        camera_instances[cam.name] = _add_xacro(parser, "logical_camera.urdf.xacro", {"name": cam.name})
+        parent = plant.GetFrameByName(cam.parent) if cam.parent != "world" else plant.world_frame()
+        _weld(plant, f"{cam.name}_frame", cam.X_PC(), parent=parent)
+
+    parts: dict[str, ModelInstanceIndex] = {}
+    for part in scenario.parts:
+        parts[part.name] = _add_xacro(
+            parser, "part.urdf.xacro", {"name": part.name, "size": part.size, "mass": part.mass})
+        plant.SetDefaultFreeBodyPose(
+            plant.GetBodyByName(part.name, parts[part.name]),
+            RigidTransform(RollPitchYaw(part.rpy), part.xyz))
+
+    _filter_robot_collisions(plant, scene_graph, arm_handles)
+    if conveyor is not None:
+        for index in plant.GetJointActuatorIndices():
+            actuator = plant.get_joint_actuator(index)
+            if actuator.model_instance() == conveyor:
+                actuator.set_controller_gains(PdControllerGains(p=0.0, d=_BELT_KD))
+    plant.Finalize()
+    for handles in arm_handles.values():
+        plant.SetDefaultPositions(
+            handles.arm, arms.named_pose(handles.config.initial_pose, handles.config))
+
+    # Arm servos.
+    interpolators = {}
+    for name, handles in arm_handles.items():
+        interpolator, controller, handles.control_plant = arms.add_arm_controller(
+            inner, plant, handles.arm, handles.config)
+        interpolators[name] = interpolator
+        inner.ExportInput(interpolator.get_input_port(), f"{name}.position")
+        state = plant.get_state_output_port(handles.arm)
+        n = plant.num_positions(handles.arm)
+        demux = inner.AddNamedSystem(f"{name}.demux", Demultiplexer([n, n]))
+        inner.Connect(state, demux.get_input_port())
+        inner.ExportOutput(demux.get_output_port(0), f"{name}.position_measured")
+        inner.ExportOutput(demux.get_output_port(1), f"{name}.velocity_estimated")
+        inner.ExportOutput(state, f"{name}.state_estimated")
+        inner.ExportOutput(controller.get_output_port_control(), f"{name}.torque_commanded")
+
+    if conveyor is not None:
+        speed = BELT_MAX_SPEED * scenario.conveyor.power / 100.0
+        belt = inner.AddNamedSystem("conveyor.belt_command", ConstantVectorSource([0.0, -speed]))
+        inner.Connect(belt.get_output_port(), plant.get_desired_state_input_port(conveyor))
+
+    cameras: dict[str, LogicalCamera] = {}
+    for cam in scenario.cameras:
+        cameras[cam.name] = add_logical_camera(
+            inner, plant, scene_graph, plant.GetFrameByName(f"{cam.name}_frame"), cam,
+            exclude=[camera_instances[cam.name]], seed=scenario.seed)
+        inner.ExportOutput(cameras[cam.name].GetOutputPort("image"), f"{cam.name}.image")
+
+    inner.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
+    inner.ExportOutput(plant.get_contact_results_output_port(), "contact_results")
+    inner.ExportOutput(plant.get_state_output_port(), "plant_state")
+    inner.ExportOutput(scene_graph.get_query_output_port(), "query_object")
+
+    visualizer = None
+    if meshcat is not None:
+        visualizer = MeshcatVisualizer.AddToBuilder(
+            inner, scene_graph, meshcat, MeshcatVisualizerParams(role=Role.kIllustration))
+
+    diagram = inner.Build()
+    diagram.set_name("station")
+    return Station(
+        scenario=scenario, diagram=diagram, plant=plant, scene_graph=scene_graph,
+        arms=arm_handles, cameras=cameras, parts=parts, meshcat=meshcat,
+        visualizer=visualizer, _interpolators=interpolators)
+
+
+def _filter_robot_collisions(
+    plant: MultibodyPlant, scene_graph: SceneGraph, arm_handles: dict[str, ArmHandles]
+) -> None:
+    """No contact between the links of one arm, its gripper and its pedestal."""
+    inspector = scene_graph.model_inspector()
+    for handles in arm_handles.values():
+        geometries = []
+        instances = [handles.arm, handles.pedestal] + ([handles.gripper] if handles.gripper else [])
+        for instance in instances:
+            for body_index in plant.GetBodyIndices(instance):
+                frame_id = plant.GetBodyFrameIdOrThrow(body_index)
+                geometries += inspector.GetGeometries(frame_id, Role.kProximity)
+        scene_graph.collision_filter_manager().Apply(
+            CollisionFilterDeclaration().ExcludeWithin(GeometrySet(geometries)))

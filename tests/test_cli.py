@@ -1,0 +1,50 @@
+"""The command line: outputs and clean errors (exit code 2, one line, no traceback)."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from omtp_drake.cli import main
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "omtp_drake.cli", *args],
+                          capture_output=True, text=True, timeout=300)
+
+
+def test_scenarios_lists_names(capsys):
+    assert main(["scenarios"]) == 0
+    assert "omtp_factory" in capsys.readouterr().out
+
+
+def test_tf_echo_json(capsys):
+    assert main(["tf-echo", "omtp_factory", "robot1_base_link", "bin_1_base_link", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(out["translation"], [-8.5, -4.0, -0.95], atol=1e-3)
+    np.testing.assert_allclose(out["rotation_xyzw"], [0, 0, 0, 1], atol=1e-9)
+
+
+def test_tf_echo_at_named_pose(capsys):
+    assert main(["tf-echo", "omtp_factory", "world", "vacuum_gripper2_suction_cup",
+                 "--pose", "robot2=R2Place"]) == 0
+    out = capsys.readouterr().out
+    assert "- Translation: [-8.034, -2.095, 1.250]" in out  # reference: (-8.035, -2.095, 1.250) +/- 1 mm
+    assert "in RPY (degree)" in out
+
+
+@pytest.mark.parametrize("args, message", [
+    (["tf-echo", "omtp_fctory", "world", "robot1_tool0"], "unknown scenario 'omtp_fctory'; valid: omtp_factory"),
+    (["tf-echo", "omtp_factory", "world", "robot1_tol0"], "unknown frame 'robot1_tol0'; closest: robot1_tool0"),
+    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot3=R1Up"], "unknown robot 'robot3'"),
+    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1=R1Upp"], "unknown named pose 'R1Upp'"),
+    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1"], "--pose takes ROBOT=POSE"),
+])
+def test_errors_are_one_line_without_traceback(args, message):
+    result = run(*args)
+    assert result.returncode == 2
+    assert message in result.stderr
+    assert "Traceback" not in result.stderr
+    assert result.stderr.count("\n") == 1
