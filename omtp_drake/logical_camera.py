@@ -101,11 +101,12 @@ class LogicalCameraConfig:
         """Raises ConfigError naming the first invalid field, its value and the valid range."""
         prefix = f"logical camera {self.name!r}:"
         if not self.name:
-            raise ConfigError(f"logical camera: name={self.name!r} is invalid; it must be non-empty")
+            raise ConfigError(f"logical camera: name={self.name!r} is invalid; "
+                              "valid: a non-empty string")
         for key in ("xyz", "rpy"):
             value = getattr(self, key)
             if len(value) != 3 or not all(math.isfinite(v) for v in value):
-                raise ConfigError(f"{prefix} {key}={value!r} is invalid; it must be 3 finite numbers")
+                raise ConfigError(f"{prefix} {key}={value!r} is invalid; valid: 3 finite numbers")
         _check(prefix, "near", self.near, self.near > 0, "near > 0")
         _check(prefix, "far", self.far, self.far > self.near, f"far > near (= {self.near})")
         _check(prefix, "horizontal_fov", self.horizontal_fov,
@@ -143,14 +144,16 @@ def X_CameraOptical() -> RigidTransform:
 
 
 def model_type(name: str) -> str:
-    """The type of a model: its name without a trailing ``_<digits>`` (``object_3`` -> ``object``)."""
+    """A model's name without a trailing ``_<digits>`` (``object_3`` -> ``object``)."""
     return _TRAILING_INDEX.sub("", name)
 
 
 def _pose_dict(X: RigidTransform) -> dict[str, list[float]]:
+    """Translation and quaternion [x, y, z, w] (w >= 0, Drake's canonical form)."""
     q = X.rotation().ToQuaternion()
-    return {"translation": [float(v) for v in X.translation()],
-            "rotation_xyzw": [float(q.x()), float(q.y()), float(q.z()), float(q.w())]}
+    # `+ 0.0` turns -0.0 into 0.0.
+    return {"translation": [float(v) + 0.0 for v in X.translation()],
+            "rotation_xyzw": [float(v) + 0.0 for v in (q.x(), q.y(), q.z(), q.w())]}
 
 
 def _pose_lines(X: RigidTransform, indent: str) -> list[str]:
@@ -210,7 +213,7 @@ class LogicalCameraImage:
 
     def __str__(self) -> str:
         """Renders like ``rostopic echo`` of the original ``LogicalCameraImage`` message."""
-        lines = [f"time: {self.time!r}", f'camera_name: "{self.camera_name}"']
+        lines = [f"time: {round(self.time, 9)!r}", f'camera_name: "{self.camera_name}"']
         lines += _pose_lines(self.X_WC, "")
         if not self.models:
             lines.append("models: []")
@@ -375,7 +378,8 @@ class LogicalCamera(LeafSystem):
       camera samples at ``config.update_rate_hz`` from t = 0 (and at
       initialization), and holds the sample in between: at t = 0.25 with
       10 Hz the image's time is 0.2. Before the context is initialized the
-      image is empty with time NaN.
+      image is empty with time NaN. A forced event (``ExecuteForcedEvents``)
+      captures an image at the context's time on demand.
 
     Frames: the camera frame C is the plant frame ``frame``; it looks along +Cx,
     +Cz up, the width along Cy (Gazebo's logical camera; see the module
