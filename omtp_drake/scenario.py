@@ -32,6 +32,7 @@ from pydrake.multibody.plant import MultibodyPlantConfig
 from omtp_drake.assets import UR_MODELS
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.logical_camera import LogicalCameraConfig
+from omtp_drake.parts import SpawnerConfig
 
 #: Folder of the scenario files shipped with the package.
 DIAGRAMS_DIR = Path(__file__).resolve().parent.parent / "diagrams"
@@ -91,6 +92,8 @@ class ConveyorConfig:
 
     #: Initial power in percent, 0...100 (belt speed = 0.2 m/s x power / 100).
     power: float = 0.0
+    #: The course's helper: set the power to 0 when the break beam becomes broken.
+    stop_on_beam: bool = False
 
 
 def _default_plant_config() -> MultibodyPlantConfig:
@@ -121,7 +124,11 @@ class Scenario:
     robots: list[RobotConfig] = field(default_factory=list)
     cameras: list[LogicalCameraConfig] = field(default_factory=list)
     bins: list[BinConfig] = field(default_factory=list)
+    #: Parts placed in the world at t = 0.
     parts: list[PartConfig] = field(default_factory=list)
+    #: Parts pre-allocated for spawning (``object_k`` after the placed ones).
+    part_pool: int = 0
+    spawner: Optional[SpawnerConfig] = None
     conveyor: Optional[ConveyorConfig] = None
     break_beam: bool = False
     deletion_wall: bool = False
@@ -153,6 +160,12 @@ class Scenario:
                 raise ConfigError(
                     f"parts[{part.name}] needs size > 0 and mass > 0, got {part.size}, {part.mass}")
             names.append(part.name)
+        if self.part_pool < 0:
+            raise ConfigError(f"part_pool must be >= 0, got {self.part_pool}")
+        if self.spawner is not None:
+            self.spawner.validate()
+            if self.part_pool == 0:
+                raise ConfigError("a spawner needs parts: set part_pool > 0")
         if self.conveyor is not None and not 0 <= self.conveyor.power <= 100:
             raise ConfigError(f"conveyor.power must be in [0, 100], got {self.conveyor.power}")
         _check_len("gravity", self.gravity, 3)

@@ -45,14 +45,17 @@ from pydrake.geometry import (
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlant, CoulombFriction, MultibodyPlant
-from pydrake.multibody.tree import ModelInstanceIndex, PdControllerGains
+from pydrake.multibody.math import SpatialVelocity
+from pydrake.multibody.tree import ModelInstanceIndex, PdControllerGains, SpatialInertia
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder
-from pydrake.systems.primitives import ConstantVectorSource, Demultiplexer
+from pydrake.systems.primitives import Demultiplexer
 
 from omtp_drake import arms
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.errors import UnknownNameError
+from omtp_drake.conveyor import BreakBeam, ConveyorBelt
+from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.logical_camera import LogicalCamera, add_logical_camera
+from omtp_drake.parts import PartManager, parking_pose
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
 
 _log = logging.getLogger(__name__)
@@ -61,8 +64,6 @@ _log = logging.getLogger(__name__)
 X_W_CONVEYOR = RigidTransform([1.2, 0.0, 0.0])
 X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.575, 1.9, 0.925])
 X_W_DELETION_WALL = RigidTransform(RollPitchYaw(0.0, 0.0, 1.5708), [1.2, -5.1, 1.425])
-#: Full belt speed (power 100), m/s, toward world -y.
-BELT_MAX_SPEED = 0.2
 #: Damping gain of the belt's velocity servo (N s/m).
 _BELT_KD = 1e4
 
@@ -90,10 +91,18 @@ class Station:
     scene_graph: SceneGraph
     arms: dict[str, ArmHandles]
     cameras: dict[str, LogicalCamera]
+    #: Every part (placed and pool) by name.
     parts: dict[str, ModelInstanceIndex]
+    #: Names of the pool's parts, in spawn order.
+    pool: list[str]
     meshcat: Optional[Meshcat] = None
     visualizer: Optional[MeshcatVisualizer] = None
+    conveyor: Optional[ConveyorBelt] = None
+    break_beam: Optional[BreakBeam] = None
+    part_manager: Optional[PartManager] = None
     _interpolators: dict = field(default_factory=dict, repr=False)
+    #: pool part -> weld constraint holding it at its parking pose.
+    _parking: dict = field(default_factory=dict, repr=False)
 
     def arm(self, name: str) -> ArmHandles:
         """Handles of the arm ``name`` (``robot1``...)."""
@@ -117,13 +126,14 @@ class Station:
             self.set_arm_positions(context, name, q)
             if hold:
                 self.diagram.GetInputPort(f"{name}.position").FixValue(context, q)
+        self.park_pool(context)
         return context
 
     def set_arm_positions(self, root_context: Context, name: str, q: np.ndarray) -> None:
         """Puts arm ``name`` at rest at ``q`` and starts its servo from there.
 
-        ``root_context`` may be the station's context or that of a diagram
-        containing the station.
+        ``root_context`` is the context of the station's diagram or of a diagram
+        containing it.
         """
         handles = self.arm(name)
         q = np.asarray(q, dtype=float)
@@ -133,6 +143,25 @@ class Station:
         interpolator = self._interpolators[name]
         interpolator.set_initial_position(
             interpolator.GetMyMutableContextFromRoot(root_context), q)
+
+    def park_pool(self, root_context: Context) -> None:
+        """Puts every parked part of the pool exactly at its parking pose, held there."""
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        book = self.part_manager.book(self.part_manager.GetMyContextFromRoot(root_context))
+        for slot, record in enumerate(book.parts):
+            if record.state == "parked":
+                self.park(plant_context, record.name)
+
+    def park(self, plant_context: Context, name: str) -> None:
+        """Parks pool part ``name``: at rest at its parking pose, welded there."""
+        body = self.plant.GetBodyByName(name, self.parts[name])
+        self.plant.SetFreeBodyPose(plant_context, body, parking_pose(self.pool.index(name)))
+        self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
+        self.plant.SetConstraintActiveStatus(plant_context, self._parking[name], True)
+
+    def unpark(self, plant_context: Context, name: str) -> None:
+        """Frees pool part ``name`` (the caller then puts it where it belongs)."""
+        self.plant.SetConstraintActiveStatus(plant_context, self._parking[name], False)
 
 
 def _add_xacro(parser: Parser, file: str, args: dict | None = None) -> ModelInstanceIndex:
@@ -216,9 +245,34 @@ def build_station(
     for part in scenario.parts:
         parts[part.name] = _add_xacro(
             parser, "part.urdf.xacro", {"name": part.name, "size": part.size, "mass": part.mass})
-        plant.SetDefaultFreeBodyPose(
+        plant.SetDefaultFloatingBaseBodyPose(
             plant.GetBodyByName(part.name, parts[part.name]),
             RigidTransform(RollPitchYaw(part.rpy), part.xyz))
+
+    # The pool: parked parts are welded (run-time constraint) to an anchor body
+    # far from the cell. (Not joint locking: in Drake 1.51 a locked joint
+    # anywhere makes contact with the world body's floor crash; not the world
+    # body itself as anchor: constraints to it crash.)
+    pool: list[str] = []
+    parking: dict = {}
+    if scenario.part_pool:
+        anchor_instance = plant.AddModelInstance("part_parking")
+        anchor = plant.AddRigidBody(
+            "part_parking", anchor_instance, SpatialInertia.SolidBoxWithMass(1.0, 0.1, 0.1, 0.1))
+        plant.WeldFrames(plant.world_frame(), anchor.body_frame())
+    taken = set(parts)
+    k = 1
+    while len(pool) < scenario.part_pool:
+        name = f"object_{k}"
+        k += 1
+        if name in taken:
+            continue
+        pool.append(name)
+        parts[name] = _add_xacro(parser, "part.urdf.xacro", {"name": name})
+        body = plant.GetBodyByName(name, parts[name])
+        X_WPark = parking_pose(len(pool) - 1)
+        plant.SetDefaultFloatingBaseBodyPose(body, X_WPark)
+        parking[name] = plant.AddWeldConstraint(anchor, X_WPark, body, RigidTransform())
 
     _filter_robot_collisions(plant, scene_graph, arm_handles)
     if conveyor is not None:
@@ -247,10 +301,26 @@ def build_station(
         inner.ExportOutput(state, f"{name}.state_estimated")
         inner.ExportOutput(controller.get_output_port_control(), f"{name}.torque_commanded")
 
+    belt = None
     if conveyor is not None:
-        speed = BELT_MAX_SPEED * scenario.conveyor.power / 100.0
-        belt = inner.AddNamedSystem("conveyor.belt_command", ConstantVectorSource([0.0, -speed]))
-        inner.Connect(belt.get_output_port(), plant.get_desired_state_input_port(conveyor))
+        belt = inner.AddNamedSystem("conveyor", ConveyorBelt(
+            scenario.conveyor.power, stop_on_beam=scenario.conveyor.stop_on_beam))
+        inner.Connect(belt.GetOutputPort("desired_state"), plant.get_desired_state_input_port(conveyor))
+        inner.ExportOutput(belt.GetOutputPort("power"), "conveyor.power")
+    beam = None
+    if scenario.break_beam:
+        part_bodies = [plant.GetBodyByName(n, i) for n, i in parts.items()]
+        sizes = {p.name: p.size for p in scenario.parts}
+        boxes = [(np.zeros(3), np.full(3, sizes.get(n, 0.2) / 2)) for n in parts]
+        beam = inner.AddNamedSystem("break_beam", BreakBeam(
+            plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes))
+        inner.Connect(plant.get_body_poses_output_port(), beam.GetInputPort("body_poses"))
+        inner.ExportOutput(beam.GetOutputPort("state"), "break_beam.state")
+        if belt is not None:
+            inner.Connect(beam.GetOutputPort("state"), belt.GetInputPort("beam"))
+    if belt is not None and beam is None and scenario.conveyor.stop_on_beam:
+        raise ConfigError("conveyor.stop_on_beam needs break_beam: true")
+    part_manager = inner.AddNamedSystem("parts", PartManager(pool, scenario.spawner))
 
     cameras: dict[str, LogicalCamera] = {}
     for cam in scenario.cameras:
@@ -273,8 +343,9 @@ def build_station(
     diagram.set_name("station")
     return Station(
         scenario=scenario, diagram=diagram, plant=plant, scene_graph=scene_graph,
-        arms=arm_handles, cameras=cameras, parts=parts, meshcat=meshcat,
-        visualizer=visualizer, _interpolators=interpolators)
+        arms=arm_handles, cameras=cameras, parts=parts, pool=pool, meshcat=meshcat,
+        visualizer=visualizer, conveyor=belt, break_beam=beam, part_manager=part_manager,
+        _interpolators=interpolators, _parking=parking)
 
 
 def _filter_robot_collisions(

@@ -11,5 +11,8 @@ logging.getLogger("drake").setLevel(logging.ERROR)
 
 @pytest.fixture(scope="session")
 def factory():
-    """The lecture 6 world (both arms, cameras, conveyor, no parts)."""
+    """The lecture 6 world (both arms, cameras, conveyor, no parts).
+
+    Shared: never add its diagram to another builder (build your own station).
+    """
     return build_station("omtp_factory")

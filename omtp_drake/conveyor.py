@@ -1,0 +1,167 @@
+"""The conveyor belt and the break beam.
+
+Belt mechanism: the conveyor model has a moving contact surface, the body
+``conveyor_belt``, on a prismatic joint along world y driven by a SAP
+velocity servo (a PD-controlled actuator with zero position gain). Parts
+resting on it are carried by ordinary friction, so they move exactly along
+the belt (no sideways drift) and stop with it; parts elsewhere are untouched.
+The surface extends upstream beyond the drawn belt so it can travel; the
+runtime shifts it back between advances (a shift along its own length changes
+no contact). :class:`ConveyorBelt` holds the power in its Context and turns it
+into the servo's desired state.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from pydrake.common.value import AbstractValue
+from pydrake.math import RigidTransform
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import RigidBody
+from pydrake.systems.framework import BasicVector, Context, DiscreteValues, LeafSystem
+
+from omtp_drake.errors import ConfigError
+
+#: Belt speed at power 100 (m/s), toward world -y.
+MAX_SPEED = 0.2
+#: The belt surface may travel this far (m) before the runtime shifts it back.
+WRAP_TRAVEL = 0.5
+
+
+def check_power(power: float) -> float:
+    """``power`` as a float, or ConfigError unless it is in [0, 100]."""
+    power = float(power)
+    if not 0.0 <= power <= 100.0 or math.isnan(power):
+        raise ConfigError(f"conveyor power must be in [0, 100] (percent), got {power}")
+    return power
+
+
+class ConveyorBelt(LeafSystem):
+    """The belt's power and, optionally, the break-beam stop helper.
+
+    Input ports:
+      - ``beam`` (vector [detected, range]): the break beam's state; used only
+        with ``stop_on_beam``.
+
+    Output ports:
+      - ``desired_state`` (vector [q, v]): for the belt joint's velocity servo;
+        v = -0.2 m/s x power / 100 (q is ignored: the position gain is 0).
+      - ``power`` (vector [power]): percent.
+
+    State: discrete [power, last beam detection]. The power is set from outside
+    between advances with :meth:`set_power`; with ``stop_on_beam``, a periodic
+    check at ``beam_check_rate_hz`` sets it to 0 when the beam becomes broken
+    (a rising edge, so a user may restart the belt to push a part through).
+    """
+
+    def __init__(self, initial_power: float = 0.0, *, stop_on_beam: bool = False,
+                 beam_check_rate_hz: float = 10.0):
+        super().__init__()
+        check_power(initial_power)
+        if beam_check_rate_hz <= 0:
+            raise ConfigError(f"beam_check_rate_hz must be > 0, got {beam_check_rate_hz}")
+        self._state = self.DeclareDiscreteState(np.array([initial_power, 0.0]))
+        self._beam = self.DeclareVectorInputPort("beam", 2)
+        self.DeclareVectorOutputPort(
+            "desired_state", 2, self._calc_desired_state,
+            prerequisites_of_calc={self.xd_ticket()})
+        self.DeclareVectorOutputPort(
+            "power", 1, lambda c, out: out.SetAtIndex(0, c.get_discrete_state(self._state)[0]),
+            prerequisites_of_calc={self.xd_ticket()})
+        self._stop_on_beam = stop_on_beam
+        if stop_on_beam:
+            self.DeclarePeriodicDiscreteUpdateEvent(1.0 / beam_check_rate_hz, 0.0, self._check_beam)
+
+    def _calc_desired_state(self, context: Context, output: BasicVector) -> None:
+        power = context.get_discrete_state(self._state)[0]
+        output.SetFromVector([0.0, -MAX_SPEED * power / 100.0])
+
+    def _check_beam(self, context: Context, discrete_state: DiscreteValues) -> None:
+        power, was_detected = context.get_discrete_state(self._state).value()
+        detected = float(self._beam.Eval(context)[0] > 0.5)
+        if detected and not was_detected:
+            power = 0.0
+        discrete_state.set_value(self._state, [power, detected])
+
+    def set_power(self, context: Context, power: float) -> None:
+        """Sets the power (percent); out of [0, 100] raises and changes nothing."""
+        power = check_power(power)
+        value = context.get_discrete_state(self._state).value().copy()
+        value[0] = power
+        context.SetDiscreteState(self._state, value)
+
+    def power(self, context: Context) -> float:
+        return float(context.get_discrete_state(self._state)[0])
+
+
+@dataclass(frozen=True)
+class BeamReading:
+    detected: bool
+    #: distance from the emitter to the nearest hit along the beam (m); inf when clear.
+    range: float
+
+
+class BreakBeam(LeafSystem):
+    """A break-beam sensor: is anything on the segment [min_range, max_range] of its beam?
+
+    Input port ``body_poses``: the plant's body poses.
+    Output port ``state`` (vector [detected, range]), sampled at ``rate_hz`` and
+    held: detected is 1.0 when a candidate body's bounding box crosses the
+    beam segment; range is the distance from the emitter to the nearest hit
+    (inf when clear).
+
+    Frames: the beam leaves the plant frame ``frame`` (``break_beam_optical_link``)
+    along its +x axis. Candidates: the given bodies, each with an axis-aligned
+    box in its own frame (centre, half-extents), e.g. the parts.
+    """
+
+    def __init__(self, plant: MultibodyPlant, frame, bodies: list[RigidBody],
+                 boxes: list[tuple[np.ndarray, np.ndarray]], *, rate_hz: float = 10.0,
+                 min_range: float = 0.1, max_range: float = 0.6):
+        super().__init__()
+        if rate_hz <= 0 or not 0 <= min_range < max_range:
+            raise ConfigError(
+                f"break beam needs rate_hz > 0 and 0 <= min_range < max_range, got "
+                f"{rate_hz}, {min_range}, {max_range}")
+        if len(bodies) != len(boxes):
+            raise ConfigError("break beam: one box per body")
+        self._emitter_body = int(frame.body().index())
+        self._X_BE = frame.GetFixedPoseInBodyFrame()
+        self._bodies = [int(b.index()) for b in bodies]
+        self._centres = np.array([c for c, _ in boxes]).reshape(-1, 3)
+        self._halves = np.array([h for _, h in boxes]).reshape(-1, 3)
+        self._range = (min_range, max_range)
+        self._poses = self.DeclareAbstractInputPort(
+            "body_poses", AbstractValue.Make([RigidTransform()]))
+        self._state = self.DeclareDiscreteState(np.array([0.0, np.inf]))
+        self.DeclarePeriodicDiscreteUpdateEvent(1.0 / rate_hz, 0.0, self._update)
+        self.DeclareInitializationDiscreteUpdateEvent(self._update)
+        self.DeclareStateOutputPort("state", self._state)
+
+    def read(self, context: Context) -> np.ndarray:
+        """[detected, range] at the pose of the bodies in ``context``."""
+        X_WB = self._poses.Eval(context)
+        X_WE = X_WB[self._emitter_body] @ self._X_BE
+        nearest = np.inf
+        lo, hi = self._range
+        for body, centre, half in zip(self._bodies, self._centres, self._halves):
+            # Slab test of the beam segment against the body's box, in the box frame.
+            X_BW = X_WB[body].inverse()
+            origin = X_BW @ X_WE.translation() - centre
+            direction = X_BW.rotation() @ X_WE.rotation().col(0)
+            parallel = np.abs(direction) < 1e-12
+            if np.any(parallel & (np.abs(origin) > half)):
+                continue  # parallel to a slab and outside it
+            d = np.where(parallel, 1.0, direction)
+            t1, t2 = (-half - origin) / d, (half - origin) / d
+            t_near = np.max(np.where(parallel, -np.inf, np.minimum(t1, t2)))
+            t_far = np.min(np.where(parallel, np.inf, np.maximum(t1, t2)))
+            if t_near <= t_far and t_far >= lo and t_near <= hi:
+                nearest = min(nearest, max(t_near, lo))
+        return np.array([float(np.isfinite(nearest)), nearest])
+
+    def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
+        discrete_state.set_value(self._state, self.read(context))

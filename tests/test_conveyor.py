@@ -1,0 +1,141 @@
+"""Conveyor, break beam, part pool, spawner, deletion wall, ledger (reference section 6)."""
+
+import numpy as np
+import pytest
+
+from omtp_drake.errors import ConfigError, SimulationError
+from omtp_drake.runtime import FactoryRuntime
+from omtp_drake.scenario import load_scenario
+
+REST_Z = 0.92 + 0.1 + 0.001  # belt top + half a part + the 1 mm corner spheres
+
+
+def belt_world(pool=3, **spawner):
+    s = load_scenario("omtp_factory")
+    s.cameras = []
+    s.part_pool = pool
+    if spawner:
+        from omtp_drake.parts import SpawnerConfig
+
+        s.spawner = SpawnerConfig(**spawner)
+    return s
+
+
+def velocity(rt, name):
+    plant = rt.station.plant
+    body = plant.GetBodyByName(name)
+    return plant.EvalBodySpatialVelocityInWorld(rt._plant_context, body).translational()
+
+
+@pytest.mark.parametrize("power", [50.0, 100.0])
+def test_part_rides_the_belt_at_belt_speed(power):
+    rt = FactoryRuntime(belt_world())
+    on_belt = rt.spawn_part(xyz=[1.2, 0.0, REST_Z])
+    on_floor = rt.spawn_part(xyz=[3.0, 0.0, 0.101])
+    rt.advance(0.2)
+    start = rt.part_pose(on_floor).translation()
+    rt.set_conveyor_power(power)
+    rt.advance(0.5)
+    v = velocity(rt, on_belt)
+    speed = 0.2 * power / 100
+    assert v[1] == pytest.approx(-speed, rel=0.02)
+    assert abs(v[0]) < 1e-4 and abs(rt.part_pose(on_belt).translation()[0] - 1.2) < 1e-4
+    rt.advance(1.0)
+    np.testing.assert_allclose(rt.part_pose(on_floor).translation(), start, atol=1e-4)
+    rt.set_conveyor_power(0)
+    rt.advance(0.5)
+    assert np.linalg.norm(velocity(rt, on_belt)) < 1e-3
+
+
+def test_belt_starts_stopped_and_bad_power_is_rejected():
+    rt = FactoryRuntime(belt_world())
+    assert rt.conveyor_power() == 0.0
+    rt.set_conveyor_power(40)
+    for bad in (-1, 100.5, float("nan")):
+        with pytest.raises(ConfigError, match=r"\[0, 100\]"):
+            rt.set_conveyor_power(bad)
+    assert rt.conveyor_power() == 40.0
+
+
+def test_belt_surface_wraps_without_moving_parts():
+    rt = FactoryRuntime(belt_world())
+    name = rt.spawn_part(xyz=[1.2, 4.0, REST_Z])
+    rt.set_conveyor_power(100)
+    rt.advance(6.0)
+    joint = rt.station.plant.GetJointByName("conveyor_belt_joint")
+    assert abs(joint.get_translation(rt._plant_context)) < 0.5
+    # 6 s at 0.2 m/s (minus the first few ms of acceleration)
+    assert rt.part_pose(name).translation()[1] == pytest.approx(4.0 - 1.2, abs=0.01)
+
+
+def test_lecture7_beam_stops_part_under_camera_and_next_part_arrives():
+    rt = FactoryRuntime("lecture7_conveyor")
+    assert rt.conveyor_power() == 100.0
+    rt.advance_to(4.0)
+    detected, distance = rt.break_beam()
+    assert detected and 0.1 <= distance <= 0.6
+    assert rt.conveyor_power() == 0.0
+    assert rt.parts_in_world() == ["object_1"]
+    image = rt.camera_image("logical_camera_1")
+    assert [m.name for m in image.models if m.type == "object"] == ["object_1"]
+    # Still one at a time: nothing else has spawned while object_1 waits.
+    rt.advance_to(7.0)
+    assert rt.parts_in_world() == ["object_1"]
+    rt.remove_part("object_1")
+    rt.set_conveyor_power(100)
+    rt.advance_to(12.0)
+    assert rt.parts_in_world() == ["object_2"]
+    assert rt.break_beam()[0] and rt.conveyor_power() == 0.0
+    ledger = rt.ledger()
+    assert ledger.spawned == 2 and ledger.disposed == 1 and ledger.on_belt == 1 and ledger.balanced
+
+
+def test_deletion_wall_disposes_and_ledger_balances():
+    rt = FactoryRuntime(belt_world(pool=2))
+    name = rt.spawn_part(xyz=[1.2, -4.2, REST_Z])
+    rt.set_conveyor_power(100)
+    for _ in range(8):
+        rt.advance(0.5)
+        assert rt.ledger().balanced
+    ledger = rt.ledger()
+    assert ledger.disposed == 1 and ledger.spawned == 1 and ledger.on_belt == 0
+    assert name not in rt.parts_in_world()
+    assert rt.part_pose(name).translation()[0] > 40  # parked far away
+    assert rt.spawn_part(xyz=[1.2, 0.0, REST_Z]) == "object_2"  # then the queue wraps
+    assert rt.spawn_part(xyz=[1.2, 1.0, REST_Z]) == name
+
+
+def test_empty_pool_is_an_error():
+    rt = FactoryRuntime(belt_world(pool=1))
+    rt.spawn_part(xyz=[3, 0, 0.101])
+    with pytest.raises(SimulationError, match="no parked part left in the pool"):
+        rt.spawn_part(xyz=[3, 1, 0.101])
+
+
+def test_one_at_a_time_refuses_a_second_loose_part():
+    rt = FactoryRuntime(belt_world(pool=2, one_at_a_time=True))
+    rt.spawn_part(xyz=[3, 0, 0.101])
+    with pytest.raises(SimulationError, match="object_1 is still in the world"):
+        rt.spawn_part(xyz=[3, 1, 0.101])
+
+
+def test_spawner_variance_is_seeded():
+    def first_pose(seed):
+        s = belt_world(pool=1, lateral_variance=0.1, yaw_variance=0.5, period=1.0)
+        s.seed = seed
+        rt = FactoryRuntime(s)
+        return rt.part_pose("object_1").GetAsMatrix4()
+
+    a, b, c = first_pose(1), first_pose(1), first_pose(2)
+    np.testing.assert_array_equal(a, b)
+    assert not np.allclose(a, c)
+    assert abs(a[0, 3] - 1.2) <= 0.1
+
+
+def test_runs_are_deterministic():
+    def run():
+        rt = FactoryRuntime("lecture7_conveyor")
+        rt.advance_to(5.0)
+        return np.concatenate([rt.part_pose(n).GetAsMatrix4().ravel() for n in rt.station.parts])
+
+    np.testing.assert_allclose(run(), run(), atol=1e-9, rtol=0)
