@@ -2,8 +2,8 @@
 
 Drake cannot add bodies to a built plant, so every part that may ever appear
 is in the plant from the start: a pool of ``object_1 ... object_N``. A part in
-the pool is *parked*: far from the cell (a row at x = 50 m), held by a weld
-constraint (no motion, no contact). Spawning unlocks the next
+the pool is *parked*: far from the cell (a row at x = 50 m) with its floating
+joint locked (no motion, no contact, no cost in the contact solver). Spawning unlocks the next
 parked part and puts it at the spawn pose; disposal parks it again. Parts are
 spawned in name order; a disposed part goes to the back of the queue and keeps
 its name when it is spawned again.

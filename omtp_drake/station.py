@@ -32,8 +32,6 @@ from typing import Optional
 
 import numpy as np
 from pydrake.geometry import (
-    Box,
-    HalfSpace,
     CollisionFilterDeclaration,
     GeometrySet,
     Meshcat,
@@ -44,9 +42,9 @@ from pydrake.geometry import (
 )
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.parsing import Parser
-from pydrake.multibody.plant import AddMultibodyPlant, CoulombFriction, MultibodyPlant
+from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlant
 from pydrake.multibody.math import SpatialVelocity
-from pydrake.multibody.tree import ModelInstanceIndex, PdControllerGains, SpatialInertia
+from pydrake.multibody.tree import ModelInstanceIndex, PdControllerGains
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder
 from pydrake.systems.primitives import Demultiplexer
 
@@ -101,8 +99,6 @@ class Station:
     break_beam: Optional[BreakBeam] = None
     part_manager: Optional[PartManager] = None
     _interpolators: dict = field(default_factory=dict, repr=False)
-    #: pool part -> weld constraint holding it at its parking pose.
-    _parking: dict = field(default_factory=dict, repr=False)
 
     def arm(self, name: str) -> ArmHandles:
         """Handles of the arm ``name`` (``robot1``...)."""
@@ -153,36 +149,28 @@ class Station:
                 self.park(plant_context, record.name)
 
     def park(self, plant_context: Context, name: str) -> None:
-        """Parks pool part ``name``: at rest at its parking pose, welded there."""
+        """Parks pool part ``name``: at rest at its parking pose, its joint locked.
+
+        A locked joint leaves the contact solver's problem: parked parts cost nothing.
+        """
         body = self.plant.GetBodyByName(name, self.parts[name])
         self.plant.SetFreeBodyPose(plant_context, body, parking_pose(self.pool.index(name)))
         self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
-        self.plant.SetConstraintActiveStatus(plant_context, self._parking[name], True)
+        self._free_joint(name).Lock(plant_context)
 
     def unpark(self, plant_context: Context, name: str) -> None:
         """Frees pool part ``name`` (the caller then puts it where it belongs)."""
-        self.plant.SetConstraintActiveStatus(plant_context, self._parking[name], False)
+        self._free_joint(name).Unlock(plant_context)
+
+    def _free_joint(self, name: str):
+        (index,) = self.plant.GetJointIndices(self.parts[name])
+        return self.plant.get_joint(index)
 
 
 def _add_xacro(parser: Parser, file: str, args: dict | None = None) -> ModelInstanceIndex:
     text = expand_xacro(MODELS_DIR / file, args or {})
     (instance,) = parser.AddModelsFromString(text, "sdf" if ".sdf" in file else "urdf")
     return instance
-
-
-def _add_floor(plant: MultibodyPlant) -> None:
-    """The floor: the plane z = 0 for contact, drawn as the original's 20.1 m square.
-
-    It is registered on the world body itself: an unbounded HalfSpace on any
-    other body (even one welded to the world) lands in SceneGraph's dynamic
-    broad-phase tree, where Drake 1.51 crashes on its infinite bounding box.
-    """
-    world = plant.world_body()
-    plant.RegisterCollisionGeometry(
-        world, RigidTransform(), HalfSpace(), "floor", CoulombFriction(0.8, 0.6))
-    plant.RegisterVisualGeometry(
-        world, RigidTransform([0.0, 0.0, -0.005]), Box(20.1, 20.1, 0.01), "floor",
-        np.array([0.82, 0.82, 0.78, 1.0]))
 
 
 def _weld(plant: MultibodyPlant, frame_name: str, X_WF: RigidTransform, parent=None) -> None:
@@ -207,7 +195,8 @@ def build_station(
     plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
     parser = Parser(plant)
 
-    _add_floor(plant)
+    floor = _add_xacro(parser, "floor.urdf.xacro")
+    _weld(plant, "floor", RigidTransform())
     arm_handles: dict[str, ArmHandles] = {}
     for robot in scenario.robots:
         x, y = robot.xy
@@ -249,17 +238,7 @@ def build_station(
             plant.GetBodyByName(part.name, parts[part.name]),
             RigidTransform(RollPitchYaw(part.rpy), part.xyz))
 
-    # The pool: parked parts are welded (run-time constraint) to an anchor body
-    # far from the cell. (Not joint locking: in Drake 1.51 a locked joint
-    # anywhere makes contact with the world body's floor crash; not the world
-    # body itself as anchor: constraints to it crash.)
     pool: list[str] = []
-    parking: dict = {}
-    if scenario.part_pool:
-        anchor_instance = plant.AddModelInstance("part_parking")
-        anchor = plant.AddRigidBody(
-            "part_parking", anchor_instance, SpatialInertia.SolidBoxWithMass(1.0, 0.1, 0.1, 0.1))
-        plant.WeldFrames(plant.world_frame(), anchor.body_frame())
     taken = set(parts)
     k = 1
     while len(pool) < scenario.part_pool:
@@ -269,10 +248,8 @@ def build_station(
             continue
         pool.append(name)
         parts[name] = _add_xacro(parser, "part.urdf.xacro", {"name": name})
-        body = plant.GetBodyByName(name, parts[name])
-        X_WPark = parking_pose(len(pool) - 1)
-        plant.SetDefaultFloatingBaseBodyPose(body, X_WPark)
-        parking[name] = plant.AddWeldConstraint(anchor, X_WPark, body, RigidTransform())
+        plant.SetDefaultFloatingBaseBodyPose(
+            plant.GetBodyByName(name, parts[name]), parking_pose(len(pool) - 1))
 
     _filter_robot_collisions(plant, scene_graph, arm_handles)
     if conveyor is not None:
@@ -326,7 +303,7 @@ def build_station(
     for cam in scenario.cameras:
         cameras[cam.name] = add_logical_camera(
             inner, plant, scene_graph, plant.GetFrameByName(f"{cam.name}_frame"), cam,
-            exclude=[camera_instances[cam.name]], seed=scenario.seed)
+            exclude=[camera_instances[cam.name], floor], seed=scenario.seed)
         inner.ExportOutput(cameras[cam.name].GetOutputPort("image"), f"{cam.name}.image")
 
     inner.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
@@ -345,7 +322,7 @@ def build_station(
         scenario=scenario, diagram=diagram, plant=plant, scene_graph=scene_graph,
         arms=arm_handles, cameras=cameras, parts=parts, pool=pool, meshcat=meshcat,
         visualizer=visualizer, conveyor=belt, break_beam=beam, part_manager=part_manager,
-        _interpolators=interpolators, _parking=parking)
+        _interpolators=interpolators)
 
 
 def _filter_robot_collisions(
