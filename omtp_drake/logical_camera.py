@@ -433,6 +433,8 @@ class LogicalCamera(LeafSystem):
         period = 1.0 / config.update_rate_hz
         state = self.DeclareAbstractState(AbstractValue.Make(LogicalCameraImage(
             time=math.nan, camera_name=config.name, X_WC=RigidTransform(), models=())))
+        # Fault injection: no new images before this time (see black_out()).
+        self._blackout = self.DeclareDiscreteState(np.array([-math.inf]))
         self.DeclareInitializationUnrestrictedUpdateEvent(self._update)
         self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
         self.DeclareForcedUnrestrictedUpdateEvent(self._update)
@@ -486,7 +488,14 @@ class LogicalCamera(LeafSystem):
         return copy.deepcopy(self._config)
 
     def _update(self, context: Context, state: State) -> None:
+        if context.get_time() < context.get_discrete_state(self._blackout)[0]:
+            return  # blacked out: the last image is held (it goes stale)
         state.get_mutable_abstract_state(0).set_value(self._capture(context))
+
+    def black_out(self, context: Context, until: float) -> None:
+        """Fault injection: the camera publishes no new image before ``until``
+        (its output keeps the last image, whose time shows it is stale)."""
+        context.SetDiscreteState(self._blackout, np.array([float(until)]))
 
     def _capture(self, context: Context) -> "LogicalCameraImage":
         """The image at the context's time."""

@@ -96,6 +96,63 @@ class ConveyorConfig:
     stop_on_beam: bool = False
 
 
+@dataclass
+class TaskConfig:
+    """A pick-and-place task: which robot moves how many parts into which bin,
+    seen by which cameras; and the planner's tuning.
+
+    Success: ``parts`` parts in ``bin`` and none lost (see omtp_drake.tasks).
+    """
+
+    #: How many parts must end in the bin.
+    parts: int = 1
+
+    robot: str = "robot2"
+    #: The camera that sees the parts to pick, and the one over the bin.
+    camera: str = "logical_camera_2"
+    bin: str = "bin_1"
+    bin_camera: str = ""
+    #: Type of the parts to pick (camera ``type``) and their edge length.
+    part_type: str = "object"
+    part_size: float = 0.2
+    #: Heights (m) of the approach above the top face, and of the tip above the
+    #: bin's rim during transfer.
+    approach_height: float = 0.25
+    transfer_clearance: float = 0.15
+    #: Tool speed limit (m/s) and the slower descent speed.
+    max_tool_speed: float = 0.6
+    descent_speed: float = 0.15
+    #: How far the tip target goes below the top face (m): just enough for contact.
+    press_depth: float = 0.003
+    attach_timeout: float = 1.0
+    detect_timeout: float = 15.0
+    max_attempts: int = 3
+    #: DiffIK tracking: position error (m) tolerated, and for how long (s).
+    tracking_tolerance: float = 0.03
+    tracking_time: float = 0.5
+    #: Images older than this (s) count as missing.
+    image_timeout: float = 0.5
+    update_rate_hz: float = 20.0
+    diffik_rate_hz: float = 100.0
+    #: Place parts on a grid of slots (fill a bin) instead of all at its centre.
+    grid: bool = True
+    #: Settle time after release before verifying.
+    settle_time: float = 0.6
+
+    def validate(self) -> None:
+        if not 0 < self.max_tool_speed <= 1.0:
+            raise ConfigError(f"task.max_tool_speed must be in (0, 1] m/s, got {self.max_tool_speed}")
+        for key in ("part_size", "approach_height", "descent_speed", "attach_timeout",
+                    "detect_timeout", "tracking_tolerance", "tracking_time", "image_timeout",
+                    "update_rate_hz", "diffik_rate_hz", "settle_time"):
+            if getattr(self, key) <= 0:
+                raise ConfigError(f"task.{key} must be > 0, got {getattr(self, key)}")
+        if self.parts < 1:
+            raise ConfigError(f"task.parts must be >= 1, got {self.parts}")
+        if self.max_attempts < 1:
+            raise ConfigError(f"task.max_attempts must be >= 1, got {self.max_attempts}")
+
+
 def _default_plant_config() -> MultibodyPlantConfig:
     # 2 ms steps: 1 ms costs twice as much for no visible difference in the
     # course's motions (see bench/bench_factory.py). SAP is needed for the
@@ -128,7 +185,12 @@ class Scenario:
     parts: list[PartConfig] = field(default_factory=list)
     #: Parts pre-allocated for spawning (``object_k`` after the placed ones).
     part_pool: int = 0
+    #: Edge length (m) and mass (kg) of the pool's parts (uniform cubes).
+    pool_part_size: float = 0.2
+    pool_part_mass: float = 0.2
     spawner: Optional[SpawnerConfig] = None
+    #: A pick-and-place task for ``omtp-drake run``.
+    task: Optional[TaskConfig] = None
     conveyor: Optional[ConveyorConfig] = None
     break_beam: bool = False
     deletion_wall: bool = False
@@ -160,6 +222,14 @@ class Scenario:
                 raise ConfigError(
                     f"parts[{part.name}] needs size > 0 and mass > 0, got {part.size}, {part.mass}")
             names.append(part.name)
+        if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
+            raise ConfigError(f"pool parts need size > 0 and mass > 0, got "
+                              f"{self.pool_part_size}, {self.pool_part_mass}")
+        if self.task is not None:
+            self.task.validate()
+            robots = [r.name for r in self.robots]
+            if self.task.robot not in robots:
+                raise UnknownNameError("task robot", self.task.robot, robots)
         if self.part_pool < 0:
             raise ConfigError(f"part_pool must be >= 0, got {self.part_pool}")
         if self.spawner is not None:

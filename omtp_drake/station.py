@@ -247,7 +247,8 @@ def build_station(
         if name in taken:
             continue
         pool.append(name)
-        parts[name] = _add_xacro(parser, "part.urdf.xacro", {"name": name})
+        parts[name] = _add_xacro(parser, "part.urdf.xacro", {
+            "name": name, "size": scenario.pool_part_size, "mass": scenario.pool_part_mass})
         plant.SetDefaultFloatingBaseBodyPose(
             plant.GetBodyByName(name, parts[name]), parking_pose(len(pool) - 1))
 
@@ -288,7 +289,7 @@ def build_station(
     if scenario.break_beam:
         part_bodies = [plant.GetBodyByName(n, i) for n, i in parts.items()]
         sizes = {p.name: p.size for p in scenario.parts}
-        boxes = [(np.zeros(3), np.full(3, sizes.get(n, 0.2) / 2)) for n in parts]
+        boxes = [(np.zeros(3), np.full(3, sizes.get(n, scenario.pool_part_size) / 2)) for n in parts]
         beam = inner.AddNamedSystem("break_beam", BreakBeam(
             plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes))
         inner.Connect(plant.get_body_poses_output_port(), beam.GetInputPort("body_poses"))
