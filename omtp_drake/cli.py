@@ -12,11 +12,16 @@ import json
 import logging
 import math
 import sys
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
 import numpy as np
 
 from omtp_drake.errors import ConfigError, OmtpError
+
+if TYPE_CHECKING:
+    from pydrake.systems.framework import Context
+
+    from omtp_drake.station import Station
 
 _log = logging.getLogger("omtp_drake")
 
@@ -67,26 +72,66 @@ def format_transform(X, time: float = 0.0) -> str:
             f"{math.degrees(rpy[2]):.3f}]")
 
 
-def cmd_tf_echo(args: argparse.Namespace) -> int:
+def _simulated_station(scenario: str, time: float, poses: dict[str, str] | None = None,
+                       camera: str | None = None) -> tuple[Station, Context]:
+    """(station, root context): the scenario run (spawner included) from rest to
+    ``time``, each arm held at a named pose (``poses``: robot -> pose, default
+    Home) or, without ``poses``, at its initial pose. ``camera`` is checked
+    before simulating."""
     from omtp_drake import arms
-    from omtp_drake.frames import FrameTree
-    from omtp_drake.station import build_station
+    from omtp_drake.errors import UnknownNameError
+    from omtp_drake.runtime import FactoryRuntime
 
-    station = build_station(args.scenario)
-    poses = _parse_poses(args.pose)
-    for robot in poses:
-        station.arm(robot)  # unknown robot: one clear error
-    positions = {name: arms.named_pose(poses.get(name, "Home"), h.config)
-                 for name, h in station.arms.items()}
-    context = station.create_context(positions)
-    tree = FrameTree(station.plant)
-    X = tree.lookup_transform(station.plant.GetMyContextFromRoot(context), args.source, args.target)
+    if not (math.isfinite(time) and time >= 0):
+        raise ConfigError(f"--time {time!r} is invalid; valid: a finite time >= 0 s")
+    runtime = FactoryRuntime(scenario)
+    station = runtime.station
+    if camera is not None and camera not in station.cameras:
+        raise UnknownNameError("camera", camera, station.cameras)
+    if poses is not None:
+        for robot in poses:
+            station.arm(robot)  # unknown robot: one clear error
+        for name, h in station.arms.items():
+            runtime.hold_arm(name, arms.named_pose(poses.get(name, "Home"), h.config))
+    runtime.advance_to(time)
+    # Take the samples due now (cameras at 10 Hz), so an image is stamped `time`.
+    runtime.simulator.AdvancePendingEvents()
+    context = runtime.context
+    return station, context
+
+
+def cmd_tf_echo(args: argparse.Namespace) -> int:
+    from omtp_drake.frames import TfBuffer
+
+    station, context = _simulated_station(args.scenario, args.time, _parse_poses(args.pose))
+    stamped = TfBuffer.from_context(station, context).lookup_transform(args.source, args.target)
+    X = stamped.transform
     if args.json:
         q = X.rotation().ToQuaternion()
         print(json.dumps({"translation": [float(v) for v in X.translation()],
-                          "rotation_xyzw": [q.x(), q.y(), q.z(), q.w()]}))
+                          "rotation_xyzw": [q.x(), q.y(), q.z(), q.w()],
+                          "time": stamped.time}))
     else:
-        print(format_transform(X))
+        print(format_transform(X, stamped.time))
+    return 0
+
+
+def cmd_camera(args: argparse.Namespace) -> int:
+    station, context = _simulated_station(args.scenario, args.time, camera=args.camera)
+    image = station.diagram.GetOutputPort(f"{args.camera}.image").Eval(
+        station.diagram.GetMyContextFromRoot(context))
+    print(json.dumps(image.to_dict()) if args.json else str(image))
+    return 0
+
+
+def cmd_frames(args: argparse.Namespace) -> int:
+    from omtp_drake.frames import TfBuffer, view_frames
+
+    station, context = _simulated_station(args.scenario, args.time)
+    paths = view_frames(TfBuffer.from_context(station, context), args.output,
+                        title=f"Frame tree of {station.scenario.name}")
+    for path in paths:
+        print(path)
     return 0
 
 
@@ -111,8 +156,28 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("target", metavar="TARGET")
     p.add_argument("--pose", action="append", default=[], metavar="ROBOT=POSE",
                    help="arm at a named pose (default Home), e.g. robot1=R1Up")
+    p.add_argument("--time", type=float, default=0.5, metavar="T",
+                   help="simulate the arms holding still to T s first (default 0.5: the "
+                        "cameras have images; their detected-model frames are looked up too)")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_tf_echo)
+
+    p = sub.add_parser("camera", help="what a logical camera sees, like rostopic echo")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("--camera", required=True, metavar="NAME", help="e.g. logical_camera_1")
+    p.add_argument("--time", type=float, default=0.5, metavar="T",
+                   help="simulate (arms holding their initial pose) to T s first (default 0.5)")
+    p.add_argument("--json", action="store_true",
+                   help="print JSON (keys time, camera_name, camera_pose, models)")
+    p.set_defaults(func=cmd_camera)
+
+    p = sub.add_parser("frames", help="draw the frame tree (PDF and PNG), like ROS view_frames")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("-o", "--output", default="frames", metavar="FILE",
+                   help="output stem; FILE.pdf and FILE.png are written (default: frames)")
+    p.add_argument("--time", type=float, default=0.5, metavar="T",
+                   help="simulate (arms holding their initial pose) to T s first (default 0.5)")
+    p.set_defaults(func=cmd_frames)
     return parser
 
 

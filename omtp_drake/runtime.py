@@ -135,6 +135,21 @@ class FactoryRuntime:
         for callback in self._after_tick:
             callback(self)
 
+    # ------------------------------------------------------------------ arms
+
+    def hold_arm(self, name: str, q) -> None:
+        """Puts arm ``name`` at rest at ``q`` and commands it to stay there.
+
+        Only for an arm whose position command nobody drives (no controller).
+        """
+        handles = self.station.arm(name)
+        port = f"{name}.position"
+        if port not in self._free_inputs:
+            raise SimulationError(f"{port} is driven by a controller; it cannot be held")
+        self.station.set_arm_positions(self.context, name, q)
+        self.station.diagram.GetInputPort(port).FixValue(
+            self._station_context, self.station.plant.GetPositions(self._plant_context, handles.arm))
+
     # ------------------------------------------------------------------ conveyor
 
     def set_conveyor_power(self, power: float) -> None:

