@@ -16,7 +16,7 @@ def test_camera_json_has_the_part_on_the_belt(capsys):
     assert main(["camera", "lecture6_assignment1", "--camera", "logical_camera_1", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert {"time", "camera_pose", "models"} <= set(out)
-    assert out["time"] == pytest.approx(0.4)  # sampled at 10 Hz; the sample due at 0.5 is pending
+    assert out["time"] == pytest.approx(0.5)  # the sample due at --time is taken
     np.testing.assert_allclose(out["camera_pose"]["translation"], [1.2, 1.8, 2.0], atol=1e-9)
     (model,) = out["models"]
     assert (model["name"], model["type"]) == ("object_1", "object")
