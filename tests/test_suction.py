@@ -1,0 +1,610 @@
+"""The vacuum gripper (omtp_drake.suction), both backends, on a small rig.
+
+The rig: a world HalfSpace floor, a "tool" carried by x, y, z prismatic joints
+and yaw, tilt revolute joints, each driven by a stiff SAP PD actuator that
+tracks a scripted trajectory (simulated time), the course's vacuum gripper
+welded to the tool with its cup pointing down (world -z), and 0.2 m cube parts
+on the floor. A driver loop advances the simulator in chunks and calls
+``sync_weld`` after each chunk, as the runtime does.
+"""
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+import pytest
+from pydrake.common.yaml import yaml_load_typed
+from pydrake.geometry import HalfSpace
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import (
+    AddMultibodyPlant,
+    CoulombFriction,
+    MultibodyPlant,
+    MultibodyPlantConfig,
+)
+from pydrake.multibody.tree import (
+    PdControllerGains,
+    PrismaticJoint,
+    RevoluteJoint,
+    RigidBody,
+    SpatialInertia,
+)
+from pydrake.systems.analysis import Simulator
+from pydrake.systems.framework import Context, Diagram, DiagramBuilder
+from pydrake.systems.primitives import TrajectorySource
+from pydrake.trajectories import PiecewisePolynomial
+
+from omtp_drake.assets import MODELS_DIR, expand_xacro
+from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.scenario import Scenario
+from omtp_drake.suction import (
+    GripperState,
+    SuctionConfig,
+    SuctionConstraints,
+    SuctionGripper,
+    _octahedron,
+    add_suction_gripper,
+    connect_spatial_forces,
+    declare_suction_constraints,
+    sync_weld,
+)
+
+H = 0.002                 # plant step [s]
+CHUNK = 0.05              # driver chunk = the runtime's tick [s]
+SIZE = 0.2                # part edge [m]
+PART_Z = SIZE / 2 + 0.001  # a part's centre resting on its 1 mm corner spheres
+TOP = SIZE + 0.001        # its top face
+CUP_OFFSET = 0.0775       # tool0 -> cup face along the gripper's +z (world -z here)
+PRESS = 0.002             # how far the cup face is commanded into the part
+GRIPPER = "vacuum_gripper1"
+BACKENDS = ("weld", "force")
+# The tool's joints (positions q): x, y, z (tool0's world position), yaw
+# about world z, tilt about the tool's x axis (0 = cup straight down).
+
+
+# ----------------------------------------------------------------------------
+# Rig
+
+
+@dataclass
+class Rig:
+    diagram: Diagram
+    plant: MultibodyPlant
+    gripper: SuctionGripper
+    constraints: Optional[SuctionConstraints]
+    parts: list[RigidBody]
+    simulator: Simulator
+    context: Context
+    #: (time, X_WP of parts[0], X_WC) after every plant step.
+    log: list = field(default_factory=list)
+
+    @property
+    def plant_context(self) -> Context:
+        return self.plant.GetMyContextFromRoot(self.context)
+
+    @property
+    def time(self) -> float:
+        return self.context.get_time()
+
+    def command(self, on: bool) -> None:
+        self.gripper.GetInputPort("command").FixValue(
+            self.gripper.GetMyMutableContextFromRoot(self.context), [1.0 if on else 0.0])
+
+    def state(self) -> GripperState:
+        return self.gripper.GetOutputPort("state").Eval(
+            self.gripper.GetMyContextFromRoot(self.context))
+
+    def X_WP(self, i: int = 0) -> RigidTransform:
+        return self.plant.EvalBodyPoseInWorld(self.plant_context, self.parts[i])
+
+    def X_WC(self) -> RigidTransform:
+        return self.plant.EvalBodyPoseInWorld(self.plant_context, self.plant.get_body(
+            self.gripper.cup_body_index))
+
+    def advance_to(self, t: float, chunk: float = CHUNK,
+                   after: Optional[Callable[["Rig"], None]] = None) -> None:
+        """The runtime's loop: advance in chunks, sync the weld after each."""
+        while self.time < t - 1e-9:
+            k = math.floor(self.time / chunk + 1e-9) + 1
+            self.simulator.AdvanceTo(min(t, k * chunk))
+            if self.constraints is not None:
+                sync_weld(self.gripper, self.constraints, self.plant, self.context)
+            if after is not None:
+                after(self)
+
+    def cup_part_contacts(self) -> int:
+        results = self.plant.get_contact_results_output_port().Eval(self.plant_context)
+        cup, part = int(self.gripper.cup_body_index), int(self.parts[0].index())
+        return sum({int(results.point_pair_contact_info(i).bodyA_index()),
+                    int(results.point_pair_contact_info(i).bodyB_index())} == {cup, part}
+                   for i in range(results.num_point_pair_contacts()))
+
+
+def tool_q(x: float, y: float, cup_z: float, yaw: float = 0.0, tilt: float = 0.0) -> np.ndarray:
+    """Joint positions putting the cup face centre at (x, y, cup_z) (before tilt)."""
+    return np.array([x, y, cup_z + CUP_OFFSET, yaw, tilt])
+
+
+def trajectory(waypoints: Sequence[tuple[float, np.ndarray]], accel: float = 20.0,
+               dt: float = H) -> PiecewisePolynomial:
+    """Straight segments between (time, q) waypoints, each with a trapezoidal speed.
+
+    Each segment starts and ends at rest and accelerates at ``accel`` (m/s^2 or
+    rad/s^2) up to the cruise speed that makes it last its duration; a huge
+    ``accel`` gives steps in velocity. Sampled every ``dt`` (first-order hold).
+    """
+    times, qs = [waypoints[0][0]], [np.asarray(waypoints[0][1], float)]
+    for (t0, q0), (t1, q1) in zip(waypoints, waypoints[1:]):
+        q0, q1 = np.asarray(q0, float), np.asarray(q1, float)
+        T, D = t1 - t0, float(np.max(np.abs(q1 - q0)))
+        n = max(1, int(round(T / dt)))
+        for k in range(1, n + 1):
+            s = _trapezoid(k * T / n, T, D, accel) / D if D > 0 else 1.0
+            times.append(t0 + k * T / n)
+            qs.append(q0 + s * (q1 - q0))
+    return PiecewisePolynomial.FirstOrderHold(times, np.array(qs).T)
+
+
+def _trapezoid(t: float, T: float, D: float, a: float) -> float:
+    """Distance covered at t by a rest-to-rest trapezoid of length D in time T."""
+    # cruise speed v with ramps of v / a: D = v T - v^2 / a.
+    disc = T * T - 4 * D / a
+    if disc < 0:
+        raise ValueError(f"cannot cover {D} in {T} s at {a}")
+    v = (T - math.sqrt(disc)) * a / 2
+    tr = v / a
+    if t < tr:
+        return 0.5 * a * t * t
+    if t > T - tr:
+        return D - 0.5 * a * (T - t) ** 2
+    return 0.5 * a * tr * tr + v * (t - tr)
+
+
+def plant_config() -> MultibodyPlantConfig:
+    """The station's plant settings (2 ms SAP point contact, unsampled output ports)."""
+    config = Scenario().plant_config
+    assert config.time_step == H
+    return config
+
+
+def build_rig(backend: str, motion: PiecewisePolynomial, *,
+              parts: Sequence[tuple[float, float, float]] = ((0.0, 0.0, 0.0),),
+              mass: float = 0.2, config: Optional[SuctionConfig] = None,
+              log: bool = True) -> Rig:
+    """The rig with parts at (x, y, yaw) on the floor, the tool following ``motion``."""
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlant(plant_config(), builder)
+    plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(), HalfSpace(), "floor",
+                                    CoulombFriction(1.0, 1.0))
+    tool = plant.AddModelInstance("tool")
+    light = SpatialInertia.SolidBoxWithMass(0.1, 0.05, 0.05, 0.05)
+    links = [plant.AddRigidBody(n, tool, light) for n in ("tool_x", "tool_y", "tool_z", "tool_yaw")]
+    links.append(plant.AddRigidBody("tool", tool, SpatialInertia.SolidBoxWithMass(0.5, 0.05, 0.05, 0.05)))
+    parents = [plant.world_body()] + links[:-1]
+    joints = [
+        PrismaticJoint("jx", parents[0].body_frame(), links[0].body_frame(), [1, 0, 0]),
+        PrismaticJoint("jy", parents[1].body_frame(), links[1].body_frame(), [0, 1, 0]),
+        PrismaticJoint("jz", parents[2].body_frame(), links[2].body_frame(), [0, 0, 1]),
+        RevoluteJoint("jyaw", parents[3].body_frame(), links[3].body_frame(), [0, 0, 1]),
+        RevoluteJoint("jtilt", parents[4].body_frame(), links[4].body_frame(), [1, 0, 0]),
+    ]
+    for joint in joints:
+        joint = plant.AddJoint(joint)
+        actuator = plant.AddJointActuator(joint.name(), joint)
+        actuator.set_controller_gains(PdControllerGains(p=1e6, d=2e4))
+    parser = Parser(plant)
+    (gripper_instance,) = parser.AddModelsFromString(
+        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf")
+    # Cup down: the gripper's +z (out of the tool) along world -z.
+    plant.WeldFrames(links[-1].body_frame(), plant.GetFrameByName(f"{GRIPPER}_base_link"),
+                     RigidTransform(RollPitchYaw(math.pi, 0, 0), [0, 0, 0]))
+    part_bodies = []
+    for i, (x, y, yaw) in enumerate(parts):
+        (instance,) = parser.AddModelsFromString(expand_xacro(
+            MODELS_DIR / "part.urdf.xacro", {"name": f"part_{i}", "size": SIZE, "mass": mass}), "urdf")
+        body = plant.GetBodyByName(f"part_{i}", instance)
+        plant.SetDefaultFloatingBaseBodyPose(body, RigidTransform(RollPitchYaw(0, 0, yaw), [x, y, PART_Z]))
+        part_bodies.append(body)
+    cup = plant.GetBodyByName(f"{GRIPPER}_cup")
+    config = config or SuctionConfig(backend=backend)
+    constraints = declare_suction_constraints(plant, cup, part_bodies[0]) if backend == "weld" else None
+    plant.Finalize()
+
+    source = builder.AddSystem(TrajectorySource(motion, output_derivative_order=1))
+    builder.Connect(source.get_output_port(), plant.get_desired_state_input_port(tool))
+    gripper = add_suction_gripper(builder, plant, cup, part_bodies, config, "suction1")
+    connect_spatial_forces(builder, plant, [gripper])
+    diagram = builder.Build()
+
+    context = diagram.CreateDefaultContext()
+    plant_context = plant.GetMyMutableContextFromRoot(context)
+    plant.SetPositions(plant_context, tool, motion.value(motion.start_time()).ravel())
+    if constraints is not None:
+        constraints.deactivate_all(plant, plant_context)
+    simulator = Simulator(diagram, context)
+    rig = Rig(diagram, plant, gripper, constraints, part_bodies, simulator, context)
+    if log:
+        def monitor(root: Context):
+            pc = plant.GetMyContextFromRoot(root)
+            rig.log.append((root.get_time(), plant.EvalBodyPoseInWorld(pc, part_bodies[0]),
+                            plant.EvalBodyPoseInWorld(pc, cup)))
+        simulator.set_monitor(monitor)
+    rig.command(False)
+    simulator.Initialize()
+    return rig
+
+
+def hold(q: np.ndarray, until: float = 5.0) -> PiecewisePolynomial:
+    return trajectory([(0.0, q), (until, q)])
+
+
+def pose_change(X_a: RigidTransform, X_b: RigidTransform) -> tuple[float, float]:
+    """(distance [m], angle [deg]) between two poses."""
+    angle = X_a.rotation().InvertAndCompose(X_b.rotation()).ToAngleAxis().angle()
+    return float(np.linalg.norm(X_a.translation() - X_b.translation())), math.degrees(angle)
+
+
+def logged_at(rig: Rig, t: float) -> tuple[RigidTransform, RigidTransform]:
+    """(X_WP, X_WC) logged at time t (the step ending at t)."""
+    for time, X_WP, X_WC in rig.log:
+        if abs(time - t) < 1e-9:
+            return X_WP, X_WC
+    raise AssertionError(f"no log entry at t = {t}")
+
+
+# ----------------------------------------------------------------------------
+# Configuration
+
+
+def test_config_defaults_are_valid_and_load_from_yaml():
+    SuctionConfig().validate()
+    config = yaml_load_typed(schema=SuctionConfig, data="backend: force\ncheck_rate_hz: 30.0\n"
+                             "consecutive_checks: 3\napply_reaction: false\n")
+    config.validate()
+    assert (config.backend, config.check_rate_hz, config.consecutive_checks,
+            config.apply_reaction) == ("force", 30.0, 3, False)
+
+
+@pytest.mark.parametrize("field_name, value, words", [
+    ("backend", "glue", ["backend", "glue", "weld", "force"]),
+    ("check_rate_hz", 5.0, ["check_rate_hz", "5.0", "[10, inf)"]),
+    ("check_rate_hz", math.nan, ["check_rate_hz", "nan"]),
+    ("max_angle_deg", 95.0, ["max_angle_deg", "95.0", "(0, 90)"]),
+    ("consecutive_checks", 0, ["consecutive_checks", "0", ">= 1"]),
+    ("stiffness", -1.0, ["stiffness", "-1.0", "(0, inf)"]),
+    ("damping", -2.0, ["damping", "-2.0", "[0, inf)"]),
+    ("angular_stiffness", math.inf, ["angular_stiffness", "inf"]),
+    ("max_hold_distance", 0.0, ["max_hold_distance", "0.0", "(0, inf)"]),
+])
+def test_config_validation_names_field_value_and_range(field_name, value, words):
+    config = SuctionConfig(**{field_name: value})
+    with pytest.raises(ConfigError) as info:
+        config.validate()
+    for word in words:
+        assert word in str(info.value)
+
+
+def test_add_suction_gripper_validates_config():
+    with pytest.raises(ConfigError, match="backend"):
+        build_rig("weld", hold(tool_q(0, 0, 0.5)), config=SuctionConfig(backend="magnet"))
+
+
+# ----------------------------------------------------------------------------
+# Weld constraints' geometry
+
+
+def test_octahedron_of_six_distances_is_rigid():
+    """The six lengths fix all 6 DOF of the relative pose (full-rank rigidity matrix)."""
+    a, b, pairs = _octahedron()
+    assert len({(i, j) for i, j in pairs}) == 6
+    # d(distance_ij) = u . (w x b_j + v) = (b_j x u) . w + u . v for a twist [w, v] of the
+    # part side, u = unit(b_j - a_i); rotations scaled by the triangle radius R.
+    R = np.linalg.norm(a[0])
+    rows = []
+    for i, j in pairs:
+        u = (b[j] - a[i]) / np.linalg.norm(b[j] - a[i])
+        rows.append(np.concatenate([np.cross(b[j], u) / R, u]))
+    s = np.linalg.svd(np.array(rows), compute_uv=False)
+    assert s[-1] > 0.25 * s[0]  # well conditioned, not just full rank
+    # Not collinear: each triangle spans a plane.
+    assert np.linalg.matrix_rank(a[1:] - a[0]) == 2 and np.linalg.matrix_rank(b[1:] - b[0]) == 2
+
+
+# ----------------------------------------------------------------------------
+# State output and the two-checks rule
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_state_fields_and_two_consecutive_checks(backend):
+    rig = build_rig(backend, hold(tool_q(0.04, 0, TOP - PRESS)), parts=[(0, 0, 0)])
+    state = rig.state()
+    assert isinstance(state, GripperState)
+    assert (state.enabled, state.attached, state.part, state.X_CP) == (False, False, "", None)
+    rig.command(True)
+    rig.simulator.AdvanceTo(0.03)  # one check (t = 0): touching, not yet attached
+    state = rig.state()
+    assert state.enabled and not state.attached and state.part == "" and math.isnan(state.since)
+    assert rig.cup_part_contacts() > 0
+    rig.simulator.AdvanceTo(0.07)  # second check (t = 0.05)
+    if backend == "force":  # held from the check on
+        assert rig.state().attached and rig.state().since == pytest.approx(0.05)
+    else:  # decided; held (and reported) once the runtime syncs the constraints
+        assert not rig.state().attached
+        assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
+        sync_weld(rig.gripper, rig.constraints, rig.plant, rig.context)
+        assert rig.state().attached and rig.state().since == pytest.approx(0.07)
+    state = rig.state()
+    assert state.enabled and state.attached and state.part == "part_0"
+    assert state.last_release == ""
+    # X_CP: the cup looks down, so the part centre is ~0.1 m along +Cz, 4 cm to the side.
+    p_CP = state.X_CP.translation()
+    assert p_CP[2] == pytest.approx(SIZE / 2 - PRESS, abs=1e-3)
+    assert math.hypot(p_CP[0], p_CP[1]) == pytest.approx(0.04, abs=1e-3)
+    if backend == "weld":
+        assert int(rig.constraints.held_body(rig.plant, rig.plant_context)) == int(rig.parts[0].index())
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_interrupted_touch_restarts_the_count(backend):
+    """Touching at checks 0 and 2 but not 1 does not attach; a 2nd touch in a row does."""
+    down, up = tool_q(0, 0, TOP - PRESS), tool_q(0, 0, TOP + 0.005)
+    motion = trajectory([(0.0, down), (0.02, down), (0.03, up), (0.07, up), (0.08, down),
+                         (1.0, down)], accel=1e6)
+    rig = build_rig(backend, motion)
+    rig.command(True)
+    rig.advance_to(0.12)  # checks at 0 (touch), 0.05 (apart), 0.10 (touch)
+    assert not rig.state().attached
+    rig.advance_to(0.2)  # check at 0.15 (touch): second in a row
+    assert rig.state().attached
+    assert rig.state().since == pytest.approx(0.15 if backend == "force" else 0.2)
+
+
+def test_weld_attach_is_dropped_if_the_part_is_gone_at_the_sync():
+    """Decided at a check, but the tool lifted before the runtime's sync: no attach."""
+    down, up = tool_q(0, 0, TOP - PRESS), tool_q(0, 0, TOP + 0.005)
+    motion = trajectory([(0.0, down), (0.06, down), (0.07, up), (1.0, up)], accel=1e6)
+    rig = build_rig("weld", motion, log=False)
+    rig.command(True)
+    rig.simulator.AdvanceTo(0.055)  # checks at 0 and 0.05: decided
+    assert not rig.state().attached
+    rig.simulator.AdvanceTo(0.09)  # lifted; the check at 0.10 not yet run
+    assert rig.cup_part_contacts() == 0
+    sync_weld(rig.gripper, rig.constraints, rig.plant, rig.context)
+    assert not rig.state().attached
+    assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
+    rig.advance_to(0.4)
+    assert not rig.state().attached and rig.X_WP().translation()[2] < PART_Z + 1e-3
+
+
+def test_unknown_part_name_is_reported():
+    rig = build_rig("force", hold(tool_q(0, 0, 0.5)), log=False)
+    with pytest.raises(UnknownNameError, match="part_0"):
+        rig.gripper.part_body_index("part_9")
+    assert rig.gripper.part_names() == ["part_0"]
+
+
+# ----------------------------------------------------------------------------
+# No attach
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_no_attach_when_disabled(backend):
+    rig = build_rig(backend, hold(tool_q(0, 0, TOP - PRESS)), log=False)
+    rig.advance_to(0.4)
+    assert rig.cup_part_contacts() > 0
+    state = rig.state()
+    assert not state.enabled and not state.attached
+    if backend == "weld":
+        assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_no_attach_when_not_touching(backend):
+    rig = build_rig(backend, hold(tool_q(0, 0, TOP + 0.005)), log=False)
+    rig.command(True)
+    rig.advance_to(0.4)
+    assert rig.cup_part_contacts() == 0
+    assert rig.state().enabled and not rig.state().attached
+
+
+def _tilted(tilt_deg: float) -> np.ndarray:
+    """The tool tilted about x so that the cup's lowest rim point is PRESS into the part."""
+    tilt = math.radians(tilt_deg)
+    rim_drop = 0.02 * math.sin(tilt)  # cup radius 0.02
+    # The cup face centre is CUP_OFFSET from tool0 along the tilted axis.
+    tool0_z = TOP - PRESS + rim_drop + CUP_OFFSET * math.cos(tilt)
+    tool0_y = -CUP_OFFSET * math.sin(tilt)
+    return np.array([0.0, tool0_y, tool0_z, 0.0, tilt])
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_no_attach_when_approach_is_30_deg_off(backend):
+    rig = build_rig(backend, hold(_tilted(30.0)), log=False)
+    rig.command(True)
+    rig.advance_to(0.4)
+    assert rig.cup_part_contacts() > 0  # it does touch
+    assert not rig.state().attached
+
+
+def test_attach_when_approach_is_10_deg_off():
+    rig = build_rig("force", hold(_tilted(10.0)), log=False)
+    rig.command(True)
+    rig.advance_to(0.2)
+    assert rig.state().attached
+
+
+# ----------------------------------------------------------------------------
+# Attach without snapping, hold, release
+
+
+def _attach_moment(rig: Rig) -> float:
+    """When the part starts being held: the check (force) or the sync (weld)."""
+    return rig.state().since
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_attach_does_not_snap_an_offset_yawed_part(backend):
+    # Part yawed 20 deg, the cup 4 cm off its centre (diagonal), pressed 2 mm.
+    rig = build_rig(backend, hold(tool_q(0.03, -0.0265, TOP - PRESS)),
+                    parts=[(0.0, 0.0, math.radians(20.0))])
+    rig.advance_to(0.3)  # the arm has arrived; then suction on
+    rig.command(True)
+    rig.advance_to(0.6)
+    state = rig.state()
+    assert state.attached
+    t_attach = _attach_moment(rig)
+    before, _ = logged_at(rig, t_attach)
+    after, _ = logged_at(rig, round(t_attach + H, 9))
+    dist, angle = pose_change(before, after)
+    assert dist < 1e-4 and angle < 0.1
+    # No jump on any step around it either (the part only settles slowly under the cup).
+    window = [X_WP for t, X_WP, _ in rig.log if abs(t - t_attach) <= 0.1 + 1e-9]
+    for X_a, X_b in zip(window, window[1:]):
+        dist, angle = pose_change(X_a, X_b)
+        assert dist < 1e-5 and angle < 0.01
+    # The captured pose is the one found (offset and yaw kept).
+    p_CP = state.X_CP.translation()
+    assert math.hypot(p_CP[0], p_CP[1]) == pytest.approx(0.04, abs=1e-3)
+    R_WP_expected = rig.X_WC().rotation() @ state.X_CP.rotation()
+    assert pose_change(RigidTransform(R_WP_expected, [0, 0, 0]),
+                       RigidTransform(rig.X_WP().rotation(), [0, 0, 0]))[1] < 0.1
+
+
+def _pick_motion(accel: float) -> tuple[PiecewisePolynomial, float, float]:
+    """Press on a part, lift 0.3 m, carry 0.6 m and back, at 1 m/s; returns (motion, t_moving, t_stop)."""
+    down = tool_q(0.02, 0.01, TOP - PRESS)
+    up = down + [0, 0, 0.3, 0, 0]
+    far = up + [0.6, 0, 0, 0, 0]
+    side = far + [0, -0.4, 0, math.radians(20), 0]
+    ramp = 1.0 / accel
+    lift, carry, turn = 0.3 + ramp, 0.6 + ramp, 0.4 + ramp
+    t0 = 0.3
+    waypoints = [(0.0, down), (t0, down), (t0 + lift, up), (t0 + lift + carry, far),
+                 (t0 + lift + carry + turn, side), (t0 + lift + 2 * carry + turn, side - [0.6, 0, 0, 0, 0]),
+                 (t0 + lift + 2 * carry + turn + 0.3, side - [0.6, 0, 0, 0, 0])]
+    return trajectory(waypoints, accel=accel), t0, waypoints[-2][0]
+
+
+@pytest.mark.parametrize("backend, reaction", [("weld", False), ("force", False), ("force", True)])
+def test_holds_a_1kg_part_through_a_fast_move_then_releases(backend, reaction):
+    """At 1 m/s, 20 m/s^2 ramps. (The rig's tool is SAP-PD driven, so the force
+    backend's reaction on the cup is stable here.)"""
+    motion, t_moving, t_stop = _pick_motion(accel=20.0)
+    rig = build_rig(backend, motion, mass=1.0,
+                    config=SuctionConfig(backend=backend, apply_reaction=reaction))
+    rig.command(True)
+    rig.advance_to(t_moving)
+    state = rig.state()
+    assert state.attached
+    X_CP = state.X_CP
+    drift = []
+
+    def measure(r: Rig) -> None:
+        drift.append(pose_change(X_CP, r.X_WC().InvertAndCompose(r.X_WP())))
+
+    rig.advance_to(t_stop + 0.2, after=measure)
+    # Peak speed reached 1 m/s.
+    speeds = [np.linalg.norm(b[2].translation() - a[2].translation()) / H
+              for a, b in zip(rig.log, rig.log[1:])]
+    assert max(speeds) == pytest.approx(1.0, rel=0.05)
+    # Every step, not only at chunk ends.
+    steps = [pose_change(X_CP, X_WC.InvertAndCompose(X_WP))
+             for t, X_WP, X_WC in rig.log if t >= t_moving]
+    worst = max(d for d, _ in steps)
+    worst_angle = max(a for _, a in steps)
+    assert rig.state().attached
+    assert worst < 1e-3 and worst_angle < 0.5, (worst, worst_angle)
+    # The part went up with the tool.
+    assert rig.X_WP().translation()[2] > PART_Z + 0.25
+
+    # Release: it falls from where it is and lands on the floor.
+    z_held = rig.X_WP().translation()[2]
+    rig.command(False)
+    rig.advance_to(rig.time + 0.1)
+    assert not rig.state().attached and rig.state().last_release == "disabled"
+    assert rig.X_WP().translation()[2] < z_held - 0.01
+    rig.advance_to(rig.time + 1.2)
+    p = rig.X_WP().translation()
+    assert p[2] == pytest.approx(PART_Z, abs=0.02)
+    if backend == "weld":
+        assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
+
+
+def test_force_backend_loses_hold_when_pulled_away():
+    """Pressing a held part into the floor stretches the spring: a 'hold lost' release."""
+    down = tool_q(0, 0, TOP - PRESS)
+    motion = trajectory([(0.0, down), (0.2, down), (0.5, down - [0, 0, 0.03, 0, 0]),
+                         (2.0, down - [0, 0, 0.03, 0, 0])])
+    rig = build_rig("force", motion, config=SuctionConfig(backend="force", max_hold_distance=0.01),
+                    log=False)
+    rig.command(True)
+    rig.advance_to(0.2)
+    assert rig.state().attached
+    seen: list[GripperState] = []
+    rig.advance_to(0.7, after=lambda r: seen.append(r.state()))
+    lost = [s for s in seen if s.last_release == "hold lost"]
+    assert lost and all(s.enabled and not s.attached and s.part == "" for s in lost)
+
+
+def test_connect_spatial_forces_merges_several_force_grippers():
+    """Two force grippers share the plant's single applied-force input."""
+    builder = DiagramBuilder()
+    plant, _ = AddMultibodyPlant(plant_config(), builder)
+    parser = Parser(plant)
+    cups = []
+    for k in (1, 2):
+        parser.AddModelsFromString(expand_xacro(
+            MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": f"vacuum_gripper{k}"}), "urdf")
+        plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(f"vacuum_gripper{k}_base_link"),
+                         RigidTransform([k, 0, 1]))
+        cups.append(plant.GetBodyByName(f"vacuum_gripper{k}_cup"))
+    parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "p"}), "urdf")
+    part = plant.GetBodyByName("p")
+    plant.Finalize()
+    grippers = [add_suction_gripper(builder, plant, cup, [part], SuctionConfig(backend="force"),
+                                    f"suction{k}") for k, cup in enumerate(cups, 1)]
+    connect_spatial_forces(builder, plant, grippers)
+    assert builder.IsConnectedOrExported(plant.get_applied_spatial_force_input_port())
+    with pytest.raises(ConfigError, match="already connected"):
+        connect_spatial_forces(builder, plant, grippers)
+    diagram = builder.Build()
+    context = diagram.CreateDefaultContext()
+    for g in grippers:
+        g.GetInputPort("command").FixValue(g.GetMyMutableContextFromRoot(context), [0.0])
+    assert plant.get_applied_spatial_force_input_port().Eval(
+        plant.GetMyContextFromRoot(context)) == []
+
+
+def test_gripper_rejects_anchored_parts_and_declares_before_finalize():
+    builder = DiagramBuilder()
+    plant, _ = AddMultibodyPlant(plant_config(), builder)
+    parser = Parser(plant)
+    parser.AddModelsFromString(expand_xacro(
+        MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf")
+    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(f"{GRIPPER}_base_link"))
+    parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "p"}), "urdf")
+    parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "fixed"}), "urdf")
+    plant.WeldFrames(plant.world_frame(), plant.GetFrameByName("fixed"), RigidTransform([2, 0, 0]))
+    cup = plant.GetBodyByName(f"{GRIPPER}_cup")
+    with pytest.raises(ConfigError, match="world body"):
+        declare_suction_constraints(plant, cup, plant.world_body())
+    plant.Finalize()
+    with pytest.raises(ConfigError, match="before plant.Finalize"):
+        declare_suction_constraints(plant, cup, plant.GetBodyByName("p"))
+    with pytest.raises(ConfigError, match="'fixed' is anchored"):
+        SuctionGripper(plant, cup, [plant.GetBodyByName("fixed")], SuctionConfig(), "s")
+
+
+def test_weld_backend_needs_the_sap_solver():
+    builder = DiagramBuilder()
+    plant, _ = AddMultibodyPlant(MultibodyPlantConfig(
+        time_step=H, discrete_contact_approximation="tamsi", contact_model="point"), builder)
+    parser = Parser(plant)
+    parser.AddModelsFromString(expand_xacro(
+        MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf")
+    parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "p"}), "urdf")
+    with pytest.raises(ConfigError, match="SAP solver.*tamsi"):
+        declare_suction_constraints(plant, plant.GetBodyByName(f"{GRIPPER}_cup"),
+                                    plant.GetBodyByName("p"))
