@@ -125,7 +125,8 @@ def add_arm_controller(
     )
     interpolator = builder.AddNamedSystem(
         f"{robot.name}.desired_state_from_position",
-        StateInterpolatorWithDiscreteDerivative(n, plant.time_step(), suppress_initial_transient=True),
+        StateInterpolatorWithDiscreteDerivative(
+            n, 1.0 / robot.command_rate_hz, suppress_initial_transient=True),
     )
     builder.Connect(plant.get_state_output_port(arm), controller.get_input_port_estimated_state())
     builder.Connect(interpolator.get_output_port(), controller.get_input_port_desired_state())

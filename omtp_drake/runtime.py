@@ -40,6 +40,7 @@ from omtp_drake.parts import (Ledger, PartBook, SpawnerConfig, return_to_pool, s
                               take_from_pool)
 from omtp_drake.scenario import Scenario, load_scenario
 from omtp_drake.station import Station, build_station
+from omtp_drake.suction import sync_weld
 
 _log = logging.getLogger(__name__)
 
@@ -94,8 +95,10 @@ class FactoryRuntime:
                 robot = name.split(".")[0]
                 port.FixValue(self._station_context, self.station.plant.GetPositions(
                     self._plant_context, self.station.arm(robot).arm))
+            elif name.endswith(".command"):
+                port.FixValue(self._station_context, [0.0])
         self._free_inputs = {p.get_name() for p in free_inputs}
-        self.station.park_pool(self.context)
+        self.station.initialize_context(self.context)
         self.simulator = Simulator(self.diagram, self.context)
         self.simulator.Initialize()
         self._next_disposal = 0.0
@@ -127,6 +130,7 @@ class FactoryRuntime:
         self._after_tick.append(callback)
 
     def _tick_actions(self) -> None:
+        self._sync_suction()
         self._wrap_belt()
         if self.time >= self._next_disposal - 1e-9:
             self._dispose_touching_wall()
@@ -149,6 +153,35 @@ class FactoryRuntime:
         self.station.set_arm_positions(self.context, name, q)
         self.station.diagram.GetInputPort(port).FixValue(
             self._station_context, self.station.plant.GetPositions(self._plant_context, handles.arm))
+
+    # ------------------------------------------------------------------ grippers
+
+    def _gripper(self, robot: str):
+        self.station.suction_name(robot)  # the error lists the robots with grippers
+        return self.station.grippers[robot]
+
+    def enable_gripper(self, robot: str) -> None:
+        """The course's ``/gripperN/control enable: true`` (when no controller drives it)."""
+        self._command_gripper(robot, 1.0)
+
+    def disable_gripper(self, robot: str) -> None:
+        """Vacuum off: a held part is released at the next check (20 Hz) and falls."""
+        self._command_gripper(robot, 0.0)
+
+    def _command_gripper(self, robot: str, value: float) -> None:
+        port = f"{self.station.suction_name(robot)}.command"
+        if port not in self._free_inputs:
+            raise SimulationError(f"{port} is driven by a controller; use a fault injection instead")
+        self.station.diagram.GetInputPort(port).FixValue(self._station_context, [value])
+
+    def gripper_state(self, robot: str):
+        """The gripper's GripperState: ``enabled``, ``attached``, ``part``."""
+        gripper = self._gripper(robot)
+        return gripper.get_state(gripper.GetMyContextFromRoot(self.context))
+
+    def _sync_suction(self) -> None:
+        for robot, constraints in self.station.suction_constraints.items():
+            sync_weld(self.station.grippers[robot], constraints, self.station.plant, self.context)
 
     # ------------------------------------------------------------------ conveyor
 
@@ -312,7 +345,12 @@ class FactoryRuntime:
 
     def _held(self) -> dict[str, str]:
         """robot -> name of the part its gripper holds."""
-        return {}
+        held = {}
+        for robot in self.station.grippers:
+            state = self.gripper_state(robot)
+            if state.attached:
+                held[robot] = state.part
+        return held
 
     def _loose_parts(self) -> list[str]:
         return [n for n in self.parts_in_world() if self._where(n)[0] != "in_bin"]

@@ -33,6 +33,7 @@ from omtp_drake.assets import UR_MODELS
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.logical_camera import LogicalCameraConfig
 from omtp_drake.parts import SpawnerConfig
+from omtp_drake.suction import SuctionConfig
 
 #: Folder of the scenario files shipped with the package.
 DIAGRAMS_DIR = Path(__file__).resolve().parent.parent / "diagrams"
@@ -60,6 +61,10 @@ class RobotConfig:
     gripper: str = "vacuum_gripper1"
     #: Symmetric joint position limit (the course limits every joint to pi).
     joint_limit: float = math.pi
+    #: Rate (Hz) at which the servo samples the position command and
+    #: differentiates it into a desired velocity (a real UR: 125 Hz). Match a
+    #: discrete commander's rate (DiffIK runs at 100 Hz) so velocities are smooth.
+    command_rate_hz: float = 100.0
     #: Inverse-dynamics controller gains (per joint, acceleration units).
     kp: float = 400.0
     kd: float = 40.0
@@ -119,9 +124,11 @@ class TaskConfig:
     #: bin's rim during transfer.
     approach_height: float = 0.25
     transfer_clearance: float = 0.15
-    #: Tool speed limit (m/s) and the slower descent speed.
-    max_tool_speed: float = 0.6
-    descent_speed: float = 0.15
+    #: Tool speed limit (m/s), and the slow speed of the last few cm before contact.
+    max_tool_speed: float = 1.0
+    descent_speed: float = 0.1
+    #: The descent slows down this far (m) above the top face.
+    slow_zone: float = 0.02
     #: How far the tip target goes below the top face (m): just enough for contact.
     press_depth: float = 0.003
     attach_timeout: float = 1.0
@@ -136,13 +143,13 @@ class TaskConfig:
     diffik_rate_hz: float = 100.0
     #: Place parts on a grid of slots (fill a bin) instead of all at its centre.
     grid: bool = True
-    #: Settle time after release before verifying.
-    settle_time: float = 0.6
+    #: Settle time after release before verifying (the part drops ~2 cm).
+    settle_time: float = 0.3
 
     def validate(self) -> None:
         if not 0 < self.max_tool_speed <= 1.0:
             raise ConfigError(f"task.max_tool_speed must be in (0, 1] m/s, got {self.max_tool_speed}")
-        for key in ("part_size", "approach_height", "descent_speed", "attach_timeout",
+        for key in ("part_size", "approach_height", "descent_speed", "slow_zone", "attach_timeout",
                     "detect_timeout", "tracking_tolerance", "tracking_time", "image_timeout",
                     "update_rate_hz", "diffik_rate_hz", "settle_time"):
             if getattr(self, key) <= 0:
@@ -192,6 +199,8 @@ class Scenario:
     pool_part_size: float = 0.2
     pool_part_mass: float = 0.2
     spawner: Optional[SpawnerConfig] = None
+    #: The vacuum grippers' behaviour and backend (``weld`` or ``force``).
+    suction: SuctionConfig = field(default_factory=SuctionConfig)
     #: A pick-and-place task for ``omtp-drake run``.
     task: Optional[TaskConfig] = None
     conveyor: Optional[ConveyorConfig] = None
@@ -208,6 +217,9 @@ class Scenario:
             if robot.pedestal_height <= 0:
                 raise ConfigError(
                     f"robots[{robot.name}].pedestal_height must be > 0, got {robot.pedestal_height}")
+            if robot.command_rate_hz <= 0:
+                raise ConfigError(
+                    f"robots[{robot.name}].command_rate_hz must be > 0, got {robot.command_rate_hz}")
             if not 0 < robot.joint_limit <= 2 * math.pi:
                 raise ConfigError(
                     f"robots[{robot.name}].joint_limit must be in (0, 2 pi], got {robot.joint_limit}")
@@ -225,6 +237,7 @@ class Scenario:
                 raise ConfigError(
                     f"parts[{part.name}] needs size > 0 and mass > 0, got {part.size}, {part.mass}")
             names.append(part.name)
+        self.suction.validate()
         if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
             raise ConfigError(f"pool parts need size > 0 and mass > 0, got "
                               f"{self.pool_part_size}, {self.pool_part_mass}")

@@ -16,6 +16,10 @@ port                           kind    meaning
 ``robotN.velocity_estimated``  output  joint velocities (6)
 ``robotN.state_estimated``     output  [q; v] (12)
 ``robotN.torque_commanded``    output  joint torques of the servo (6)
+``suctionN.command``           input   vacuum on (> 0.5) / off (scenarios with parts)
+``suctionN.state``             output  :class:`GripperState`
+``conveyor.power``             output  belt power, percent
+``break_beam.state``           output  [object_detected, range]
 ``<camera>.image``             output  :class:`LogicalCameraImage`
 ``body_poses``                 output  world poses of every body
 ``contact_results``            output  the plant's contact results
@@ -55,6 +59,8 @@ from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.logical_camera import LogicalCamera, add_logical_camera
 from omtp_drake.parts import PartManager, parking_pose
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
+from omtp_drake.suction import (SuctionConstraints, SuctionGripper, add_suction_gripper,
+                                connect_spatial_forces, declare_suction_constraints)
 
 _log = logging.getLogger(__name__)
 
@@ -98,6 +104,10 @@ class Station:
     conveyor: Optional[ConveyorBelt] = None
     break_beam: Optional[BreakBeam] = None
     part_manager: Optional[PartManager] = None
+    #: robot -> its vacuum gripper system (absent without parts to grip).
+    grippers: dict[str, SuctionGripper] = field(default_factory=dict)
+    #: robot -> the weld backend's constraints (weld backend only).
+    suction_constraints: dict[str, SuctionConstraints] = field(default_factory=dict)
     _interpolators: dict = field(default_factory=dict, repr=False)
 
     def arm(self, name: str) -> ArmHandles:
@@ -122,8 +132,25 @@ class Station:
             self.set_arm_positions(context, name, q)
             if hold:
                 self.diagram.GetInputPort(f"{name}.position").FixValue(context, q)
-        self.park_pool(context)
+                if name in self.grippers:
+                    self.diagram.GetInputPort(
+                        f"{suction_name(self.arms[name].config)}.command").FixValue(context, [0.0])
+        self.initialize_context(context)
         return context
+
+    def initialize_context(self, root_context: Context) -> None:
+        """What every new context needs: pool parked, suction constraints off."""
+        self.park_pool(root_context)
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        for constraints in self.suction_constraints.values():
+            constraints.deactivate_all(self.plant, plant_context)
+
+    def suction_name(self, robot: str) -> str:
+        """The name (port prefix) of ``robot``'s vacuum gripper: ``suction1``..."""
+        if robot not in self.grippers:
+            raise UnknownNameError("robot with a vacuum gripper (and parts to grip)", robot,
+                                   self.grippers)
+        return suction_name(self.arms[robot].config)
 
     def set_arm_positions(self, root_context: Context, name: str, q: np.ndarray) -> None:
         """Puts arm ``name`` at rest at ``q`` and starts its servo from there.
@@ -165,6 +192,13 @@ class Station:
     def _free_joint(self, name: str):
         (index,) = self.plant.GetJointIndices(self.parts[name])
         return self.plant.get_joint(index)
+
+
+def suction_name(robot: RobotConfig) -> str:
+    """``vacuum_gripper1`` -> ``suction1`` (the gripper system and its ports)."""
+    if robot.gripper.startswith("vacuum_gripper"):
+        return "suction" + robot.gripper[len("vacuum_gripper"):]
+    return f"{robot.gripper}_suction"
 
 
 def _add_xacro(parser: Parser, file: str, args: dict | None = None) -> ModelInstanceIndex:
@@ -253,6 +287,15 @@ def build_station(
             plant.GetBodyByName(name, parts[name]), parking_pose(len(pool) - 1))
 
     _filter_robot_collisions(plant, scene_graph, arm_handles)
+
+    # Weld-backend grippers: their run-time constraints must exist before Finalize.
+    constraints: dict[str, SuctionConstraints] = {}
+    if parts and scenario.suction.backend == "weld":
+        placeholder = plant.GetBodyByName(next(iter(parts)), parts[next(iter(parts))])
+        for name, handles in arm_handles.items():
+            if handles.gripper is not None:
+                cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
+                constraints[name] = declare_suction_constraints(plant, cup, placeholder)
     if conveyor is not None:
         for index in plant.GetJointActuatorIndices():
             actuator = plant.get_joint_actuator(index)
@@ -300,6 +343,21 @@ def build_station(
         raise ConfigError("conveyor.stop_on_beam needs break_beam: true")
     part_manager = inner.AddNamedSystem("parts", PartManager(pool, scenario.spawner))
 
+    # Vacuum grippers (only when there are parts to grip).
+    grippers: dict[str, SuctionGripper] = {}
+    if parts:
+        part_bodies = [plant.GetBodyByName(n, i) for n, i in parts.items()]
+        for name, handles in arm_handles.items():
+            if handles.gripper is None:
+                continue
+            cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
+            suction = suction_name(handles.config)
+            grippers[name] = add_suction_gripper(
+                inner, plant, cup, part_bodies, scenario.suction, suction)
+            inner.ExportInput(grippers[name].GetInputPort("command"), f"{suction}.command")
+            inner.ExportOutput(grippers[name].GetOutputPort("state"), f"{suction}.state")
+        connect_spatial_forces(inner, plant, list(grippers.values()))
+
     cameras: dict[str, LogicalCamera] = {}
     for cam in scenario.cameras:
         cameras[cam.name] = add_logical_camera(
@@ -323,7 +381,7 @@ def build_station(
         scenario=scenario, diagram=diagram, plant=plant, scene_graph=scene_graph,
         arms=arm_handles, cameras=cameras, parts=parts, pool=pool, meshcat=meshcat,
         visualizer=visualizer, conveyor=belt, break_beam=beam, part_manager=part_manager,
-        _interpolators=interpolators)
+        grippers=grippers, suction_constraints=constraints, _interpolators=interpolators)
 
 
 def _filter_robot_collisions(

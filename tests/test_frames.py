@@ -169,6 +169,10 @@ def falling():
         station.set_arm_positions(context, name, arms.named_pose("Home", handles.config))
     station.diagram.GetInputPort("robot1.position").FixValue(
         station_context, arms.named_pose("Home", station.arm("robot1").config))
+    for robot in station.grippers:
+        station.diagram.GetInputPort(f"{station.suction_name(robot)}.command").FixValue(
+            station_context, [0.0])
+    station.initialize_context(context)
     plant = station.plant
     plant_context = plant.GetMyContextFromRoot(context)
     tree = FrameTree(plant)
