@@ -122,8 +122,8 @@ class TaskConfig:
     part_size: float = 0.2
     #: Heights (m) of the approach above the top face, and of the tip above the
     #: bin's rim during transfer.
-    approach_height: float = 0.25
-    transfer_clearance: float = 0.15
+    approach_height: float = 0.1
+    transfer_clearance: float = 0.05
     #: Tool speed limit (m/s), and the slow speed of the last few cm before contact.
     max_tool_speed: float = 1.0
     descent_speed: float = 0.1
