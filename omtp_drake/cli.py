@@ -44,17 +44,52 @@ def cmd_scenarios(args: argparse.Namespace) -> int:
     return 0
 
 
-def cmd_demo(args: argparse.Namespace) -> int:
-    from omtp_drake.demos import named_pose_tour
+def _print_result(result) -> None:
+    summary = result.summary
+    print(f"{'part':>10} {'start s':>8} {'end s':>8} {'cycle s':>8} {'attempt':>7}  result")
+    for pick in result.picks:
+        outcome = "ok" if pick.success else f"failed: {pick.reason}"
+        print(f"{pick.part or '-':>10} {pick.start:8.2f} {pick.end:8.2f} {pick.cycle_time:8.2f} "
+              f"{pick.attempt:7d}  {outcome}")
+    print(f"{result.scenario} (seed {result.seed}): {summary['in_bin']}/{summary['parts']} parts "
+          f"in {result.bin}; {summary['succeeded']} picks ok, {summary['failed']} failed; "
+          f"mean cycle {summary['mean_cycle_time_s']:.2f} s; "
+          f"{summary['sim_time_s']:.1f} s simulated in {summary['wall_time_s']:.1f} s "
+          f"(real-time factor {summary['real_time_factor']:.1f})")
+    ledger = result.ledger
+    print(f"ledger: spawned {ledger.spawned} = in bins {sum(ledger.in_bin.values())} + held "
+          f"{sum(ledger.held.values())} + on belt {ledger.on_belt} + on floor {ledger.on_floor} "
+          f"+ disposed {ledger.disposed}")
+    print("SUCCESS" if result.success else "FAILED")
 
-    stats = named_pose_tour(args.scenario, meshcat=args.meshcat, record=args.record)
-    print(f"simulated {stats.sim_time_s:.2f} s in {stats.wall_time_s:.2f} s "
-          f"(real-time factor {stats.real_time_factor:.1f}, build {stats.build_time_s:.2f} s)")
+
+def cmd_run(args: argparse.Namespace) -> int:
+    from omtp_drake.tasks import run_task
+
+    result = run_task(args.scenario, seed=args.seed, duration=args.duration, parts=args.parts,
+                      meshcat=args.meshcat, record=args.record, progress=not args.quiet)
+    _print_result(result)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(result.to_dict(), f, indent=2)
+        print(f"result: {args.json}")
     if args.record:
         print(f"replay: {args.record}")
+    return 0 if result.success else 1
+
+
+def cmd_demo(args: argparse.Namespace) -> int:
+    """The main demo: the fill-a-bin challenge, recorded."""
+    from omtp_drake.tasks import run_task
+
+    result = run_task("fill_bin", seed=args.seed, parts=args.parts, meshcat=args.meshcat,
+                      record=args.record, progress=True)
+    _print_result(result)
+    if args.record:
+        print(f"replay: {args.record} (open it in any browser)")
     if args.meshcat:
         input("Meshcat is still serving; press Enter to quit. ")
-    return 0
+    return 0 if result.success else 1
 
 
 def format_transform(X, time: float = 0.0) -> str:
@@ -144,11 +179,24 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("scenarios", help="list the scenario names")
     p.set_defaults(func=cmd_scenarios)
 
-    p = sub.add_parser("demo", help="the main demo (both arms through their named poses)")
-    p.add_argument("--scenario", default="omtp_factory", help="scenario name or YAML path")
+    p = sub.add_parser("demo", help="the main demo: robot 2 fills bin 1 (fill_bin)")
+    p.add_argument("--parts", type=int, default=None, help="parts to place (default 10)")
+    p.add_argument("--seed", type=int, default=None)
     p.add_argument("--meshcat", action="store_true", help="serve a live Meshcat view")
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
     p.set_defaults(func=cmd_demo)
+
+    p = sub.add_parser("run", help="run a scenario's pick-and-place task")
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    p.add_argument("--duration", type=float, default=None,
+                   help="simulated seconds at most (default 30 per part)")
+    p.add_argument("--parts", type=int, default=None, help="parts to place")
+    p.add_argument("--meshcat", action="store_true", help="serve a live Meshcat view")
+    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
+    p.add_argument("--json", metavar="FILE", help="write the result as JSON")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_run)
 
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
     p.add_argument("scenario", metavar="SCENARIO")

@@ -112,6 +112,10 @@ class Segment:
         return tool_down(np.array([cx + r * math.cos(a), cy + r * math.sin(a), z]), a + yaw)
 
 
+#: Plans peak at this fraction of the speed limit: where a joint briefly hits its
+#: velocity limit DiffIK falls behind and then catches up up to ~20 % faster.
+_SPEED_MARGIN = 0.8
+
 #: Fraction of a move spent speeding up (and again slowing down).
 _RAMP = 0.25
 #: Peak speed over mean speed of that profile.
@@ -168,7 +172,7 @@ def _duration(kind: str, X0: RigidTransform, X1: RigidTransform, speed: float,
     if kind == "arc":
         (r0, a0, z0, y0), (r1, a1, z1, y1) = _cyl(X0, centre), _cyl(X1, centre)
         turn = _wrap(a1 - a0)
-        distance = math.sqrt((0.5 * (r0 + r1) * turn) ** 2 + (r1 - r0) ** 2 + (z1 - z0) ** 2)
+        distance = math.sqrt((max(r0, r1) * turn) ** 2 + (r1 - r0) ** 2 + (z1 - z0) ** 2)
         angle = abs(turn + _wrap(y1 - y0))
     else:
         distance = float(np.linalg.norm(X1.translation() - X0.translation()))
@@ -391,7 +395,8 @@ class PickAndPlaceController(LeafSystem):
     def _move(self, kind: str, t: float, X0: RigidTransform, X1: RigidTransform,
               speed: float) -> Segment:
         centre = tuple(self._X_WB.translation()[:2])
-        return Segment(kind, t, _duration(kind, X0, X1, speed, centre), X0, X1, centre)
+        duration = _duration(kind, X0, X1, _SPEED_MARGIN * speed, centre)
+        return Segment(kind, t, duration, X0, X1, centre)
 
     # ---------------------------------------------------------------- the machine
 

@@ -179,6 +179,19 @@ class FactoryRuntime:
         gripper = self._gripper(robot)
         return gripper.get_state(gripper.GetMyContextFromRoot(self.context))
 
+    def fail_vacuum(self, robot: str, duration: float) -> None:
+        """Fault injection: ``robot``'s vacuum fails now for ``duration`` s (a held
+        part drops at the next check, ~50 ms), whatever its controller commands."""
+        gripper = self._gripper(robot)
+        gripper.fail_vacuum(gripper.GetMyMutableContextFromRoot(self.context), self.time + duration)
+
+    def black_out_camera(self, camera: str, duration: float) -> None:
+        """Fault injection: ``camera`` publishes no image for ``duration`` s."""
+        if camera not in self.station.cameras:
+            raise UnknownNameError("camera", camera, self.station.cameras)
+        system = self.station.cameras[camera]
+        system.black_out(system.GetMyMutableContextFromRoot(self.context), self.time + duration)
+
     def _sync_suction(self) -> None:
         for robot, constraints in self.station.suction_constraints.items():
             sync_weld(self.station.grippers[robot], constraints, self.station.plant, self.context)

@@ -209,7 +209,8 @@ class GripperState:
             began; None when none.
         since: simulated time at which the hold began; nan when none.
         last_release: why the last part was let go: "" (none yet),
-            ``"disabled"`` or ``"hold lost"``. Cleared at the next attach.
+            ``"disabled"``, ``"hold lost"`` or ``"fault"`` (see fail_vacuum).
+            Cleared at the next attach.
     """
 
     enabled: bool
@@ -339,6 +340,9 @@ class SuctionGripper(LeafSystem):
         self._velocities = self.DeclareAbstractInputPort(
             "body_spatial_velocities", AbstractValue.Make([SpatialVelocity()]))
         self._memory = self.DeclareAbstractState(AbstractValue.Make(_Memory(_IDLE)))
+        # Fault injection: the vacuum fails (commands are ignored, nothing is held)
+        # until this time; see fail_vacuum().
+        self._fault = self.DeclareDiscreteState(np.array([-math.inf]))
         self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._check)
         state_ticket = {self.abstract_state_ticket(self._memory)}
         self.DeclareAbstractOutputPort(
@@ -370,6 +374,11 @@ class SuctionGripper(LeafSystem):
         if name not in self._bodies:
             raise UnknownNameError("suction part", name, self._bodies, closest=True)
         return BodyIndex(self._bodies[name])
+
+    def fail_vacuum(self, context: Context, until: float) -> None:
+        """Fault injection: the vacuum fails until ``until`` (simulated time): a held
+        part is dropped at the next check and nothing attaches, whatever the command."""
+        context.SetDiscreteState(self._fault, np.array([float(until)]))
 
     def get_state(self, context: Context) -> GripperState:
         """The gripper's state in its own ``context``."""
@@ -431,6 +440,12 @@ class SuctionGripper(LeafSystem):
         old = memory.state
         t = context.get_time()
         enabled = bool(self._command.Eval(context)[0] > 0.5)
+        if t < context.get_discrete_state(self._fault)[0]:
+            if old.attached:
+                _log.warning("%s: vacuum failure: dropped %s at t = %.3f s",
+                             self.get_name(), old.part, t)
+            return _Memory(replace(_IDLE, enabled=enabled,
+                                   last_release="fault" if old.attached else old.last_release))
         if not enabled:
             if old.attached:
                 _log.info("%s: released %s at t = %.3f s (disabled)", self.get_name(), old.part, t)
