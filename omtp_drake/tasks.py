@@ -20,7 +20,8 @@ from omtp_drake.parts import Ledger
 from omtp_drake.pick_and_place import ControllerStatus, PickRecord, add_pick_and_place
 from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import Scenario, load_scenario
-from omtp_drake.visualization import save_recording, start_meshcat, start_recording
+from omtp_drake.visualization import (add_visual_extras, save_recording, start_meshcat,
+                                      start_recording, view_for)
 
 _log = logging.getLogger(__name__)
 
@@ -132,18 +133,27 @@ def run_task(
     progress: bool = False,
     chunk: float = 0.5,
     on_chunk: Optional[Callable[[TaskRun], None]] = None,
+    on_start: Optional[Callable[[TaskRun], None]] = None,
 ) -> TaskResult:
-    """Runs the scenario's task until it succeeds or ``duration`` (default: 30 s per part)."""
+    """Runs the scenario's task until it succeeds or ``duration`` (default: 30 s per part).
+
+    ``on_start(run)`` is called once before the first advance (e.g. to attach a
+    :class:`omtp_drake.plots.RunRecorder`); ``on_chunk(run)`` after every chunk.
+    """
     scenario = prepare(scenario, seed=seed, parts=parts)
     n = scenario.task.parts
     limit = duration if duration is not None else 30.0 * n
     if limit <= 0:
         raise ConfigError(f"--duration must be > 0, got {limit}")
-    viewer = start_meshcat() if (meshcat or record) else None
+    viewer = start_meshcat(view_for(scenario)) if (meshcat or record) else None
     run = TaskRun(scenario, meshcat=viewer)
     rt = run.runtime
     if record:
         start_recording(rt.station.visualizer)
+    if viewer is not None:
+        add_visual_extras(rt, recording=bool(record))  # camera frusta, detection markers
+    if on_start is not None:
+        on_start(run)
     bar = None
     if progress:
         from tqdm import tqdm

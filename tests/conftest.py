@@ -16,3 +16,4 @@ def factory():
     Shared: never add its diagram to another builder (build your own station).
     """
     return build_station("omtp_factory")
+
