@@ -15,8 +15,8 @@ Example::
 
     rt = FactoryRuntime("lecture7_conveyor")
     rt.advance_to(8.0)
-    print(rt.camera_image("logical_camera_1"))
-    print(rt.ledger())
+    image = rt.camera_image("logical_camera_1")   # the part the beam stopped
+    ledger = rt.ledger()
 """
 
 from __future__ import annotations
