@@ -30,12 +30,12 @@ acceleration continuous, zero at both ends), peaking at ``max_tool_speed``
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
+from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.multibody.inverse_kinematics import (
     DifferentialInverseKinematicsIntegrator,
     DifferentialInverseKinematicsParameters,
@@ -319,11 +319,9 @@ class PickAndPlaceController(LeafSystem):
         if not image.time <= context.get_time() or \
                 context.get_time() - image.time > self._config.image_timeout:
             return None
-        X_WBin = RigidTransform(RollPitchYaw(0, 0, self._bin.yaw), self._bin.xyz)
         for m in image.models:
             if m.name == name:
-                p = X_WBin.inverse() @ (image.X_WC @ m.X_CM).translation()
-                return bool(abs(p[0]) < 0.19 and abs(p[1]) < 0.19 and p[2] < 0.475)
+                return self._bin.contains((image.X_WC @ m.X_CM).translation())
         return False
 
     # ---------------------------------------------------------------- planning
@@ -353,8 +351,8 @@ class PickAndPlaceController(LeafSystem):
     def _slot(self, placed: int) -> np.ndarray:
         """World position of the cup face to release the ``placed``-th part."""
         size = self._config.part_size
-        X_WBin = RigidTransform(RollPitchYaw(0, 0, self._bin.yaw), self._bin.xyz)
-        inner, floor_top = 0.38, 0.12
+        X_WBin = self._bin.X_WB()
+        inner, floor_top = 2 * self._bin.INNER_HALF_WIDTH, self._bin.FLOOR_TOP
         per_row = max(1, int((inner + 1e-9) // (size + 0.01))) if self._config.grid else 1
         per_layer = per_row * per_row
         layer, k = divmod(placed, per_layer)
@@ -364,13 +362,12 @@ class PickAndPlaceController(LeafSystem):
         y = (iy - (per_row - 1) / 2) * pitch
         # Release just above the landing surface, but never with the cup below
         # the rim: the wrist would hit the walls. From there the part drops.
-        z = max(floor_top + (layer + 1) * size + 0.02, 0.475 + 0.02)
+        z = max(floor_top + (layer + 1) * size + 0.02, self._bin.HEIGHT + 0.02)
         return X_WBin @ np.array([x, y, z])
 
     def _near_bin(self, p: np.ndarray) -> bool:
         """Is ``p`` over the bin (with a margin for the held part and the wrist)?"""
-        X_WBin = RigidTransform(RollPitchYaw(0, 0, self._bin.yaw), self._bin.xyz)
-        p_B = X_WBin.inverse() @ p
+        p_B = self._bin.X_WB().inverse() @ p
         reach = 0.2 + self._config.part_size + 0.1
         return abs(p_B[0]) < reach and abs(p_B[1]) < reach
 
@@ -383,7 +380,7 @@ class PickAndPlaceController(LeafSystem):
         c = self._config
         z_travel = max(X_now.translation()[2], X_goal.translation()[2])
         if self._near_bin(X_now.translation()) or self._near_bin(X_goal.translation()):
-            z_travel = max(z_travel, self._bin.xyz[2] + 0.475 + c.part_size + c.transfer_clearance)
+            z_travel = max(z_travel, self._bin.rim_height() + c.part_size + c.transfer_clearance)
         X_up = RigidTransform(X_now.rotation(), [*X_now.translation()[:2], z_travel])
         X_over = RigidTransform(X_goal.rotation(), [*X_goal.translation()[:2], z_travel])
         path: list[Segment] = []

@@ -27,7 +27,7 @@ from dataclasses import replace
 from typing import Callable, Optional
 
 from pydrake.geometry import Meshcat
-from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, DiagramBuilder
@@ -44,8 +44,6 @@ from omtp_drake.suction import sync_weld
 
 _log = logging.getLogger(__name__)
 
-#: Inner half-width and height of a bin (reference: inner walls at +/-0.19, 0.475 high).
-_BIN_INNER_HALF, _BIN_HEIGHT = 0.19, 0.475
 #: The drawn belt: x within 0.3 of its centre line, y in [-5, 5], top at 0.92.
 _BELT_X, _BELT_HALF_WIDTH, _BELT_Y, _BELT_TOP = 1.2, 0.3, (-5.0, 5.0), 0.92
 #: The deletion wall checks for contact at 5 Hz.
@@ -340,16 +338,15 @@ class FactoryRuntime:
         pooled = {r.name for r in book.parts if r.state == "parked"}
         return [n for n in self.station.parts if n not in pooled]
 
-    def _where(self, name: str) -> tuple[str, str]:
-        """(state, detail) of a part in the world, from its pose and the grippers."""
-        for robot, part in self._held().items():
+    def _where(self, name: str, held: dict[str, str]) -> tuple[str, str]:
+        """(state, detail) of a part in the world, from its pose and ``held``
+        (robot -> part, from :meth:`_held`)."""
+        for robot, part in held.items():
             if part == name:
                 return "held", robot
         p = self.part_pose(name).translation()
         for b in self.scenario.bins:
-            X_WB = RigidTransform(RollPitchYaw(0, 0, b.yaw), b.xyz)
-            p_B = X_WB.inverse() @ p
-            if abs(p_B[0]) < _BIN_INNER_HALF and abs(p_B[1]) < _BIN_INNER_HALF and p_B[2] < _BIN_HEIGHT:
+            if b.contains(p):
                 return "in_bin", b.name
         if (self.station.conveyor is not None and abs(p[0] - _BELT_X) <= _BELT_HALF_WIDTH
                 and _BELT_Y[0] <= p[1] <= _BELT_Y[1] and p[2] > _BELT_TOP):
@@ -366,7 +363,8 @@ class FactoryRuntime:
         return held
 
     def _loose_parts(self) -> list[str]:
-        return [n for n in self.parts_in_world() if self._where(n)[0] != "in_bin"]
+        held = self._held()
+        return [n for n in self.parts_in_world() if self._where(n, held)[0] != "in_bin"]
 
     def ledger(self) -> Ledger:
         """Where every spawned or placed part is now."""
@@ -375,8 +373,9 @@ class FactoryRuntime:
         in_bin = {b.name: 0 for b in self.scenario.bins}
         counts = {"on_belt": 0, "on_floor": 0}
         parts = {}
+        held_parts = self._held()
         for name in self.parts_in_world():
-            state, detail = self._where(name)
+            state, detail = self._where(name, held_parts)
             parts[name] = f"{state}:{detail}" if detail else state
             if state == "held":
                 held[detail] += 1

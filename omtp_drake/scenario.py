@@ -25,8 +25,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
 
+import numpy as np
 import yaml
 from pydrake.common.yaml import yaml_load_typed
+from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from omtp_drake.assets import UR_MODELS
@@ -73,11 +75,31 @@ class RobotConfig:
 
 @dataclass
 class BinConfig:
-    """An open bin standing on the floor."""
+    """An open bin standing on the floor (models/bin.urdf.xacro)."""
+
+    #: Geometry of every bin (reference: inner walls at +/-0.19, floor top at
+    #: about 0.12, 0.475 high).
+    INNER_HALF_WIDTH = 0.19
+    FLOOR_TOP = 0.12
+    HEIGHT = 0.475
 
     name: str = "bin_1"
     xyz: list[float] = field(default_factory=lambda: [-8.0, -2.2, 0.0])
     yaw: float = 0.0
+
+    def X_WB(self) -> RigidTransform:
+        """The bin's base frame in world."""
+        return RigidTransform(RollPitchYaw(0.0, 0.0, self.yaw), self.xyz)
+
+    def contains(self, p_W) -> bool:
+        """Is the world point ``p_W`` inside the bin (within its walls, below its rim)?"""
+        p_B = self.X_WB().inverse() @ np.asarray(p_W, dtype=float)
+        half = self.INNER_HALF_WIDTH
+        return bool(abs(p_B[0]) < half and abs(p_B[1]) < half and p_B[2] < self.HEIGHT)
+
+    def rim_height(self) -> float:
+        """World height of the bin's rim."""
+        return self.xyz[2] + self.HEIGHT
 
 
 @dataclass

@@ -245,7 +245,7 @@ def build_station(
 
     for b in scenario.bins:
         _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
-        _weld(plant, f"{b.name}_base_link", RigidTransform(RollPitchYaw(0, 0, b.yaw), b.xyz))
+        _weld(plant, f"{b.name}_base_link", b.X_WB())
 
     conveyor = None
     if scenario.conveyor is not None:
