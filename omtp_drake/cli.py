@@ -92,6 +92,19 @@ def cmd_demo(args: argparse.Namespace) -> int:
     return 0 if result.success else 1
 
 
+def cmd_screenshot(args: argparse.Namespace) -> int:
+    """A PNG of a recorded replay at a replay time, rendered by headless chromium."""
+    from omtp_drake.browser import screenshot
+
+    width, sep, height = args.size.partition("x")
+    if not (sep and width.isdigit() and height.isdigit()):
+        raise ConfigError(f"--size takes WIDTHxHEIGHT (e.g. 1280x800), got {args.size!r}")
+    png = screenshot(args.replay, args.output, time=args.time, size=(int(width), int(height)),
+                     timeout_s=args.timeout)
+    print(f"screenshot: {png}")
+    return 0
+
+
 def format_transform(X, time: float = 0.0) -> str:
     """Like ROS ``tf_echo``."""
     q = X.rotation().ToQuaternion()
@@ -197,6 +210,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--json", metavar="FILE", help="write the result as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_run)
+
+    p = sub.add_parser("screenshot", help="a PNG of a recorded replay (headless chromium)")
+    p.add_argument("replay", metavar="HTML", help="a replay written with --record")
+    p.add_argument("-o", "--output", default="replay.png", metavar="PNG",
+                   help="where to write the PNG (default: replay.png)")
+    p.add_argument("--time", type=float, default=None, metavar="T",
+                   help="replay time to show, in simulated seconds (default: the end)")
+    p.add_argument("--size", default="1280x800", metavar="WxH", help="default 1280x800")
+    p.add_argument("--timeout", type=float, default=120.0, metavar="S",
+                   help="give up after S seconds (default 120)")
+    p.set_defaults(func=cmd_screenshot)
 
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
     p.add_argument("scenario", metavar="SCENARIO")

@@ -48,6 +48,10 @@ class SimulationError(OmtpError):
     """The simulation cannot do what was asked (e.g. no free part left in the pool)."""
 
 
+class BrowserError(OmtpError):
+    """Headless chromium is missing, or did not render a replay in time."""
+
+
 def _short_list(names: list[str], limit: int = 40) -> str:
     if len(names) <= limit:
         return ", ".join(names)

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Optional, Sequence
 
 import numpy as np
 from pydrake.geometry import Meshcat, MeshcatVisualizer, Rgba, Sphere
+from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context
 
 from omtp_drake.errors import ConfigError
@@ -93,7 +94,7 @@ def view_for(scenario: "Scenario") -> tuple[tuple[float, ...], tuple[float, ...]
 
 #: Colour of the logical cameras' frusta and of the detection markers.
 FRUSTUM_RGBA = Rgba(1.0, 0.55, 0.0, 1.0)
-MARKER_RGBA = Rgba(1.0, 0.1, 0.6, 0.8)
+MARKER_RGBA = Rgba(1.0, 0.2, 0.8, 1.0)
 
 
 def frustum_segments(config: "LogicalCameraConfig") -> tuple[np.ndarray, np.ndarray]:
@@ -133,8 +134,13 @@ def draw_frusta(meshcat: Meshcat, station: "Station", root_context: Context, *,
 
 
 class DetectionMarkers:
-    """A sphere on every part a logical camera reports (at the reported pose),
-    updated at every runtime tick: ``runtime.on_tick(DetectionMarkers(...))``.
+    """A sphere over every part a logical camera reports, updated at every
+    runtime tick: ``runtime.on_tick(DetectionMarkers(...))``.
+
+    The sphere floats just above the reported position (the part's centre plus
+    half its size plus two radii, along world z): at the centre itself it would
+    be hidden inside the part. Other models the cameras report (robots, grippers,
+    bins) get no marker.
 
     Live, it moves the spheres in Meshcat. With ``visualizer`` (recording), it
     writes them into the visualizer's recording instead, so the replay shows them
@@ -144,7 +150,7 @@ class DetectionMarkers:
 
     def __init__(self, meshcat: Meshcat, station: "Station", *,
                  visualizer: Optional[MeshcatVisualizer] = None, path: str = "/detections",
-                 radius: float = 0.03, per_camera: int = 4, rgba: Rgba = MARKER_RGBA):
+                 radius: float = 0.04, per_camera: int = 4, rgba: Rgba = MARKER_RGBA):
         if radius <= 0 or per_camera < 1:
             raise ConfigError(f"radius must be > 0 and per_camera >= 1, got {radius}, {per_camera}")
         self._meshcat = meshcat
@@ -156,14 +162,18 @@ class DetectionMarkers:
                 meshcat.SetObject(slot, Sphere(radius), rgba)
                 meshcat.SetProperty(slot, "visible", False)
         self._shown: dict[str, bool] = {}
+        scenario = station.scenario
+        sizes = {part.name: part.size for part in scenario.parts}
+        #: part name -> height of its marker above the reported position (m).
+        self._lift = {name: sizes.get(name, scenario.pool_part_size) / 2 + 2 * radius
+                      for name in station.parts}
 
     def __call__(self, runtime: "FactoryRuntime") -> None:
         animation = (self._visualizer.get_mutable_recording()
                      if self._visualizer is not None else None)
         frame = animation.frame(runtime.time) if animation is not None else 0
-        for camera, slots in self._slots.items():
-            image = runtime.camera_image(camera)
-            poses = [image.X_WC @ m.X_CM for m in image.models] if math.isfinite(image.time) else []
+        for camera, poses in self.marker_poses(runtime).items():
+            slots = self._slots[camera]
             for k, slot in enumerate(slots):
                 visible = k < len(poses)
                 if animation is not None:
@@ -177,6 +187,20 @@ class DetectionMarkers:
                     if self._shown.get(slot) != visible:
                         self._meshcat.SetProperty(slot, "visible", visible)
                 self._shown[slot] = visible
+
+    def marker_poses(self, runtime: "FactoryRuntime") -> dict[str, list[RigidTransform]]:
+        """Camera name -> world poses of its markers now (the parts it reports,
+        in its report's order, at most ``per_camera``)."""
+        markers: dict[str, list[RigidTransform]] = {}
+        for camera, slots in self._slots.items():
+            image = runtime.camera_image(camera)
+            if not math.isfinite(image.time):  # not sampled yet, or blacked out
+                markers[camera] = []
+                continue
+            markers[camera] = [
+                RigidTransform((image.X_WC @ m.X_CM).translation() + [0.0, 0.0, self._lift[m.name]])
+                for m in image.models if m.name in self._lift][:len(slots)]
+        return markers
 
 
 def add_visual_extras(runtime: "FactoryRuntime", *, recording: bool = False

@@ -41,6 +41,8 @@ def test_tf_echo_at_named_pose(capsys):
     (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot3=R1Up"], "unknown robot 'robot3'"),
     (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1=R1Upp"], "unknown named pose 'R1Upp'"),
     (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1"], "--pose takes ROBOT=POSE"),
+    (["screenshot", "no_such_replay.html"], "replay '"),
+    (["screenshot", "no_such_replay.html", "--size", "1280"], "--size takes WIDTHxHEIGHT"),
 ])
 def test_errors_are_one_line_without_traceback(args, message):
     result = run(*args)

@@ -1,63 +1,123 @@
-"""A recorded replay renders in a real browser (headless chromium): the scene, robot 2
-and the logical cameras' frusta are on screen, seen from the task's view."""
-
-import os
-import shutil
-import signal
-import subprocess
+"""Visual review: a recorded replay renders in a real browser (headless chromium)
+with the scene, robot 2, the logical cameras' frusta and a detection marker on
+screen, seen from the task's view; markers float over detected parts only."""
 
 import numpy as np
 import pytest
 from PIL import Image
 
+from omtp_drake.browser import find_browser, screenshot
+from omtp_drake.cli import main
+from omtp_drake.errors import BrowserError, ConfigError
 from omtp_drake.scenario import load_scenario
-from omtp_drake.tasks import run_task
-from omtp_drake.visualization import DEFAULT_VIEW, frustum_segments, view_for
+from omtp_drake.tasks import TaskRun, prepare, run_task
+from omtp_drake.visualization import (DEFAULT_VIEW, DetectionMarkers, frustum_segments,
+                                      start_meshcat, view_for)
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-
-
-def render(html, png, profile) -> np.ndarray:
-    """Screenshot of ``html`` (1280 x 800) after 6 s of the page's virtual time.
-
-    Software rendering is slow on a busy machine, and headless chromium
-    occasionally never finishes (seen once in ~10 runs): a generous timeout and
-    one retry."""
-    command = [CHROMIUM, "--headless=new", "--no-sandbox", "--use-angle=swiftshader",
-               "--enable-unsafe-swiftshader", "--disable-gpu", "--disable-background-networking",
-               "--disable-component-update", "--disable-sync", "--no-first-run",
-               f"--user-data-dir={profile}", "--window-size=1280,800",
-               "--virtual-time-budget=6000", f"--screenshot={png}", f"file://{html}"]
-    for attempt in (1, 2):
-        process = subprocess.Popen(command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                                   stderr=subprocess.DEVNULL, start_new_session=True)
-        try:
-            assert process.wait(timeout=100) == 0, "chromium failed"
-            break
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)  # chromium's helpers too, or they keep the CPU
-            process.wait()
-            if attempt == 2:
-                raise
-    return np.asarray(Image.open(png).convert("RGB")).astype(int)
+CHROMIUM = find_browser()
+needs_chromium = pytest.mark.skipif(
+    CHROMIUM is None, reason="chromium is not on PATH (README command 1 installs it)")
 
 
-@pytest.mark.browser
-@pytest.mark.skipif(CHROMIUM is None, reason="chromium is not on PATH (CI installs it: .ci/run)")
-def test_replay_shows_robot2_and_frusta(tmp_path):
-    html = tmp_path / "replay.html"
+@pytest.fixture(scope="module")
+def replay(tmp_path_factory):
+    """Robot 2 picking the part of assignment 4, recorded for 3 s."""
+    html = tmp_path_factory.mktemp("replay") / "replay.html"
     result = run_task("lecture6_assignment4", parts=1, duration=3.0, record=html)
-    assert html.stat().st_size > 1_000_000                # meshes and animation inside
-    image = render(html, tmp_path / "replay.png", tmp_path / "profile")
+    assert result.sim_time_s == pytest.approx(3.0)
+    return html
+
+
+def colours(png):
+    image = np.asarray(Image.open(png).convert("RGB")).astype(int)
+    return image, image[..., 0], image[..., 1], image[..., 2]
+
+
+@needs_chromium
+def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
+    assert replay.stat().st_size > 1_000_000                # meshes and animation inside
+    # At 1.0 s robot 2 is on its way down to the part, which camera 2 reports.
+    png = screenshot(replay, tmp_path / "replay.png", time=1.0, browser=CHROMIUM)
+    image, r, g, b = colours(png)
     assert image.shape == (800, 1280, 3)
     assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000   # a lit 3D scene, not a blank page
-    centre = image[200:600, 320:960]
-    r, g, b = centre[..., 0], centre[..., 1], centre[..., 2]
+    centre = (slice(200, 600), slice(320, 960))
     ur_blue = (b > r + 25) & (g > r + 5) & (b > 150) & (r > 90)    # the UR's joint caps
     frustum_orange = (r > 200) & (g > 100) & (g < 190) & (b < 80)  # the cameras' wireframes
-    assert ur_blue.sum() > 200, "robot 2 is not in the middle of the view"
-    assert frustum_orange.sum() > 200, "no camera frustum in the middle of the view"
-    assert result.sim_time_s == pytest.approx(3.0)
+    marker = (r > 60) & (g < 20) & (b > 40) & (b < r)               # the magenta detection sphere
+    part_green = (g > r + 40) & (g > b + 40)
+    assert ur_blue[centre].sum() > 200, "robot 2 is not in the middle of the view"
+    assert frustum_orange[centre].sum() > 200, "no camera frustum in the middle of the view"
+    assert marker[centre].sum() > 30, "no detection marker"
+    # The marker sits right above the part: its pixels are over the part's columns.
+    marker_rows, marker_cols = np.nonzero(marker)
+    part_rows, part_cols = np.nonzero(part_green)
+    assert part_cols.min() - 5 <= np.median(marker_cols) <= part_cols.max() + 5
+    assert np.median(marker_rows) < np.median(part_rows)
+
+
+@needs_chromium
+def test_replay_time_moves_the_robot(replay, tmp_path):
+    start = colours(screenshot(replay, tmp_path / "start.png", time=0.0, browser=CHROMIUM))[0]
+    end = colours(screenshot(replay, tmp_path / "end.png", browser=CHROMIUM))[0]  # default: end
+    changed = np.any(np.abs(start - end) > 30, axis=2)
+    assert changed.sum() > 2000, "the robot did not move between 0 s and the end"
+    with pytest.raises(ConfigError, match=r"past the end of replay.html \(0\.\.3\.0"):
+        screenshot(replay, tmp_path / "late.png", time=9.0, browser=CHROMIUM)
+    assert not (tmp_path / "late.png").exists()
+
+
+@needs_chromium
+def test_cli_screenshot(replay, tmp_path, capsys):
+    png = tmp_path / "cli.png"
+    assert main(["screenshot", str(replay), "-o", str(png), "--time", "0.5",
+                 "--size", "640x400"]) == 0
+    assert f"screenshot: {png}" in capsys.readouterr().out
+    image = colours(png)[0]
+    assert image.shape == (400, 640, 3)
+    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000
+
+
+@needs_chromium
+def test_a_page_that_is_not_a_replay_is_refused(tmp_path):
+    page = tmp_path / "page.html"
+    page.write_text("<html><body>hello</body></html>")
+    with pytest.raises(BrowserError, match="page.html is not a Meshcat replay"):
+        screenshot(page, tmp_path / "page.png", browser=CHROMIUM, timeout_s=60)
+
+
+def test_screenshot_input_errors(tmp_path, monkeypatch):
+    with pytest.raises(ConfigError, match="missing.html.*does not exist"):
+        screenshot(tmp_path / "missing.html", tmp_path / "x.png")
+    page = tmp_path / "page.html"
+    page.write_text("<html></html>")
+    with pytest.raises(ConfigError, match=r"size \(10, 800\) is outside 64\.\.8192"):
+        screenshot(page, tmp_path / "x.png", size=(10, 800))
+    with pytest.raises(ConfigError, match="replay time -1.0 must be >= 0"):
+        screenshot(page, tmp_path / "x.png", time=-1.0)
+    monkeypatch.setenv("PATH", str(tmp_path))
+    monkeypatch.delenv("OMTP_DRAKE_BROWSER", raising=False)
+    with pytest.raises(BrowserError, match="no headless browser found.*chromium"):
+        screenshot(page, tmp_path / "x.png")
+
+
+def test_detection_markers_float_over_parts_only():
+    run = TaskRun(prepare("lecture6_assignment4", parts=1), meshcat=start_meshcat())
+    station = run.runtime.station
+    markers = DetectionMarkers(station.meshcat, station, radius=0.04)
+    run.runtime.advance_to(1.0)
+    poses = markers.marker_poses(run.runtime)
+    # Camera 2 reports robot2, vacuum_gripper2 and object_1 now; only the part is marked.
+    names = {m.name for m in run.runtime.camera_image("logical_camera_2").models}
+    assert {"robot2", "vacuum_gripper2", "object_1"} <= names
+    assert len(poses["logical_camera_2"]) == 1
+    assert "object_1" in station.pool                   # spawned from the pool
+    size = station.scenario.pool_part_size
+    expected = run.runtime.part_pose("object_1").translation() + [0, 0, size / 2 + 0.08]
+    np.testing.assert_allclose(poses["logical_camera_2"][0].translation(), expected, atol=2e-3)
+    assert poses["logical_camera_bin_1"] == []          # it sees bin_1 only: no part
+    with pytest.raises(ConfigError, match="radius must be > 0"):
+        DetectionMarkers(station.meshcat, station, radius=0.0)
 
 
 def test_view_for_aims_at_the_task_robot():
