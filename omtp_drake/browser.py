@@ -28,9 +28,9 @@ import tempfile
 import threading
 import time as _time
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Optional, Sequence
 
-from omtp_drake.errors import BrowserError, ConfigError
+from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 
 _log = logging.getLogger(__name__)
 
@@ -76,6 +76,21 @@ _SETTLE = """
   if (typeof viewer === "undefined") { return {ok: false, why: "no Meshcat viewer on the page"}; }
   return {ok: true, commands: seen, duration: viewer.animator.duration || 0};
 })()
+"""
+
+# Unticks the visibility checkbox of each path in Meshcat's scene tree (what a
+# user does in the controls); reports the paths that are not in the tree.
+_HIDE = """
+((paths) => {
+  const missing = [];
+  for (const path of paths) {
+    let node = viewer.scene_tree;
+    for (const name of path.split("/").filter(Boolean)) { node = node && node.children[name]; }
+    if (node) { node.vis_controller.setValue(false); } else { missing.push(path); }
+  }
+  const top = Object.keys(viewer.scene_tree.children).map(name => "/" + name);
+  return {missing: missing, valid: top};
+})(%s)
 """
 
 # Stops the replay's clock, puts every animation at TIME, and resolves after two
@@ -195,12 +210,16 @@ class _DevTools:
 
 
 def screenshot(html: str | Path, png: str | Path, *, time: Optional[float] = None,
-               size: tuple[int, int] = (1280, 800), timeout_s: float = 120.0,
-               browser: Optional[str] = None) -> Path:
+               size: tuple[int, int] = (1280, 800), hide: Sequence[str] = (),
+               timeout_s: float = 120.0, browser: Optional[str] = None) -> Path:
     """Renders the standalone replay ``html`` and writes a PNG of it to ``png``.
 
     ``time`` is the replay time (s) to show; ``None`` shows the end of the
-    recording (a file without an animation is shown as it is). Raises
+    recording (a file without an animation is shown as it is). ``hide`` lists
+    Meshcat paths to switch off first, as with the visibility checkboxes in
+    Meshcat's controls (e.g. ``/frusta``, ``/detections``,
+    ``/frusta/logical_camera_1``); a path that is not in the scene raises
+    :class:`UnknownNameError` listing the top-level paths. Raises
     :class:`BrowserError` if no browser is found or it does not finish within
     ``timeout_s``, and :class:`ConfigError` for a missing file or a bad size or
     time. Software rendering (SwiftShader) takes 5-30 s on 2 cores.
@@ -228,7 +247,7 @@ def screenshot(html: str | Path, png: str | Path, *, time: Optional[float] = Non
                    f"--window-size={width},{height}", "about:blank"]
         tools = _DevTools(command)
         try:
-            image, shown = _render(tools, html, time, width, height, deadline)
+            image, shown = _render(tools, html, time, width, height, list(hide), deadline)
         finally:
             tools.close()
     png.parent.mkdir(parents=True, exist_ok=True)
@@ -238,7 +257,7 @@ def screenshot(html: str | Path, png: str | Path, *, time: Optional[float] = Non
 
 
 def _render(tools: _DevTools, html: Path, time: Optional[float], width: int, height: int,
-            deadline: float) -> tuple[bytes, float]:
+            hide: list[str], deadline: float) -> tuple[bytes, float]:
     target = tools.call("Target.createTarget", {"url": "about:blank"}, deadline=deadline)
     session = tools.call("Target.attachToTarget", {"targetId": target["targetId"],
                                                    "flatten": True},
@@ -271,6 +290,11 @@ def _render(tools: _DevTools, html: Path, time: Optional[float], width: int, hei
     if time is not None and duration > 0.0 and time > duration:
         raise ConfigError(f"replay time {time} s is past the end of {html.name} "
                           f"(0..{duration:.2f} s)")
+    if hide:
+        hidden = evaluate(_HIDE % json.dumps(hide))
+        if hidden["missing"]:
+            raise UnknownNameError("Meshcat path", hidden["missing"][0],
+                                   hidden["valid"] + ["/frusta/<camera>", "/detections/<camera>"])
     shown = duration if time is None else float(time)
     if duration > 0.0:
         evaluate(_SEEK % shown)

@@ -100,7 +100,7 @@ def cmd_screenshot(args: argparse.Namespace) -> int:
     if not (sep and width.isdigit() and height.isdigit()):
         raise ConfigError(f"--size takes WIDTHxHEIGHT (e.g. 1280x800), got {args.size!r}")
     png = screenshot(args.replay, args.output, time=args.time, size=(int(width), int(height)),
-                     timeout_s=args.timeout)
+                     hide=args.hide, timeout_s=args.timeout)
     print(f"screenshot: {png}")
     return 0
 
@@ -218,6 +218,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--time", type=float, default=None, metavar="T",
                    help="replay time to show, in simulated seconds (default: the end)")
     p.add_argument("--size", default="1280x800", metavar="WxH", help="default 1280x800")
+    p.add_argument("--hide", action="append", default=[], metavar="PATH",
+                   help="Meshcat path to switch off, e.g. /frusta or /detections (repeatable)")
     p.add_argument("--timeout", type=float, default=120.0, metavar="S",
                    help="give up after S seconds (default 120)")
     p.set_defaults(func=cmd_screenshot)

@@ -8,7 +8,7 @@ from PIL import Image
 
 from omtp_drake.browser import find_browser, screenshot
 from omtp_drake.cli import main
-from omtp_drake.errors import BrowserError, ConfigError
+from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 from omtp_drake.scenario import load_scenario
 from omtp_drake.tasks import TaskRun, prepare, run_task
 from omtp_drake.visualization import (DEFAULT_VIEW, DetectionMarkers, frustum_segments,
@@ -54,6 +54,20 @@ def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
     part_rows, part_cols = np.nonzero(part_green)
     assert part_cols.min() - 5 <= np.median(marker_cols) <= part_cols.max() + 5
     assert np.median(marker_rows) < np.median(part_rows)
+
+
+@needs_chromium
+def test_frusta_and_markers_toggle_off(replay, tmp_path):
+    png = screenshot(replay, tmp_path / "clean.png", time=1.0, hide=["/frusta", "/detections"],
+                     browser=CHROMIUM)
+    _, r, g, b = colours(png)
+    frustum_orange = (r > 200) & (g > 100) & (g < 190) & (b < 80)
+    marker = (r > 60) & (g < 20) & (b > 40) & (b < r)
+    ur_blue = (b > r + 25) & (g > r + 5) & (b > 150) & (r > 90)
+    assert frustum_orange.sum() < 20 and marker.sum() < 5
+    assert ur_blue.sum() > 200                                    # the robot is still there
+    with pytest.raises(UnknownNameError, match=r"unknown Meshcat path '/frustum'; valid: .*/frusta"):
+        screenshot(replay, tmp_path / "typo.png", hide=["/frustum"], browser=CHROMIUM)
 
 
 @needs_chromium
