@@ -24,6 +24,7 @@ import queue
 import shutil
 import signal
 import subprocess
+import sys
 import tempfile
 import threading
 import time as _time
@@ -109,6 +110,13 @@ _SEEK = """
 """
 
 
+_TRAMPOLINE = (
+    "import os, sys\n"
+    "i, o = int(sys.argv[1]), int(sys.argv[2])\n"
+    "os.dup2(i, 3); os.dup2(o, 4); os.close(i); os.close(o)\n"
+    "os.execvp(sys.argv[3], sys.argv[3:])\n")
+
+
 class _DevTools:
     """A minimal Chrome DevTools Protocol client over chromium's debugging pipe
     (requests on fd 3, replies and events on fd 4, NUL-separated JSON)."""
@@ -116,22 +124,19 @@ class _DevTools:
     def __init__(self, command: list[str]):
         to_browser_r, to_browser_w = os.pipe()
         from_browser_r, from_browser_w = os.pipe()
-        # Park the child's ends above fd 10 so that moving them to 3 and 4 in the
-        # child cannot clobber one another.
+        # The child's ends go to fds >= 10 so that a trampoline (a fresh Python,
+        # safe where a preexec_fn is not: the caller may run threads, e.g.
+        # Meshcat's server) can move them to 3 and 4 without clobbering one
+        # another, then exec the browser.
         child_in = fcntl.fcntl(to_browser_r, fcntl.F_DUPFD_CLOEXEC, 10)
         child_out = fcntl.fcntl(from_browser_w, fcntl.F_DUPFD_CLOEXEC, 10)
         os.close(to_browser_r)
         os.close(from_browser_w)
-
-        def move_pipes() -> None:  # in the child, before exec
-            os.dup2(child_in, 3)
-            os.dup2(child_out, 4)
-
         try:
             self.process = subprocess.Popen(
-                command, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                stderr=subprocess.DEVNULL, pass_fds=(3, 4), preexec_fn=move_pipes,
-                start_new_session=True)
+                [sys.executable, "-c", _TRAMPOLINE, str(child_in), str(child_out), *command],
+                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                pass_fds=(child_in, child_out), start_new_session=True)
         finally:
             os.close(child_in)
             os.close(child_out)
@@ -141,6 +146,7 @@ class _DevTools:
         self._replies: dict[int, "queue.Queue[dict]"] = {}
         self._events: "queue.Queue[dict]" = queue.Queue()
         self._lock = threading.Lock()
+        self._closed = False
         self._reader = threading.Thread(target=self._read, daemon=True)
         self._reader.start()
 
@@ -148,7 +154,11 @@ class _DevTools:
         buffer = b""
         while True:
             chunk = self._in.read(1 << 16)
-            if not chunk:
+            if not chunk:  # the browser exited (or never started): wake every waiter
+                with self._lock:
+                    self._closed = True
+                    for box in self._replies.values():
+                        box.put({"closed": True})
                 self._events.put({"method": "__closed__"})
                 return
             buffer += chunk
@@ -166,6 +176,8 @@ class _DevTools:
     def call(self, method: str, params: Optional[dict] = None, *, session: Optional[str] = None,
              deadline: float) -> dict:
         with self._lock:
+            if self._closed:
+                raise BrowserError(self._exited(method))
             self._next_id += 1
             ident = self._next_id
             box: "queue.Queue[dict]" = queue.Queue()
@@ -173,17 +185,30 @@ class _DevTools:
         message: dict[str, Any] = {"id": ident, "method": method, "params": params or {}}
         if session:
             message["sessionId"] = session
-        self._out.write(json.dumps(message).encode() + b"\0")
         try:
+            self._out.write(json.dumps(message).encode() + b"\0")
             reply = box.get(timeout=max(0.0, deadline - _time.monotonic()))
+        except BrokenPipeError:
+            raise BrowserError(self._exited(method)) from None
         except queue.Empty:
             raise BrowserError(f"chromium did not answer {method} in time") from None
         finally:
             with self._lock:
                 self._replies.pop(ident, None)
+        if reply.get("closed"):
+            raise BrowserError(self._exited(method))
         if "error" in reply:
             raise BrowserError(f"chromium refused {method}: {reply['error'].get('message')}")
         return reply.get("result", {})
+
+    def _exited(self, method: str) -> str:
+        try:
+            code = self.process.wait(timeout=2.0)
+        except subprocess.TimeoutExpired:
+            code = None
+        browser = self.process.args[5]  # after: python -c TRAMPOLINE fd_in fd_out
+        return (f"the browser exited (code {code}) before answering {method}; "
+                f"is {browser!r} a chromium?")
 
     def wait_event(self, method: str, *, deadline: float) -> dict:
         while True:

@@ -2,6 +2,8 @@
 with the scene, robot 2, the logical cameras' frusta and a detection marker on
 screen, seen from the task's view; markers float over detected parts only."""
 
+import shutil
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -109,6 +111,10 @@ def test_screenshot_input_errors(tmp_path, monkeypatch):
         screenshot(page, tmp_path / "x.png", size=(10, 800))
     with pytest.raises(ConfigError, match="replay time -1.0 must be >= 0"):
         screenshot(page, tmp_path / "x.png", time=-1.0)
+    not_a_browser = shutil.which("false")
+    with pytest.raises(BrowserError, match=f"exited .* is '{not_a_browser}' a chromium"):
+        screenshot(page, tmp_path / "x.png", browser=not_a_browser, timeout_s=30)
+    assert not (tmp_path / "x.png").exists()
     monkeypatch.setenv("PATH", str(tmp_path))
     monkeypatch.delenv("OMTP_DRAKE_BROWSER", raising=False)
     with pytest.raises(BrowserError, match="no headless browser found.*chromium"):
