@@ -277,7 +277,8 @@ class _FrustumOverlap:
         """Which of n boxes overlap the frustum (touching counts).
 
         The face normals first: a box is out if one separates it, in if its
-        centre is in every half-space; the other axes only for the rest.
+        centre is in every half-space; then in if its vertex deepest behind the
+        most violated face is in every half-space; the other axes only for the rest.
 
         Args:
             p_CB: (n, 3) box centres in C.
@@ -291,8 +292,18 @@ class _FrustumOverlap:
         result = (distance <= 0).all(axis=1)
         undecided = np.flatnonzero(~(result | (distance > radius).any(axis=1)))
         if len(undecided):
-            result[undecided] = self._not_separated_by_edges_or_box(
-                p_CB[undecided], R_CB[undecided], half[undecided])
+            # A box vertex inside the frustum proves an overlap: try, for each box,
+            # its vertex deepest behind the face its centre is farthest outside of
+            # (a box straddling one face is settled here, without the 21 axes).
+            normal = self._face_normals[distance[undecided].argmax(axis=1)]  # (m, 3)
+            R = R_CB[undecided]
+            toward = np.sign((normal[:, None, :] @ R)[:, 0, :])  # +-1 per box axis
+            vertex = p_CB[undecided] - (R @ (toward * half[undecided])[:, :, None])[:, :, 0]
+            inside = ((vertex @ self._face_normals.T - self._face_offsets) <= 0).all(axis=1)
+            result[undecided[inside]] = True
+            rest = undecided[~inside]
+            if len(rest):
+                result[rest] = self._not_separated_by_edges_or_box(p_CB[rest], R_CB[rest], half[rest])
         return result
 
     def _not_separated_by_edges_or_box(self, p_CB: np.ndarray, R_CB: np.ndarray,

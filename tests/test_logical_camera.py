@@ -387,6 +387,50 @@ def test_matches_independent_oracle(world: World) -> None:
     assert min(checked.values()) > 50
 
 
+def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None:
+    """Boxes straddling the frustum's faces, edges and corners: each answer equals the
+    LP's, and all three stages decide some (centre or face normals; a vertex inside;
+    the 21 edge and box axes, with both answers)."""
+    from omtp_drake import logical_camera
+
+    overlap = logical_camera._FrustumOverlap(LogicalCameraConfig(name="c"))
+    full_answers: list[bool] = []
+    full_test = overlap._not_separated_by_edges_or_box
+
+    def spy(*args):
+        answer = full_test(*args)
+        full_answers.extend(answer.tolist())
+        return answer
+
+    monkeypatch.setattr(overlap, "_not_separated_by_edges_or_box", spy)
+    rng = np.random.default_rng(7)
+    # Points on the frustum's boundary: its 8 corners and the middles of its 12 edges.
+    corners = np.array([[d, sy * d * TY, sz * d * TZ] for d in (NEAR, FAR)
+                        for sy in (-1, 1) for sz in (-1, 1)])
+    edges = [(a + b) / 2 for i, a in enumerate(corners) for b in corners[i + 1:]
+             if np.count_nonzero(np.isclose(a, b)) >= 1]
+    anchors = np.concatenate([corners, edges])
+    poses, sizes, expected = [], [], []
+    while len(poses) < 600:
+        X_CB = RigidTransform(RollPitchYaw(rng.uniform(-math.pi, math.pi, 3)),
+                              anchors[rng.integers(len(anchors))] + rng.normal(0, 0.06, 3))
+        size = rng.uniform(0.03, 0.2, 3)
+        margin = _oracle_overlap(X_CB, tuple(size))
+        if abs(margin) < 1e-6:
+            continue  # touching: either answer is right
+        poses.append(X_CB)
+        sizes.append(size)
+        expected.append(margin > 0)
+    p_CB = np.array([X.translation() for X in poses])
+    R_CB = np.array([X.rotation().matrix() for X in poses])
+    answers = overlap.overlaps(p_CB, R_CB, np.array(sizes) / 2)
+    assert answers.tolist() == expected
+    decided_by_vertex = sum(expected) - sum(full_answers) - int(
+        ((p_CB @ overlap._face_normals.T - overlap._face_offsets) <= 0).all(axis=1).sum())
+    assert decided_by_vertex > 20
+    assert full_answers.count(True) > 5 and full_answers.count(False) > 5
+
+
 def test_course_camera_1_geometry() -> None:
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
