@@ -229,6 +229,13 @@ class Scenario:
     break_beam: bool = False
     deletion_wall: bool = False
 
+    def part_size(self, name: str) -> float:
+        """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
+        for part in self.parts:
+            if part.name == name:
+                return part.size
+        return self.pool_part_size
+
     def validate(self) -> None:
         """Raises :class:`ConfigError` for values no world can be built from."""
         names: list[str] = []

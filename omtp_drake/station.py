@@ -331,8 +331,7 @@ def build_station(
     beam = None
     if scenario.break_beam:
         part_bodies = [plant.GetBodyByName(n, i) for n, i in parts.items()]
-        sizes = {p.name: p.size for p in scenario.parts}
-        boxes = [(np.zeros(3), np.full(3, sizes.get(n, scenario.pool_part_size) / 2)) for n in parts]
+        boxes = [(np.zeros(3), np.full(3, scenario.part_size(n) / 2)) for n in parts]
         beam = inner.AddNamedSystem("break_beam", BreakBeam(
             plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes))
         inner.Connect(plant.get_body_poses_output_port(), beam.GetInputPort("body_poses"))

@@ -162,10 +162,8 @@ class DetectionMarkers:
                 meshcat.SetObject(slot, Sphere(radius), rgba)
                 meshcat.SetProperty(slot, "visible", False)
         self._shown: dict[str, bool] = {}
-        scenario = station.scenario
-        sizes = {part.name: part.size for part in scenario.parts}
         #: part name -> height of its marker above the reported position (m).
-        self._lift = {name: sizes.get(name, scenario.pool_part_size) / 2 + 2 * radius
+        self._lift = {name: station.scenario.part_size(name) / 2 + 2 * radius
                       for name in station.parts}
 
     def __call__(self, runtime: "FactoryRuntime") -> None:

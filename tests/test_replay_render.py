@@ -35,25 +35,32 @@ def colours(png):
     return image, image[..., 0], image[..., 1], image[..., 2]
 
 
+def masks(png) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """The image and, by name, where it shows the things the tests look for."""
+    image, r, g, b = colours(png)
+    return image, {
+        "ur_blue": (b > r + 25) & (g > r + 5) & (b > 150) & (r > 90),    # the UR's joint caps
+        "frustum_orange": (r > 200) & (g > 100) & (g < 190) & (b < 80),  # the cameras' wireframes
+        "marker": (r > 60) & (g < 20) & (b > 40) & (b < r),              # the detection sphere
+        "part_green": (g > r + 40) & (g > b + 40),
+    }
+
+
 @needs_chromium
 def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
     assert replay.stat().st_size > 1_000_000                # meshes and animation inside
     # At 1.0 s robot 2 is on its way down to the part, which camera 2 reports.
     png = screenshot(replay, tmp_path / "replay.png", time=1.0, browser=CHROMIUM)
-    image, r, g, b = colours(png)
+    image, seen = masks(png)
     assert image.shape == (800, 1280, 3)
     assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000   # a lit 3D scene, not a blank page
     centre = (slice(200, 600), slice(320, 960))
-    ur_blue = (b > r + 25) & (g > r + 5) & (b > 150) & (r > 90)    # the UR's joint caps
-    frustum_orange = (r > 200) & (g > 100) & (g < 190) & (b < 80)  # the cameras' wireframes
-    marker = (r > 60) & (g < 20) & (b > 40) & (b < r)               # the magenta detection sphere
-    part_green = (g > r + 40) & (g > b + 40)
-    assert ur_blue[centre].sum() > 200, "robot 2 is not in the middle of the view"
-    assert frustum_orange[centre].sum() > 200, "no camera frustum in the middle of the view"
-    assert marker[centre].sum() > 30, "no detection marker"
+    assert seen["ur_blue"][centre].sum() > 200, "robot 2 is not in the middle of the view"
+    assert seen["frustum_orange"][centre].sum() > 200, "no camera frustum in the middle of the view"
+    assert seen["marker"][centre].sum() > 30, "no detection marker"
     # The marker sits right above the part: its pixels are over the part's columns.
-    marker_rows, marker_cols = np.nonzero(marker)
-    part_rows, part_cols = np.nonzero(part_green)
+    marker_rows, marker_cols = np.nonzero(seen["marker"])
+    part_rows, part_cols = np.nonzero(seen["part_green"])
     assert part_cols.min() - 5 <= np.median(marker_cols) <= part_cols.max() + 5
     assert np.median(marker_rows) < np.median(part_rows)
 
@@ -62,12 +69,9 @@ def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
 def test_frusta_and_markers_toggle_off(replay, tmp_path):
     png = screenshot(replay, tmp_path / "clean.png", time=1.0, hide=["/frusta", "/detections"],
                      browser=CHROMIUM)
-    _, r, g, b = colours(png)
-    frustum_orange = (r > 200) & (g > 100) & (g < 190) & (b < 80)
-    marker = (r > 60) & (g < 20) & (b > 40) & (b < r)
-    ur_blue = (b > r + 25) & (g > r + 5) & (b > 150) & (r > 90)
-    assert frustum_orange.sum() < 20 and marker.sum() < 5
-    assert ur_blue.sum() > 200                                    # the robot is still there
+    _, seen = masks(png)
+    assert seen["frustum_orange"].sum() < 20 and seen["marker"].sum() < 5
+    assert seen["ur_blue"].sum() > 200                            # the robot is still there
     with pytest.raises(UnknownNameError, match=r"unknown Meshcat path '/frustum'; valid: .*/frusta"):
         screenshot(replay, tmp_path / "typo.png", hide=["/frustum"], browser=CHROMIUM)
 
