@@ -122,6 +122,7 @@ class _DevTools:
     (requests on fd 3, replies and events on fd 4, NUL-separated JSON)."""
 
     def __init__(self, command: list[str]):
+        self._browser = command[0]
         to_browser_r, to_browser_w = os.pipe()
         from_browser_r, from_browser_w = os.pipe()
         # The child's ends go to fds >= 10 so that a trampoline (a fresh Python,
@@ -206,9 +207,8 @@ class _DevTools:
             code = self.process.wait(timeout=2.0)
         except subprocess.TimeoutExpired:
             code = None
-        browser = self.process.args[5]  # after: python -c TRAMPOLINE fd_in fd_out
         return (f"the browser exited (code {code}) before answering {method}; "
-                f"is {browser!r} a chromium?")
+                f"is {self._browser!r} a chromium?")
 
     def wait_event(self, method: str, *, deadline: float) -> dict:
         while True:
@@ -247,7 +247,7 @@ def screenshot(html: str | Path, png: str | Path, *, time: Optional[float] = Non
     :class:`UnknownNameError` listing the top-level paths. Raises
     :class:`BrowserError` if no browser is found or it does not finish within
     ``timeout_s``, and :class:`ConfigError` for a missing file or a bad size or
-    time. Software rendering (SwiftShader) takes 5-30 s on 2 cores.
+    time. Software rendering (SwiftShader) takes 3-15 s on 2 cores.
     """
     html = Path(html).resolve()
     png = Path(png)
