@@ -211,24 +211,31 @@ def _weld(plant: MultibodyPlant, frame_name: str, X_WF: RigidTransform, parent=N
     plant.WeldFrames(parent or plant.world_frame(), plant.GetFrameByName(frame_name), X_WF)
 
 
-def build_station(
-    scenario: Scenario | str,
-    *,
-    meshcat: Optional[Meshcat] = None,
-) -> Station:
-    """Builds the factory diagram described by ``scenario`` (a Scenario, name or path).
+@dataclass
+class CellModels:
+    """The model instances :func:`add_cell_models` added to a plant."""
 
-    With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
-    other systems, add ``station.diagram`` to a builder of your own.
+    floor: ModelInstanceIndex
+    arms: dict[str, ArmHandles]
+    bins: dict[str, ModelInstanceIndex]
+    conveyor: Optional[ModelInstanceIndex]
+    cameras: dict[str, ModelInstanceIndex]
+    #: Every part (placed and pool) by name.
+    parts: dict[str, ModelInstanceIndex]
+    #: Names of the pool's parts, in spawn order.
+    pool: list[str]
+
+
+def add_cell_models(plant: MultibodyPlant, scene_graph: SceneGraph, scenario: Scenario,
+                    *, parts: bool = True) -> CellModels:
+    """Adds every model of ``scenario``'s cell to ``plant`` (not finalized), welded at its
+    pose: floor, pedestals and arms with grippers, bins, conveyor, break beam, deletion
+    wall, camera frames and (with ``parts``) the placed parts and the parked pool.
+
+    Used by :func:`build_station` and by anything that needs the same cell in a plant
+    of its own (e.g. a motion planner's collision model).
     """
-    if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario)
-    scenario.validate()
-    inner = DiagramBuilder()
-    plant, scene_graph = AddMultibodyPlant(scenario.plant_config, inner)
-    plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
     parser = Parser(plant)
-
     floor = _add_xacro(parser, "floor.urdf.xacro")
     _weld(plant, "floor", RigidTransform())
     arm_handles: dict[str, ArmHandles] = {}
@@ -243,8 +250,9 @@ def build_station(
         _weld(plant, f"{robot.name}_base_link", arms.base_pose(robot))
         arm_handles[robot.name] = ArmHandles(robot, arm, gripper, pedestal)
 
+    bins = {}
     for b in scenario.bins:
-        _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
+        bins[b.name] = _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
         _weld(plant, f"{b.name}_base_link", b.X_WB())
 
     conveyor = None
@@ -264,29 +272,57 @@ def build_station(
         parent = plant.GetFrameByName(cam.parent) if cam.parent != "world" else plant.world_frame()
         _weld(plant, f"{cam.name}_frame", cam.X_PC(), parent=parent)
 
-    parts: dict[str, ModelInstanceIndex] = {}
-    for part in scenario.parts:
-        parts[part.name] = _add_xacro(
-            parser, "part.urdf.xacro", {"name": part.name, "size": part.size, "mass": part.mass})
-        plant.SetDefaultFloatingBaseBodyPose(
-            plant.GetBodyByName(part.name, parts[part.name]),
-            RigidTransform(RollPitchYaw(part.rpy), part.xyz))
-
+    part_instances: dict[str, ModelInstanceIndex] = {}
     pool: list[str] = []
-    taken = set(parts)
-    k = 1
-    while len(pool) < scenario.part_pool:
-        name = f"object_{k}"
-        k += 1
-        if name in taken:
-            continue
-        pool.append(name)
-        parts[name] = _add_xacro(parser, "part.urdf.xacro", {
-            "name": name, "size": scenario.pool_part_size, "mass": scenario.pool_part_mass})
-        plant.SetDefaultFloatingBaseBodyPose(
-            plant.GetBodyByName(name, parts[name]), parking_pose(len(pool) - 1))
+    if parts:
+        for part in scenario.parts:
+            part_instances[part.name] = _add_xacro(
+                parser, "part.urdf.xacro", {"name": part.name, "size": part.size, "mass": part.mass})
+            plant.SetDefaultFloatingBaseBodyPose(
+                plant.GetBodyByName(part.name, part_instances[part.name]),
+                RigidTransform(RollPitchYaw(part.rpy), part.xyz))
+        taken = set(part_instances)
+        k = 1
+        while len(pool) < scenario.part_pool:
+            name = f"object_{k}"
+            k += 1
+            if name in taken:
+                continue
+            pool.append(name)
+            part_instances[name] = _add_xacro(parser, "part.urdf.xacro", {
+                "name": name, "size": scenario.pool_part_size, "mass": scenario.pool_part_mass})
+            plant.SetDefaultFloatingBaseBodyPose(
+                plant.GetBodyByName(name, part_instances[name]), parking_pose(len(pool) - 1))
 
     _filter_robot_collisions(plant, scene_graph, arm_handles)
+    if conveyor is not None:
+        for index in plant.GetJointActuatorIndices():
+            actuator = plant.get_joint_actuator(index)
+            if actuator.model_instance() == conveyor:
+                actuator.set_controller_gains(PdControllerGains(p=0.0, d=_BELT_KD))
+    return CellModels(floor=floor, arms=arm_handles, bins=bins, conveyor=conveyor,
+                      cameras=camera_instances, parts=part_instances, pool=pool)
+
+
+def build_station(
+    scenario: Scenario | str,
+    *,
+    meshcat: Optional[Meshcat] = None,
+) -> Station:
+    """Builds the factory diagram described by ``scenario`` (a Scenario, name or path).
+
+    With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
+    other systems, add ``station.diagram`` to a builder of your own.
+    """
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
+    scenario.validate()
+    inner = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlant(scenario.plant_config, inner)
+    plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
+    models = add_cell_models(plant, scene_graph, scenario)
+    floor, arm_handles, conveyor = models.floor, models.arms, models.conveyor
+    camera_instances, parts, pool = models.cameras, models.parts, models.pool
 
     # Weld-backend grippers: their run-time constraints must exist before Finalize.
     constraints: dict[str, SuctionConstraints] = {}
@@ -296,11 +332,6 @@ def build_station(
             if handles.gripper is not None:
                 cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
                 constraints[name] = declare_suction_constraints(plant, cup, placeholder)
-    if conveyor is not None:
-        for index in plant.GetJointActuatorIndices():
-            actuator = plant.get_joint_actuator(index)
-            if actuator.model_instance() == conveyor:
-                actuator.set_controller_gains(PdControllerGains(p=0.0, d=_BELT_KD))
     plant.Finalize()
     for handles in arm_handles.values():
         plant.SetDefaultPositions(
