@@ -1,6 +1,6 @@
 """Cost of the vacuum gripper, per backend.
 
-Scene (the rig of tests/test_suction.py): a world floor, 10 parts of 1 kg
+Scene (omtp_drake.suction_rig, the rig the suction tests use): a world floor, 10 parts of 1 kg
 (0.2 m cubes) on it, a tool on stiff SAP-PD joints carrying the course's vacuum
 gripper, 2 ms SAP point contact (the station's plant settings). The tool presses
 on one part, the gripper attaches it, and the tool then carries it back and
@@ -13,23 +13,17 @@ run, and the time of one evaluation of the force backend's ``spatial_forces``
 output (what the plant pays every step), idle and holding. Fastest and median
 of several runs; no pass/fail.
 
-    /tmp/venv/bin/python bench/bench_suction.py [--seconds 10]
+    python bench/bench_suction.py [--seconds 10]
 """
 
 import argparse
 import logging
 import statistics
-import sys
 import time
-from pathlib import Path
 from typing import Callable
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
-
-
-from omtp_drake.suction import SuctionConfig  # noqa: E402
-from tests.test_suction import (  # noqa: E402
-    PRESS, TOP, Rig, build_rig, tool_q, trajectory)
+from omtp_drake.suction import SuctionConfig
+from omtp_drake.suction_rig import PRESS, TOP, Rig, build_rig, tool_q, trajectory
 
 logging.getLogger("drake").setLevel(logging.ERROR)
 logging.getLogger("omtp_drake").setLevel(logging.WARNING)

@@ -8,7 +8,7 @@ with a model of the arm plus its gripper) tracks it, so gravity is compensated.
 
 from __future__ import annotations
 
-from typing import Mapping
+from collections.abc import Mapping, Sequence
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -17,8 +17,8 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.controllers import InverseDynamicsController
 from pydrake.systems.framework import DiagramBuilder
-from pydrake.trajectories import PiecewisePolynomial
 from pydrake.systems.primitives import StateInterpolatorWithDiscreteDerivative
+from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro, ur_urdf
 from omtp_drake.errors import ConfigError, UnknownNameError
@@ -26,8 +26,12 @@ from omtp_drake.scenario import RobotConfig
 
 #: Joint order of every pose: pan, lift, elbow, wrist 1, wrist 2, wrist 3.
 JOINT_NAMES = (
-    "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-    "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "elbow_joint",
+    "wrist_1_joint",
+    "wrist_2_joint",
+    "wrist_3_joint",
 )
 
 #: The course's named poses (radians), by their course names.
@@ -48,24 +52,49 @@ def named_pose(name: str, robot: RobotConfig | None = None) -> np.ndarray:
 
     ``name`` is a course name (``R2Place``) or, with ``robot``, a short name
     resolved with the robot's prefix (``Place`` -> ``R2Place`` for robot 2).
+    With ``robot``, only that robot's poses are valid.
     """
-    key = name
-    if robot is not None and name not in NAMED_POSES:
-        key = robot.pose_prefix + name
-    if key not in NAMED_POSES:
-        valid = list(NAMED_POSES)
-        if robot is not None:
-            valid += [k[len(robot.pose_prefix):] for k in NAMED_POSES if k.startswith(robot.pose_prefix)]
-        raise UnknownNameError("named pose", name, valid)
-    return np.array(NAMED_POSES[key])
+    if robot is None:
+        if name not in NAMED_POSES:
+            raise UnknownNameError("named pose", name, NAMED_POSES)
+        return np.array(NAMED_POSES[name])
+    own = {k: v for k, v in NAMED_POSES.items() if k.startswith(robot.pose_prefix)}
+    key = name if name in own else robot.pose_prefix + name
+    if key not in own:
+        valid = list(own) + [k[len(robot.pose_prefix) :] for k in own]
+        raise UnknownNameError(f"named pose of {robot.name}", name, valid, closest=True)
+    return np.array(own[key])
 
 
-def pose_names(robot: RobotConfig) -> list[str]:
-    """Short names of the poses of ``robot`` (``Home``, ``Place``...)."""
-    return [k[len(robot.pose_prefix):] for k in NAMED_POSES if k.startswith(robot.pose_prefix)]
+def check_joint_positions(q, robot: RobotConfig) -> np.ndarray:
+    """``q`` as 6 finite joint positions within ``robot``'s limits, or ConfigError."""
+    try:
+        q = np.asarray(q, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ConfigError(
+            f"joint positions of {robot.name} must be {len(JOINT_NAMES)} numbers "
+            f"({', '.join(JOINT_NAMES)}), got {q!r}"
+        ) from None
+    if q.shape != (len(JOINT_NAMES),):
+        raise ConfigError(
+            f"joint positions of {robot.name} must be {len(JOINT_NAMES)} numbers "
+            f"({', '.join(JOINT_NAMES)}), got {len(q)}: {q.tolist()}"
+        )
+    if not np.all(np.isfinite(q)):
+        raise ConfigError(f"joint positions of {robot.name} must be finite, got {q.tolist()}")
+    outside = np.flatnonzero(np.abs(q) > robot.joint_limit + 1e-9)
+    if len(outside):
+        i = int(outside[0])
+        raise ConfigError(
+            f"joint {JOINT_NAMES[i]} of {robot.name} at {q[i]:.4f} rad is outside "
+            f"its limits [-{robot.joint_limit:.4f}, {robot.joint_limit:.4f}] rad"
+        )
+    return q
 
 
-def add_arm_models(parser: Parser, robot: RobotConfig) -> tuple[ModelInstanceIndex, ModelInstanceIndex | None]:
+def add_arm_models(
+    parser: Parser, robot: RobotConfig
+) -> tuple[ModelInstanceIndex, ModelInstanceIndex | None]:
     """Adds the arm (and its gripper, welded to tool0) to ``parser``'s plant.
 
     The arm's base is not welded: the caller places it.
@@ -84,13 +113,16 @@ def add_arm_models(parser: Parser, robot: RobotConfig) -> tuple[ModelInstanceInd
     return arm, gripper
 
 
-def make_control_plant(robot: RobotConfig) -> MultibodyPlant:
+def make_control_plant(robot: RobotConfig, gravity: Sequence[float]) -> MultibodyPlant:
     """A continuous plant of the arm alone (plus its gripper), base welded at the origin.
 
     Used for inverse dynamics and differential IK. The pedestal only translates
-    and yaws the base, so gravity seen by the arm is the same as in the factory.
+    and yaws the base, so ``gravity`` (the factory's, in world) is rotated into
+    the base frame: the model sees the same gravity as the arm in the factory.
     """
     plant = MultibodyPlant(time_step=0.0)
+    g_W = np.asarray(gravity, dtype=float)
+    plant.mutable_gravity_field().set_gravity_vector(base_pose(robot).rotation().inverse() @ g_W)
     arm, _ = add_arm_models(Parser(plant), robot)
     plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(f"{robot.name}_base_link", arm))
     plant.Finalize()
@@ -102,16 +134,17 @@ def add_arm_controller(
     plant: MultibodyPlant,
     arm: ModelInstanceIndex,
     robot: RobotConfig,
+    gravity: Sequence[float],
 ) -> tuple[StateInterpolatorWithDiscreteDerivative, InverseDynamicsController, MultibodyPlant]:
     """Adds the position servo of one arm and connects it to ``plant``.
 
     Returns the (position -> desired state) interpolator, whose input is the
     arm's position command, the inverse-dynamics controller, and the
-    controller's model of the arm. The caller must keep that plant alive as
+    controller's model of the arm (under ``gravity``, the factory's). The caller must keep that plant alive as
     long as the diagram: the controller only refers to it (pydrake does not
     keep it alive; a collected plant crashes the simulation).
     """
-    control_plant = make_control_plant(robot)
+    control_plant = make_control_plant(robot, gravity)
     n = control_plant.num_positions()
     controller = builder.AddNamedSystem(
         f"{robot.name}.controller",
@@ -126,7 +159,8 @@ def add_arm_controller(
     interpolator = builder.AddNamedSystem(
         f"{robot.name}.desired_state_from_position",
         StateInterpolatorWithDiscreteDerivative(
-            n, 1.0 / robot.command_rate_hz, suppress_initial_transient=True),
+            n, 1.0 / robot.command_rate_hz, suppress_initial_transient=True
+        ),
     )
     builder.Connect(plant.get_state_output_port(arm), controller.get_input_port_estimated_state())
     builder.Connect(interpolator.get_output_port(), controller.get_input_port_desired_state())
@@ -159,8 +193,9 @@ def joint_trajectory(
         raise ConfigError("joint_trajectory needs at least one pose")
     if not 0 < speed_fraction <= 1:
         raise ConfigError(f"speed_fraction must be in (0, 1], got {speed_fraction}")
-    vmax = np.asarray(velocity_limits if velocity_limits is not None
-                      else VELOCITY_LIMITS[robot.model], dtype=float)
+    vmax = np.asarray(
+        velocity_limits if velocity_limits is not None else VELOCITY_LIMITS[robot.model], dtype=float
+    )
     qs = [named_pose(p, robot) for p in poses]
     times, knots = [start_time], [qs[0]]
 
@@ -178,9 +213,13 @@ def joint_trajectory(
     zero = np.zeros(6)
     segments = []
     for i in range(len(times) - 1):
-        segments.append(PiecewisePolynomial.CubicHermite(
-            [times[i], times[i + 1]], np.column_stack([knots[i], knots[i + 1]]),
-            np.column_stack([zero, zero])))
+        segments.append(
+            PiecewisePolynomial.CubicHermite(
+                [times[i], times[i + 1]],
+                np.column_stack([knots[i], knots[i + 1]]),
+                np.column_stack([zero, zero]),
+            )
+        )
     trajectory = segments[0]
     for segment in segments[1:]:
         trajectory.ConcatenateInTime(segment)

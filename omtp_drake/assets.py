@@ -26,8 +26,8 @@ import math
 import os
 import tempfile
 import xml.etree.ElementTree as ET
+from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import Iterator, Mapping
 
 from omtp_drake.errors import ConfigError, UnknownNameError
 
@@ -88,6 +88,27 @@ def expand_xacro(path: Path | str, args: Mapping[str, object] | None = None) -> 
     return doc.toprettyxml(indent="  ")
 
 
+@functools.cache
+def model_dimensions(file: str) -> Mapping[str, float]:
+    """The numeric ``<xacro:property name=... value=...>`` of ``models/<file>``.
+
+    The model files are the one home of the cell's fixed sizes (a bin's walls,
+    the belt's width and height); code that needs one reads it here instead of
+    restating it.
+    """
+    path = MODELS_DIR / file
+    if not path.is_file():
+        raise UnknownNameError("model file", file, sorted(p.name for p in MODELS_DIR.glob("*.xacro")))
+    tag = "{http://www.ros.org/wiki/xacro}property"
+    values = {}
+    for element in ET.parse(path).getroot().iter(tag):
+        try:
+            values[element.attrib["name"]] = float(element.attrib.get("value", ""))
+        except ValueError:
+            continue  # an expression, not a number
+    return values
+
+
 def _xacro_value(v: object) -> str:
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -103,7 +124,8 @@ def _xacro_value(v: object) -> str:
 def cache_dir() -> Path:
     """Folder of converted models: ``$OMTP_DRAKE_CACHE`` or ``~/.cache/omtp_drake``."""
     root = os.environ.get("OMTP_DRAKE_CACHE") or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "omtp_drake")
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "omtp_drake"
+    )
     key = hashlib.sha1(f"{_erd_version()}/{_CONVERTER_VERSION}".encode()).hexdigest()[:10]
     path = Path(root) / f"models-{key}"
     path.mkdir(parents=True, exist_ok=True)
@@ -196,7 +218,7 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
     for el in root.findall("gazebo"):
         root.remove(el)
     for joint in root.findall("joint"):
-        if joint.find("parent").get("link") == "world":
+        if _attr(_child(joint, "parent"), "link") == "world":
             root.remove(joint)
     for link in root.findall("link"):
         if link.get("name") == "world":
@@ -205,30 +227,46 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
             for col in link.findall("collision"):
                 link.remove(col)
     for link in root.findall("link"):
-        link.set("name", prefix + link.get("name"))
+        link.set("name", prefix + _attr(link, "name"))
     for joint in root.findall("joint"):
-        joint.set("name", prefix + joint.get("name"))
+        joint.set("name", prefix + _attr(joint, "name"))
         for tag in ("parent", "child"):
-            el = joint.find(tag)
-            el.set("link", prefix + el.get("link"))
+            el = _child(joint, tag)
+            el.set("link", prefix + _attr(el, "link"))
         limit = joint.find("limit")
         if limit is not None and joint.get("type") == "revolute":
             limit.set("lower", repr(-joint_limit))
             limit.set("upper", repr(joint_limit))
     for trans in root.findall("transmission"):
-        trans.set("name", prefix + trans.get("name"))
-        trans.find("joint").set("name", prefix + trans.find("joint").get("name"))
-        actuator = trans.find("actuator")
-        actuator.set("name", prefix + actuator.get("name"))
+        trans.set("name", prefix + _attr(trans, "name"))
+        trans_joint = _child(trans, "joint")
+        trans_joint.set("name", prefix + _attr(trans_joint, "name"))
+        actuator = _child(trans, "actuator")
+        actuator.set("name", prefix + _attr(actuator, "name"))
     for mesh in root.iter("mesh"):
-        kind = "collision" if "/collision/" in mesh.get("filename") else "visual"
-        stem = Path(mesh.get("filename")).stem
+        filename = _attr(mesh, "filename")
+        kind = "collision" if "/collision/" in filename else "visual"
+        stem = Path(filename).stem
         ext = ".obj" if kind == "collision" else ".gltf"
         mesh.set("filename", str(meshes / kind / (stem + ext)))
         if kind == "collision":
             ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
     _write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
+
+
+def _child(element: ET.Element, tag: str) -> ET.Element:
+    found = element.find(tag)
+    if found is None:
+        raise ConfigError(f"UR model: <{element.tag} name={element.get('name')!r}> has no <{tag}>")
+    return found
+
+
+def _attr(element: ET.Element, name: str) -> str:
+    value = element.get(name)
+    if value is None:
+        raise ConfigError(f"UR model: <{element.tag}> has no attribute {name!r}")
+    return value
 
 
 def _limit_tag(limit: float) -> str:

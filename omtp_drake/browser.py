@@ -28,8 +28,9 @@ import sys
 import tempfile
 import threading
 import time as _time
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any, Optional, Sequence
+from typing import Any, Optional
 
 from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 
@@ -114,7 +115,8 @@ _TRAMPOLINE = (
     "import os, sys\n"
     "i, o = int(sys.argv[1]), int(sys.argv[2])\n"
     "os.dup2(i, 3); os.dup2(o, 4); os.close(i); os.close(o)\n"
-    "os.execvp(sys.argv[3], sys.argv[3:])\n")
+    "os.execvp(sys.argv[3], sys.argv[3:])\n"
+)
 
 
 class _DevTools:
@@ -136,16 +138,20 @@ class _DevTools:
         try:
             self.process = subprocess.Popen(
                 [sys.executable, "-c", _TRAMPOLINE, str(child_in), str(child_out), *command],
-                stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                pass_fds=(child_in, child_out), start_new_session=True)
+                stdin=subprocess.DEVNULL,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+                pass_fds=(child_in, child_out),
+                start_new_session=True,
+            )
         finally:
             os.close(child_in)
             os.close(child_out)
         self._out = os.fdopen(to_browser_w, "wb", buffering=0)
         self._in = os.fdopen(from_browser_r, "rb", buffering=0)
         self._next_id = 0
-        self._replies: dict[int, "queue.Queue[dict]"] = {}
-        self._events: "queue.Queue[dict]" = queue.Queue()
+        self._replies: dict[int, queue.Queue[dict]] = {}
+        self._events: queue.Queue[dict] = queue.Queue()
         self._lock = threading.Lock()
         self._closed = False
         self._reader = threading.Thread(target=self._read, daemon=True)
@@ -168,20 +174,21 @@ class _DevTools:
                 message = json.loads(raw)
                 if "id" in message:
                     with self._lock:
-                        box = self._replies.get(message["id"])
-                    if box is not None:
-                        box.put(message)
+                        reply_box = self._replies.get(message["id"])
+                    if reply_box is not None:
+                        reply_box.put(message)
                 else:
                     self._events.put(message)
 
-    def call(self, method: str, params: Optional[dict] = None, *, session: Optional[str] = None,
-             deadline: float) -> dict:
+    def call(
+        self, method: str, params: Optional[dict] = None, *, session: Optional[str] = None, deadline: float
+    ) -> dict:
         with self._lock:
             if self._closed:
                 raise BrowserError(self._exited(method))
             self._next_id += 1
             ident = self._next_id
-            box: "queue.Queue[dict]" = queue.Queue()
+            box: queue.Queue[dict] = queue.Queue()
             self._replies[ident] = box
         message: dict[str, Any] = {"id": ident, "method": method, "params": params or {}}
         if session:
@@ -207,8 +214,7 @@ class _DevTools:
             code = self.process.wait(timeout=2.0)
         except subprocess.TimeoutExpired:
             code = None
-        return (f"the browser exited (code {code}) before answering {method}; "
-                f"is {self._browser!r} a chromium?")
+        return f"the browser exited (code {code}) before answering {method}; is {self._browser!r} a chromium?"
 
     def wait_event(self, method: str, *, deadline: float) -> dict:
         while True:
@@ -234,9 +240,16 @@ class _DevTools:
         self._in.close()
 
 
-def screenshot(html: str | Path, png: str | Path, *, time: Optional[float] = None,
-               size: tuple[int, int] = (1280, 800), hide: Sequence[str] = (),
-               timeout_s: float = 120.0, browser: Optional[str] = None) -> Path:
+def screenshot(
+    html: str | Path,
+    png: str | Path,
+    *,
+    time: Optional[float] = None,
+    size: tuple[int, int] = (1280, 800),
+    hide: Sequence[str] = (),
+    timeout_s: float = 120.0,
+    browser: Optional[str] = None,
+) -> Path:
     """Renders the standalone replay ``html`` and writes a PNG of it to ``png``.
 
     ``time`` is the replay time (s) to show; ``None`` shows the end of the
@@ -260,16 +273,29 @@ def screenshot(html: str | Path, png: str | Path, *, time: Optional[float] = Non
         raise ConfigError(f"replay time {time!r} must be >= 0 s")
     browser = browser or find_browser()
     if browser is None:
-        raise BrowserError(f"no headless browser found on PATH (looked for: "
-                           f"{', '.join(BROWSER_NAMES)}); on Debian: apt-get install chromium")
+        raise BrowserError(
+            f"no headless browser found on PATH (looked for: "
+            f"{', '.join(BROWSER_NAMES)}); on Debian: apt-get install chromium"
+        )
     deadline = _time.monotonic() + timeout_s
     with tempfile.TemporaryDirectory(prefix="omtp_chromium_") as profile:
-        command = [browser, "--headless=new", "--remote-debugging-pipe", "--no-sandbox",
-                   "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-                   "--disable-background-networking", "--disable-component-update",
-                   "--disable-sync", "--no-first-run", "--no-default-browser-check",
-                   "--mute-audio", f"--user-data-dir={profile}",
-                   f"--window-size={width},{height}", "about:blank"]
+        command = [
+            browser,
+            "--headless=new",
+            "--remote-debugging-pipe",
+            "--no-sandbox",
+            "--use-angle=swiftshader",
+            "--enable-unsafe-swiftshader",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            "--no-default-browser-check",
+            "--mute-audio",
+            f"--user-data-dir={profile}",
+            f"--window-size={width},{height}",
+            "about:blank",
+        ]
         tools = _DevTools(command)
         try:
             image, shown = _render(tools, html, time, width, height, list(hide), deadline)
@@ -281,19 +307,27 @@ def screenshot(html: str | Path, png: str | Path, *, time: Optional[float] = Non
     return png
 
 
-def _render(tools: _DevTools, html: Path, time: Optional[float], width: int, height: int,
-            hide: list[str], deadline: float) -> tuple[bytes, float]:
+def _render(
+    tools: _DevTools,
+    html: Path,
+    time: Optional[float],
+    width: int,
+    height: int,
+    hide: list[str],
+    deadline: float,
+) -> tuple[bytes, float]:
     target = tools.call("Target.createTarget", {"url": "about:blank"}, deadline=deadline)
-    session = tools.call("Target.attachToTarget", {"targetId": target["targetId"],
-                                                   "flatten": True},
-                         deadline=deadline)["sessionId"]
+    session = tools.call(
+        "Target.attachToTarget", {"targetId": target["targetId"], "flatten": True}, deadline=deadline
+    )["sessionId"]
 
     def call(method: str, params: Optional[dict] = None) -> dict:
         return tools.call(method, params, session=session, deadline=deadline)
 
     def evaluate(expression: str) -> Any:
-        result = call("Runtime.evaluate", {"expression": expression, "awaitPromise": True,
-                                           "returnByValue": True})
+        result = call(
+            "Runtime.evaluate", {"expression": expression, "awaitPromise": True, "returnByValue": True}
+        )
         if "exceptionDetails" in result:
             detail = result["exceptionDetails"]
             text = detail.get("exception", {}).get("description") or detail.get("text")
@@ -302,24 +336,29 @@ def _render(tools: _DevTools, html: Path, time: Optional[float], width: int, hei
 
     call("Page.enable")
     call("Runtime.enable")
-    call("Emulation.setDeviceMetricsOverride", {"width": width, "height": height,
-                                                "deviceScaleFactor": 1, "mobile": False})
+    call(
+        "Emulation.setDeviceMetricsOverride",
+        {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False},
+    )
     call("Page.addScriptToEvaluateOnNewDocument", {"source": _TRACK_FETCHES})
     call("Page.navigate", {"url": html.as_uri()})
     tools.wait_event("Page.loadEventFired", deadline=deadline)
     state = evaluate(_SETTLE)
     if not state or not state.get("ok"):
-        raise BrowserError(f"{html.name} is not a Meshcat replay: "
-                           f"{(state or {}).get('why', 'the page did not load')}")
+        raise BrowserError(
+            f"{html.name} is not a Meshcat replay: {(state or {}).get('why', 'the page did not load')}"
+        )
     duration = float(state["duration"])
     if time is not None and duration > 0.0 and time > duration:
-        raise ConfigError(f"replay time {time} s is past the end of {html.name} "
-                          f"(0..{duration:.2f} s)")
+        raise ConfigError(f"replay time {time} s is past the end of {html.name} (0..{duration:.2f} s)")
     if hide:
         hidden = evaluate(_HIDE % json.dumps(hide))
         if hidden["missing"]:
-            raise UnknownNameError("Meshcat path", hidden["missing"][0],
-                                   hidden["valid"] + ["/frusta/<camera>", "/detections/<camera>"])
+            raise UnknownNameError(
+                "Meshcat path",
+                hidden["missing"][0],
+                hidden["valid"] + ["/frusta/<camera>", "/detections/<camera>"],
+            )
     shown = duration if time is None else float(time)
     if duration > 0.0:
         evaluate(_SEEK % shown)

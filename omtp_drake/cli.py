@@ -12,7 +12,8 @@ import json
 import logging
 import math
 import sys
-from typing import TYPE_CHECKING, Sequence
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -49,25 +50,33 @@ def _print_result(result) -> None:
     print(f"{'part':>10} {'start s':>8} {'end s':>8} {'cycle s':>8} {'attempt':>7}  result")
     for pick in result.picks:
         outcome = "ok" if pick.success else f"failed: {pick.reason}"
-        print(f"{pick.part or '-':>10} {pick.start:8.2f} {pick.end:8.2f} {pick.cycle_time:8.2f} "
-              f"{pick.attempt:7d}  {outcome}")
-    print(f"{result.scenario} (seed {result.seed}): {summary['in_bin']}/{summary['parts']} parts "
-          f"in {result.bin}; {summary['succeeded']} picks ok, {summary['failed']} failed; "
-          f"mean cycle {summary['mean_cycle_time_s']:.2f} s; "
-          f"{summary['sim_time_s']:.1f} s simulated in {summary['wall_time_s']:.1f} s "
-          f"(real-time factor {summary['real_time_factor']:.1f})")
-    ledger = result.ledger
-    print(f"ledger: spawned {ledger.spawned} = in bins {sum(ledger.in_bin.values())} + held "
-          f"{sum(ledger.held.values())} + on belt {ledger.on_belt} + on floor {ledger.on_floor} "
-          f"+ disposed {ledger.disposed}")
+        print(
+            f"{pick.part or '-':>10} {pick.start:8.2f} {pick.end:8.2f} {pick.cycle_time:8.2f} "
+            f"{pick.attempt:7d}  {outcome}"
+        )
+    print(
+        f"{result.scenario} (seed {result.seed}): {summary['in_bin']}/{summary['parts']} parts "
+        f"in {result.bin}; {summary['succeeded']} picks ok, {summary['failed']} failed; "
+        f"mean cycle {summary['mean_cycle_time_s']:.2f} s; "
+        f"{summary['sim_time_s']:.1f} s simulated in {summary['wall_time_s']:.1f} s "
+        f"(real-time factor {summary['real_time_factor']:.1f})"
+    )
+    print(result.ledger.summary_line())
     print("SUCCESS" if result.success else "FAILED")
 
 
 def cmd_run(args: argparse.Namespace) -> int:
     from omtp_drake.tasks import run_task
 
-    result = run_task(args.scenario, seed=args.seed, duration=args.duration, parts=args.parts,
-                      meshcat=args.meshcat, record=args.record, progress=not args.quiet)
+    result = run_task(
+        args.scenario,
+        seed=args.seed,
+        duration=args.duration,
+        parts=args.parts,
+        meshcat=args.meshcat,
+        record=args.record,
+        progress=not args.quiet,
+    )
     _print_result(result)
     if args.json:
         with open(args.json, "w") as f:
@@ -82,8 +91,9 @@ def cmd_demo(args: argparse.Namespace) -> int:
     """The main demo: the fill-a-bin challenge, recorded."""
     from omtp_drake.tasks import run_task
 
-    result = run_task("fill_bin", seed=args.seed, parts=args.parts, meshcat=args.meshcat,
-                      record=args.record, progress=True)
+    result = run_task(
+        "fill_bin", seed=args.seed, parts=args.parts, meshcat=args.meshcat, record=args.record, progress=True
+    )
     _print_result(result)
     if args.record:
         print(f"replay: {args.record} (open it in any browser)")
@@ -99,8 +109,14 @@ def cmd_screenshot(args: argparse.Namespace) -> int:
     width, sep, height = args.size.partition("x")
     if not (sep and width.isdigit() and height.isdigit()):
         raise ConfigError(f"--size takes WIDTHxHEIGHT (e.g. 1280x800), got {args.size!r}")
-    png = screenshot(args.replay, args.output, time=args.time, size=(int(width), int(height)),
-                     hide=args.hide, timeout_s=args.timeout)
+    png = screenshot(
+        args.replay,
+        args.output,
+        time=args.time,
+        size=(int(width), int(height)),
+        hide=args.hide,
+        timeout_s=args.timeout,
+    )
     print(f"screenshot: {png}")
     return 0
 
@@ -112,16 +128,19 @@ def format_transform(X, time: float = 0.0) -> str:
 
     rpy = RollPitchYaw(X.rotation()).vector()
     t = X.translation()
-    return (f"At time {time:.3f}\n"
-            f"- Translation: [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}]\n"
-            f"- Rotation: in Quaternion [{q.x():.3f}, {q.y():.3f}, {q.z():.3f}, {q.w():.3f}]\n"
-            f"            in RPY (radian) [{rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}]\n"
-            f"            in RPY (degree) [{math.degrees(rpy[0]):.3f}, {math.degrees(rpy[1]):.3f}, "
-            f"{math.degrees(rpy[2]):.3f}]")
+    return (
+        f"At time {time:.3f}\n"
+        f"- Translation: [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}]\n"
+        f"- Rotation: in Quaternion [{q.x():.3f}, {q.y():.3f}, {q.z():.3f}, {q.w():.3f}]\n"
+        f"            in RPY (radian) [{rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}]\n"
+        f"            in RPY (degree) [{math.degrees(rpy[0]):.3f}, {math.degrees(rpy[1]):.3f}, "
+        f"{math.degrees(rpy[2]):.3f}]"
+    )
 
 
-def _simulated_station(scenario: str, time: float, poses: dict[str, str] | None = None,
-                       camera: str | None = None) -> tuple[Station, Context]:
+def _simulated_station(
+    scenario: str, time: float, poses: dict[str, str] | None = None, camera: str | None = None
+) -> tuple[Station, Context]:
     """(station, root context): the scenario run (spawner included) from rest to
     ``time``, each arm held at a named pose (``poses``: robot -> pose, default
     Home) or, without ``poses``, at its initial pose. ``camera`` is checked
@@ -156,9 +175,15 @@ def cmd_tf_echo(args: argparse.Namespace) -> int:
     X = stamped.transform
     if args.json:
         q = X.rotation().ToQuaternion()
-        print(json.dumps({"translation": [float(v) for v in X.translation()],
-                          "rotation_xyzw": [q.x(), q.y(), q.z(), q.w()],
-                          "time": stamped.time}))
+        print(
+            json.dumps(
+                {
+                    "translation": [float(v) for v in X.translation()],
+                    "rotation_xyzw": [q.x(), q.y(), q.z(), q.w()],
+                    "time": stamped.time,
+                }
+            )
+        )
     else:
         print(format_transform(X, stamped.time))
     return 0
@@ -167,7 +192,8 @@ def cmd_tf_echo(args: argparse.Namespace) -> int:
 def cmd_camera(args: argparse.Namespace) -> int:
     station, context = _simulated_station(args.scenario, args.time, camera=args.camera)
     image = station.diagram.GetOutputPort(f"{args.camera}.image").Eval(
-        station.diagram.GetMyContextFromRoot(context))
+        station.diagram.GetMyContextFromRoot(context)
+    )
     print(json.dumps(image.to_dict()) if args.json else str(image))
     return 0
 
@@ -176,8 +202,9 @@ def cmd_frames(args: argparse.Namespace) -> int:
     from omtp_drake.frames import TfBuffer, view_frames
 
     station, context = _simulated_station(args.scenario, args.time)
-    paths = view_frames(TfBuffer.from_context(station, context), args.output,
-                        title=f"Frame tree of {station.scenario.name}")
+    paths = view_frames(
+        TfBuffer.from_context(station, context), args.output, title=f"Frame tree of {station.scenario.name}"
+    )
     for path in paths:
         print(path)
     return 0
@@ -185,7 +212,8 @@ def cmd_frames(args: argparse.Namespace) -> int:
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
-        prog="omtp-drake", description="The OMTP factory cell simulated with Drake.")
+        prog="omtp-drake", description="The OMTP factory cell simulated with Drake."
+    )
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = parser.add_subparsers(dest="command", required=True)
 
@@ -202,8 +230,9 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
-    p.add_argument("--duration", type=float, default=None,
-                   help="simulated seconds at most (default 30 per part)")
+    p.add_argument(
+        "--duration", type=float, default=None, help="simulated seconds at most (default 30 per part)"
+    )
     p.add_argument("--parts", type=int, default=None, help="parts to place")
     p.add_argument("--meshcat", action="store_true", help="serve a live Meshcat view")
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
@@ -213,44 +242,86 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("screenshot", help="a PNG of a recorded replay (headless chromium)")
     p.add_argument("replay", metavar="HTML", help="a replay written with --record")
-    p.add_argument("-o", "--output", default="replay.png", metavar="PNG",
-                   help="where to write the PNG (default: replay.png)")
-    p.add_argument("--time", type=float, default=None, metavar="T",
-                   help="replay time to show, in simulated seconds (default: the end)")
+    p.add_argument(
+        "-o",
+        "--output",
+        default="replay.png",
+        metavar="PNG",
+        help="where to write the PNG (default: replay.png)",
+    )
+    p.add_argument(
+        "--time",
+        type=float,
+        default=None,
+        metavar="T",
+        help="replay time to show, in simulated seconds (default: the end)",
+    )
     p.add_argument("--size", default="1280x800", metavar="WxH", help="default 1280x800")
-    p.add_argument("--hide", action="append", default=[], metavar="PATH",
-                   help="Meshcat path to switch off, e.g. /frusta or /detections (repeatable)")
-    p.add_argument("--timeout", type=float, default=120.0, metavar="S",
-                   help="give up after S seconds (default 120)")
+    p.add_argument(
+        "--hide",
+        action="append",
+        default=[],
+        metavar="PATH",
+        help="Meshcat path to switch off, e.g. /frusta or /detections (repeatable)",
+    )
+    p.add_argument(
+        "--timeout", type=float, default=120.0, metavar="S", help="give up after S seconds (default 120)"
+    )
     p.set_defaults(func=cmd_screenshot)
 
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("source", metavar="SOURCE")
     p.add_argument("target", metavar="TARGET")
-    p.add_argument("--pose", action="append", default=[], metavar="ROBOT=POSE",
-                   help="arm at a named pose (default Home), e.g. robot1=R1Up")
-    p.add_argument("--time", type=float, default=0.5, metavar="T",
-                   help="simulate the arms holding still to T s first (default 0.5: the "
-                        "cameras have images; their detected-model frames are looked up too)")
+    p.add_argument(
+        "--pose",
+        action="append",
+        default=[],
+        metavar="ROBOT=POSE",
+        help="arm at a named pose (default Home), e.g. robot1=R1Up",
+    )
+    p.add_argument(
+        "--time",
+        type=float,
+        default=0.5,
+        metavar="T",
+        help="simulate the arms holding still to T s first (default 0.5: the "
+        "cameras have images; their detected-model frames are looked up too)",
+    )
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_tf_echo)
 
     p = sub.add_parser("camera", help="what a logical camera sees, like rostopic echo")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("--camera", required=True, metavar="NAME", help="e.g. logical_camera_1")
-    p.add_argument("--time", type=float, default=0.5, metavar="T",
-                   help="simulate (arms holding their initial pose) to T s first (default 0.5)")
-    p.add_argument("--json", action="store_true",
-                   help="print JSON (keys time, camera_name, camera_pose, models)")
+    p.add_argument(
+        "--time",
+        type=float,
+        default=0.5,
+        metavar="T",
+        help="simulate (arms holding their initial pose) to T s first (default 0.5)",
+    )
+    p.add_argument(
+        "--json", action="store_true", help="print JSON (keys time, camera_name, camera_pose, models)"
+    )
     p.set_defaults(func=cmd_camera)
 
     p = sub.add_parser("frames", help="draw the frame tree (PDF and PNG), like ROS view_frames")
     p.add_argument("scenario", metavar="SCENARIO")
-    p.add_argument("-o", "--output", default="frames", metavar="FILE",
-                   help="output stem; FILE.pdf and FILE.png are written (default: frames)")
-    p.add_argument("--time", type=float, default=0.5, metavar="T",
-                   help="simulate (arms holding their initial pose) to T s first (default 0.5)")
+    p.add_argument(
+        "-o",
+        "--output",
+        default="frames",
+        metavar="FILE",
+        help="output stem; FILE.pdf and FILE.png are written (default: frames)",
+    )
+    p.add_argument(
+        "--time",
+        type=float,
+        default=0.5,
+        metavar="T",
+        help="simulate (arms holding their initial pose) to T s first (default 0.5)",
+    )
     p.set_defaults(func=cmd_frames)
     return parser
 
@@ -258,8 +329,9 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="%(levelname)s %(name)s: %(message)s")
+    logging.basicConfig(
+        level=logging.INFO if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s"
+    )
     # Drake warns on every build that the floor plane takes no deformable contact.
     # (pydrake sets its logger's level when first imported, so import it first.)
     import pydrake.common  # noqa: F401

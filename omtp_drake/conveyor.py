@@ -23,12 +23,49 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import RigidBody
 from pydrake.systems.framework import BasicVector, Context, DiscreteValues, LeafSystem
 
+from omtp_drake.assets import model_dimensions
 from omtp_drake.errors import ConfigError
 
 #: Belt speed at power 100 (m/s), toward world -y.
 MAX_SPEED = 0.2
-#: The belt surface may travel this far (m) before the runtime shifts it back.
+#: The belt surface may travel this far (m) before the driver shifts it back.
 WRAP_TRAVEL = 0.5
+#: ``X_WF`` of the conveyor's base frame: on the floor, on the belt's centre line.
+X_W_CONVEYOR = RigidTransform([1.2, 0.0, 0.0])
+
+
+@dataclass(frozen=True)
+class BeltGeometry:
+    """Where the drawn belt is in world, from ``models/conveyor.urdf.xacro``."""
+
+    #: World x of the centre line, half the width (m).
+    x: float
+    half_width: float
+    #: World y range (m) of the drawn belt.
+    y_min: float
+    y_max: float
+    #: World height (m) of the top surface.
+    top: float
+
+    @classmethod
+    def from_model(cls) -> BeltGeometry:
+        d = model_dimensions("conveyor.urdf.xacro")
+        p = X_W_CONVEYOR.translation()
+        return cls(
+            x=float(p[0]),
+            half_width=d["width"] / 2,
+            y_min=float(p[1]) - d["length"] / 2,
+            y_max=float(p[1]) + d["length"] / 2,
+            top=float(p[2]) + d["top"],
+        )
+
+    def over(self, p_W: np.ndarray) -> bool:
+        """Is the world point over the belt (within its footprint, above its top)?"""
+        return bool(
+            abs(p_W[0] - self.x) <= self.half_width
+            and self.y_min <= p_W[1] <= self.y_max
+            and p_W[2] > self.top
+        )
 
 
 def check_power(power: float) -> float:
@@ -57,8 +94,9 @@ class ConveyorBelt(LeafSystem):
     (a rising edge, so a user may restart the belt to push a part through).
     """
 
-    def __init__(self, initial_power: float = 0.0, *, stop_on_beam: bool = False,
-                 beam_check_rate_hz: float = 10.0):
+    def __init__(
+        self, initial_power: float = 0.0, *, stop_on_beam: bool = False, beam_check_rate_hz: float = 10.0
+    ):
         super().__init__()
         check_power(initial_power)
         if beam_check_rate_hz <= 0:
@@ -66,11 +104,14 @@ class ConveyorBelt(LeafSystem):
         self._state = self.DeclareDiscreteState(np.array([initial_power, 0.0]))
         self._beam = self.DeclareVectorInputPort("beam", 2)
         self.DeclareVectorOutputPort(
-            "desired_state", 2, self._calc_desired_state,
-            prerequisites_of_calc={self.xd_ticket()})
+            "desired_state", 2, self._calc_desired_state, prerequisites_of_calc={self.xd_ticket()}
+        )
         self.DeclareVectorOutputPort(
-            "power", 1, lambda c, out: out.SetAtIndex(0, c.get_discrete_state(self._state)[0]),
-            prerequisites_of_calc={self.xd_ticket()})
+            "power",
+            1,
+            lambda c, out: out.SetAtIndex(0, c.get_discrete_state(self._state)[0]),
+            prerequisites_of_calc={self.xd_ticket()},
+        )
         self._stop_on_beam = stop_on_beam
         if stop_on_beam:
             self.DeclarePeriodicDiscreteUpdateEvent(1.0 / beam_check_rate_hz, 0.0, self._check_beam)
@@ -97,13 +138,6 @@ class ConveyorBelt(LeafSystem):
         return float(context.get_discrete_state(self._state)[0])
 
 
-@dataclass(frozen=True)
-class BeamReading:
-    detected: bool
-    #: distance from the emitter to the nearest hit along the beam (m); inf when clear.
-    range: float
-
-
 class BreakBeam(LeafSystem):
     """A break-beam sensor: is anything on the segment [min_range, max_range] of its beam?
 
@@ -118,14 +152,23 @@ class BreakBeam(LeafSystem):
     box in its own frame (centre, half-extents), e.g. the parts.
     """
 
-    def __init__(self, plant: MultibodyPlant, frame, bodies: list[RigidBody],
-                 boxes: list[tuple[np.ndarray, np.ndarray]], *, rate_hz: float = 10.0,
-                 min_range: float = 0.1, max_range: float = 0.6):
+    def __init__(
+        self,
+        plant: MultibodyPlant,
+        frame,
+        bodies: list[RigidBody],
+        boxes: list[tuple[np.ndarray, np.ndarray]],
+        *,
+        rate_hz: float = 10.0,
+        min_range: float = 0.1,
+        max_range: float = 0.6,
+    ):
         super().__init__()
         if rate_hz <= 0 or not 0 <= min_range < max_range:
             raise ConfigError(
                 f"break beam needs rate_hz > 0 and 0 <= min_range < max_range, got "
-                f"{rate_hz}, {min_range}, {max_range}")
+                f"{rate_hz}, {min_range}, {max_range}"
+            )
         if len(bodies) != len(boxes):
             raise ConfigError("break beam: one box per body")
         self._emitter_body = int(frame.body().index())
@@ -134,8 +177,7 @@ class BreakBeam(LeafSystem):
         self._centres = np.array([c for c, _ in boxes]).reshape(-1, 3)
         self._halves = np.array([h for _, h in boxes]).reshape(-1, 3)
         self._range = (min_range, max_range)
-        self._poses = self.DeclareAbstractInputPort(
-            "body_poses", AbstractValue.Make([RigidTransform()]))
+        self._poses = self.DeclareAbstractInputPort("body_poses", AbstractValue.Make([RigidTransform()]))
         self._state = self.DeclareDiscreteState(np.array([0.0, np.inf]))
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / rate_hz, 0.0, self._update)
         self.DeclareInitializationDiscreteUpdateEvent(self._update)

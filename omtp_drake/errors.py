@@ -7,7 +7,7 @@ choices, lists them, so the message alone tells the user what to type instead.
 from __future__ import annotations
 
 import difflib
-from typing import Iterable
+from collections.abc import Iterable
 
 
 class OmtpError(Exception):
@@ -29,11 +29,11 @@ class UnknownNameError(OmtpError, KeyError):
         self.kind = kind
         self.name = name
         self.valid = sorted(valid)
+        hint = f"valid: {_short_list(self.valid)}" if self.valid else "there are none"
         if closest:
-            near = difflib.get_close_matches(name, self.valid, n=5, cutoff=0.4)
-            hint = f"closest: {', '.join(near)}" if near else f"valid: {_short_list(self.valid)}"
-        else:
-            hint = f"valid: {_short_list(self.valid)}"
+            near = difflib.get_close_matches(str(name), self.valid, n=3, cutoff=0.4)
+            if near:
+                hint = f"closest: {', '.join(near)}; {hint}"
         super().__init__(f"unknown {kind} {name!r}; {hint}")
 
     def __str__(self) -> str:  # KeyError would otherwise quote the message
@@ -46,6 +46,16 @@ class FrameError(OmtpError):
 
 class SimulationError(OmtpError):
     """The simulation cannot do what was asked (e.g. no free part left in the pool)."""
+
+
+class PlanningError(SimulationError):
+    """No motion does what was asked: a pose out of reach or outside the joint
+    limits, a goal in collision, no collision-free path (the message says which)."""
+
+
+class CollisionError(SimulationError):
+    """A motion touched something it should not (the message names both bodies);
+    the arm stopped there."""
 
 
 class BrowserError(OmtpError):

@@ -21,12 +21,10 @@ expressed in ``source`` into ``target``.
 
 Typical use::
 
-    station = build_station("lecture6_assignment3")
-    context = station.create_context()
-    simulator = Simulator(station.diagram, context)
-    buffer = TfBuffer(station)
-    simulator.set_monitor(buffer.monitor(period=0.1))  # record every 0.1 s
-    simulator.AdvanceTo(1.5)
+    runtime = FactoryRuntime("lecture6_assignment3")
+    buffer = TfBuffer(runtime.station)
+    runtime.on_tick(lambda rt: buffer.record(rt.context))  # record every tick
+    runtime.advance_to(1.5)
     X = buffer.lookup_transform("vacuum_gripper2_suction_cup",
                                 "logical_camera_2_object_1_frame").transform
     view_frames(buffer, "frames")  # frames.pdf, frames.png
@@ -38,9 +36,10 @@ import bisect
 import logging
 import math
 import textwrap
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable, Optional
+from typing import TYPE_CHECKING, Optional
 
 from pydrake.math import RigidTransform
 from pydrake.multibody.plant import MultibodyPlant
@@ -90,8 +89,7 @@ class FrameTree:
         for i in range(plant.num_frames()):
             frame = plant.get_frame(FrameIndex(i))
             name = frame.name()
-            if (i in hidden or name == "__model__" or name.endswith("__model__")
-                    or frame.is_ephemeral()):
+            if i in hidden or name == "__model__" or name.endswith("__model__") or frame.is_ephemeral():
                 continue
             if name in frames:
                 duplicates.add(name)
@@ -196,7 +194,7 @@ class _Snapshot:
 class _Image:
     """One sample of a camera and the frames it gives: frame name -> (model, X_CM)."""
 
-    image: "LogicalCameraImage"
+    image: LogicalCameraImage
     frames: dict[str, tuple[str, RigidTransform]]
 
     @property
@@ -249,7 +247,7 @@ class TfBuffer:
     no Context itself.
     """
 
-    def __init__(self, station: "Station", cache_time: float = 10.0):
+    def __init__(self, station: Station, cache_time: float = 10.0):
         if not cache_time > 0 or not math.isfinite(cache_time):
             raise ConfigError(f"cache_time={cache_time!r} is invalid; valid: a finite time > 0 s")
         self._station = station
@@ -274,8 +272,7 @@ class TfBuffer:
         self._image_times: dict[str, list[float]] = {c: [] for c in self._cameras}
 
     @classmethod
-    def from_context(cls, station: "Station", root_context: Context,
-                     cache_time: float = 10.0) -> "TfBuffer":
+    def from_context(cls, station: Station, root_context: Context, cache_time: float = 10.0) -> TfBuffer:
         """A buffer holding one snapshot of ``root_context`` (for static queries)."""
         buffer = cls(station, cache_time)
         buffer.record(root_context)
@@ -314,7 +311,7 @@ class TfBuffer:
             self._add_image(camera, image)
         self._trim()
 
-    def _add_image(self, camera: str, image: "LogicalCameraImage") -> None:
+    def _add_image(self, camera: str, image: LogicalCameraImage) -> None:
         if not math.isfinite(image.time):
             return  # the camera has not sampled yet
         frames: dict[str, tuple[str, RigidTransform]] = {}
@@ -323,8 +320,12 @@ class TfBuffer:
                 continue  # anonymized: no frame
             name = detected_frame_name(camera, model.name)
             if name in self._static:
-                _log.warning("%s sees %r but a plant frame is already called %s; "
-                             "no frame for the detection", camera, model.name, name)
+                _log.warning(
+                    "%s sees %r but a plant frame is already called %s; no frame for the detection",
+                    camera,
+                    model.name,
+                    name,
+                )
                 continue
             frames[name] = (model.name, model.X_CM)
         times = self._image_times[camera]
@@ -357,9 +358,9 @@ class TfBuffer:
 
         def record_every_period(root_context: Context) -> EventStatus:
             t = root_context.get_time()
-            if (not self._times
-                    or math.floor((t + TIME_EPS) / period)
-                    > math.floor((self._times[-1] + TIME_EPS) / period)):
+            if not self._times or math.floor((t + TIME_EPS) / period) > math.floor(
+                (self._times[-1] + TIME_EPS) / period
+            ):
                 self.record(root_context)
             return EventStatus.Succeeded()
 
@@ -382,17 +383,16 @@ class TfBuffer:
     def edges(self, time: Optional[float] = None) -> list[tuple[str, str]]:
         """(parent, child) pairs of the tree at ``time`` (None: the latest)."""
         detected = self._detected_at(self._resolve_time(time))
-        return self._tree.edges() + [(f"{camera}_frame", name)
-                                     for name, camera in sorted(detected.items())]
+        return self._tree.edges() + [(f"{camera}_frame", name) for name, camera in sorted(detected.items())]
 
-    def parent(self, name: str, time: Optional[float] = None) -> Optional[str]:
+    def parent(self, name: str) -> Optional[str]:
         """The parent of frame ``name`` (None for ``world``)."""
         self._check_name(name)
         if name in self._static:
             return self._parents[name]
         return f"{self._camera_of(name)}_frame"
 
-    def image(self, camera: str, time: Optional[float] = None) -> "LogicalCameraImage":
+    def image(self, camera: str, time: Optional[float] = None) -> LogicalCameraImage:
         """The image ``camera`` held at ``time`` (None: latest): its last sample at or before."""
         if camera not in self._cameras:
             raise UnknownNameError("camera", camera, self._cameras, closest=True)
@@ -410,8 +410,7 @@ class TfBuffer:
             return False
         return True
 
-    def lookup_transform(self, target: str, source: str,
-                         time: Optional[float] = None) -> TransformStamped:
+    def lookup_transform(self, target: str, source: str, time: Optional[float] = None) -> TransformStamped:
         """``X_TS``, the pose of ``source`` in ``target`` at ``time`` (None: the latest).
 
         Raises:
@@ -451,7 +450,8 @@ class TfBuffer:
             raise FrameError(
                 f"time {time:.6g} s is outside the tf buffer's history "
                 f"[{oldest:.6g}, {newest:.6g}] s ({len(self._times)} snapshots, "
-                f"cache_time {self._cache_time:g} s)")
+                f"cache_time {self._cache_time:g} s)"
+            )
         return min(max(time, oldest), newest)
 
     def _detected_at(self, time: float) -> dict[str, str]:
@@ -482,6 +482,8 @@ class TfBuffer:
     def _detection(self, name: str, time: float) -> tuple[str, RigidTransform]:
         """(camera, X_CM) of the detected frame ``name`` at ``time``."""
         camera = self._camera_of(name)
+        if camera is None:
+            raise UnknownNameError("frame", name, self.all_frame_names(time), closest=True)
         images, times = self._images[camera], self._image_times[camera]
         i = _at_or_before(times, time)
         if i < 0 or name not in images[i].frames:
@@ -491,7 +493,8 @@ class TfBuffer:
             raise FrameError(
                 f"frame {name!r} does not exist at time {time:.6g} s: {camera} did not see "
                 f"{model!r} then ({held}; it saw it in {len(seen)} image(s) from "
-                f"{min(seen):.6g} to {max(seen):.6g} s)")
+                f"{min(seen):.6g} to {max(seen):.6g} s)"
+            )
         X_CM = images[i].frames[name][1]
         if abs(times[i] - time) > TIME_EPS and i + 1 < len(images) and name in images[i + 1].frames:
             alpha = (time - times[i]) / (times[i + 1] - times[i])
@@ -503,8 +506,14 @@ class TfBuffer:
         body, X_BF = self._static[name]
         return snapshot.X_WB[body] @ X_BF
 
-    def _world_pose(self, name: str, before: _Snapshot, after: Optional[_Snapshot],
-                    time: float, cache: dict[str, RigidTransform]) -> RigidTransform:
+    def _world_pose(
+        self,
+        name: str,
+        before: _Snapshot,
+        after: Optional[_Snapshot],
+        time: float,
+        cache: dict[str, RigidTransform],
+    ) -> RigidTransform:
         """X_WF at ``time``: from ``before`` alone, or each edge interpolated."""
         if name in cache:
             return cache[name]
@@ -519,10 +528,13 @@ class TfBuffer:
                     alpha = (time - before.time) / (after.time - before.time)
                     X_PF = _interpolate(
                         self._snapshot_world_pose(before, parent).InvertAndCompose(
-                            self._snapshot_world_pose(before, name)),
+                            self._snapshot_world_pose(before, name)
+                        ),
                         self._snapshot_world_pose(after, parent).InvertAndCompose(
-                            self._snapshot_world_pose(after, name)),
-                        alpha)
+                            self._snapshot_world_pose(after, name)
+                        ),
+                        alpha,
+                    )
                 else:
                     X_PF = self._static[name][1]  # fixed in its body: X_BF
                 X = self._world_pose(parent, before, after, time, cache) @ X_PF
@@ -601,8 +613,9 @@ def _tree_layout(edges: list[tuple[str, str]], root: str) -> tuple[dict[str, tup
     return position, next_leaf
 
 
-def view_frames(buffer: TfBuffer, path_stem: str | Path, time: Optional[float] = None,
-                *, title: Optional[str] = None) -> list[Path]:
+def view_frames(
+    buffer: TfBuffer, path_stem: str | Path, time: Optional[float] = None, *, title: Optional[str] = None
+) -> list[Path]:
     """Draws the frame tree at ``time`` (None: latest) into ``<stem>.pdf`` and ``<stem>.png``.
 
     Like ROS ``view_frames``, with matplotlib (no graphviz): frames are boxes,
@@ -636,8 +649,15 @@ def view_frames(buffer: TfBuffer, path_stem: str | Path, time: Optional[float] =
     for name, (x, d) in position.items():
         face, edge = _COLOURS[buffer._frame_kind(name)]
         boxes[name] = ax.text(
-            x, -d, _wrap(name), ha="center", va="center", fontsize=fontsize, zorder=3,
-            bbox=dict(boxstyle="round,pad=0.35", facecolor=face, edgecolor=edge, linewidth=1.2))
+            x,
+            -d,
+            _wrap(name),
+            ha="center",
+            va="center",
+            fontsize=fontsize,
+            zorder=3,
+            bbox=dict(boxstyle="round,pad=0.35", facecolor=face, edgecolor=edge, linewidth=1.2),
+        )
     # Arrows from the bottom of the parent's box to the top of the child's.
     canvas = FigureCanvasAgg(fig)
     canvas.draw()  # places the boxes
@@ -645,8 +665,7 @@ def view_frames(buffer: TfBuffer, path_stem: str | Path, time: Optional[float] =
     to_data = ax.transData.inverted()
     extent = {}
     for name, text in boxes.items():
-        (_, y0), (_, y1) = to_data.transform(text.get_bbox_patch().get_window_extent(renderer)
-                                             .get_points())
+        (_, y0), (_, y1) = to_data.transform(text.get_bbox_patch().get_window_extent(renderer).get_points())
         extent[name] = (min(y0, y1), max(y0, y1))
     # Org-chart connectors: down from the parent, along a bus, down into each child.
     children: dict[str, list[str]] = {}
@@ -663,17 +682,39 @@ def view_frames(buffer: TfBuffer, path_stem: str | Path, time: Optional[float] =
         for kid, x1 in zip(kids, xs):
             kind = buffer._frame_kind(kid)
             colour = _COLOURS[kind][1] if kind in ("detected", "moving") else trunk
-            ax.add_patch(FancyArrowPatch(
-                (x1, bus), (x1, extent[kid][1]), arrowstyle="-|>", mutation_scale=9,
-                color=colour, linewidth=1.5 if kind == "moving" else 1.0,
-                linestyle="--" if kind == "detected" else "-", shrinkA=0, shrinkB=1, zorder=2))
+            ax.add_patch(
+                FancyArrowPatch(
+                    (x1, bus),
+                    (x1, extent[kid][1]),
+                    arrowstyle="-|>",
+                    mutation_scale=9,
+                    color=colour,
+                    linewidth=1.5 if kind == "moving" else 1.0,
+                    linestyle="--" if kind == "detected" else "-",
+                    shrinkA=0,
+                    shrinkB=1,
+                    zorder=2,
+                )
+            )
     heading = title or "Frame tree"
-    ax.text(0.01, 0.995, f"{heading}  (t = {t:.3f} s, {len(position)} frames)",
-            transform=ax.transAxes, ha="left", va="top", fontsize=13, weight="bold")
-    ax.legend(handles=[Patch(facecolor=f, edgecolor=e, label=_LEGEND[k])
-                       for k, (f, e) in _COLOURS.items()],
-              loc="upper right", fontsize=9, frameon=False, ncol=4,
-              bbox_to_anchor=(0.995, 0.995))
+    ax.text(
+        0.01,
+        0.995,
+        f"{heading}  (t = {t:.3f} s, {len(position)} frames)",
+        transform=ax.transAxes,
+        ha="left",
+        va="top",
+        fontsize=13,
+        weight="bold",
+    )
+    ax.legend(
+        handles=[Patch(facecolor=f, edgecolor=e, label=_LEGEND[k]) for k, (f, e) in _COLOURS.items()],
+        loc="upper right",
+        fontsize=9,
+        frameon=False,
+        ncol=4,
+        bbox_to_anchor=(0.995, 0.995),
+    )
     paths = []
     path_stem.parent.mkdir(parents=True, exist_ok=True)
     for suffix in (".pdf", ".png"):

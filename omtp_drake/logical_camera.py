@@ -31,10 +31,12 @@ import logging
 import math
 import re
 import zlib
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Any, Optional, Sequence
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
+from pydrake.common.schema import Transform
 from pydrake.common.value import AbstractValue
 from pydrake.geometry import GeometryId, Role, SceneGraph, SceneGraphInspector
 from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
@@ -42,7 +44,10 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import BodyIndex, Frame, ModelInstanceIndex
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, State
 
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, FrameError
+
+if TYPE_CHECKING:
+    from omtp_drake.frames import PoseStamped
 
 _log = logging.getLogger(__name__)
 
@@ -85,6 +90,9 @@ class LogicalCameraConfig:
     parent: str = "world"
     xyz: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
     rpy: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    #: The pose in ``parent`` as a ``schema::Transform`` instead of ``xyz`` /
+    #: ``rpy``; the scenario loader turns it into them.
+    pose: Optional[Transform] = None
     near: float = 0.2
     far: float = 1.0
     horizontal_fov: float = 1.1
@@ -101,19 +109,22 @@ class LogicalCameraConfig:
         """Raises ConfigError naming the first invalid field, its value and the valid range."""
         prefix = f"logical camera {self.name!r}:"
         if not self.name:
-            raise ConfigError(f"logical camera: name={self.name!r} is invalid; "
-                              "valid: a non-empty string")
+            raise ConfigError(f"logical camera: name={self.name!r} is invalid; valid: a non-empty string")
         for key in ("xyz", "rpy"):
             value = getattr(self, key)
             if len(value) != 3 or not all(math.isfinite(v) for v in value):
                 raise ConfigError(f"{prefix} {key}={value!r} is invalid; valid: 3 finite numbers")
         _check(prefix, "near", self.near, self.near > 0, "near > 0")
         _check(prefix, "far", self.far, self.far > self.near, f"far > near (= {self.near})")
-        _check(prefix, "horizontal_fov", self.horizontal_fov,
-               0 < self.horizontal_fov < math.pi, "0 < horizontal_fov < pi")
+        _check(
+            prefix,
+            "horizontal_fov",
+            self.horizontal_fov,
+            0 < self.horizontal_fov < math.pi,
+            "0 < horizontal_fov < pi",
+        )
         _check(prefix, "aspect_ratio", self.aspect_ratio, self.aspect_ratio > 0, "aspect_ratio > 0")
-        _check(prefix, "update_rate_hz", self.update_rate_hz, self.update_rate_hz > 0,
-               "update_rate_hz > 0")
+        _check(prefix, "update_rate_hz", self.update_rate_hz, self.update_rate_hz > 0, "update_rate_hz > 0")
         for key in ("position_noise_sigma", "orientation_noise_sigma"):
             value = getattr(self, key)
             _check(prefix, key, value, value >= 0, f"{key} >= 0")
@@ -133,9 +144,7 @@ def _check(prefix: str, key: str, value: float, ok: bool, valid: str) -> None:
 
 def X_CameraOptical() -> RigidTransform:
     """The optical frame O in the camera frame C: Oz = Cx, Ox = -Cy, Oy = -Cz."""
-    R_CO = RotationMatrix(np.array([[0.0, 0.0, 1.0],
-                                    [-1.0, 0.0, 0.0],
-                                    [0.0, -1.0, 0.0]]))
+    R_CO = RotationMatrix(np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]]))
     return RigidTransform(R_CO, np.zeros(3))
 
 
@@ -152,8 +161,10 @@ def _pose_dict(X: RigidTransform) -> dict[str, list[float]]:
     """Translation and quaternion [x, y, z, w] (w >= 0, Drake's canonical form)."""
     q = X.rotation().ToQuaternion()
     # `+ 0.0` turns -0.0 into 0.0.
-    return {"translation": [float(v) + 0.0 for v in X.translation()],
-            "rotation_xyzw": [float(v) + 0.0 for v in (q.x(), q.y(), q.z(), q.w())]}
+    return {
+        "translation": [float(v) + 0.0 for v in X.translation()],
+        "rotation_xyzw": [float(v) + 0.0 for v in (q.x(), q.y(), q.z(), q.w())],
+    }
 
 
 def _pose_lines(X: RigidTransform, indent: str) -> list[str]:
@@ -203,13 +214,31 @@ class LogicalCameraImage:
         # Drake clones abstract state values on every update; an image is immutable.
         return self
 
+    @property
+    def frame(self) -> str:
+        """The camera frame's name in tf (``<camera>_frame``)."""
+        return f"{self.camera_name}_frame"
+
+    def pose_of(self, name: str) -> "PoseStamped":
+        """The pose of model ``name`` as reported, in the camera frame, stamped with
+        the image's time (for ``TfBuffer.transform_pose``)."""
+        from omtp_drake.frames import PoseStamped
+
+        for m in self.models:
+            if m.name == name:
+                return PoseStamped(self.frame, self.time, m.X_CM)
+        raise FrameError(
+            f"{self.camera_name} does not see {name!r} in its image at t = {self.time:.6g} s; "
+            f"it sees: {', '.join(m.name or '(anonymous)' for m in self.models) or 'nothing'}")
+
     def to_dict(self) -> dict[str, Any]:
         """Plain data (for JSON/YAML); quaternions are [x, y, z, w] with w >= 0."""
-        return {"time": self.time,
-                "camera_name": self.camera_name,
-                "camera_pose": _pose_dict(self.X_WC),
-                "models": [{"name": m.name, "type": m.type, "pose": _pose_dict(m.X_CM)}
-                           for m in self.models]}
+        return {
+            "time": self.time,
+            "camera_name": self.camera_name,
+            "camera_pose": _pose_dict(self.X_WC),
+            "models": [{"name": m.name, "type": m.type, "pose": _pose_dict(m.X_CM)} for m in self.models],
+        }
 
     def __str__(self) -> str:
         """Renders like ``rostopic echo`` of the original ``LogicalCameraImage`` message."""
@@ -266,10 +295,12 @@ class _FrustumOverlap:
         self._lateral = np.array([0.0, ty, tz])
         # Half-spaces n_k . p <= b_k: near, far, +y, -y, +z, -z sides.
         self._face_normals = np.array(
-            [[-1, 0, 0], [1, 0, 0], [-ty, 1, 0], [-ty, -1, 0], [-tz, 0, 1], [-tz, 0, -1]], float)
+            [[-1, 0, 0], [1, 0, 0], [-ty, 1, 0], [-ty, -1, 0], [-tz, 0, 1], [-tz, 0, -1]], float
+        )
         self._face_offsets = np.array([-config.near, config.far, 0, 0, 0, 0], float)
         edges = np.array(
-            [[0, 1, 0], [0, 0, 1], [1, ty, tz], [1, ty, -tz], [1, -ty, tz], [1, -ty, -tz]], float)
+            [[0, 1, 0], [0, 0, 1], [1, ty, tz], [1, ty, -tz], [1, -ty, tz], [1, -ty, -tz]], float
+        )
         # A row vector a times this (3, 21) matrix = the rows a, e_0 x a, ..., e_5 x a.
         self._axis_rows = np.concatenate([np.eye(3)] + [_skew(e).T for e in edges], axis=1)
 
@@ -311,8 +342,9 @@ class _FrustumOverlap:
         +y, -y, +z, -z): (n, 6), > 0 where p is outside that face."""
         return p_C @ self._face_normals.T - self._face_offsets
 
-    def _not_separated_by_edges_or_box(self, p_CB: np.ndarray, R_CB: np.ndarray,
-                                       half: np.ndarray) -> np.ndarray:
+    def _not_separated_by_edges_or_box(
+        self, p_CB: np.ndarray, R_CB: np.ndarray, half: np.ndarray
+    ) -> np.ndarray:
         """No box normal nor edge cross product separates (arguments as :meth:`overlaps`)."""
         n = len(p_CB)
         axes = (R_CB.transpose(0, 2, 1).reshape(-1, 3) @ self._axis_rows).reshape(n, 21, 3)
@@ -331,8 +363,9 @@ class _FrustumOverlap:
 # Bounding boxes
 
 
-def _geometries(plant: MultibodyPlant, inspector: SceneGraphInspector,
-                body_index: BodyIndex) -> list[GeometryId]:
+def _geometries(
+    plant: MultibodyPlant, inspector: SceneGraphInspector, body_index: BodyIndex
+) -> list[GeometryId]:
     """The proximity and illustration geometries of a body."""
     frame_id = plant.GetBodyFrameIdIfExists(body_index)
     if frame_id is None:
@@ -345,8 +378,9 @@ def _geometries(plant: MultibodyPlant, inspector: SceneGraphInspector,
 _BOX_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
 
 
-def _bounding_box(inspector: SceneGraphInspector, geometries: Sequence[GeometryId]
-                  ) -> Optional[tuple[np.ndarray, np.ndarray]]:
+def _bounding_box(
+    inspector: SceneGraphInspector, geometries: Sequence[GeometryId]
+) -> Optional[tuple[np.ndarray, np.ndarray]]:
     """The axis-aligned box (centre, half-extents), in the frame F they are
     registered to, of the oriented bounding boxes of ``geometries`` (analytic
     for primitives, from the vertices for meshes); None if one of them is
@@ -357,8 +391,9 @@ def _bounding_box(inspector: SceneGraphInspector, geometries: Sequence[GeometryI
         if obb is None:
             return None
         X_FO = inspector.GetPoseInFrame(geometry_id) @ obb.pose()
-        corners.append(X_FO.rotation().matrix() @ (_BOX_CORNERS * obb.half_width()).T
-                       + X_FO.translation()[:, None])
+        corners.append(
+            X_FO.rotation().matrix() @ (_BOX_CORNERS * obb.half_width()).T + X_FO.translation()[:, None]
+        )
     points = np.concatenate(corners, axis=1)
     low, high = points.min(axis=1), points.max(axis=1)
     return (low + high) / 2, (high - low) / 2
@@ -423,41 +458,49 @@ class LogicalCamera(LeafSystem):
     rate), model): the same seed gives the same sequence, without hidden state.
     """
 
-    def __init__(self, plant: MultibodyPlant, scene_graph_inspector: SceneGraphInspector,
-                 frame: Frame, config: LogicalCameraConfig, *,
-                 exclude: Sequence[ModelInstanceIndex] = (), seed: int = 0):
+    def __init__(
+        self,
+        plant: MultibodyPlant,
+        scene_graph_inspector: SceneGraphInspector,
+        frame: Frame,
+        config: LogicalCameraConfig,
+        *,
+        exclude: Sequence[ModelInstanceIndex] = (),
+        seed: int = 0,
+    ):
         super().__init__()
         config.validate()
         if seed < 0:
-            raise ConfigError(f"logical camera {config.name!r}: seed={seed!r} is invalid; "
-                              "valid: seed >= 0")
+            raise ConfigError(f"logical camera {config.name!r}: seed={seed!r} is invalid; valid: seed >= 0")
         if not plant.is_finalized():
             raise ConfigError(f"logical camera {config.name!r}: the plant must be finalized first")
         self.set_name(config.name)
         self._config = copy.deepcopy(config)
         self._name = config.name
         self._rate = config.update_rate_hz
-        self._seed_key = (config.seed if config.seed is not None else seed,
-                          zlib.crc32(config.name.encode()))
+        self._seed_key = (config.seed if config.seed is not None else seed, zlib.crc32(config.name.encode()))
         self._camera_body = int(frame.body().index())
         self._X_BC = frame.GetFixedPoseInBodyFrame()
         self._frustum = _FrustumOverlap(config)
         self._init_candidates(plant, scene_graph_inspector, {int(i) for i in exclude})
 
-        self.DeclareAbstractInputPort(
-            "body_poses", plant.get_body_poses_output_port().Allocate())
+        self.DeclareAbstractInputPort("body_poses", plant.get_body_poses_output_port().Allocate())
         period = 1.0 / config.update_rate_hz
-        state = self.DeclareAbstractState(AbstractValue.Make(LogicalCameraImage(
-            time=math.nan, camera_name=config.name, X_WC=RigidTransform(), models=())))
+        self._image = self.DeclareAbstractState(
+            AbstractValue.Make(
+                LogicalCameraImage(time=math.nan, camera_name=config.name, X_WC=RigidTransform(), models=())
+            )
+        )
         # Fault injection: no new images before this time (see black_out()).
         self._blackout = self.DeclareDiscreteState(np.array([-math.inf]))
         self.DeclareInitializationUnrestrictedUpdateEvent(self._update)
         self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
         self.DeclareForcedUnrestrictedUpdateEvent(self._update)
-        self.DeclareStateOutputPort("image", state)
+        self.DeclareStateOutputPort("image", self._image)
 
-    def _init_candidates(self, plant: MultibodyPlant, inspector: SceneGraphInspector,
-                         exclude: set[int]) -> None:
+    def _init_candidates(
+        self, plant: MultibodyPlant, inspector: SceneGraphInspector, exclude: set[int]
+    ) -> None:
         """Sets the candidate models and the bounding boxes of their bodies
         (rows of ``_box_*``; candidate k owns rows [_box_starts[k], _box_starts[k + 1]))."""
         config = self._config
@@ -469,9 +512,12 @@ class LogicalCamera(LeafSystem):
         for i in range(plant.num_model_instances()):
             instance = ModelInstanceIndex(i)
             name = plant.GetModelInstanceName(instance)
-            if (i in _RESERVED_INSTANCES or i in exclude
-                    or (config.known_types and model_type(name) not in config.known_types)
-                    or (config.known_names and name not in config.known_names)):
+            if (
+                i in _RESERVED_INSTANCES
+                or i in exclude
+                or (config.known_types and model_type(name) not in config.known_types)
+                or (config.known_names and name not in config.known_names)
+            ):
                 continue
             bodies = plant.GetBodyIndices(instance)
             boxes = []
@@ -481,13 +527,13 @@ class LogicalCamera(LeafSystem):
                     boxes.append((int(body), _bounding_box(inspector, geometries)))
             if not boxes:
                 continue
-            if any(box is None for _, box in boxes):
+            bounded = [(body, box) for body, box in boxes if box is not None]
+            if len(bounded) < len(boxes):
                 _log.debug("%s: model %r has a HalfSpace; never reported", self._name, name)
                 continue
-            candidates.append(_Candidate("" if config.anonymize else name, model_type(name),
-                                         int(bodies[0])))
+            candidates.append(_Candidate("" if config.anonymize else name, model_type(name), int(bodies[0])))
             box_starts.append(len(box_body))
-            for body, (centre, half) in boxes:
+            for body, (centre, half) in bounded:
                 box_body.append(body)
                 box_centre.append(centre)
                 box_half.append(half)
@@ -506,7 +552,7 @@ class LogicalCamera(LeafSystem):
     def _update(self, context: Context, state: State) -> None:
         if context.get_time() < context.get_discrete_state(self._blackout)[0]:
             return  # blacked out: the last image is held (it goes stale)
-        state.get_mutable_abstract_state(0).set_value(self._capture(context))
+        state.get_mutable_abstract_state(self._image).set_value(self._capture(context))
 
     def black_out(self, context: Context, until: float) -> None:
         """Fault injection: the camera publishes no new image before ``until``
@@ -526,8 +572,7 @@ class LogicalCamera(LeafSystem):
         T = T_CW[:, :3] @ np.array([X_WB[b].GetAsMatrix34() for b in self._box_body])
         R_CB = T[:, :, :3]
         p_CB = T[:, :, 3] + (R_CB @ self._box_centre)[:, :, 0] + T_CW[:, 3]
-        seen = np.logical_or.reduceat(self._frustum.overlaps(p_CB, R_CB, self._box_half),
-                                      self._box_starts)
+        seen = np.logical_or.reduceat(self._frustum.overlaps(p_CB, R_CB, self._box_half), self._box_starts)
         indices = np.flatnonzero(seen).tolist()
         if not indices:
             return LogicalCameraImage(time, self._name, X_WC, ())
@@ -539,7 +584,8 @@ class LogicalCamera(LeafSystem):
             if noise is not None:
                 X_CM = RigidTransform(
                     RollPitchYaw(noise[k, 3:]).ToRotationMatrix() @ X_CM.rotation(),
-                    X_CM.translation() + noise[k, :3])
+                    X_CM.translation() + noise[k, :3],
+                )
             models.append(DetectedModel(candidate.name, candidate.type, X_CM))
         return LogicalCameraImage(time, self._name, X_WC, tuple(models))
 
@@ -554,10 +600,16 @@ class LogicalCamera(LeafSystem):
         return rng.standard_normal((len(self._candidates), 6)) * np.repeat([sigma_p, sigma_o], 3)
 
 
-def add_logical_camera(builder: DiagramBuilder, plant: MultibodyPlant, scene_graph: SceneGraph,
-                       frame: Frame, config: LogicalCameraConfig, *,
-                       exclude: Sequence[ModelInstanceIndex] = (), seed: int = 0
-                       ) -> LogicalCamera:
+def add_logical_camera(
+    builder: DiagramBuilder,
+    plant: MultibodyPlant,
+    scene_graph: SceneGraph,
+    frame: Frame,
+    config: LogicalCameraConfig,
+    *,
+    exclude: Sequence[ModelInstanceIndex] = (),
+    seed: int = 0,
+) -> LogicalCamera:
     """Adds a LogicalCamera (named ``config.name``) to ``builder`` and connects
     the plant's body poses to it. ``frame``, ``exclude`` and ``seed`` are as in
     :class:`LogicalCamera`; the plant must be finalized.
@@ -566,8 +618,7 @@ def add_logical_camera(builder: DiagramBuilder, plant: MultibodyPlant, scene_gra
         ConfigError: invalid ``config`` or ``seed`` (nothing is added then).
     """
     config.validate()
-    camera = LogicalCamera(plant, scene_graph.model_inspector(), frame, config,
-                           exclude=exclude, seed=seed)
+    camera = LogicalCamera(plant, scene_graph.model_inspector(), frame, config, exclude=exclude, seed=seed)
     builder.AddSystem(camera)
     builder.Connect(plant.get_body_poses_output_port(), camera.get_input_port(0))
     return camera

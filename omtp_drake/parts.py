@@ -1,36 +1,44 @@
-"""Parts: the pre-allocated pool, the spawner, the deletion wall's disposal and the ledger.
+"""Parts: the pre-allocated pool, the spawner's settings and spawn poses.
 
 Drake cannot add bodies to a built plant, so every part that may ever appear
-is in the plant from the start: a pool of ``object_1 ... object_N``. A part in
-the pool is *parked*: far from the cell (a row at x = 50 m) with its floating
-joint locked (no motion, no contact, no cost in the contact solver). Spawning unlocks the next
-parked part and puts it at the spawn pose; disposal parks it again. Parts are
-spawned in name order; a disposed part goes to the back of the queue and keeps
-its name when it is spawned again.
+is in the plant from the start: the scenario's placed parts and a pool of
+``object_1 ... object_N``. A part out of the world is *parked*: far from the
+cell (a row at x = 50 m) with its floating joint locked (no motion, no contact,
+no cost in the contact solver). Spawning unlocks the next parked pool part and
+puts it at the spawn pose; disposal parks a part again. Pool parts are spawned
+in name order; a disposed pool part goes to the back of the queue and keeps its
+name when it is spawned again (a disposed placed part stays parked).
 
-The bookkeeping (which part is where, what happened when) is a value in the
-Context of a :class:`PartManager` system, so it is cloned, reset and
-serialized with the rest of the simulation state. World edits (lock, move)
-are made by the runtime between advances.
+Whether a part is parked is the lock of its joint in the plant's Context, so
+it is never restated elsewhere. :class:`PartPool` makes the world edits (lock,
+move) between advances and logs what it did; the driver owns it.
 """
 
 # No `from __future__ import annotations`: SpawnerConfig is a YAML schema.
 
+import logging
 import math
-from dataclasses import dataclass, field, replace
-from typing import Optional
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
-from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform, RollPitchYaw
-from pydrake.systems.framework import Context, LeafSystem
+from pydrake.multibody.math import SpatialVelocity
+from pydrake.systems.framework import Context
 
-from omtp_drake.errors import ConfigError, SimulationError
+from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
+
+if TYPE_CHECKING:
+    from omtp_drake.station import Station
+
+_log = logging.getLogger(__name__)
 
 #: Where parked part k waits (x = PARK_X0 + k * PARK_DX, on a line far from the cell).
 PARK_X0, PARK_DX, PARK_Y, PARK_Z = 50.0, 0.5, 50.0, 1.0
 
+
 def parking_pose(slot: int) -> RigidTransform:
+    """``X_WP`` of the part parked in ``slot`` (its index among all parts)."""
     return RigidTransform([PARK_X0 + slot * PARK_DX, PARK_Y, PARK_Z])
 
 
@@ -58,90 +66,22 @@ class SpawnerConfig:
         if len(self.xyz) != 3:
             raise ConfigError(f"spawner.xyz needs 3 numbers, got {list(self.xyz)}")
         for key in ("lateral_variance", "yaw_variance", "period", "start_time"):
-            if getattr(self, key) < 0:
-                raise ConfigError(f"spawner.{key} must be >= 0, got {getattr(self, key)}")
+            value = getattr(self, key)
+            if not (value >= 0 and math.isfinite(value)):
+                raise ConfigError(f"spawner.{key} must be a finite number >= 0, got {value}")
         if self.max_parts < 0:
             raise ConfigError(f"spawner.max_parts must be >= 0, got {self.max_parts}")
 
 
-@dataclass(frozen=True)
-class PartRecord:
-    """One part of the pool."""
-
-    name: str
-    #: ``parked`` (in the pool) or ``in_world`` (spawned, not yet disposed).
-    state: str = "parked"
-    spawned_at: float = math.nan
-
-
-@dataclass(frozen=True)
-class PartBook:
-    """The value the PartManager keeps in its Context."""
-
-    parts: tuple[PartRecord, ...]
-    #: Pool order in which parked parts are spawned next (indices into ``parts``).
-    queue: tuple[int, ...]
-    spawn_count: int = 0
-    auto_spawns: int = 0
-    dispose_count: int = 0
-    next_auto_spawn: float = math.inf
-    #: (time, event, part) history: "spawn", "dispose".
-    events: tuple[tuple[float, str, str], ...] = ()
-
-
-@dataclass(frozen=True)
-class Ledger:
-    """Where every spawned part is. Invariant: spawned = sum of the other counts."""
-
-    time: float
-    spawned: int
-    parked: int
-    on_belt: int
-    on_floor: int
-    held: dict[str, int]
-    in_bin: dict[str, int]
-    disposed: int
-    parts: dict[str, str]
-
-    @property
-    def balanced(self) -> bool:
-        return self.spawned == (self.on_belt + self.on_floor + sum(self.held.values())
-                                + sum(self.in_bin.values()) + self.disposed)
-
-    def to_dict(self) -> dict:
-        return {"time": self.time, "spawned": self.spawned, "parked": self.parked,
-                "on_belt": self.on_belt, "on_floor": self.on_floor, "held": dict(self.held),
-                "in_bin": dict(self.in_bin), "disposed": self.disposed, "parts": dict(self.parts)}
-
-
-class PartManager(LeafSystem):
-    """Holds the :class:`PartBook` of the pool in its Context (no ports, no events).
-
-    The runtime reads and replaces the book between advances; keeping it in the
-    Context makes it part of the simulation state.
-    """
-
-    def __init__(self, names: list[str], spawner: Optional[SpawnerConfig]):
-        super().__init__()
-        first = math.inf
-        if spawner is not None and spawner.period > 0:
-            first = spawner.start_time
-        book = PartBook(parts=tuple(PartRecord(n) for n in names),
-                        queue=tuple(range(len(names))), next_auto_spawn=first)
-        self._index = self.DeclareAbstractState(AbstractValue.Make(book))
-        self.spawner = spawner
-        self.names = tuple(names)
-
-    def book(self, context: Context) -> PartBook:
-        return context.get_abstract_state(self._index).get_value()
-
-    def set_book(self, context: Context, book: PartBook) -> None:
-        context.get_mutable_abstract_state(self._index).set_value(book)
-
-
-def spawn_pose(spawner: SpawnerConfig, seed: int, index: int,
-               xyz: Optional[list[float]] = None, yaw: Optional[float] = None) -> RigidTransform:
-    """The pose of the ``index``-th spawn: the configured pose plus seeded variance.
+def spawn_pose(
+    spawner: SpawnerConfig,
+    seed: int,
+    index: int,
+    xyz: Optional[list[float]] = None,
+    yaw: Optional[float] = None,
+) -> RigidTransform:
+    """The pose of the ``index``-th spawn: the configured pose plus seeded variance,
+    or ``xyz`` / ``yaw`` as given (no variance on what is given).
 
     The draw depends only on (seed, index), so runs are reproducible.
     """
@@ -150,29 +90,115 @@ def spawn_pose(spawner: SpawnerConfig, seed: int, index: int,
     p = np.array(xyz if xyz is not None else spawner.xyz, dtype=float)
     if xyz is None:
         p[0] += dx * spawner.lateral_variance
-    angle = (yaw if yaw is not None else spawner.yaw) + (
-        dyaw * spawner.yaw_variance if yaw is None else 0.0)
+    angle = (yaw if yaw is not None else spawner.yaw) + (dyaw * spawner.yaw_variance if yaw is None else 0.0)
     return RigidTransform(RollPitchYaw(0.0, 0.0, angle), p)
 
 
-def take_from_pool(book: PartBook, time: float) -> tuple[PartBook, int]:
-    """Marks the next parked part as spawned; returns the new book and its index."""
-    if not book.queue:
-        raise SimulationError(
-            f"no parked part left in the pool ({len(book.parts)} parts, all in the world); "
-            "raise the scenario's part_pool or dispose of parts first")
-    index, queue = book.queue[0], book.queue[1:]
-    parts = list(book.parts)
-    parts[index] = replace(parts[index], state="in_world", spawned_at=time)
-    book = replace(book, parts=tuple(parts), queue=queue, spawn_count=book.spawn_count + 1,
-                   events=book.events + ((time, "spawn", parts[index].name),))
-    return book, index
+@dataclass(frozen=True)
+class PartEvent:
+    """One thing that happened to a part: ``spawn`` or ``dispose``."""
+
+    time: float
+    event: str
+    part: str
 
 
-def return_to_pool(book: PartBook, index: int, time: float) -> PartBook:
-    """Marks part ``index`` disposed and queues it to be spawned again later."""
-    parts = list(book.parts)
-    parts[index] = replace(parts[index], state="parked")
-    return replace(book, parts=tuple(parts), queue=book.queue + (index,),
-                   dispose_count=book.dispose_count + 1,
-                   events=book.events + ((time, "dispose", parts[index].name),))
+class PartPool:
+    """Spawns, parks and disposes of the station's parts, between advances.
+
+    Every part of the station (placed and pool) has a parking slot; the pool's
+    parts start parked (see :meth:`initialize`). The log of spawns and
+    disposals (:attr:`events`) is a record of what happened, for the ledger and
+    reports; the state of each part is its joint's lock in the Context.
+    """
+
+    def __init__(self, station: "Station"):
+        self._station = station
+        plant = station.plant
+        self._names = list(station.parts)
+        self._pool = list(station.pool)
+        self._bodies = {n: plant.GetBodyByName(n, station.parts[n]) for n in self._names}
+        self._joints = {}
+        for name in self._names:
+            (index,) = plant.GetJointIndices(station.parts[name])
+            self._joints[name] = plant.get_joint(index)
+        self.events: list[PartEvent] = []
+
+    @property
+    def names(self) -> list[str]:
+        """Every part: the placed ones, then the pool."""
+        return list(self._names)
+
+    @property
+    def spawn_count(self) -> int:
+        return sum(e.event == "spawn" for e in self.events)
+
+    @property
+    def dispose_count(self) -> int:
+        return sum(e.event == "dispose" for e in self.events)
+
+    def initialize(self, root_context: Context) -> None:
+        """Parks every pool part (a new Context has them free at their parking poses)."""
+        plant_context = self._plant_context(root_context)
+        for name in self._pool:
+            self._park(plant_context, name)
+        self.events.clear()
+
+    def is_parked(self, root_context: Context, name: str) -> bool:
+        self._check(name)
+        return self._joints[name].is_locked(self._plant_context(root_context))
+
+    def in_world(self, root_context: Context) -> list[str]:
+        """The parts in the world (placed and spawned, not disposed of), in name order."""
+        plant_context = self._plant_context(root_context)
+        return [n for n in self._names if not self._joints[n].is_locked(plant_context)]
+
+    def queue(self, root_context: Context) -> list[str]:
+        """The parked pool parts in the order they will be spawned: never spawned
+        ones in name order, then the disposed ones in the order they were disposed."""
+        plant_context = self._plant_context(root_context)
+        parked = [n for n in self._pool if self._joints[n].is_locked(plant_context)]
+        disposed_at = {e.part: e.time for e in self.events if e.event == "dispose"}
+        return sorted(parked, key=lambda n: (disposed_at.get(n, -math.inf), self._pool.index(n)))
+
+    def spawn(self, root_context: Context, X_WP: RigidTransform) -> str:
+        """Puts the next parked pool part at ``X_WP``, at rest; returns its name."""
+        queue = self.queue(root_context)
+        if not queue:
+            raise SimulationError(
+                f"no parked part left in the pool ({len(self._pool)} parts, all in the world); "
+                "raise the scenario's part_pool or dispose of parts first"
+            )
+        name = queue[0]
+        plant = self._station.plant
+        plant_context = self._plant_context(root_context)
+        self._joints[name].Unlock(plant_context)
+        plant.SetFreeBodyPose(plant_context, self._bodies[name], X_WP)
+        plant.SetFreeBodySpatialVelocity(plant_context, self._bodies[name], SpatialVelocity.Zero())
+        self.events.append(PartEvent(root_context.get_time(), "spawn", name))
+        _log.info("t=%.2f spawned %s at %s", root_context.get_time(), name, X_WP.translation())
+        return name
+
+    def dispose(self, root_context: Context, name: str) -> None:
+        """Takes part ``name`` out of the world (parks it)."""
+        in_world = self.in_world(root_context)
+        if name not in in_world:
+            raise UnknownNameError("part in the world", name, in_world)
+        self._park(self._plant_context(root_context), name)
+        self.events.append(PartEvent(root_context.get_time(), "dispose", name))
+        _log.info("t=%.2f disposed of %s", root_context.get_time(), name)
+
+    def _park(self, plant_context: Context, name: str) -> None:
+        plant = self._station.plant
+        body = self._bodies[name]
+        self._joints[name].Unlock(plant_context)
+        plant.SetFreeBodyPose(plant_context, body, parking_pose(self._names.index(name)))
+        plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
+        self._joints[name].Lock(plant_context)
+
+    def _plant_context(self, root_context: Context) -> Context:
+        return self._station.plant.GetMyMutableContextFromRoot(root_context)
+
+    def _check(self, name: str) -> None:
+        if name not in self._bodies:
+            raise UnknownNameError("part", name, self._names)

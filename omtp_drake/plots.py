@@ -22,17 +22,17 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Callable, Optional, Sequence
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 from matplotlib.figure import Figure
 from pydrake.math import RigidTransform
 
-from omtp_drake import arms
 from omtp_drake.errors import ConfigError
 from omtp_drake.logical_camera import model_type
-from omtp_drake.pick_and_place import ControllerStatus
+from omtp_drake.pick_and_place import ControlState
 
 if TYPE_CHECKING:
     from omtp_drake.runtime import FactoryRuntime
@@ -43,7 +43,7 @@ _log = logging.getLogger(__name__)
 #: Colours of successful and failed picks.
 OK_COLOUR, FAIL_COLOUR = "tab:green", "tab:red"
 #: Ledger categories in stacking order (bins are inserted after "held").
-_LEDGER_ORDER = ("on_belt", "on_floor", "held")
+_LEDGER_ORDER = ("on_belt", "on_floor", "elsewhere", "held")
 
 
 @dataclass
@@ -61,7 +61,8 @@ class RunRecording:
     mode: list[str] = field(default_factory=list)
     #: camera -> number of parts it reports, per sample.
     detections: dict[str, list[int]] = field(default_factory=dict)
-    #: ledger category (``on_belt``, ``on_floor``, ``held``, ``in_bin:<bin>``, ``disposed``)
+    #: ledger category (``on_belt``, ``on_floor``, ``elsewhere``, ``held``, ``in_bin:<bin>``,
+    #: ``disposed``)
     #: -> count, per sample.
     ledger: dict[str, list[int]] = field(default_factory=dict)
     #: Break beam state and conveyor power [%] per sample (empty without them).
@@ -103,14 +104,18 @@ class RunRecorder:
             every tick).
     """
 
-    def __init__(self, runtime: "FactoryRuntime", *, robot: Optional[str] = None,
-                 status: Optional[Callable[[], ControllerStatus]] = None,
-                 period: float = 0.0):
+    def __init__(
+        self,
+        runtime: FactoryRuntime,
+        *,
+        robot: Optional[str] = None,
+        status: Optional[Callable[[], ControlState]] = None,
+        period: float = 0.0,
+    ):
         if robot is None:
             task = runtime.scenario.task
             if task is None:
-                raise ConfigError(f"scenario {runtime.scenario.name!r} has no task: "
-                                  "name the robot to record")
+                raise ConfigError(f"scenario {runtime.scenario.name!r} has no task: name the robot to record")
             robot = task.robot
         if period < 0:
             raise ConfigError(f"period must be >= 0 s, got {period}")
@@ -118,31 +123,26 @@ class RunRecorder:
         handles = station.arm(robot)
         if not handles.config.gripper:
             raise ConfigError(f"{robot} has no gripper: no tool to track")
-        if handles.control_plant is None:
-            raise ConfigError(f"{robot} has no control plant to compute its tool pose with")
         self._runtime = runtime
         self._status = status
         self._period = period
         self._next = -math.inf
-        self._arm = handles.arm
-        self._control_plant = handles.control_plant
-        self._control_context = handles.control_plant.CreateDefaultContext()
-        self._tip = handles.control_plant.GetFrameByName(f"{handles.config.gripper}_tip")
-        self._X_WB = arms.base_pose(handles.config)
+        self._tip = station.plant.GetFrameByName(f"{handles.config.gripper}_tip")
         self._cameras = sorted(station.cameras)
         self._part_types = {model_type(n) for n in station.parts}
         self._belt = station.conveyor is not None and station.break_beam is not None
         self.recording = RunRecording(robot=robot, detections={c: [] for c in self._cameras})
 
     @classmethod
-    def attach(cls, run: "TaskRun", *, period: float = 0.0) -> "RunRecorder":
+    def attach(cls, run: TaskRun, *, period: float = 0.0) -> RunRecorder:
         """A recorder of ``run``'s task robot, sampling from the next tick on."""
-        recorder = cls(run.runtime, robot=run.scenario.task.robot, status=run.status,
-                       period=period)
+        recorder = cls(
+            run.runtime, robot=run.scenario.required_task().robot, status=run.control, period=period
+        )
         run.runtime.on_tick(recorder)
         return recorder
 
-    def __call__(self, runtime: "FactoryRuntime") -> None:
+    def __call__(self, runtime: FactoryRuntime) -> None:
         t = runtime.time
         if t < self._next - 1e-9:
             return
@@ -155,17 +155,20 @@ class RunRecorder:
         if self._status is not None:
             status = self._status()
             X_desired = status.pose_at(t)
-            mode = status.mode
-        rec.desired.append(X_desired.translation().copy() if X_desired is not None
-                           else np.full(3, math.nan))
+            mode = status.mode.value
+        rec.desired.append(X_desired.translation().copy() if X_desired is not None else np.full(3, math.nan))
         rec.mode.append(mode)
         for camera in self._cameras:
             image = runtime.camera_image(camera)
-            rec.detections[camera].append(
-                sum(1 for m in image.models if m.type in self._part_types))
+            rec.detections[camera].append(sum(1 for m in image.models if m.type in self._part_types))
         ledger = runtime.ledger()
-        counts = {"on_belt": ledger.on_belt, "on_floor": ledger.on_floor,
-                  "held": sum(ledger.held.values()), "disposed": ledger.disposed}
+        counts = {
+            "on_belt": ledger.on_belt,
+            "on_floor": ledger.on_floor,
+            "elsewhere": ledger.elsewhere,
+            "held": sum(ledger.held.values()),
+            "disposed": ledger.disposed,
+        }
         counts.update({f"in_bin:{b}": n for b, n in ledger.in_bin.items()})
         n = len(rec.time) - 1
         for key, value in counts.items():
@@ -174,11 +177,9 @@ class RunRecorder:
             rec.beam.append(runtime.break_beam()[0])
             rec.conveyor_power.append(runtime.conveyor_power())
 
-    def _tool_position(self, runtime: "FactoryRuntime") -> np.ndarray:
-        plant = runtime.station.plant
-        q = plant.GetPositions(plant.GetMyContextFromRoot(runtime.context), self._arm)
-        self._control_plant.SetPositions(self._control_context, q)
-        return (self._X_WB @ self._tip.CalcPoseInWorld(self._control_context)).translation().copy()
+    def _tool_position(self, runtime: FactoryRuntime) -> np.ndarray:
+        plant_context = runtime.station.plant.GetMyContextFromRoot(runtime.context)
+        return self._tip.CalcPoseInWorld(plant_context).translation().copy()
 
 
 def _need_samples(rec: RunRecording) -> None:
@@ -206,8 +207,12 @@ def plot_tracking_error(rec: RunRecording | RunRecorder) -> Figure:
     error_mm = 1000.0 * rec.tracking_error
     axes[3].plot(t, error_mm, color="tab:red", label="|desired - measured|")
     if np.isfinite(error_mm).any():
-        axes[3].axhline(float(np.nanmedian(error_mm)), color="grey", linestyle=":",
-                        label=f"median {np.nanmedian(error_mm):.1f} mm")
+        axes[3].axhline(
+            float(np.nanmedian(error_mm)),
+            color="grey",
+            linestyle=":",
+            label=f"median {np.nanmedian(error_mm):.1f} mm",
+        )
     axes[3].set_ylabel("error [mm]")
     axes[3].set_xlabel("simulated time [s]")
     axes[3].legend(loc="upper right")
@@ -239,8 +244,9 @@ def plot_conveyor(rec: RunRecording | RunRecorder) -> Figure:
         raise ConfigError("the recording has no break beam and conveyor (not a conveyor scenario)")
     fig = Figure(figsize=(9, 4), layout="constrained")
     top, bottom = fig.subplots(2, 1, sharex=True)
-    top.step(rec.t, np.asarray(rec.beam, dtype=float), where="post", color="tab:purple",
-             label="object detected")
+    top.step(
+        rec.t, np.asarray(rec.beam, dtype=float), where="post", color="tab:purple", label="object detected"
+    )
     top.set_yticks([0, 1], ["clear", "broken"])
     top.set_ylabel("break beam")
     top.set_title("lecture 7: break beam and conveyor")
@@ -250,7 +256,7 @@ def plot_conveyor(rec: RunRecording | RunRecorder) -> Figure:
     return fig
 
 
-def plot_cycle_times(result: "TaskResult") -> Figure:
+def plot_cycle_times(result: TaskResult) -> Figure:
     """One bar per pick attempt (cycle time), green if it succeeded, red (with the
     reason) if it failed; the mean cycle time of the successes as a line."""
     fig = Figure(figsize=(9, 3.5), layout="constrained")
@@ -263,8 +269,14 @@ def plot_cycle_times(result: "TaskResult") -> Figure:
     ax.set_xlim(-0.7, max(len(picks) - 0.3, 1.7))
     for bar, pick in zip(bars, picks):
         if not pick.success:
-            ax.annotate(pick.reason, (bar.get_x() + bar.get_width() / 2, bar.get_height()),
-                        ha="center", va="bottom", fontsize=8, color=FAIL_COLOUR)
+            ax.annotate(
+                pick.reason,
+                (bar.get_x() + bar.get_width() / 2, bar.get_height()),
+                ha="center",
+                va="bottom",
+                fontsize=8,
+                color=FAIL_COLOUR,
+            )
     ax.set_xticks(range(len(picks)), labels, fontsize=8)
     good = [p.cycle_time for p in picks if p.success]
     if good:
@@ -273,8 +285,7 @@ def plot_cycle_times(result: "TaskResult") -> Figure:
         ax.legend(loc="upper right")
     ax.set_ylabel("cycle time [s]")
     ok = sum(p.success for p in picks)
-    ax.set_title(f"{result.scenario} (seed {result.seed}): {ok} picks ok, "
-                 f"{len(picks) - ok} failed")
+    ax.set_title(f"{result.scenario} (seed {result.seed}): {ok} picks ok, {len(picks) - ok} failed")
     return fig
 
 
@@ -287,8 +298,12 @@ def plot_ledger(rec: RunRecording | RunRecorder) -> Figure:
     keys += [k for k in ("disposed",) if k in rec.ledger]
     fig = Figure(figsize=(9, 3.5), layout="constrained")
     ax = fig.add_subplot()
-    ax.stackplot(rec.t, *[np.asarray(rec.ledger[k]) for k in keys],
-                 labels=[k.replace("in_bin:", "in ") for k in keys], step="post")
+    ax.stackplot(
+        rec.t,
+        *[np.asarray(rec.ledger[k]) for k in keys],
+        labels=[k.replace("in_bin:", "in ") for k in keys],
+        step="post",
+    )
     ax.set_xlabel("simulated time [s]")
     ax.set_ylabel("parts")
     ax.set_title("ledger: where the spawned parts are")
@@ -297,7 +312,7 @@ def plot_ledger(rec: RunRecording | RunRecorder) -> Figure:
     return fig
 
 
-def plot_seed_stats(results: Sequence["TaskResult"]) -> Figure:
+def plot_seed_stats(results: Sequence[TaskResult]) -> Figure:
     """A statistics run over seeds: parts in the bin per seed (green: success,
     red: failure) and the cycle times of each seed's successful picks."""
     if not results:
@@ -306,8 +321,12 @@ def plot_seed_stats(results: Sequence["TaskResult"]) -> Figure:
     top, bottom = fig.subplots(2, 1, sharex=True)
     seeds = [r.seed for r in results]
     x = np.arange(len(results))
-    top.bar(x, [r.summary["in_bin"] for r in results], width=0.6,
-            color=[OK_COLOUR if r.success else FAIL_COLOUR for r in results])
+    top.bar(
+        x,
+        [r.summary["in_bin"] for r in results],
+        width=0.6,
+        color=[OK_COLOUR if r.success else FAIL_COLOUR for r in results],
+    )
     top.plot(x, [r.parts for r in results], "k_", markersize=20, label="parts asked")
     top.set_ylabel("parts in the bin")
     ok = sum(r.success for r in results)

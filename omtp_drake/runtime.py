@@ -1,12 +1,13 @@
-"""The runtime: one object that owns the simulator and makes the world edits.
+"""The runtime: a scenario's cell, ready to run, and the course's services on it.
 
-Some edits cannot happen inside a Drake diagram (a system may not write
-another system's Context): spawning and disposing of parts, the grippers'
-weld constraints, shifting the belt surface back. :class:`FactoryRuntime`
-advances the simulator in ticks of a fixed period (default 50 ms of
-simulated time) and applies them between ticks. It offers the course's
-services as methods: spawn a part, set the conveyor power, enable or disable a
-gripper, read a gripper's state, read a camera, read the ledger.
+:class:`FactoryRuntime` builds the station (and whatever ``extend`` adds around
+it, e.g. a controller), initialises the Context, and runs it with the
+:class:`~omtp_drake.driver.Driver` (the world edits between advances). Its
+methods are the course's services: spawn or remove a part, set the conveyor
+power, enable or disable a gripper, read a gripper, a camera, the break beam,
+the ledger; and fault injection for tests (vacuum failure, camera blackout, a
+blocked arm, a moved bin). Every method checks its arguments and raises an
+:mod:`omtp_drake.errors` error naming the bad value and the valid choices.
 
 Everything depends only on simulated time and the scenario's seed, so the same
 scenario and seed give the same result.
@@ -23,39 +24,77 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import replace
-from typing import Callable, Optional
+from collections.abc import Callable, Sequence
+from typing import Optional
 
+import numpy as np
 from pydrake.geometry import Meshcat
-from pydrake.math import RigidTransform
-from pydrake.multibody.math import SpatialVelocity
-from pydrake.systems.analysis import Simulator
+from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.framework import Context, DiagramBuilder
 
 from omtp_drake import arms
+from omtp_drake.driver import AutoSpawner, Driver, loose_parts, spawn, world_edits
 from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
-from omtp_drake.conveyor import WRAP_TRAVEL
+from omtp_drake.ledger import Ledger, held_parts, locate, take_ledger
 from omtp_drake.logical_camera import LogicalCameraImage
-from omtp_drake.parts import (Ledger, PartBook, SpawnerConfig, return_to_pool, spawn_pose,
-                              take_from_pool)
-from omtp_drake.scenario import Scenario, load_scenario
+from omtp_drake.parts import PartPool
+from omtp_drake.scenario import Scenario, check_in_cell, load_scenario
 from omtp_drake.station import Station, build_station
-from omtp_drake.suction import sync_weld
+from omtp_drake.suction import GripperState
 
 _log = logging.getLogger(__name__)
-
-#: The drawn belt: x within 0.3 of its centre line, y in [-5, 5], top at 0.92.
-_BELT_X, _BELT_HALF_WIDTH, _BELT_Y, _BELT_TOP = 1.2, 0.3, (-5.0, 5.0), 0.92
-#: The deletion wall checks for contact at 5 Hz.
-_DISPOSAL_PERIOD = 0.2
 
 #: A function that adds systems around the station (controllers...) before the
 #: diagram is built; it connects whatever station inputs it drives.
 Extension = Callable[[DiagramBuilder, Station], None]
 
 
+def check_duration(what: str, value: float) -> float:
+    """``value`` as a finite time > 0 s, or ConfigError naming ``what``."""
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{what} must be a time in seconds, got {value!r}") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise ConfigError(f"{what} must be a finite time > 0 s, got {value!r}")
+    return value
+
+
+class ArmBlock:
+    """Fault injection: arms whose joints are locked (blocked) until a time.
+    A world edit: it unlocks each arm when its time is up."""
+
+    period = 0.01
+
+    def __init__(self, station: Station):
+        self._station = station
+        self.until: dict[str, float] = {}
+
+    def block(self, root_context: Context, robot: str, until: float) -> None:
+        self._set_locked(root_context, robot, True)
+        self.until[robot] = until
+
+    def __call__(self, root_context: Context) -> None:
+        for robot, until in list(self.until.items()):
+            if root_context.get_time() >= until - 1e-9:
+                self._set_locked(root_context, robot, False)
+                self._station.clear_servo_integral(root_context, robot)
+                del self.until[robot]
+
+    def _set_locked(self, root_context: Context, robot: str, locked: bool) -> None:
+        plant = self._station.plant
+        plant_context = plant.GetMyMutableContextFromRoot(root_context)
+        for index in plant.GetJointIndices(self._station.arm(robot).arm):
+            joint = plant.get_joint(index)
+            if joint.num_velocities() > 0:
+                if locked:
+                    joint.Lock(plant_context)
+                else:
+                    joint.Unlock(plant_context)
+
+
 class FactoryRuntime:
-    """Owns the diagram, its Context and the Simulator of one scenario."""
+    """A scenario's cell, its Context and driver, and the course's services."""
 
     def __init__(
         self,
@@ -64,10 +103,12 @@ class FactoryRuntime:
         meshcat: Optional[Meshcat] = None,
         tick: float = 0.05,
         extend: Optional[Extension] = None,
+        auto_spawn: bool = True,
     ):
         if not isinstance(scenario, Scenario):
             scenario = load_scenario(scenario)
-        if not 0 < tick <= 1.0:
+        tick = check_duration("tick", tick)
+        if tick > 1.0:
             raise ConfigError(f"tick must be in (0, 1] s, got {tick}")
         self.scenario = scenario
         self.tick = tick
@@ -76,32 +117,27 @@ class FactoryRuntime:
         builder.AddSystem(self.station.diagram)
         if extend is not None:
             extend(builder, self.station)
-        free_inputs = [self.station.diagram.get_input_port(i)
-                       for i in range(self.station.diagram.num_input_ports())
-                       if not builder.IsConnectedOrExported(self.station.diagram.get_input_port(i))]
+        free = [
+            self.station.diagram.get_input_port(i)
+            for i in range(self.station.diagram.num_input_ports())
+            if not builder.IsConnectedOrExported(self.station.diagram.get_input_port(i))
+        ]
         self.diagram = builder.Build()
         self.diagram.set_name("factory")
+        self._free_inputs = {p.get_name() for p in free}
         self.context = self.diagram.CreateDefaultContext()
+        self.station.initialize_context(self.context, hold=free)
         self._station_context = self.station.diagram.GetMyMutableContextFromRoot(self.context)
         self._plant_context = self.station.plant.GetMyMutableContextFromRoot(self.context)
-        for name, handles in self.station.arms.items():
-            q = arms.named_pose(handles.config.initial_pose, handles.config)
-            self.station.set_arm_positions(self.context, name, q)
-        for port in free_inputs:  # hold what nobody drives
-            name = port.get_name()
-            if name.endswith(".position"):
-                robot = name.split(".")[0]
-                port.FixValue(self._station_context, self.station.plant.GetPositions(
-                    self._plant_context, self.station.arm(robot).arm))
-            elif name.endswith(".command"):
-                port.FixValue(self._station_context, [0.0])
-        self._free_inputs = {p.get_name() for p in free_inputs}
-        self.station.initialize_context(self.context)
-        self.simulator = Simulator(self.diagram, self.context)
-        self.simulator.Initialize()
-        self._next_disposal = 0.0
-        self._after_tick: list[Callable[[FactoryRuntime], None]] = []
-        self._tick_actions()
+        self.pool = PartPool(self.station)
+        edits = world_edits(self.station, self.pool)
+        self._arm_block = ArmBlock(self.station)
+        edits.append(self._arm_block)
+        spawner = next((e for e in edits if isinstance(e, AutoSpawner)), None)
+        if spawner is not None:
+            spawner.enabled = auto_spawn
+        self._spawner = spawner
+        self.driver = Driver(self.diagram, self.context, edits)
 
     # ------------------------------------------------------------------ time
 
@@ -109,48 +145,62 @@ class FactoryRuntime:
     def time(self) -> float:
         return self.context.get_time()
 
+    @property
+    def simulator(self):
+        return self.driver.simulator
+
     def advance_to(self, t: float) -> None:
-        """Simulates until time ``t``, applying world edits at every tick."""
-        if t < self.time:
-            raise SimulationError(f"cannot go back in time: now {self.time:.3f} s, asked {t:.3f} s")
-        while self.time < t - 1e-12:
-            k = math.floor(self.time / self.tick + 1e-9) + 1
-            boundary = k * self.tick
-            self.simulator.AdvanceTo(min(t, boundary))
-            if abs(self.time - boundary) < 1e-9:
-                self._tick_actions()
+        """Simulates until time ``t`` (the world edits happen when due)."""
+        self.driver.advance_to(float(t))
 
     def advance(self, dt: float) -> None:
+        """Simulates ``dt`` seconds more."""
+        dt = float(dt)
+        if not (dt >= 0 and math.isfinite(dt)):
+            raise ConfigError(f"advance needs a finite time >= 0 s, got {dt}")
         self.advance_to(self.time + dt)
 
     def on_tick(self, callback: Callable[[FactoryRuntime], None]) -> None:
-        """Calls ``callback(runtime)`` after the world edits of every tick."""
-        self._after_tick.append(callback)
+        """Calls ``callback(runtime)`` every ``tick`` seconds (after the world edits)."""
+        self.driver.every(self.tick, lambda: callback(self))
 
-    def _tick_actions(self) -> None:
-        self._sync_suction()
-        self._wrap_belt()
-        if self.time >= self._next_disposal - 1e-9:
-            self._dispose_touching_wall()
-            self._next_disposal = self.time + _DISPOSAL_PERIOD
-        self._auto_spawn()
-        for callback in self._after_tick:
-            callback(self)
+    @property
+    def auto_spawn(self) -> bool:
+        """Whether the scenario's spawner spawns parts by itself (False without one)."""
+        return self._spawner is not None and self._spawner.enabled
+
+    @auto_spawn.setter
+    def auto_spawn(self, enabled: bool) -> None:
+        if self._spawner is None:
+            if enabled:
+                raise ConfigError(f"scenario {self.scenario.name!r} has no spawner to switch on")
+            return
+        self._spawner.enabled = bool(enabled)
 
     # ------------------------------------------------------------------ arms
 
     def hold_arm(self, name: str, q) -> None:
-        """Puts arm ``name`` at rest at ``q`` and commands it to stay there.
-
-        Only for an arm whose position command nobody drives (no controller).
-        """
+        """Puts arm ``name`` at rest at ``q`` and commands it to stay there (a
+        teleport: only for an arm whose position command nobody drives, e.g. to
+        set up a scene; a held part stays held)."""
         handles = self.station.arm(name)
+        q = arms.check_joint_positions(q, handles.config)
         port = f"{name}.position"
         if port not in self._free_inputs:
             raise SimulationError(f"{port} is driven by a controller; it cannot be held")
         self.station.set_arm_positions(self.context, name, q)
-        self.station.diagram.GetInputPort(port).FixValue(
-            self._station_context, self.station.plant.GetPositions(self._plant_context, handles.arm))
+        self.station.diagram.GetInputPort(port).FixValue(self._station_context, q)
+
+    def joint_positions(self, name: str) -> np.ndarray:
+        """The measured joint positions of arm ``name`` (pan ... wrist 3)."""
+        return self.station.plant.GetPositions(self._plant_context, self.station.arm(name).arm)
+
+    def block_arm(self, robot: str, duration: float) -> None:
+        """Fault injection: ``robot``'s joints are blocked (locked where they are)
+        for ``duration`` s, whatever its servo commands."""
+        self.station.arm(robot)
+        duration = check_duration("block_arm duration", duration)
+        self._arm_block.block(self.context, robot, self.time + duration)
 
     # ------------------------------------------------------------------ grippers
 
@@ -172,7 +222,7 @@ class FactoryRuntime:
             raise SimulationError(f"{port} is driven by a controller; use a fault injection instead")
         self.station.diagram.GetInputPort(port).FixValue(self._station_context, [value])
 
-    def gripper_state(self, robot: str):
+    def gripper_state(self, robot: str) -> GripperState:
         """The gripper's GripperState: ``enabled``, ``attached``, ``part``."""
         gripper = self._gripper(robot)
         return gripper.get_state(gripper.GetMyContextFromRoot(self.context))
@@ -181,18 +231,47 @@ class FactoryRuntime:
         """Fault injection: ``robot``'s vacuum fails now for ``duration`` s (a held
         part drops at the next check, ~50 ms), whatever its controller commands."""
         gripper = self._gripper(robot)
+        duration = check_duration("fail_vacuum duration", duration)
         gripper.fail_vacuum(gripper.GetMyMutableContextFromRoot(self.context), self.time + duration)
 
     def black_out_camera(self, camera: str, duration: float) -> None:
         """Fault injection: ``camera`` publishes no image for ``duration`` s."""
-        if camera not in self.station.cameras:
-            raise UnknownNameError("camera", camera, self.station.cameras)
-        system = self.station.cameras[camera]
+        system = self._camera(camera)
+        duration = check_duration("black_out_camera duration", duration)
         system.black_out(system.GetMyMutableContextFromRoot(self.context), self.time + duration)
 
-    def _sync_suction(self) -> None:
-        for robot, constraints in self.station.suction_constraints.items():
-            sync_weld(self.station.grippers[robot], constraints, self.station.plant, self.context)
+    # ------------------------------------------------------------------ bins
+
+    def bin_pose(self, name: str) -> RigidTransform:
+        """``X_WB``: where bin ``name``'s base is now."""
+        return self.station.bin_pose(self.context, name)
+
+    def move_bin(self, name: str, xyz: Sequence[float], yaw: float = 0.0) -> None:
+        """Fault injection: bin ``name`` jumps to ``xyz`` (its base, on the floor)
+        turned ``yaw`` about world z; parts in it move with it."""
+        X_old = self.bin_pose(name)
+        p = np.asarray(xyz, dtype=float)
+        if p.shape != (3,) or not np.all(np.isfinite(p)) or not math.isfinite(yaw):
+            raise ConfigError(
+                f"move_bin needs xyz as 3 finite numbers and a finite yaw, got {list(xyz)!r}, {yaw!r}"
+            )
+        X_new = RigidTransform(RollPitchYaw(0.0, 0.0, yaw), p)
+        held = {
+            g.get_state(g.GetMyContextFromRoot(self.context)).part for g in self.station.grippers.values()
+        }
+        X_move = X_new @ X_old.inverse()
+        plant = self.station.plant
+        carried = [
+            n
+            for n, (place, _) in self._places().items()
+            if place == "in_bin"
+            and n not in held
+            and self.scenario.bin(name).contains(self.part_pose(n).translation(), X_old)
+        ]
+        self.station.move_bin(self.context, name, X_new)
+        for part in carried:
+            body = plant.GetBodyByName(part, self.station.parts[part])
+            plant.SetFreeBodyPose(self._plant_context, body, X_move @ self.part_pose(part))
 
     # ------------------------------------------------------------------ conveyor
 
@@ -209,38 +288,25 @@ class FactoryRuntime:
         """(object_detected, range of the nearest hit) as last sampled (10 Hz)."""
         self._need(self.station.break_beam, "break beam")
         detected, distance = self.station.diagram.GetOutputPort("break_beam.state").Eval(
-            self._station_context)
+            self._station_context
+        )
         return bool(detected > 0.5), float(distance)
-
-    def _wrap_belt(self) -> None:
-        if self.station.conveyor is None:
-            return
-        joint = self.station.plant.GetJointByName("conveyor_belt_joint")
-        q = joint.get_translation(self._plant_context)
-        if abs(q) >= WRAP_TRAVEL:
-            joint.set_translation(self._plant_context, math.fmod(q, WRAP_TRAVEL))
 
     # ------------------------------------------------------------------ cameras
 
+    def _camera(self, camera: str):
+        if camera not in self.station.cameras:
+            raise UnknownNameError("camera", camera, self.station.cameras, closest=True)
+        return self.station.cameras[camera]
+
     def camera_image(self, camera: str) -> LogicalCameraImage:
         """The latest image of a logical camera."""
-        if camera not in self.station.cameras:
-            raise UnknownNameError("camera", camera, self.station.cameras)
+        self._camera(camera)
         return self.station.diagram.GetOutputPort(f"{camera}.image").Eval(self._station_context)
 
     # ------------------------------------------------------------------ parts
 
-    def _manager_context(self) -> Context:
-        manager = self._need(self.station.part_manager, "part pool")
-        return manager.GetMyMutableContextFromRoot(self.context)
-
-    def _book(self) -> PartBook:
-        return self.station.part_manager.book(self._manager_context())
-
-    def _set_book(self, book: PartBook) -> None:
-        self.station.part_manager.set_book(self._manager_context(), book)
-
-    def spawn_part(self, xyz: Optional[list[float]] = None, yaw: Optional[float] = None) -> str:
+    def spawn_part(self, xyz: Optional[Sequence[float]] = None, yaw: Optional[float] = None) -> str:
         """Spawns the next parked part; returns its name.
 
         Without ``xyz``/``yaw`` the scenario's spawner pose (plus its seeded
@@ -248,81 +314,23 @@ class FactoryRuntime:
         ``spawn_object_once``), spawning while another part is loose in the
         world (not in a bin) raises SimulationError.
         """
-        spawner = self.station.scenario.spawner
-        if spawner is None and xyz is None:
-            raise ConfigError("this scenario has no spawner: give the spawn position xyz")
+        if xyz is not None:
+            p = np.asarray(xyz, dtype=float).reshape(-1)
+            if p.shape != (3,) or not np.all(np.isfinite(p)):
+                raise ConfigError(f"spawn_part needs xyz as 3 finite numbers, got {list(xyz)!r}")
+            check_in_cell("spawn_part xyz", p.tolist())
+        if yaw is not None and not math.isfinite(yaw):
+            raise ConfigError(f"spawn_part yaw must be finite, got {yaw!r}")
+        spawner = self.scenario.spawner
         if spawner is not None and spawner.one_at_a_time:
-            loose = self._loose_parts()
+            loose = loose_parts(self.station, self.context, self.pool)
             if loose:
-                raise SimulationError(
-                    f"one part at a time: {', '.join(loose)} is still in the world")
-        book, index = take_from_pool(self._book(), self.time)
-        name = book.parts[index].name
-        X_WP = (spawn_pose(spawner, self.scenario.seed, book.spawn_count - 1, xyz, yaw)
-                if spawner is not None else
-                spawn_pose(SpawnerConfig(), self.scenario.seed, 0, xyz, yaw or 0.0))
-        plant = self.station.plant
-        body = plant.GetBodyByName(name, self.station.parts[name])
-        self.station.unpark(self._plant_context, name)
-        plant.SetFreeBodyPose(self._plant_context, body, X_WP)
-        plant.SetFreeBodySpatialVelocity(self._plant_context, body, SpatialVelocity.Zero())
-        self._set_book(book)
-        _log.info("t=%.2f spawned %s at %s", self.time, name, X_WP.translation())
-        return name
+                raise SimulationError(f"one part at a time: {', '.join(loose)} is still in the world")
+        return spawn(self.station, self.context, self.pool, xyz, yaw)
 
     def remove_part(self, name: str) -> None:
-        """Disposes of a spawned part now (as the deletion wall does)."""
-        book = self._book()
-        names = [r.name for r in book.parts if r.state == "in_world"]
-        if name not in names:
-            raise UnknownNameError("part in the world", name, names)
-        self._dispose(book, [r.name for r in book.parts].index(name))
-
-    def _dispose(self, book: PartBook, index: int) -> None:
-        name = book.parts[index].name
-        self.station.park(self._plant_context, name)
-        self._set_book(return_to_pool(book, index, self.time))
-        _log.info("t=%.2f disposed of %s", self.time, name)
-
-    def _auto_spawn(self) -> None:
-        spawner = self.station.scenario.spawner
-        if spawner is None or spawner.period <= 0:
-            return
-        book = self._book()
-        if self.time < book.next_auto_spawn - 1e-9:
-            return
-        if spawner.max_parts and book.auto_spawns >= spawner.max_parts:
-            return
-        if spawner.one_at_a_time and self._loose_parts():
-            return  # documented wait: the spawn happens at the first tick the world is clear
-        if not book.queue:
-            raise SimulationError(
-                f"t={self.time:.2f}: the spawner found no parked part; raise part_pool "
-                f"(now {len(book.parts)})")
-        self.spawn_part()
-        book = self._book()
-        self._set_book(replace(book, auto_spawns=book.auto_spawns + 1,
-                               next_auto_spawn=self.time + spawner.period))
-
-    def _dispose_touching_wall(self) -> None:
-        if not self.scenario.deletion_wall or not self.station.pool:
-            return
-        plant = self.station.plant
-        wall = int(plant.GetBodyByName("deletion_wall").index())
-        by_body = {int(plant.GetBodyByName(n, self.station.parts[n]).index()): n
-                   for n in self.station.pool}
-        results = self.station.diagram.GetOutputPort("contact_results").Eval(self._station_context)
-        touching = set()
-        for i in range(results.num_point_pair_contacts()):
-            info = results.point_pair_contact_info(i)
-            a, b = int(info.bodyA_index()), int(info.bodyB_index())
-            if wall in (a, b):
-                other = b if a == wall else a
-                if other in by_body:
-                    touching.add(by_body[other])
-        for name in sorted(touching):
-            book = self._book()
-            self._dispose(book, [r.name for r in book.parts].index(name))
+        """Disposes of a part in the world now (as the deletion wall does)."""
+        self.pool.dispose(self.context, name)
 
     def part_pose(self, name: str) -> RigidTransform:
         """Ground-truth world pose of a part (for tests and plots, not for controllers)."""
@@ -330,64 +338,20 @@ class FactoryRuntime:
             raise UnknownNameError("part", name, self.station.parts)
         plant = self.station.plant
         return plant.EvalBodyPoseInWorld(
-            self._plant_context, plant.GetBodyByName(name, self.station.parts[name]))
+            self._plant_context, plant.GetBodyByName(name, self.station.parts[name])
+        )
 
     def parts_in_world(self) -> list[str]:
         """Placed parts and spawned parts not disposed of."""
-        book = self._book()
-        pooled = {r.name for r in book.parts if r.state == "parked"}
-        return [n for n in self.station.parts if n not in pooled]
+        return self.pool.in_world(self.context)
 
-    def _where(self, name: str, held: dict[str, str]) -> tuple[str, str]:
-        """(state, detail) of a part in the world, from its pose and ``held``
-        (robot -> part, from :meth:`_held`)."""
-        for robot, part in held.items():
-            if part == name:
-                return "held", robot
-        p = self.part_pose(name).translation()
-        for b in self.scenario.bins:
-            if b.contains(p):
-                return "in_bin", b.name
-        if (self.station.conveyor is not None and abs(p[0] - _BELT_X) <= _BELT_HALF_WIDTH
-                and _BELT_Y[0] <= p[1] <= _BELT_Y[1] and p[2] > _BELT_TOP):
-            return "on_belt", ""
-        return "on_floor", ""
-
-    def _held(self) -> dict[str, str]:
-        """robot -> name of the part its gripper holds."""
-        held = {}
-        for robot in self.station.grippers:
-            state = self.gripper_state(robot)
-            if state.attached:
-                held[robot] = state.part
-        return held
-
-    def _loose_parts(self) -> list[str]:
-        held = self._held()
-        return [n for n in self.parts_in_world() if self._where(n, held)[0] != "in_bin"]
+    def _places(self) -> dict[str, tuple[str, str]]:
+        held = held_parts(self.station, self.context)
+        return {n: locate(self.station, self.context, n, held) for n in self.parts_in_world()}
 
     def ledger(self) -> Ledger:
-        """Where every spawned or placed part is now."""
-        book = self._book()
-        held = {r: 0 for r in self.station.arms}
-        in_bin = {b.name: 0 for b in self.scenario.bins}
-        counts = {"on_belt": 0, "on_floor": 0}
-        parts = {}
-        held_parts = self._held()
-        for name in self.parts_in_world():
-            state, detail = self._where(name, held_parts)
-            parts[name] = f"{state}:{detail}" if detail else state
-            if state == "held":
-                held[detail] += 1
-            elif state == "in_bin":
-                in_bin[detail] += 1
-            else:
-                counts[state] += 1
-        placed = len(self.station.parts) - len(self.station.pool)
-        return Ledger(time=self.time, spawned=book.spawn_count + placed,
-                      parked=sum(r.state == "parked" for r in book.parts),
-                      on_belt=counts["on_belt"], on_floor=counts["on_floor"], held=held,
-                      in_bin=in_bin, disposed=book.dispose_count, parts=parts)
+        """Where every part that entered the world is now."""
+        return take_ledger(self.station, self.context, self.pool)
 
     # ------------------------------------------------------------------ helpers
 
@@ -396,4 +360,3 @@ class FactoryRuntime:
         if thing is None:
             raise ConfigError(f"this scenario has no {what}")
         return thing
-

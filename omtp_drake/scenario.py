@@ -1,13 +1,26 @@
 """Scenarios: the typed schema of ``diagrams/*.yaml`` and how to load them.
 
 A scenario says which world to build: robots, cameras, bins, parts, plant
-settings and the seed. It is the analogue of a Gazebo world plus launch file.
-Files are read with Drake's typed YAML loader, so an unknown or misspelt key is
-an error instead of being silently ignored.
+settings and the seed. It is the analogue of a Gazebo world plus launch file,
+and the one home of the cell's facts that may vary (poses, sizes, rates); the
+fixed sizes of the cell's pieces live in their model files (``models/``).
+
+Files are read with Drake's typed YAML loader after a check of every key and
+value against the schema, so a misspelt key, a wrong type or a non-finite
+number is one clear error naming the file, the key and the valid choices.
 
 A scenario file may start from another one with ``base: <name or path>``: the
-base is loaded first and the file's keys replace the base's (a list replaces the
-whole list).
+base is loaded first and the file's keys are merged into it. Mappings merge
+key by key; lists of named items (``robots``, ``cameras``, ``bins``,
+``parts``) merge item by item by ``name`` (an item of a new name is appended);
+other lists and values replace the base's; ``null`` removes an optional item
+(``spawner: null``), and the tag ``!replace`` replaces a list or mapping
+wholesale (``robots: !replace [...]`` keeps only the robots listed).
+
+Poses of parts and cameras may be written as ``xyz`` / ``rpy`` lists, or as
+``pose`` in Drake's ``schema::Transform`` form where that reads better::
+
+    pose: {translation: [-8.0, -2.2, 1.7], rotation: !Rpy {deg: [0, 90, 0]}}
 
 Example::
 
@@ -19,19 +32,23 @@ Example::
 # No `from __future__ import annotations`: Drake's typed YAML loader reads
 # the dataclass field types at run time.
 import dataclasses
+import difflib
 import math
 import re
+import typing
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 import yaml
+from pydrake.common.schema import Transform
 from pydrake.common.yaml import yaml_load_typed
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import MultibodyPlantConfig
 
-from omtp_drake.assets import UR_MODELS
+from omtp_drake.assets import UR_MODELS, model_dimensions
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.logical_camera import LogicalCameraConfig
 from omtp_drake.parts import SpawnerConfig
@@ -39,6 +56,10 @@ from omtp_drake.suction import SuctionConfig
 
 #: Folder of the scenario files shipped with the package.
 DIAGRAMS_DIR = Path(__file__).resolve().parent.parent / "diagrams"
+
+#: The cell's floor: a square of this half width (m) about the world origin
+#: (the original's 20.1 m plane); nothing may start outside it or below it.
+FLOOR_HALF_WIDTH = 10.0
 
 
 @dataclass
@@ -73,33 +94,57 @@ class RobotConfig:
     ki: float = 100.0
 
 
+@dataclass(frozen=True)
+class BinGeometry:
+    """The fixed sizes of every bin, read from ``models/bin.urdf.xacro``."""
+
+    #: Half the inner width (m): the inner faces of the walls.
+    inner_half_width: float
+    #: Height (m) of the top of the bin's floor above its base frame.
+    floor_top: float
+    #: Height (m) of the rim above the base frame.
+    height: float
+
+    @classmethod
+    def from_model(cls) -> "BinGeometry":
+        d = model_dimensions("bin.urdf.xacro")
+        return cls(inner_half_width=d["outer"] / 2 - d["wall"], floor_top=d["floor_top"], height=d["height"])
+
+
 @dataclass
 class BinConfig:
     """An open bin standing on the floor (models/bin.urdf.xacro)."""
-
-    #: Geometry of every bin (reference: inner walls at +/-0.19, floor top at
-    #: about 0.12, 0.475 high).
-    INNER_HALF_WIDTH = 0.19
-    FLOOR_TOP = 0.12
-    HEIGHT = 0.475
 
     name: str = "bin_1"
     xyz: list[float] = field(default_factory=lambda: [-8.0, -2.2, 0.0])
     yaw: float = 0.0
 
+    @property
+    def geometry(self) -> BinGeometry:
+        return _BIN_GEOMETRY
+
     def X_WB(self) -> RigidTransform:
-        """The bin's base frame in world."""
+        """The bin's base frame in world (as placed by the scenario)."""
         return RigidTransform(RollPitchYaw(0.0, 0.0, self.yaw), self.xyz)
 
-    def contains(self, p_W) -> bool:
-        """Is the world point ``p_W`` inside the bin (within its walls, below its rim)?"""
-        p_B = self.X_WB().inverse() @ np.asarray(p_W, dtype=float)
-        half = self.INNER_HALF_WIDTH
-        return bool(abs(p_B[0]) < half and abs(p_B[1]) < half and p_B[2] < self.HEIGHT)
+    def contains(self, p_W, X_WB: Optional[RigidTransform] = None) -> bool:
+        """Is the world point ``p_W`` (a part's centre) in the bin: inside the
+        inner footprint, above the bin's floor and less than 0.5 m above its rim?
+        ``X_WB``: the bin's pose if it is not where the scenario put it."""
+        p_B = (X_WB or self.X_WB()).inverse() @ np.asarray(p_W, dtype=float)
+        g = _BIN_GEOMETRY
+        return bool(
+            abs(p_B[0]) < g.inner_half_width
+            and abs(p_B[1]) < g.inner_half_width
+            and g.floor_top < p_B[2] < g.height + 0.5
+        )
 
     def rim_height(self) -> float:
         """World height of the bin's rim."""
-        return self.xyz[2] + self.HEIGHT
+        return self.xyz[2] + _BIN_GEOMETRY.height
+
+
+_BIN_GEOMETRY = BinGeometry.from_model()
 
 
 @dataclass
@@ -109,6 +154,8 @@ class PartConfig:
     name: str = "object_1"
     xyz: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.1])
     rpy: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    #: The pose as a ``schema::Transform`` instead of ``xyz`` / ``rpy`` (see module doc).
+    pose: Optional[Transform] = None
     size: float = 0.2
     mass: float = 0.2
 
@@ -128,7 +175,9 @@ class TaskConfig:
     """A pick-and-place task: which robot moves how many parts into which bin,
     seen by which cameras; and the planner's tuning.
 
-    Success: ``parts`` parts in ``bin`` and none lost (see omtp_drake.tasks).
+    Heights and slots follow each part's size, which the planner takes from the
+    scenario (``parts`` and ``pool_part_size``). Success: ``parts`` parts in
+    ``bin`` and none lost (see omtp_drake.tasks).
     """
 
     #: How many parts must end in the bin.
@@ -139,9 +188,8 @@ class TaskConfig:
     camera: str = "logical_camera_2"
     bin: str = "bin_1"
     bin_camera: str = ""
-    #: Type of the parts to pick (camera ``type``) and their edge length.
+    #: Type of the parts to pick (camera ``type``).
     part_type: str = "object"
-    part_size: float = 0.2
     #: Heights (m) of the approach above the top face, and of the tip above the
     #: bin's rim during transfer.
     approach_height: float = 0.1
@@ -171,11 +219,24 @@ class TaskConfig:
     def validate(self) -> None:
         if not 0 < self.max_tool_speed <= 1.0:
             raise ConfigError(f"task.max_tool_speed must be in (0, 1] m/s, got {self.max_tool_speed}")
-        for key in ("part_size", "approach_height", "descent_speed", "slow_zone", "attach_timeout",
-                    "detect_timeout", "tracking_tolerance", "tracking_time", "image_timeout",
-                    "update_rate_hz", "diffik_rate_hz", "settle_time"):
-            if getattr(self, key) <= 0:
+        for key in (
+            "approach_height",
+            "descent_speed",
+            "slow_zone",
+            "attach_timeout",
+            "detect_timeout",
+            "tracking_tolerance",
+            "tracking_time",
+            "image_timeout",
+            "update_rate_hz",
+            "diffik_rate_hz",
+            "settle_time",
+        ):
+            if not getattr(self, key) > 0:
                 raise ConfigError(f"task.{key} must be > 0, got {getattr(self, key)}")
+        for key in ("transfer_clearance", "press_depth"):
+            if not getattr(self, key) >= 0:
+                raise ConfigError(f"task.{key} must be >= 0, got {getattr(self, key)}")
         if self.parts < 1:
             raise ConfigError(f"task.parts must be >= 1, got {self.parts}")
         if self.max_attempts < 1:
@@ -236,54 +297,91 @@ class Scenario:
                 return part.size
         return self.pool_part_size
 
+    def required_task(self) -> TaskConfig:
+        """The scenario's task (ConfigError when it has none)."""
+        if self.task is None:
+            raise ConfigError(f"scenario {self.name!r} has no task to run")
+        return self.task
+
+    def robot(self, name: str) -> RobotConfig:
+        """The robot called ``name`` (the error lists the robots)."""
+        for robot in self.robots:
+            if robot.name == name:
+                return robot
+        raise UnknownNameError("robot", name, [r.name for r in self.robots])
+
+    def bin(self, name: str) -> BinConfig:
+        """The bin called ``name`` (the error lists the bins)."""
+        for b in self.bins:
+            if b.name == name:
+                return b
+        raise UnknownNameError("bin", name, [b.name for b in self.bins])
+
     def validate(self) -> None:
-        """Raises :class:`ConfigError` for values no world can be built from."""
+        """Raises :class:`ConfigError` for values no world can be built from, and
+        :class:`UnknownNameError` for a reference to something the scenario lacks."""
+        _check_finite("", self)
         names: list[str] = []
         for robot in self.robots:
             if robot.model not in UR_MODELS:
                 raise UnknownNameError(f"model of {robot.name}", robot.model, UR_MODELS)
             _check_len(f"robots[{robot.name}].xy", robot.xy, 2)
+            check_in_cell(f"robots[{robot.name}].xy", [*robot.xy, 0.0])
             if robot.pedestal_height <= 0:
                 raise ConfigError(
-                    f"robots[{robot.name}].pedestal_height must be > 0, got {robot.pedestal_height}")
+                    f"robots[{robot.name}].pedestal_height must be > 0, got {robot.pedestal_height}"
+                )
             if robot.command_rate_hz <= 0:
                 raise ConfigError(
-                    f"robots[{robot.name}].command_rate_hz must be > 0, got {robot.command_rate_hz}")
+                    f"robots[{robot.name}].command_rate_hz must be > 0, got {robot.command_rate_hz}"
+                )
             if not 0 < robot.joint_limit <= 2 * math.pi:
                 raise ConfigError(
-                    f"robots[{robot.name}].joint_limit must be in (0, 2 pi], got {robot.joint_limit}")
+                    f"robots[{robot.name}].joint_limit must be in (0, 2 pi], got {robot.joint_limit}"
+                )
+            for gain in ("kp", "kd", "ki"):
+                if getattr(robot, gain) < 0:
+                    raise ConfigError(f"robots[{robot.name}].{gain} must be >= 0, got {getattr(robot, gain)}")
             names += [robot.name] + ([robot.gripper] if robot.gripper else [])
         for camera in self.cameras:
             camera.validate()
+            if camera.parent == "world":
+                check_in_cell(f"cameras[{camera.name}].xyz", camera.xyz)
             names.append(camera.name)
         for b in self.bins:
             _check_len(f"bins[{b.name}].xyz", b.xyz, 3)
+            check_in_cell(f"bins[{b.name}].xyz", b.xyz)
             names.append(b.name)
         for part in self.parts:
             _check_len(f"parts[{part.name}].xyz", part.xyz, 3)
             _check_len(f"parts[{part.name}].rpy", part.rpy, 3)
+            check_in_cell(f"parts[{part.name}].xyz", part.xyz)
             if part.size <= 0 or part.mass <= 0:
                 raise ConfigError(
-                    f"parts[{part.name}] needs size > 0 and mass > 0, got {part.size}, {part.mass}")
+                    f"parts[{part.name}] needs size > 0 and mass > 0, got {part.size}, {part.mass}"
+                )
             names.append(part.name)
         self.suction.validate()
         if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
-            raise ConfigError(f"pool parts need size > 0 and mass > 0, got "
-                              f"{self.pool_part_size}, {self.pool_part_mass}")
-        if self.task is not None:
-            self.task.validate()
-            robots = [r.name for r in self.robots]
-            if self.task.robot not in robots:
-                raise UnknownNameError("task robot", self.task.robot, robots)
+            raise ConfigError(
+                f"pool parts need size > 0 and mass > 0, got {self.pool_part_size}, {self.pool_part_mass}"
+            )
         if self.part_pool < 0:
             raise ConfigError(f"part_pool must be >= 0, got {self.part_pool}")
         if self.spawner is not None:
             self.spawner.validate()
+            check_in_cell("spawner.xyz", self.spawner.xyz)
             if self.part_pool == 0:
                 raise ConfigError("a spawner needs parts: set part_pool > 0")
-        if self.conveyor is not None and not 0 <= self.conveyor.power <= 100:
-            raise ConfigError(f"conveyor.power must be in [0, 100], got {self.conveyor.power}")
+        if self.conveyor is not None:
+            if not 0 <= self.conveyor.power <= 100:
+                raise ConfigError(f"conveyor.power must be in [0, 100], got {self.conveyor.power}")
+            if self.conveyor.stop_on_beam and not self.break_beam:
+                raise ConfigError("conveyor.stop_on_beam needs break_beam: true")
         _check_len("gravity", self.gravity, 3)
+        self._validate_plant_config()
+        if self.task is not None:
+            self._validate_task(self.task)
         dupes = sorted({n for n in names if names.count(n) > 1})
         if dupes:
             raise ConfigError(f"names must be unique in a scenario; repeated: {', '.join(dupes)}")
@@ -291,10 +389,80 @@ class Scenario:
             if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", n):
                 raise ConfigError(f"name {n!r} must be letters, digits and '_', starting with a letter")
 
+    def _validate_plant_config(self) -> None:
+        config = self.plant_config
+        if not 0 < config.time_step <= 0.01:
+            raise ConfigError(
+                f"plant_config.time_step must be in (0, 0.01] s (a discrete plant), got {config.time_step}"
+            )
+        choices = {
+            "contact_model": ("point", "hydroelastic", "hydroelastic_with_fallback"),
+            "discrete_contact_approximation": ("sap", "lagged", "similar"),
+        }
+        for key, valid in choices.items():
+            if getattr(config, key) not in valid:
+                raise UnknownNameError(f"plant_config.{key}", getattr(config, key), valid)
+
+    def _validate_task(self, task: TaskConfig) -> None:
+        task.validate()
+        robots = {r.name: r for r in self.robots}
+        if task.robot not in robots:
+            raise UnknownNameError("task.robot", task.robot, robots)
+        robot = robots[task.robot]
+        if not robot.gripper:
+            raise ConfigError(f"task.robot {task.robot!r} has no gripper to pick with")
+        cameras = [c.name for c in self.cameras]
+        for key in ("camera", "bin_camera"):
+            value = getattr(task, key)
+            if (value or key == "camera") and value not in cameras:
+                raise UnknownNameError(f"task.{key}", value, cameras)
+        bins = [b.name for b in self.bins]
+        if task.bin not in bins:
+            raise UnknownNameError("task.bin", task.bin, bins)
+
 
 def _check_len(what: str, values: list[float], n: int) -> None:
     if len(values) != n:
         raise ConfigError(f"{what} needs {n} numbers, got {list(values)}")
+
+
+def check_in_cell(what: str, xyz: Sequence[float]) -> None:
+    """A position of the cell: above the floor and within its 20 x 20 m, or ConfigError."""
+    x, y, z = (list(xyz) + [0.0])[:3]
+    if max(abs(x), abs(y)) > FLOOR_HALF_WIDTH or z < 0:
+        raise ConfigError(
+            f"{what} = {list(xyz)} is outside the cell; valid: |x|, |y| <= {FLOOR_HALF_WIDTH:g} m "
+            "(the floor) and z >= 0 (above it)"
+        )
+
+
+def _check_finite(path: str, value: Any) -> None:
+    """Every number anywhere in the scenario is finite."""
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return
+    if isinstance(value, (int, float)):
+        if not math.isfinite(value):
+            raise ConfigError(f"{path or 'value'} = {value} is not a finite number")
+        return
+    if isinstance(value, (list, tuple, np.ndarray)):
+        for i, item in enumerate(value):
+            _check_finite(f"{path}[{_item_name(item, i)}]", item)
+        return
+    if dataclasses.is_dataclass(value):
+        for f in dataclasses.fields(value):
+            _check_finite(f"{path}.{f.name}" if path else f.name, getattr(value, f.name))
+        return
+    if isinstance(value, MultibodyPlantConfig):
+        for f in MultibodyPlantConfig.__fields__:
+            _check_finite(f"{path}.{f.name}", getattr(value, f.name))
+
+
+def _item_name(item: Any, index: int) -> str:
+    return getattr(item, "name", None) or str(index)
+
+
+# ----------------------------------------------------------------------------
+# Loading
 
 
 def scenario_names() -> list[str]:
@@ -308,7 +476,8 @@ def _resolve(name_or_path: str | Path) -> Path:
         path = Path(text)
         if not path.is_file():
             raise ScenarioError(
-                f"scenario file {text!r} does not exist; scenario names: {', '.join(scenario_names())}")
+                f"scenario file {text!r} does not exist; scenario names: {', '.join(scenario_names())}"
+            )
         return path
     path = DIAGRAMS_DIR / f"{text}.yaml"
     if not path.is_file():
@@ -316,40 +485,268 @@ def _resolve(name_or_path: str | Path) -> Path:
     return path
 
 
-def load_scenario(name_or_path: str | Path, *, _seen: tuple[Path, ...] = ()) -> Scenario:
+@dataclass(frozen=True)
+class _Tagged:
+    """A YAML value with a tag (``!Rpy {deg: [...]}``), kept for Drake's loader."""
+
+    tag: str
+    value: Any
+
+
+class _Loader(yaml.SafeLoader):
+    pass
+
+
+def _construct_tagged(loader: yaml.SafeLoader, suffix: str, node: yaml.Node) -> _Tagged:
+    if isinstance(node, yaml.MappingNode):
+        value: Any = loader.construct_mapping(node, deep=True)
+    elif isinstance(node, yaml.SequenceNode):
+        value = loader.construct_sequence(node, deep=True)
+    else:
+        value = loader.construct_scalar(node)
+    return _Tagged("!" + suffix, value)
+
+
+_Loader.add_multi_constructor("!", _construct_tagged)
+
+
+class _Dumper(yaml.SafeDumper):
+    pass
+
+
+def _represent_tagged(dumper: yaml.SafeDumper, data: _Tagged) -> yaml.Node:
+    if isinstance(data.value, dict):
+        return dumper.represent_mapping(data.tag, data.value)
+    if isinstance(data.value, list):
+        return dumper.represent_sequence(data.tag, data.value)
+    return dumper.represent_scalar(data.tag, str(data.value))
+
+
+_Dumper.add_representer(_Tagged, _represent_tagged)
+
+
+def _read_yaml(path: Path) -> dict:
+    """The file's mapping; malformed YAML is one line with file, line and column."""
+    try:
+        raw = yaml.load(path.read_text(), Loader=_Loader)  # noqa: S506 (a SafeLoader)
+    except yaml.MarkedYAMLError as e:
+        mark = e.problem_mark or e.context_mark
+        where = f"{path}:{mark.line + 1}:{mark.column + 1}" if mark else str(path)
+        problem = e.problem or e.context or "malformed YAML"
+        raise ScenarioError(f"{where}: {problem}") from None
+    except yaml.YAMLError as e:
+        raise ScenarioError(f"{path}: malformed YAML ({str(e).splitlines()[0]})") from None
+    except (OSError, UnicodeDecodeError) as e:
+        raise ScenarioError(f"{path}: cannot be read ({e})") from None
+    if raw is None:
+        return {}
+    if not isinstance(raw, dict):
+        raise ScenarioError(f"{path}: a scenario must be a mapping of keys, got {type(raw).__name__}")
+    return raw
+
+
+#: The lists that merge item by item by ``name`` (see module doc).
+_NAMED_LISTS = ("robots", "cameras", "bins", "parts")
+
+
+def _merge(base: Any, child: Any, key: str = "") -> Any:
+    """``child`` merged into ``base`` (see the module doc for the rules)."""
+    if isinstance(child, _Tagged) and child.tag == "!replace":
+        return child.value
+    if isinstance(base, dict) and isinstance(child, dict):
+        merged = dict(base)
+        for k, v in child.items():
+            merged[k] = _merge(base[k], v, k) if k in base else v
+        return merged
+    if (
+        key in _NAMED_LISTS
+        and isinstance(base, list)
+        and isinstance(child, list)
+        and all(isinstance(x, dict) and "name" in x for x in base + child)
+    ):
+        merged_list = [dict(x) for x in base]
+        index = {x["name"]: i for i, x in enumerate(merged_list)}
+        for item in child:
+            if item["name"] in index:
+                i = index[item["name"]]
+                merged_list[i] = _merge(merged_list[i], item)
+            else:
+                index[item["name"]] = len(merged_list)
+                merged_list.append(item)
+        return merged_list
+    return child
+
+
+def _raw_scenario(path: Path, seen: tuple[Path, ...]) -> tuple[dict, str]:
+    """The file's mapping merged into its bases' (and the file's own description
+    of ``name``)."""
+    if path in seen:
+        raise ScenarioError(f"scenario {path.name} includes itself through 'base'")
+    raw = _read_yaml(path)
+    base = raw.get("base")
+    if base:
+        if not isinstance(base, str):
+            raise ScenarioError(f"{path.name}: base must be a scenario name or path, got {base!r}")
+        if "/" in base or base.endswith((".yaml", ".yml")):
+            base = str((path.parent / base).resolve())
+        base_raw, _ = _raw_scenario(_resolve(base).resolve(), seen + (path,))
+        raw = _merge(base_raw, {k: v for k, v in raw.items() if k != "base"})
+    return raw, path.stem
+
+
+def load_scenario(name_or_path: str | Path) -> Scenario:
     """Loads a scenario by name (from ``diagrams/``) or from a YAML file path.
 
     Raises:
-        UnknownNameError: no scenario of that name (the message lists them).
+        UnknownNameError: no scenario of that name (the message lists them), or
+            a reference to a robot, camera or bin the scenario lacks.
         ScenarioError: missing file, malformed YAML, unknown key, bad type.
         ConfigError: a value no world can be built from.
     """
     path = _resolve(name_or_path).resolve()
-    if path in _seen:
-        raise ScenarioError(f"scenario {path.name} includes itself through 'base'")
-    try:
-        raw = yaml.safe_load(path.read_text()) or {}
-    except yaml.YAMLError as e:
-        raise ScenarioError(f"scenario {str(path)!r} is not valid YAML: {e}") from e
+    raw, stem = _raw_scenario(path, ())
+    raw.pop("base", None)
+    return scenario_from_dict(raw, source=path.name, name=stem)
+
+
+def scenario_from_dict(raw: dict, *, source: str = "scenario", name: str = "") -> Scenario:
+    """A validated Scenario from plain data (a scenario file's mapping, bases
+    already merged). ``source`` names it in error messages."""
     if not isinstance(raw, dict):
-        raise ScenarioError(f"scenario {str(path)!r} must be a mapping of keys, got {type(raw).__name__}")
-    valid = [f.name for f in dataclasses.fields(Scenario)]
-    unknown = sorted(set(raw) - set(valid))
-    if unknown:
-        raise ScenarioError(
-            f"scenario {path.name}: unknown key(s) {', '.join(unknown)}; valid keys: {', '.join(valid)}")
-    defaults = Scenario()
-    if raw.get("base"):
-        base = str(raw["base"])
-        if "/" in base or base.endswith((".yaml", ".yml")):
-            base = str((path.parent / base).resolve())
-        defaults = load_scenario(base, _seen=_seen + (path,))
+        raise ScenarioError(f"{source}: a scenario must be a mapping of keys, got {type(raw).__name__}")
+    _check_schema(raw, Scenario, source, "")
+    text = yaml.dump(raw, Dumper=_Dumper, sort_keys=False)
     try:
-        scenario = yaml_load_typed(schema=Scenario, filename=str(path), defaults=defaults)
+        scenario = yaml_load_typed(schema=Scenario, data=text, defaults=Scenario())
     except (RuntimeError, AssertionError, TypeError, ValueError) as e:
-        # Drake's loader reports a wrong type as a bare assertion of the value.
-        raise ScenarioError(f"scenario {path.name}: bad value or type near {e}") from e
-    scenario.name = path.stem if not raw.get("name") else scenario.name
+        # What the schema check above let through (Drake's own checks).
+        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        raise ScenarioError(f"{source}: bad value or type: {first}") from None
+    if not raw.get("name"):
+        scenario.name = name
     scenario.base = ""
+    _apply_poses(scenario, raw, source)
     scenario.validate()
     return scenario
+
+
+def _apply_poses(scenario: Scenario, raw: dict, source: str) -> None:
+    """Turns each ``pose`` (schema::Transform) into the item's ``xyz`` / ``rpy``."""
+    posed: tuple[tuple[str, Sequence[PartConfig | LogicalCameraConfig]], ...] = (
+        ("parts", scenario.parts),
+        ("cameras", scenario.cameras),
+    )
+    for key, items in posed:
+        raw_items = raw.get(key) or []
+        for item, raw_item in zip(items, raw_items):
+            if item.pose is None:
+                continue
+            both = [k for k in ("xyz", "rpy") if k in raw_item]
+            if both:
+                raise ScenarioError(
+                    f"{source}: {key}[{item.name}] gives both pose and {' and '.join(both)}; give one of them"
+                )
+            try:
+                X = item.pose.GetDeterministicValue()
+            except (RuntimeError, ValueError) as e:
+                raise ScenarioError(
+                    f"{source}: {key}[{item.name}].pose must be a fixed pose: {str(e).splitlines()[0]}"
+                ) from None
+            if item.pose.base_frame not in (None, "", "world", getattr(item, "parent", "world")):
+                raise ScenarioError(
+                    f"{source}: {key}[{item.name}].pose.base_frame {item.pose.base_frame!r} is not "
+                    f"supported; valid: world" + (" or the camera's parent" if key == "cameras" else "")
+                )
+            item.xyz = [float(v) for v in X.translation()]
+            item.rpy = [float(v) for v in RollPitchYaw(X.rotation()).vector()]
+            item.pose = None
+
+
+# ----------------------------------------------------------------------------
+# The schema check: every key known, every value of its field's type
+
+
+def _fields(schema: Any) -> dict[str, Any]:
+    """Field name -> type of a dataclass or a pydrake config class."""
+    if dataclasses.is_dataclass(schema):
+        hints = typing.get_type_hints(schema)
+        return {f.name: hints[f.name] for f in dataclasses.fields(schema)}
+    return {f.name: f.type for f in schema.__fields__}
+
+
+def _is_record(schema: Any) -> bool:
+    return (dataclasses.is_dataclass(schema) or hasattr(schema, "__fields__")) and schema is not Transform
+
+
+def _check_schema(value: Any, schema: Any, source: str, path: str) -> None:
+    """Raises ScenarioError for an unknown key or a value of the wrong type at ``path``."""
+    where = f"{source}: {path}" if path else source
+    origin = typing.get_origin(schema)
+    if origin is typing.Union:
+        options = [a for a in typing.get_args(schema) if a is not type(None)]
+        if value is None:
+            return
+        schema = options[0] if len(options) == 1 else schema
+        if len(options) != 1:
+            return  # a variant (Drake checks it)
+        origin = typing.get_origin(schema)
+    if schema is Transform:
+        if not isinstance(value, dict):
+            raise ScenarioError(f"{where} must be a pose mapping (translation, rotation), got {value!r}")
+        unknown = sorted(set(value) - {"base_frame", "translation", "rotation"})
+        if unknown:
+            raise ScenarioError(
+                _unknown_key_message(where, unknown[0], ["base_frame", "translation", "rotation"])
+            )
+        return
+    if _is_record(schema):
+        if not isinstance(value, dict):
+            raise ScenarioError(
+                f"{where} must be a mapping of keys ({', '.join(_fields(schema))}), got {value!r}"
+            )
+        fields = _fields(schema)
+        for key, item in value.items():
+            if key not in fields:
+                raise ScenarioError(_unknown_key_message(where, str(key), list(fields)))
+            _check_schema(item, fields[key], source, f"{path}.{key}" if path else str(key))
+        return
+    if origin is list:
+        (item_schema,) = typing.get_args(schema)
+        if not isinstance(value, list):
+            raise ScenarioError(f"{where} must be a list, got {value!r}")
+        for i, item in enumerate(value):
+            label = item.get("name", i) if isinstance(item, dict) else i
+            _check_schema(item, item_schema, source, f"{path}[{label}]")
+        return
+    expected = {float: "a number", int: "an integer", bool: "true or false", str: "a string"}
+    if schema in expected:
+        ok = {
+            float: isinstance(value, (int, float)) and not isinstance(value, bool),
+            int: isinstance(value, int) and not isinstance(value, bool),
+            bool: isinstance(value, bool),
+            str: isinstance(value, str),
+        }[schema]
+        if not ok:
+            raise ScenarioError(f"{where} must be {expected[schema]}, got {value!r}")
+
+
+def closest_name(name: str, valid: Sequence[str]) -> Optional[str]:
+    """The valid name ``name`` was most likely meant to be: a close spelling, or
+    one that holds its letters in order (an abbreviation: ``hfov`` for
+    ``horizontal_fov``); None when nothing is close."""
+    near = difflib.get_close_matches(name, list(valid), n=1, cutoff=0.5)
+    if near:
+        return near[0]
+
+    def holds(word: str) -> bool:
+        letters = iter(word)
+        return all(c in letters for c in name)
+
+    abbreviations = sorted((v for v in valid if holds(v)), key=len)
+    return abbreviations[0] if abbreviations and len(name) >= 2 else None
+
+
+def _unknown_key_message(where: str, key: str, valid: list[str]) -> str:
+    near = closest_name(key, valid)
+    hint = f" (did you mean {near!r}?)" if near else ""
+    return f"{where}: unknown key {key!r}{hint}; valid keys: {', '.join(valid)}"

@@ -3,8 +3,17 @@
 :func:`build_station` turns a :class:`~omtp_drake.scenario.Scenario` into a
 diagram holding the MultibodyPlant (floor, conveyor, bins, pedestals, UR arms
 with vacuum grippers, logical cameras, break beam, deletion wall, parts), the
-SceneGraph, the arms' position servos, the logical cameras and, optionally, a
-Meshcat visualizer.
+SceneGraph, the arms' position servos, the vacuum grippers, the belt, the break
+beam, the logical cameras and, optionally, a Meshcat visualizer. Each concern
+is added by a helper of its own.
+
+Some changes to the world are not a system's to make (a system may not write
+another system's Context): spawning and disposing of parts, making a weld
+gripper's constraints, shifting the belt surface back. A plain ``Simulator``
+on this diagram therefore never spawns a part and never attaches one with the
+weld backend: run it with :class:`omtp_drake.driver.Driver` (what
+:class:`omtp_drake.runtime.FactoryRuntime` does), and initialise every new
+Context with :meth:`Station.initialize_context`.
 
 Exported ports are named ``<instance>.<signal>``:
 
@@ -45,27 +54,33 @@ from pydrake.geometry import (
     SceneGraph,
 )
 from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.math import SpatialVelocity
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlant
-from pydrake.multibody.math import SpatialVelocity
-from pydrake.multibody.tree import ModelInstanceIndex, PdControllerGains
-from pydrake.systems.framework import Context, Diagram, DiagramBuilder
-from pydrake.systems.primitives import Demultiplexer
+from pydrake.multibody.tree import FixedOffsetFrame, ModelInstanceIndex, PdControllerGains
+from pydrake.systems.controllers import InverseDynamicsController
+from pydrake.systems.framework import Context, Diagram, DiagramBuilder, InputPort
+from pydrake.systems.primitives import Demultiplexer, StateInterpolatorWithDiscreteDerivative
 
 from omtp_drake import arms
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.conveyor import BreakBeam, ConveyorBelt
+from omtp_drake.conveyor import X_W_CONVEYOR, BeltGeometry, BreakBeam, ConveyorBelt
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.logical_camera import LogicalCamera, add_logical_camera
-from omtp_drake.parts import PartManager, parking_pose
+from omtp_drake.parts import parking_pose
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
-from omtp_drake.suction import (SuctionConstraints, SuctionGripper, add_suction_gripper,
-                                connect_spatial_forces, declare_suction_constraints)
+from omtp_drake.suction import (
+    SuctionConstraints,
+    SuctionGripper,
+    WeldSuctionGripper,
+    add_suction_gripper,
+    connect_spatial_forces,
+    declare_suction_constraints,
+)
 
 _log = logging.getLogger(__name__)
 
 #: Reference poses of the fixed pieces of the cell (world frame).
-X_W_CONVEYOR = RigidTransform([1.2, 0.0, 0.0])
 X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.575, 1.9, 0.925])
 X_W_DELETION_WALL = RigidTransform(RollPitchYaw(0.0, 0.0, 1.5708), [1.2, -5.1, 1.425])
 #: Damping gain of the belt's velocity servo (N s/m).
@@ -83,6 +98,30 @@ class ArmHandles:
     #: The servo's model of the arm and gripper (base at the origin); also
     #: what differential IK plans with. Held here to keep it alive.
     control_plant: Optional[MultibodyPlant] = None
+    #: The servo's position -> desired state interpolator (its initial
+    #: position is set by :meth:`Station.initialize_context`).
+    interpolator: Optional[StateInterpolatorWithDiscreteDerivative] = None
+    #: The servo's inverse-dynamics controller (its PID integral is the servo's
+    #: continuous state).
+    controller: Optional[InverseDynamicsController] = None
+
+
+@dataclass
+class CellModels:
+    """The model instances :func:`add_cell_models` added to a plant."""
+
+    floor: ModelInstanceIndex
+    arms: dict[str, ArmHandles]
+    bins: dict[str, ModelInstanceIndex]
+    #: bin -> the world frame its base is welded to (its pose is a Context
+    #: parameter: a bin can be moved between advances, see Station.move_bin).
+    bin_anchors: dict[str, FixedOffsetFrame]
+    conveyor: Optional[ModelInstanceIndex]
+    cameras: dict[str, ModelInstanceIndex]
+    #: Every part (placed and pool) by name.
+    parts: dict[str, ModelInstanceIndex]
+    #: Names of the pool's parts, in spawn order.
+    pool: list[str]
 
 
 @dataclass
@@ -103,12 +142,9 @@ class Station:
     visualizer: Optional[MeshcatVisualizer] = None
     conveyor: Optional[ConveyorBelt] = None
     break_beam: Optional[BreakBeam] = None
-    part_manager: Optional[PartManager] = None
     #: robot -> its vacuum gripper system (absent without parts to grip).
     grippers: dict[str, SuctionGripper] = field(default_factory=dict)
-    #: robot -> the weld backend's constraints (weld backend only).
-    suction_constraints: dict[str, SuctionConstraints] = field(default_factory=dict)
-    _interpolators: dict = field(default_factory=dict, repr=False)
+    bin_anchors: dict[str, FixedOffsetFrame] = field(default_factory=dict)
 
     def arm(self, name: str) -> ArmHandles:
         """Handles of the arm ``name`` (``robot1``...)."""
@@ -116,88 +152,142 @@ class Station:
             raise UnknownNameError("robot", name, self.arms)
         return self.arms[name]
 
-    def create_context(self, positions: dict[str, np.ndarray] | None = None,
-                       *, hold: bool = True) -> Context:
-        """A context of the station with each arm at rest at its initial pose.
+    @property
+    def belt(self) -> Optional[BeltGeometry]:
+        """Where the belt is (None without a conveyor)."""
+        return BeltGeometry.from_model() if self.conveyor is not None else None
 
-        ``positions`` overrides the pose of some arms (name -> joint positions).
-        With ``hold``, each arm's position command is fixed to its pose, so a
-        simulation of the station alone holds still.
+    # ------------------------------------------------------------------ contexts
+
+    def initialize_context(
+        self,
+        root_context: Context,
+        positions: Optional[dict[str, np.ndarray]] = None,
+        *,
+        hold: Optional[list[InputPort]] = None,
+    ) -> None:
+        """What every new Context of a diagram holding the station needs.
+
+        Each arm at rest at its initial pose (``positions``: robot -> joint
+        positions instead) with its servo started there; the pool's parts
+        parked; the weld grippers' constraints off. ``hold``: station input
+        ports nobody drives, fixed so the station holds still (an arm's
+        ``position`` at its pose, a gripper's ``command`` off).
+        ``root_context`` is the Context of the station's diagram or of a
+        diagram containing it.
         """
-        context = self.diagram.CreateDefaultContext()
+        positions = dict(positions or {})
+        for robot in positions:
+            self.arm(robot)
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
         for name, handles in self.arms.items():
-            q = (positions or {}).get(name)
+            q = positions.get(name)
             if q is None:
                 q = arms.named_pose(handles.config.initial_pose, handles.config)
-            self.set_arm_positions(context, name, q)
-            if hold:
-                self.diagram.GetInputPort(f"{name}.position").FixValue(context, q)
-                if name in self.grippers:
-                    self.diagram.GetInputPort(
-                        f"{suction_name(self.arms[name].config)}.command").FixValue(context, [0.0])
-        self.initialize_context(context)
+            self.set_arm_positions(root_context, name, q)
+        for name in self.pool:
+            self.park(plant_context, name)
+        for gripper in self.grippers.values():
+            if isinstance(gripper, WeldSuctionGripper):
+                gripper.constraints.deactivate_all(self.plant, plant_context)
+        station_context = self.diagram.GetMyMutableContextFromRoot(root_context)
+        for port in hold or []:
+            robot, _, signal = port.get_name().partition(".")
+            if signal == "position":
+                port.FixValue(station_context, self.plant.GetPositions(plant_context, self.arm(robot).arm))
+            elif signal == "command":
+                port.FixValue(station_context, [0.0])
+            else:
+                raise ConfigError(f"cannot hold station input {port.get_name()!r}")
+
+    def create_context(self, positions: Optional[dict[str, np.ndarray]] = None) -> Context:
+        """A Context of the station alone, initialised, every input held (for
+        static queries and simulations of the station holding still)."""
+        context = self.diagram.CreateDefaultContext()
+        ports = [self.diagram.get_input_port(i) for i in range(self.diagram.num_input_ports())]
+        self.initialize_context(context, positions, hold=ports)
         return context
 
-    def initialize_context(self, root_context: Context) -> None:
-        """What every new context needs: pool parked, suction constraints off."""
-        self.park_pool(root_context)
+    def set_arm_positions(self, root_context: Context, name: str, q) -> None:
+        """Puts arm ``name`` at rest at ``q`` and starts its servo from there."""
+        handles = self.arm(name)
+        q = arms.check_joint_positions(q, handles.config)
         plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
-        for constraints in self.suction_constraints.values():
-            constraints.deactivate_all(self.plant, plant_context)
+        self.plant.SetPositions(plant_context, handles.arm, q)
+        self.plant.SetVelocities(plant_context, handles.arm, np.zeros_like(q))
+        interpolator = handles.interpolator
+        if interpolator is None:
+            raise ConfigError(f"arm {name!r} has no servo (the station is not built)")
+        interpolator.set_initial_position(interpolator.GetMyMutableContextFromRoot(root_context), q)
+
+    def clear_servo_integral(self, root_context: Context, name: str) -> None:
+        """Zeroes arm ``name``'s servo integral (after a blocked arm is freed, so the
+        error integrated while it was held does not throw it off its command)."""
+        controller = self.arm(name).controller
+        if controller is None:
+            raise ConfigError(f"arm {name!r} has no servo (the station is not built)")
+        servo_context = controller.GetMyMutableContextFromRoot(root_context)
+        servo_context.get_mutable_continuous_state_vector().SetZero()
+
+    # ------------------------------------------------------------------ grippers
 
     def suction_name(self, robot: str) -> str:
         """The name (port prefix) of ``robot``'s vacuum gripper: ``suction1``..."""
         if robot not in self.grippers:
-            raise UnknownNameError("robot with a vacuum gripper (and parts to grip)", robot,
-                                   self.grippers)
+            raise UnknownNameError("robot with a vacuum gripper (and parts to grip)", robot, self.grippers)
         return suction_name(self.arms[robot].config)
 
-    def set_arm_positions(self, root_context: Context, name: str, q: np.ndarray) -> None:
-        """Puts arm ``name`` at rest at ``q`` and starts its servo from there.
-
-        ``root_context`` is the context of the station's diagram or of a diagram
-        containing it.
-        """
-        handles = self.arm(name)
-        q = np.asarray(q, dtype=float)
-        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
-        self.plant.SetPositions(plant_context, handles.arm, q)
-        self.plant.SetVelocities(plant_context, handles.arm, np.zeros_like(q))
-        interpolator = self._interpolators[name]
-        interpolator.set_initial_position(
-            interpolator.GetMyMutableContextFromRoot(root_context), q)
-
-    def park_pool(self, root_context: Context) -> None:
-        """Puts every parked part of the pool exactly at its parking pose, held there."""
-        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
-        book = self.part_manager.book(self.part_manager.GetMyContextFromRoot(root_context))
-        for slot, record in enumerate(book.parts):
-            if record.state == "parked":
-                self.park(plant_context, record.name)
+    # ------------------------------------------------------------------ parts
 
     def park(self, plant_context: Context, name: str) -> None:
-        """Parks pool part ``name``: at rest at its parking pose, its joint locked.
+        """Parks part ``name``: at rest at its parking pose, its joint locked.
 
         A locked joint leaves the contact solver's problem: parked parts cost nothing.
         """
+        joint = self._free_joint(name)
+        joint.Unlock(plant_context)
         body = self.plant.GetBodyByName(name, self.parts[name])
-        self.plant.SetFreeBodyPose(plant_context, body, parking_pose(self.pool.index(name)))
+        self.plant.SetFreeBodyPose(plant_context, body, parking_pose(list(self.parts).index(name)))
         self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
-        self._free_joint(name).Lock(plant_context)
+        joint.Lock(plant_context)
 
-    def unpark(self, plant_context: Context, name: str) -> None:
-        """Frees pool part ``name`` (the caller then puts it where it belongs)."""
+    def unpark(self, plant_context: Context, name: str, X_WP: RigidTransform) -> None:
+        """Frees part ``name`` and puts it at rest at ``X_WP``."""
         self._free_joint(name).Unlock(plant_context)
+        body = self.plant.GetBodyByName(name, self.parts[name])
+        self.plant.SetFreeBodyPose(plant_context, body, X_WP)
+        self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
+
+    def is_parked(self, plant_context: Context, name: str) -> bool:
+        return self._free_joint(name).is_locked(plant_context)
 
     def _free_joint(self, name: str):
+        if name not in self.parts:
+            raise UnknownNameError("part", name, self.parts)
         (index,) = self.plant.GetJointIndices(self.parts[name])
         return self.plant.get_joint(index)
+
+    # ------------------------------------------------------------------ bins
+
+    def bin_pose(self, root_context: Context, name: str) -> RigidTransform:
+        """``X_WB``: where bin ``name``'s base is now."""
+        if name not in self.bin_anchors:
+            raise UnknownNameError("bin", name, self.bin_anchors)
+        return self.bin_anchors[name].CalcPoseInWorld(self.plant.GetMyContextFromRoot(root_context))
+
+    def move_bin(self, root_context: Context, name: str, X_WB: RigidTransform) -> None:
+        """Puts bin ``name``'s base at ``X_WB`` (between advances: a world edit)."""
+        if name not in self.bin_anchors:
+            raise UnknownNameError("bin", name, self.bin_anchors)
+        self.bin_anchors[name].SetPoseInParentFrame(
+            self.plant.GetMyMutableContextFromRoot(root_context), X_WB
+        )
 
 
 def suction_name(robot: RobotConfig) -> str:
     """``vacuum_gripper1`` -> ``suction1`` (the gripper system and its ports)."""
     if robot.gripper.startswith("vacuum_gripper"):
-        return "suction" + robot.gripper[len("vacuum_gripper"):]
+        return "suction" + robot.gripper[len("vacuum_gripper") :]
     return f"{robot.gripper}_suction"
 
 
@@ -211,23 +301,12 @@ def _weld(plant: MultibodyPlant, frame_name: str, X_WF: RigidTransform, parent=N
     plant.WeldFrames(parent or plant.world_frame(), plant.GetFrameByName(frame_name), X_WF)
 
 
-@dataclass
-class CellModels:
-    """The model instances :func:`add_cell_models` added to a plant."""
-
-    floor: ModelInstanceIndex
-    arms: dict[str, ArmHandles]
-    bins: dict[str, ModelInstanceIndex]
-    conveyor: Optional[ModelInstanceIndex]
-    cameras: dict[str, ModelInstanceIndex]
-    #: Every part (placed and pool) by name.
-    parts: dict[str, ModelInstanceIndex]
-    #: Names of the pool's parts, in spawn order.
-    pool: list[str]
+# ----------------------------------------------------------------------------- models
 
 
-def add_cell_models(plant: MultibodyPlant, scene_graph: SceneGraph, scenario: Scenario,
-                    *, parts: bool = True) -> CellModels:
+def add_cell_models(
+    plant: MultibodyPlant, scene_graph: SceneGraph, scenario: Scenario, *, parts: bool = True
+) -> CellModels:
     """Adds every model of ``scenario``'s cell to ``plant`` (not finalized), welded at its
     pose: floor, pedestals and arms with grippers, bins, conveyor, break beam, deletion
     wall, camera frames and (with ``parts``) the placed parts and the parked pool.
@@ -242,23 +321,29 @@ def add_cell_models(plant: MultibodyPlant, scene_graph: SceneGraph, scenario: Sc
     for robot in scenario.robots:
         x, y = robot.xy
         pedestal = _add_xacro(
-            parser, "pedestal.urdf.xacro",
-            {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height})
-        _weld(plant, f"{robot.name}_pedestal_link",
-              RigidTransform(RollPitchYaw(0, 0, robot.yaw), [x, y, 0.0]))
+            parser, "pedestal.urdf.xacro", {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height}
+        )
+        _weld(
+            plant, f"{robot.name}_pedestal_link", RigidTransform(RollPitchYaw(0, 0, robot.yaw), [x, y, 0.0])
+        )
         arm, gripper = arms.add_arm_models(parser, robot)
         _weld(plant, f"{robot.name}_base_link", arms.base_pose(robot))
         arm_handles[robot.name] = ArmHandles(robot, arm, gripper, pedestal)
 
-    bins = {}
+    bins, anchors = {}, {}
     for b in scenario.bins:
         bins[b.name] = _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
-        _weld(plant, f"{b.name}_base_link", b.X_WB())
+        anchors[b.name] = plant.AddFrame(FixedOffsetFrame(f"{b.name}_anchor", plant.world_frame(), b.X_WB()))
+        plant.WeldFrames(anchors[b.name], plant.GetFrameByName(f"{b.name}_base_link"))
 
     conveyor = None
     if scenario.conveyor is not None:
         conveyor = _add_xacro(parser, "conveyor.urdf.xacro")
         _weld(plant, "conveyor_base", X_W_CONVEYOR)
+        for index in plant.GetJointActuatorIndices():
+            actuator = plant.get_joint_actuator(index)
+            if actuator.model_instance() == conveyor:
+                actuator.set_controller_gains(PdControllerGains(p=0.0, d=_BELT_KD))
     if scenario.break_beam:
         _add_xacro(parser, "break_beam.urdf.xacro")
         _weld(plant, "break_beam_base_link", X_W_BREAK_BEAM)
@@ -272,146 +357,40 @@ def add_cell_models(plant: MultibodyPlant, scene_graph: SceneGraph, scenario: Sc
         parent = plant.GetFrameByName(cam.parent) if cam.parent != "world" else plant.world_frame()
         _weld(plant, f"{cam.name}_frame", cam.X_PC(), parent=parent)
 
-    part_instances: dict[str, ModelInstanceIndex] = {}
-    pool: list[str] = []
-    if parts:
-        for part in scenario.parts:
-            part_instances[part.name] = _add_xacro(
-                parser, "part.urdf.xacro", {"name": part.name, "size": part.size, "mass": part.mass})
-            plant.SetDefaultFloatingBaseBodyPose(
-                plant.GetBodyByName(part.name, part_instances[part.name]),
-                RigidTransform(RollPitchYaw(part.rpy), part.xyz))
-        taken = set(part_instances)
-        k = 1
-        while len(pool) < scenario.part_pool:
-            name = f"object_{k}"
-            k += 1
-            if name in taken:
-                continue
-            pool.append(name)
-            part_instances[name] = _add_xacro(parser, "part.urdf.xacro", {
-                "name": name, "size": scenario.pool_part_size, "mass": scenario.pool_part_mass})
-            plant.SetDefaultFloatingBaseBodyPose(
-                plant.GetBodyByName(name, part_instances[name]), parking_pose(len(pool) - 1))
-
+    part_instances, pool = _add_parts(parser, scenario) if parts else ({}, [])
     _filter_robot_collisions(plant, scene_graph, arm_handles)
-    if conveyor is not None:
-        for index in plant.GetJointActuatorIndices():
-            actuator = plant.get_joint_actuator(index)
-            if actuator.model_instance() == conveyor:
-                actuator.set_controller_gains(PdControllerGains(p=0.0, d=_BELT_KD))
-    return CellModels(floor=floor, arms=arm_handles, bins=bins, conveyor=conveyor,
-                      cameras=camera_instances, parts=part_instances, pool=pool)
+    return CellModels(
+        floor=floor,
+        arms=arm_handles,
+        bins=bins,
+        bin_anchors=anchors,
+        conveyor=conveyor,
+        cameras=camera_instances,
+        parts=part_instances,
+        pool=pool,
+    )
 
 
-def build_station(
-    scenario: Scenario | str,
-    *,
-    meshcat: Optional[Meshcat] = None,
-) -> Station:
-    """Builds the factory diagram described by ``scenario`` (a Scenario, name or path).
+def _add_parts(parser: Parser, scenario: Scenario) -> tuple[dict[str, ModelInstanceIndex], list[str]]:
+    """The placed parts at their poses, then the pool's ``object_k`` at their parking poses."""
+    plant = parser.plant()
+    instances: dict[str, ModelInstanceIndex] = {}
 
-    With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
-    other systems, add ``station.diagram`` to a builder of your own.
-    """
-    if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario)
-    scenario.validate()
-    inner = DiagramBuilder()
-    plant, scene_graph = AddMultibodyPlant(scenario.plant_config, inner)
-    plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
-    models = add_cell_models(plant, scene_graph, scenario)
-    floor, arm_handles, conveyor = models.floor, models.arms, models.conveyor
-    camera_instances, parts, pool = models.cameras, models.parts, models.pool
+    def add(name: str, size: float, mass: float, X_WP: RigidTransform) -> None:
+        instances[name] = _add_xacro(parser, "part.urdf.xacro", {"name": name, "size": size, "mass": mass})
+        plant.SetDefaultFloatingBaseBodyPose(plant.GetBodyByName(name, instances[name]), X_WP)
 
-    # Weld-backend grippers: their run-time constraints must exist before Finalize.
-    constraints: dict[str, SuctionConstraints] = {}
-    if parts and scenario.suction.backend == "weld":
-        placeholder = plant.GetBodyByName(next(iter(parts)), parts[next(iter(parts))])
-        for name, handles in arm_handles.items():
-            if handles.gripper is not None:
-                cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
-                constraints[name] = declare_suction_constraints(plant, cup, placeholder)
-    plant.Finalize()
-    for handles in arm_handles.values():
-        plant.SetDefaultPositions(
-            handles.arm, arms.named_pose(handles.config.initial_pose, handles.config))
-
-    # Arm servos.
-    interpolators = {}
-    for name, handles in arm_handles.items():
-        interpolator, controller, handles.control_plant = arms.add_arm_controller(
-            inner, plant, handles.arm, handles.config)
-        interpolators[name] = interpolator
-        inner.ExportInput(interpolator.get_input_port(), f"{name}.position")
-        state = plant.get_state_output_port(handles.arm)
-        n = plant.num_positions(handles.arm)
-        demux = inner.AddNamedSystem(f"{name}.demux", Demultiplexer([n, n]))
-        inner.Connect(state, demux.get_input_port())
-        inner.ExportOutput(demux.get_output_port(0), f"{name}.position_measured")
-        inner.ExportOutput(demux.get_output_port(1), f"{name}.velocity_estimated")
-        inner.ExportOutput(state, f"{name}.state_estimated")
-        inner.ExportOutput(controller.get_output_port_control(), f"{name}.torque_commanded")
-
-    belt = None
-    if conveyor is not None:
-        belt = inner.AddNamedSystem("conveyor", ConveyorBelt(
-            scenario.conveyor.power, stop_on_beam=scenario.conveyor.stop_on_beam))
-        inner.Connect(belt.GetOutputPort("desired_state"), plant.get_desired_state_input_port(conveyor))
-        inner.ExportOutput(belt.GetOutputPort("power"), "conveyor.power")
-    beam = None
-    if scenario.break_beam:
-        part_bodies = [plant.GetBodyByName(n, i) for n, i in parts.items()]
-        boxes = [(np.zeros(3), np.full(3, scenario.part_size(n) / 2)) for n in parts]
-        beam = inner.AddNamedSystem("break_beam", BreakBeam(
-            plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes))
-        inner.Connect(plant.get_body_poses_output_port(), beam.GetInputPort("body_poses"))
-        inner.ExportOutput(beam.GetOutputPort("state"), "break_beam.state")
-        if belt is not None:
-            inner.Connect(beam.GetOutputPort("state"), belt.GetInputPort("beam"))
-    if belt is not None and beam is None and scenario.conveyor.stop_on_beam:
-        raise ConfigError("conveyor.stop_on_beam needs break_beam: true")
-    part_manager = inner.AddNamedSystem("parts", PartManager(pool, scenario.spawner))
-
-    # Vacuum grippers (only when there are parts to grip).
-    grippers: dict[str, SuctionGripper] = {}
-    if parts:
-        part_bodies = [plant.GetBodyByName(n, i) for n, i in parts.items()]
-        for name, handles in arm_handles.items():
-            if handles.gripper is None:
-                continue
-            cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
-            suction = suction_name(handles.config)
-            grippers[name] = add_suction_gripper(
-                inner, plant, cup, part_bodies, scenario.suction, suction)
-            inner.ExportInput(grippers[name].GetInputPort("command"), f"{suction}.command")
-            inner.ExportOutput(grippers[name].GetOutputPort("state"), f"{suction}.state")
-        connect_spatial_forces(inner, plant, list(grippers.values()))
-
-    cameras: dict[str, LogicalCamera] = {}
-    for cam in scenario.cameras:
-        cameras[cam.name] = add_logical_camera(
-            inner, plant, scene_graph, plant.GetFrameByName(f"{cam.name}_frame"), cam,
-            exclude=[camera_instances[cam.name], floor], seed=scenario.seed)
-        inner.ExportOutput(cameras[cam.name].GetOutputPort("image"), f"{cam.name}.image")
-
-    inner.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
-    inner.ExportOutput(plant.get_contact_results_output_port(), "contact_results")
-    inner.ExportOutput(plant.get_state_output_port(), "plant_state")
-    inner.ExportOutput(scene_graph.get_query_output_port(), "query_object")
-
-    visualizer = None
-    if meshcat is not None:
-        visualizer = MeshcatVisualizer.AddToBuilder(
-            inner, scene_graph, meshcat, MeshcatVisualizerParams(role=Role.kIllustration))
-
-    diagram = inner.Build()
-    diagram.set_name("station")
-    return Station(
-        scenario=scenario, diagram=diagram, plant=plant, scene_graph=scene_graph,
-        arms=arm_handles, cameras=cameras, parts=parts, pool=pool, meshcat=meshcat,
-        visualizer=visualizer, conveyor=belt, break_beam=beam, part_manager=part_manager,
-        grippers=grippers, suction_constraints=constraints, _interpolators=interpolators)
+    for part in scenario.parts:
+        add(part.name, part.size, part.mass, RigidTransform(RollPitchYaw(part.rpy), part.xyz))
+    pool: list[str] = []
+    k = 1
+    while len(pool) < scenario.part_pool:
+        name = f"object_{k}"
+        k += 1
+        if name not in instances:
+            pool.append(name)
+            add(name, scenario.pool_part_size, scenario.pool_part_mass, parking_pose(len(instances)))
+    return instances, pool
 
 
 def _filter_robot_collisions(
@@ -427,4 +406,174 @@ def _filter_robot_collisions(
                 frame_id = plant.GetBodyFrameIdOrThrow(body_index)
                 geometries += inspector.GetGeometries(frame_id, Role.kProximity)
         scene_graph.collision_filter_manager().Apply(
-            CollisionFilterDeclaration().ExcludeWithin(GeometrySet(geometries)))
+            CollisionFilterDeclaration().ExcludeWithin(GeometrySet(geometries))
+        )
+
+
+# ----------------------------------------------------------------------------- the station
+
+
+def build_station(
+    scenario: Scenario | str,
+    *,
+    meshcat: Optional[Meshcat] = None,
+) -> Station:
+    """Builds the factory diagram described by ``scenario`` (a Scenario, name or path).
+
+    With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
+    other systems, add ``station.diagram`` to a builder of your own.
+    """
+    if not isinstance(scenario, Scenario):
+        scenario = load_scenario(scenario)
+    scenario.validate()
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlant(scenario.plant_config, builder)
+    plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
+    models = add_cell_models(plant, scene_graph, scenario)
+    constraints = _declare_weld_constraints(plant, scenario, models)
+    plant.Finalize()
+    for handles in models.arms.values():
+        plant.SetDefaultPositions(handles.arm, arms.named_pose(handles.config.initial_pose, handles.config))
+
+    for handles in models.arms.values():
+        _add_arm_servo(builder, plant, handles, scenario.gravity)
+    belt = _add_conveyor(builder, plant, scenario, models)
+    beam = _add_break_beam(builder, plant, scenario, models, belt)
+    grippers = _add_grippers(builder, plant, scenario, models, constraints)
+    cameras: dict[str, LogicalCamera] = {}
+    for cam in scenario.cameras:
+        cameras[cam.name] = add_logical_camera(
+            builder,
+            plant,
+            scene_graph,
+            plant.GetFrameByName(f"{cam.name}_frame"),
+            cam,
+            exclude=[models.cameras[cam.name], models.floor],
+            seed=scenario.seed,
+        )
+        builder.ExportOutput(cameras[cam.name].GetOutputPort("image"), f"{cam.name}.image")
+
+    builder.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
+    builder.ExportOutput(plant.get_contact_results_output_port(), "contact_results")
+    builder.ExportOutput(plant.get_state_output_port(), "plant_state")
+    builder.ExportOutput(scene_graph.get_query_output_port(), "query_object")
+    visualizer = None
+    if meshcat is not None:
+        visualizer = MeshcatVisualizer.AddToBuilder(
+            builder, scene_graph, meshcat, MeshcatVisualizerParams(role=Role.kIllustration)
+        )
+
+    diagram = builder.Build()
+    diagram.set_name("station")
+    return Station(
+        scenario=scenario,
+        diagram=diagram,
+        plant=plant,
+        scene_graph=scene_graph,
+        arms=models.arms,
+        cameras=cameras,
+        parts=models.parts,
+        pool=models.pool,
+        meshcat=meshcat,
+        visualizer=visualizer,
+        conveyor=belt,
+        break_beam=beam,
+        grippers=grippers,
+        bin_anchors=models.bin_anchors,
+    )
+
+
+def _declare_weld_constraints(
+    plant: MultibodyPlant, scenario: Scenario, models: CellModels
+) -> dict[str, SuctionConstraints]:
+    """Weld-backend grippers: their run-time constraints must exist before Finalize."""
+    constraints: dict[str, SuctionConstraints] = {}
+    if not models.parts or scenario.suction.backend != "weld":
+        return constraints
+    first = next(iter(models.parts))
+    placeholder = plant.GetBodyByName(first, models.parts[first])
+    for name, handles in models.arms.items():
+        if handles.gripper is not None:
+            cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
+            constraints[name] = declare_suction_constraints(plant, cup, placeholder)
+    return constraints
+
+
+def _add_arm_servo(
+    builder: DiagramBuilder, plant: MultibodyPlant, handles: ArmHandles, gravity: list[float]
+) -> None:
+    """The arm's position servo and its exported ports."""
+    name = handles.config.name
+    interpolator, controller, handles.control_plant = arms.add_arm_controller(
+        builder, plant, handles.arm, handles.config, gravity
+    )
+    handles.interpolator = interpolator
+    handles.controller = controller
+    builder.ExportInput(interpolator.get_input_port(), f"{name}.position")
+    state = plant.get_state_output_port(handles.arm)
+    n = plant.num_positions(handles.arm)
+    demux = builder.AddNamedSystem(f"{name}.demux", Demultiplexer([n, n]))
+    builder.Connect(state, demux.get_input_port())
+    builder.ExportOutput(demux.get_output_port(0), f"{name}.position_measured")
+    builder.ExportOutput(demux.get_output_port(1), f"{name}.velocity_estimated")
+    builder.ExportOutput(state, f"{name}.state_estimated")
+    builder.ExportOutput(controller.get_output_port_control(), f"{name}.torque_commanded")
+
+
+def _add_conveyor(
+    builder: DiagramBuilder, plant: MultibodyPlant, scenario: Scenario, models: CellModels
+) -> Optional[ConveyorBelt]:
+    config = scenario.conveyor
+    if models.conveyor is None or config is None:
+        return None
+    belt = builder.AddNamedSystem("conveyor", ConveyorBelt(config.power, stop_on_beam=config.stop_on_beam))
+    builder.Connect(belt.GetOutputPort("desired_state"), plant.get_desired_state_input_port(models.conveyor))
+    builder.ExportOutput(belt.GetOutputPort("power"), "conveyor.power")
+    return belt
+
+
+def _add_break_beam(
+    builder: DiagramBuilder,
+    plant: MultibodyPlant,
+    scenario: Scenario,
+    models: CellModels,
+    belt: Optional[ConveyorBelt],
+) -> Optional[BreakBeam]:
+    if not scenario.break_beam:
+        return None
+    part_bodies = [plant.GetBodyByName(n, i) for n, i in models.parts.items()]
+    boxes = [(np.zeros(3), np.full(3, scenario.part_size(n) / 2)) for n in models.parts]
+    beam = builder.AddNamedSystem(
+        "break_beam", BreakBeam(plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes)
+    )
+    builder.Connect(plant.get_body_poses_output_port(), beam.GetInputPort("body_poses"))
+    builder.ExportOutput(beam.GetOutputPort("state"), "break_beam.state")
+    if belt is not None:
+        builder.Connect(beam.GetOutputPort("state"), belt.GetInputPort("beam"))
+    return beam
+
+
+def _add_grippers(
+    builder: DiagramBuilder,
+    plant: MultibodyPlant,
+    scenario: Scenario,
+    models: CellModels,
+    constraints: dict[str, SuctionConstraints],
+) -> dict[str, SuctionGripper]:
+    """The vacuum grippers (only when there are parts to grip)."""
+    grippers: dict[str, SuctionGripper] = {}
+    if not models.parts:
+        return grippers
+    part_bodies = [plant.GetBodyByName(n, i) for n, i in models.parts.items()]
+    for name, handles in models.arms.items():
+        if handles.gripper is None:
+            continue
+        cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
+        suction = suction_name(handles.config)
+        grippers[name] = add_suction_gripper(
+            builder, plant, cup, part_bodies, scenario.suction, suction, constraints.get(name)
+        )
+        builder.ExportInput(grippers[name].GetInputPort("command"), f"{suction}.command")
+        builder.ExportOutput(grippers[name].GetOutputPort("state"), f"{suction}.state")
+    connect_spatial_forces(builder, plant, list(grippers.values()))
+    return grippers

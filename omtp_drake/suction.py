@@ -48,13 +48,13 @@ Typical use (station side)::
 
     constraints = declare_suction_constraints(plant, cup, any_part)   # weld, before Finalize
     plant.Finalize()
-    gripper = add_suction_gripper(builder, plant, cup, parts, config, "suction1")
+    gripper = add_suction_gripper(builder, plant, cup, parts, config, "suction1", constraints)
     connect_spatial_forces(builder, plant, [gripper])
     ...
     constraints.deactivate_all(plant, plant_context)    # every new Context
     while ...:
         simulator.AdvanceTo(t)
-        sync_weld(gripper, constraints, plant, root_context)
+        sync_weld(gripper, plant, root_context)         # weld grippers only
 """
 
 # No `from __future__ import annotations`: SuctionConfig is part of the
@@ -62,8 +62,9 @@ Typical use (station side)::
 
 import logging
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
-from typing import Callable, Optional, Sequence
+from typing import Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -80,7 +81,7 @@ from pydrake.multibody.plant import (
 from pydrake.multibody.tree import BodyIndex, MultibodyConstraintId, RigidBody
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, State
 
-from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
 
 _log = logging.getLogger(__name__)
 
@@ -162,23 +163,24 @@ class SuctionConfig:
     def validate(self) -> None:
         """Raises :class:`ConfigError` naming the field, its value and the valid range."""
         if self.backend not in BACKENDS:
-            raise ConfigError(
-                f"suction.backend must be one of {', '.join(BACKENDS)}; got {self.backend!r}")
+            raise ConfigError(f"suction.backend must be one of {', '.join(BACKENDS)}; got {self.backend!r}")
         _check(self.check_rate_hz, "check_rate_hz", "[10, inf) Hz", lambda x: 10.0 <= x < math.inf)
         _check(self.max_angle_deg, "max_angle_deg", "(0, 90) deg", lambda x: 0.0 < x < 90.0)
-        if isinstance(self.consecutive_checks, bool) or not isinstance(self.consecutive_checks, int) \
-                or self.consecutive_checks < 1:
+        if (
+            isinstance(self.consecutive_checks, bool)
+            or not isinstance(self.consecutive_checks, int)
+            or self.consecutive_checks < 1
+        ):
             raise ConfigError(
-                f"suction.consecutive_checks must be an integer >= 1; got {self.consecutive_checks!r}")
+                f"suction.consecutive_checks must be an integer >= 1; got {self.consecutive_checks!r}"
+            )
         for name, unit in (("stiffness", "N/m"), ("angular_stiffness", "N m/rad")):
             _check(getattr(self, name), name, f"(0, inf) {unit}", lambda x: 0.0 < x < math.inf)
         for name, unit in (("damping", "N s/m"), ("angular_damping", "N m s/rad")):
             _check(getattr(self, name), name, f"[0, inf) {unit}", lambda x: 0.0 <= x < math.inf)
-        _check(self.max_hold_distance, "max_hold_distance", "(0, inf) m",
-               lambda x: 0.0 < x < math.inf)
+        _check(self.max_hold_distance, "max_hold_distance", "(0, inf) m", lambda x: 0.0 < x < math.inf)
         if not isinstance(self.apply_reaction, bool):
-            raise ConfigError(
-                f"suction.apply_reaction must be true or false; got {self.apply_reaction!r}")
+            raise ConfigError(f"suction.apply_reaction must be true or false; got {self.apply_reaction!r}")
 
 
 def _check(value: object, name: str, valid: str, ok: Callable[[float], bool]) -> None:
@@ -240,7 +242,7 @@ _IDLE = GripperState(enabled=False, attached=False, part="", X_CP=None, since=ma
 
 
 # ----------------------------------------------------------------------------
-# The gripper system
+# The gripper systems: one attach rule, two ways of holding
 
 
 @dataclass(frozen=True)
@@ -255,7 +257,14 @@ class _PartGains:
 
 
 class SuctionGripper(LeafSystem):
-    """A vacuum gripper on a cup body, checking contacts at a fixed rate.
+    """A vacuum gripper on a cup body: the course's attach rule, checked at a fixed rate.
+
+    This base class decides *when* a part is attached or released; its two
+    subclasses decide *how* it is held: :class:`WeldSuctionGripper` (rigid
+    constraints of the plant, made between advances by :func:`sync_weld`) and
+    :class:`ForceSuctionGripper` (a spring-damper force inside the diagram).
+    Build one with :func:`add_suction_gripper`, which picks the class from
+    ``SuctionConfig.backend``.
 
     .. pydrake_system::
 
@@ -264,33 +273,22 @@ class SuctionGripper(LeafSystem):
         - command
         - body_poses
         - contact_results
-        - body_spatial_velocities
         output_ports:
         - state
-        - spatial_forces
 
     Input ports:
       - ``command`` (vector [1]): > 0.5 enables the gripper.
       - ``body_poses`` (list of RigidTransform): the plant's body poses X_WB.
       - ``contact_results`` (ContactResults): the plant's contact results;
         point-pair contacts are used (the station uses point contact).
-      - ``body_spatial_velocities`` (list of SpatialVelocity): the plant's
-        body velocities; read only by the force backend while holding.
 
     Output ports:
       - ``state`` (:class:`GripperState`): depends on the state only.
-      - ``spatial_forces`` (list of ExternallyAppliedSpatialForce): force
-        backend, while holding: the spring-damper wrench on the part (at its
-        centre of mass) and, with ``apply_reaction``, the opposite wrench on the
-        cup at the same point. Always empty for the weld backend; the port
-        exists for both so a diagram can be wired the same way (but
-        :func:`connect_spatial_forces` skips weld grippers to save a Python
-        call per plant step).
 
     State (abstract, updated by a periodic unrestricted event at
     ``check_rate_hz``, first check at t = 0): the reported
-    :class:`GripperState`, the count of consecutive good checks and, for the
-    weld backend, the attach decided but not yet made by :func:`sync_weld`.
+    :class:`GripperState` and the count of consecutive good checks; discrete:
+    the end of an injected vacuum failure (:meth:`fail_vacuum`).
 
     Frames: C is the cup body ``<gripper>_cup`` (origin at the cup face,
     like the frame ``<gripper>_tip``, tool0 + 0.0775 m; +Cz out of the tool;
@@ -301,13 +299,19 @@ class SuctionGripper(LeafSystem):
     Contact results of a plant with sampled output ports lag one step (and are
     empty at t = 0); the station's unsampled ports are current.
 
-    The system keeps no reference to the plant: it reads body indices, the
-    parts' masses and inertias (to cap the force gains) and the plant's time
-    step at construction. Candidate parts must be movable (not anchored).
+    The system keeps no reference to the plant: it reads body indices (and, for
+    the force hold, the parts' inertias and the plant's time step) at
+    construction. Candidate parts must be movable (not anchored).
     """
 
-    def __init__(self, plant: MultibodyPlant, cup_body: RigidBody,
-                 part_bodies: Sequence[RigidBody], config: SuctionConfig, name: str = "suction"):
+    def __init__(
+        self,
+        plant: MultibodyPlant,
+        cup_body: RigidBody,
+        part_bodies: Sequence[RigidBody],
+        config: SuctionConfig,
+        name: str = "suction",
+    ):
         super().__init__()
         config.validate()
         if not plant.is_finalized():
@@ -324,36 +328,30 @@ class SuctionGripper(LeafSystem):
             if plant.IsAnchored(body):
                 raise ConfigError(
                     f"gripper {name!r}: part body {body.name()!r} is anchored (welded to the "
-                    "world); candidate parts must be movable")
+                    "world); candidate parts must be movable"
+                )
             if body.name() in self._bodies:
                 raise ConfigError(f"gripper {name!r}: part body name {body.name()!r} is repeated")
             self._bodies[body.name()] = int(body.index())
         self._names = {index: n for n, index in self._bodies.items()}
         self._cos_max = math.cos(math.radians(config.max_angle_deg))
-        self._gains = {int(b.index()): _gains_for(b, config, plant.time_step()) for b in part_bodies}
 
         self._command = self.DeclareVectorInputPort("command", 1)
-        self._poses = self.DeclareAbstractInputPort(
-            "body_poses", AbstractValue.Make([RigidTransform()]))
+        self._poses = self.DeclareAbstractInputPort("body_poses", AbstractValue.Make([RigidTransform()]))
         self._contacts = self.DeclareAbstractInputPort(
-            "contact_results", AbstractValue.Make(ContactResults()))
-        self._velocities = self.DeclareAbstractInputPort(
-            "body_spatial_velocities", AbstractValue.Make([SpatialVelocity()]))
+            "contact_results", AbstractValue.Make(ContactResults())
+        )
         self._memory = self.DeclareAbstractState(AbstractValue.Make(_Memory(_IDLE)))
         # Fault injection: the vacuum fails (commands are ignored, nothing is held)
         # until this time; see fail_vacuum().
         self._fault = self.DeclareDiscreteState(np.array([-math.inf]))
         self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._check)
-        state_ticket = {self.abstract_state_ticket(self._memory)}
         self.DeclareAbstractOutputPort(
-            "state", lambda: AbstractValue.Make(_IDLE), self._calc_state,
-            prerequisites_of_calc=state_ticket)
-        self.DeclareAbstractOutputPort(
-            "spatial_forces", lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]),
-            self._calc_forces,
-            prerequisites_of_calc=state_ticket | {
-                self.input_port_ticket(self._poses.get_index()),
-                self.input_port_ticket(self._velocities.get_index())})
+            "state",
+            lambda: AbstractValue.Make(_IDLE),
+            self._calc_state,
+            prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
+        )
 
     # ------------------------------------------------------------------ queries
 
@@ -375,23 +373,257 @@ class SuctionGripper(LeafSystem):
             raise UnknownNameError("suction part", name, self._bodies, closest=True)
         return BodyIndex(self._bodies[name])
 
+    def get_state(self, context: Context) -> GripperState:
+        """The gripper's state in its own ``context``."""
+        return self._get_memory(context).state
+
+    def touching_part(self, context: Context) -> str:
+        """The candidate part touching the cup well now (the deepest), by the same
+        rule as a check; "" when none."""
+        index = self._touching_part(context)
+        return self._names[index] if index >= 0 else ""
+
     def fail_vacuum(self, context: Context, until: float) -> None:
         """Fault injection: the vacuum fails until ``until`` (simulated time): a held
         part is dropped at the next check and nothing attaches, whatever the command."""
         context.SetDiscreteState(self._fault, np.array([float(until)]))
 
-    def get_state(self, context: Context) -> GripperState:
-        """The gripper's state in its own ``context``."""
-        return context.get_abstract_state(self._memory).get_value().state
+    def fault_until(self, context: Context) -> float:
+        """End of the injected vacuum failure (-inf: none injected)."""
+        return float(context.get_discrete_state(self._fault)[0])
 
-    # ------------------------------------------------------------------ outputs
+    # ------------------------------------------------------------------ the rule
 
     def _calc_state(self, context: Context, output: AbstractValue) -> None:
-        output.set_value(context.get_abstract_state(self._memory).get_value().state)
+        output.set_value(self._get_memory(context).state)
+
+    def _check(self, context: Context, state: State) -> None:
+        memory = self._get_memory(context)
+        state.get_mutable_abstract_state(self._memory).set_value(self._next(context, memory))
+
+    def _next(self, context: Context, memory: _Memory) -> _Memory:
+        """The attach / release rule: the memory after one check."""
+        old = memory.state
+        t = context.get_time()
+        enabled = bool(self._command.Eval(context)[0] > 0.5)
+        if t < self.fault_until(context):
+            if old.attached:
+                _log.warning("%s: vacuum failure: dropped %s at t = %.3f s", self.get_name(), old.part, t)
+            return _Memory(
+                replace(_IDLE, enabled=enabled, last_release="fault" if old.attached else old.last_release)
+            )
+        if not enabled:
+            if old.attached:
+                _log.info("%s: released %s at t = %.3f s (disabled)", self.get_name(), old.part, t)
+                return _Memory(replace(_IDLE, last_release="disabled"))
+            return _Memory(replace(_IDLE, last_release=old.last_release))
+        if old.attached and old.X_CP is not None:
+            X_WB = self._poses.Eval(context)
+            X_CP_now = X_WB[self._cup].InvertAndCompose(X_WB[self._bodies[old.part]])
+            offset = float(np.linalg.norm(X_CP_now.translation() - old.X_CP.translation()))
+            if offset > self._config.max_hold_distance:
+                _log.warning(
+                    "%s: hold of %s lost at t = %.3f s (%.4f m from its captured pose, limit %.4f m)",
+                    self.get_name(),
+                    old.part,
+                    t,
+                    offset,
+                    self._config.max_hold_distance,
+                )
+                return _Memory(replace(_IDLE, enabled=True, last_release="hold lost"))
+            return _Memory(replace(old, enabled=True))
+        idle = replace(_IDLE, enabled=True, last_release=old.last_release)
+        if memory.pending_body >= 0:
+            return self._while_pending(memory, idle, t)
+        touching = self._touching_part(context)
+        if touching < 0:
+            return _Memory(idle)
+        streak = memory.streak + 1 if touching == memory.streak_body else 1
+        if streak < self._config.consecutive_checks:
+            return _Memory(idle, streak, touching)
+        return self._attach_decided(context, idle, streak, touching)
+
+    def _attach_decided(self, context: Context, idle: GripperState, streak: int, touching: int) -> _Memory:
+        """The memory once the rule has decided to attach body ``touching``."""
+        raise NotImplementedError  # each hold decides (a subclass always overrides this)
+
+    def _while_pending(self, memory: _Memory, idle: GripperState, t: float) -> _Memory:
+        return replace(memory, state=idle)
+
+    def _touching_part(self, context: Context) -> int:
+        """Body index of the candidate part touching the cup well (deepest), or -1."""
+        contacts: ContactResults = self._contacts.Eval(context)
+        best, best_depth = -1, -math.inf
+        z_WC = None
+        for i in range(contacts.num_point_pair_contacts()):
+            info = contacts.point_pair_contact_info(i)
+            a, b = int(info.bodyA_index()), int(info.bodyB_index())
+            if a == self._cup and b in self._names:
+                part, sign = b, 1.0  # nhat_BA_W points from B (part) into A (cup)
+            elif b == self._cup and a in self._names:
+                part, sign = a, -1.0
+            else:
+                continue
+            if z_WC is None:
+                z_WC = self._poses.Eval(context)[self._cup].rotation().col(2)
+            pair = info.point_pair()
+            n_PC_W = sign * pair.nhat_BA_W  # from the part into the cup
+            if -float(np.dot(n_PC_W, z_WC)) >= self._cos_max and pair.depth > best_depth:
+                best, best_depth = part, pair.depth
+        return best
+
+    def _get_memory(self, context: Context) -> _Memory:
+        return context.get_abstract_state(self._memory).get_value()
+
+    def _set_memory(self, context: Context, memory: _Memory) -> None:
+        context.SetAbstractState(self._memory, memory)
+
+
+class WeldSuctionGripper(SuctionGripper):
+    """A vacuum gripper that holds with the plant's rigid constraints.
+
+    The checks *decide* an attach; the attach is *made* between advances by
+    :func:`sync_weld` (constraint parameters live in the plant's Context, which
+    no system may write), which re-checks the touch, writes the constraints at
+    the part's current pose and only then reports ``attached``. Without
+    :func:`sync_weld` a decided attach stays pending (a warning is logged after
+    1 s). Measured: no snap (0.2 um), about 10 um drift carrying 1 kg at 1 m/s.
+
+    The driver's API (used by :func:`sync_weld`): :attr:`constraints`,
+    :meth:`pending_part`, :meth:`complete_attach`, :meth:`cancel_attach`,
+    :meth:`remake_hold`.
+    """
+
+    def __init__(
+        self,
+        plant: MultibodyPlant,
+        cup_body: RigidBody,
+        part_bodies: Sequence[RigidBody],
+        config: SuctionConfig,
+        name: str,
+        constraints: "SuctionConstraints",
+    ):
+        super().__init__(plant, cup_body, part_bodies, config, name)
+        if int(constraints.cup) != self._cup:
+            raise ConfigError(
+                f"gripper {name!r}: the constraints belong to cup body "
+                f"{int(constraints.cup)}, the gripper to {self._cup}"
+            )
+        self._constraints = constraints
+
+    @property
+    def constraints(self) -> "SuctionConstraints":
+        """The plant constraints this gripper holds with."""
+        return self._constraints
+
+    def pending_part(self, context: Context) -> str:
+        """The part an attach was decided for, waiting for :func:`sync_weld`; "" when none."""
+        memory = self._get_memory(context)
+        return self._names[memory.pending_body] if memory.pending_body >= 0 else ""
+
+    def complete_attach(self, context: Context, X_CP: RigidTransform) -> None:
+        """The pending attach is made: the part is held at ``X_CP`` from now on."""
+        memory = self._get_memory(context)
+        if memory.pending_body < 0:
+            raise SimulationError(f"{self.get_name()}: no attach is pending")
+        name = self._names[memory.pending_body]
+        t = context.get_time()
+        _log.info("%s: attached %s at t = %.3f s", self.get_name(), name, t)
+        self._set_memory(
+            context, _Memory(GripperState(enabled=True, attached=True, part=name, X_CP=X_CP, since=t))
+        )
+
+    def cancel_attach(self, context: Context) -> None:
+        """The pending attach is dropped; the count of good checks starts again."""
+        memory = self._get_memory(context)
+        if memory.pending_body >= 0:
+            _log.info(
+                "%s: attach of %s dropped at t = %.3f s (no longer touching)",
+                self.get_name(),
+                self._names[memory.pending_body],
+                context.get_time(),
+            )
+        self._set_memory(context, _Memory(memory.state))
+
+    def remake_hold(self, context: Context, X_CP: RigidTransform) -> None:
+        """The held part's captured pose after its constraints were re-made."""
+        memory = self._get_memory(context)
+        self._set_memory(context, replace(memory, state=replace(memory.state, X_CP=X_CP)))
+
+    def _attach_decided(self, context: Context, idle: GripperState, streak: int, touching: int) -> _Memory:
+        _log.debug(
+            "%s: attach of %s decided at t = %.3f s",
+            self.get_name(),
+            self._names[touching],
+            context.get_time(),
+        )
+        return _Memory(idle, streak, touching, pending_body=touching, pending_since=context.get_time())
+
+    def _while_pending(self, memory: _Memory, idle: GripperState, t: float) -> _Memory:
+        waited = t - memory.pending_since
+        if 1.0 <= waited < 1.0 + 1.0 / self._config.check_rate_hz:
+            _log.warning(
+                "%s: attach of %s pending for %.2f s: is sync_weld called between advances?",
+                self.get_name(),
+                self._names[memory.pending_body],
+                waited,
+            )
+        return replace(memory, state=idle)
+
+
+class ForceSuctionGripper(SuctionGripper):
+    """A vacuum gripper that holds with a stiff 6-DOF spring-damper force.
+
+    The hold starts at the attaching check itself and lives entirely inside the
+    diagram, but it is compliant (0.3-0.8 mm drift carrying 0.2-1 kg at 1 m/s)
+    and costs a Python evaluation every plant step while a part is held.
+
+    Extra ports (besides :class:`SuctionGripper`'s):
+      - input ``body_spatial_velocities`` (list of SpatialVelocity): the
+        plant's body velocities, read while holding.
+      - output ``spatial_forces`` (list of ExternallyAppliedSpatialForce):
+        while holding, the spring-damper wrench on the part (at its centre of
+        mass) and, with ``apply_reaction``, the opposite wrench on the cup at
+        the same point; empty otherwise. Feed it to the plant with
+        :func:`connect_spatial_forces`.
+    """
+
+    def __init__(
+        self,
+        plant: MultibodyPlant,
+        cup_body: RigidBody,
+        part_bodies: Sequence[RigidBody],
+        config: SuctionConfig,
+        name: str = "suction",
+    ):
+        super().__init__(plant, cup_body, part_bodies, config, name)
+        self._gains = {int(b.index()): _gains_for(b, config, plant.time_step()) for b in part_bodies}
+        self._velocities = self.DeclareAbstractInputPort(
+            "body_spatial_velocities", AbstractValue.Make([SpatialVelocity()])
+        )
+        self.DeclareAbstractOutputPort(
+            "spatial_forces",
+            lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]),
+            self._calc_forces,
+            prerequisites_of_calc={
+                self.abstract_state_ticket(self._memory),
+                self.input_port_ticket(self._poses.get_index()),
+                self.input_port_ticket(self._velocities.get_index()),
+            },
+        )
+
+    def _attach_decided(self, context: Context, idle: GripperState, streak: int, touching: int) -> _Memory:
+        X_WB = self._poses.Eval(context)
+        X_CP = X_WB[self._cup].InvertAndCompose(X_WB[touching])
+        t = context.get_time()
+        _log.info("%s: attached %s at t = %.3f s", self.get_name(), self._names[touching], t)
+        return _Memory(
+            GripperState(enabled=True, attached=True, part=self._names[touching], X_CP=X_CP, since=t)
+        )
 
     def _calc_forces(self, context: Context, output: AbstractValue) -> None:
-        state = context.get_abstract_state(self._memory).get_value().state
-        if not state.attached or self._config.backend != "force":
+        state = self._get_memory(context).state
+        if not state.attached or state.X_CP is None:
             output.set_value([])
             return
         part = self._bodies[state.part]
@@ -413,8 +645,9 @@ class SuctionGripper(LeafSystem):
         f = g.k * p_err - g.c * v_rel
         # Rotation error R_WPd R_WP^T as a rotation vector, small-angle form (sin(angle) axis).
         R_err = (R_WC @ M_CP[:, :3]) @ R_WP.T
-        theta = 0.5 * np.array([R_err[2, 1] - R_err[1, 2], R_err[0, 2] - R_err[2, 0],
-                                R_err[1, 0] - R_err[0, 1]])
+        theta = 0.5 * np.array(
+            [R_err[2, 1] - R_err[1, 2], R_err[0, 2] - R_err[2, 0], R_err[1, 0] - R_err[0, 1]]
+        )
         tau = g.kr * theta - g.cr * (V_WP[:3] - V_WC[:3])
         on_part = ExternallyAppliedSpatialForce()
         on_part.body_index = BodyIndex(part)
@@ -428,92 +661,6 @@ class SuctionGripper(LeafSystem):
         on_cup.p_BoBq_B = R_WC.T @ (p_WP + r_PScm_W - p_WC)
         on_cup.F_Bq_W = SpatialForce(-tau, -f)
         output.set_value([on_part, on_cup])
-
-    # ------------------------------------------------------------------ checks
-
-    def _check(self, context: Context, state: State) -> None:
-        memory: _Memory = context.get_abstract_state(self._memory).get_value()
-        state.get_mutable_abstract_state(self._memory).set_value(self._next(context, memory))
-
-    def _next(self, context: Context, memory: _Memory) -> _Memory:
-        """The attach / release rule: the memory after one check."""
-        old = memory.state
-        t = context.get_time()
-        enabled = bool(self._command.Eval(context)[0] > 0.5)
-        if t < context.get_discrete_state(self._fault)[0]:
-            if old.attached:
-                _log.warning("%s: vacuum failure: dropped %s at t = %.3f s",
-                             self.get_name(), old.part, t)
-            return _Memory(replace(_IDLE, enabled=enabled,
-                                   last_release="fault" if old.attached else old.last_release))
-        if not enabled:
-            if old.attached:
-                _log.info("%s: released %s at t = %.3f s (disabled)", self.get_name(), old.part, t)
-                return _Memory(replace(_IDLE, last_release="disabled"))
-            return _Memory(replace(_IDLE, last_release=old.last_release))
-        if old.attached:
-            X_WB = self._poses.Eval(context)
-            X_CP_now = X_WB[self._cup].InvertAndCompose(X_WB[self._bodies[old.part]])
-            offset = float(np.linalg.norm(X_CP_now.translation() - old.X_CP.translation()))
-            if offset > self._config.max_hold_distance:
-                _log.warning("%s: hold of %s lost at t = %.3f s (%.4f m from its captured pose, "
-                             "limit %.4f m)", self.get_name(), old.part, t, offset,
-                             self._config.max_hold_distance)
-                return _Memory(replace(_IDLE, enabled=True, last_release="hold lost"))
-            return _Memory(replace(old, enabled=True))
-        idle = replace(_IDLE, enabled=True, last_release=old.last_release)
-        if memory.pending_body >= 0:  # weld: decided, waiting for sync_weld
-            waited = t - memory.pending_since
-            period = 1.0 / self._config.check_rate_hz
-            if 1.0 <= waited < 1.0 + period:
-                _log.warning("%s: attach of %s pending for %.2f s: is sync_weld called between "
-                             "advances?", self.get_name(), self._names[memory.pending_body], waited)
-            return replace(memory, state=idle)
-        touching = self._touching_part(context)
-        if touching < 0:
-            return _Memory(idle)
-        streak = memory.streak + 1 if touching == memory.streak_body else 1
-        if streak < self._config.consecutive_checks:
-            return _Memory(idle, streak, touching)
-        name = self._names[touching]
-        if self._config.backend == "weld":
-            _log.debug("%s: attach of %s decided at t = %.3f s", self.get_name(), name, t)
-            return _Memory(idle, streak, touching, pending_body=touching, pending_since=t)
-        X_WB = self._poses.Eval(context)
-        X_CP = X_WB[self._cup].InvertAndCompose(X_WB[touching])
-        _log.info("%s: attached %s at t = %.3f s", self.get_name(), name, t)
-        return _Memory(GripperState(enabled=True, attached=True, part=name, X_CP=X_CP, since=t))
-
-    def _touching_part(self, context: Context) -> int:
-        """Body index of the candidate part touching the cup well (deepest), or -1."""
-        contacts: ContactResults = self._contacts.Eval(context)
-        best, best_depth = -1, -math.inf
-        z_WC = None
-        for i in range(contacts.num_point_pair_contacts()):
-            info = contacts.point_pair_contact_info(i)
-            a, b = int(info.bodyA_index()), int(info.bodyB_index())
-            if a == self._cup and b in self._names:
-                part, sign = b, 1.0   # nhat_BA_W points from B (part) into A (cup)
-            elif b == self._cup and a in self._names:
-                part, sign = a, -1.0
-            else:
-                continue
-            if z_WC is None:
-                z_WC = self._poses.Eval(context)[self._cup].rotation().col(2)
-            pair = info.point_pair()
-            n_PC_W = sign * pair.nhat_BA_W  # from the part into the cup
-            if -float(np.dot(n_PC_W, z_WC)) >= self._cos_max and pair.depth > best_depth:
-                best, best_depth = part, pair.depth
-        return best
-
-    # ------------------------------------------------------------------ runtime edits
-    # Used by sync_weld, from outside the diagram, between advances.
-
-    def _get_memory(self, context: Context) -> _Memory:
-        return context.get_abstract_state(self._memory).get_value()
-
-    def _set_memory(self, context: Context, memory: _Memory) -> None:
-        context.SetAbstractState(self._memory, memory)
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -547,7 +694,7 @@ _TRIANGLE_RADIUS = 0.05
 _TRIANGLE_GAP = _TRIANGLE_RADIUS * math.sqrt(3.0) * math.sqrt(2.0 / 3.0)
 
 
-def _octahedron() -> tuple[np.ndarray, np.ndarray, list[tuple[int, int]]]:
+def octahedron() -> tuple[np.ndarray, np.ndarray, list[tuple[int, int]]]:
     """Points a_i (in C), b_j (in C, on the part side) and the six (i, j) pairs.
 
     Two equilateral triangles of circumradius R in planes normal to Cz, one at
@@ -593,8 +740,7 @@ class SuctionConstraints:
             return None
         return plant.GetDistanceConstraintParams(plant_context, self.ids[0]).bodyB()
 
-    def attach(self, plant: MultibodyPlant, plant_context: Context,
-               part_body: RigidBody) -> RigidTransform:
+    def attach(self, plant: MultibodyPlant, plant_context: Context, part_body: RigidBody) -> RigidTransform:
         """Holds ``part_body`` at its current pose in the cup; returns that pose X_CP.
 
         The part's points are the octahedron's points b_j placed where they are
@@ -610,8 +756,11 @@ class SuctionConstraints:
         for id_, (i, j) in zip(self.ids, self.pairs):
             p_CA, p_PB = self.p_CA[i], X_PC @ self.p_CB[j]
             distance = float(np.linalg.norm(X_WC @ p_CA - X_WP @ p_PB))
-            plant.SetDistanceConstraintParams(plant_context, id_, DistanceConstraintParams(
-                self.cup, p_CA, part_body.index(), p_PB, distance, math.inf, 0.0))
+            plant.SetDistanceConstraintParams(
+                plant_context,
+                id_,
+                DistanceConstraintParams(self.cup, p_CA, part_body.index(), p_PB, distance, math.inf, 0.0),
+            )
             plant.SetConstraintActiveStatus(plant_context, id_, True)
         return X_CP
 
@@ -620,8 +769,9 @@ class SuctionConstraints:
         self.deactivate_all(plant, plant_context)
 
 
-def declare_suction_constraints(plant: MultibodyPlant, cup_body: RigidBody,
-                                any_part_body: RigidBody) -> SuctionConstraints:
+def declare_suction_constraints(
+    plant: MultibodyPlant, cup_body: RigidBody, any_part_body: RigidBody
+) -> SuctionConstraints:
     """Declares the weld backend's six distance constraints; call before ``plant.Finalize()``.
 
     ``any_part_body`` is a placeholder (any movable body other than the cup):
@@ -636,14 +786,15 @@ def declare_suction_constraints(plant: MultibodyPlant, cup_body: RigidBody,
         raise ConfigError(
             "the weld backend needs a discrete plant with the SAP solver (time_step > 0, "
             "discrete_contact_approximation 'sap', 'lagged' or 'similar'); got time_step "
-            f"{plant.time_step()} and {_approximation_name(plant)!r}")
+            f"{plant.time_step()} and {_approximation_name(plant)!r}"
+        )
     world = int(plant.world_body().index())
     for body, what in ((cup_body, "cup"), (any_part_body, "placeholder part")):
         if int(body.index()) == world:
             raise ConfigError(f"suction {what} body cannot be the world body")
     if int(cup_body.index()) == int(any_part_body.index()):
         raise ConfigError(f"suction placeholder part must differ from the cup {cup_body.name()!r}")
-    a, b, pairs = _octahedron()
+    a, b, pairs = octahedron()
     ids = []
     for i, j in pairs:
         distance = float(np.linalg.norm(a[i] - b[j]))
@@ -656,9 +807,8 @@ def _approximation_name(plant: MultibodyPlant) -> str:
     return str(plant.get_discrete_contact_approximation()).rsplit(".k", 1)[-1].lower()
 
 
-def sync_weld(gripper: SuctionGripper, constraints: SuctionConstraints,
-              plant: MultibodyPlant, root_context: Context) -> None:
-    """Makes the constraints follow the gripper; call between advances (e.g. every tick).
+def sync_weld(gripper: WeldSuctionGripper, plant: MultibodyPlant, root_context: Context) -> None:
+    """Makes a weld gripper's constraints follow its state; call between advances.
 
     * An attach decided by the gripper's checks is made here: if the part
       still touches the cup (same rule as a check), the constraints hold it at
@@ -671,80 +821,94 @@ def sync_weld(gripper: SuctionGripper, constraints: SuctionConstraints,
 
     Writes nothing when already in sync.
     """
-    if gripper.config.backend != "weld":
-        raise ConfigError(f"sync_weld needs a gripper with backend 'weld'; "
-                          f"{gripper.get_name()!r} has {gripper.config.backend!r}")
-    if int(constraints.cup) != int(gripper.cup_body_index):
-        raise ConfigError(f"sync_weld: the constraints belong to cup body "
-                          f"{int(constraints.cup)}, gripper {gripper.get_name()!r} to "
-                          f"{int(gripper.cup_body_index)}")
+    if not isinstance(gripper, WeldSuctionGripper):
+        raise ConfigError(
+            f"sync_weld needs a weld gripper; {gripper.get_name()!r} has backend {gripper.config.backend!r}"
+        )
+    constraints = gripper.constraints
     gripper_context = gripper.GetMyMutableContextFromRoot(root_context)
     plant_context = plant.GetMyMutableContextFromRoot(root_context)
-    memory = gripper._get_memory(gripper_context)
-    state = memory.state
+    state = gripper.get_state(gripper_context)
     held = constraints.held_body(plant, plant_context)
     if state.attached:
         index = gripper.part_body_index(state.part)
-        if held is not None and int(held) == int(index):
-            return
-        X_CP = constraints.attach(plant, plant_context, plant.get_body(index))
-        gripper._set_memory(gripper_context, replace(memory, state=replace(state, X_CP=X_CP)))
+        if held is None or int(held) != int(index):
+            gripper.remake_hold(
+                gripper_context, constraints.attach(plant, plant_context, plant.get_body(index))
+            )
         return
     if held is not None:
         constraints.release(plant, plant_context)
-    if memory.pending_body < 0:
+    pending = gripper.pending_part(gripper_context)
+    if not pending:
         return
-    t = root_context.get_time()
-    name = gripper._names[memory.pending_body]
-    if gripper._touching_part(gripper_context) != memory.pending_body:
-        _log.info("%s: attach of %s dropped at t = %.3f s (no longer touching)",
-                  gripper.get_name(), name, t)
-        gripper._set_memory(gripper_context, _Memory(state))
+    if gripper.touching_part(gripper_context) != pending:
+        gripper.cancel_attach(gripper_context)
         return
-    X_CP = constraints.attach(plant, plant_context, plant.get_body(BodyIndex(memory.pending_body)))
-    _log.info("%s: attached %s at t = %.3f s", gripper.get_name(), name, t)
-    gripper._set_memory(gripper_context, _Memory(GripperState(
-        enabled=True, attached=True, part=name, X_CP=X_CP, since=t)))
+    X_CP = constraints.attach(plant, plant_context, plant.get_body(gripper.part_body_index(pending)))
+    gripper.complete_attach(gripper_context, X_CP)
 
 
 # ----------------------------------------------------------------------------
 # Wiring
 
 
-def add_suction_gripper(builder: DiagramBuilder, plant: MultibodyPlant, cup_body: RigidBody,
-                        part_bodies: Sequence[RigidBody], config: SuctionConfig,
-                        name: str) -> SuctionGripper:
-    """Adds a :class:`SuctionGripper` named ``name`` and connects it to the plant.
+def add_suction_gripper(
+    builder: DiagramBuilder,
+    plant: MultibodyPlant,
+    cup_body: RigidBody,
+    part_bodies: Sequence[RigidBody],
+    config: SuctionConfig,
+    name: str,
+    constraints: Optional[SuctionConstraints] = None,
+) -> SuctionGripper:
+    """Adds the vacuum gripper of ``config.backend`` named ``name`` and connects it to the plant.
 
-    Connects ``body_poses``, ``contact_results`` and ``body_spatial_velocities``;
-    ``command`` is left to the caller, and so are the force outputs (see
-    :func:`connect_spatial_forces`).
+    ``weld`` needs the ``constraints`` declared for this cup before the plant was
+    finalized (:func:`declare_suction_constraints`); ``force`` needs none.
+    Connects the plant's outputs the gripper reads; ``command`` is left to the
+    caller, and so are the force outputs (see :func:`connect_spatial_forces`).
     """
     config.validate()
-    gripper = builder.AddNamedSystem(name, SuctionGripper(plant, cup_body, part_bodies, config, name))
+    gripper: SuctionGripper
+    if config.backend == "weld":
+        if constraints is None:
+            raise ConfigError(
+                f"gripper {name!r}: the weld backend needs its constraints "
+                "(declare_suction_constraints before plant.Finalize())"
+            )
+        gripper = WeldSuctionGripper(plant, cup_body, part_bodies, config, name, constraints)
+    else:
+        gripper = ForceSuctionGripper(plant, cup_body, part_bodies, config, name)
+    builder.AddNamedSystem(name, gripper)
+    if isinstance(gripper, ForceSuctionGripper):
+        builder.Connect(
+            plant.get_body_spatial_velocities_output_port(), gripper.GetInputPort("body_spatial_velocities")
+        )
     builder.Connect(plant.get_body_poses_output_port(), gripper.GetInputPort("body_poses"))
     builder.Connect(plant.get_contact_results_output_port(), gripper.GetInputPort("contact_results"))
-    builder.Connect(plant.get_body_spatial_velocities_output_port(),
-                    gripper.GetInputPort("body_spatial_velocities"))
     return gripper
 
 
-def connect_spatial_forces(builder: DiagramBuilder, plant: MultibodyPlant,
-                           grippers: Sequence[SuctionGripper]) -> None:
-    """Feeds the force-backend grippers' ``spatial_forces`` to the plant.
+def connect_spatial_forces(
+    builder: DiagramBuilder, plant: MultibodyPlant, grippers: Sequence[SuctionGripper]
+) -> None:
+    """Feeds the force grippers' ``spatial_forces`` to the plant.
 
     The plant has a single ``applied_spatial_force`` input: one force gripper
     is connected directly, several through an
-    ``ExternallyAppliedSpatialForceMultiplexer``. Weld grippers (whose output is
-    always empty) are skipped, and with none left nothing is connected.
+    ``ExternallyAppliedSpatialForceMultiplexer``. Weld grippers have no force
+    output; with no force gripper nothing is connected.
     """
-    sources = [g for g in grippers if g.config.backend == "force"]
+    sources = [g for g in grippers if isinstance(g, ForceSuctionGripper)]
     if not sources:
         return
     port = plant.get_applied_spatial_force_input_port()
     if builder.IsConnectedOrExported(port):
-        raise ConfigError("the plant's applied_spatial_force input is already connected; "
-                          "connect_spatial_forces must be its only source")
+        raise ConfigError(
+            "the plant's applied_spatial_force input is already connected; "
+            "connect_spatial_forces must be its only source"
+        )
     if len(sources) == 1:
         builder.Connect(sources[0].GetOutputPort("spatial_forces"), port)
         return

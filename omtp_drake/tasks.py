@@ -2,26 +2,45 @@
 
 A task (``Scenario.task``) says which robot puts how many parts into which
 bin; the scenario's spawner says where parts appear; the planner
-(:mod:`omtp_drake.pick_and_place`) and the gripper do the work. Success: all
-``parts`` parts in the bin, none disposed of, none left loose, none held.
+(:mod:`omtp_drake.pick_and_place`) and the gripper do the work.
+
+Success is judged from what happened, not from what was hoped: ``parts``
+parts in the bin, each put there by a successful place, and nothing lost (no
+part disposed of, left loose or still held).
 """
 
 from __future__ import annotations
 
+import collections
 import logging
 import math
 import time
-from dataclasses import dataclass, field, replace
+from collections.abc import Callable
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Callable, Optional
+from typing import Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.parts import Ledger
-from omtp_drake.pick_and_place import ControllerStatus, PickRecord, add_pick_and_place
+from omtp_drake.ledger import Ledger
+from omtp_drake.pick_and_place import (
+    ControlState,
+    Mode,
+    PickAndPlaceController,
+    PickHistory,
+    PickRecord,
+    add_pick_and_place,
+    control_of,
+    history_of,
+)
 from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import Scenario, load_scenario
-from omtp_drake.visualization import (add_visual_extras, save_recording, start_meshcat,
-                                      start_recording, view_for)
+from omtp_drake.visualization import (
+    add_visual_extras,
+    save_recording,
+    start_meshcat,
+    start_recording,
+    view_for,
+)
 
 _log = logging.getLogger(__name__)
 
@@ -39,17 +58,18 @@ class TaskResult:
     wall_time_s: float
     bin: str
     parts: int
-    statuses: list[ControllerStatus] = field(default_factory=list, repr=False)
 
     @property
     def summary(self) -> dict:
-        attempted = [p for p in self.picks if p.part]
-        succeeded = [p for p in attempted if p.success]
+        """Counts that equal what the records and the ledger say."""
+        succeeded = [p for p in self.picks if p.success]
+        failed = [p for p in self.picks if not p.success]
         cycles = [p.cycle_time for p in succeeded]
         return {
-            "attempted": len(attempted),
+            "attempted": len(self.picks),
             "succeeded": len(succeeded),
-            "failed": len(attempted) - len(succeeded),
+            "failed": len(failed),
+            "failure_reasons": dict(collections.Counter(p.reason for p in failed)),
             "mean_cycle_time_s": sum(cycles) / len(cycles) if cycles else math.nan,
             "max_cycle_time_s": max(cycles) if cycles else math.nan,
             "sim_time_s": self.sim_time_s,
@@ -61,28 +81,46 @@ class TaskResult:
         }
 
     def to_dict(self) -> dict:
-        return {"scenario": self.scenario, "seed": self.seed,
-                "picks": [p.to_dict() for p in self.picks],
-                "summary": self.summary, "ledger": self.ledger.to_dict()}
+        return {
+            "scenario": self.scenario,
+            "seed": self.seed,
+            "picks": [p.to_dict() for p in self.picks],
+            "summary": self.summary,
+            "ledger": self.ledger.to_dict(),
+        }
 
 
-def prepare(scenario: Scenario | str, *, seed: Optional[int] = None,
-            parts: Optional[int] = None) -> Scenario:
+def judge(picks: list[PickRecord], ledger: Ledger, bin_name: str, parts: int) -> bool:
+    """Did the task succeed: ``parts`` parts in the bin, each by a successful
+    place, and nothing lost?"""
+    placed = {p.part for p in picks if p.success}
+    in_bin = {n for n, where in ledger.parts.items() if where == f"in_bin:{bin_name}"}
+    return (
+        len(in_bin) == parts
+        and in_bin <= placed
+        and ledger.disposed == 0
+        and ledger.loose == 0
+        and sum(ledger.held.values()) == 0
+    )
+
+
+def prepare(scenario: Scenario | str, *, seed: Optional[int] = None, parts: Optional[int] = None) -> Scenario:
     """The scenario with the run's overrides (seed, number of parts) applied."""
     if not isinstance(scenario, Scenario):
         scenario = load_scenario(scenario)
-    if scenario.task is None:
-        raise ConfigError(f"scenario {scenario.name!r} has no task to run")
+    task = scenario.required_task()
     if seed is not None:
         scenario = replace(scenario, seed=int(seed))
     if parts is not None:
         if parts < 1:
             raise ConfigError(f"--parts must be >= 1, got {parts}")
-        scenario = replace(scenario, task=replace(scenario.task, parts=int(parts)))
-    n = scenario.task.parts
+        task = replace(task, parts=int(parts))
+        scenario = replace(scenario, task=task)
+    n = task.parts
     if scenario.spawner is not None:
-        scenario = replace(scenario, spawner=replace(scenario.spawner, max_parts=n),
-                           part_pool=max(scenario.part_pool, n + 2))
+        scenario = replace(
+            scenario, spawner=replace(scenario.spawner, max_parts=n), part_pool=max(scenario.part_pool, n + 2)
+        )
     scenario.validate()
     return scenario
 
@@ -92,28 +130,33 @@ class TaskRun:
 
     def __init__(self, scenario: Scenario, *, meshcat=None):
         self.scenario = scenario
-        task = scenario.task
-        self._controller = None
+        task = scenario.required_task()
+        added: list[PickAndPlaceController] = []
 
         def extend(builder, station):
-            self._controller, self._diffik = add_pick_and_place(builder, station, task)
+            added.append(add_pick_and_place(builder, station, task)[0])
 
         self.runtime = FactoryRuntime(scenario, meshcat=meshcat, extend=extend)
+        self.controller = added[0]
         rt = self.runtime
-        q0 = rt.station.plant.GetPositions(rt._plant_context, rt.station.arm(task.robot).arm)
-        self._diffik.SetPositions(self._diffik.GetMyMutableContextFromRoot(rt.context), q0)
         if rt.station.conveyor is not None and rt.station.break_beam is not None:
             rt.on_tick(_restart_belt_when_beam_clears)
 
-    def status(self) -> ControllerStatus:
-        return self._controller.GetOutputPort("status").Eval(
-            self._controller.GetMyContextFromRoot(self.runtime.context))
+    def control(self) -> ControlState:
+        """What the controller is doing now."""
+        return control_of(self.controller, self.runtime.context)
+
+    def history(self) -> PickHistory:
+        """What the controller has done."""
+        return history_of(self.controller, self.runtime.context)
 
     def done(self) -> bool:
+        task = self.scenario.required_task()
         ledger = self.runtime.ledger()
-        status = self.status()
-        return (ledger.in_bin.get(self.scenario.task.bin, 0) >= self.scenario.task.parts
-                and status.mode in ("HOME", "WAIT_PART"))
+        return ledger.in_bin.get(task.bin, 0) >= task.parts and self.control().mode in (
+            Mode.HOME,
+            Mode.WAIT_PART,
+        )
 
 
 def _restart_belt_when_beam_clears(rt: FactoryRuntime) -> None:
@@ -139,12 +182,14 @@ def run_task(
 
     ``on_start(run)`` is called once before the first advance (e.g. to attach a
     :class:`omtp_drake.plots.RunRecorder`); ``on_chunk(run)`` after every chunk.
+    With ``progress``, a progress bar shows simulated time and parts in the bin.
     """
     scenario = prepare(scenario, seed=seed, parts=parts)
-    n = scenario.task.parts
+    task = scenario.required_task()
+    n = task.parts
     limit = duration if duration is not None else 30.0 * n
-    if limit <= 0:
-        raise ConfigError(f"--duration must be > 0, got {limit}")
+    if not (limit > 0 and math.isfinite(limit)):
+        raise ConfigError(f"--duration must be a finite time > 0 s, got {limit}")
     viewer = start_meshcat(view_for(scenario)) if (meshcat or record) else None
     run = TaskRun(scenario, meshcat=viewer)
     rt = run.runtime
@@ -158,17 +203,21 @@ def run_task(
     if progress:
         from tqdm import tqdm
 
-        bar = tqdm(total=n, desc=scenario.name, unit="part")
+        bar = tqdm(
+            total=round(limit, 1),
+            desc=scenario.name,
+            unit="sim s",
+            bar_format="{desc}: {n:.1f}/{total:.0f} s simulated |{bar}| {postfix} [{elapsed}<{remaining}]",
+        )
     wall0 = time.perf_counter()
-    placed = 0
     while rt.time < limit - 1e-9:
         rt.advance_to(min(limit, rt.time + chunk))
         if on_chunk is not None:
             on_chunk(run)
         if bar is not None:
-            now = rt.ledger().in_bin.get(scenario.task.bin, 0)
-            bar.update(now - placed)
-            placed = now
+            bar.n = round(rt.time, 1)
+            bar.set_postfix_str(f"{rt.ledger().in_bin.get(task.bin, 0)}/{n} in {task.bin}", refresh=False)
+            bar.refresh()
         if run.done():
             break
     wall = time.perf_counter() - wall0
@@ -177,10 +226,15 @@ def run_task(
     if record:
         save_recording(rt.station.visualizer, viewer, record)
     ledger = rt.ledger()
-    status = run.status()
-    in_bin = ledger.in_bin.get(scenario.task.bin, 0)
-    success = (in_bin == n and ledger.disposed == 0 and ledger.on_floor == 0
-               and ledger.on_belt == 0 and sum(ledger.held.values()) == 0)
-    return TaskResult(scenario=scenario.name, seed=scenario.seed, picks=list(status.picks),
-                      ledger=ledger, success=success, sim_time_s=rt.time, wall_time_s=wall,
-                      bin=scenario.task.bin, parts=n)
+    picks = list(run.history().picks)
+    return TaskResult(
+        scenario=scenario.name,
+        seed=scenario.seed,
+        picks=picks,
+        ledger=ledger,
+        success=judge(picks, ledger, task.bin, n),
+        sim_time_s=rt.time,
+        wall_time_s=wall,
+        bin=task.bin,
+        parts=n,
+    )

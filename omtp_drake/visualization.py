@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Optional, Sequence
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 from pydrake.geometry import Meshcat, MeshcatVisualizer, Rgba, Sphere
@@ -59,7 +60,7 @@ def save_recording(visualizer: MeshcatVisualizer, meshcat: Meshcat, path: str | 
 _EYE_OFFSET = np.array([-1.7, 0.3, 1.15])
 
 
-def view_for(scenario: "Scenario") -> tuple[tuple[float, ...], tuple[float, ...]]:
+def view_for(scenario: Scenario) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """(eye, target) of the Meshcat camera for ``scenario``: its task robot, the
     bin it fills and the spot it picks from (its pick camera); without a task,
     its first placed part and the nearest robot; else :data:`DEFAULT_VIEW`."""
@@ -97,15 +98,16 @@ FRUSTUM_RGBA = Rgba(1.0, 0.55, 0.0, 1.0)
 MARKER_RGBA = Rgba(1.0, 0.2, 0.8, 1.0)
 
 
-def frustum_segments(config: "LogicalCameraConfig") -> tuple[np.ndarray, np.ndarray]:
+def frustum_segments(config: LogicalCameraConfig) -> tuple[np.ndarray, np.ndarray]:
     """(start, end), each 3 x 12: the edges of a logical camera's view frustum in
     its camera frame C (view along +Cx, horizontal field of view about Cz)."""
     corners = []
     for d in (config.near, config.far):
         half_y = d * math.tan(config.horizontal_fov / 2)
         half_z = half_y / config.aspect_ratio
-        corners.append([np.array([d, sy * half_y, sz * half_z])
-                        for sy, sz in ((1, 1), (-1, 1), (-1, -1), (1, -1))])
+        corners.append(
+            [np.array([d, sy * half_y, sz * half_z]) for sy, sz in ((1, 1), (-1, 1), (-1, -1), (1, -1))]
+        )
     near, far = corners
     edges = [(a[i], a[(i + 1) % 4]) for a in (near, far) for i in range(4)]
     edges += [(near[i], far[i]) for i in range(4)]
@@ -114,8 +116,14 @@ def frustum_segments(config: "LogicalCameraConfig") -> tuple[np.ndarray, np.ndar
     return start, end
 
 
-def draw_frusta(meshcat: Meshcat, station: "Station", root_context: Context, *,
-                path: str = "/frusta", rgba: Rgba = FRUSTUM_RGBA) -> list[str]:
+def draw_frusta(
+    meshcat: Meshcat,
+    station: Station,
+    root_context: Context,
+    *,
+    path: str = "/frusta",
+    rgba: Rgba = FRUSTUM_RGBA,
+) -> list[str]:
     """Draws each logical camera's view frustum as a wireframe at ``<path>/<camera>``
     (toggle them in Meshcat's controls), at the camera's pose in ``root_context``.
     Static objects: they are part of a recorded replay too. Returns the paths."""
@@ -148,9 +156,17 @@ class DetectionMarkers:
     At most ``per_camera`` markers per camera.
     """
 
-    def __init__(self, meshcat: Meshcat, station: "Station", *,
-                 visualizer: Optional[MeshcatVisualizer] = None, path: str = "/detections",
-                 radius: float = 0.04, per_camera: int = 4, rgba: Rgba = MARKER_RGBA):
+    def __init__(
+        self,
+        meshcat: Meshcat,
+        station: Station,
+        *,
+        visualizer: Optional[MeshcatVisualizer] = None,
+        path: str = "/detections",
+        radius: float = 0.04,
+        per_camera: int = 4,
+        rgba: Rgba = MARKER_RGBA,
+    ):
         if radius <= 0 or per_camera < 1:
             raise ConfigError(f"radius must be > 0 and per_camera >= 1, got {radius}, {per_camera}")
         self._meshcat = meshcat
@@ -163,12 +179,10 @@ class DetectionMarkers:
                 meshcat.SetProperty(slot, "visible", False)
         self._shown: dict[str, bool] = {}
         #: part name -> height of its marker above the reported position (m).
-        self._lift = {name: station.scenario.part_size(name) / 2 + 2 * radius
-                      for name in station.parts}
+        self._lift = {name: station.scenario.part_size(name) / 2 + 2 * radius for name in station.parts}
 
-    def __call__(self, runtime: "FactoryRuntime") -> None:
-        animation = (self._visualizer.get_mutable_recording()
-                     if self._visualizer is not None else None)
+    def __call__(self, runtime: FactoryRuntime) -> None:
+        animation = self._visualizer.get_mutable_recording() if self._visualizer is not None else None
         frame = animation.frame(runtime.time) if animation is not None else 0
         for camera, poses in self.marker_poses(runtime).items():
             slots = self._slots[camera]
@@ -186,30 +200,31 @@ class DetectionMarkers:
                         self._meshcat.SetProperty(slot, "visible", visible)
                 self._shown[slot] = visible
 
-    def marker_poses(self, runtime: "FactoryRuntime") -> dict[str, list[RigidTransform]]:
+    def marker_poses(self, runtime: FactoryRuntime) -> dict[str, list[RigidTransform]]:
         """Camera name -> world poses of its markers now (the parts it reports,
         in its report's order, at most ``per_camera``)."""
         markers: dict[str, list[RigidTransform]] = {}
         for camera, slots in self._slots.items():
             image = runtime.camera_image(camera)
-            if not math.isfinite(image.time):  # not sampled yet, or blacked out
-                markers[camera] = []
+            period = 1.0 / runtime.station.cameras[camera].config.update_rate_hz
+            if not runtime.time - image.time <= period + 1e-9:
+                markers[camera] = []  # not sampled yet, or blacked out (its image is stale)
                 continue
             markers[camera] = [
                 RigidTransform((image.X_WC @ m.X_CM).translation() + [0.0, 0.0, self._lift[m.name]])
-                for m in image.models if m.name in self._lift][:len(slots)]
+                for m in image.models
+                if m.name in self._lift
+            ][: len(slots)]
         return markers
 
 
-def add_visual_extras(runtime: "FactoryRuntime", *, recording: bool = False
-                      ) -> Optional[DetectionMarkers]:
+def add_visual_extras(runtime: FactoryRuntime, *, recording: bool = False) -> Optional[DetectionMarkers]:
     """Frusta and detection markers in the runtime's Meshcat (nothing without one).
     With ``recording``, the markers go into the visualizer's recording."""
     station = runtime.station
     if station.meshcat is None:
         return None
     draw_frusta(station.meshcat, station, runtime.context)
-    markers = DetectionMarkers(station.meshcat, station,
-                               visualizer=station.visualizer if recording else None)
+    markers = DetectionMarkers(station.meshcat, station, visualizer=station.visualizer if recording else None)
     runtime.on_tick(markers)
     return markers

@@ -38,7 +38,7 @@ def dh_fk(model, q):
 @pytest.mark.parametrize("model", ["ur10", "ur5"])
 def test_forward_kinematics_matches_classic_dh(model):
     robot = RobotConfig(name="r", model=model, gripper="")
-    plant = arms.make_control_plant(robot)
+    plant = arms.make_control_plant(robot, [0.0, 0.0, -9.8])
     context = plant.CreateDefaultContext()
     # The DH base frame is ROS's `base` (base_link turned by pi about z); the DH
     # flange is tool0.
@@ -57,6 +57,43 @@ def test_named_pose_lookup_and_errors():
     np.testing.assert_array_equal(arms.named_pose("R1Up"), arms.NAMED_POSES["R1Up"])
     with pytest.raises(UnknownNameError, match="PreGrasp"):
         arms.named_pose("Pregrasp", r2)
+    # Only robot 2's own poses are valid for robot 2 (and the message lists only them).
+    with pytest.raises(UnknownNameError) as e:
+        arms.named_pose("R2Pick", r2)
+    assert "R2PreGrasp" in str(e.value) and "R1" not in str(e.value)
+    with pytest.raises(UnknownNameError):
+        arms.named_pose("R1Home", r2)
+
+
+@pytest.mark.parametrize("q, words", [
+    ([0.0] * 5, ["6 numbers", "got 5"]),
+    ([0.0, 0.0, float("nan"), 0.0, 0.0, 0.0], ["finite"]),
+    ([0.0, 0.0, 4.0, 0.0, 0.0, 0.0], ["elbow_joint", "4.0000", "[-3.1416, 3.1416]"]),
+    ("home", ["6 numbers"]),
+])
+def test_joint_positions_are_checked(q, words):
+    with pytest.raises(ConfigError) as e:
+        arms.check_joint_positions(q, RobotConfig(name="robot1"))
+    for word in words:
+        assert word in str(e.value)
+
+
+def test_servo_model_has_the_scenario_gravity():
+    """Issue 10 bug 4: the servo compensates the scenario's gravity, not Drake's default."""
+    from omtp_drake.scenario import load_scenario
+
+    scenario = load_scenario("omtp_factory")
+    scenario.gravity = [0.0, 0.0, -3.71]  # Mars
+    station = build_station(scenario)
+    for handles in station.arms.values():
+        g = handles.control_plant.gravity_field().gravity_vector()
+        np.testing.assert_allclose(np.linalg.norm(g), 3.71)
+    context = station.create_context()
+    start = _tool_positions(station, context)
+    Simulator(station.diagram, context).AdvanceTo(1.0)
+    end = _tool_positions(station, context)
+    for name in station.arms:
+        assert np.linalg.norm(end[name] - start[name]) < 1e-3
 
 
 def test_joint_trajectory_respects_velocity_limits():
@@ -102,8 +139,7 @@ def test_commanded_move_settles():
         end = max(end, trajectory.end_time())
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
-    for name, handles in factory.arms.items():
-        factory.set_arm_positions(context, name, arms.named_pose("Home", handles.config))
+    factory.initialize_context(context)
     Simulator(diagram, context).AdvanceTo(end + 1.0)
     pc = factory.plant.GetMyContextFromRoot(context)
     for name, handles in factory.arms.items():

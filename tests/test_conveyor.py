@@ -24,7 +24,8 @@ def belt_world(pool=3, **spawner):
 def velocity(rt, name):
     plant = rt.station.plant
     body = plant.GetBodyByName(name)
-    return plant.EvalBodySpatialVelocityInWorld(rt._plant_context, body).translational()
+    return plant.EvalBodySpatialVelocityInWorld(plant.GetMyContextFromRoot(rt.context),
+                                                body).translational()
 
 
 @pytest.mark.parametrize("power", [50.0, 100.0])
@@ -63,7 +64,7 @@ def test_belt_surface_wraps_without_moving_parts():
     rt.set_conveyor_power(100)
     rt.advance(6.0)
     joint = rt.station.plant.GetJointByName("conveyor_belt_joint")
-    assert abs(joint.get_translation(rt._plant_context)) < 0.5
+    assert abs(joint.get_translation(rt.station.plant.GetMyContextFromRoot(rt.context))) < 0.5
     # 6 s at 0.2 m/s (minus the first few ms of acceleration)
     assert rt.part_pose(name).translation()[1] == pytest.approx(4.0 - 1.2, abs=0.01)
 

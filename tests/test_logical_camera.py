@@ -591,3 +591,35 @@ def test_sample_and_hold() -> None:
     assert camera.get_output_port().Eval(context).time == 0.0
     simulator.AdvanceTo(0.25)
     assert camera.get_output_port().Eval(context).time == pytest.approx(0.2)
+
+
+def test_image_lives_in_the_state_it_declared() -> None:
+    """Issue 10 bug 6: the camera writes its own abstract state, not slot 0. A camera
+    class that declares another abstract state first (cooperative inheritance) keeps
+    that state untouched and still publishes its images."""
+    from pydrake.common.value import AbstractValue
+    from pydrake.systems.framework import LeafSystem
+
+    class EarlierState(LeafSystem):
+        def __init__(self) -> None:
+            super().__init__()
+            self.DeclareAbstractState(AbstractValue.Make("untouched"))
+
+    class CameraWithMore(LogicalCamera, EarlierState):
+        pass
+
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
+    part = _add_box_model(plant, "object_1", (0.1, 0.1, 0.1))
+    plant.WeldFrames(plant.world_frame(), part.body_frame(), RigidTransform([0.5, 0, 0]))
+    plant.Finalize()
+    camera = builder.AddSystem(CameraWithMore(plant, scene_graph.model_inspector(),
+                                              plant.world_frame(), LogicalCameraConfig(name="cam")))
+    builder.Connect(plant.get_body_poses_output_port(), camera.get_input_port(0))
+    simulator = Simulator(builder.Build())
+    simulator.Initialize()
+    simulator.AdvanceTo(0.15)
+    context = camera.GetMyContextFromRoot(simulator.get_context())
+    assert context.get_abstract_state(0).get_value() == "untouched"
+    image = camera.get_output_port().Eval(context)
+    assert image.time == pytest.approx(0.1) and [m.name for m in image.models] == ["object_1"]

@@ -1,4 +1,5 @@
-"""Pick and place (reference sections 3 and 7): the course's tasks end with parts in bins."""
+"""Pick and place (reference sections 3 and 7): the course's tasks end with parts in bins,
+and every recovery path happens for real under fault injection."""
 
 import json
 
@@ -7,7 +8,7 @@ import pytest
 
 from omtp_drake import arms
 from omtp_drake.errors import ConfigError
-from omtp_drake.pick_and_place import Segment, _progress, tool_down
+from omtp_drake.pick_and_place import Mode
 from omtp_drake.tasks import TaskRun, prepare, run_task
 
 
@@ -15,15 +16,33 @@ def assert_clean_success(result, bin_name, n):
     ledger = result.ledger
     assert result.success, result.to_dict()
     assert ledger.in_bin[bin_name] == n
-    assert ledger.on_floor == ledger.on_belt == ledger.disposed == 0
+    assert ledger.on_floor == ledger.on_belt == ledger.elsewhere == ledger.disposed == 0
     assert sum(ledger.held.values()) == 0 and ledger.balanced
     assert [p.part for p in result.picks if p.success] == [f"object_{k}" for k in range(1, n + 1)]
+
+
+def plant_context(rt):
+    return rt.station.plant.GetMyContextFromRoot(rt.context)
+
+
+def advance_until(run, mode, limit=30.0):
+    rt = run.runtime
+    while run.control().mode != mode:
+        assert rt.time < limit, f"never reached {mode}"
+        rt.advance(0.05)
+
+
+def finish(run, limit):
+    rt = run.runtime
+    while not run.done() and rt.time < limit:
+        rt.advance(0.5)
+    return run.history().picks
 
 
 def test_assignment4_robot2_places_parts_in_bin1():
     result = run_task("lecture6_assignment4")
     assert_clean_success(result, "bin_1", 2)
-    assert all(p.cycle_time < 8.0 for p in result.picks if p.success)
+    assert all(p.cycle_time < 8.5 for p in result.picks if p.success)
 
 
 def test_lecture7_robot1_picks_from_the_belt_into_bin2():
@@ -46,24 +65,23 @@ def test_fill_bin_five_parts_any_seed(seed):
 def test_limits_respected_during_a_run():
     run = TaskRun(prepare("lecture6_assignment4", parts=1))
     rt = run.runtime
-    robot = rt.station.arm("robot2")
-    plant, tip = robot.control_plant, robot.control_plant.GetFrameByName("vacuum_gripper2_tip")
-    context = plant.CreateDefaultContext()
-    diffik_context = run._diffik.GetMyContextFromRoot(rt.context)
+    station = rt.station
+    robot = station.arm("robot2")
+    tip = station.plant.GetFrameByName("vacuum_gripper2_tip")
+    model, model_tip = robot.control_plant, robot.control_plant.GetFrameByName("vacuum_gripper2_tip")
+    model_context = model.CreateDefaultContext()
+    command = station.diagram.GetInputPort("robot2.position")
     peaks = {"joint": np.zeros(6), "tool": 0.0, "commanded": 0.0}
     last = {}
 
     while not run.done() and rt.time < 20:
         rt.advance(0.005)  # half DiffIK's period: at most one DiffIK step per advance
-        v = rt.station.plant.GetVelocities(rt._plant_context, robot.arm)
-        q = rt.station.plant.GetPositions(rt._plant_context, robot.arm)
-        peaks["joint"] = np.maximum(peaks["joint"], np.abs(v))
-        plant.SetPositions(context, q)
-        plant.SetVelocities(context, v)
+        pc = plant_context(rt)
+        peaks["joint"] = np.maximum(peaks["joint"], np.abs(station.plant.GetVelocities(pc, robot.arm)))
         peaks["tool"] = max(peaks["tool"], float(np.linalg.norm(
-            tip.CalcSpatialVelocityInWorld(context).translational())))
-        plant.SetPositions(context, run._diffik.get_output_port().Eval(diffik_context))
-        p = tip.CalcPoseInWorld(context).translation()
+            tip.CalcSpatialVelocityInWorld(pc).translational())))
+        model.SetPositions(model_context, command.Eval(station.diagram.GetMyContextFromRoot(rt.context)))
+        p = model_tip.CalcPoseInWorld(model_context).translation()
         if "p" in last:  # commanded tool speed: one DiffIK step moves at most 1 m/s x 10 ms
             peaks["commanded"] = max(peaks["commanded"], np.linalg.norm(p - last["p"]) / 0.01)
         last["p"] = p
@@ -76,7 +94,7 @@ def test_limits_respected_during_a_run():
 
 def test_controller_sees_only_cameras_gripper_and_joints():
     run = TaskRun(prepare("lecture6_assignment4", parts=1))
-    controller = run._controller
+    controller = run.controller
     names = {controller.get_input_port(i).get_name() for i in range(controller.num_input_ports())}
     assert names == {"camera_image", "bin_camera_image", "gripper_state", "robot_state"}
 
@@ -84,13 +102,10 @@ def test_controller_sees_only_cameras_gripper_and_joints():
 def test_vacuum_failure_mid_transfer_is_noticed_and_recovered():
     run = TaskRun(prepare("fill_bin", parts=2))
     rt = run.runtime
-    while run.status().mode != "TRANSFER":
-        rt.advance(0.05)
+    advance_until(run, Mode.TRANSFER)
     rt.advance(0.3)
     rt.fail_vacuum("robot2", 0.5)
-    while not run.done() and rt.time < 60:
-        rt.advance(0.5)
-    picks = run.status().picks
+    picks = finish(run, 60)
     assert picks[0].reason == "dropped" and not picks[0].success
     assert picks[1].part == picks[0].part and picks[1].success  # re-picked where it fell
     assert rt.ledger().in_bin["bin_1"] == 2
@@ -101,26 +116,55 @@ def test_camera_blackout_waits_then_continues():
     rt = run.runtime
     rt.black_out_camera("logical_camera_2", 2.0)
     rt.advance(1.9)
-    assert run.status().mode == "WAIT_PART" and run.status().part == ""
-    while not run.done() and rt.time < 20:
-        rt.advance(0.5)
-    picks = run.status().picks
+    assert run.control().mode == Mode.WAIT_PART and run.control().part == ""
+    picks = finish(run, 20)
     assert [p.success for p in picks] == [True] and picks[0].start >= 2.0
 
 
-def test_paths_are_smooth_and_end_where_asked():
-    tau = np.linspace(0, 1, 2001)
-    s = np.array([_progress(x) for x in tau])
-    v = np.gradient(s, tau)
-    assert s[0] == 0 and s[-1] == pytest.approx(1) and abs(v[0]) < 1e-3 and abs(v[-1]) < 1e-3
-    assert np.abs(np.diff(v)).max() < 0.01  # no velocity steps
-    X0, X1 = tool_down(np.array([1.0, 0.0, 0.5]), 0.0), tool_down(np.array([0.0, 1.0, 0.5]), 1.0)
-    arc = Segment("arc", 0.0, 2.0, X0, X1, (0.0, 0.0))
-    assert arc.pose(2.0).IsNearlyEqualTo(X1, 1e-9)
-    for t in np.linspace(0, 2, 9):  # a level arc of radius 1 about the centre
-        p = arc.pose(t).translation()
-        assert np.hypot(p[0], p[1]) == pytest.approx(1.0) and p[2] == pytest.approx(0.5)
-        assert arc.pose(t).rotation().col(2) == pytest.approx([0, 0, -1])
+def test_blocked_arm_is_a_tracking_failure_diffik_restarts_and_the_part_is_placed():
+    """Issue 10 bug 1: after a tracking failure DiffIK restarts from the measured joints
+    (use_robot_state true for one controller period), and the pick is retried."""
+    run = TaskRun(prepare("lecture6_assignment4", parts=1))
+    rt = run.runtime
+    advance_until(run, Mode.TRANSFER)
+    rt.advance(0.3)
+    rt.block_arm("robot2", 1.5)
+    use_robot_state = run.controller.GetOutputPort("use_robot_state")
+    resets = []
+    while run.control().mode != Mode.HOME:
+        rt.advance(0.05)
+    resets.append(use_robot_state.Eval(run.controller.GetMyContextFromRoot(rt.context)))
+    rt.advance(0.05)
+    resets.append(use_robot_state.Eval(run.controller.GetMyContextFromRoot(rt.context)))
+    assert resets == [True, False]
+    picks = finish(run, 30)
+    assert picks[0].reason == "tracking" and picks[0].part == "object_1"
+    assert picks[-1].success and picks[-1].part == "object_1"
+    assert rt.ledger().in_bin["bin_1"] == 1 and rt.ledger().balanced
+
+
+def test_suction_that_never_attaches_times_out_and_is_retried():
+    run = TaskRun(prepare("lecture6_assignment4", parts=1))
+    rt = run.runtime
+    advance_until(run, Mode.DESCEND)
+    rt.fail_vacuum("robot2", 2.0)  # longer than the 1 s attach timeout
+    picks = finish(run, 30)
+    assert [(p.reason, p.attempt) for p in picks] == [("attach_timeout", 1), ("", 2)]
+    assert picks[-1].success and rt.ledger().in_bin["bin_1"] == 1
+
+
+def test_a_bin_moved_after_planning_is_a_missed_bin_then_found_again():
+    run = TaskRun(prepare("lecture6_assignment4", parts=1))
+    rt = run.runtime
+    advance_until(run, Mode.TRANSFER)  # the place is planned for the bin where it was
+    rt.move_bin("bin_1", [-8.35, -2.1, 0.0])
+    picks = finish(run, 30)
+    assert picks[0].reason == "missed_bin" and not picks[0].success
+    # Found beside the bin by the bin camera, picked again, placed in the bin where it is now.
+    assert picks[1].success and picks[1].part == "object_1"
+    p = rt.part_pose("object_1").translation()
+    assert rt.scenario.bin("bin_1").contains(p, rt.bin_pose("bin_1"))
+    assert np.linalg.norm(p[:2] - [-8.35, -2.1]) < 0.2
 
 
 def test_run_cli_writes_json_and_exit_code(tmp_path, capsys):
@@ -130,8 +174,9 @@ def test_run_cli_writes_json_and_exit_code(tmp_path, capsys):
     assert main(["run", "lecture6_assignment4", "--parts", "1", "--json", str(path), "-q"]) == 0
     data = json.loads(path.read_text())
     assert set(data) == {"scenario", "seed", "picks", "summary", "ledger"}
-    assert {"attempted", "succeeded", "failed", "mean_cycle_time_s", "sim_time_s", "wall_time_s",
-            "real_time_factor"} <= set(data["summary"])
+    assert {"attempted", "succeeded", "failed", "failure_reasons", "mean_cycle_time_s",
+            "sim_time_s", "wall_time_s", "real_time_factor"} <= set(data["summary"])
+    assert data["summary"]["failed"] == sum(not p["success"] for p in data["picks"])
     assert "SUCCESS" in capsys.readouterr().out
     # Too short to finish: the task failed, exit code 1.
     assert main(["run", "lecture6_assignment4", "--parts", "1", "--duration", "2", "-q"]) == 1

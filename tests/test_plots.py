@@ -43,11 +43,13 @@ def test_recorder_samples_every_tick_with_sane_data(one_pick):
     assert rec.detections["logical_camera_bin_1"][0] == 0
     assert rec.detections["logical_camera_bin_1"][-1] == 1
     assert set(rec.mode) >= {"WAIT_PART", "APPROACH", "DESCEND", "TRANSFER"}
-    # Ledger: one part, first on the floor, then held, finally in bin 1; conserved throughout.
+    # Ledger: one part, first falling (elsewhere), on the floor, then held, finally in bin 1;
+    # conserved throughout.
     totals = np.sum([rec.ledger[k] for k in rec.ledger], axis=0)
     assert set(totals.tolist()) == {1}
     assert max(rec.ledger["held"]) == 1 and rec.ledger["held"][-1] == 0
-    assert rec.ledger["in_bin:bin_1"][-1] == 1 and rec.ledger["on_floor"][0] == 1
+    assert rec.ledger["in_bin:bin_1"][-1] == 1 and rec.ledger["elsewhere"][0] == 1
+    assert max(rec.ledger["on_floor"]) == 1
 
 
 def test_recorder_period_thins_samples(one_pick):
@@ -82,8 +84,8 @@ def test_ledger_plot_stacks_every_category(one_pick):
     _, rec = one_pick
     ax, = plot_ledger(rec).get_axes()
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
-    assert labels == ["on_belt", "on_floor", "held", "in bin_1", "disposed"]
-    assert len(ax.collections) == 5
+    assert labels == ["on_belt", "on_floor", "elsewhere", "held", "in bin_1", "disposed"]
+    assert len(ax.collections) == 6
     assert ax.get_ylim()[1] >= 1
 
 

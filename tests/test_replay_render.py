@@ -142,6 +142,13 @@ def test_detection_markers_float_over_parts_only():
     assert poses["logical_camera_bin_1"] == []          # it sees bin_1 only: no part
     with pytest.raises(ConfigError, match="radius must be > 0"):
         DetectionMarkers(station.meshcat, station, radius=0.0)
+    # Issue 10 bug 5: a blacked-out camera publishes nothing, so its markers go away
+    # (its held image goes stale), and come back when it publishes again.
+    run.runtime.black_out_camera("logical_camera_2", 1.0)
+    run.runtime.advance(0.5)
+    assert markers.marker_poses(run.runtime)["logical_camera_2"] == []
+    run.runtime.advance(0.7)
+    assert len(markers.marker_poses(run.runtime)["logical_camera_2"]) == 1
 
 
 def test_view_for_aims_at_the_task_robot():

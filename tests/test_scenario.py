@@ -30,7 +30,7 @@ def test_missing_file(tmp_path):
 def test_unknown_key_names_valid_keys(tmp_path):
     path = tmp_path / "bad.yaml"
     path.write_text("base: omtp_factory\nrobot: []\n")
-    with pytest.raises(ScenarioError, match=r"unknown key\(s\) robot; valid keys: .*robots"):
+    with pytest.raises(ScenarioError, match=r"bad.yaml: unknown key 'robot' \(did you mean 'robots'\?\); valid keys: .*robots"):
         load_scenario(path)
 
 
@@ -59,7 +59,7 @@ def test_user_world_from_path_inherits_base(tmp_path):
     path.write_text(
         "base: omtp_factory\n"
         "description: only robot 2\n"
-        "robots:\n"
+        "robots: !replace\n"
         "  - {name: robot2, model: ur5, xy: [-7.8, -1.5], pedestal_height: 0.7, yaw: 1.57,\n"
         "     pose_prefix: R2, gripper: vacuum_gripper2}\n")
     s = load_scenario(str(path))
@@ -67,3 +67,60 @@ def test_user_world_from_path_inherits_base(tmp_path):
     assert len(s.cameras) == 2
     station = build_station(s)
     assert list(station.arms) == ["robot2"]
+
+
+def test_base_merges_named_lists_by_name(tmp_path):
+    """fill_bin changes one joint limit of robot 2 and keeps everything else of the base."""
+    s = load_scenario("fill_bin")
+    base = load_scenario("lecture6_assignment4")
+    assert [r.name for r in s.robots] == ["robot1", "robot2"]
+    r2, b2 = s.robot("robot2"), base.robot("robot2")
+    assert r2.joint_limit == pytest.approx(2 * 3.141592653589793) and b2.joint_limit < 3.2
+    assert (r2.model, r2.xy, r2.yaw, r2.gripper) == (b2.model, b2.xy, b2.yaw, b2.gripper)
+    # A camera added by name; the course's two come from the base.
+    assert [c.name for c in base.cameras] == ["logical_camera_1", "logical_camera_2",
+                                              "logical_camera_bin_1"]
+    # A child's item of a known name merges key by key.
+    path = tmp_path / "near.yaml"
+    path.write_text("base: omtp_factory\ncameras:\n  - {name: logical_camera_2, far: 1.5}\n")
+    cam = {c.name: c for c in load_scenario(path).cameras}["logical_camera_2"]
+    assert cam.far == 1.5 and cam.horizontal_fov == pytest.approx(0.65)
+
+
+def test_pose_in_drake_transform_form(tmp_path):
+    s = load_scenario("lecture6_assignment4")
+    cam = {c.name: c for c in s.cameras}["logical_camera_bin_1"]
+    assert cam.xyz == pytest.approx([-8.0, -2.2, 1.7])
+    assert cam.rpy == pytest.approx([0.0, 3.141592653589793 / 2, 0.0])
+    path = tmp_path / "both.yaml"
+    path.write_text("base: omtp_factory\nparts:\n  - {name: p1, xyz: [0, 0, 0.1],\n"
+                    "     pose: {translation: [0, 0, 0.1]}}\n")
+    with pytest.raises(ScenarioError, match=r"parts\[p1\] gives both pose and xyz"):
+        load_scenario(path)
+
+
+def test_misspelt_nested_key_names_file_key_closest_and_valid(tmp_path):
+    """Issue 11: the bad key, the file, the valid keys and the closest one."""
+    path = tmp_path / "cams.yaml"
+    path.write_text("base: omtp_factory\ncameras:\n  - {name: logical_camera_2, hfov: 0.7}\n")
+    with pytest.raises(ScenarioError) as e:
+        load_scenario(path)
+    message = str(e.value)
+    assert message.startswith("cams.yaml: cameras[logical_camera_2]: unknown key 'hfov'")
+    assert "did you mean 'horizontal_fov'" in message and "valid keys: name, parent" in message
+
+
+@pytest.mark.parametrize("text, words", [
+    ("task: {robot: robot9}\n", ["task.robot", "robot9", "robot1, robot2"]),
+    ("task: {camera: cam}\n", ["task.camera", "'cam'", "logical_camera_1"]),
+    ("task: {bin: bin_7}\n", ["bin", "bin_7", "bin_1"]),
+    ("conveyor: {stop_on_beam: true}\nbreak_beam: false\n", ["stop_on_beam needs break_beam"]),
+    ("robots:\n  - {name: robot2, gripper: ''}\ntask: {robot: robot2}\n", ["has no gripper"]),
+])
+def test_cross_references_are_checked_at_load(tmp_path, text, words):
+    path = tmp_path / "bad.yaml"
+    path.write_text("base: omtp_factory\n" + text)
+    with pytest.raises((ConfigError, UnknownNameError)) as e:
+        load_scenario(path)
+    for word in words:
+        assert word in str(e.value)

@@ -1,258 +1,34 @@
-"""The vacuum gripper (omtp_drake.suction), both backends, on a small rig.
-
-The rig: a world HalfSpace floor, a "tool" carried by x, y, z prismatic joints
-and yaw, tilt revolute joints, each driven by a stiff SAP PD actuator that
-tracks a scripted trajectory (simulated time), the course's vacuum gripper
-welded to the tool with its cup pointing down (world -z), and 0.2 m cube parts
-on the floor. A driver loop advances the simulator in chunks and calls
-``sync_weld`` after each chunk, as the runtime does.
-"""
+"""The vacuum gripper (omtp_drake.suction), both backends, on the suction rig
+(omtp_drake.suction_rig: a 5-DOF tool over a floor with parts)."""
 
 import math
-from dataclasses import dataclass, field
-from typing import Callable, Optional, Sequence
 
 import numpy as np
 import pytest
 from pydrake.common.yaml import yaml_load_typed
-from pydrake.geometry import HalfSpace
-from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import Parser
-from pydrake.multibody.plant import (
-    AddMultibodyPlant,
-    CoulombFriction,
-    MultibodyPlant,
-    MultibodyPlantConfig,
-)
-from pydrake.multibody.tree import (
-    PdControllerGains,
-    PrismaticJoint,
-    RevoluteJoint,
-    RigidBody,
-    SpatialInertia,
-)
-from pydrake.systems.analysis import Simulator
-from pydrake.systems.framework import Context, Diagram, DiagramBuilder
-from pydrake.systems.primitives import TrajectorySource
+from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
+from pydrake.systems.framework import DiagramBuilder
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.scenario import Scenario
 from omtp_drake.suction import (
+    ForceSuctionGripper,
     GripperState,
     SuctionConfig,
-    SuctionConstraints,
-    SuctionGripper,
-    _octahedron,
     add_suction_gripper,
     connect_spatial_forces,
     declare_suction_constraints,
+    octahedron,
     sync_weld,
 )
+from omtp_drake.suction_rig import (
+    GRIPPER, H, PART_Z, PRESS, SIZE, TOP, CUP_OFFSET, Rig, build_rig, hold, logged_at,
+    plant_config, pose_change, tool_q, trajectory)
 
-H = 0.002                 # plant step [s]
-CHUNK = 0.05              # driver chunk = the runtime's tick [s]
-SIZE = 0.2                # part edge [m]
-PART_Z = SIZE / 2 + 0.001  # a part's centre resting on its 1 mm corner spheres
-TOP = SIZE + 0.001        # its top face
-CUP_OFFSET = 0.0775       # tool0 -> cup face along the gripper's +z (world -z here)
-PRESS = 0.002             # how far the cup face is commanded into the part
-GRIPPER = "vacuum_gripper1"
 BACKENDS = ("weld", "force")
-# The tool's joints (positions q): x, y, z (tool0's world position), yaw
-# about world z, tilt about the tool's x axis (0 = cup straight down).
-
-
-# ----------------------------------------------------------------------------
-# Rig
-
-
-@dataclass
-class Rig:
-    diagram: Diagram
-    plant: MultibodyPlant
-    gripper: SuctionGripper
-    constraints: Optional[SuctionConstraints]
-    parts: list[RigidBody]
-    simulator: Simulator
-    context: Context
-    #: (time, X_WP of parts[0], X_WC) after every plant step.
-    log: list = field(default_factory=list)
-
-    @property
-    def plant_context(self) -> Context:
-        return self.plant.GetMyContextFromRoot(self.context)
-
-    @property
-    def time(self) -> float:
-        return self.context.get_time()
-
-    def command(self, on: bool) -> None:
-        self.gripper.GetInputPort("command").FixValue(
-            self.gripper.GetMyMutableContextFromRoot(self.context), [1.0 if on else 0.0])
-
-    def state(self) -> GripperState:
-        return self.gripper.GetOutputPort("state").Eval(
-            self.gripper.GetMyContextFromRoot(self.context))
-
-    def X_WP(self, i: int = 0) -> RigidTransform:
-        return self.plant.EvalBodyPoseInWorld(self.plant_context, self.parts[i])
-
-    def X_WC(self) -> RigidTransform:
-        return self.plant.EvalBodyPoseInWorld(self.plant_context, self.plant.get_body(
-            self.gripper.cup_body_index))
-
-    def advance_to(self, t: float, chunk: float = CHUNK,
-                   after: Optional[Callable[["Rig"], None]] = None) -> None:
-        """The runtime's loop: advance in chunks, sync the weld after each."""
-        while self.time < t - 1e-9:
-            k = math.floor(self.time / chunk + 1e-9) + 1
-            self.simulator.AdvanceTo(min(t, k * chunk))
-            if self.constraints is not None:
-                sync_weld(self.gripper, self.constraints, self.plant, self.context)
-            if after is not None:
-                after(self)
-
-    def cup_part_contacts(self) -> int:
-        results = self.plant.get_contact_results_output_port().Eval(self.plant_context)
-        cup, part = int(self.gripper.cup_body_index), int(self.parts[0].index())
-        return sum({int(results.point_pair_contact_info(i).bodyA_index()),
-                    int(results.point_pair_contact_info(i).bodyB_index())} == {cup, part}
-                   for i in range(results.num_point_pair_contacts()))
-
-
-def tool_q(x: float, y: float, cup_z: float, yaw: float = 0.0, tilt: float = 0.0) -> np.ndarray:
-    """Joint positions putting the cup face centre at (x, y, cup_z) (before tilt)."""
-    return np.array([x, y, cup_z + CUP_OFFSET, yaw, tilt])
-
-
-def trajectory(waypoints: Sequence[tuple[float, np.ndarray]], accel: float = 20.0,
-               dt: float = H) -> PiecewisePolynomial:
-    """Straight segments between (time, q) waypoints, each with a trapezoidal speed.
-
-    Each segment starts and ends at rest and accelerates at ``accel`` (m/s^2 or
-    rad/s^2) up to the cruise speed that makes it last its duration; a huge
-    ``accel`` gives steps in velocity. Sampled every ``dt`` (first-order hold).
-    """
-    times, qs = [waypoints[0][0]], [np.asarray(waypoints[0][1], float)]
-    for (t0, q0), (t1, q1) in zip(waypoints, waypoints[1:]):
-        q0, q1 = np.asarray(q0, float), np.asarray(q1, float)
-        T, D = t1 - t0, float(np.max(np.abs(q1 - q0)))
-        n = max(1, int(round(T / dt)))
-        for k in range(1, n + 1):
-            s = _trapezoid(k * T / n, T, D, accel) / D if D > 0 else 1.0
-            times.append(t0 + k * T / n)
-            qs.append(q0 + s * (q1 - q0))
-    return PiecewisePolynomial.FirstOrderHold(times, np.array(qs).T)
-
-
-def _trapezoid(t: float, T: float, D: float, a: float) -> float:
-    """Distance covered at t by a rest-to-rest trapezoid of length D in time T."""
-    # cruise speed v with ramps of v / a: D = v T - v^2 / a.
-    disc = T * T - 4 * D / a
-    if disc < 0:
-        raise ValueError(f"cannot cover {D} in {T} s at {a}")
-    v = (T - math.sqrt(disc)) * a / 2
-    tr = v / a
-    if t < tr:
-        return 0.5 * a * t * t
-    if t > T - tr:
-        return D - 0.5 * a * (T - t) ** 2
-    return 0.5 * a * tr * tr + v * (t - tr)
-
-
-def plant_config() -> MultibodyPlantConfig:
-    """The station's plant settings (2 ms SAP point contact, unsampled output ports)."""
-    config = Scenario().plant_config
-    assert config.time_step == H
-    return config
-
-
-def build_rig(backend: str, motion: PiecewisePolynomial, *,
-              parts: Sequence[tuple[float, float, float]] = ((0.0, 0.0, 0.0),),
-              mass: float = 0.2, config: Optional[SuctionConfig] = None,
-              log: bool = True) -> Rig:
-    """The rig with parts at (x, y, yaw) on the floor, the tool following ``motion``."""
-    builder = DiagramBuilder()
-    plant, scene_graph = AddMultibodyPlant(plant_config(), builder)
-    plant.RegisterCollisionGeometry(plant.world_body(), RigidTransform(), HalfSpace(), "floor",
-                                    CoulombFriction(1.0, 1.0))
-    tool = plant.AddModelInstance("tool")
-    light = SpatialInertia.SolidBoxWithMass(0.1, 0.05, 0.05, 0.05)
-    links = [plant.AddRigidBody(n, tool, light) for n in ("tool_x", "tool_y", "tool_z", "tool_yaw")]
-    links.append(plant.AddRigidBody("tool", tool, SpatialInertia.SolidBoxWithMass(0.5, 0.05, 0.05, 0.05)))
-    parents = [plant.world_body()] + links[:-1]
-    joints = [
-        PrismaticJoint("jx", parents[0].body_frame(), links[0].body_frame(), [1, 0, 0]),
-        PrismaticJoint("jy", parents[1].body_frame(), links[1].body_frame(), [0, 1, 0]),
-        PrismaticJoint("jz", parents[2].body_frame(), links[2].body_frame(), [0, 0, 1]),
-        RevoluteJoint("jyaw", parents[3].body_frame(), links[3].body_frame(), [0, 0, 1]),
-        RevoluteJoint("jtilt", parents[4].body_frame(), links[4].body_frame(), [1, 0, 0]),
-    ]
-    for joint in joints:
-        joint = plant.AddJoint(joint)
-        actuator = plant.AddJointActuator(joint.name(), joint)
-        actuator.set_controller_gains(PdControllerGains(p=1e6, d=2e4))
-    parser = Parser(plant)
-    (gripper_instance,) = parser.AddModelsFromString(
-        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf")
-    # Cup down: the gripper's +z (out of the tool) along world -z.
-    plant.WeldFrames(links[-1].body_frame(), plant.GetFrameByName(f"{GRIPPER}_base_link"),
-                     RigidTransform(RollPitchYaw(math.pi, 0, 0), [0, 0, 0]))
-    part_bodies = []
-    for i, (x, y, yaw) in enumerate(parts):
-        (instance,) = parser.AddModelsFromString(expand_xacro(
-            MODELS_DIR / "part.urdf.xacro", {"name": f"part_{i}", "size": SIZE, "mass": mass}), "urdf")
-        body = plant.GetBodyByName(f"part_{i}", instance)
-        plant.SetDefaultFloatingBaseBodyPose(body, RigidTransform(RollPitchYaw(0, 0, yaw), [x, y, PART_Z]))
-        part_bodies.append(body)
-    cup = plant.GetBodyByName(f"{GRIPPER}_cup")
-    config = config or SuctionConfig(backend=backend)
-    constraints = declare_suction_constraints(plant, cup, part_bodies[0]) if backend == "weld" else None
-    plant.Finalize()
-
-    source = builder.AddSystem(TrajectorySource(motion, output_derivative_order=1))
-    builder.Connect(source.get_output_port(), plant.get_desired_state_input_port(tool))
-    gripper = add_suction_gripper(builder, plant, cup, part_bodies, config, "suction1")
-    connect_spatial_forces(builder, plant, [gripper])
-    diagram = builder.Build()
-
-    context = diagram.CreateDefaultContext()
-    plant_context = plant.GetMyMutableContextFromRoot(context)
-    plant.SetPositions(plant_context, tool, motion.value(motion.start_time()).ravel())
-    if constraints is not None:
-        constraints.deactivate_all(plant, plant_context)
-    simulator = Simulator(diagram, context)
-    rig = Rig(diagram, plant, gripper, constraints, part_bodies, simulator, context)
-    if log:
-        def monitor(root: Context):
-            pc = plant.GetMyContextFromRoot(root)
-            rig.log.append((root.get_time(), plant.EvalBodyPoseInWorld(pc, part_bodies[0]),
-                            plant.EvalBodyPoseInWorld(pc, cup)))
-        simulator.set_monitor(monitor)
-    rig.command(False)
-    simulator.Initialize()
-    return rig
-
-
-def hold(q: np.ndarray, until: float = 5.0) -> PiecewisePolynomial:
-    return trajectory([(0.0, q), (until, q)])
-
-
-def pose_change(X_a: RigidTransform, X_b: RigidTransform) -> tuple[float, float]:
-    """(distance [m], angle [deg]) between two poses."""
-    angle = X_a.rotation().InvertAndCompose(X_b.rotation()).ToAngleAxis().angle()
-    return float(np.linalg.norm(X_a.translation() - X_b.translation())), math.degrees(angle)
-
-
-def logged_at(rig: Rig, t: float) -> tuple[RigidTransform, RigidTransform]:
-    """(X_WP, X_WC) logged at time t (the step ending at t)."""
-    for time, X_WP, X_WC in rig.log:
-        if abs(time - t) < 1e-9:
-            return X_WP, X_WC
-    raise AssertionError(f"no log entry at t = {t}")
-
 
 # ----------------------------------------------------------------------------
 # Configuration
@@ -297,7 +73,7 @@ def test_add_suction_gripper_validates_config():
 
 def test_octahedron_of_six_distances_is_rigid():
     """The six lengths fix all 6 DOF of the relative pose (full-rank rigidity matrix)."""
-    a, b, pairs = _octahedron()
+    a, b, pairs = octahedron()
     assert len({(i, j) for i, j in pairs}) == 6
     # d(distance_ij) = u . (w x b_j + v) = (b_j x u) . w + u . v for a twist [w, v] of the
     # part side, u = unit(b_j - a_i); rotations scaled by the triangle radius R.
@@ -332,8 +108,8 @@ def test_state_fields_and_two_consecutive_checks(backend):
         assert rig.state().attached and rig.state().since == pytest.approx(0.05)
     else:  # decided; held (and reported) once the runtime syncs the constraints
         assert not rig.state().attached
-        assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
-        sync_weld(rig.gripper, rig.constraints, rig.plant, rig.context)
+        assert rig.held_body() is None
+        sync_weld(rig.gripper, rig.plant, rig.context)
         assert rig.state().attached and rig.state().since == pytest.approx(0.07)
     state = rig.state()
     assert state.enabled and state.attached and state.part == "part_0"
@@ -343,7 +119,7 @@ def test_state_fields_and_two_consecutive_checks(backend):
     assert p_CP[2] == pytest.approx(SIZE / 2 - PRESS, abs=1e-3)
     assert math.hypot(p_CP[0], p_CP[1]) == pytest.approx(0.04, abs=1e-3)
     if backend == "weld":
-        assert int(rig.constraints.held_body(rig.plant, rig.plant_context)) == int(rig.parts[0].index())
+        assert rig.held_body() == int(rig.parts[0].index())
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
@@ -371,9 +147,9 @@ def test_weld_attach_is_dropped_if_the_part_is_gone_at_the_sync():
     assert not rig.state().attached
     rig.simulator.AdvanceTo(0.09)  # lifted; the check at 0.10 not yet run
     assert rig.cup_part_contacts() == 0
-    sync_weld(rig.gripper, rig.constraints, rig.plant, rig.context)
+    sync_weld(rig.gripper, rig.plant, rig.context)
     assert not rig.state().attached
-    assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
+    assert rig.held_body() is None
     rig.advance_to(0.4)
     assert not rig.state().attached and rig.X_WP().translation()[2] < PART_Z + 1e-3
 
@@ -397,7 +173,7 @@ def test_no_attach_when_disabled(backend):
     state = rig.state()
     assert not state.enabled and not state.attached
     if backend == "weld":
-        assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
+        assert rig.held_body() is None
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
@@ -529,7 +305,7 @@ def test_holds_a_1kg_part_through_a_fast_move_then_releases(backend, reaction):
     p = rig.X_WP().translation()
     assert p[2] == pytest.approx(PART_Z, abs=0.02)
     if backend == "weld":
-        assert rig.constraints.held_body(rig.plant, rig.plant_context) is None
+        assert rig.held_body() is None
 
 
 def test_force_backend_loses_hold_when_pulled_away():
@@ -594,7 +370,8 @@ def test_gripper_rejects_anchored_parts_and_declares_before_finalize():
     with pytest.raises(ConfigError, match="before plant.Finalize"):
         declare_suction_constraints(plant, cup, plant.GetBodyByName("p"))
     with pytest.raises(ConfigError, match="'fixed' is anchored"):
-        SuctionGripper(plant, cup, [plant.GetBodyByName("fixed")], SuctionConfig(), "s")
+        ForceSuctionGripper(plant, cup, [plant.GetBodyByName("fixed")],
+                            SuctionConfig(backend="force"), "s")
 
 
 def test_weld_backend_needs_the_sap_solver():

@@ -1,0 +1,282 @@
+"""The driver: one way to run the cell.
+
+Some changes to the world are not a system's to make, because a system may
+not write another system's Context (Drake's rule): spawning and disposing of
+parts, making a weld gripper's constraints, shifting the belt surface back,
+moving a bin. Each is a small :class:`WorldEdit` with a period; the
+:class:`Driver` owns the Simulator, advances it to the next time an edit (or a
+callback) is due, and applies the edits due there, between advances.
+
+Everything depends only on simulated time and the scenario's seed, so the same
+scenario and seed give the same run.
+
+Example (what :class:`omtp_drake.runtime.FactoryRuntime` does)::
+
+    context = diagram.CreateDefaultContext()
+    station.initialize_context(context, hold=free_station_inputs)
+    pool = PartPool(station)
+    driver = Driver(diagram, context, world_edits(station, pool))
+    driver.advance_to(10.0)
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Optional, Protocol
+
+from pydrake.systems.analysis import Simulator
+from pydrake.systems.framework import Context, Diagram
+
+from omtp_drake.conveyor import WRAP_TRAVEL
+from omtp_drake.errors import ConfigError, SimulationError
+from omtp_drake.ledger import held_parts, locate
+from omtp_drake.parts import PartPool, SpawnerConfig, spawn_pose
+from omtp_drake.suction import WeldSuctionGripper, sync_weld
+
+if TYPE_CHECKING:
+    from omtp_drake.station import Station
+
+_log = logging.getLogger(__name__)
+
+#: Times closer than this (s) are the same time.
+_EPS = 1e-9
+#: The deletion wall checks for contact at 5 Hz (the course's rate).
+DISPOSAL_PERIOD = 0.2
+#: The spawner looks whether a spawn is due at 20 Hz.
+SPAWN_CHECK_PERIOD = 0.05
+#: The belt surface travels at most 0.2 m/s: shifting it back every second
+#: keeps it within WRAP_TRAVEL.
+BELT_WRAP_PERIOD = 1.0
+
+
+class WorldEdit(Protocol):
+    """A change to the Context that no system may make, applied between advances.
+
+    The driver applies it at every multiple of ``period`` (s of simulated time),
+    before the events due at that time are handled.
+    """
+
+    period: float
+
+    def __call__(self, root_context: Context) -> None: ...
+
+
+class WeldSync:
+    """Weld grippers: makes the plant's constraints follow each gripper's state
+    (:func:`omtp_drake.suction.sync_weld`), right after every gripper check."""
+
+    def __init__(self, station: Station):
+        self._plant = station.plant
+        self._grippers = [g for g in station.grippers.values() if isinstance(g, WeldSuctionGripper)]
+        rates = {g.config.check_rate_hz for g in self._grippers}
+        self.period = 1.0 / max(rates) if rates else math.inf
+
+    def __call__(self, root_context: Context) -> None:
+        for gripper in self._grippers:
+            sync_weld(gripper, self._plant, root_context)
+
+
+class BeltWrap:
+    """Shifts the belt's moving contact surface back along its own length (no
+    contact changes) so it never runs out of travel."""
+
+    period = BELT_WRAP_PERIOD
+
+    def __init__(self, station: Station):
+        self._plant = station.plant
+        self._joint = station.plant.GetJointByName("conveyor_belt_joint")
+
+    def __call__(self, root_context: Context) -> None:
+        plant_context = self._plant.GetMyMutableContextFromRoot(root_context)
+        q = self._joint.get_translation(plant_context)
+        if abs(q) >= WRAP_TRAVEL:
+            self._joint.set_translation(plant_context, math.fmod(q, WRAP_TRAVEL))
+
+
+class DeletionWall:
+    """Disposes of every part touching the deletion wall (5 Hz)."""
+
+    period = DISPOSAL_PERIOD
+
+    def __init__(self, station: Station, pool: PartPool):
+        self._station = station
+        self._pool = pool
+        plant = station.plant
+        self._wall = int(plant.GetBodyByName("deletion_wall").index())
+        self._by_body = {int(plant.GetBodyByName(n, station.parts[n]).index()): n for n in station.parts}
+
+    def __call__(self, root_context: Context) -> None:
+        plant = self._station.plant
+        results = plant.get_contact_results_output_port().Eval(plant.GetMyContextFromRoot(root_context))
+        touching = set()
+        for i in range(results.num_point_pair_contacts()):
+            info = results.point_pair_contact_info(i)
+            a, b = int(info.bodyA_index()), int(info.bodyB_index())
+            if self._wall in (a, b):
+                other = b if a == self._wall else a
+                if other in self._by_body:
+                    touching.add(self._by_body[other])
+        for name in sorted(touching):
+            self._pool.dispose(root_context, name)
+
+
+@dataclass
+class AutoSpawner:
+    """The scenario's spawner: a part every ``spawner.period`` seconds from
+    ``spawner.start_time``; with ``one_at_a_time`` only when no other part is
+    loose (the spawn happens at the first check the world is clear); at most
+    ``spawner.max_parts`` (0: no limit). ``enabled`` switches it off (a
+    student's own script spawning parts itself)."""
+
+    station: Station
+    pool: PartPool
+    enabled: bool = True
+    period: float = SPAWN_CHECK_PERIOD
+    #: Automatic spawns so far and the time of the next one.
+    spawned: int = 0
+    next_spawn: float = field(default=math.nan)
+
+    def __post_init__(self) -> None:
+        spawner = self.station.scenario.spawner
+        if math.isnan(self.next_spawn):
+            self.next_spawn = spawner.start_time if spawner is not None else math.inf
+
+    def __call__(self, root_context: Context) -> None:
+        spawner = self.station.scenario.spawner
+        t = root_context.get_time()
+        if (
+            not self.enabled
+            or spawner is None
+            or spawner.period <= 0
+            or t < self.next_spawn - _EPS
+            or (spawner.max_parts and self.spawned >= spawner.max_parts)
+        ):
+            return
+        if spawner.one_at_a_time and loose_parts(self.station, root_context, self.pool):
+            return  # waits for a clear world
+        if not self.pool.queue(root_context):
+            raise SimulationError(
+                f"t={t:.2f}: the spawner found no parked part; raise part_pool (now {len(self.station.pool)})"
+            )
+        spawn(self.station, root_context, self.pool)
+        self.spawned += 1
+        self.next_spawn = t + spawner.period
+
+
+def loose_parts(station: Station, root_context: Context, pool: PartPool) -> list[str]:
+    """Parts in the world that are not in a bin (held ones included)."""
+    held = held_parts(station, root_context)
+    return [n for n in pool.in_world(root_context) if locate(station, root_context, n, held)[0] != "in_bin"]
+
+
+def spawn(
+    station: Station,
+    root_context: Context,
+    pool: PartPool,
+    xyz: Optional[Sequence[float]] = None,
+    yaw: Optional[float] = None,
+) -> str:
+    """Spawns the next parked part at the spawner's pose (``xyz`` / ``yaw`` instead
+    if given); returns its name. Without a spawner, ``xyz`` is needed."""
+    spawner = station.scenario.spawner
+    if spawner is None and xyz is None:
+        raise ConfigError("this scenario has no spawner: give the spawn position xyz")
+    if spawner is None:
+        spawner = SpawnerConfig()
+    X_WP = spawn_pose(
+        spawner, station.scenario.seed, pool.spawn_count, list(xyz) if xyz is not None else None, yaw
+    )
+    return pool.spawn(root_context, X_WP)
+
+
+def world_edits(station: Station, pool: PartPool) -> list[WorldEdit]:
+    """The edits the station needs: weld sync, belt wrap, deletion wall, spawner."""
+    edits: list[WorldEdit] = []
+    if any(isinstance(g, WeldSuctionGripper) for g in station.grippers.values()):
+        edits.append(WeldSync(station))
+    if station.conveyor is not None:
+        edits.append(BeltWrap(station))
+    if station.scenario.deletion_wall and station.parts:
+        edits.append(DeletionWall(station, pool))
+    if station.scenario.spawner is not None:
+        edits.append(AutoSpawner(station, pool))
+    return edits
+
+
+@dataclass
+class _Callback:
+    function: Callable[[], None]
+    period: float
+
+
+class Driver:
+    """Owns the Simulator of a diagram holding the station and applies the
+    world edits between advances.
+
+    ``advance_to(t)`` stops at every time an edit or a callback is due (their
+    periods' multiples), applies what is due, and goes on. At construction the
+    simulator is initialised and every edit applied once (t = 0 edits).
+    """
+
+    def __init__(self, diagram: Diagram, context: Context, edits: Sequence[WorldEdit]):
+        for edit in edits:
+            if not edit.period > 0:
+                raise ConfigError(f"world edit {type(edit).__name__} needs a period > 0, got {edit.period}")
+        self.diagram = diagram
+        self.context = context
+        self.edits = list(edits)
+        self._callbacks: list[_Callback] = []
+        self.simulator = Simulator(diagram, context)
+        self.simulator.Initialize()
+        for edit in self.edits:
+            edit(context)
+
+    @property
+    def time(self) -> float:
+        return self.context.get_time()
+
+    def edit(self, kind: type) -> Optional[WorldEdit]:
+        """The world edit of class ``kind``, if the driver has one."""
+        return next((e for e in self.edits if isinstance(e, kind)), None)
+
+    def every(self, period: float, callback: Callable[[], None]) -> None:
+        """Calls ``callback()`` at every multiple of ``period`` (after the edits due then)."""
+        if not (period > 0 and math.isfinite(period)):
+            raise ConfigError(f"callback period must be a finite time > 0 s, got {period}")
+        self._callbacks.append(_Callback(callback, period))
+
+    def advance_to(self, t: float) -> None:
+        """Simulates until time ``t``, applying the world edits when they are due."""
+        if not math.isfinite(t):
+            raise ConfigError(f"cannot advance to {t}: give a finite time")
+        if t < self.time - _EPS:
+            raise SimulationError(f"cannot go back in time: now {self.time:.3f} s, asked {t:.3f} s")
+        while self.time < t - _EPS:
+            stop = min(
+                [t]
+                + [_next_multiple(self.time, e.period) for e in self.edits]
+                + [_next_multiple(self.time, c.period) for c in self._callbacks]
+            )
+            self.simulator.AdvanceTo(stop)
+            for edit in self.edits:
+                if _is_multiple(self.time, edit.period):
+                    edit(self.context)
+            for callback in self._callbacks:
+                if _is_multiple(self.time, callback.period):
+                    callback.function()
+
+
+def _next_multiple(t: float, period: float) -> float:
+    if math.isinf(period):
+        return math.inf
+    return (math.floor(t / period + _EPS) + 1) * period
+
+
+def _is_multiple(t: float, period: float) -> bool:
+    if math.isinf(period):
+        return False
+    k = round(t / period)
+    return abs(k * period - t) < _EPS * max(1.0, abs(t))

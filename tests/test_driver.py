@@ -1,0 +1,97 @@
+"""The driver (omtp_drake.driver): one way to run the cell, world edits between advances,
+one function that initialises every Context."""
+
+import math
+
+import numpy as np
+import pytest
+
+from omtp_drake.demos import named_pose_tour
+from omtp_drake.driver import BeltWrap, DeletionWall, Driver, WeldSync
+from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
+from omtp_drake.parts import PARK_X0
+from omtp_drake.runtime import FactoryRuntime
+from omtp_drake.scenario import PartConfig, load_scenario
+
+REST_Z = 0.92 + 0.1 + 0.001  # belt top + half a 0.2 m part + the 1 mm corner spheres
+
+
+def test_named_pose_tour_runs_any_scenario_with_parts():
+    """Issue 10 bug 2: the tour used to fail on 'suction1.command is not connected'."""
+    stats = named_pose_tour("lecture6_assignment4")
+    assert stats.sim_time_s > 3.0 and stats.real_time_factor > 0
+
+
+def test_placed_parts_can_be_removed_and_are_disposed_by_the_wall():
+    """Issue 10 bug 3: a part the scenario places is a part like any other."""
+    scenario = load_scenario("lecture6_assignment1")  # object_1 placed on the belt
+    scenario.parts.append(PartConfig(name="crate_1", xyz=[1.2, -4.3, REST_Z]))
+    rt = FactoryRuntime(scenario)
+    assert rt.parts_in_world() == ["object_1", "crate_1"]
+    rt.remove_part("object_1")
+    assert rt.parts_in_world() == ["crate_1"]
+    assert rt.part_pose("object_1").translation()[0] >= PARK_X0
+    with pytest.raises(UnknownNameError, match="unknown part in the world 'object_1'; valid: crate_1"):
+        rt.remove_part("object_1")
+    rt.set_conveyor_power(100)
+    rt.advance_to(4.0)  # crate_1 rides into the deletion wall
+    ledger = rt.ledger()
+    assert rt.parts_in_world() == [] and ledger.disposed == 2 and ledger.balanced
+
+
+def test_every_context_is_initialised_by_one_function():
+    """The station alone and the runtime start from the same state."""
+    from omtp_drake.station import build_station
+
+    rt = FactoryRuntime("lecture6_assignment4", auto_spawn=False)  # nothing spawned at t = 0
+    alone = build_station("lecture6_assignment4")
+    states = []
+    for station, context in ((alone, alone.create_context()), (rt.station, rt.context)):
+        plant_context = station.plant.GetMyContextFromRoot(context)
+        assert all(station.is_parked(plant_context, name) for name in station.pool)
+        for gripper in station.grippers.values():
+            assert gripper.constraints.held_body(station.plant, plant_context) is None
+        states.append(station.plant.GetPositionsAndVelocities(plant_context))
+    np.testing.assert_array_equal(states[0], states[1])
+
+
+def test_the_driver_applies_each_edit_at_its_period():
+    rt = FactoryRuntime("lecture7_conveyor")
+    edits = {type(e) for e in rt.driver.edits}
+    assert {WeldSync, BeltWrap, DeletionWall} <= edits
+    calls = []
+    rt.driver.every(0.3, lambda: calls.append(round(rt.time, 9)))
+    rt.advance_to(1.0)
+    assert calls == [0.3, 0.6, 0.9]
+    with pytest.raises(SimulationError, match="cannot go back in time"):
+        rt.advance_to(0.5)
+    for bad in (math.nan, math.inf):
+        with pytest.raises(ConfigError):
+            rt.advance_to(bad)
+    with pytest.raises(ConfigError, match="period must be a finite time > 0"):
+        rt.driver.every(0.0, lambda: None)
+
+
+def test_auto_spawner_can_be_switched_off_for_a_students_own_spawns():
+    rt = FactoryRuntime("lecture6_assignment4", auto_spawn=False)
+    rt.advance_to(1.0)
+    assert rt.parts_in_world() == []
+    name = rt.spawn_part()
+    assert name == "object_1" and rt.parts_in_world() == ["object_1"]
+    rt.auto_spawn = True
+    assert rt.auto_spawn
+    with pytest.raises(ConfigError, match="has no spawner"):
+        FactoryRuntime("omtp_factory").auto_spawn = True
+
+
+def test_driver_rejects_an_edit_without_a_period():
+    rt = FactoryRuntime("omtp_factory")
+
+    class Broken:
+        period = 0.0
+
+        def __call__(self, root_context):
+            pass
+
+    with pytest.raises(ConfigError, match="Broken needs a period > 0"):
+        Driver(rt.diagram, rt.diagram.CreateDefaultContext(), [Broken()])
