@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from omtp_drake.batch import add_batch_command
 from omtp_drake.errors import ConfigError, OmtpError
 
 if TYPE_CHECKING:
@@ -65,41 +66,64 @@ def _print_result(result) -> None:
     print("SUCCESS" if result.success else "FAILED")
 
 
-def cmd_run(args: argparse.Namespace) -> int:
-    from omtp_drake.tasks import run_task
+def _run_and_report(args: argparse.Namespace, scenario: str, *, progress: bool) -> int:
+    """Runs ``scenario``'s task with the view options of ``args``; prints the result."""
+    from omtp_drake.tasks import TaskRun, run_task
+
+    runs: list[TaskRun] = []
+
+    def started(run: TaskRun) -> None:
+        runs.append(run)  # keeps the Meshcat server alive until we are done
+        meshcat = run.runtime.station.meshcat
+        if meshcat is not None:
+            print(f"Meshcat: {meshcat.web_url()}", flush=True)
+        if args.realtime:
+            run.runtime.simulator.set_target_realtime_rate(1.0)
 
     result = run_task(
-        args.scenario,
+        scenario,
         seed=args.seed,
-        duration=args.duration,
+        duration=getattr(args, "duration", None),
         parts=args.parts,
-        meshcat=args.meshcat,
+        meshcat=args.meshcat or args.serve,
         record=args.record,
-        progress=not args.quiet,
+        progress=progress,
+        on_start=started,
     )
     _print_result(result)
-    if args.json:
+    if getattr(args, "json", None):
         with open(args.json, "w") as f:
             json.dump(result.to_dict(), f, indent=2)
         print(f"result: {args.json}")
     if args.record:
-        print(f"replay: {args.record}")
+        print(f"replay: {args.record} (open it in any browser)")
+    if args.serve:
+        _serve(runs[0].runtime.station.meshcat)
     return 0 if result.success else 1
+
+
+def _serve(meshcat) -> None:
+    """Keeps Meshcat serving until Ctrl-C, if a terminal is there to press it."""
+    import time
+
+    if not sys.stdin.isatty():
+        print("--serve: no terminal attached (nobody could press Ctrl-C); not serving on")
+        return
+    print(f"Meshcat is serving at {meshcat.web_url()}; press Ctrl-C to quit.", flush=True)
+    try:
+        while True:
+            time.sleep(0.5)
+    except KeyboardInterrupt:
+        print()
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    return _run_and_report(args, args.scenario, progress=not args.quiet)
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
-    """The main demo: the fill-a-bin challenge, recorded."""
-    from omtp_drake.tasks import run_task
-
-    result = run_task(
-        "fill_bin", seed=args.seed, parts=args.parts, meshcat=args.meshcat, record=args.record, progress=True
-    )
-    _print_result(result)
-    if args.record:
-        print(f"replay: {args.record} (open it in any browser)")
-    if args.meshcat:
-        input("Meshcat is still serving; press Enter to quit. ")
-    return 0 if result.success else 1
+    """The main demo: the fill-a-bin challenge."""
+    return _run_and_report(args, "fill_bin", progress=True)
 
 
 def cmd_screenshot(args: argparse.Namespace) -> int:
@@ -210,6 +234,21 @@ def cmd_frames(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_view_options(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--meshcat",
+        action="store_true",
+        help="show the run in a live Meshcat view (its URL is printed first)",
+    )
+    p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
+    p.add_argument(
+        "--serve",
+        action="store_true",
+        help="keep the Meshcat view serving after the run, until Ctrl-C (needs a terminal)",
+    )
+    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="omtp-drake", description="The OMTP factory cell simulated with Drake."
@@ -223,8 +262,7 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("demo", help="the main demo: robot 2 fills bin 1 (fill_bin)")
     p.add_argument("--parts", type=int, default=None, help="parts to place (default 10)")
     p.add_argument("--seed", type=int, default=None)
-    p.add_argument("--meshcat", action="store_true", help="serve a live Meshcat view")
-    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
+    _add_view_options(p)
     p.set_defaults(func=cmd_demo)
 
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
@@ -234,8 +272,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--duration", type=float, default=None, help="simulated seconds at most (default 30 per part)"
     )
     p.add_argument("--parts", type=int, default=None, help="parts to place")
-    p.add_argument("--meshcat", action="store_true", help="serve a live Meshcat view")
-    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
+    _add_view_options(p)
     p.add_argument("--json", metavar="FILE", help="write the result as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_run)
@@ -323,6 +360,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulate (arms holding their initial pose) to T s first (default 0.5)",
     )
     p.set_defaults(func=cmd_frames)
+
+    add_batch_command(sub)
     return parser
 
 

@@ -59,7 +59,8 @@ class WorldEdit(Protocol):
     before the events due at that time are handled.
     """
 
-    period: float
+    @property
+    def period(self) -> float: ...
 
     def __call__(self, root_context: Context) -> None: ...
 
@@ -134,10 +135,20 @@ class AutoSpawner:
     station: Station
     pool: PartPool
     enabled: bool = True
-    period: float = SPAWN_CHECK_PERIOD
     #: Automatic spawns so far and the time of the next one.
     spawned: int = 0
     next_spawn: float = field(default=math.nan)
+
+    @property
+    def period(self) -> float:
+        """SPAWN_CHECK_PERIOD while it may still spawn; inf (never) once it is off or done."""
+        spawner = self.station.scenario.spawner
+        done = (
+            spawner is None
+            or spawner.period <= 0
+            or bool(spawner.max_parts and self.spawned >= spawner.max_parts)
+        )
+        return math.inf if (done or not self.enabled) else SPAWN_CHECK_PERIOD
 
     def __post_init__(self) -> None:
         spawner = self.station.scenario.spawner
@@ -223,7 +234,7 @@ class Driver:
 
     def __init__(self, diagram: Diagram, context: Context, edits: Sequence[WorldEdit]):
         for edit in edits:
-            if not edit.period > 0:
+            if not edit.period > 0:  # (inf: an edit with nothing to do now)
                 raise ConfigError(f"world edit {type(edit).__name__} needs a period > 0, got {edit.period}")
         self.diagram = diagram
         self.context = context

@@ -473,6 +473,21 @@ class TfBuffer:
     def _check_name(self, name: str) -> None:
         if name in self._static or self._camera_of(name) is not None:
             return
+        for camera in self._cameras:
+            prefix = f"{camera}_"
+            if name.startswith(prefix) and name.endswith("_frame") and len(name) > len(prefix) + 6:
+                model = name[len(prefix) : -len("_frame")]
+                images = self._images[camera]
+                seen = sorted({m for image in images for m, _ in image.frames.values()})
+                held = (
+                    (
+                        f"its images from {images[0].time:.6g} to {images[-1].time:.6g} s show "
+                        + (", ".join(seen) if seen else "nothing")
+                    )
+                    if images
+                    else "it has no image yet"
+                )
+                raise FrameError(f"frame {name!r} does not exist: {camera} has not seen {model!r} ({held})")
         known = set(self._static)
         for images in self._images.values():
             for image in images:

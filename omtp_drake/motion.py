@@ -23,7 +23,7 @@ checker. A pair is in collision when its signed distance is below ``margin``.
 Self collisions. The station filters every pair within one arm (the simulation
 needs no self contact). The checker re-enables, for planning, the pairs at least
 three joints apart (e.g. upper arm / wrist 2, forearm / gripper) and the arm's
-links two or more joints away from its pedestal and base. Pairs two joints apart
+links three or more joints away from its pedestal and base (forearm, wrists, gripper). Pairs two joints apart
 stay filtered: their convex-hull collision shapes overlap at ordinary poses (the
 forearm and wrist 2 hulls touch in 40 % of random configurations).
 
@@ -301,7 +301,9 @@ class ArmPlanner:
                 if distance.get(group[b.index()], 99) >= 3:
                     self._checker.SetCollisionFilteredBetween(a, b, False)
             for b in anchored:
-                if distance.get(group[b.index()], 99) >= 2:
+                # Forearm and beyond: the upper arm's convex hull grazes the pedestal
+                # (within the margin) whenever the arm reaches down near its base.
+                if distance.get(group[b.index()], 99) >= 3:
                     self._checker.SetCollisionFilteredBetween(a, b, False)
 
     def _full(self, q: np.ndarray, other_q: OtherPositions = None) -> np.ndarray:

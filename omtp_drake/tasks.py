@@ -207,7 +207,7 @@ def run_task(
             total=round(limit, 1),
             desc=scenario.name,
             unit="sim s",
-            bar_format="{desc}: {n:.1f}/{total:.0f} s simulated |{bar}| {postfix} [{elapsed}<{remaining}]",
+            bar_format="{desc} | {n:.1f}/{total:.0f} s simulated |{bar}| [{elapsed}<{remaining}]",
         )
     wall0 = time.perf_counter()
     while rt.time < limit - 1e-9:
@@ -216,7 +216,9 @@ def run_task(
             on_chunk(run)
         if bar is not None:
             bar.n = round(rt.time, 1)
-            bar.set_postfix_str(f"{rt.ledger().in_bin.get(task.bin, 0)}/{n} in {task.bin}", refresh=False)
+            bar.set_description_str(
+                f"{scenario.name}: {rt.ledger().in_bin.get(task.bin, 0)}/{n} in {task.bin}", refresh=False
+            )
             bar.refresh()
         if run.done():
             break

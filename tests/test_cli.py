@@ -52,3 +52,23 @@ def test_errors_are_one_line_without_traceback(args, message):
         assert "omtp_factory" in result.stderr
     assert "Traceback" not in result.stderr
     assert result.stderr.count("\n") == 1
+
+
+def test_run_with_meshcat_and_no_terminal_prints_the_url_and_ends_cleanly():
+    """Issue 11: `run --meshcat` (and --serve) from Jupyter's `!` or the background:
+    the URL first, no EOFError, a note instead of serving."""
+    result = subprocess.run(
+        [sys.executable, "-m", "omtp_drake.cli", "run", "lecture6_assignment4", "--parts", "1",
+         "--meshcat", "--serve", "-q"],
+        capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0].startswith("Meshcat: http://localhost:")
+    assert "SUCCESS" in result.stdout and "no terminal attached" in result.stdout
+    assert "Traceback" not in result.stderr and "EOFError" not in result.stderr
+
+
+def test_progress_bar_shows_simulated_time(capsys):
+    assert main(["run", "lecture6_assignment4", "--parts", "1", "--duration", "1"]) == 1
+    err = capsys.readouterr().err
+    assert "1.0/1 s simulated" in err and "0/1 in bin_1" in err

@@ -95,3 +95,19 @@ def test_driver_rejects_an_edit_without_a_period():
 
     with pytest.raises(ConfigError, match="Broken needs a period > 0"):
         Driver(rt.diagram, rt.diagram.CreateDefaultContext(), [Broken()])
+
+
+def test_ledger_names_where_each_part_is():
+    """Issue 11: a part on a stack above a bin's rim is in the bin; a part in the air is
+    elsewhere, with its position."""
+    scenario = load_scenario("omtp_factory")
+    for k, z in enumerate([0.221, 0.422, 0.623]):  # three 0.2 m cubes stacked in bin 1
+        scenario.parts.append(PartConfig(name=f"stack_{k}", xyz=[-8.0, -2.2, z]))
+    scenario.parts.append(PartConfig(name="flying", xyz=[-6.0, 0.0, 3.0]))
+    rt = FactoryRuntime(scenario)
+    rt.advance_to(0.3)
+    ledger = rt.ledger()
+    assert [ledger.parts[f"stack_{k}"] for k in range(3)] == ["in_bin:bin_1"] * 3
+    assert rt.part_pose("stack_2").translation()[2] > 0.475 + 0.1  # above the rim
+    assert ledger.parts["flying"].startswith("elsewhere:(-6.000, 0.000, 2.")
+    assert ledger.elsewhere == 1 and ledger.balanced

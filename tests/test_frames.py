@@ -106,7 +106,10 @@ def test_unknown_frame_lists_the_closest_names(belt):
     with pytest.raises(UnknownNameError, match=r"unknown frame 'vacuum_gripper2_suction_cp'; "
                                                r"closest: vacuum_gripper2_suction_cup"):
         buffer.lookup_transform("world", "vacuum_gripper2_suction_cp")
-    with pytest.raises(UnknownNameError, match=r"closest: .*logical_camera_1_object_1_frame"):
+    # Issue 11: a detected-part frame the camera does not see is a FrameError naming the
+    # camera and what it does see.
+    with pytest.raises(FrameError, match=r"logical_camera_1 has not seen 'object_2' "
+                                         r"\(its images .* show object_1\)"):
         buffer.lookup_transform("logical_camera_1_object_2_frame", "world")
     with pytest.raises(UnknownNameError, match="unknown camera 'logical_camera_3'"):
         buffer.image("logical_camera_3")
