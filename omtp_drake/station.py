@@ -30,6 +30,9 @@ port                           kind    meaning
 ``conveyor.power``             output  belt power, percent
 ``break_beam.state``           output  [object_detected, range]
 ``<camera>.image``             output  :class:`LogicalCameraImage`
+``<camera>.color_image``       output  RGBA image (cameras with ``rgbd: true``)
+``<camera>.depth_image``       output  depth image, m (cameras with ``rgbd: true``)
+``<camera>.label_image``       output  label image, body index (``rgbd: true``)
 ``body_poses``                 output  world poses of every body
 ``contact_results``            output  the plant's contact results
 ``query_object``               output  SceneGraph's query object
@@ -452,6 +455,8 @@ def build_station(
             seed=scenario.seed,
         )
         builder.ExportOutput(cameras[cam.name].GetOutputPort("image"), f"{cam.name}.image")
+        if cam.rgbd:
+            _add_rgbd_view(builder, plant, scene_graph, cameras[cam.name])
 
     builder.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
     builder.ExportOutput(plant.get_contact_results_output_port(), "contact_results")
@@ -481,6 +486,20 @@ def build_station(
         grippers=grippers,
         bin_anchors=models.bin_anchors,
     )
+
+
+def _add_rgbd_view(
+    builder: DiagramBuilder, plant: MultibodyPlant, scene_graph: SceneGraph, camera: LogicalCamera
+) -> None:
+    """The RGB-D view of ``camera`` (the renderer comes with the first one) and its ports
+    ``<camera>.color_image``, ``<camera>.depth_image`` (32F, m), ``<camera>.label_image``."""
+    from omtp_drake.rgbd import add_rgbd_view
+
+    name = camera.get_name()
+    sensor = add_rgbd_view(builder, plant, scene_graph, plant.GetFrameByName(f"{name}_frame"), camera.config)
+    builder.ExportOutput(sensor.color_image_output_port(), f"{name}.color_image")
+    builder.ExportOutput(sensor.depth_image_32F_output_port(), f"{name}.depth_image")
+    builder.ExportOutput(sensor.label_image_output_port(), f"{name}.label_image")
 
 
 def _declare_weld_constraints(

@@ -201,8 +201,8 @@ class DetectionMarkers:
                 self._shown[slot] = visible
 
     def marker_poses(self, runtime: FactoryRuntime) -> dict[str, list[RigidTransform]]:
-        """Camera name -> world poses of its markers now (the parts it reports,
-        in its report's order, at most ``per_camera``)."""
+        """Camera name -> world poses of its markers now (the parts it reports and
+        does not see fully hidden, in its report's order, at most ``per_camera``)."""
         markers: dict[str, list[RigidTransform]] = {}
         for camera, slots in self._slots.items():
             image = runtime.camera_image(camera)
@@ -213,7 +213,7 @@ class DetectionMarkers:
             markers[camera] = [
                 RigidTransform((image.X_WC @ m.X_CM).translation() + [0.0, 0.0, self._lift[m.name]])
                 for m in image.models
-                if m.name in self._lift
+                if m.name in self._lift and m.visible_fraction > 0.0  # 0: reported, yet hidden
             ][: len(slots)]
         return markers
 

@@ -39,7 +39,7 @@ def test_camera_text_is_like_rostopic_echo(capsys):
     (["camera", "lecture6_assignment1", "--camera", "logical_camera_1", "--time", "-1"],
      "--time -1.0 is invalid; valid: a finite time >= 0 s"),
     (["tf-echo", "lecture6_assignment3", "world", "logical_camera_2_object_2_frame"],
-     "unknown frame 'logical_camera_2_object_2_frame'; closest: logical_camera_2_object_1_frame"),
+     "frame 'logical_camera_2_object_2_frame' does not exist: logical_camera_2 has not seen 'object_2'"),
 ])
 def test_errors_are_one_line(capsys, args, message):
     assert main(args) == 2

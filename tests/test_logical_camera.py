@@ -498,7 +498,7 @@ def test_to_dict_and_str(world: World) -> None:
     assert set(data["camera_pose"]) == {"translation", "rotation_xyzw"}
     assert data["models"] == [{"name": "bin_1", "type": "bin", "pose": {
         "translation": pytest.approx([0.5, 0, 0]),
-        "rotation_xyzw": pytest.approx([0, 0, 0, 1])}}]
+        "rotation_xyzw": pytest.approx([0, 0, 0, 1])}, "visible_fraction": 1.0}]
     text = str(image)
     for line in ['camera_name: "cam"', "models:", 'name: "bin_1"', 'type: "bin"',
                  "position:", "orientation:", "w: 1.0"]:
