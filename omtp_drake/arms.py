@@ -8,6 +8,8 @@ with a model of the arm plus its gripper) tracks it, so gravity is compensated.
 
 from __future__ import annotations
 
+import functools
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -166,6 +168,46 @@ def add_arm_controller(
     builder.Connect(interpolator.get_output_port(), controller.get_input_port_desired_state())
     builder.Connect(controller.get_output_port_control(), plant.get_actuation_input_port(arm))
     return interpolator, controller, control_plant
+
+
+#: The smallest elbow bend (rad) a reachable pose may need: a straighter arm is near
+#: its elbow singularity, where differential IK stalls.
+MIN_ELBOW_BEND = 0.4
+
+
+@functools.cache
+def _tool_down_envelope(model: str, gripper: str) -> tuple[np.ndarray, np.ndarray]:
+    """(heights, radii): for cup-face heights above the arm's base (2 cm bins), the
+    largest horizontal distance from the base axis at which the tip can point straight
+    down with the elbow bent at least MIN_ELBOW_BEND (forward kinematics of the arm
+    in the plane of its lift, elbow and wrist 1 joints)."""
+    robot = RobotConfig(name="reach", model=model, gripper=gripper)
+    plant = make_control_plant(robot, (0.0, 0.0, -9.8))
+    context = plant.CreateDefaultContext()
+    tip = plant.GetFrameByName(f"{gripper}_tip" if gripper else "reach_tool0")
+    heights = np.arange(-1.6, 1.6, 0.02)
+    radii = np.full(len(heights), -np.inf)
+    for lift in np.linspace(-math.pi, math.pi / 6, 120):
+        for elbow in np.linspace(MIN_ELBOW_BEND, 2.9, 60):
+            plant.SetPositions(context, [0.0, lift, elbow, -math.pi / 2 - lift - elbow, -math.pi / 2, 0.0])
+            p = tip.CalcPoseInWorld(context).translation()
+            k = int(round((p[2] - heights[0]) / 0.02))
+            if 0 <= k < len(heights):
+                radii[k] = max(radii[k], math.hypot(p[0], p[1]))
+    return heights, radii
+
+
+def tool_down_reach(robot: RobotConfig, z_W: float) -> float:
+    """The largest horizontal distance (m) from ``robot``'s base axis at which its cup
+    face can be at world height ``z_W`` pointing straight down, with the elbow bent
+    enough to stay clear of its singularity (-inf: that height is out of reach)."""
+    heights, radii = _tool_down_envelope(robot.model, robot.gripper)
+    z_B = z_W - base_pose(robot).translation()[2]
+    k = int(round((z_B - heights[0]) / 0.02))
+    if not 0 <= k < len(heights):
+        return -math.inf
+    # The neighbouring bins too: the sampling leaves gaps.
+    return float(np.max(radii[max(0, k - 1) : k + 2]))
 
 
 def base_pose(robot: RobotConfig) -> RigidTransform:

@@ -143,12 +143,13 @@ class AutoSpawner:
     def period(self) -> float:
         """SPAWN_CHECK_PERIOD while it may still spawn; inf (never) once it is off or done."""
         spawner = self.station.scenario.spawner
-        done = (
-            spawner is None
-            or spawner.period <= 0
-            or bool(spawner.max_parts and self.spawned >= spawner.max_parts)
-        )
+        done = spawner is None or spawner.period <= 0 or self._enough(spawner)
         return math.inf if (done or not self.enabled) else SPAWN_CHECK_PERIOD
+
+    def _enough(self, spawner: SpawnerConfig) -> bool:
+        """max_parts spawned (parts written off do not count: they are replaced)."""
+        kept = self.spawned - len(self.pool.written_off)
+        return bool(spawner.max_parts and kept >= spawner.max_parts)
 
     def __post_init__(self) -> None:
         spawner = self.station.scenario.spawner
@@ -163,7 +164,7 @@ class AutoSpawner:
             or spawner is None
             or spawner.period <= 0
             or t < self.next_spawn - _EPS
-            or (spawner.max_parts and self.spawned >= spawner.max_parts)
+            or self._enough(spawner)
         ):
             return
         if spawner.one_at_a_time and loose_parts(self.station, root_context, self.pool):
@@ -178,9 +179,14 @@ class AutoSpawner:
 
 
 def loose_parts(station: Station, root_context: Context, pool: PartPool) -> list[str]:
-    """Parts in the world that are not in a bin (held ones included)."""
+    """Parts in the world that are not in a bin (held ones included), but for those
+    written off (lost where nobody can pick them)."""
     held = held_parts(station, root_context)
-    return [n for n in pool.in_world(root_context) if locate(station, root_context, n, held)[0] != "in_bin"]
+    return [
+        n
+        for n in pool.in_world(root_context)
+        if n not in pool.written_off and locate(station, root_context, n, held)[0] != "in_bin"
+    ]
 
 
 def spawn(

@@ -123,6 +123,9 @@ class PartPool:
             (index,) = plant.GetJointIndices(station.parts[name])
             self._joints[name] = plant.get_joint(index)
         self.events: list[PartEvent] = []
+        #: Parts given up on (lost where nobody can pick them): they stay where they
+        #: are, in the ledger, but no longer hold the spawner back.
+        self.written_off: set[str] = set()
 
     @property
     def names(self) -> list[str]:
@@ -143,6 +146,7 @@ class PartPool:
         for name in self._pool:
             self._park(plant_context, name)
         self.events.clear()
+        self.written_off.clear()
 
     def is_parked(self, root_context: Context, name: str) -> bool:
         self._check(name)
@@ -185,6 +189,7 @@ class PartPool:
         if name not in in_world:
             raise UnknownNameError("part in the world", name, in_world)
         self._park(self._plant_context(root_context), name)
+        self.written_off.discard(name)
         self.events.append(PartEvent(root_context.get_time(), "dispose", name))
         _log.info("t=%.2f disposed of %s", root_context.get_time(), name)
 

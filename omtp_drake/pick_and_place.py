@@ -49,7 +49,7 @@ from omtp_drake import arms
 from omtp_drake.errors import ConfigError
 from omtp_drake.logical_camera import LogicalCameraImage
 from omtp_drake.planning import Path, PickPlanner, SegmentKind, hold, yaw_of
-from omtp_drake.scenario import BinConfig, RobotConfig, TaskConfig
+from omtp_drake.scenario import BinConfig, RobotConfig, Scenario, TaskConfig
 from omtp_drake.suction import GripperState
 
 
@@ -77,6 +77,8 @@ class PickRecord:
     success: bool
     reason: str = ""
     attempt: int = 1
+    #: Where the part was when the attempt ended, for a part given up on (``lost``).
+    position: Optional[tuple[float, float, float]] = None
 
     @property
     def cycle_time(self) -> float:
@@ -91,6 +93,7 @@ class PickRecord:
             "failure_reason": self.reason,
             "attempt": self.attempt,
             "cycle_time": self.cycle_time,
+            "position": list(self.position) if self.position is not None else None,
         }
 
 
@@ -114,6 +117,8 @@ class ControlState:
     last_seen: float = 0.0
     #: Ask DiffIK to restart from the measured joints (one controller period).
     reset_ik: bool = False
+    #: Since when the part being retried has not been seen by any camera.
+    missing_since: float = math.nan
     #: The part seen at the last check and where (to wait until it is at rest).
     candidate: str = ""
     candidate_X: Optional[RigidTransform] = None
@@ -153,6 +158,8 @@ class PickAndPlaceController(LeafSystem):
       - ``camera_image``: the pick camera's LogicalCameraImage.
       - ``bin_camera_image``: the bin camera's image (time NaN without one), to
         verify a place and to find the bin.
+      - ``search_camera_<k>`` (``search_cameras`` of them): the other cameras'
+        images, to find a part that fell out of the pick camera's view.
       - ``gripper_state``: the robot's GripperState (``enabled``, ``attached``).
       - ``robot_state``: the arm's measured [q; v].
 
@@ -178,6 +185,7 @@ class PickAndPlaceController(LeafSystem):
         bin: BinConfig,
         control_plant: MultibodyPlant,
         part_size: Callable[[str], float],
+        search_cameras: int = 0,
     ):
         super().__init__()
         config.validate()
@@ -189,7 +197,7 @@ class PickAndPlaceController(LeafSystem):
         self._tip = control_plant.GetFrameByName(f"{robot.gripper}_tip")
         self._X_WB = arms.base_pose(robot)
         self._X_BW = self._X_WB.inverse()
-        self._planner = PickPlanner(self._X_WB, config.max_tool_speed, config.transfer_clearance, config.grid)
+        self._planner = task_planner(config, robot)
         home_context = control_plant.CreateDefaultContext()
         control_plant.SetPositions(home_context, arms.named_pose("Home", robot))
         self._X_W_home = self._X_WB @ self._tip.CalcPoseInWorld(home_context)
@@ -198,6 +206,10 @@ class PickAndPlaceController(LeafSystem):
         no_image = LogicalCameraImage(math.nan, "", RigidTransform(), ())
         self._image = self.DeclareAbstractInputPort("camera_image", AbstractValue.Make(no_image))
         self._bin_image = self.DeclareAbstractInputPort("bin_camera_image", AbstractValue.Make(no_image))
+        self._search_images = [
+            self.DeclareAbstractInputPort(f"search_camera_{k}", AbstractValue.Make(no_image))
+            for k in range(search_cameras)
+        ]
         self._gripper = self.DeclareAbstractInputPort(
             "gripper_state", AbstractValue.Make(GripperState(False, False, "", None, math.nan))
         )
@@ -277,8 +289,9 @@ class PickAndPlaceController(LeafSystem):
         self, context: Context, s: ControlState
     ) -> Optional[list[tuple[str, RigidTransform, float]]]:
         """(name, X_WP, image time) of the parts to pick: those in the pick camera's
-        image, then those the bin camera sees outside the bin (a part that missed
-        it); None if the pick camera's image is stale."""
+        image, then those the bin camera and the search cameras see outside the bin
+        (a part that missed it or fell on the way); None if the pick camera's image is
+        stale."""
         t, timeout = context.get_time(), self._config.image_timeout
         image: LogicalCameraImage = self._image.Eval(context)
         if not self._fresh(image, t, timeout):
@@ -288,17 +301,29 @@ class PickAndPlaceController(LeafSystem):
             for m in image.models
             if m.type == self._config.part_type and m.name and m.name not in s.ignored
         ]
-        bin_image: LogicalCameraImage = self._bin_image.Eval(context)
-        if self._fresh(bin_image, t, timeout):
-            X_WBin = self._bin_seen(bin_image)
-            names = {name for name, _, _ in seen}
-            for m in bin_image.models:
+        names = {name for name, _, _ in seen}
+        X_WBin = self._bin_pose(context)
+        for port in [self._bin_image, *self._search_images]:
+            other: LogicalCameraImage = port.Eval(context)
+            if not self._fresh(other, t, timeout):
+                continue
+            for m in other.models:
                 if m.type != self._config.part_type or not m.name or m.name in s.ignored or m.name in names:
                     continue
-                X_WP = bin_image.X_WC @ m.X_CM
-                if X_WBin is None or not self._bin.contains(X_WP.translation(), X_WBin):
-                    seen.append((m.name, X_WP, bin_image.time))
+                X_WP = other.X_WC @ m.X_CM
+                if not self._bin.contains(X_WP.translation(), X_WBin):
+                    seen.append((m.name, X_WP, other.time))
+                    names.add(m.name)
         return seen
+
+    def _reachable(self, X_WP: RigidTransform, size: float) -> bool:
+        """Can the tool reach the part's top face, tool down, and the approach above it?"""
+        p = X_WP.translation()
+        radius = float(np.linalg.norm(p[:2] - self._X_WB.translation()[:2]))
+        top = p[2] + size / 2
+        return all(
+            radius <= arms.tool_down_reach(self._robot, z) for z in (top, top + self._config.approach_height)
+        )
 
     def _bin_seen(self, image: LogicalCameraImage) -> Optional[RigidTransform]:
         """``X_WBin`` where the bin camera's image shows the bin (None: not in it)."""
@@ -409,6 +434,9 @@ class PickAndPlaceController(LeafSystem):
         path = self._travel(
             context, t, inputs.X_now, self._X_W_home, self._part_size(s.part) if s.part else 0.0
         )
+        if reason == "dropped" and s.part:  # last known: under the cup when it fell
+            size = self._part_size(s.part)
+            s = replace(s, X_WP=RigidTransform(inputs.X_now.translation() - [0.0, 0.0, size / 2]))
         return self._go(
             s,
             Mode.HOME,
@@ -432,8 +460,22 @@ class PickAndPlaceController(LeafSystem):
         seen = self._parts_seen(context, s)
         if seen is None:
             return s, None  # camera image missing: wait
+        # The part being picked again, or the one seen last: is it still somewhere?
+        tracked = s.part or (s.candidate if s.candidate not in s.ignored else "")
+        mine = [x for x in seen if x[0] == tracked] if tracked else []
+        if tracked:
+            lost = self._lost(context, s, t, tracked, mine)
+            if lost is not None:
+                return lost
+            if not mine and math.isnan(s.missing_since):
+                s = replace(s, missing_since=t)
+            elif mine and not math.isnan(s.missing_since):
+                s = replace(s, missing_since=math.nan)
         if s.part:
-            seen = [x for x in seen if x[0] == s.part] or seen
+            if not mine:
+                return s, None
+            seen = mine
+        seen = [x for x in seen if self._reachable(x[1], self._part_size(x[0]))]
         if not seen:
             if t - s.last_seen > c.detect_timeout:
                 return self._go(s, Mode.WAIT_PART, t, last_seen=t), PickRecord("", t, t, False, "no_part", 1)
@@ -451,8 +493,75 @@ class PickAndPlaceController(LeafSystem):
         X_above = self._planner.grasp_pose(X_WP, self._part_size(name), inputs.X_now, c.approach_height)
         path = self._travel(context, t, inputs.X_now, X_above, self._part_size(name))
         return self._go(
-            s, Mode.APPROACH, t, part=name, X_WP=X_WP, pick_start=start, path=path, last_seen=t
+            s,
+            Mode.APPROACH,
+            t,
+            part=name,
+            X_WP=X_WP,
+            pick_start=start,
+            path=path,
+            last_seen=t,
+            missing_since=math.nan,
         ), None
+
+    def _lost(
+        self,
+        context: Context,
+        s: ControlState,
+        t: float,
+        name: str,
+        mine: list[tuple[str, RigidTransform, float]],
+    ) -> Optional[_Step]:
+        """Part ``name`` (being picked again, or the last one seen) is given up on when
+        it fell into the bin (``dropped_into_bin``: in the bin, but not by a place),
+        lies out of reach, or no camera has seen it for ``lost_timeout`` s (``lost``,
+        where it was last seen); the record has its position. None while it may still
+        be picked."""
+        last = s.X_WP if s.part else s.candidate_X
+        in_bin = self._seen_in_bin(context, name)
+        if in_bin is not None:
+            why, X_WP, placed = "dropped_into_bin", in_bin, s.placed + 1
+        elif mine:
+            if self._reachable(mine[0][1], self._part_size(name)):
+                return None
+            why, X_WP, placed = "lost", mine[0][1], s.placed
+        elif math.isnan(s.missing_since) or t - s.missing_since < self._config.lost_timeout:
+            return None
+        else:
+            why, X_WP, placed = "lost", last, s.placed
+        p = None
+        if X_WP is not None:
+            x, y, z = (float(v) for v in X_WP.translation())
+            p = (x, y, z)
+        start = s.pick_start if s.part else s.candidate_time
+        record = PickRecord(name, start, t, False, why, s.attempt if s.part else 1, position=p)
+        return self._go(
+            s,
+            Mode.WAIT_PART,
+            t,
+            part="",
+            attempt=1,
+            ignored=s.ignored + (name,),
+            placed=placed,
+            last_seen=t,
+            missing_since=math.nan,
+            candidate="",
+            candidate_X=None,
+            candidate_time=math.nan,
+        ), record
+
+    def _seen_in_bin(self, context: Context, name: str) -> Optional[RigidTransform]:
+        """``X_WP`` of part ``name`` if the bin camera's fresh image shows it in the bin."""
+        image: LogicalCameraImage = self._bin_image.Eval(context)
+        if not self._fresh(image, context.get_time(), self._config.image_timeout):
+            return None
+        X_WBin = self._bin_seen(image)
+        for m in image.models:
+            if m.name == name and X_WBin is not None:
+                X_WP = image.X_WC @ m.X_CM
+                if self._bin.contains(X_WP.translation(), X_WBin):
+                    return X_WP
+        return None
 
     def _approach(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
         """Above the part: look again (it may have moved since the plan), go down."""
@@ -495,6 +604,8 @@ class PickAndPlaceController(LeafSystem):
         X_WBin = self._bin_pose(context)
         size = self._part_size(s.part)
         p_slot = self._planner.slot(X_WBin, self._bin.geometry, size, s.placed)
+        if p_slot is None:  # the bin holds no more the arm can reach: put it back down
+            return self._fail(context, s, inputs, "bin_full")
         X_drop = self._planner.drop_pose(inputs.X_now, p_slot, yaw_of(X_WBin))
         return self._go(s, Mode.TRANSFER, t, path=self._travel(context, t, inputs.X_now, X_drop, size)), None
 
@@ -546,8 +657,11 @@ def add_pick_and_place(
     if not robot.gripper:
         raise ConfigError(f"{robot.name} has no gripper to pick with")
     plant = handles.control_plant
+    search = sorted(set(station.cameras) - {config.camera, config.bin_camera})
     controller = builder.AddSystem(
-        PickAndPlaceController(config, robot, scenario.bin(config.bin), plant, scenario.part_size)
+        PickAndPlaceController(
+            config, robot, scenario.bin(config.bin), plant, scenario.part_size, search_cameras=len(search)
+        )
     )
     diffik = builder.AddSystem(_diffik(plant, robot, config.diffik_rate_hz))
 
@@ -564,6 +678,8 @@ def add_pick_and_place(
             ConstantValueSource(AbstractValue.Make(LogicalCameraImage(math.nan, "", RigidTransform(), ())))
         )
         builder.Connect(empty.get_output_port(), controller.GetInputPort("bin_camera_image"))
+    for k, camera in enumerate(search):
+        builder.Connect(d.GetOutputPort(f"{camera}.image"), controller.GetInputPort(f"search_camera_{k}"))
     suction = station.suction_name(config.robot)
     builder.Connect(d.GetOutputPort(f"{suction}.state"), controller.GetInputPort("gripper_state"))
     builder.Connect(d.GetOutputPort(f"{robot.name}.state_estimated"), controller.GetInputPort("robot_state"))
@@ -573,6 +689,29 @@ def add_pick_and_place(
     builder.Connect(diffik.GetOutputPort("joint_positions"), d.GetInputPort(f"{robot.name}.position"))
     builder.Connect(controller.GetOutputPort("suction_command"), d.GetInputPort(f"{suction}.command"))
     return controller, diffik
+
+
+def task_planner(config: TaskConfig, robot: RobotConfig) -> PickPlanner:
+    """The tool-path planner of ``robot`` for ``config``: slots within the arm's reach."""
+    return PickPlanner(
+        arms.base_pose(robot),
+        config.max_tool_speed,
+        config.transfer_clearance,
+        config.grid,
+        reach=lambda z: arms.tool_down_reach(robot, z),
+    )
+
+
+def bin_capacity(scenario: Scenario) -> int:
+    """How many of the scenario's parts its task's bin holds where its robot reaches."""
+    task = scenario.required_task()
+    size = (
+        scenario.pool_part_size
+        if scenario.part_pool
+        else max((p.size for p in scenario.parts), default=scenario.pool_part_size)
+    )
+    b = scenario.bin(task.bin)
+    return len(task_planner(task, scenario.robot(task.robot)).slots(b.X_WB(), b.geometry, size))
 
 
 def _diffik(

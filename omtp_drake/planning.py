@@ -15,6 +15,7 @@ acceleration continuous, zero at both ends), peaking at a given tool speed.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from enum import Enum
 from typing import Optional
@@ -185,12 +186,15 @@ class PickPlanner:
         transfer_clearance: height (m) of a held part's bottom above a bin's
             rim while it moves over the bin.
         grid: place parts on a grid of slots (fill a bin) instead of all at its centre.
+        reach: the largest horizontal distance (m) from the robot's base axis at
+            which the tool can point down at a given world height (None: any).
     """
 
     X_WR: RigidTransform
     max_tool_speed: float
     transfer_clearance: float = 0.05
     grid: bool = True
+    reach: Optional[Callable[[float], float]] = None
 
     @property
     def centre(self) -> tuple[float, float]:
@@ -231,23 +235,47 @@ class PickPlanner:
         yaw = part_yaw + round(wrap(ref - part_yaw) / (math.pi / 2)) * (math.pi / 2)
         return tool_down(p, yaw)
 
-    def slot(self, X_WBin: RigidTransform, bin_geometry: BinGeometry, size: float, placed: int) -> np.ndarray:
-        """World position of the cup face to release the ``placed``-th part of edge ``size``.
+    def slots(self, X_WBin: RigidTransform, bin_geometry: BinGeometry, size: float) -> list[np.ndarray]:
+        """World positions of the cup face to release parts of edge ``size``, in
+        filling order: every slot the bin holds and the arm reaches.
 
-        Slots fill a grid per layer (with 1 cm gaps), layers stack up. The
-        release is just above the landing surface, but never with the cup below
-        the rim (the wrist would hit the walls); from there the part drops.
+        Slots fill a grid per layer (with 1 cm gaps), nearest the robot's base
+        first; layers stack up while a part's centre stays below the rim (the
+        bin's capacity). The release is just above the landing surface, but
+        never with the cup below the rim (the wrist would hit the walls); from
+        there the part drops. A slot the arm cannot reach tool-down (``reach``)
+        is skipped.
         """
         inner, floor_top = 2 * bin_geometry.inner_half_width, bin_geometry.floor_top
         per_row = max(1, int((inner + 1e-9) // (size + 0.01))) if self.grid else 1
-        per_layer = per_row * per_row
-        layer, k = divmod(placed, per_layer)
         pitch = inner / per_row
-        ix, iy = divmod(k, per_row)
-        x = (ix - (per_row - 1) / 2) * pitch
-        y = (iy - (per_row - 1) / 2) * pitch
-        z = max(floor_top + (layer + 1) * size + 0.02, bin_geometry.height + 0.02)
-        return X_WBin @ np.array([x, y, z])
+        grid = [
+            ((ix - (per_row - 1) / 2) * pitch, (iy - (per_row - 1) / 2) * pitch)
+            for ix in range(per_row)
+            for iy in range(per_row)
+        ]
+        centre = self.X_WR.translation()[:2]
+        result = []
+        layer = 0
+        while floor_top + (layer + 0.5) * size <= bin_geometry.height + 1e-9:
+            z = max(floor_top + (layer + 1) * size + 0.02, bin_geometry.height + 0.02)
+            points = [X_WBin @ np.array([x, y, z]) for x, y in grid]
+            points.sort(key=lambda p: (round(float(np.linalg.norm(p[:2] - centre)), 6), p[0], p[1]))
+            result += [
+                p
+                for p in points
+                if self.reach is None or np.linalg.norm(p[:2] - centre) <= self.reach(float(p[2]))
+            ]
+            layer += 1
+        return result
+
+    def slot(
+        self, X_WBin: RigidTransform, bin_geometry: BinGeometry, size: float, placed: int
+    ) -> Optional[np.ndarray]:
+        """Where to release the ``placed``-th part (see :meth:`slots`); None when the
+        bin holds no more that the arm can reach."""
+        slots = self.slots(X_WBin, bin_geometry, size)
+        return slots[placed] if placed < len(slots) else None
 
     def drop_pose(self, X_now: RigidTransform, p_slot: np.ndarray, bin_yaw: float) -> RigidTransform:
         """The tool pose at a slot: part squared with the bin (tool and part axes

@@ -30,6 +30,7 @@ from typing import Optional
 import numpy as np
 from pydrake.geometry import Meshcat
 from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.framework import Context, DiagramBuilder
 
 from omtp_drake import arms
@@ -302,6 +303,13 @@ class FactoryRuntime:
             raise UnknownNameError("camera", camera, self.station.cameras, closest=True)
         return self.station.cameras[camera]
 
+    def sample_cameras(self) -> None:
+        """Every logical camera takes its image now, at the current time (as it does at
+        its sample times); nothing else changes. For reports of the state at a time T
+        (an advance to T stops before the samples due at T are taken)."""
+        for camera in self.station.cameras.values():
+            camera.ExecuteForcedEvents(camera.GetMyMutableContextFromRoot(self.context))
+
     def camera_image(self, camera: str) -> LogicalCameraImage:
         """The latest image of a logical camera."""
         self._camera(camera)
@@ -330,6 +338,30 @@ class FactoryRuntime:
             if loose:
                 raise SimulationError(f"one part at a time: {', '.join(loose)} is still in the world")
         return spawn(self.station, self.context, self.pool, xyz, yaw)
+
+    def write_off_part(self, name: str) -> None:
+        """Gives up on part ``name`` (lost where nobody can pick it): it stays where it
+        is and in the ledger, but no longer holds a one-at-a-time spawner back, and the
+        spawner replaces it."""
+        in_world = self.pool.in_world(self.context)
+        if name not in in_world:
+            raise UnknownNameError("part in the world", name, in_world)
+        self.pool.written_off.add(name)
+
+    def knock_part(self, name: str, velocity: Sequence[float]) -> None:
+        """Fault injection: part ``name`` is knocked: it moves off at ``velocity``
+        (m/s, world) and then slides, tumbles or falls as physics has it."""
+        in_world = self.pool.in_world(self.context)
+        if name not in in_world:
+            raise UnknownNameError("part in the world", name, in_world)
+        v = np.asarray(velocity, dtype=float).reshape(-1)
+        if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) > 20.0:
+            raise ConfigError(
+                f"knock_part needs a velocity of 3 finite numbers of at most 20 m/s, got {list(velocity)!r}"
+            )
+        plant = self.station.plant
+        body = plant.GetBodyByName(name, self.station.parts[name])
+        plant.SetFreeBodySpatialVelocity(self._plant_context, body, SpatialVelocity(np.zeros(3), v))
 
     def remove_part(self, name: str) -> None:
         """Disposes of a part in the world now (as the deletion wall does)."""

@@ -203,6 +203,9 @@ class TaskConfig:
     press_depth: float = 0.003
     attach_timeout: float = 1.0
     detect_timeout: float = 15.0
+    #: A part being picked again that no camera has seen for this long (s), or
+    #: that lies out of reach, is given up on (recorded "lost" with its position).
+    lost_timeout: float = 3.0
     max_attempts: int = 3
     #: DiffIK tracking: position error (m) tolerated, and for how long (s).
     tracking_tolerance: float = 0.03
@@ -225,6 +228,7 @@ class TaskConfig:
             "slow_zone",
             "attach_timeout",
             "detect_timeout",
+            "lost_timeout",
             "tracking_tolerance",
             "tracking_time",
             "image_timeout",
@@ -698,6 +702,7 @@ def _check_schema(value: Any, schema: Any, source: str, path: str) -> None:
             raise ScenarioError(
                 _unknown_key_message(where, unknown[0], ["base_frame", "translation", "rotation"])
             )
+        _check_pose(value, where)
         return
     if _is_record(schema):
         if not isinstance(value, dict):
@@ -744,6 +749,42 @@ def closest_name(name: str, valid: Sequence[str]) -> Optional[str]:
 
     abbreviations = sorted((v for v in valid if holds(v)), key=len)
     return abbreviations[0] if abbreviations and len(name) >= 2 else None
+
+
+_ROTATIONS = "!Rpy {deg: [roll, pitch, yaw]}, !AngleAxis {angle_deg: a, axis: [x, y, z]} or !Identity {}"
+
+
+def _check_pose(value: dict, where: str) -> None:
+    """A fixed pose: translation 3 numbers; rotation one of the fixed forms."""
+
+    def numbers(x: Any, n: int) -> bool:
+        return (
+            isinstance(x, list)
+            and len(x) == n
+            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in x)
+        )
+
+    if "translation" in value and not numbers(value["translation"], 3):
+        raise ScenarioError(f"{where}.translation must be 3 numbers, got {value['translation']!r}")
+    if "base_frame" in value and not isinstance(value["base_frame"], (str, type(None))):
+        raise ScenarioError(f"{where}.base_frame must be a frame name, got {value['base_frame']!r}")
+    if "rotation" not in value:
+        return
+    rotation = value["rotation"]
+    forms = {"!Rpy": {"deg": 3}, "!AngleAxis": {"angle_deg": 1, "axis": 3}, "!Identity": {}}
+    body = rotation.value if isinstance(rotation, _Tagged) else None
+    if (
+        not isinstance(rotation, _Tagged)
+        or rotation.tag not in forms
+        or not isinstance(body, dict)
+        or set(body) != set(forms[rotation.tag])
+        or not all(numbers(body[k] if n > 1 else [body[k]], n) for k, n in forms[rotation.tag].items())
+    ):
+        raise ScenarioError(f"{where}.rotation must be {_ROTATIONS}, got {_show(rotation)}")
+
+
+def _show(value: Any) -> str:
+    return f"{value.tag} {value.value!r}" if isinstance(value, _Tagged) else repr(value)
 
 
 def _unknown_key_message(where: str, key: str, valid: list[str]) -> str:

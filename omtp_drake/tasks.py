@@ -29,6 +29,7 @@ from omtp_drake.pick_and_place import (
     PickHistory,
     PickRecord,
     add_pick_and_place,
+    bin_capacity,
     control_of,
     history_of,
 )
@@ -90,6 +91,10 @@ class TaskResult:
         }
 
 
+#: Failure reasons after which the controller gives a part up.
+GIVEN_UP = ("lost", "dropped_into_bin")
+
+
 def judge(picks: list[PickRecord], ledger: Ledger, bin_name: str, parts: int) -> bool:
     """Did the task succeed: ``parts`` parts in the bin, each by a successful
     place, and nothing lost?"""
@@ -117,6 +122,12 @@ def prepare(scenario: Scenario | str, *, seed: Optional[int] = None, parts: Opti
         task = replace(task, parts=int(parts))
         scenario = replace(scenario, task=task)
     n = task.parts
+    capacity = bin_capacity(scenario)
+    if n > capacity:
+        raise ConfigError(
+            f"task.parts = {n}, but {task.bin} holds {capacity} parts of "
+            f"{scenario.pool_part_size:g} m that {task.robot} can reach (layers up to its rim)"
+        )
     if scenario.spawner is not None:
         scenario = replace(
             scenario, spawner=replace(scenario.spawner, max_parts=n), part_pool=max(scenario.part_pool, n + 2)
@@ -141,6 +152,18 @@ class TaskRun:
         rt = self.runtime
         if rt.station.conveyor is not None and rt.station.break_beam is not None:
             rt.on_tick(_restart_belt_when_beam_clears)
+        rt.on_tick(self._write_off_lost_parts)
+
+    def _write_off_lost_parts(self, rt: FactoryRuntime) -> None:
+        """A part the controller gave up on (lost, or fallen into the bin without a
+        place) no longer holds the spawner back, and the spawner replaces it."""
+        for pick in self.history().picks:
+            if (
+                pick.reason in GIVEN_UP
+                and pick.part not in rt.pool.written_off
+                and pick.part in rt.parts_in_world()
+            ):
+                rt.write_off_part(pick.part)
 
     def control(self) -> ControlState:
         """What the controller is doing now."""
@@ -151,9 +174,9 @@ class TaskRun:
         return history_of(self.controller, self.runtime.context)
 
     def done(self) -> bool:
-        task = self.scenario.required_task()
-        ledger = self.runtime.ledger()
-        return ledger.in_bin.get(task.bin, 0) >= task.parts and self.control().mode in (
+        """The controller has placed the task's parts (and is back to waiting)."""
+        placed = sum(p.success for p in self.history().picks)
+        return placed >= self.scenario.required_task().parts and self.control().mode in (
             Mode.HOME,
             Mode.WAIT_PART,
         )

@@ -72,3 +72,20 @@ def test_progress_bar_shows_simulated_time(capsys):
     assert main(["run", "lecture6_assignment4", "--parts", "1", "--duration", "1"]) == 1
     err = capsys.readouterr().err
     assert "1.0/1 s simulated" in err and "0/1 in bin_1" in err
+
+
+def test_tf_echo_reports_the_state_at_the_time_asked(capsys):
+    """Issue 12: the part in free fall at T = 0.1 s is where the plant has it at T (it was
+    one plant step later, 2 mm lower)."""
+    from omtp_drake.runtime import FactoryRuntime
+
+    assert main(["tf-echo", "lecture6_assignment3", "world", "object_1", "--time", "0.1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    rt = FactoryRuntime("lecture6_assignment3")
+    rt.advance_to(0.1)
+    assert out["time"] == pytest.approx(0.1)
+    np.testing.assert_allclose(out["translation"], rt.part_pose("object_1").translation(), atol=1e-9)
+    assert main(["tf-echo", "lecture6_assignment3", "world", "logical_camera_2_object_1_frame",
+                 "--time", "0.1", "--json"]) == 0
+    seen = json.loads(capsys.readouterr().out)
+    np.testing.assert_allclose(seen["translation"], rt.part_pose("object_1").translation(), atol=1e-9)
