@@ -185,8 +185,8 @@ def _simulated_station(
         for name, h in station.arms.items():
             runtime.hold_arm(name, arms.named_pose(poses.get(name, "Home"), h.config))
     runtime.advance_to(time)
-    # Take the samples due now (cameras at 10 Hz), so an image is stamped `time`.
-    runtime.simulator.AdvancePendingEvents()
+    # The images at `time` (not the state one plant step later: the plant stays at `time`).
+    runtime.sample_cameras()
     context = runtime.context
     return station, context
 
@@ -214,11 +214,27 @@ def cmd_tf_echo(args: argparse.Namespace) -> int:
 
 
 def cmd_camera(args: argparse.Namespace) -> int:
+    if args.image:
+        from omtp_drake.scenario import load_scenario
+
+        scenario = load_scenario(args.scenario)
+        config = next((c for c in scenario.cameras if c.name == args.camera), None)
+        if config is not None and not config.rgbd:
+            raise ConfigError(
+                f"camera {args.camera!r} of {scenario.name} has no RGB-D view for --image; enable it in a "
+                f"scenario with base: {scenario.name} and cameras: [{{name: {args.camera}, rgbd: true}}]"
+            )
     station, context = _simulated_station(args.scenario, args.time, camera=args.camera)
-    image = station.diagram.GetOutputPort(f"{args.camera}.image").Eval(
-        station.diagram.GetMyContextFromRoot(context)
-    )
+    station_context = station.diagram.GetMyContextFromRoot(context)
+    image = station.diagram.GetOutputPort(f"{args.camera}.image").Eval(station_context)
     print(json.dumps(image.to_dict()) if args.json else str(image))
+    if args.image:
+        from omtp_drake.rgbd import color_image, save_png
+
+        color = color_image(station.diagram, context, args.camera)
+        path = save_png(color, args.image)
+        if not args.json:
+            print(f"colour image: {path} ({color.width()} x {color.height()})")
     return 0
 
 
@@ -340,6 +356,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--json", action="store_true", help="print JSON (keys time, camera_name, camera_pose, models)"
+    )
+    p.add_argument(
+        "--image",
+        metavar="PNG",
+        help="also save the camera's colour image (its RGB-D view: `rgbd: true` in the scenario)",
     )
     p.set_defaults(func=cmd_camera)
 

@@ -1,0 +1,226 @@
+"""Batch evaluation on Dask (omtp_drake.batch): the same results as serial runs,
+a real scheduler and workers, faults recorded and retried, resume, bad input.
+
+Runs are lecture 6 assignment 4 with one part (~2 s of wall each) or shorter.
+"""
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from omtp_drake import batch
+from omtp_drake.batch import plan_batch, run_batch, wilson_interval
+from omtp_drake.cli import main
+from omtp_drake.tasks import run_task
+
+SCENARIO = "lecture6_assignment4"
+BIN = Path(sys.executable).parent
+
+
+def faulty(scenario, duration):
+    """A run function with injected faults: seed 1 aborts its process (as a
+    segfault in Drake would), seed 2 raises, seed 3 hangs; others simulate."""
+    if scenario.seed == 1:
+        os.abort()
+    if scenario.seed == 2:
+        raise RuntimeError("injected failure")
+    if scenario.seed == 3:
+        time.sleep(600)
+    return batch.simulate(scenario, duration)
+
+
+def only_seed_0(scenario, duration):
+    """A run function for the resume test: any run but seed 0's is an error."""
+    if scenario.seed != 0:
+        raise AssertionError(f"seed {scenario.seed} should have been skipped")
+    return batch.simulate(scenario, duration)
+
+
+def _no_cluster(*args, **kwargs):
+    raise AssertionError("a cluster was started")
+
+
+@pytest.fixture(scope="module")
+def local_client():
+    """A client of a LocalCluster of two worker processes (shared: starting one costs seconds)."""
+    with batch.connect(workers=2) as client:
+        yield client
+
+
+def test_cluster_runs_equal_serial_runs(local_client, tmp_path):
+    settings = {"spawner.yaw_variance": [0.3], "task.max_tool_speed": [0.8, 1.0]}
+    out = tmp_path / "batch"
+    plan = plan_batch(SCENARIO, [0, 1], settings=settings, parts=1)
+    # The batch waits on its workers in a thread while this one runs the same runs serially.
+    with ThreadPoolExecutor(1) as pool:
+        batch_records = pool.submit(
+            run_batch,
+            SCENARIO,
+            [0, 1],
+            settings=settings,
+            parts=1,
+            client=local_client,
+            out=out,
+            progress=False,
+        )
+        serial = [run_task(spec.scenario()) for spec in plan.runs]
+        records = batch_records.result()
+    assert [(r.seed, r.settings) for r in records] == [(s.seed, s.settings) for s in plan.runs]
+    assert len({r.worker for r in records}) == 2  # both worker processes took runs
+    for record, expected in zip(records, serial):
+        assert record.status == "finished" and record.attempts == 1
+        assert [p.to_dict() for p in record.result.picks] == [p.to_dict() for p in expected.picks]
+        assert record.result.ledger == expected.ledger
+        assert (record.success, record.result.sim_time_s) == (expected.success, expected.sim_time_s)
+    # The seeds differ (spawn yaw), and so do the settings (tool speed).
+    assert len({r.result.picks[0].end for r in records}) >= 3
+    rows = (out / "runs.csv").read_text().splitlines()
+    assert len(rows) == 5 and "task.max_tool_speed" in rows[0]
+    summary = json.loads((out / "summary.json").read_text())
+    assert [s["settings"]["task.max_tool_speed"] for s in summary] == [0.8, 1.0]
+    assert all(s["runs"] == 2 for s in summary)
+    assert (out / "success_rate.png").stat().st_size > 0 and (out / "cycle_times.png").stat().st_size > 0
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+@pytest.fixture
+def dask_cluster():
+    """A scheduler and two workers started with the `dask` command line."""
+    port = _free_port()
+    address = f"tcp://127.0.0.1:{port}"
+    common = ["--no-dashboard"]
+    procs = [
+        subprocess.Popen(
+            [str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port), *common],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ]
+    try:
+        for _ in range(2):
+            procs.append(
+                subprocess.Popen(
+                    [str(BIN / "dask"), "worker", address, "--nthreads", "1", "--no-nanny", *common],
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                )
+            )
+        from distributed import Client
+
+        with Client(address, timeout=30) as client:
+            client.wait_for_workers(2, timeout=60)
+            workers = set(client.has_what())
+        yield address, workers
+    finally:
+        for proc in reversed(procs):  # workers first; their runners exit with them
+            proc.terminate()
+            try:
+                proc.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
+
+
+def test_batch_on_a_dask_scheduler_and_workers(dask_cluster, tmp_path, capsys):
+    address, workers = dask_cluster
+    out = tmp_path / "remote"
+    argv = ["batch", SCENARIO, "--seeds", "0:2", "--parts", "1", "--duration", "1.0"]
+    code = main([*argv, "--scheduler", address, "--out", str(out), "-q"])
+    assert code == 1  # one simulated second is too short to place a part: finished, not successful
+    records = [json.loads(p.read_text()) for p in sorted((out / "runs").glob("*.json"))]
+    assert [r["seed"] for r in records] == [0, 1]
+    assert all(r["status"] == "finished" and r["worker"] in workers for r in records)
+    assert all(r["summary"]["sim_time_s"] == pytest.approx(1.0) for r in records)
+    printed = capsys.readouterr().out
+    assert "defaults:" in printed and "success 0/2" in printed
+
+
+def test_faults_are_recorded_retried_and_resume_skips_done_runs(local_client, tmp_path, monkeypatch):
+    out = tmp_path / "faults"
+    kwargs = dict(parts=1, duration=0.5, out=out, progress=False)
+    records = run_batch(SCENARIO, range(5), client=local_client, timeout=4.0, run_fn=faulty, **kwargs)
+    by_seed = {r.seed: r for r in records}
+    assert {s: r.status for s, r in by_seed.items()} == {
+        0: "finished",
+        1: "crashed",
+        2: "error",
+        3: "timeout",
+        4: "finished",
+    }
+    assert "SIGABRT" in by_seed[1].message
+    assert "RuntimeError: injected failure" in by_seed[2].message
+    assert "timeout of 4 s" in by_seed[3].message
+    for seed in (1, 2, 3):  # retried once, on the other worker
+        record = by_seed[seed]
+        assert record.attempts == 2 and record.result is None
+        assert record.failed_attempts[0]["status"] == record.status
+        assert record.failed_attempts[0]["worker"] != record.worker
+    for seed in (0, 4):
+        assert by_seed[seed].result.sim_time_s == pytest.approx(0.5) and by_seed[seed].attempts == 1
+    saved = json.loads((out / "runs" / "seed1.json").read_text())
+    assert saved["status"] == "crashed" and saved["attempts"] == 2
+
+    # Resume: only the run whose JSON is gone runs again; the others are read back.
+    (out / "runs" / "seed0.json").unlink()
+    resumed = run_batch(SCENARIO, range(5), client=local_client, run_fn=only_seed_0, **kwargs)
+    assert [r.status for r in resumed] == ["finished", "crashed", "error", "timeout", "finished"]
+    assert resumed[0].result.ledger == by_seed[0].result.ledger
+    # Everything done: no cluster at all.
+    monkeypatch.setattr(batch, "connect", _no_cluster)
+    again = run_batch(SCENARIO, range(5), workers=2, run_fn=only_seed_0, **kwargs)
+    assert [r.to_dict() for r in again] == [r.to_dict() for r in resumed]
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--seeds", "0:0"], "--seeds '0:0' is an empty range; valid: START:STOP"),
+        (["--seeds", "5:2"], "--seeds '5:2' is an empty range"),
+        (["--seeds", "a:b"], "--seeds 'a:b' is malformed"),
+        (
+            ["--seeds", "0:2", "--set", "task.max_tool_sped=0.5"],
+            "unknown key 'max_tool_sped' in task (closest: ",
+        ),
+        (["--seeds", "0:2", "--set", "task.max_tool_speed=0.6,fast"], "must be a number, got 'fast'"),
+        (["--seeds", "0:2", "--set", "task.max_tool_speed=0.6,1.5"], "max_tool_speed must be in (0, 1] m/s"),
+        (
+            ["--seeds", "0:2", "--set", "cameras.logical_camera_9.position_noise_sigma=0"],
+            "no cameras item 'logical_camera_9' (closest: logical_camera_2); names: logical_camera_1, ",
+        ),
+        (["--seeds", "0:2", "--workers", "0"], "--workers must be an integer >= 1, got 0"),
+    ],
+)
+def test_bad_input_is_one_error_before_anything_starts(args, message, tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(batch, "connect", _no_cluster)
+    out = tmp_path / "never"
+    assert main(["batch", SCENARIO, *args, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("omtp-drake: error: ") and message in err and err.count("\n") == 1
+    assert not out.exists()
+
+
+def test_resume_refuses_another_batchs_folder(tmp_path, monkeypatch):
+    out = tmp_path / "other"
+    out.mkdir()
+    (out / "batch.json").write_text(json.dumps({"scenario": "fill_bin", "parts": 3, "fingerprint": "x"}))
+    monkeypatch.setattr(batch, "connect", _no_cluster)
+    with pytest.raises(batch.ConfigError, match="holds a batch of another scenario"):
+        run_batch(SCENARIO, [0], parts=1, out=out, progress=False)
+
+
+def test_wilson_interval():
+    assert wilson_interval(0, 10) == pytest.approx((0.0, 0.2775), abs=1e-4)
+    assert wilson_interval(10, 10) == pytest.approx((0.7225, 1.0), abs=1e-4)
+    assert wilson_interval(5, 10) == pytest.approx((0.2366, 0.7634), abs=1e-4)
