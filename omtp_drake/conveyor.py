@@ -17,7 +17,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import RigidBody
@@ -141,15 +140,17 @@ class ConveyorBelt(LeafSystem):
 class BreakBeam(LeafSystem):
     """A break-beam sensor: is anything on the segment [min_range, max_range] of its beam?
 
-    Input port ``body_poses``: the plant's body poses.
+    Input port ``plant_state`` (vector): the plant's state [q; v].
     Output port ``state`` (vector [detected, range]), sampled at ``rate_hz`` and
     held: detected is 1.0 when a candidate body's bounding box crosses the
     beam segment; range is the distance from the emitter to the nearest hit
     (inf when clear).
 
-    Frames: the beam leaves the plant frame ``frame`` (``break_beam_optical_link``)
-    along its +x axis. Candidates: the given bodies, each with an axis-aligned
-    box in its own frame (centre, half-extents), e.g. the parts.
+    Frames: the beam leaves the plant frame ``frame`` (``break_beam_optical_link``,
+    fixed to the world) along its +x axis. Candidates: the given free bodies (on a
+    quaternion floating joint, e.g. the parts), each with an axis-aligned box in its
+    own frame (centre, half-extents). Their poses are read straight from the state
+    vector, and only bodies within reach of the segment get the exact test.
     """
 
     def __init__(
@@ -171,29 +172,49 @@ class BreakBeam(LeafSystem):
             )
         if len(bodies) != len(boxes):
             raise ConfigError("break beam: one box per body")
-        self._emitter_body = int(frame.body().index())
-        self._X_BE = frame.GetFixedPoseInBodyFrame()
-        self._bodies = [int(b.index()) for b in bodies]
-        self._centres = np.array([c for c, _ in boxes]).reshape(-1, 3)
-        self._halves = np.array([h for _, h in boxes]).reshape(-1, 3)
+        if not plant.IsAnchored(frame.body()):
+            raise ConfigError(f"break beam: its frame {frame.name()!r} must be fixed to the world")
+        X_WE = frame.CalcPoseInWorld(plant.CreateDefaultContext())
+        self._p_WE = X_WE.translation()
+        self._u_W = X_WE.rotation().col(0)
+        starts = []
+        for body in bodies:
+            if not body.is_floating_base_body() or not body.has_quaternion_dofs():
+                raise ConfigError(f"break beam: candidate {body.name()!r} must be a free body")
+            starts.append(body.floating_positions_start())
+        # q[start: start + 4] is the quaternion (w, x, y, z), q[start + 4: start + 7] the position.
+        self._quaternion_index = np.array([[k + i for i in range(4)] for k in starts], dtype=np.intp).reshape(
+            -1, 4
+        )
+        self._position_index = np.array(
+            [[k + 4 + i for i in range(3)] for k in starts], dtype=np.intp
+        ).reshape(-1, 3)
+        self._centres = np.array([c for c, _ in boxes], dtype=float).reshape(-1, 3)
+        self._halves = np.array([h for _, h in boxes], dtype=float).reshape(-1, 3)
+        # A body farther than this from the segment cannot touch it.
+        self._reach = np.linalg.norm(self._centres, axis=1) + np.linalg.norm(self._halves, axis=1)
         self._range = (min_range, max_range)
-        self._poses = self.DeclareAbstractInputPort("body_poses", AbstractValue.Make([RigidTransform()]))
+        self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self._state = self.DeclareDiscreteState(np.array([0.0, np.inf]))
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / rate_hz, 0.0, self._update)
         self.DeclareInitializationDiscreteUpdateEvent(self._update)
         self.DeclareStateOutputPort("state", self._state)
 
     def read(self, context: Context) -> np.ndarray:
-        """[detected, range] at the pose of the bodies in ``context``."""
-        X_WB = self._poses.Eval(context)
-        X_WE = X_WB[self._emitter_body] @ self._X_BE
-        nearest = np.inf
+        """[detected, range] at the state in ``context``."""
+        x = self._plant_state.Eval(context)
+        p_WB = x[self._position_index]  # (n, 3)
         lo, hi = self._range
-        for body, centre, half in zip(self._bodies, self._centres, self._halves):
+        # Distance of each body origin to the segment: only those within reach are tested.
+        t = np.clip((p_WB - self._p_WE) @ self._u_W, lo, hi)
+        gap = np.linalg.norm(p_WB - (self._p_WE + t[:, None] * self._u_W), axis=1)
+        nearest = np.inf
+        for k in np.flatnonzero(gap <= self._reach):
+            R_WB = _rotation(x[self._quaternion_index[k]])
             # Slab test of the beam segment against the body's box, in the box frame.
-            X_BW = X_WB[body].inverse()
-            origin = X_BW @ X_WE.translation() - centre
-            direction = X_BW.rotation() @ X_WE.rotation().col(0)
+            origin = R_WB.T @ (self._p_WE - p_WB[k]) - self._centres[k]
+            direction = R_WB.T @ self._u_W
+            half = self._halves[k]
             parallel = np.abs(direction) < 1e-12
             if np.any(parallel & (np.abs(origin) > half)):
                 continue  # parallel to a slab and outside it
@@ -207,3 +228,15 @@ class BreakBeam(LeafSystem):
 
     def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
         discrete_state.set_value(self._state, self.read(context))
+
+
+def _rotation(q: np.ndarray) -> np.ndarray:
+    """The rotation matrix of the quaternion ``q`` = (w, x, y, z), normalised first."""
+    w, x, y, z = q / np.linalg.norm(q)
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )

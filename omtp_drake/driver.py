@@ -27,6 +27,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Optional, Protocol
 
+from pydrake.geometry import Role
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram
 
@@ -98,28 +99,38 @@ class BeltWrap:
 
 
 class DeletionWall:
-    """Disposes of every part touching the deletion wall (5 Hz)."""
+    """Disposes of every part touching the deletion wall (5 Hz).
+
+    Touching is geometric (SceneGraph's penetration query between the wall's and
+    the parts' collision geometry): the plant's contact results would cost an extra
+    contact solve at every check (0.56 ms, against 0.03 ms)."""
 
     period = DISPOSAL_PERIOD
 
     def __init__(self, station: Station, pool: PartPool):
         self._station = station
         self._pool = pool
-        plant = station.plant
-        self._wall = int(plant.GetBodyByName("deletion_wall").index())
-        self._by_body = {int(plant.GetBodyByName(n, station.parts[n]).index()): n for n in station.parts}
+        plant, inspector = station.plant, station.scene_graph.model_inspector()
+
+        def collision_geometries(body) -> list:
+            frame = plant.GetBodyFrameIdOrThrow(body.index())
+            return list(inspector.GetGeometries(frame, Role.kProximity))
+
+        self._wall = set(collision_geometries(plant.GetBodyByName("deletion_wall")))
+        self._part_of = {
+            g: n
+            for n in station.parts
+            for g in collision_geometries(plant.GetBodyByName(n, station.parts[n]))
+        }
 
     def __call__(self, root_context: Context) -> None:
         plant = self._station.plant
-        results = plant.get_contact_results_output_port().Eval(plant.GetMyContextFromRoot(root_context))
+        query = plant.get_geometry_query_input_port().Eval(plant.GetMyContextFromRoot(root_context))
         touching = set()
-        for i in range(results.num_point_pair_contacts()):
-            info = results.point_pair_contact_info(i)
-            a, b = int(info.bodyA_index()), int(info.bodyB_index())
-            if self._wall in (a, b):
-                other = b if a == self._wall else a
-                if other in self._by_body:
-                    touching.add(self._by_body[other])
+        for pair in query.ComputePointPairPenetration():
+            for wall, other in ((pair.id_A, pair.id_B), (pair.id_B, pair.id_A)):
+                if wall in self._wall and other in self._part_of:
+                    touching.add(self._part_of[other])
         for name in sorted(touching):
             self._pool.dispose(root_context, name)
 
@@ -167,7 +178,7 @@ class AutoSpawner:
             or self._enough(spawner)
         ):
             return
-        if spawner.one_at_a_time and loose_parts(self.station, root_context, self.pool):
+        if spawner.one_at_a_time and _any_loose(self.station, root_context, self.pool):
             return  # waits for a clear world
         if not self.pool.queue(root_context):
             raise SimulationError(
@@ -187,6 +198,18 @@ def loose_parts(station: Station, root_context: Context, pool: PartPool) -> list
         for n in pool.in_world(root_context)
         if n not in pool.written_off and locate(station, root_context, n, held)[0] != "in_bin"
     ]
+
+
+def _any_loose(station: Station, root_context: Context, pool: PartPool) -> bool:
+    """Whether :func:`loose_parts` has any, looking at held parts and the newest
+    parts first (the older ones are mostly in a bin)."""
+    if held_parts(station, root_context):
+        return True
+    held: dict[str, str] = {}
+    return any(
+        n not in pool.written_off and locate(station, root_context, n, held)[0] != "in_bin"
+        for n in reversed(pool.in_world(root_context))
+    )
 
 
 def spawn(

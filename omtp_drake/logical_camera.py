@@ -50,6 +50,7 @@ from pydrake.geometry import (
     GeometryId,
     HalfSpace,
     Mesh,
+    Obb,
     Role,
     SceneGraph,
     SceneGraphInspector,
@@ -442,6 +443,23 @@ def _geometries(
     return sorted(geometries, key=lambda g: g.get_value())
 
 
+#: Oriented bounding boxes of mesh files, by (file, scale): a mesh's box takes
+#: milliseconds to compute and every camera of a station needs those of every arm.
+_MESH_OBBS: dict[tuple[str, tuple[float, ...]], Optional[Obb]] = {}
+
+
+def _obb(inspector: SceneGraphInspector, geometry_id: GeometryId) -> Optional[Obb]:
+    """The geometry's oriented bounding box in its frame (None: unbounded), computed
+    once per mesh file and scale."""
+    shape = inspector.GetShape(geometry_id)
+    if isinstance(shape, (Mesh, Convex)) and shape.source().is_path():
+        key = (f"{type(shape).__name__}:{shape.source().path()}", tuple(shape.scale3()))
+        if key not in _MESH_OBBS:
+            _MESH_OBBS[key] = inspector.GetObbInGeometryFrame(geometry_id)
+        return _MESH_OBBS[key]
+    return inspector.GetObbInGeometryFrame(geometry_id)
+
+
 _BOX_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
 
 
@@ -454,7 +472,7 @@ def _bounding_box(
     unbounded (a HalfSpace)."""
     corners = []
     for geometry_id in geometries:
-        obb = inspector.GetObbInGeometryFrame(geometry_id)
+        obb = _obb(inspector, geometry_id)
         if obb is None:
             return None
         X_FO = inspector.GetPoseInFrame(geometry_id) @ obb.pose()
@@ -516,7 +534,9 @@ def _slabs_in_geometry_frame(
     elif isinstance(shape, Ellipsoid):
         h = np.linalg.norm(n * [shape.a(), shape.b(), shape.c()], axis=1)
     else:
-        obb = inspector.GetObbInGeometryFrame(geometry_id)
+        obb = _obb(inspector, geometry_id)
+        if obb is None:  # (only a HalfSpace is unbounded, handled above)
+            raise ConfigError(f"geometry {inspector.GetName(geometry_id)!r} has no bounding box")
         axes = obb.pose().rotation().matrix().T  # rows: the box's axes in G
         centre = axes @ obb.pose().translation()
         return axes, obb.half_width() + centre, obb.half_width() - centre
@@ -605,7 +625,7 @@ class _RayCastOcclusion:
                 d_plus.append(plus + shift)
                 d_minus.append(minus - shift)
                 counts.append(len(n_B))
-                obb = inspector.GetObbInGeometryFrame(geometry_id)  # None: unbounded
+                obb = _obb(inspector, geometry_id)  # None: unbounded
                 X_BO = X_BG @ obb.pose() if obb is not None else RigidTransform()
                 R_BO.append(X_BO.rotation().matrix())
                 p_BO.append(X_BO.translation())

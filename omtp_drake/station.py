@@ -61,9 +61,8 @@ from pydrake.multibody.math import SpatialVelocity
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, ModelInstanceIndex, PdControllerGains
-from pydrake.systems.controllers import InverseDynamicsController
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, InputPort
-from pydrake.systems.primitives import Demultiplexer, StateInterpolatorWithDiscreteDerivative
+from pydrake.systems.primitives import Demultiplexer
 
 from omtp_drake import arms
 from omtp_drake.assets import MODELS_DIR, expand_xacro
@@ -101,12 +100,12 @@ class ArmHandles:
     #: The servo's model of the arm and gripper (base at the origin); also
     #: what differential IK plans with. Held here to keep it alive.
     control_plant: Optional[MultibodyPlant] = None
-    #: The servo's position -> desired state interpolator (its initial
-    #: position is set by :meth:`Station.initialize_context`).
-    interpolator: Optional[StateInterpolatorWithDiscreteDerivative] = None
-    #: The servo's inverse-dynamics controller (its PID integral is the servo's
+    #: The servo's command sampler (its initial position is set by
+    #: :meth:`Station.initialize_context`).
+    interpolator: Optional[arms.CommandSampler] = None
+    #: The servo (computed torque; with ``ki > 0`` a PID whose integral is its
     #: continuous state).
-    controller: Optional[InverseDynamicsController] = None
+    controller: Optional[Diagram] = None
 
 
 @dataclass
@@ -221,16 +220,17 @@ class Station:
         interpolator = handles.interpolator
         if interpolator is None:
             raise ConfigError(f"arm {name!r} has no servo (the station is not built)")
-        interpolator.set_initial_position(interpolator.GetMyMutableContextFromRoot(root_context), q)
+        interpolator.set_initial_position(root_context, q)
 
     def clear_servo_integral(self, root_context: Context, name: str) -> None:
-        """Zeroes arm ``name``'s servo integral (after a blocked arm is freed, so the
-        error integrated while it was held does not throw it off its command)."""
+        """Zeroes arm ``name``'s servo integral, if it has one (after a blocked arm is
+        freed, so the error integrated while it was held does not throw it off)."""
         controller = self.arm(name).controller
         if controller is None:
             raise ConfigError(f"arm {name!r} has no servo (the station is not built)")
         servo_context = controller.GetMyMutableContextFromRoot(root_context)
-        servo_context.get_mutable_continuous_state_vector().SetZero()
+        if servo_context.num_continuous_states():
+            servo_context.get_mutable_continuous_state_vector().SetZero()
 
     # ------------------------------------------------------------------ grippers
 
@@ -528,7 +528,7 @@ def _add_arm_servo(
     )
     handles.interpolator = interpolator
     handles.controller = controller
-    builder.ExportInput(interpolator.get_input_port(), f"{name}.position")
+    interpolator.connect_input(builder, f"{name}.position")
     state = plant.get_state_output_port(handles.arm)
     n = plant.num_positions(handles.arm)
     demux = builder.AddNamedSystem(f"{name}.demux", Demultiplexer([n, n]))
@@ -536,7 +536,7 @@ def _add_arm_servo(
     builder.ExportOutput(demux.get_output_port(0), f"{name}.position_measured")
     builder.ExportOutput(demux.get_output_port(1), f"{name}.velocity_estimated")
     builder.ExportOutput(state, f"{name}.state_estimated")
-    builder.ExportOutput(controller.get_output_port_control(), f"{name}.torque_commanded")
+    builder.ExportOutput(controller.GetOutputPort("actuation"), f"{name}.torque_commanded")
 
 
 def _add_conveyor(
@@ -565,7 +565,7 @@ def _add_break_beam(
     beam = builder.AddNamedSystem(
         "break_beam", BreakBeam(plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes)
     )
-    builder.Connect(plant.get_body_poses_output_port(), beam.GetInputPort("body_poses"))
+    builder.Connect(plant.get_state_output_port(), beam.GetInputPort("plant_state"))
     builder.ExportOutput(beam.GetOutputPort("state"), "break_beam.state")
     if belt is not None:
         builder.Connect(beam.GetOutputPort("state"), belt.GetInputPort("beam"))

@@ -237,6 +237,9 @@ class _Memory:
     pending_body: int = -1
     pending_since: float = math.nan
 
+    def __deepcopy__(self, memo: dict) -> "_Memory":
+        return self  # immutable: Drake clones abstract state at every check
+
 
 _IDLE = GripperState(enabled=False, attached=False, part="", X_CP=None, since=math.nan)
 
