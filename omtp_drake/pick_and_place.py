@@ -12,8 +12,10 @@ Cycle (one handler per :class:`Mode`)::
     WAIT_PART -> APPROACH (above the part, tool down, yaw matched)
       -> DESCEND (straight down until the cup face meets the top face)
       -> ATTACH (suction on, wait for `attached`; timeout -> retry)
-      -> LIFT -> TRANSFER (up, an arc about the robot's base, down into the bin)
-      -> RELEASE (suction off; the bin camera must see it inside)
+      -> TRANSFER (up by the approach height, an arc about the robot's base, down
+         into the bin: one blended motion)
+      -> RELEASE (suction off; the bin camera must see it inside; meanwhile the
+         pick camera watches for the next part)
       -> WAIT_PART (after a failure: HOME first)
 
 Recovery, each recorded with its reason: suction does not attach
@@ -61,7 +63,6 @@ class Mode(Enum):
     APPROACH = "APPROACH"
     DESCEND = "DESCEND"
     ATTACH = "ATTACH"
-    LIFT = "LIFT"
     TRANSFER = "TRANSFER"
     RELEASE = "RELEASE"
     HOME = "HOME"
@@ -119,14 +120,19 @@ class ControlState:
     reset_ik: bool = False
     #: Since when the part being retried has not been seen by any camera.
     missing_since: float = math.nan
-    #: The part seen at the last check and where (to wait until it is at rest).
+    #: The part to pick next as last seen, where and in which image; at rest when
+    #: the image before agreed (to pick only parts at rest).
     candidate: str = ""
     candidate_X: Optional[RigidTransform] = None
     candidate_time: float = math.nan
+    candidate_at_rest: bool = False
 
     def pose_at(self, t: float) -> Optional[RigidTransform]:
         """The tool's desired pose ``X_WE`` at ``t`` (None without a path)."""
         return self.path.pose_at(t)
+
+    def __deepcopy__(self, memo: dict) -> ControlState:
+        return self  # immutable: Drake clones abstract state at every update
 
 
 @dataclass(frozen=True)
@@ -136,6 +142,9 @@ class PickHistory:
     picks: tuple[PickRecord, ...] = ()
     #: Largest tool tracking error seen (m).
     worst_tracking_error: float = 0.0
+
+    def __deepcopy__(self, memo: dict) -> PickHistory:
+        return self  # immutable: Drake clones abstract state at every update
 
 
 @dataclass(frozen=True)
@@ -254,7 +263,6 @@ class PickAndPlaceController(LeafSystem):
             Mode.APPROACH: self._approach,
             Mode.DESCEND: self._descend,
             Mode.ATTACH: self._attach,
-            Mode.LIFT: self._lift,
             Mode.TRANSFER: self._transfer,
             Mode.RELEASE: self._release,
             Mode.HOME: self._home,
@@ -354,15 +362,23 @@ class PickAndPlaceController(LeafSystem):
         return False
 
     def _travel(
-        self, context: Context, t: float, X_now: RigidTransform, X_goal: RigidTransform, size: float
+        self,
+        context: Context,
+        t: float,
+        X_now: RigidTransform,
+        X_goal: RigidTransform,
+        size: float,
+        min_height: float = -math.inf,
+        **clear: Optional[float],
     ) -> Path:
-        """Up, an arc, down (see PickPlanner.travel), high enough near the bin for
-        a part of edge ``size`` under the tool to clear its rim."""
+        """Up, an arc, down (see PickPlanner.travel, which gets ``clear_start`` and
+        ``clear_end``), at least ``min_height`` high and high enough near the bin for a
+        part of edge ``size`` under the tool to clear its rim."""
         X_WBin = self._bin_pose(context)
-        clear = self._planner.clearance_height(
+        rim = self._planner.clearance_height(
             X_WBin, self._bin.geometry, size, [X_now.translation(), X_goal.translation()]
         )
-        return self._planner.travel(t, X_now, X_goal, clear)
+        return self._planner.travel(t, X_now, X_goal, max(rim, min_height), **clear)
 
     # ---------------------------------------------------------------- the machine
 
@@ -411,7 +427,7 @@ class PickAndPlaceController(LeafSystem):
                     )
             elif not math.isnan(s.bad_tracking_since):
                 s = replace(s, bad_tracking_since=math.nan)
-        if s.mode in (Mode.LIFT, Mode.TRANSFER) and not inputs.gripper.attached:
+        if s.mode is Mode.TRANSFER and not inputs.gripper.attached:
             return (*self._fail(context, s, inputs, "dropped"), error)
         return s, None, error
 
@@ -481,17 +497,17 @@ class PickAndPlaceController(LeafSystem):
                 return self._go(s, Mode.WAIT_PART, t, last_seen=t), PickRecord("", t, t, False, "no_part", 1)
             return s, None
         name, X_WP, stamp = seen[0]
-        if stamp == s.candidate_time:
+        if stamp != s.candidate_time:
+            s = replace(self._note_candidate(s, name, X_WP, stamp), last_seen=t)
+        if not (s.candidate == name and s.candidate_at_rest):
             return s, None
-        if (
-            s.candidate != name
-            or s.candidate_X is None
-            or np.linalg.norm(s.candidate_X.translation() - X_WP.translation()) > 0.003
-        ):
-            return replace(s, candidate=name, candidate_X=X_WP, candidate_time=stamp, last_seen=t), None
         start = s.pick_start if (s.part == name and s.attempt > 1) else t
         X_above = self._planner.grasp_pose(X_WP, self._part_size(name), inputs.X_now, c.approach_height)
-        path = self._travel(context, t, inputs.X_now, X_above, self._part_size(name))
+        # The cup is empty: it may leave and arrive on a curve (it stays above the
+        # rim it starts over and above the approach height at the part).
+        path = self._travel(
+            context, t, inputs.X_now, X_above, self._part_size(name), clear_start=0.0, clear_end=0.0
+        )
         return self._go(
             s,
             Mode.APPROACH,
@@ -503,6 +519,19 @@ class PickAndPlaceController(LeafSystem):
             last_seen=t,
             missing_since=math.nan,
         ), None
+
+    @staticmethod
+    def _note_candidate(s: ControlState, name: str, X_WP: RigidTransform, stamp: float) -> ControlState:
+        """Records a sighting of the next part (from an image not seen before): at
+        rest if the previous sighting was of the same part within 3 mm."""
+        if stamp == s.candidate_time:
+            return s
+        at_rest = (
+            s.candidate == name
+            and s.candidate_X is not None
+            and np.linalg.norm(s.candidate_X.translation() - X_WP.translation()) <= 0.003
+        )
+        return replace(s, candidate=name, candidate_X=X_WP, candidate_time=stamp, candidate_at_rest=at_rest)
 
     def _lost(
         self,
@@ -548,6 +577,7 @@ class PickAndPlaceController(LeafSystem):
             candidate="",
             candidate_X=None,
             candidate_time=math.nan,
+            candidate_at_rest=False,
         ), record
 
     def _seen_in_bin(self, context: Context, name: str) -> Optional[RigidTransform]:
@@ -588,26 +618,22 @@ class PickAndPlaceController(LeafSystem):
     def _attach(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
         t, c = inputs.t, self._config
         if inputs.gripper.attached and inputs.gripper.part == s.part:
-            X_lift = self._planner.grasp_pose(
-                s.X_WP, self._part_size(s.part), inputs.X_now, c.approach_height
+            X_WBin = self._bin_pose(context)
+            size = self._part_size(s.part)
+            p_slot = self._planner.slot(X_WBin, self._bin.geometry, size, s.placed)
+            if p_slot is None:  # the bin holds no more the arm can reach: let go of it here
+                return self._fail(context, s, inputs, "bin_full")
+            X_drop = self._planner.drop_pose(inputs.X_now, p_slot, yaw_of(X_WBin))
+            # Straight up by the approach height before any sideways motion: the
+            # part clears what it lay on (the belt's rails, its neighbours).
+            lift = inputs.X_now.translation()[2] + c.approach_height
+            path = self._travel(
+                context, t, inputs.X_now, X_drop, size, min_height=lift, clear_start=c.approach_height
             )
-            path = Path((self._planner.move(SegmentKind.LINE, t, inputs.X_now, X_lift),))
-            return self._go(s, Mode.LIFT, t, path=path), None
+            return self._go(s, Mode.TRANSFER, t, path=path), None
         if t - s.mode_start > c.attach_timeout:
             return self._fail(context, s, inputs, "attach_timeout")
         return s, None
-
-    def _lift(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
-        t = inputs.t
-        if not s.path.done(t):
-            return s, None
-        X_WBin = self._bin_pose(context)
-        size = self._part_size(s.part)
-        p_slot = self._planner.slot(X_WBin, self._bin.geometry, size, s.placed)
-        if p_slot is None:  # the bin holds no more the arm can reach: put it back down
-            return self._fail(context, s, inputs, "bin_full")
-        X_drop = self._planner.drop_pose(inputs.X_now, p_slot, yaw_of(X_WBin))
-        return self._go(s, Mode.TRANSFER, t, path=self._travel(context, t, inputs.X_now, X_drop, size)), None
 
     def _transfer(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
         if not s.path.done(inputs.t):
@@ -617,6 +643,7 @@ class PickAndPlaceController(LeafSystem):
     def _release(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
         """Suction off; once the part has settled, the bin camera decides."""
         t = inputs.t
+        s = self._watch_for_next(context, s)
         if inputs.gripper.attached or t - s.mode_start < self._config.settle_time:
             return s, None
         verdict = self._in_bin(context, s.part, s.mode_start)
@@ -638,6 +665,14 @@ class PickAndPlaceController(LeafSystem):
             last_seen=t,
             path=hold(t, inputs.X_now),
         ), record
+
+    def _watch_for_next(self, context: Context, s: ControlState) -> ControlState:
+        """Notes the next part the pick camera shows (not the one being released), so
+        that WAIT_PART may plan at once if it is at rest."""
+        for name, X_WP, stamp in self._parts_seen(context, s) or []:
+            if name != s.part and self._reachable(X_WP, self._part_size(name)):
+                return self._note_candidate(s, name, X_WP, stamp)
+        return s
 
     def _home(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
         if not s.path.done(inputs.t):

@@ -9,14 +9,17 @@ suction-cup face ``<gripper>_tip``, +Ez out of the tool), P a part (its centre),
 Bin a bin's base frame, R the robot's base (the centre of its arcs).
 
 Moves have a smooth trapezoidal speed profile (sin^2 ramps: velocity and
-acceleration continuous, zero at both ends), peaking at a given tool speed.
+acceleration continuous, zero at both ends) under a tool speed and acceleration
+limit, as a UR's linear moves have: a long move cruises at the speed limit, a
+short one peaks lower.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 from enum import Enum
 from typing import Optional
 
@@ -32,35 +35,38 @@ class SegmentKind(Enum):
     HOLD = "hold"
 
 
-#: Fraction of a move spent speeding up (and again slowing down).
-RAMP = 0.25
-#: Peak speed over mean speed of that profile.
-PEAK_OVER_MEAN = 1.0 / (1.0 - RAMP)
-#: Plans peak at this fraction of the speed limit: where a joint briefly hits its
-#: velocity limit DiffIK falls behind and then catches up up to ~20 % faster.
-SPEED_MARGIN = 0.8
+#: Peak tool acceleration (m/s^2) of a move's ramps (a sin^2 ramp's mean is 2/pi of
+#: it). At 6, a 1 m/s move takes 0.26 s to reach its speed and the arms' servo
+#: torques stay below the UR5's limits (see bench/README.md).
+MAX_TOOL_ACCELERATION = 6.0
 #: Peak tool angular speed (rad/s): below the UR pan joints' 2.16-3.15 rad/s,
-#: since on the arcs the tool turns with the pan joint.
+#: since on the arcs the tool turns with the pan joint; and its peak angular
+#: acceleration (rad/s^2).
 MAX_TOOL_ROTATION_SPEED = 2.0
+MAX_TOOL_ROTATION_ACCELERATION = 12.0
 #: Shortest move (s).
 MIN_DURATION = 0.25
+#: A travel's arc starts while the rise still has this far (m) to go, and its descent
+#: this far before the arc ends (the travel height is raised by as much).
+BLEND_DROP = 0.03
 
 
-def progress(tau: float) -> float:
+def progress(tau: float, ramp: float = 0.25) -> float:
     """Path progress in [0, 1] at normalized time ``tau``: speed ramps up as
-    sin^2 over the first quarter, cruises, ramps down over the last quarter.
-    Velocity and acceleration are continuous and zero at both ends."""
-    a = RAMP
+    sin^2 over the first ``ramp`` of the time (at most a half), cruises, ramps down
+    over the last ``ramp``. Velocity and acceleration are continuous and zero at
+    both ends; peak speed over mean speed is ``1 / (1 - ramp)``."""
+    a = ramp
 
-    def ramp(u: float) -> float:  # integral of sin^2(pi u / 2a) from 0 to u
+    def covered(u: float) -> float:  # integral of sin^2(pi u / 2a) from 0 to u
         return u / 2 - a / (2 * math.pi) * math.sin(math.pi * u / a)
 
     if tau < a:
-        distance = ramp(tau)
+        distance = covered(tau)
     elif tau <= 1 - a:
         distance = a / 2 + (tau - a)
     else:
-        distance = (1 - a) - ramp(1 - tau)
+        distance = (1 - a) - covered(1 - tau)
     return distance / (1 - a)
 
 
@@ -105,51 +111,109 @@ class Segment:
     X_start: RigidTransform
     X_goal: RigidTransform
     centre: tuple[float, float] = (0.0, 0.0)
+    #: Fraction of the duration each speed ramp takes (see :func:`progress`).
+    ramp: float = 0.25
+
+    #: Precomputed for :meth:`motion` (numpy; evaluated 100 times a second).
+    _cache: tuple = field(init=False, repr=False, compare=False, default=())
+
+    def __post_init__(self) -> None:
+        p0, p1 = self.X_start.translation().copy(), self.X_goal.translation().copy()
+        R0 = self.X_start.rotation().matrix()
+        if self.kind is SegmentKind.ARC:
+            (r0, a0, z0, y0), (r1, a1, z1, y1) = (
+                cylindrical(self.X_start, self.centre),
+                cylindrical(self.X_goal, self.centre),
+            )
+            arc = (r0, a0, z0, y0, r1 - r0, wrap(a1 - a0), z1 - z0, wrap(y1 - y0))
+            object.__setattr__(self, "_cache", (p0, p1, R0, arc))
+        else:  # the slerp from R0 to R1: a turn by theta about a fixed axis (in E)
+            aa = (self.X_start.rotation().inverse() @ self.X_goal.rotation()).ToAngleAxis()
+            k = np.array(
+                [
+                    [0.0, -aa.axis()[2], aa.axis()[1]],
+                    [aa.axis()[2], 0.0, -aa.axis()[0]],
+                    [-aa.axis()[1], aa.axis()[0], 0.0],
+                ]
+            )
+            object.__setattr__(self, "_cache", (p0, p1, R0, (aa.angle(), k, k @ k)))
+
+    @functools.cached_property
+    def _R_SG(self) -> np.ndarray:
+        """The goal's rotation relative to the start."""
+        return self._cache[2].T @ self.X_goal.rotation().matrix()
 
     @property
     def t1(self) -> float:
         return self.t0 + self.duration
 
+    def motion(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """(``p_WE``, ``R_SE``) at time ``t`` (clamped to the segment's ends): the
+        tool's position, and its rotation relative to the start pose S."""
+        p0, p1, R0, shape = self._cache
+        if t >= self.t1:
+            return p1, self._R_SG
+        if self.kind is SegmentKind.HOLD or self.duration <= 0:
+            return p0, np.eye(3)
+        s = progress(min(1.0, max(0.0, (t - self.t0) / self.duration)), self.ramp)
+        if self.kind is SegmentKind.LINE:
+            theta, k, k2 = shape
+            phi = s * theta  # Rodrigues: the slerp's turn so far
+            return (1 - s) * p0 + s * p1, np.eye(3) + math.sin(phi) * k + (1 - math.cos(phi)) * k2
+        r0, a0, z0, y0, dr, da, dz, dy = shape
+        r, a = r0 + s * dr, a0 + s * da
+        cx, cy = self.centre
+        c, sn = math.cos(a + y0 + s * dy), math.sin(a + y0 + s * dy)
+        R = np.array([[c, sn, 0.0], [sn, -c, 0.0], [0.0, 0.0, -1.0]])  # tool down, Ex at that yaw
+        return np.array([cx + r * math.cos(a), cy + r * math.sin(a), z0 + s * dz]), R0.T @ R
+
     def pose(self, t: float) -> RigidTransform:
         """``X_WE`` at time ``t`` (clamped to the segment's ends)."""
         if self.kind is SegmentKind.HOLD or self.duration <= 0:
             return self.X_goal if t >= self.t1 else self.X_start
-        s = progress(min(1.0, max(0.0, (t - self.t0) / self.duration)))
-        if self.kind is SegmentKind.LINE:
-            p = (1 - s) * self.X_start.translation() + s * self.X_goal.translation()
-            q = self.X_start.rotation().ToQuaternion().slerp(s, self.X_goal.rotation().ToQuaternion())
-            return RigidTransform(RotationMatrix(q), p)
-        (r0, a0, z0, y0), (r1, a1, z1, y1) = (
-            cylindrical(self.X_start, self.centre),
-            cylindrical(self.X_goal, self.centre),
-        )
-        a1 = a0 + wrap(a1 - a0)
-        y1 = y0 + wrap(y1 - y0)
-        r, a, z, yaw = (r0 + s * (r1 - r0), a0 + s * (a1 - a0), z0 + s * (z1 - z0), y0 + s * (y1 - y0))
-        cx, cy = self.centre
-        return tool_down(np.array([cx + r * math.cos(a), cy + r * math.sin(a), z]), a + yaw)
+        p, R_SE = self.motion(t)
+        return RigidTransform(RotationMatrix(self._cache[2] @ R_SE), p)
 
 
 @dataclass(frozen=True)
 class Path:
-    """Consecutive segments; the tool's desired pose at any time."""
+    """Segments; the tool's desired pose at any time.
+
+    Consecutive segments follow each other; ``blended`` segments may overlap in
+    time, and their motions add up (each segment's displacement and turn from its
+    start), so the tool goes round a corner without stopping at it.
+    """
 
     segments: tuple[Segment, ...] = ()
+    blended: bool = False
 
     def pose_at(self, t: float) -> Optional[RigidTransform]:
         """``X_WE`` at ``t``: on the segment covering it, else at the path's end
         (None for an empty path)."""
+        if not self.segments:
+            return None
+        if not self.blended:
+            for segment in self.segments:
+                if t <= segment.t1:
+                    return segment.pose(t)
+            return self.segments[-1].pose(t)
+        first = self.segments[0]
+        p = first.X_start.translation().copy()
+        R = first.X_start.rotation().matrix()
         for segment in self.segments:
-            if t <= segment.t1:
-                return segment.pose(t)
-        return self.segments[-1].pose(t) if self.segments else None
+            if t <= segment.t0:
+                continue
+            p_WE, R_SE = segment.motion(t)
+            p += p_WE - segment.X_start.translation()
+            R = R @ R_SE
+        return RigidTransform(RotationMatrix(R), p)
 
     def done(self, t: float) -> bool:
-        return not self.segments or t >= self.segments[-1].t1
+        return not self.segments or t >= self.end_time
 
     @property
     def end_time(self) -> float:
-        return self.segments[-1].t1 if self.segments else -math.inf
+        return max(segment.t1 for segment in self.segments) if self.segments else -math.inf
 
 
 def hold(t: float, X_WE: RigidTransform) -> Path:
@@ -157,11 +221,14 @@ def hold(t: float, X_WE: RigidTransform) -> Path:
     return Path((Segment(SegmentKind.HOLD, t, 0.0, X_WE, X_WE),))
 
 
-def duration(
+def timing(
     kind: SegmentKind, X0: RigidTransform, X1: RigidTransform, speed: float, centre: tuple[float, float]
-) -> float:
-    """Duration so the peak tool speed stays under ``speed`` (and the turn rate
-    under :data:`MAX_TOOL_ROTATION_SPEED`)."""
+) -> tuple[float, float]:
+    """(duration, ramp fraction) of the quickest smooth move from ``X0`` to ``X1``:
+    tool speed at most ``speed`` and acceleration at most
+    :data:`MAX_TOOL_ACCELERATION`, turn rate and angular acceleration at most
+    :data:`MAX_TOOL_ROTATION_SPEED` and :data:`MAX_TOOL_ROTATION_ACCELERATION`;
+    never shorter than :data:`MIN_DURATION`."""
     if kind is SegmentKind.ARC:
         (r0, a0, z0, y0), (r1, a1, z1, y1) = cylindrical(X0, centre), cylindrical(X1, centre)
         turn = wrap(a1 - a0)
@@ -170,9 +237,23 @@ def duration(
     else:
         distance = float(np.linalg.norm(X1.translation() - X0.translation()))
         angle = (X0.rotation().inverse() @ X1.rotation()).ToAngleAxis().angle()
-    return max(
-        MIN_DURATION, PEAK_OVER_MEAN * distance / speed, PEAK_OVER_MEAN * angle / MAX_TOOL_ROTATION_SPEED
+    # In progress units (0 to 1 over the move): the tighter of the two limits.
+    rate = min(speed / max(distance, 1e-12), MAX_TOOL_ROTATION_SPEED / max(angle, 1e-12))
+    accel = min(
+        MAX_TOOL_ACCELERATION / max(distance, 1e-12), MAX_TOOL_ROTATION_ACCELERATION / max(angle, 1e-12)
     )
+    # A sin^2 ramp to rate v over time r peaks at acceleration pi v / 2r and covers v r / 2.
+    ramp_time = math.pi * rate / (2 * accel)
+    if rate * ramp_time < 1.0:  # reaches the limit and cruises
+        T = 1.0 / rate + ramp_time
+    else:  # speeds up and slows down at once: a lower peak
+        peak = math.sqrt(2 * accel / math.pi)
+        ramp_time = math.pi * peak / (2 * accel)
+        T = 2 * ramp_time
+    if T < MIN_DURATION:  # the same shape, slower
+        ramp_time *= MIN_DURATION / T
+        T = MIN_DURATION
+    return T, min(0.5, ramp_time / T)
 
 
 @dataclass(frozen=True)
@@ -181,8 +262,8 @@ class PickPlanner:
 
     Attributes:
         X_WR: the robot's base in world (the centre of its arcs).
-        max_tool_speed: tool speed limit (m/s); plans peak at
-            :data:`SPEED_MARGIN` of it.
+        max_tool_speed: tool speed limit (m/s): plans peak at it (the arm's
+            servo follows a plan without overshoot, :class:`arms.CommandSampler`).
         transfer_clearance: height (m) of a held part's bottom above a bin's
             rim while it moves over the bin.
         grid: place parts on a grid of slots (fill a bin) instead of all at its centre.
@@ -211,9 +292,8 @@ class PickPlanner:
     ) -> Segment:
         """One segment from ``X0`` to ``X1`` starting at ``t`` (at most ``speed``)."""
         speed = self.max_tool_speed if speed is None else speed
-        return Segment(
-            kind, t, duration(kind, X0, X1, SPEED_MARGIN * speed, self.centre), X0, X1, self.centre
-        )
+        T, ramp = timing(kind, X0, X1, speed, self.centre)
+        return Segment(kind, t, T, X0, X1, self.centre, ramp)
 
     def carried_yaw(self, X_now: RigidTransform, p_goal: np.ndarray) -> float:
         """The tool's world yaw at ``p_goal`` if it turns with the arm about the base
@@ -285,12 +365,37 @@ class PickPlanner:
         return tool_down(p_slot, yaw)
 
     def travel(
-        self, t: float, X_now: RigidTransform, X_goal: RigidTransform, min_height: float = -math.inf
+        self,
+        t: float,
+        X_now: RigidTransform,
+        X_goal: RigidTransform,
+        min_height: float = -math.inf,
+        *,
+        clear_start: Optional[float] = None,
+        clear_end: Optional[float] = None,
     ) -> Path:
-        """Up, a level arc about the base, down: the tool never sweeps lower than
-        where it starts or ends (it would drag a held part over the belt's rails),
-        nor lower than ``min_height`` (to clear a bin's rim with a held part)."""
+        """Up, a level arc about the base, down, blended into one motion: the arc
+        starts before the rise ends and the descent starts before the arc ends, so
+        the tool does not stop at the corners. The travel height is at least
+        ``min_height`` (to clear a bin's rim with a held part) and the start and goal
+        heights, raised by :data:`BLEND_DROP` when the tool goes up or down.
+
+        The arc starts once the tool is ``clear_start`` above its start, and ends
+        while it is still ``clear_end`` above the goal (or all the way up, for a
+        travel that goes up less than that); by default (None) within
+        ``BLEND_DROP`` of the travel height, so the tool never sweeps lower than where
+        it starts or ends (a held part would drag over the belt's rails or catch a
+        bin's rim). Overlaps stay within the speed ramps, so the tool never moves
+        faster than the speed limit."""
         z_travel = max(X_now.translation()[2], X_goal.translation()[2], min_height)
+        rise = z_travel - X_now.translation()[2]
+        drop = z_travel - X_goal.translation()[2]
+        if rise > BLEND_DROP or drop > BLEND_DROP:
+            z_travel += BLEND_DROP
+            rise, drop = rise + BLEND_DROP, drop + BLEND_DROP
+        # How far each vertical line may still move while the arc does.
+        blend_up = BLEND_DROP if clear_start is None else max(0.0, rise - clear_start)
+        blend_down = BLEND_DROP if clear_end is None else max(0.0, drop - clear_end)
         X_up = RigidTransform(X_now.rotation(), [*X_now.translation()[:2], z_travel])
         X_over = RigidTransform(X_goal.rotation(), [*X_goal.translation()[:2], z_travel])
         segments: list[Segment] = []
@@ -299,9 +404,15 @@ class PickPlanner:
             (SegmentKind.ARC, X_up, X_over),
             (SegmentKind.LINE, X_over, X_goal),
         ):
-            if not X0.IsNearlyEqualTo(X1, 1e-6):
-                segments.append(self.move(kind, segments[-1].t1 if segments else t, X0, X1))
-        return Path(tuple(segments)) if segments else hold(t, X_goal)
+            if X0.IsNearlyEqualTo(X1, 1e-6):
+                continue
+            following = self.move(kind, t, X0, X1)
+            if segments:
+                previous = segments[-1]
+                start = previous.t1 - _overlap(previous, following, blend_up, blend_down)
+                following = replace(following, t0=start)
+            segments.append(following)
+        return Path(tuple(segments), blended=True) if segments else hold(t, X_goal)
 
     def clearance_height(
         self, X_WBin: RigidTransform, bin_geometry: BinGeometry, held_size: float, points: list[np.ndarray]
@@ -317,3 +428,33 @@ class PickPlanner:
                 rim = (X_WBin @ np.array([0.0, 0.0, bin_geometry.height]))[2]
                 return rim + held_size + self.transfer_clearance
         return -math.inf
+
+
+def _overlap(previous: Segment, following: Segment, blend_up: float, blend_down: float) -> float:
+    """How long (s) ``following`` may start before ``previous`` ends: while a rising
+    line (``previous``) still has at most ``blend_up`` to go, or a descending one
+    (``following``) has moved at most ``blend_down``; and within both speed ramps (a
+    ramp down and a ramp up that overlap by at most the shorter one add up to at
+    most the speed limit)."""
+    limit = min(previous.ramp * previous.duration, following.ramp * following.duration)
+    if previous.kind is SegmentKind.LINE:  # rising
+        line, allowed, rising = previous, blend_up, True
+    elif following.kind is SegmentKind.LINE:  # descending
+        line, allowed, rising = following, blend_down, False
+    else:
+        return 0.0
+    length = float(np.linalg.norm(line.X_goal.translation() - line.X_start.translation()))
+
+    def moved(tau: float) -> float:
+        """How far the vertical line moves in the overlap of length ``tau``."""
+        if rising:
+            return length * (1.0 - progress(1.0 - tau / line.duration, line.ramp))
+        return length * progress(tau / line.duration, line.ramp)
+
+    if moved(limit) <= allowed:
+        return limit
+    low, high = 0.0, limit
+    for _ in range(30):  # the longest tau with moved(tau) <= allowed (monotonic)
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if moved(mid) <= allowed else (low, mid)
+    return low

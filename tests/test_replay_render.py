@@ -129,7 +129,7 @@ def test_detection_markers_float_over_parts_only():
     run = TaskRun(prepare("lecture6_assignment4", parts=1), meshcat=start_meshcat())
     station = run.runtime.station
     markers = DetectionMarkers(station.meshcat, station, radius=0.04)
-    run.runtime.advance_to(1.0)
+    run.runtime.advance_to(1.5)
     poses = markers.marker_poses(run.runtime)
     # Camera 2 reports robot2, vacuum_gripper2 and object_1 now; only the part is marked.
     names = {m.name for m in run.runtime.camera_image("logical_camera_2").models}
