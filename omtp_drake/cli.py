@@ -145,6 +145,18 @@ def cmd_screenshot(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bench(args: argparse.Namespace) -> int:
+    from omtp_drake.benchmark import measure
+
+    report = measure(
+        args.repeats,
+        args.bare_seconds,
+        progress=lambda text: print(f"measuring {text} ...", file=sys.stderr, flush=True),
+    )
+    print(report.table())
+    return 0
+
+
 def format_transform(X, time: float = 0.0) -> str:
     """Like ROS ``tf_echo``."""
     q = X.rotation().ToQuaternion()
@@ -381,6 +393,18 @@ def build_parser() -> argparse.ArgumentParser:
         help="simulate (arms holding their initial pose) to T s first (default 0.5)",
     )
     p.set_defaults(func=cmd_frames)
+
+    p = sub.add_parser(
+        "bench",
+        help="how fast the cell runs: full runs against the bare plant, build time, pick cycles",
+        description="Runs fill_bin, lecture7_conveyor_pick and lecture7_conveyor (10 parts on the "
+        "belt) as users run them and as a bare plant, and prints the speed table (a few minutes).",
+    )
+    p.add_argument("--repeats", type=int, default=2, help="runs per case; the best counts (default 2)")
+    p.add_argument(
+        "--bare-seconds", type=float, default=10.0, help="simulated seconds of a bare-plant run (default 10)"
+    )
+    p.set_defaults(func=cmd_bench)
 
     add_batch_command(sub)
     return parser

@@ -1,0 +1,245 @@
+"""How fast the cell runs: the measurements behind ``omtp-drake bench``.
+
+Each case runs the scenario as users run it (*full*: every system of ours on) and
+its *bare* plant: the same MultibodyPlant and SceneGraph (bodies, geometries,
+contact model, time step, parked pool, from :func:`station.add_cell_models`), each
+arm held at its initial pose by the same servo (command sampler and inverse
+dynamics fed by a constant, all C++), the belt at its speed, and none of our
+Python systems (cameras, grippers, beam, controller, driver). Their difference is
+our overhead over the physical limit.
+
+Cases (wall milliseconds per simulated second, the best of ``repeats``):
+
+- ``fill_bin``: full = ``run_task("fill_bin")`` (10 parts); bare = holding still
+  with one part on the floor.
+- ``lecture7_conveyor_pick``: full = its task (2 parts); bare = one part on the belt.
+- ``lecture7_conveyor`` with 10 parts riding the belt (beam stop off): full =
+  :class:`FactoryRuntime`; bare = the same parts on the same belt.
+
+Also the diagram build time and the pick cycle times of ``fill_bin``.
+"""
+
+from __future__ import annotations
+
+import logging
+import statistics
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import Optional
+
+from pydrake.multibody.plant import AddMultibodyPlant
+from pydrake.systems.analysis import Simulator
+from pydrake.systems.framework import DiagramBuilder
+from pydrake.systems.primitives import ConstantVectorSource
+
+from omtp_drake import arms
+from omtp_drake.conveyor import MAX_SPEED
+from omtp_drake.errors import ConfigError
+from omtp_drake.runtime import FactoryRuntime
+from omtp_drake.scenario import PartConfig, Scenario, load_scenario
+from omtp_drake.station import add_cell_models, build_station
+from omtp_drake.tasks import TaskResult, TaskRun, prepare, run_task
+
+log = logging.getLogger(__name__)
+
+#: Centre height (m) of a 0.2 m part resting on the belt.
+_ON_BELT_Z = 0.92 + 0.1 + 0.001
+
+
+def bare_plant_seconds(scenario: Scenario, seconds: float) -> float:
+    """Wall seconds per simulated second of ``scenario``'s bare plant (see the module doc)."""
+    builder = DiagramBuilder()
+    plant, scene_graph = AddMultibodyPlant(scenario.plant_config, builder)
+    plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
+    models = add_cell_models(plant, scene_graph, scenario)
+    plant.Finalize()
+    samplers = {}
+    for name, handles in models.arms.items():
+        q = arms.named_pose(handles.config.initial_pose, handles.config)
+        sampler, _, handles.control_plant = arms.add_arm_controller(
+            builder, plant, handles.arm, handles.config, scenario.gravity
+        )
+        sampler.connect_from(builder, builder.AddSystem(ConstantVectorSource(q)).get_output_port())
+        samplers[name] = (sampler, q)
+    if models.conveyor is not None:
+        power = scenario.conveyor.power if scenario.conveyor else 0.0
+        belt = builder.AddSystem(ConstantVectorSource([0.0, -MAX_SPEED * power / 100.0]))
+        builder.Connect(belt.get_output_port(), plant.get_desired_state_input_port(models.conveyor))
+    diagram = builder.Build()
+    context = diagram.CreateDefaultContext()
+    plant_context = plant.GetMyMutableContextFromRoot(context)
+    for name, (sampler, q) in samplers.items():
+        plant.SetPositions(plant_context, models.arms[name].arm, q)
+        sampler.set_initial_position(context, q)
+    for name in models.pool:
+        (index,) = plant.GetJointIndices(models.parts[name])
+        plant.get_joint(index).Lock(plant_context)
+    simulator = Simulator(diagram, context)
+    simulator.Initialize()
+    start = time.perf_counter()
+    simulator.AdvanceTo(seconds)
+    return (time.perf_counter() - start) / seconds
+
+
+def with_parts(scenario: Scenario, xyzs: Sequence[Sequence[float]], size: float) -> Scenario:
+    """``scenario`` with only these parts (0.2 kg cubes of edge ``size``), no spawner, no task."""
+    parts = [PartConfig(name=f"bench_{k}", xyz=list(p), size=size, mass=0.2) for k, p in enumerate(xyzs)]
+    return replace(scenario, parts=parts, spawner=None, task=None)
+
+
+def belt_scenario(parts: int) -> Scenario:
+    """``lecture7_conveyor`` with ``parts`` parts 0.45 m apart riding the belt at full
+    power, the beam's stop off (so they keep riding)."""
+    s = load_scenario("lecture7_conveyor")
+    if s.conveyor is None:
+        raise ConfigError("lecture7_conveyor has no conveyor")
+    s = replace(s, conveyor=replace(s.conveyor, stop_on_beam=False, power=100.0), part_pool=0)
+    return with_parts(s, [[1.2, 4.6 - 0.45 * k, _ON_BELT_Z] for k in range(parts)], 0.2)
+
+
+def task_seconds(name: str) -> tuple[float, TaskResult]:
+    """Wall seconds per simulated second of the scenario's task (full), and its result."""
+    result = run_task(name)
+    if not result.success:
+        raise RuntimeError(f"{name} did not succeed in the benchmark: {result.summary}")
+    return result.wall_time_s / result.sim_time_s, result
+
+
+def belt_seconds(parts: int, seconds: float) -> float:
+    """Wall seconds per simulated second of :func:`belt_scenario` with every system on."""
+    rt = FactoryRuntime(belt_scenario(parts))
+    start = time.perf_counter()
+    rt.advance_to(seconds)
+    return (time.perf_counter() - start) / seconds
+
+
+@dataclass(frozen=True)
+class CaseTiming:
+    """One case: wall seconds per simulated second, bare and full."""
+
+    case: str
+    bare: float
+    full: float
+
+    @property
+    def overhead(self) -> float:
+        """Our systems' share over the bare plant (0.25 = 25 %)."""
+        return (self.full - self.bare) / self.bare
+
+
+@dataclass(frozen=True)
+class SpeedReport:
+    """What :func:`measure` measured."""
+
+    cases: tuple[CaseTiming, ...]
+    station_build_s: float
+    task_build_s: float
+    cycles: tuple[float, ...]
+    repeats: int
+
+    def table(self) -> str:
+        """The issue-13 table: what, measured, target, met."""
+        rows: list[tuple[str, str, str, bool]] = []
+        for c in self.cases:
+            rows.append(
+                (
+                    f"{c.case}: wall ms per simulated s (RTF)",
+                    f"{1e3 * c.full:.0f} ({1 / c.full:.1f})",
+                    "<= 100 (>= 10)",
+                    c.full <= 0.1,
+                )
+            )
+        for c in self.cases:
+            rows.append(
+                (
+                    f"{c.case}: bare plant ms/s, our overhead",
+                    f"{1e3 * c.bare:.0f}, {100 * c.overhead:.0f} %",
+                    "<= 25 %",
+                    c.overhead <= 0.25,
+                )
+            )
+        rows.append(
+            (
+                "diagram build, fill_bin station / with task (s)",
+                f"{self.station_build_s:.2f} / {self.task_build_s:.2f}",
+                "<= 0.5",
+                self.task_build_s <= 0.5,
+            )
+        )
+        mean, worst = statistics.mean(self.cycles), max(self.cycles)
+        rows.append(
+            (
+                f"pick cycle, fill_bin, {len(self.cycles)} picks: mean / worst (s)",
+                f"{mean:.2f} / {worst:.2f}",
+                "<= 6.0 / 7.0",
+                mean <= 6.0 and worst <= 7.0,
+            )
+        )
+        width = max(len(r[0]) for r in rows)
+        lines = [f"{'what':<{width}}  {'measured':>16}  {'target':>14}  met", "-" * (width + 40)]
+        lines += [f"{w:<{width}}  {m:>16}  {t:>14}  {'yes' if ok else 'NO'}" for w, m, t, ok in rows]
+        lines.append(f"(best of {self.repeats} runs each; wall time on this machine)")
+        return "\n".join(lines)
+
+
+def _best(measure: Callable[[], float], repeats: int) -> float:
+    return min(measure() for _ in range(repeats))
+
+
+def _build_seconds(build: Callable[[], object], repeats: int) -> float:
+    times = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        build()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def measure(
+    repeats: int = 2, bare_seconds: float = 10.0, progress: Optional[Callable[[str], None]] = None
+) -> SpeedReport:
+    """Runs every case ``repeats`` times (a few minutes at 2) and returns the report."""
+    if repeats < 1:
+        raise ConfigError(f"repeats must be >= 1, got {repeats}")
+    if not bare_seconds > 0:
+        raise ConfigError(f"bare_seconds must be > 0, got {bare_seconds}")
+    say = progress or (lambda text: log.info(text))
+    # The bare plants park the same pool as the full runs.
+    fill, pick = prepare("fill_bin"), prepare("lecture7_conveyor_pick")
+    say("diagram build")
+    build_station("fill_bin")  # warm the model cache and imports
+    station_build = _build_seconds(lambda: build_station("fill_bin"), max(3, repeats))
+    task_build = _build_seconds(lambda: TaskRun(prepare("fill_bin")), max(3, repeats))
+    results: list[TaskResult] = []
+
+    def full_task(name: str) -> float:
+        seconds, result = task_seconds(name)
+        results.append(result)
+        return seconds
+
+    cases = []
+    plan = (
+        (
+            "fill_bin (10 parts)",
+            with_parts(fill, [[-8.3, -1.23, 0.051]], fill.pool_part_size),
+            lambda: full_task("fill_bin"),
+        ),
+        (
+            "lecture7_conveyor_pick (2 parts)",
+            with_parts(pick, [[1.2, 1.8, _ON_BELT_Z]], 0.2),
+            lambda: full_task("lecture7_conveyor_pick"),
+        ),
+        (
+            "lecture7_conveyor, 10 parts on the belt",
+            belt_scenario(10),
+            lambda: belt_seconds(10, bare_seconds),
+        ),
+    )
+    for label, bare_scenario, full in plan:
+        say(label)
+        bare = min(bare_plant_seconds(bare_scenario, bare_seconds) for _ in range(repeats))
+        cases.append(CaseTiming(label, bare, _best(full, repeats)))
+    fill_runs = [r for r in results if r.scenario == "fill_bin"]
+    cycles = tuple(p.cycle_time for p in fill_runs[0].picks if p.success)
+    return SpeedReport(tuple(cases), station_build, task_build, cycles, repeats)
