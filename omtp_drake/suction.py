@@ -38,9 +38,9 @@ Two ways of holding the part (``SuctionConfig.backend``):
 * ``"force"``: a stiff 6-DOF spring-damper pulling the part toward
   ``X_WC * X_CP``, applied through the plant's ``applied_spatial_force``
   input. It lives entirely inside the diagram (no runtime help) and the hold
-  starts at the attaching check itself, but it is compliant (0.3-0.8 mm
-  drift carrying 0.2-1 kg at 1 m/s with 16-20 m/s^2 ramps; about 2 mm for an
-  instant 1 m/s velocity step, the limit of any explicit spring at 2 ms),
+  starts at the attaching check itself, but it is compliant (0.8 mm drift
+  carrying 0.2-1 kg at 1 m/s with 20 m/s^2 ramps at the default 5 ms step,
+  0.3-0.8 mm at 2 ms: the limit of any explicit spring at that step),
   and it costs a Python evaluation (about 40 us) every plant step while a
   part is held.
 
@@ -135,18 +135,20 @@ class SuctionConfig:
     ``k <= m / h^2``, ``c <= m / h`` (and ``I / h^2``, ``I / h`` for the
     rotational ones, I the smallest principal moment about the centre of
     mass), where the discrete error dies out in two steps. The defaults are
-    chosen for parts of 0.2 to 1 kg (0.2 m cubes) at h = 2 ms:
+    chosen for parts of 0.2 to 1 kg (0.2 m cubes) at h = 2 ms; at the default
+    h = 5 ms every part of the course runs at its caps:
 
     ======  ==============================  ==============================
     mass    k [N/m], c [N s/m] used         kr [N m/rad], cr [N m s/rad]
     ======  ==============================  ==============================
-    0.2 kg  5e4, 100 (both capped)          333, 0.67 (both capped)
-    0.5 kg  1e5, 250 (c capped)             833, 1.67 (both capped)
-    1 kg    1e5, 400 (error x0.45 / step)   1000, 2.5 (error x0.5 / step)
+    0.2 kg  8e3, 40 (both capped)           53, 0.27 (both capped)
+    0.5 kg  2e4, 100 (both capped)          133, 0.67 (both capped)
+    1 kg    4e4, 200 (both capped)          267, 1.33 (both capped)
     ======  ==============================  ==============================
 
-    Static sag is about m g / k (0.1 mm for 1 kg) and m a / k under an
-    acceleration a (0.2 mm for 1 kg at 20 m/s^2).
+    Static sag is about m g / k (0.25 mm at the caps) and m a / k under an
+    acceleration a (0.5 mm at 20 m/s^2); measured at 5 ms: 0.8 mm worst
+    drift carrying 0.2 or 1 kg at 1 m/s with 20 m/s^2 ramps (weld: 4 um).
     """
 
     backend: str = "weld"

@@ -181,7 +181,7 @@ def _trapezoid(t: float, T: float, D: float, a: float) -> float:
 
 
 def plant_config() -> MultibodyPlantConfig:
-    """The station's plant settings (2 ms SAP point contact, unsampled output ports)."""
+    """The station's plant settings (5 ms SAP point contact, unsampled output ports)."""
     return Scenario().plant_config
 
 
