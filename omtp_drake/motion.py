@@ -68,7 +68,7 @@ from pydrake.trajectories import PiecewisePolynomial
 from omtp_drake import arms
 from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
-from omtp_drake.station import add_cell_models
+from omtp_drake.station import ArmHandles, CellModels, add_cell_models
 
 _log = logging.getLogger(__name__)
 
@@ -110,6 +110,24 @@ def _ompl_quiet() -> Iterator[None]:
         yield
     finally:
         ou.restorePreviousOutputHandler()
+
+
+def _check_planner_options(margin: float, edge_step: float, search_step: float, planner_range: float) -> None:
+    """Raises ConfigError unless :class:`ArmPlanner`'s numeric options are in range."""
+    if not 0 <= margin < 0.2:
+        raise ConfigError(f"margin must be in [0, 0.2) m, got {margin}")
+    if not 0 < edge_step <= 0.1:
+        raise ConfigError(f"edge_step must be in (0, 0.1] rad, got {edge_step}")
+    if not 0 < search_step <= 0.2 or planner_range <= 0:
+        raise ConfigError(
+            f"search_step must be in (0, 0.2] rad and planner_range > 0 rad, "
+            f"got {search_step}, {planner_range}"
+        )
+
+
+def _robot_instances(handles: ArmHandles) -> list[ModelInstanceIndex]:
+    """The model instances the planner moves: the arm, and its gripper if it has one."""
+    return [handles.arm] + ([handles.gripper] if handles.gripper is not None else [])
 
 
 class _DrakeMotionValidator(ob.MotionValidator):
@@ -159,39 +177,54 @@ class ArmPlanner:
         configs = {r.name: r for r in scenario.robots}
         if robot not in configs:
             raise UnknownNameError("robot", robot, configs)
-        if not 0 <= margin < 0.2:
-            raise ConfigError(f"margin must be in [0, 0.2) m, got {margin}")
-        if not 0 < edge_step <= 0.1:
-            raise ConfigError(f"edge_step must be in (0, 0.1] rad, got {edge_step}")
-        if not 0 < search_step <= 0.2 or planner_range <= 0:
-            raise ConfigError(
-                f"search_step must be in (0, 0.2] rad and planner_range > 0 rad, "
-                f"got {search_step}, {planner_range}"
-            )
+        _check_planner_options(margin, edge_step, search_step, planner_range)
         self._config: RobotConfig = configs[robot]
         self._margin = float(margin)
 
+        models = self._build_checker(scenario, robot, edge_step=edge_step, margin=margin)
+        handles = models.arms[robot]
+        plant = self._checker.plant()
+        self._index_joints(plant, models, robot)
+        self._find_tool_frames(plant, handles.gripper)
+        self._robot_bodies = [
+            plant.get_body(b) for inst in _robot_instances(handles) for b in plant.GetBodyIndices(inst)
+        ]
+        if self_collisions:
+            self._enable_self_collisions(plant, handles.pedestal)
+        self._search_step = max(edge_step, search_step)
+        self._planner_range = planner_range
+        self._obstacle_ids: list[GeometryId] = []
+        self._held_ids: list[GeometryId] = []
+        self._build_kinematics(scenario)
+
+    def _build_checker(
+        self, scenario: Scenario, robot: str, *, edge_step: float, margin: float
+    ) -> CellModels:
+        """Builds the collision checker over the whole cell (no parts), with ``robot``'s
+        arm and gripper as the robot; returns the cell's model handles."""
         builder = RobotDiagramBuilder(time_step=0.0)
         models = add_cell_models(builder.plant(), builder.scene_graph(), scenario, parts=False)
         builder.plant().Finalize()
-        handles = models.arms[robot]
-        robot_instances = [handles.arm] + ([handles.gripper] if handles.gripper is not None else [])
         self._checker = SceneGraphCollisionChecker(
             model=builder.Build(),
-            robot_model_instances=robot_instances,
+            robot_model_instances=_robot_instances(models.arms[robot]),
             edge_step_size=edge_step,
             env_collision_padding=margin,
             self_collision_padding=margin,
             implicit_context_parallelism=Parallelism(1),
         )
-        plant = self._checker.plant()
+        return models
+
+    def _index_joints(self, plant: MultibodyPlant, models: CellModels, robot: str) -> None:
+        """Where each arm's joints sit in the checker's configurations, the default
+        configuration (every arm at its initial pose) and the planned arm's limits."""
 
         def joint_indices(instance: ModelInstanceIndex, name: str) -> np.ndarray:
             return np.array(
                 [plant.GetJointByName(f"{name}_{j}", instance).position_start() for j in arms.JOINT_NAMES]
             )
 
-        self._q_index = joint_indices(handles.arm, robot)
+        self._q_index = joint_indices(models.arms[robot].arm, robot)
         self._others: dict[str, np.ndarray] = {}
         self._q_default = plant.GetPositions(plant.CreateDefaultContext())
         for name, other in models.arms.items():
@@ -203,27 +236,22 @@ class ArmPlanner:
         self._lower = np.full(len(arms.JOINT_NAMES), -limit)
         self._upper = np.full(len(arms.JOINT_NAMES), limit)
 
-        gripper = self._config.gripper
+    def _find_tool_frames(self, plant: MultibodyPlant, gripper_instance: ModelInstanceIndex | None) -> None:
+        """The tool frames' names in the plant, and the gripper's cup body (if any)."""
+        robot, gripper = self._config.name, self._config.gripper
         self._frame_names = {"tool0": f"{robot}_tool0"}
         if gripper:
             self._frame_names.update(tip=f"{gripper}_tip", suction_cup=f"{gripper}_suction_cup")
-            self._cup: RigidBody | None = plant.GetBodyByName(f"{gripper}_cup", handles.gripper)
+            self._cup: RigidBody | None = plant.GetBodyByName(f"{gripper}_cup", gripper_instance)
         else:
             self._cup = None
-        self._robot_bodies = [
-            plant.get_body(b) for inst in robot_instances for b in plant.GetBodyIndices(inst)
-        ]
-        if self_collisions:
-            self._enable_self_collisions(plant, handles.pedestal)
-        self._search_step = max(edge_step, search_step)
-        self._planner_range = planner_range
-        self._obstacle_ids: list[GeometryId] = []
-        self._held_ids: list[GeometryId] = []
 
-        # IK and forward kinematics: the arm and gripper alone, base at the origin.
+    def _build_kinematics(self, scenario: Scenario) -> None:
+        """IK and forward kinematics: the arm and gripper alone, base at the origin."""
         self._X_WB = arms.base_pose(self._config)
         self._ik_plant: MultibodyPlant = arms.make_control_plant(self._config, scenario.gravity)
         self._ik_context = self._ik_plant.CreateDefaultContext()
+        robot = self._config.name
         self._ik_index = np.array(
             [self._ik_plant.GetJointByName(f"{robot}_{j}").position_start() for j in arms.JOINT_NAMES]
         )
@@ -684,13 +712,7 @@ class ArmPlanner:
             return min(free, key=lambda q: float(np.linalg.norm(q - q_seed)))
         where = f"{frame} pose {_fmt_pose(RigidTransform(X_WE))} for {self._config.name}"
         if solutions:
-            nearest = min(solutions, key=lambda q: float(np.linalg.norm(q - q_seed)))
-            full = base.copy()
-            full[self._q_index] = nearest
-            raise PlanningError(
-                f"every IK solution of the {where} is in collision; the nearest "
-                f"{_fmt(nearest)}: {_fmt_pairs(self._collision_pairs(full))}"
-            )
+            raise self._ik_collision_error(where, solutions, q_seed, base)
         # Without joint limits: a solution may only need whole turns to fit in them.
         for seed in seeds[:3]:
             q = self._solve_ik(
@@ -698,23 +720,48 @@ class ArmPlanner:
             )
             if q is None:
                 continue
-            wrapped = q + 2 * np.pi * np.round((q_seed - q) / (2 * np.pi))
-            wrapped = np.where(wrapped > self._upper, wrapped - 2 * np.pi, wrapped)
-            wrapped = np.where(wrapped < self._lower, wrapped + 2 * np.pi, wrapped)
-            outside = np.maximum(wrapped - self._upper, self._lower - wrapped)
+            wrapped, outside = self._wrap_into_limits(q, q_seed)
             if np.all(outside <= 0) and usable(wrapped):
                 return wrapped
             if np.any(outside > 0):
-                j = int(np.argmax(outside))
-                raise PlanningError(
-                    f"the {where} is reachable only outside the joint limits: "
-                    f"{arms.JOINT_NAMES[j]} would be {q[j]:.3f} rad, limits "
-                    f"[{self._lower[j]:.3f}, {self._upper[j]:.3f}]"
-                )
+                raise self._joint_limit_error(where, q, outside)
         position_error, angle_error = self._closest_miss(tool, X_BE, seeds[:3])
         raise PlanningError(
             f"unreachable: the {where}: the closest solution misses it by "
             f"{position_error * 1000:.0f} mm and {math.degrees(angle_error):.1f} deg"
+        )
+
+    def _ik_collision_error(
+        self, where: str, solutions: list[np.ndarray], q_seed: np.ndarray, base: np.ndarray
+    ) -> PlanningError:
+        """The error for IK whose every solution is in collision: the bodies touching
+        at the solution nearest ``q_seed`` (``base``: the full configuration)."""
+        nearest = min(solutions, key=lambda q: float(np.linalg.norm(q - q_seed)))
+        full = base.copy()
+        full[self._q_index] = nearest
+        return PlanningError(
+            f"every IK solution of the {where} is in collision; the nearest "
+            f"{_fmt(nearest)}: {_fmt_pairs(self._collision_pairs(full))}"
+        )
+
+    def _wrap_into_limits(self, q: np.ndarray, q_seed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """``q`` shifted by whole turns nearest ``q_seed``, then by a turn into the joint
+        limits where that helps; and how far (rad) each joint is still outside them
+        (<= 0: inside)."""
+        wrapped = q + 2 * np.pi * np.round((q_seed - q) / (2 * np.pi))
+        wrapped = np.where(wrapped > self._upper, wrapped - 2 * np.pi, wrapped)
+        wrapped = np.where(wrapped < self._lower, wrapped + 2 * np.pi, wrapped)
+        outside = np.maximum(wrapped - self._upper, self._lower - wrapped)
+        return wrapped, outside
+
+    def _joint_limit_error(self, where: str, q: np.ndarray, outside: np.ndarray) -> PlanningError:
+        """The error for a pose reachable only outside the joint limits: the joint
+        furthest ``outside`` them and its value in the solution ``q``."""
+        j = int(np.argmax(outside))
+        return PlanningError(
+            f"the {where} is reachable only outside the joint limits: "
+            f"{arms.JOINT_NAMES[j]} would be {q[j]:.3f} rad, limits "
+            f"[{self._lower[j]:.3f}, {self._upper[j]:.3f}]"
         )
 
     def _ik_seeds(self, q_seed: np.ndarray, count: int) -> list[np.ndarray]:
@@ -934,21 +981,42 @@ def time_parameterize(
     the largest spacing of TOPP-RA's grid.
     """
     # toppra imports scipy and matplotlib (about 1 s): only when needed.
-    import toppra
-    import toppra.algorithm
     import toppra.constraint
 
     vlim = np.asarray(velocity_limits, dtype=float)
     alim = np.asarray(acceleration_limits, dtype=float)
+    points = _distinct_waypoints(path)
+    if len(points) == 1:  # already there: a constant, 1 ms long
+        q = points[0][:, None]
+        return PiecewisePolynomial.FirstOrderHold([start_time, start_time + 1e-3], np.hstack([q, q]))
+
+    velocity = toppra.constraint.JointVelocityConstraint(np.column_stack([-vlim, vlim]))
+    acceleration = toppra.constraint.JointAccelerationConstraint(np.column_stack([-alim, alim]))
+    trajectory: PiecewisePolynomial | None = None
+    t0 = start_time
+    for chunk in _split_at_turns(points, turn_tolerance):
+        piece = _parameterize_chunk(np.array(chunk), [velocity, acceleration], vlim, alim, t0, grid_step)
+        t0 = piece.end_time()
+        if trajectory is None:
+            trajectory = piece
+        else:
+            trajectory.ConcatenateInTime(piece)
+    return trajectory
+
+
+def _distinct_waypoints(path: Sequence[np.ndarray]) -> list[np.ndarray]:
+    """``path``'s waypoints as float arrays, without repeats (within 1e-9 rad)."""
     points = [np.asarray(path[0], dtype=float)]
     for q in path[1:]:
         q = np.asarray(q, dtype=float)
         if np.linalg.norm(q - points[-1]) > 1e-9:
             points.append(q)
-    if len(points) == 1:  # already there: a constant, 1 ms long
-        q = points[0][:, None]
-        return PiecewisePolynomial.FirstOrderHold([start_time, start_time + 1e-3], np.hstack([q, q]))
+    return points
 
+
+def _split_at_turns(points: list[np.ndarray], turn_tolerance: float) -> list[list[np.ndarray]]:
+    """``points`` cut into chunks (sharing their end points) at the waypoints where
+    the trajectory must stop."""
     # Stop at a waypoint where a spline through it would leave the polyline by
     # more than ``turn_tolerance``: about (shorter neighbour segment) x (turn angle).
     chunks, first = [], 0
@@ -960,46 +1028,56 @@ def time_parameterize(
             chunks.append(points[first : i + 1])
             first = i
     chunks.append(points[first:])
+    return chunks
 
-    velocity = toppra.constraint.JointVelocityConstraint(np.column_stack([-vlim, vlim]))
-    acceleration = toppra.constraint.JointAccelerationConstraint(np.column_stack([-alim, alim]))
-    trajectory: PiecewisePolynomial | None = None
-    t0 = start_time
-    for chunk in chunks:
-        waypoints = np.array(chunk)
-        s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(waypoints, axis=0), axis=1))])
-        geometric = toppra.SplineInterpolator(s, waypoints, bc_type="not-a-knot")
-        n_uniform = int(min(2000, max(20, math.ceil(s[-1] / grid_step))))
-        grid = np.unique(np.concatenate([s, np.linspace(0.0, s[-1], n_uniform + 1)]))
-        grid = grid[np.concatenate([[True], np.diff(grid) > 1e-9])]
-        grid[-1] = s[-1]
-        instance = toppra.algorithm.TOPPRA(
-            [velocity, acceleration], geometric, gridpoints=grid, parametrizer="ParametrizeConstAccel"
+
+def _parameterize_chunk(
+    waypoints: np.ndarray,
+    constraints: list,
+    vlim: np.ndarray,
+    alim: np.ndarray,
+    t0: float,
+    grid_step: float,
+) -> PiecewisePolynomial:
+    """Rest-to-rest TOPP-RA trajectory, starting at time ``t0``, along a spline
+    through ``waypoints`` (parameterized by polyline length) under ``constraints``."""
+    import toppra
+    import toppra.algorithm
+
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(waypoints, axis=0), axis=1))])
+    geometric = toppra.SplineInterpolator(s, waypoints, bc_type="not-a-knot")
+    grid = _toppra_grid(s, grid_step)
+    instance = toppra.algorithm.TOPPRA(
+        constraints, geometric, gridpoints=grid, parametrizer="ParametrizeConstAccel"
+    )
+    _, sd, _ = instance.compute_parameterization(0.0, 0.0)
+    if sd is None or not np.all(np.isfinite(sd)):
+        raise PlanningError(
+            f"TOPP-RA found no time parameterization of a path segment from "
+            f"{_fmt(waypoints[0])} to {_fmt(waypoints[-1])}"
         )
-        _, sd, _ = instance.compute_parameterization(0.0, 0.0)
-        if sd is None or not np.all(np.isfinite(sd)):
-            raise PlanningError(
-                f"TOPP-RA found no time parameterization of a path segment from "
-                f"{_fmt(waypoints[0])} to {_fmt(waypoints[-1])}"
-            )
-        sd = np.maximum(sd, 0.0)
-        ds = np.diff(grid)
-        dt = 2.0 * ds / np.maximum(sd[:-1] + sd[1:], 1e-12)
-        times = np.concatenate([[0.0], np.cumsum(dt)])
-        q = np.array(geometric(grid))
-        q[0], q[-1] = waypoints[0], waypoints[-1]
-        qd = np.array(geometric(grid, 1)) * sd[:, None]
-        qd[0] = qd[-1] = 0.0
-        # Hermite cubics through these samples: their exact extreme velocities and
-        # accelerations decide a (rare, slight) uniform slow-down.
-        k = _hermite_stretch(times, q, qd, vlim, alim)
-        piece = PiecewisePolynomial.CubicHermite(t0 + k * times, q.T, qd.T / k)
-        t0 = piece.end_time()
-        if trajectory is None:
-            trajectory = piece
-        else:
-            trajectory.ConcatenateInTime(piece)
-    return trajectory
+    sd = np.maximum(sd, 0.0)
+    ds = np.diff(grid)
+    dt = 2.0 * ds / np.maximum(sd[:-1] + sd[1:], 1e-12)
+    times = np.concatenate([[0.0], np.cumsum(dt)])
+    q = np.array(geometric(grid))
+    q[0], q[-1] = waypoints[0], waypoints[-1]
+    qd = np.array(geometric(grid, 1)) * sd[:, None]
+    qd[0] = qd[-1] = 0.0
+    # Hermite cubics through these samples: their exact extreme velocities and
+    # accelerations decide a (rare, slight) uniform slow-down.
+    k = _hermite_stretch(times, q, qd, vlim, alim)
+    return PiecewisePolynomial.CubicHermite(t0 + k * times, q.T, qd.T / k)
+
+
+def _toppra_grid(s: np.ndarray, grid_step: float) -> np.ndarray:
+    """TOPP-RA's grid on path lengths ``s``: the waypoints' and a uniform grid at
+    most ``grid_step`` apart (20 to 2000 steps), without near duplicates."""
+    n_uniform = int(min(2000, max(20, math.ceil(s[-1] / grid_step))))
+    grid = np.unique(np.concatenate([s, np.linspace(0.0, s[-1], n_uniform + 1)]))
+    grid = grid[np.concatenate([[True], np.diff(grid) > 1e-9])]
+    grid[-1] = s[-1]
+    return grid
 
 
 def _hermite_stretch(

@@ -31,6 +31,7 @@ from pydrake.multibody.plant import (
     MultibodyPlantConfig,
 )
 from pydrake.multibody.tree import (
+    ModelInstanceIndex,
     PdControllerGains,
     PrismaticJoint,
     RevoluteJoint,
@@ -201,41 +202,10 @@ def build_rig(
     plant.RegisterCollisionGeometry(
         plant.world_body(), RigidTransform(), HalfSpace(), "floor", CoulombFriction(1.0, 1.0)
     )
-    tool = plant.AddModelInstance("tool")
-    light = SpatialInertia.SolidBoxWithMass(0.1, 0.05, 0.05, 0.05)
-    links = [plant.AddRigidBody(n, tool, light) for n in ("tool_x", "tool_y", "tool_z", "tool_yaw")]
-    links.append(plant.AddRigidBody("tool", tool, SpatialInertia.SolidBoxWithMass(0.5, 0.05, 0.05, 0.05)))
-    parents = [plant.world_body()] + links[:-1]
-    joints = [
-        PrismaticJoint("jx", parents[0].body_frame(), links[0].body_frame(), [1, 0, 0]),
-        PrismaticJoint("jy", parents[1].body_frame(), links[1].body_frame(), [0, 1, 0]),
-        PrismaticJoint("jz", parents[2].body_frame(), links[2].body_frame(), [0, 0, 1]),
-        RevoluteJoint("jyaw", parents[3].body_frame(), links[3].body_frame(), [0, 0, 1]),
-        RevoluteJoint("jtilt", parents[4].body_frame(), links[4].body_frame(), [1, 0, 0]),
-    ]
-    for joint in joints:
-        joint = plant.AddJoint(joint)
-        actuator = plant.AddJointActuator(joint.name(), joint)
-        actuator.set_controller_gains(PdControllerGains(p=1e6, d=2e4))
+    tool, tool_body = _add_tool(plant)
     parser = Parser(plant)
-    (gripper_instance,) = parser.AddModelsFromString(
-        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf"
-    )
-    # Cup down: the gripper's +z (out of the tool) along world -z.
-    plant.WeldFrames(
-        links[-1].body_frame(),
-        plant.GetFrameByName(f"{GRIPPER}_base_link"),
-        RigidTransform(RollPitchYaw(math.pi, 0, 0), [0, 0, 0]),
-    )
-    part_bodies = []
-    for i, (x, y, yaw) in enumerate(parts):
-        (instance,) = parser.AddModelsFromString(
-            expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": f"part_{i}", "size": SIZE, "mass": mass}),
-            "urdf",
-        )
-        body = plant.GetBodyByName(f"part_{i}", instance)
-        plant.SetDefaultFloatingBaseBodyPose(body, RigidTransform(RollPitchYaw(0, 0, yaw), [x, y, PART_Z]))
-        part_bodies.append(body)
+    _add_gripper(plant, parser, tool_body)
+    part_bodies = _add_parts(plant, parser, parts, mass)
     cup = plant.GetBodyByName(f"{GRIPPER}_cup")
     config = config or SuctionConfig(backend=backend)
     constraints = declare_suction_constraints(plant, cup, part_bodies[0]) if backend == "weld" else None
@@ -255,21 +225,78 @@ def build_rig(
     simulator = Simulator(diagram, context)
     rig = Rig(diagram, plant, gripper, part_bodies, simulator, context)
     if log:
-
-        def monitor(root: Context):
-            pc = plant.GetMyContextFromRoot(root)
-            rig.log.append(
-                (
-                    root.get_time(),
-                    plant.EvalBodyPoseInWorld(pc, part_bodies[0]),
-                    plant.EvalBodyPoseInWorld(pc, cup),
-                )
-            )
-
-        simulator.set_monitor(monitor)
+        _log_poses(rig, cup)
     rig.command(False)
     simulator.Initialize()
     return rig
+
+
+def _add_tool(plant: MultibodyPlant) -> tuple[ModelInstanceIndex, RigidBody]:
+    """The tool's model instance: x, y, z prismatic and yaw, tilt revolute joints
+    from the world, each with a stiff PD actuator; returns it and its last body."""
+    tool = plant.AddModelInstance("tool")
+    light = SpatialInertia.SolidBoxWithMass(0.1, 0.05, 0.05, 0.05)
+    links = [plant.AddRigidBody(n, tool, light) for n in ("tool_x", "tool_y", "tool_z", "tool_yaw")]
+    links.append(plant.AddRigidBody("tool", tool, SpatialInertia.SolidBoxWithMass(0.5, 0.05, 0.05, 0.05)))
+    parents = [plant.world_body()] + links[:-1]
+    joints = [
+        PrismaticJoint("jx", parents[0].body_frame(), links[0].body_frame(), [1, 0, 0]),
+        PrismaticJoint("jy", parents[1].body_frame(), links[1].body_frame(), [0, 1, 0]),
+        PrismaticJoint("jz", parents[2].body_frame(), links[2].body_frame(), [0, 0, 1]),
+        RevoluteJoint("jyaw", parents[3].body_frame(), links[3].body_frame(), [0, 0, 1]),
+        RevoluteJoint("jtilt", parents[4].body_frame(), links[4].body_frame(), [1, 0, 0]),
+    ]
+    for joint in joints:
+        joint = plant.AddJoint(joint)
+        actuator = plant.AddJointActuator(joint.name(), joint)
+        actuator.set_controller_gains(PdControllerGains(p=1e6, d=2e4))
+    return tool, links[-1]
+
+
+def _add_gripper(plant: MultibodyPlant, parser: Parser, tool_body: RigidBody) -> None:
+    """The course's vacuum gripper, welded to ``tool_body`` with its cup pointing down."""
+    (gripper_instance,) = parser.AddModelsFromString(
+        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf"
+    )
+    # Cup down: the gripper's +z (out of the tool) along world -z.
+    plant.WeldFrames(
+        tool_body.body_frame(),
+        plant.GetFrameByName(f"{GRIPPER}_base_link"),
+        RigidTransform(RollPitchYaw(math.pi, 0, 0), [0, 0, 0]),
+    )
+
+
+def _add_parts(
+    plant: MultibodyPlant, parser: Parser, parts: Sequence[tuple[float, float, float]], mass: float
+) -> list[RigidBody]:
+    """Free cube parts ``part_<i>`` resting on the floor at (x, y, yaw); their bodies."""
+    part_bodies = []
+    for i, (x, y, yaw) in enumerate(parts):
+        (instance,) = parser.AddModelsFromString(
+            expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": f"part_{i}", "size": SIZE, "mass": mass}),
+            "urdf",
+        )
+        body = plant.GetBodyByName(f"part_{i}", instance)
+        plant.SetDefaultFloatingBaseBodyPose(body, RigidTransform(RollPitchYaw(0, 0, yaw), [x, y, PART_Z]))
+        part_bodies.append(body)
+    return part_bodies
+
+
+def _log_poses(rig: Rig, cup: RigidBody) -> None:
+    """Appends (time, X_WP of the first part, X_WC) to ``rig.log`` after every plant step."""
+    plant, part = rig.plant, rig.parts[0]
+
+    def monitor(root: Context):
+        pc = plant.GetMyContextFromRoot(root)
+        rig.log.append(
+            (
+                root.get_time(),
+                plant.EvalBodyPoseInWorld(pc, part),
+                plant.EvalBodyPoseInWorld(pc, cup),
+            )
+        )
+
+    rig.simulator.set_monitor(monitor)
 
 
 def hold(q: np.ndarray, until: float = 5.0) -> PiecewisePolynomial:
