@@ -68,11 +68,9 @@ import yaml
 
 from omtp_drake.errors import ConfigError, OmtpError
 
-# pydrake, dask and matplotlib are imported where used: the CLI imports this
-# module for every command (to register ``batch``).
+# pydrake, dask and matplotlib are imported where used: importing this module
+# stays cheap (the ``omtp-drake batch`` command is registered in omtp_drake.cli).
 if TYPE_CHECKING:
-    import argparse
-
     from distributed import Client, Future
     from matplotlib.figure import Figure
 
@@ -1386,64 +1384,3 @@ def plot_cycle_time_histograms(records: Sequence[RunRecord]) -> Figure:
     for ax in axes[n:]:
         ax.set_visible(False)
     return fig
-
-
-# ----------------------------------------------------------------------------
-# Command line
-
-
-def add_batch_command(sub: Any) -> None:
-    """Registers ``omtp-drake batch`` on the CLI's subparsers."""
-    p = sub.add_parser(
-        "batch",
-        help="run a scenario's task over seeds and settings on Dask: success rates, cycle times",
-        description="Every (seed, setting) is one run on a Dask cluster (local processes by default). "
-        "Re-running with the same --out resumes.",
-    )
-    p.add_argument("scenario", metavar="SCENARIO")
-    p.add_argument("--seeds", required=True, metavar="A:B", help="seeds A..B-1 (e.g. 0:100), or 3,7,9")
-    p.add_argument("--parts", type=int, default=None, help="parts to place per run")
-    p.add_argument("--duration", type=float, default=None, help="simulated seconds at most per run")
-    p.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        metavar="KEY=V1,V2",
-        help="sweep a scenario field, e.g. task.max_tool_speed=0.6,0.8 or "
-        "cameras.logical_camera_2.position_noise_sigma=0,0.001 (repeatable; the grid is every combination)",
-    )
-    where = p.add_mutually_exclusive_group()
-    where.add_argument(
-        "--workers", type=int, default=None, metavar="N", help="local worker processes (default: core count)"
-    )
-    where.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, tcp://host:8786")
-    p.add_argument(
-        "--timeout", type=float, default=None, metavar="S", help="wall seconds per run (default: none)"
-    )
-    p.add_argument("--out", default=None, metavar="DIR", help="results folder (default: batch_<scenario>)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.set_defaults(func=cmd_batch)
-
-
-def cmd_batch(args: argparse.Namespace) -> int:
-    """``omtp-drake batch``: exit 0 when every run succeeded, 1 otherwise."""
-    seeds = parse_seeds(args.seeds)
-    sweep = parse_sets(args.set)
-    out = args.out
-    if out is None:
-        out = f"batch_{Path(str(args.scenario)).stem}"
-    records = run_batch(
-        args.scenario,
-        seeds,
-        settings=sweep,
-        parts=args.parts,
-        duration=args.duration,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        timeout=args.timeout,
-        out=out,
-        progress=not args.quiet,
-    )
-    print(format_summary(summarize(records)))  # noqa: T201 (the CLI handler's output)
-    print(f"results: {out}/ (runs/*.json, runs.csv, summary.json, success_rate.png, cycle_times.png)")  # noqa: T201
-    return 0 if all(r.success for r in records) else 1

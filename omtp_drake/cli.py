@@ -13,11 +13,11 @@ import logging
 import math
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from omtp_drake.batch import add_batch_command
 from omtp_drake.errors import ConfigError, OmtpError
 
 if TYPE_CHECKING:
@@ -157,6 +157,32 @@ def cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_batch(args: argparse.Namespace) -> int:
+    """``omtp-drake batch``: exit 0 when every run succeeded, 1 otherwise."""
+    from omtp_drake.batch import format_summary, parse_seeds, parse_sets, run_batch, summarize
+
+    seeds = parse_seeds(args.seeds)
+    sweep = parse_sets(args.set)
+    out = args.out
+    if out is None:
+        out = f"batch_{Path(str(args.scenario)).stem}"
+    records = run_batch(
+        args.scenario,
+        seeds,
+        settings=sweep,
+        parts=args.parts,
+        duration=args.duration,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        timeout=args.timeout,
+        out=out,
+        progress=not args.quiet,
+    )
+    print(format_summary(summarize(records)))
+    print(f"results: {out}/ (runs/*.json, runs.csv, summary.json, success_rate.png, cycle_times.png)")
+    return 0 if all(r.success for r in records) else 1
+
+
 def format_transform(X, time: float = 0.0) -> str:
     """Like ROS ``tf_echo``."""
     q = X.rotation().ToQuaternion()
@@ -277,13 +303,8 @@ def _add_view_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="omtp-drake", description="The OMTP factory cell simulated with Drake."
-    )
-    parser.add_argument("-v", "--verbose", action="store_true", help="log progress")
-    sub = parser.add_subparsers(dest="command", required=True)
-
+def _add_task_commands(sub: argparse._SubParsersAction) -> None:
+    """Registers the commands that list scenarios and run their tasks: scenarios, demo, run."""
     p = sub.add_parser("scenarios", help="list the scenario names")
     p.set_defaults(func=cmd_scenarios)
 
@@ -305,6 +326,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_run)
 
+
+def _add_replay_commands(sub: argparse._SubParsersAction) -> None:
+    """Registers the commands on recorded replays: screenshot."""
     p = sub.add_parser("screenshot", help="a PNG of a recorded replay (headless chromium)")
     p.add_argument("replay", metavar="HTML", help="a replay written with --record")
     p.add_argument(
@@ -334,6 +358,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.set_defaults(func=cmd_screenshot)
 
+
+def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
+    """Registers the commands that inspect the cell at a time, like ROS tools: tf-echo, camera, frames."""
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("source", metavar="SOURCE")
@@ -394,6 +421,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.set_defaults(func=cmd_frames)
 
+
+def _add_bench_command(sub: argparse._SubParsersAction) -> None:
+    """Registers ``omtp-drake bench``: how fast the cell runs."""
     p = sub.add_parser(
         "bench",
         help="how fast the cell runs: full runs against the bare plant, build time, pick cycles",
@@ -406,7 +436,51 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.set_defaults(func=cmd_bench)
 
-    add_batch_command(sub)
+
+def _add_batch_command(sub: argparse._SubParsersAction) -> None:
+    """Registers ``omtp-drake batch``: a scenario's task over seeds and settings on Dask."""
+    p = sub.add_parser(
+        "batch",
+        help="run a scenario's task over seeds and settings on Dask: success rates, cycle times",
+        description="Every (seed, setting) is one run on a Dask cluster (local processes by default). "
+        "Re-running with the same --out resumes.",
+    )
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("--seeds", required=True, metavar="A:B", help="seeds A..B-1 (e.g. 0:100), or 3,7,9")
+    p.add_argument("--parts", type=int, default=None, help="parts to place per run")
+    p.add_argument("--duration", type=float, default=None, help="simulated seconds at most per run")
+    p.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=V1,V2",
+        help="sweep a scenario field, e.g. task.max_tool_speed=0.6,0.8 or "
+        "cameras.logical_camera_2.position_noise_sigma=0,0.001 (repeatable; the grid is every combination)",
+    )
+    where = p.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers", type=int, default=None, metavar="N", help="local worker processes (default: core count)"
+    )
+    where.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, tcp://host:8786")
+    p.add_argument(
+        "--timeout", type=float, default=None, metavar="S", help="wall seconds per run (default: none)"
+    )
+    p.add_argument("--out", default=None, metavar="DIR", help="results folder (default: batch_<scenario>)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.set_defaults(func=cmd_batch)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="omtp-drake", description="The OMTP factory cell simulated with Drake."
+    )
+    parser.add_argument("-v", "--verbose", action="store_true", help="log progress")
+    sub = parser.add_subparsers(dest="command", required=True)
+    _add_task_commands(sub)
+    _add_replay_commands(sub)
+    _add_inspect_commands(sub)
+    _add_bench_command(sub)
+    _add_batch_command(sub)
     return parser
 
 

@@ -49,6 +49,10 @@ from pydrake.systems.framework import Context, EventStatus
 from omtp_drake.errors import ConfigError, FrameError, UnknownNameError
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+    from matplotlib.text import Text
+
     from omtp_drake.logical_camera import LogicalCameraImage
     from omtp_drake.station import Station
 
@@ -628,27 +632,11 @@ def _tree_layout(edges: list[tuple[str, str]], root: str) -> tuple[dict[str, tup
     return position, next_leaf
 
 
-def view_frames(
-    buffer: TfBuffer, path_stem: str | Path, time: Optional[float] = None, *, title: Optional[str] = None
-) -> list[Path]:
-    """Draws the frame tree at ``time`` (None: latest) into ``<stem>.pdf`` and ``<stem>.png``.
-
-    Like ROS ``view_frames``, with matplotlib (no graphviz): frames are boxes,
-    arrows go parent -> child, ``world`` on top. Logical camera frames and the
-    frames of the models they see are coloured. Returns the two paths written.
-    A ``.pdf`` or ``.png`` suffix of ``path_stem`` is dropped.
-    """
-    # Imported here: matplotlib takes ~0.3 s to import. No pyplot: no global state.
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+def _tree_axes(position: dict[str, tuple[float, int]], leaves: int) -> tuple[Figure, Axes]:
+    """A figure sized for the layout ``position`` of ``leaves`` leaves, and its
+    frameless axes in layout units (x: leaf slots, y: minus the depth)."""
     from matplotlib.figure import Figure
-    from matplotlib.patches import FancyArrowPatch, Patch
 
-    path_stem = Path(path_stem)
-    if path_stem.suffix.lower() in (".pdf", ".png"):
-        path_stem = path_stem.with_suffix("")
-    edges = buffer.edges(time)
-    t = buffer.times[-1] if time is None else float(time)
-    position, leaves = _tree_layout(edges, "world")
     depth = max(d for _, d in position.values())
     slot, row = 1.25, 0.95  # inches per leaf, per level
     width = max(8.0, slot * leaves + 1.0)
@@ -658,8 +646,12 @@ def view_frames(
     ax.set_xlim(-0.5 - 0.4 / slot, leaves - 0.5 + 0.4 / slot)
     ax.set_ylim(-(depth + 0.5), 0.5 + 0.6 / row)
     ax.axis("off")
-    fontsize = 8.5
+    return fig, ax
 
+
+def _draw_frame_boxes(ax: Axes, buffer: TfBuffer, position: dict[str, tuple[float, int]]) -> dict[str, Text]:
+    """One box per frame at its layout position, coloured by its kind; name -> box."""
+    fontsize = 8.5
     boxes = {}
     for name, (x, d) in position.items():
         face, edge = _COLOURS[buffer._frame_kind(name)]
@@ -673,7 +665,13 @@ def view_frames(
             zorder=3,
             bbox=dict(boxstyle="round,pad=0.35", facecolor=face, edgecolor=edge, linewidth=1.2),
         )
-    # Arrows from the bottom of the parent's box to the top of the child's.
+    return boxes
+
+
+def _box_extents(fig: Figure, ax: Axes, boxes: dict[str, Text]) -> dict[str, tuple[float, float]]:
+    """Draws ``fig`` (which places the boxes) and returns name -> (bottom, top) of each box, in data units."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
     canvas = FigureCanvasAgg(fig)
     canvas.draw()  # places the boxes
     renderer = canvas.get_renderer()
@@ -682,7 +680,19 @@ def view_frames(
     for name, text in boxes.items():
         (_, y0), (_, y1) = to_data.transform(text.get_bbox_patch().get_window_extent(renderer).get_points())
         extent[name] = (min(y0, y1), max(y0, y1))
-    # Org-chart connectors: down from the parent, along a bus, down into each child.
+    return extent
+
+
+def _draw_connectors(
+    ax: Axes,
+    buffer: TfBuffer,
+    edges: list[tuple[str, str]],
+    position: dict[str, tuple[float, int]],
+    extent: dict[str, tuple[float, float]],
+) -> None:
+    """Org-chart connectors: down from the parent, along a bus, an arrow down into each child."""
+    from matplotlib.patches import FancyArrowPatch
+
     children: dict[str, list[str]] = {}
     for parent, child in edges:
         children.setdefault(parent, []).append(child)
@@ -711,11 +721,16 @@ def view_frames(
                     zorder=2,
                 )
             )
-    heading = title or "Frame tree"
+
+
+def _draw_heading_and_legend(ax: Axes, heading: str, t: float, frames: int) -> None:
+    """The title line (``heading``, time, frame count) top left and the colour legend top right."""
+    from matplotlib.patches import Patch
+
     ax.text(
         0.01,
         0.995,
-        f"{heading}  (t = {t:.3f} s, {len(position)} frames)",
+        f"{heading}  (t = {t:.3f} s, {frames} frames)",
         transform=ax.transAxes,
         ha="left",
         va="top",
@@ -730,11 +745,42 @@ def view_frames(
         ncol=4,
         bbox_to_anchor=(0.995, 0.995),
     )
+
+
+def _save_pdf_and_png(fig: Figure, path_stem: Path) -> list[Path]:
+    """Writes ``<stem>.pdf`` and ``<stem>.png`` (creating the folder); returns their paths."""
     paths = []
     path_stem.parent.mkdir(parents=True, exist_ok=True)
     for suffix in (".pdf", ".png"):
         path = path_stem.parent / (path_stem.name + suffix)
         fig.savefig(path, dpi=100)
         paths.append(path)
+    return paths
+
+
+def view_frames(
+    buffer: TfBuffer, path_stem: str | Path, time: Optional[float] = None, *, title: Optional[str] = None
+) -> list[Path]:
+    """Draws the frame tree at ``time`` (None: latest) into ``<stem>.pdf`` and ``<stem>.png``.
+
+    Like ROS ``view_frames``, with matplotlib (no graphviz): frames are boxes,
+    arrows go parent -> child, ``world`` on top. Logical camera frames and the
+    frames of the models they see are coloured. Returns the two paths written.
+    A ``.pdf`` or ``.png`` suffix of ``path_stem`` is dropped.
+    """
+    # matplotlib is imported in the helpers: it takes ~0.3 s to import. No pyplot: no global state.
+    path_stem = Path(path_stem)
+    if path_stem.suffix.lower() in (".pdf", ".png"):
+        path_stem = path_stem.with_suffix("")
+    edges = buffer.edges(time)
+    t = buffer.times[-1] if time is None else float(time)
+    position, leaves = _tree_layout(edges, "world")
+    fig, ax = _tree_axes(position, leaves)
+    boxes = _draw_frame_boxes(ax, buffer, position)
+    # Arrows run from the bottom of the parent's box to the top of the child's.
+    extent = _box_extents(fig, ax, boxes)
+    _draw_connectors(ax, buffer, edges, position, extent)
+    _draw_heading_and_legend(ax, title or "Frame tree", t, len(position))
+    paths = _save_pdf_and_png(fig, path_stem)
     _log.info("frame tree written to %s", ", ".join(str(p) for p in paths))
     return paths

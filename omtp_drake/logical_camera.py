@@ -665,22 +665,49 @@ class _RayCastOcclusion:
         T = T_CW[:, :3] @ np.array([X_WB[b].GetAsMatrix34() for b in self._bodies])
         R_CB = T[:, :, :3]
         p_CB = T[:, :, 3] + T_CW[:, 3]
-        # The geometries in view: unbounded, or their box overlaps the frustum.
+        view, R_CO, p_CO = self._geometries_in_view(R_CB, p_CB)
+        own = self._owner[view] == seen[:, None]  # (models, geometries in view)
+        if not own.any():
+            return result
+        low, high, depth_min, depth_max = self._image_rectangles(view, R_CO, p_CO)
+        pairs = self._pairs_to_test(own, low, high, depth_min, depth_max)
+        if pairs is None:
+            return result
+        model, geometry, mine, lo, hi = pairs
+        depth = self._ray_depths(view, model, geometry, lo, hi, R_CB, p_CB)
+        first = np.flatnonzero(np.r_[True, model[1:] != model[:-1]])  # each model's first pair
+        own_depth = np.minimum.reduceat(np.where(mine, depth, np.inf), first, axis=1)
+        other_depth = np.minimum.reduceat(np.where(mine, np.inf, depth), first, axis=1)
+        met = np.isfinite(own_depth)
+        met_first = (met & (own_depth <= other_depth)).sum(axis=0)
+        result[model[first]] = met_first / np.maximum(met.sum(axis=0), 1)
+        return result
+
+    def _geometries_in_view(
+        self, R_CB: np.ndarray, p_CB: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The geometries in view: unbounded, or their box overlaps the frustum.
+
+        Returns their geometry indices (the bounded ones first) and the poses in C
+        (R_CO, p_CO) of the bounded ones' boxes, in the same order.
+        """
         bounded = self._bounded
         rows = self._body_row[bounded]
         R_CO = R_CB[rows] @ self._R_BO[bounded]
         p_CO = (R_CB[rows] @ self._p_BO[bounded])[:, :, 0] + p_CB[rows]
         inside = self._frustum.overlaps(p_CO, R_CO, self._half[bounded])
         view = np.concatenate([bounded[inside], self._unbounded])
-        owner = self._owner[view]
-        own = owner == seen[:, None]  # (models, geometries in view)
-        if not own.any():
-            return result
-        # Their image rectangles [low, high] (from their box's corners, clipped to
-        # the image; the whole image if a corner is not in front) and depth ranges.
+        return view, R_CO[inside], p_CO[inside]
+
+    def _image_rectangles(
+        self, view: np.ndarray, R_CO: np.ndarray, p_CO: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The image rectangles [low, high] of the geometries ``view`` (from their
+        box's corners, clipped to the image; the whole image if a corner is not in
+        front) and their depth ranges [depth_min, depth_max]."""
         boxed = len(view) - len(self._unbounded)
-        corners = (_BOX_CORNERS * self._half[view[:boxed], None, :]) @ R_CO[inside].transpose(0, 2, 1)
-        corners += p_CO[inside, None, :]
+        corners = (_BOX_CORNERS * self._half[view[:boxed], None, :]) @ R_CO.transpose(0, 2, 1)
+        corners += p_CO[:, None, :]
         depth = corners[:, :, 0]
         depth_min = np.concatenate([depth.min(axis=1), np.zeros(len(self._unbounded))])
         depth_max = np.concatenate([depth.max(axis=1), np.full(len(self._unbounded), np.inf)])
@@ -691,9 +718,19 @@ class _RayCastOcclusion:
         image = corners[front, :, 1:] / depth[front, :, None]
         low[front] = np.maximum(low[front], image.min(axis=1))
         high[front] = np.minimum(high[front], image.max(axis=1))
+        return low, high, depth_min, depth_max
 
-        # Model i = seen[i] owns the geometries own[i]: its rectangle [lo, hi], its
-        # farthest point, and the other geometries that may hide it.
+    @staticmethod
+    def _pairs_to_test(
+        own: np.ndarray, low: np.ndarray, high: np.ndarray, depth_min: np.ndarray, depth_max: np.ndarray
+    ) -> Optional[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
+        """The (model, geometry) pairs to cast rays against, by model, its own geometries first.
+
+        Model i = seen[i] owns the geometries own[i]: its rectangle [lo, hi], its
+        farthest point, and the other geometries that may hide it. Returns
+        (model, geometry, mine: the geometry is the model's, lo, hi), or None
+        when no model has rays to cast.
+        """
         lo = np.where(own[:, :, None], low, np.inf).min(axis=1)
         hi = np.where(own[:, :, None], high, -np.inf).max(axis=1)
         farthest = np.where(own, depth_max, -np.inf).max(axis=1)
@@ -704,16 +741,21 @@ class _RayCastOcclusion:
             & (depth_min < farthest[:, None])
         )
         cast = own.any(axis=1) & (lo < hi).all(axis=1)
-        # The (model, geometry) pairs to test, by model, its own geometries first.
         model, geometry = np.nonzero((own | others) & cast[:, None])
         if not len(model):
-            return result
+            return None
         mine = own[model, geometry]
         order = np.lexsort((~mine, model))
-        model, geometry, mine = model[order], geometry[order], mine[order]
+        return model[order], geometry[order], mine[order], lo, hi
 
-        # The slabs of each pair, in C (one run per pair): n_C = R_CB n_B and
-        # d_C = d_B +- n_C . p_CB.
+    def _pair_slabs(
+        self, view: np.ndarray, geometry: np.ndarray, R_CB: np.ndarray, p_CB: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The slabs of each pair's geometry ``view[geometry]``, in C (one run per
+        pair): n_C = R_CB n_B and d_C = d_B +- n_C . p_CB.
+
+        Returns (count, runs: each pair's slab count and first row, n, d_plus, d_minus).
+        """
         count = self._slab_counts[view[geometry]]
         runs = np.cumsum(count) - count
         first_slab = (np.cumsum(self._slab_counts) - self._slab_counts)[view[geometry]]
@@ -723,6 +765,21 @@ class _RayCastOcclusion:
         shift = (n * p_CB[body]).sum(axis=1)
         d_plus = self._d_plus[slabs] + shift
         d_minus = self._d_minus[slabs] - shift
+        return count, runs, n, d_plus, d_minus
+
+    def _ray_depths(
+        self,
+        view: np.ndarray,
+        model: np.ndarray,
+        geometry: np.ndarray,
+        lo: np.ndarray,
+        hi: np.ndarray,
+        R_CB: np.ndarray,
+        p_CB: np.ndarray,
+    ) -> np.ndarray:
+        """(rays, pairs): the depth of the first surface of each pair's geometry
+        that each of its model's rays meets between near and far (inf: none)."""
+        count, runs, n, d_plus, d_minus = self._pair_slabs(view, geometry, R_CB, p_CB)
         # Model m's rays are (1, y, z) with (y, z) = lo_m + g (hi_m - lo_m) for the
         # grid points g: a = n . (1, y, z) = (n_x + n_yz . lo_m) + (n_yz * (hi_m - lo_m)) . g.
         # Arrays below are (rays, slabs) or (rays, pairs).
@@ -737,14 +794,7 @@ class _RayCastOcclusion:
             t_out = np.minimum.reduceat(np.maximum(*ends), runs, axis=1)
         # The first surface at depth >= near: the entry, or the exit if the entry is clipped.
         surface = np.where(t_in >= self._near, t_in, t_out)
-        depth = np.where((t_in <= t_out) & (surface >= self._near) & (surface <= self._far), surface, np.inf)
-        first = np.flatnonzero(np.r_[True, model[1:] != model[:-1]])  # each model's first pair
-        own_depth = np.minimum.reduceat(np.where(mine, depth, np.inf), first, axis=1)
-        other_depth = np.minimum.reduceat(np.where(mine, np.inf, depth), first, axis=1)
-        met = np.isfinite(own_depth)
-        met_first = (met & (own_depth <= other_depth)).sum(axis=0)
-        result[model[first]] = met_first / np.maximum(met.sum(axis=0), 1)
-        return result
+        return np.where((t_in <= t_out) & (surface >= self._near) & (surface <= self._far), surface, np.inf)
 
 
 @dataclass(frozen=True)
