@@ -100,6 +100,19 @@ class RobotConfig:
     ki: float = 0.0
 
 
+#: Names of the cell's fixed models and Drake's own (a robot's pedestal is
+#: ``<robot>_pedestal``): no robot, camera, bin or part may take one.
+RESERVED_NAMES = (
+    "world",
+    "floor",
+    "conveyor",
+    "deletion_wall",
+    "break_beam",
+    "WorldModelInstance",
+    "DefaultModelInstance",
+)
+
+
 @dataclass(frozen=True)
 class BinGeometry:
     """The fixed sizes of every bin, read from ``models/bin.urdf.xacro``."""
@@ -356,7 +369,7 @@ class Scenario:
             for gain in ("kp", "kd", "ki"):
                 if getattr(robot, gain) < 0:
                     raise ConfigError(f"robots[{robot.name}].{gain} must be >= 0, got {getattr(robot, gain)}")
-            names += [robot.name] + ([robot.gripper] if robot.gripper else [])
+            names += [robot.name, f"{robot.name}_pedestal"] + ([robot.gripper] if robot.gripper else [])
         for camera in self.cameras:
             camera.validate()
             if camera.parent == "world":
@@ -399,6 +412,11 @@ class Scenario:
         dupes = sorted({n for n in names if names.count(n) > 1})
         if dupes:
             raise ConfigError(f"names must be unique in a scenario; repeated: {', '.join(dupes)}")
+        taken = sorted(set(names) & set(RESERVED_NAMES))
+        if taken:
+            raise ConfigError(
+                f"name {taken[0]!r} is taken by the cell; reserved names: {', '.join(RESERVED_NAMES)}"
+            )
         for n in names:
             if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", n):
                 raise ConfigError(f"name {n!r} must be letters, digits and '_', starting with a letter")

@@ -124,3 +124,18 @@ def test_cross_references_are_checked_at_load(tmp_path, text, words):
         load_scenario(path)
     for word in words:
         assert word in str(e.value)
+
+
+@pytest.mark.parametrize("name, words", [
+    ("world", ["name 'world' is taken by the cell", "reserved names: world, floor"]),
+    ("floor", ["name 'floor' is taken by the cell"]),
+    ("robot2_pedestal", ["names must be unique", "repeated: robot2_pedestal"]),
+    ("bin_1", ["names must be unique", "repeated: bin_1"]),
+])
+def test_a_part_may_not_take_a_name_of_the_cell(tmp_path, name, words):
+    path = tmp_path / "named.yaml"
+    path.write_text(f"base: omtp_factory\nparts:\n  - {{name: {name}, xyz: [1.2, 1.8, 1.1]}}\n")
+    with pytest.raises(ConfigError) as e:
+        load_scenario(path)
+    for word in words:
+        assert word in str(e.value)
