@@ -462,11 +462,10 @@ class RunRecord:
 
     @property
     def ledger_anomaly(self) -> bool:
-        """Finished with parts unaccounted for: the ledger does not balance, or parts are left loose."""
-        if self.result is None:
-            return False
-        ledger = self.result.ledger
-        return not ledger.balanced or ledger.loose > 0
+        """Finished with parts unaccounted for (``TaskResult.accounted_for``): the ledger
+        does not balance, or a part is left loose that the controller did not give up
+        on with a record of where it lies."""
+        return self.result is not None and not self.result.accounted_for
 
     @property
     def failure_reason(self) -> str:
@@ -515,6 +514,7 @@ class RunRecord:
                     success=p["success"],
                     reason=p["failure_reason"],
                     attempt=p["attempt"],
+                    position=tuple(p["position"]) if p.get("position") is not None else None,
                 )
                 for p in data["picks"]
             ]

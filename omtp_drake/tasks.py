@@ -81,6 +81,21 @@ class TaskResult:
             "success": self.success,
         }
 
+    @property
+    def unaccounted_parts(self) -> list[str]:
+        """Parts left loose (on the belt, the floor or elsewhere, not held, not in a
+        bin) that the controller did not give up on: a part given up on has a record
+        (``lost`` or ``dropped_into_bin``) saying where it lies."""
+        given_up = {p.part for p in self.picks if p.reason in GIVEN_UP}
+        loose = [n for n, place in self.ledger.parts.items() if not place.startswith(("in_bin", "held"))]
+        return sorted(n for n in loose if n not in given_up)
+
+    @property
+    def accounted_for(self) -> bool:
+        """Every part that entered the world is accounted for: the ledger balances and
+        no part is left loose unrecorded."""
+        return self.ledger.balanced and not self.unaccounted_parts
+
     def to_dict(self) -> dict:
         return {
             "scenario": self.scenario,
@@ -150,8 +165,9 @@ class TaskRun:
         self.runtime = FactoryRuntime(scenario, meshcat=meshcat, extend=extend)
         self.controller = added[0]
         rt = self.runtime
-        if rt.station.conveyor is not None and rt.station.break_beam is not None:
-            rt.on_tick(_restart_belt_when_beam_clears)
+        conveyor = scenario.conveyor
+        if conveyor is not None and conveyor.stop_on_beam and rt.station.break_beam is not None:
+            rt.on_tick(_restart_belt_when_beam_clears)  # the counterpart of the beam's stop
         rt.on_tick(self._write_off_lost_parts)
 
     def _write_off_lost_parts(self, rt: FactoryRuntime) -> None:

@@ -224,3 +224,22 @@ def test_wilson_interval():
     assert wilson_interval(0, 10) == pytest.approx((0.0, 0.2775), abs=1e-4)
     assert wilson_interval(10, 10) == pytest.approx((0.7225, 1.0), abs=1e-4)
     assert wilson_interval(5, 10) == pytest.approx((0.2366, 0.7634), abs=1e-4)
+
+
+def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_json():
+    from omtp_drake.ledger import Ledger
+    from omtp_drake.pick_and_place import PickRecord
+    from omtp_drake.tasks import TaskResult
+
+    ledger = Ledger(time=30.0, spawned=2, parked=0, on_belt=0, on_floor=1, elsewhere=0, held={"robot2": 0},
+                    in_bin={"bin_1": 1}, disposed=0, parts={"object_1": "in_bin:bin_1", "object_2": "on_floor"})
+    picks = [PickRecord("object_1", 0.5, 6.0, True),
+             PickRecord("object_2", 6.5, 12.0, False, "lost", 1, position=(-7.0, 1.5, 0.05))]
+    result = TaskResult(SCENARIO, 3, picks, ledger, False, 30.0, 3.0, "bin_1", 2)
+    record = batch.RunRecord(SCENARIO, 3, {}, "finished", result=result)
+    assert not record.ledger_anomaly
+    again = batch.RunRecord.from_dict(json.loads(json.dumps(record.to_dict())))
+    assert not again.ledger_anomaly and again.result.picks[1].position == (-7.0, 1.5, 0.05)
+    unrecorded = batch.RunRecord(SCENARIO, 3, {}, "finished", result=TaskResult(
+        SCENARIO, 3, picks[:1], ledger, False, 30.0, 3.0, "bin_1", 2))
+    assert unrecorded.ledger_anomaly

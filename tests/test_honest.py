@@ -10,7 +10,7 @@ import pytest
 from omtp_drake.errors import ConfigError
 from omtp_drake.pick_and_place import Mode
 from omtp_drake.scenario import load_scenario
-from omtp_drake.tasks import TaskRun, judge, prepare, run_task
+from omtp_drake.tasks import TaskResult, TaskRun, judge, prepare, run_task
 
 
 def finish(run, limit):
@@ -78,6 +78,11 @@ def test_a_part_knocked_out_of_reach_is_recorded_lost_and_the_task_finishes():
     np.testing.assert_allclose(lost[0].position, rt.part_pose(part).translation(), atol=0.05)
     assert sum(p.success for p in picks) == 2 and rt.time < 40  # it did not stall
     assert ledger.parts[part] == "on_floor" and ledger.balanced and not success
+    # Loose, but accounted for: its record says where it lies. Unrecorded, it would not be.
+    result = TaskResult("fill_bin", 0, picks, ledger, success, rt.time, 1.0, "bin_1", 2)
+    assert ledger.loose == 1 and result.unaccounted_parts == [] and result.accounted_for
+    unrecorded = replace(result, picks=[p for p in picks if p.reason != "lost"])
+    assert unrecorded.unaccounted_parts == [part] and not unrecorded.accounted_for
 
 
 def test_summary_counts_equal_the_records():

@@ -40,9 +40,11 @@ def finish(run, limit):
 
 
 def test_assignment4_robot2_places_parts_in_bin1():
-    result = run_task("lecture6_assignment4")
+    powers = []
+    result = run_task("lecture6_assignment4", on_chunk=lambda run: powers.append(run.runtime.conveyor_power()))
     assert_clean_success(result, "bin_1", 2)
     assert all(p.cycle_time < 8.5 for p in result.picks if p.success)
+    assert powers and set(powers) == {0.0}  # the scenario's belt stays stopped (no beam-stop helper)
 
 
 def test_lecture7_robot1_picks_from_the_belt_into_bin2():
@@ -53,7 +55,8 @@ def test_lecture7_robot1_picks_from_the_belt_into_bin2():
 def test_fill_bin_ten_parts():
     result = run_task("fill_bin")
     assert_clean_success(result, "bin_1", 10)
-    assert result.summary["mean_cycle_time_s"] < 8.0  # bench/bench_fill_bin.py reports it
+    # Simulated seconds (deterministic): issue 13's cycle targets.
+    assert result.summary["mean_cycle_time_s"] <= 6.0 and result.summary["max_cycle_time_s"] <= 7.0
 
 
 def test_limits_respected_during_a_run():
