@@ -409,9 +409,15 @@ class Scenario:
         self._validate_plant_config()
         if self.task is not None:
             self._validate_task(self.task)
+        part_names = {part.name for part in self.parts}
         dupes = sorted({n for n in names if names.count(n) > 1})
         if dupes:
             raise ConfigError(f"names must be unique in a scenario; repeated: {', '.join(dupes)}")
+        pool_like = [n for n in names if n not in part_names and re.fullmatch(r"object_\d+", n)]
+        if pool_like:
+            raise ConfigError(
+                f"name {pool_like[0]!r}: names object_<k> are the part pool's; only parts may take one"
+            )
         taken = sorted(set(names) & set(RESERVED_NAMES))
         if taken:
             raise ConfigError(

@@ -139,3 +139,10 @@ def test_a_part_may_not_take_a_name_of_the_cell(tmp_path, name, words):
         load_scenario(path)
     for word in words:
         assert word in str(e.value)
+
+
+def test_only_parts_may_take_a_pool_name(tmp_path):
+    path = tmp_path / "gripper.yaml"
+    path.write_text("base: fill_bin\nrobots:\n  - {name: robot2, gripper: object_1}\n")
+    with pytest.raises(ConfigError, match="name 'object_1': names object_<k> are the part pool's"):
+        load_scenario(path)
