@@ -515,6 +515,7 @@ class RunRecord:
                     reason=p["failure_reason"],
                     attempt=p["attempt"],
                     position=tuple(p["position"]) if p.get("position") is not None else None,
+                    given_up=p.get("given_up", False),
                 )
                 for p in data["picks"]
             ]

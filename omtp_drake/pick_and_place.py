@@ -18,11 +18,16 @@ Cycle (one handler per :class:`Mode`)::
          pick camera watches for the next part)
       -> WAIT_PART (after a failure: HOME first)
 
+A part for which the bin has no slot left (where the arm reaches) is given up
+(``bin_full``) and the controller stops in BIN_FULL: the task cannot finish.
+
 Recovery, each recorded with its reason: suction does not attach
 (``attach_timeout``); part dropped in transit (``dropped``); no part seen
 (``no_part``); DiffIK cannot follow (``tracking``: DiffIK restarts from the
 measured joints); part not in the bin after release (``missed_bin``). After a
-failure the arm goes Home and retries, up to ``max_attempts`` per part.
+failure the arm goes Home and retries, up to ``max_attempts`` per part; after the
+last one (and after ``lost`` or ``dropped_into_bin``) the part is given up: its
+record says so and where it lies, and the task's spawner replaces it.
 
 The bin is where the bin camera last saw it (the scenario's pose until then):
 a bin moved after a plan is found again for the next one.
@@ -66,6 +71,9 @@ class Mode(Enum):
     TRANSFER = "TRANSFER"
     RELEASE = "RELEASE"
     HOME = "HOME"
+    #: The bin holds no more parts the arm can reach: the arm went Home and the
+    #: controller stopped (the task cannot finish).
+    BIN_FULL = "BIN_FULL"
 
 
 @dataclass(frozen=True)
@@ -78,8 +86,11 @@ class PickRecord:
     success: bool
     reason: str = ""
     attempt: int = 1
-    #: Where the part was when the attempt ended, for a part given up on (``lost``).
+    #: Where the part was when the attempt ended, for a part given up on.
     position: Optional[tuple[float, float, float]] = None
+    #: The controller will not try this part again (``lost``, ``dropped_into_bin``,
+    #: or its last attempt failed): it lies where ``position`` says.
+    given_up: bool = False
 
     @property
     def cycle_time(self) -> float:
@@ -95,6 +106,7 @@ class PickRecord:
             "attempt": self.attempt,
             "cycle_time": self.cycle_time,
             "position": list(self.position) if self.position is not None else None,
+            "given_up": self.given_up,
         }
 
 
@@ -266,6 +278,7 @@ class PickAndPlaceController(LeafSystem):
             Mode.TRANSFER: self._transfer,
             Mode.RELEASE: self._release,
             Mode.HOME: self._home,
+            Mode.BIN_FULL: self._bin_full_idle,
         }
 
     # ---------------------------------------------------------------- outputs
@@ -441,18 +454,20 @@ class PickAndPlaceController(LeafSystem):
         """Records a failed attempt and sends the arm Home (suction off); with
         ``reset_ik`` DiffIK restarts from the measured joints first."""
         t = inputs.t
-        record = PickRecord(s.part, s.pick_start, t, False, reason, s.attempt)
-        attempt = s.attempt + 1 if s.part else 1
-        ignored = s.ignored
-        if attempt > self._config.max_attempts:
-            ignored = ignored + (s.part,)
-            attempt = 1
-        path = self._travel(
-            context, t, inputs.X_now, self._X_W_home, self._part_size(s.part) if s.part else 0.0
-        )
         if reason == "dropped" and s.part:  # last known: under the cup when it fell
             size = self._part_size(s.part)
             s = replace(s, X_WP=RigidTransform(inputs.X_now.translation() - [0.0, 0.0, size / 2]))
+        attempt = s.attempt + 1 if s.part else 1
+        ignored = s.ignored
+        given_up = bool(s.part) and attempt > self._config.max_attempts
+        if given_up:  # its last attempt: left where it was last known
+            ignored = ignored + (s.part,)
+            attempt = 1
+        position = _position(s.X_WP) if given_up else None
+        record = PickRecord(s.part, s.pick_start, t, False, reason, s.attempt, position, given_up)
+        path = self._travel(
+            context, t, inputs.X_now, self._X_W_home, self._part_size(s.part) if s.part else 0.0
+        )
         return self._go(
             s,
             Mode.HOME,
@@ -491,7 +506,12 @@ class PickAndPlaceController(LeafSystem):
             if not mine:
                 return s, None
             seen = mine
-        seen = [x for x in seen if self._reachable(x[1], self._part_size(x[0]))]
+        reachable = [x for x in seen if self._reachable(x[1], self._part_size(x[0]))]
+        if not reachable and seen:
+            # Only parts the arm cannot reach: watch one; once it is at rest it is
+            # given up as lost (see _lost), so the spawner may replace it.
+            return self._note_candidate(s, *seen[0]), None
+        seen = reachable
         if not seen:
             if t - s.last_seen > c.detect_timeout:
                 return self._go(s, Mode.WAIT_PART, t, last_seen=t), PickRecord("", t, t, False, "no_part", 1)
@@ -501,6 +521,11 @@ class PickAndPlaceController(LeafSystem):
             s = replace(self._note_candidate(s, name, X_WP, stamp), last_seen=t)
         if not (s.candidate == name and s.candidate_at_rest):
             return s, None
+        if (
+            self._planner.slot(self._bin_pose(context), self._bin.geometry, self._part_size(name), s.placed)
+            is None
+        ):
+            return self._bin_full(context, s, inputs, name, X_WP)
         start = s.pick_start if (s.part == name and s.attempt > 1) else t
         X_above = self._planner.grasp_pose(X_WP, self._part_size(name), inputs.X_now, c.approach_height)
         # The cup is empty: it may leave and arrive on a curve (it stays above the
@@ -551,19 +576,18 @@ class PickAndPlaceController(LeafSystem):
         if in_bin is not None:
             why, X_WP, placed = "dropped_into_bin", in_bin, s.placed + 1
         elif mine:
-            if self._reachable(mine[0][1], self._part_size(name)):
+            at_rest = bool(s.part) or s.candidate_at_rest  # (a part seen for the first time may still roll)
+            if self._reachable(mine[0][1], self._part_size(name)) or not at_rest:
                 return None
             why, X_WP, placed = "lost", mine[0][1], s.placed
         elif math.isnan(s.missing_since) or t - s.missing_since < self._config.lost_timeout:
             return None
         else:
             why, X_WP, placed = "lost", last, s.placed
-        p = None
-        if X_WP is not None:
-            x, y, z = (float(v) for v in X_WP.translation())
-            p = (x, y, z)
         start = s.pick_start if s.part else s.candidate_time
-        record = PickRecord(name, start, t, False, why, s.attempt if s.part else 1, position=p)
+        record = PickRecord(
+            name, start, t, False, why, s.attempt if s.part else 1, position=_position(X_WP), given_up=True
+        )
         return self._go(
             s,
             Mode.WAIT_PART,
@@ -622,7 +646,7 @@ class PickAndPlaceController(LeafSystem):
             size = self._part_size(s.part)
             p_slot = self._planner.slot(X_WBin, self._bin.geometry, size, s.placed)
             if p_slot is None:  # the bin holds no more the arm can reach: let go of it here
-                return self._fail(context, s, inputs, "bin_full")
+                return self._bin_full(context, s, inputs, s.part, s.X_WP)
             X_drop = self._planner.drop_pose(inputs.X_now, p_slot, yaw_of(X_WBin))
             # Straight up by the approach height before any sideways motion: the
             # part clears what it lay on (the belt's rails, its neighbours).
@@ -674,10 +698,33 @@ class PickAndPlaceController(LeafSystem):
                 return self._note_candidate(s, name, X_WP, stamp)
         return s
 
+    def _bin_full(
+        self, context: Context, s: ControlState, inputs: _Inputs, name: str, X_WP: Optional[RigidTransform]
+    ) -> _Step:
+        """No slot left for part ``name``: it is given up where it lies (let go if
+        held), the arm goes Home and the controller stops (Mode.BIN_FULL)."""
+        t = inputs.t
+        start = s.pick_start if s.part == name else t
+        record = PickRecord(name, start, t, False, "bin_full", s.attempt, _position(X_WP), given_up=True)
+        path = self._travel(context, t, inputs.X_now, self._X_W_home, self._part_size(name))
+        state = self._go(s, Mode.BIN_FULL, t, part="", attempt=1, ignored=s.ignored + (name,), suction=False)
+        return replace(state, path=path), record
+
+    def _bin_full_idle(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
+        return s, None
+
     def _home(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
         if not s.path.done(inputs.t):
             return s, None
         return self._go(s, Mode.WAIT_PART, inputs.t, last_seen=inputs.t), None
+
+
+def _position(X_WP: Optional[RigidTransform]) -> Optional[tuple[float, float, float]]:
+    """(x, y, z) of ``X_WP`` for a record (None if unknown)."""
+    if X_WP is None:
+        return None
+    x, y, z = (float(v) for v in X_WP.translation())
+    return (x, y, z)
 
 
 def add_pick_and_place(

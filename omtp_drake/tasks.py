@@ -85,8 +85,8 @@ class TaskResult:
     def unaccounted_parts(self) -> list[str]:
         """Parts left loose (on the belt, the floor or elsewhere, not held, not in a
         bin) that the controller did not give up on: a part given up on has a record
-        (``lost`` or ``dropped_into_bin``) saying where it lies."""
-        given_up = {p.part for p in self.picks if p.reason in GIVEN_UP}
+        (``given_up``) saying where it lies."""
+        given_up = {p.part for p in self.picks if p.given_up}
         loose = [n for n, place in self.ledger.parts.items() if not place.startswith(("in_bin", "held"))]
         return sorted(n for n in loose if n not in given_up)
 
@@ -104,10 +104,6 @@ class TaskResult:
             "summary": self.summary,
             "ledger": self.ledger.to_dict(),
         }
-
-
-#: Failure reasons after which the controller gives a part up.
-GIVEN_UP = ("lost", "dropped_into_bin")
 
 
 def judge(picks: list[PickRecord], ledger: Ledger, bin_name: str, parts: int) -> bool:
@@ -172,13 +168,12 @@ class TaskRun:
 
     def _write_off_lost_parts(self, rt: FactoryRuntime) -> None:
         """A part the controller gave up on (lost, or fallen into the bin without a
-        place) no longer holds the spawner back, and the spawner replaces it."""
+        place) no longer holds the spawner back, and the spawner replaces it; once
+        the controller stopped (the bin is full) the spawner stops too."""
+        if self.control().mode is Mode.BIN_FULL:
+            rt.auto_spawn = False
         for pick in self.history().picks:
-            if (
-                pick.reason in GIVEN_UP
-                and pick.part not in rt.pool.written_off
-                and pick.part in rt.parts_in_world()
-            ):
+            if pick.given_up and pick.part not in rt.pool.written_off and pick.part in rt.parts_in_world():
                 rt.write_off_part(pick.part)
 
     def control(self) -> ControlState:
@@ -190,12 +185,13 @@ class TaskRun:
         return history_of(self.controller, self.runtime.context)
 
     def done(self) -> bool:
-        """The controller has placed the task's parts (and is back to waiting)."""
+        """The controller has placed the task's parts (and is back to waiting), or has
+        stopped because the bin is full (and the arm is Home)."""
+        control = self.control()
+        if control.mode is Mode.BIN_FULL:
+            return control.path.done(self.runtime.time)
         placed = sum(p.success for p in self.history().picks)
-        return placed >= self.scenario.required_task().parts and self.control().mode in (
-            Mode.HOME,
-            Mode.WAIT_PART,
-        )
+        return placed >= self.scenario.required_task().parts and control.mode in (Mode.HOME, Mode.WAIT_PART)
 
 
 def _restart_belt_when_beam_clears(rt: FactoryRuntime) -> None:

@@ -2,14 +2,15 @@
 and every recovery path happens for real under fault injection."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
 from omtp_drake import arms
 from omtp_drake.errors import ConfigError
-from omtp_drake.pick_and_place import Mode
-from omtp_drake.tasks import TaskRun, prepare, run_task
+from omtp_drake.pick_and_place import Mode, bin_capacity
+from omtp_drake.tasks import TaskResult, TaskRun, prepare, run_task
 
 
 def assert_clean_success(result, bin_name, n):
@@ -185,3 +186,47 @@ def test_task_errors():
         prepare("omtp_factory")
     with pytest.raises(ConfigError, match="--parts must be >= 1"):
         prepare("fill_bin", parts=0)
+
+
+def test_a_part_failing_its_last_attempt_is_given_up_where_it_lies_and_replaced():
+    """max_attempts 1: the one attempt times out; the part is given up (with where
+    it lies), written off, the spawner replaces it and the task finishes (not a
+    success, every part accounted for) instead of waiting for it."""
+    scenario = prepare("lecture6_assignment4", parts=1)
+    scenario = replace(scenario, task=replace(scenario.task, max_attempts=1))
+    run = TaskRun(scenario)
+    rt = run.runtime
+    advance_until(run, Mode.DESCEND)
+    rt.fail_vacuum("robot2", 2.0)  # longer than the 1 s attach timeout
+    while not run.history().picks:
+        rt.advance(0.05)
+    first = run.history().picks[0]
+    assert (first.part, first.reason, first.given_up) == ("object_1", "attach_timeout", True)
+    np.testing.assert_allclose(first.position, rt.part_pose("object_1").translation(), atol=0.02)
+    # The replacement drops onto object_1 (here: bounces out of reach, is given up
+    # as lost once at rest, and is replaced in turn).
+    picks = finish(run, 30)
+    assert "object_1" in rt.pool.written_off and rt.ledger().parts["object_1"] == "on_floor"
+    assert sum(p.success for p in picks) == 1 and rt.time < 30
+    assert all(p.given_up and p.position is not None for p in picks if not p.success)
+    result = TaskResult("lecture6_assignment4", 0, picks, rt.ledger(), False, rt.time, 1.0, "bin_1", 1)
+    assert result.accounted_for
+
+
+def test_a_full_bin_gives_the_part_up_and_stops_the_task():
+    """As if the bin already held every part it can (e.g. parts dropped into it):
+    the next part is given up where it lies, the arm goes Home and the run ends
+    (not a success, every part accounted for) instead of trying until the timeout."""
+    scenario = prepare("lecture6_assignment4", parts=1)
+    run = TaskRun(scenario)
+    rt = run.runtime
+    full = bin_capacity(scenario)
+    context = run.controller.GetMyMutableContextFromRoot(rt.context)
+    state = context.get_mutable_abstract_state(run.controller._control)  # (test only: a full bin)
+    state.set_value(replace(state.get_value(), placed=full))
+    picks = finish(run, 30)
+    assert [(p.part, p.reason, p.given_up) for p in picks] == [("object_1", "bin_full", True)]
+    np.testing.assert_allclose(picks[0].position, rt.part_pose("object_1").translation(), atol=0.01)
+    assert run.control().mode is Mode.BIN_FULL and run.done() and rt.time < 10
+    result = TaskResult("lecture6_assignment4", 0, list(picks), rt.ledger(), False, rt.time, 1.0, "bin_1", 1)
+    assert result.accounted_for
