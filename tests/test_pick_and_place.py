@@ -10,6 +10,7 @@ import pytest
 from omtp_drake import arms
 from omtp_drake.errors import ConfigError
 from omtp_drake.pick_and_place import Mode, bin_capacity
+from omtp_drake.scenario import load_scenario
 from omtp_drake.tasks import TaskResult, TaskRun, prepare, run_task
 
 
@@ -214,19 +215,22 @@ def test_a_part_failing_its_last_attempt_is_given_up_where_it_lies_and_replaced(
 
 
 def test_a_full_bin_gives_the_part_up_and_stops_the_task():
-    """As if the bin already held every part it can (e.g. parts dropped into it):
-    the next part is given up where it lies, the arm goes Home and the run ends
-    (not a success, every part accounted for) instead of trying until the timeout."""
-    scenario = prepare("lecture6_assignment4", parts=1)
+    """0.2 m parts: bin 1 holds two where robot 2 reaches. The first falls into it
+    (vacuum failure just above it), the second is placed: the bin is full, so the
+    third is given up where it lies, the arm goes Home and the run ends (not a
+    success, every part accounted for) instead of trying until the timeout."""
+    scenario = prepare(replace(load_scenario("lecture6_assignment4"), pool_part_size=0.2), parts=2)
+    assert bin_capacity(scenario) == 2
     run = TaskRun(scenario)
     rt = run.runtime
-    full = bin_capacity(scenario)
-    context = run.controller.GetMyMutableContextFromRoot(rt.context)
-    state = context.get_mutable_abstract_state(run.controller._control)  # (test only: a full bin)
-    state.set_value(replace(state.get_value(), placed=full))
-    picks = finish(run, 30)
-    assert [(p.part, p.reason, p.given_up) for p in picks] == [("object_1", "bin_full", True)]
-    np.testing.assert_allclose(picks[0].position, rt.part_pose("object_1").translation(), atol=0.01)
-    assert run.control().mode is Mode.BIN_FULL and run.done() and rt.time < 10
-    result = TaskResult("lecture6_assignment4", 0, list(picks), rt.ledger(), False, rt.time, 1.0, "bin_1", 1)
-    assert result.accounted_for
+    while not (run.control().mode is Mode.TRANSFER and rt.time > run.control().path.end_time - 0.15):
+        rt.advance(0.05)
+    rt.fail_vacuum("robot2", 0.5)
+    picks = finish(run, 40)
+    assert [(p.part, p.reason, p.given_up) for p in picks] == [
+        ("object_1", "dropped", False), ("object_1", "dropped_into_bin", True), ("object_2", "", False),
+        ("object_3", "bin_full", True)]
+    np.testing.assert_allclose(picks[-1].position, rt.part_pose("object_3").translation(), atol=0.01)
+    assert run.control().mode is Mode.BIN_FULL and run.done() and rt.time < 20
+    result = TaskResult("lecture6_assignment4", 0, list(picks), rt.ledger(), False, rt.time, 1.0, "bin_1", 2)
+    assert result.accounted_for and rt.ledger().in_bin["bin_1"] == 2
