@@ -230,6 +230,34 @@ class Arm:
         """The measured joint positions (pan, lift, elbow, wrist 1, 2, 3), rad."""
         return self._cell.runtime.joint_positions(self.name)
 
+    def contacts(self) -> list[tuple[str, str]]:
+        """What the arm or its gripper touches now, as sorted (own body, other body)
+        name pairs; a part in contact with the suction cup is expected and left out.
+        The motion commands stop with ``CollisionError`` when this is not empty."""
+        station = self._cell.station
+        plant = station.plant
+        plant_context = plant.GetMyContextFromRoot(self._cell.runtime.context)
+        handles = station.arm(self.name)
+        own = {int(b) for b in plant.GetBodyIndices(handles.arm)}
+        if handles.gripper is not None:
+            own |= {int(b) for b in plant.GetBodyIndices(handles.gripper)}
+        cup = (
+            int(plant.GetBodyByName(f"{handles.config.gripper}_cup").index())
+            if handles.config.gripper
+            else -1
+        )
+        parts = {int(plant.GetBodyByName(n, i).index()) for n, i in station.parts.items()}
+        results = plant.get_contact_results_output_port().Eval(plant_context)
+        touched = []
+        for i in range(results.num_point_pair_contacts()):
+            info = results.point_pair_contact_info(i)
+            a, b = info.bodyA_index(), info.bodyB_index()
+            for mine, other in ((a, b), (b, a)):
+                expected = int(mine) == cup and int(other) in parts
+                if int(mine) in own and int(other) not in own and not expected:
+                    touched.append((plant.get_body(mine).name(), plant.get_body(other).name()))
+        return sorted(set(touched))
+
     def tool_pose(self, frame: str = "tip") -> RigidTransform:
         """``X_WE``: where tool frame E (``tip``, ``suction_cup``, ``tool0``) is now."""
         plant = self._cell.station.plant
@@ -642,7 +670,7 @@ class Cell:
     def _check_contacts(self, arm: Arm) -> None:
         """Raises CollisionError if the arm (or its gripper, but for its cup) touches
         anything (a part under the cup and a held part are expected)."""
-        touched = self._unexpected_contacts(arm.name)
+        touched = arm.contacts()
         if not touched:
             return
         context = arm._commander.GetMyMutableContextFromRoot(self.runtime.context)
@@ -651,35 +679,6 @@ class Cell:
         raise CollisionError(
             f"t={self.time:.2f} s: {arm.name} touched something it should not: {pairs}; it stopped there"
         )
-
-    def _unexpected_contacts(self, robot: str) -> list[tuple[str, str]]:
-        station = self.station
-        plant = station.plant
-        plant_context = plant.GetMyContextFromRoot(self.runtime.context)
-        handles = station.arm(robot)
-        own = {int(b) for b in plant.GetBodyIndices(handles.arm)}
-        if handles.gripper is not None:
-            own |= {int(b) for b in plant.GetBodyIndices(handles.gripper)}
-        cup = (
-            int(plant.GetBodyByName(f"{handles.config.gripper}_cup").index())
-            if handles.config.gripper
-            else -1
-        )
-        parts = {int(plant.GetBodyByName(n, i).index()) for n, i in station.parts.items()}
-        results = plant.get_contact_results_output_port().Eval(plant_context)
-        touched = []
-        for i in range(results.num_point_pair_contacts()):
-            info = results.point_pair_contact_info(i)
-            a, b = int(info.bodyA_index()), int(info.bodyB_index())
-            for mine, other in ((a, b), (b, a)):
-                if mine in own and other not in own and not (mine == cup and other in parts):
-                    touched.append(
-                        (
-                            plant.get_body(info.bodyA_index() if mine == a else info.bodyB_index()).name(),
-                            plant.get_body(info.bodyB_index() if mine == a else info.bodyA_index()).name(),
-                        )
-                    )
-        return sorted(set(touched))
 
     # ------------------------------------------------------------ the end
 

@@ -108,7 +108,7 @@ def test_joint_move_goes_around_the_bin_wall(cell):
     touches = []
 
     def watch() -> bool:
-        touches.extend(pair for pair in cell._unexpected_contacts("robot2") if "bin" in pair[1])
+        touches.extend(pair for pair in arm.contacts() if "bin" in pair[1])
         return False
 
     plan = arm.plan(q_out)
@@ -116,6 +116,40 @@ def test_joint_move_goes_around_the_bin_wall(cell):
     arm.execute(plan, until=watch)
     assert touches == []
     assert np.abs(arm.joint_values() - q_out).max() < 1e-3
+
+
+def test_a_part_in_the_way_refuses_the_line_and_one_put_there_later_stops_the_arm(cell):
+    """Beside a part on the floor, the gripper's body (not its cup) would reach below the
+    part's top: with the part there, the line is refused before anything moves; planned
+    first and the part put there after, the arm stops on touching it with a
+    CollisionError naming both bodies, and stays there."""
+    arm = cell.arm("robot2")
+    spot = [-8.3, -1.23, 0.3]  # under logical camera 2, where the course drops parts
+    part = cell.spawn_part(xyz=spot, yaw=0.0)
+    try:
+        cell.wait(1.0)
+        p = cell.part_pose(part).translation()  # a 0.2 m cube: its top at p_z + 0.1
+        above, down = tool_down(p + [0.125, 0.0, 0.3]), tool_down(p + [0.125, 0.0, -0.05])
+        arm.move_to(above)
+        with pytest.raises(PlanningError, match=r"only \d+ % of the straight-line motion"):
+            arm.move_linear(down)
+        assert np.linalg.norm(arm.tool_pose().translation() - above.translation()) < 2e-3
+        cell.remove_part(part)
+        plan = arm.compute_cartesian_path(down)
+        assert plan.fraction == 1.0
+        part = cell.spawn_part(xyz=spot, yaw=0.0)
+        cell.wait(1.0)
+        with pytest.raises(CollisionError, match=f"touched something it should not: "
+                                                 f"vacuum_gripper2_base_link - {part}; it stopped there"):
+            arm.execute(plan)
+        stopped = arm.tool_pose().translation()
+        assert stopped[2] + 0.015 > p[2] + 0.1 - 0.01  # its body (cup face + 15 mm) within 1 cm of the top
+        cell.wait(0.5)
+        assert np.linalg.norm(arm.tool_pose().translation() - stopped) < 2e-3
+        assert arm.contacts() == [("vacuum_gripper2_base_link", part)]
+    finally:
+        cell.remove_part(part)
+    arm.go("Home")
 
 
 @pytest.mark.parametrize("target, words", [
