@@ -166,6 +166,8 @@ class _Inputs:
     t: float
     X_now: RigidTransform
     gripper: GripperState
+    #: The last wrist joint's measured angle from its home angle (rad).
+    wrist: float
 
 
 #: A handler's answer: the next control state and, when an attempt ended, its record.
@@ -220,7 +222,8 @@ class PickAndPlaceController(LeafSystem):
         self._X_BW = self._X_WB.inverse()
         self._planner = task_planner(config, robot)
         home_context = control_plant.CreateDefaultContext()
-        control_plant.SetPositions(home_context, arms.named_pose("Home", robot))
+        self._q_home = np.asarray(arms.named_pose("Home", robot))
+        control_plant.SetPositions(home_context, self._q_home)
         self._X_W_home = self._X_WB @ self._tip.CalcPoseInWorld(home_context)
         self.set_name(f"{robot.name}.pick_and_place")
 
@@ -398,7 +401,10 @@ class PickAndPlaceController(LeafSystem):
     def _update(self, context: Context, state: State) -> None:
         s = self._control_state(context)
         history: PickHistory = context.get_abstract_state(self._history).get_value()
-        inputs = _Inputs(context.get_time(), self._fk(context), self._gripper.Eval(context))
+        q = self._robot_state.Eval(context)[: self._plant.num_positions()]
+        inputs = _Inputs(
+            context.get_time(), self._fk(context), self._gripper.Eval(context), q[5] - self._q_home[5]
+        )
         if s.reset_ik:  # DiffIK has restarted from the measured joints by now
             s = replace(s, reset_ik=False)
         new, record, error = self._watch(context, inputs, s)
@@ -466,7 +472,11 @@ class PickAndPlaceController(LeafSystem):
         position = _position(s.X_WP) if given_up else None
         record = PickRecord(s.part, s.pick_start, t, False, reason, s.attempt, position, given_up)
         path = self._travel(
-            context, t, inputs.X_now, self._X_W_home, self._part_size(s.part) if s.part else 0.0
+            context,
+            t,
+            inputs.X_now,
+            self._planner.home_pose(self._X_W_home, inputs.X_now, inputs.wrist),
+            self._part_size(s.part) if s.part else 0.0,
         )
         return self._go(
             s,
@@ -527,7 +537,9 @@ class PickAndPlaceController(LeafSystem):
         ):
             return self._bin_full(context, s, inputs, name, X_WP)
         start = s.pick_start if (s.part == name and s.attempt > 1) else t
-        X_above = self._planner.grasp_pose(X_WP, self._part_size(name), inputs.X_now, c.approach_height)
+        X_above = self._planner.grasp_pose(
+            X_WP, self._part_size(name), inputs.X_now, c.approach_height, inputs.wrist
+        )
         # The cup is empty: it may leave and arrive on a curve (it stays above the
         # rim it starts over and above the approach height at the part).
         path = self._travel(
@@ -647,7 +659,7 @@ class PickAndPlaceController(LeafSystem):
             p_slot = self._planner.slot(X_WBin, self._bin.geometry, size, s.placed)
             if p_slot is None:  # the bin holds no more the arm can reach: let go of it here
                 return self._bin_full(context, s, inputs, s.part, s.X_WP)
-            X_drop = self._planner.drop_pose(inputs.X_now, p_slot, yaw_of(X_WBin))
+            X_drop = self._planner.drop_pose(inputs.X_now, p_slot, yaw_of(X_WBin), inputs.wrist)
             # Straight up by the approach height before any sideways motion: the
             # part clears what it lay on (the belt's rails, its neighbours).
             lift = inputs.X_now.translation()[2] + c.approach_height
@@ -706,7 +718,13 @@ class PickAndPlaceController(LeafSystem):
         t = inputs.t
         start = s.pick_start if s.part == name else t
         record = PickRecord(name, start, t, False, "bin_full", s.attempt, _position(X_WP), given_up=True)
-        path = self._travel(context, t, inputs.X_now, self._X_W_home, self._part_size(name))
+        path = self._travel(
+            context,
+            t,
+            inputs.X_now,
+            self._planner.home_pose(self._X_W_home, inputs.X_now, inputs.wrist),
+            self._part_size(name),
+        )
         state = self._go(s, Mode.BIN_FULL, t, part="", attempt=1, ignored=s.ignored + (name,), suction=False)
         return replace(state, path=path), record
 

@@ -49,6 +49,13 @@ MIN_DURATION = 0.25
 #: A travel's arc starts while the rise still has this far (m) to go, and its descent
 #: this far before the arc ends (the travel height is raised by as much).
 BLEND_DROP = 0.03
+#: A UR's last wrist joint turns the tool about its own axis: with the tool pointing
+#: down, the joint angle changes by -1 rad per rad of world yaw.
+WRIST_PER_YAW = -1.0
+#: How far (rad) a yaw choice may wind the last wrist joint from its home angle. Its
+#: limits are +-2 pi; nearest-turn choices alone drift it there over many picks, and
+#: DiffIK then stalls at the limit.
+WRIST_WIND_LIMIT = math.pi
 
 
 def progress(tau: float, ramp: float = 0.25) -> float:
@@ -304,16 +311,34 @@ class PickPlanner:
         return yaw_of(X_now) + turn
 
     def grasp_pose(
-        self, X_WP: RigidTransform, size: float, X_now: RigidTransform, height: float
+        self,
+        X_WP: RigidTransform,
+        size: float,
+        X_now: RigidTransform,
+        height: float,
+        wrist: Optional[float] = None,
     ) -> RigidTransform:
         """Tool down ``height`` above the top face of a cube of edge ``size`` at
-        ``X_WP``, yaw matched to the part (mod 90 deg, the candidate nearest the
-        carried yaw)."""
+        ``X_WP``, yaw matched to the part (mod 90 deg: see :meth:`square_yaw`; the
+        last wrist joint is ``wrist`` rad from its home angle now)."""
         p = X_WP.translation() + np.array([0.0, 0.0, size / 2 + height])
-        part_yaw = yaw_of(X_WP)
-        ref = self.carried_yaw(X_now, p)
-        yaw = part_yaw + round(wrap(ref - part_yaw) / (math.pi / 2)) * (math.pi / 2)
-        return tool_down(p, yaw)
+        return tool_down(p, self.square_yaw(yaw_of(X_WP), self.carried_yaw(X_now, p), wrist))
+
+    @staticmethod
+    def square_yaw(yaw: float, carried: float, wrist: Optional[float] = None) -> float:
+        """Of the yaws ``yaw`` + k 90 deg (a part's or a bin's square symmetry), the
+        one nearest the ``carried`` yaw; with ``wrist`` (the last wrist joint's angle
+        from its home angle now), the nearest that leaves the joint within
+        WRIST_WIND_LIMIT of home, or if no turn under 180 deg does, the one that
+        unwinds it most."""
+        r = (yaw - carried) % (math.pi / 2)  # the turns (-180, 180) deg square with yaw
+        turns = [r + k * math.pi / 2 for k in range(-2, 2) if abs(r + k * math.pi / 2) < math.pi - 1e-9]
+        if wrist is None:
+            return carried + min(turns, key=abs)
+        within = [d for d in turns if abs(wrist + WRIST_PER_YAW * d) <= WRIST_WIND_LIMIT]
+        if within:
+            return carried + min(within, key=abs)
+        return carried + min(turns, key=lambda d: abs(wrist + WRIST_PER_YAW * d))
 
     def slots(self, X_WBin: RigidTransform, bin_geometry: BinGeometry, size: float) -> list[np.ndarray]:
         """World positions of the cup face to release parts of edge ``size``, in
@@ -357,12 +382,21 @@ class PickPlanner:
         slots = self.slots(X_WBin, bin_geometry, size)
         return slots[placed] if placed < len(slots) else None
 
-    def drop_pose(self, X_now: RigidTransform, p_slot: np.ndarray, bin_yaw: float) -> RigidTransform:
+    def drop_pose(
+        self, X_now: RigidTransform, p_slot: np.ndarray, bin_yaw: float, wrist: Optional[float] = None
+    ) -> RigidTransform:
         """The tool pose at a slot: part squared with the bin (tool and part axes
-        agree mod 90 deg), the turn nearest the carried yaw."""
-        carried = self.carried_yaw(X_now, p_slot)
-        yaw = bin_yaw + round(wrap(carried - bin_yaw) / (math.pi / 2)) * math.pi / 2
-        return tool_down(p_slot, yaw)
+        agree mod 90 deg; see :meth:`square_yaw`)."""
+        return tool_down(p_slot, self.square_yaw(bin_yaw, self.carried_yaw(X_now, p_slot), wrist))
+
+    def home_pose(
+        self, X_home: RigidTransform, X_now: RigidTransform, wrist: Optional[float] = None
+    ) -> RigidTransform:
+        """``X_home`` turned about the world's z by a multiple of 90 deg (the cup is
+        round: any of them waits as well; see :meth:`square_yaw`)."""
+        p = X_home.translation()
+        yaw = self.square_yaw(yaw_of(X_home), self.carried_yaw(X_now, p), wrist)
+        return RigidTransform(RotationMatrix.MakeZRotation(yaw - yaw_of(X_home)) @ X_home.rotation(), p)
 
     def travel(
         self,

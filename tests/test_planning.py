@@ -8,11 +8,12 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake.planning import (BLEND_DROP, MAX_TOOL_ACCELERATION, MAX_TOOL_ROTATION_ACCELERATION,
+from omtp_drake import arms
+from omtp_drake.planning import (WRIST_PER_YAW, WRIST_WIND_LIMIT, BLEND_DROP, MAX_TOOL_ACCELERATION, MAX_TOOL_ROTATION_ACCELERATION,
                                  MAX_TOOL_ROTATION_SPEED, MIN_DURATION,
                                  Path, PickPlanner, Segment, SegmentKind, progress, timing, tool_down, wrap,
                                  yaw_of)
-from omtp_drake.scenario import BinGeometry
+from omtp_drake.scenario import BinGeometry, load_scenario
 
 BIN = BinGeometry.from_model()
 X_WR = RigidTransform(RollPitchYaw(0, 0, 1.57), [-7.8, -1.5, 0.7])  # robot 2's base
@@ -126,6 +127,51 @@ def test_grasp_pose_is_tool_down_above_the_top_face_and_square_with_the_part(par
     offset = wrap(yaw_of(X) - part_yaw)
     assert min(abs(offset - k * math.pi / 2) for k in range(-2, 3)) < 1e-9
     assert abs(wrap(yaw_of(X) - tool_yaw)) <= math.pi / 4 + 1e-9
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-math.pi, math.pi), st.floats(-10.0, 10.0), st.floats(-2 * math.pi, 2 * math.pi))
+def test_square_yaw_keeps_the_wrist_within_its_wind_limit(yaw, carried, wrist):
+    """The chosen yaw is square with ``yaw``, turns less than 180 deg, and leaves the
+    last wrist joint within the wind limit, or (already wound past it) unwinds it by
+    at least 90 deg; with the wrist near home it is the nearest turn."""
+    chosen = PickPlanner.square_yaw(yaw, carried, wrist)
+    turn = chosen - carried
+    assert min(abs(wrap(chosen - yaw) - k * math.pi / 2) for k in range(-2, 3)) < 1e-9
+    assert abs(turn) < math.pi
+    after = wrist + WRIST_PER_YAW * turn
+    assert abs(after) <= max(WRIST_WIND_LIMIT, abs(wrist) - math.pi / 2) + 1e-9
+    if abs(wrist) <= WRIST_WIND_LIMIT - math.pi / 4:
+        assert abs(turn) <= math.pi / 4 + 1e-9
+        assert chosen == pytest.approx(PickPlanner.square_yaw(yaw, carried))
+
+
+def test_a_run_of_same_way_turns_does_not_wind_the_wrist_past_its_limit():
+    """Twenty picks that each want a +60 deg turn (nearest-turn alone: +20 rad of
+    wrist): the wrist stays within the limit, turning back a quarter now and then."""
+    wrist, carried = 0.0, 0.0
+    for _ in range(20):
+        chosen = PickPlanner.square_yaw(carried + math.radians(60), carried, wrist)
+        wrist += WRIST_PER_YAW * (chosen - carried)
+        carried = chosen
+        assert abs(wrist) <= WRIST_WIND_LIMIT + 1e-9
+
+
+@pytest.mark.parametrize("robot", ["robot1", "robot2"])
+def test_wrist_per_yaw_is_the_arms_kinematics(robot):
+    """Tool down at Home, turning the last wrist joint by 0.3 rad turns the tool's
+    world yaw by 0.3 / WRIST_PER_YAW."""
+    config = {r.name: r for r in load_scenario("omtp_factory").robots}[robot]
+    plant = arms.make_control_plant(config, [0.0, 0.0, -9.81])
+    context = plant.CreateDefaultContext()
+    tip = plant.GetFrameByName(f"{config.gripper}_tip")
+    q = np.array(arms.named_pose("Home", config))
+    plant.SetPositions(context, q)
+    X0 = tip.CalcPoseInWorld(context)
+    plant.SetPositions(context, q + [0, 0, 0, 0, 0, 0.3])
+    X1 = tip.CalcPoseInWorld(context)
+    assert X0.rotation().col(2) == pytest.approx([0, 0, -1], abs=1e-5)
+    assert wrap(yaw_of(X1) - yaw_of(X0)) == pytest.approx(0.3 / WRIST_PER_YAW, abs=1e-6)
 
 
 def test_travel_rises_over_the_bin_and_never_dips_below_its_ends():
