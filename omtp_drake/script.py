@@ -234,29 +234,38 @@ class Arm:
         """What the arm or its gripper touches now, as sorted (own body, other body)
         name pairs; a part in contact with the suction cup is expected and left out.
         The motion commands stop with ``CollisionError`` when this is not empty."""
+        plant = self._cell.station.plant
+        plant_context = plant.GetMyContextFromRoot(self._cell.runtime.context)
+        # SceneGraph's penetration query: the pairs the plant's contact results would
+        # list, at a fifth of the cost of evaluating those after a step.
+        query = plant.get_geometry_query_input_port().Eval(plant_context)
+        pairs = query.ComputePointPairPenetration()
+        if not pairs:
+            return []
+        inspector = query.inspector()
+        own, cup, parts = self._contact_bodies()
+        touched = set()
+        for pair in pairs:
+            a, b = (plant.GetBodyFromFrameId(inspector.GetFrameId(g)) for g in (pair.id_A, pair.id_B))
+            for mine, other in ((a, b), (b, a)):
+                i, j = int(mine.index()), int(other.index())
+                if i in own and j not in own and not (i == cup and j in parts):
+                    touched.add((mine.name(), other.name()))
+        return sorted(touched)
+
+    def _contact_bodies(self) -> tuple[set[int], int, set[int]]:
+        """Body indices: the arm's and its gripper's, the cup's (-1 without a
+        gripper), the parts'."""
         station = self._cell.station
         plant = station.plant
-        plant_context = plant.GetMyContextFromRoot(self._cell.runtime.context)
         handles = station.arm(self.name)
         own = {int(b) for b in plant.GetBodyIndices(handles.arm)}
         if handles.gripper is not None:
             own |= {int(b) for b in plant.GetBodyIndices(handles.gripper)}
-        cup = (
-            int(plant.GetBodyByName(f"{handles.config.gripper}_cup").index())
-            if handles.config.gripper
-            else -1
-        )
+        gripper = handles.config.gripper
+        cup = int(plant.GetBodyByName(f"{gripper}_cup").index()) if gripper else -1
         parts = {int(plant.GetBodyByName(n, i).index()) for n, i in station.parts.items()}
-        results = plant.get_contact_results_output_port().Eval(plant_context)
-        touched = []
-        for i in range(results.num_point_pair_contacts()):
-            info = results.point_pair_contact_info(i)
-            a, b = info.bodyA_index(), info.bodyB_index()
-            for mine, other in ((a, b), (b, a)):
-                expected = int(mine) == cup and int(other) in parts
-                if int(mine) in own and int(other) not in own and not expected:
-                    touched.append((plant.get_body(mine).name(), plant.get_body(other).name()))
-        return sorted(set(touched))
+        return own, cup, parts
 
     def tool_pose(self, frame: str = "tip") -> RigidTransform:
         """``X_WE``: where tool frame E (``tip``, ``suction_cup``, ``tool0``) is now."""
@@ -356,8 +365,16 @@ class Arm:
             )
         return self.execute(plan, until=until)
 
-    def execute(self, plan: Plan, *, until: Optional[Callable[[], bool]] = None) -> MoveResult:
-        """Runs ``plan`` from now; returns when it has finished (or ``until()`` held)."""
+    def execute(
+        self, plan: Plan, *, until: Optional[Callable[[], bool]] = None, wait: bool = True
+    ) -> MoveResult:
+        """Runs ``plan`` from now; returns when it has finished (or ``until()`` held).
+
+        ``wait=False`` (MoveIt's): starts the motion and returns at once; the arm
+        moves while the cell runs (``cell.wait``, another arm's move), with no guard
+        and no contact check; the result's ``end`` is when the plan ends."""
+        if until is not None and not wait:
+            raise ConfigError("execute: a guard (until) needs wait=True; valid: until=None with wait=False")
         q_now = self.joint_values()
         q_first = plan.trajectory.value(plan.trajectory.start_time()).ravel()
         if np.max(np.abs(q_first - q_now)) > 0.01:
@@ -365,6 +382,9 @@ class Arm:
                 f"{self.name}: the plan starts at {np.round(q_first, 3).tolist()} but the arm is at "
                 f"{np.round(q_now, 3).tolist()}; plan again from where it is"
             )
+        if not wait:
+            start = self._cell._start(self, plan)
+            return MoveResult(start, start + plan.duration, False, q_now)
         return self._cell._execute(self, plan, until)
 
     # ------------------------------------------------------------ helpers
@@ -618,15 +638,22 @@ class Cell:
 
     # ------------------------------------------------------------ execution
 
-    def _execute(self, arm: Arm, plan: Plan, until: Optional[Callable[[], bool]]) -> MoveResult:
-        runtime = self.runtime
+    def _start(self, arm: Arm, plan: Plan) -> float:
+        """Hands ``plan`` to the arm's commander from now; returns the start time."""
         commander = arm._commander
-        context = commander.GetMyMutableContextFromRoot(runtime.context)
+        context = commander.GetMyMutableContextFromRoot(self.runtime.context)
         start = self.time
         # The plan's first sample is where the arm is; the commander takes over from it.
         commander.command(
             context, _Command(q=commander.commanded_position(context), trajectory=plan.trajectory, t0=start)
         )
+        return start
+
+    def _execute(self, arm: Arm, plan: Plan, until: Optional[Callable[[], bool]]) -> MoveResult:
+        runtime = self.runtime
+        commander = arm._commander
+        context = commander.GetMyMutableContextFromRoot(runtime.context)
+        start = self._start(arm, plan)
         end = start + plan.duration
         period = GUARD_PERIOD if until is not None else CONTACT_CHECK_PERIOD
         stopped = False

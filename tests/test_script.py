@@ -152,6 +152,26 @@ def test_a_part_in_the_way_refuses_the_line_and_one_put_there_later_stops_the_ar
     arm.go("Home")
 
 
+def test_execute_without_wait_moves_two_arms_at_once(cell):
+    """Robot 1's move started with wait=False runs while robot 2's blocking move does:
+    both arrive, in the time of the longer one; a guard without waiting is refused."""
+    arm1, arm2 = cell.arm("robot1"), cell.arm("robot2")
+    arm2.go("Home")
+    plan1, plan2 = arm1.plan("PreGrasp"), arm2.plan("PreGrasp")
+    start = cell.time
+    started = arm1.execute(plan1, wait=False)
+    assert started.start == start and started.end == pytest.approx(start + plan1.duration)
+    assert cell.time == start  # returned at once
+    arm2.execute(plan2)
+    cell.wait(max(0.0, started.end - cell.time) + 0.3)
+    for arm in (arm1, arm2):
+        assert np.abs(arm.joint_values() - arms.named_pose("PreGrasp", arm.config)).max() < 1e-3
+    assert cell.time - start < plan1.duration + plan2.duration
+    with pytest.raises(ConfigError, match="a guard \\(until\\) needs wait=True"):
+        arm1.execute(arm1.plan("Home"), until=lambda: True, wait=False)
+    arm1.go("Home")
+
+
 @pytest.mark.parametrize("target, words", [
     (tool_down([-8.0, 0.5, 0.5]), ["unreachable"]),
     ([0.0, 0.0, 4.0, 0.0, 0.0, 0.0], ["elbow_joint", "outside its limits"]),
