@@ -34,9 +34,9 @@ import logging
 import math
 import re
 import zlib
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any, Optional, TypeVar
 
 import numpy as np
 from pydrake.common.schema import Transform
@@ -443,21 +443,32 @@ def _geometries(
     return sorted(geometries, key=lambda g: g.get_value())
 
 
-#: Oriented bounding boxes of mesh files, by (file, scale): a mesh's box takes
-#: milliseconds to compute and every camera of a station needs those of every arm.
-_MESH_OBBS: dict[tuple[str, tuple[float, ...]], Optional[Obb]] = {}
+T = TypeVar("T")
+
+#: What is computed from a mesh file, by (what, file, scale): a mesh's bounding box
+#: and convex hull take milliseconds each (a UR arm's hulls about 0.25 s in all), and
+#: every camera of every station built in a process needs those of every arm. Pure
+#: functions of the file, so a memo, not state.
+_MESH_MEMO: dict[tuple[str, str, tuple[float, ...]], Any] = {}
+
+
+def _per_mesh_file(
+    what: str, inspector: SceneGraphInspector, geometry_id: GeometryId, compute: Callable[[], T]
+) -> T:
+    """``compute()``, once per mesh file and scale for a Mesh or Convex from a file."""
+    shape = inspector.GetShape(geometry_id)
+    if not (isinstance(shape, (Mesh, Convex)) and shape.source().is_path()):
+        return compute()
+    key = (what, f"{type(shape).__name__}:{shape.source().path()}", tuple(shape.scale3()))
+    if key not in _MESH_MEMO:
+        _MESH_MEMO[key] = compute()
+    return _MESH_MEMO[key]
 
 
 def _obb(inspector: SceneGraphInspector, geometry_id: GeometryId) -> Optional[Obb]:
     """The geometry's oriented bounding box in its frame (None: unbounded), computed
     once per mesh file and scale."""
-    shape = inspector.GetShape(geometry_id)
-    if isinstance(shape, (Mesh, Convex)) and shape.source().is_path():
-        key = (f"{type(shape).__name__}:{shape.source().path()}", tuple(shape.scale3()))
-        if key not in _MESH_OBBS:
-            _MESH_OBBS[key] = inspector.GetObbInGeometryFrame(geometry_id)
-        return _MESH_OBBS[key]
-    return inspector.GetObbInGeometryFrame(geometry_id)
+    return _per_mesh_file("obb", inspector, geometry_id, lambda: inspector.GetObbInGeometryFrame(geometry_id))
 
 
 _BOX_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
@@ -521,9 +532,13 @@ def _slabs_in_geometry_frame(
     if isinstance(shape, HalfSpace):
         return np.array([[0.0, 0.0, 1.0]]), np.zeros(1), np.full(1, np.inf)
     if isinstance(shape, (Mesh, Convex)):
-        hull = inspector.GetConvexHull(geometry_id)
-        along = np.array([hull.vertex(i) for i in range(hull.num_vertices())]) @ n.T
-        return n, along.max(axis=0), -along.min(axis=0)
+
+        def hull_slabs() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+            hull = inspector.GetConvexHull(geometry_id)
+            along = np.array([hull.vertex(i) for i in range(hull.num_vertices())]) @ n.T
+            return n, along.max(axis=0), -along.min(axis=0)
+
+        return _per_mesh_file("dop", inspector, geometry_id, hull_slabs)
     # Centrally symmetric shapes: d_plus = d_minus = the support function h(n).
     if isinstance(shape, Sphere):
         h = np.full(len(n), shape.radius())
