@@ -153,14 +153,14 @@ def main() -> None:
         f"({100 * overhead_ms / 1000 / per_run_s:.1f} % of a {per_run_s:.1f} s run)"
     )
     for cores in (16, 64):
-        projected = rates[1] * cores * efficiency
+        projected = rates[1] * cores * min(efficiency, 1.0)
         print(
             f"projection, {cores} workers (one per core, {peak_mb:.0f} MB each: "
             f"{cores * peak_mb / 1024:.1f} GB): ~{projected:.0f} runs/min "
             f"({args.scenario}, one part), i.e. 1000 runs in ~{1000 / projected:.1f} min"
         )
     print(
-        "(projection: the 1-worker rate x workers x the measured 2-worker efficiency; on a cluster "
+        "(projection: the 1-worker rate x workers x the measured 2-worker efficiency (at most 1); on a cluster "
         "add nothing per machine but its workers: each run sends a few kB; Dask's scheduler "
         "handles thousands of tasks per second, far above this rate.)"
     )
