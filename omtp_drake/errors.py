@@ -66,3 +66,15 @@ def _short_list(names: list[str], limit: int = 40) -> str:
     if len(names) <= limit:
         return ", ".join(names)
     return ", ".join(names[:limit]) + f", ... ({len(names) - limit} more)"
+
+
+#: The fastest rate (Hz) a scenario may set for a periodic system: 10x the fastest
+#: default (DiffIK and the arm commanders, 100 Hz). A faster one only makes a run
+#: crawl (a camera at 1e9 Hz would take hours per simulated second).
+MAX_RATE_HZ = 1000.0
+
+
+def check_rate(what: str, value: float) -> None:
+    """ConfigError unless ``0 < value <= MAX_RATE_HZ`` (NaN and inf are refused)."""
+    if not 0 < value <= MAX_RATE_HZ:
+        raise ConfigError(f"{what} must be in (0, {MAX_RATE_HZ:g}] Hz, got {value}")

@@ -61,7 +61,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import BodyIndex, Frame, ModelInstanceIndex
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, State
 
-from omtp_drake.errors import ConfigError, FrameError
+from omtp_drake.errors import MAX_RATE_HZ, ConfigError, FrameError
 
 if TYPE_CHECKING:
     from omtp_drake.frames import PoseStamped
@@ -155,7 +155,13 @@ class LogicalCameraConfig:
             "0 < horizontal_fov < pi",
         )
         _check(prefix, "aspect_ratio", self.aspect_ratio, self.aspect_ratio > 0, "aspect_ratio > 0")
-        _check(prefix, "update_rate_hz", self.update_rate_hz, self.update_rate_hz > 0, "update_rate_hz > 0")
+        _check(
+            prefix,
+            "update_rate_hz",
+            self.update_rate_hz,
+            0 < self.update_rate_hz <= MAX_RATE_HZ,
+            f"0 < update_rate_hz <= {MAX_RATE_HZ:g}",
+        )
         for key in ("position_noise_sigma", "orientation_noise_sigma"):
             value = getattr(self, key)
             _check(prefix, key, value, value >= 0, f"{key} >= 0")
@@ -172,8 +178,10 @@ class LogicalCameraConfig:
             prefix,
             "rgbd_width",
             self.rgbd_width,
-            float(self.rgbd_width).is_integer() and 16 <= self.rgbd_width <= 4096 and self.rgbd_height() >= 1,
-            "an integer 16 <= rgbd_width <= 4096 with rgbd_width / aspect_ratio >= 1",
+            float(self.rgbd_width).is_integer()
+            and 16 <= self.rgbd_width <= 4096
+            and 1 <= self.rgbd_height() <= 4096,
+            "an integer 16 <= rgbd_width <= 4096 with 1 <= rgbd_width / aspect_ratio <= 4096",
         )
 
     def rgbd_height(self) -> int:

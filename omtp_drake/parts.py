@@ -26,7 +26,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.framework import Context
 
-from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
+from omtp_drake.errors import MAX_RATE_HZ, ConfigError, SimulationError, UnknownNameError
 
 if TYPE_CHECKING:
     from omtp_drake.station import Station
@@ -69,6 +69,11 @@ class SpawnerConfig:
             value = getattr(self, key)
             if not (value >= 0 and math.isfinite(value)):
                 raise ConfigError(f"spawner.{key} must be a finite number >= 0, got {value}")
+        if 0 < self.period < 1.0 / MAX_RATE_HZ:
+            raise ConfigError(
+                f"spawner.period must be 0 (no automatic spawns) or >= {1.0 / MAX_RATE_HZ:g} s, "
+                f"got {self.period}"
+            )
         if self.max_parts < 0:
             raise ConfigError(f"spawner.max_parts must be >= 0, got {self.max_parts}")
 

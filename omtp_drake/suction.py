@@ -81,7 +81,7 @@ from pydrake.multibody.plant import (
 from pydrake.multibody.tree import BodyIndex, MultibodyConstraintId, RigidBody
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, State
 
-from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
+from omtp_drake.errors import MAX_RATE_HZ, ConfigError, SimulationError, UnknownNameError
 
 _log = logging.getLogger(__name__)
 
@@ -166,7 +166,12 @@ class SuctionConfig:
         """Raises :class:`ConfigError` naming the field, its value and the valid range."""
         if self.backend not in BACKENDS:
             raise ConfigError(f"suction.backend must be one of {', '.join(BACKENDS)}; got {self.backend!r}")
-        _check(self.check_rate_hz, "check_rate_hz", "[10, inf) Hz", lambda x: 10.0 <= x < math.inf)
+        _check(
+            self.check_rate_hz,
+            "check_rate_hz",
+            f"[10, {MAX_RATE_HZ:g}] Hz",
+            lambda x: 10.0 <= x <= MAX_RATE_HZ,
+        )
         _check(self.max_angle_deg, "max_angle_deg", "(0, 90) deg", lambda x: 0.0 < x < 90.0)
         if (
             isinstance(self.consecutive_checks, bool)

@@ -212,6 +212,35 @@ def test_non_finite_and_out_of_cell_values_are_refused_at_load(tmp_path, text, w
         assert word in str(e.value), str(e.value)
 
 
+@pytest.mark.parametrize("text, words", [
+    ("base: omtp_factory\ncameras:\n  - {name: logical_camera_2, update_rate_hz: 1.0e+9}\n",
+     ["logical_camera_2", "update_rate_hz=1000000000.0", "0 < update_rate_hz <= 1000"]),
+    ("base: fill_bin\ntask: {diffik_rate_hz: 1.0e+6}\n", ["task.diffik_rate_hz must be in (0, 1000] Hz"]),
+    ("base: omtp_factory\nrobots:\n  - {name: robot2, command_rate_hz: 1.0e+5}\n",
+     ["robots[robot2].command_rate_hz must be in (0, 1000] Hz"]),
+    ("base: omtp_factory\nplant_config: {time_step: 1.0e-9}\n",
+     ["plant_config.time_step must be in [0.0001, 0.01] s", "1e-09"]),
+    ("base: fill_bin\npart_pool: 100000\n", ["part_pool must be in [0, 100], got 100000"]),
+    ("base: lecture6_assignment4\nspawner: {period: 1.0e-9}\n",
+     ["spawner.period must be 0 (no automatic spawns) or >= 0.001 s"]),
+    ("base: omtp_factory\nsuction: {check_rate_hz: 1.0e+6}\n", ["check_rate_hz", "[10, 1000] Hz"]),
+    ("base: omtp_factory\ncameras:\n  - {name: logical_camera_2, rgbd: true, aspect_ratio: 0.001}\n",
+     ["rgbd_width", "1 <= rgbd_width / aspect_ratio <= 4096"]),
+])
+def test_rates_steps_and_sizes_that_would_hang_or_exhaust_memory_are_refused(tmp_path, text, words):
+    """Found by the fuzz test: a camera at 1e9 Hz, a 1 ns plant step or a spawner
+    period, a pool of 1e5 parts, a 4096 x 4e6 RGB-D image loaded and then hung the
+    build or the first advance (one used 6 GB before it was stopped)."""
+    from omtp_drake.scenario import load_scenario
+
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(OmtpError) as e:
+        load_scenario(path)
+    for word in words:
+        assert word in str(e.value), str(e.value)
+
+
 def test_malformed_yaml_is_one_line_with_file_line_and_column(tmp_path):
     from omtp_drake.errors import ScenarioError
     from omtp_drake.scenario import load_scenario
