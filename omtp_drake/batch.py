@@ -10,7 +10,7 @@ given by its scheduler's address (``dask scheduler`` / ``dask worker``)::
 
     records = run_batch("lecture6_assignment4", range(20), parts=1,
                         settings={"task.max_tool_speed": [0.6, 1.0]}, out="batch_a4")
-    print(format_summary(summarize(records)))
+    summary_text = format_summary(summarize(records))   # one block per setting
 
 Settings are dotted paths into the :class:`~omtp_drake.scenario.Scenario`
 dataclasses (``task.max_tool_speed``, ``spawner.yaw_variance``); a list of

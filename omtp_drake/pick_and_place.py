@@ -249,6 +249,24 @@ class PickAndPlaceController(LeafSystem):
         )
         self._control = self.DeclareAbstractState(AbstractValue.Make(ControlState()))
         self._history = self.DeclareAbstractState(AbstractValue.Make(PickHistory()))
+        self._declare_output_ports()
+        self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.update_rate_hz, 0.0, self._update)
+        self._handlers: dict[Mode, Callable[[Context, _Inputs, ControlState], _Step]] = {
+            Mode.INIT: self._init,
+            Mode.WAIT_PART: self._wait_part,
+            Mode.APPROACH: self._approach,
+            Mode.DESCEND: self._descend,
+            Mode.ATTACH: self._attach,
+            Mode.TRANSFER: self._transfer,
+            Mode.RELEASE: self._release,
+            Mode.HOME: self._home,
+            Mode.BIN_FULL: self._bin_full_idle,
+        }
+
+    # ---------------------------------------------------------------- outputs
+
+    def _declare_output_ports(self) -> None:
+        """The ports of the class doc's "Output ports" list."""
         control_ticket = {self.abstract_state_ticket(self._control)}
         self.DeclareAbstractOutputPort(
             "X_BE_desired",
@@ -271,20 +289,6 @@ class PickAndPlaceController(LeafSystem):
         )
         self.DeclareStateOutputPort("control", self._control)
         self.DeclareStateOutputPort("history", self._history)
-        self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.update_rate_hz, 0.0, self._update)
-        self._handlers: dict[Mode, Callable[[Context, _Inputs, ControlState], _Step]] = {
-            Mode.INIT: self._init,
-            Mode.WAIT_PART: self._wait_part,
-            Mode.APPROACH: self._approach,
-            Mode.DESCEND: self._descend,
-            Mode.ATTACH: self._attach,
-            Mode.TRANSFER: self._transfer,
-            Mode.RELEASE: self._release,
-            Mode.HOME: self._home,
-            Mode.BIN_FULL: self._bin_full_idle,
-        }
-
-    # ---------------------------------------------------------------- outputs
 
     def _control_state(self, context: Context) -> ControlState:
         return context.get_abstract_state(self._control).get_value()
