@@ -193,6 +193,18 @@ def test_cli_prints_one_line_errors_only(tmp_path_factory, doc, argv):
     assert code in (0, 1, 2)
 
 
+def _assert_refused(tmp_path, text, words):
+    """Loading scenario ``text`` raises an omtp_drake error whose message has every word."""
+    from omtp_drake.scenario import load_scenario
+
+    path = tmp_path / "bad.yaml"
+    path.write_text(text)
+    with pytest.raises(OmtpError) as e:
+        load_scenario(path)
+    for word in words:
+        assert word in str(e.value), str(e.value)
+
+
 @pytest.mark.parametrize("text, words", [
     ("base: omtp_factory\nparts:\n  - {name: p, xyz: [.nan, 0, 1]}\n", ["parts[p].xyz[0]", "nan", "finite"]),
     ("base: omtp_factory\nparts:\n  - {name: p, xyz: [0, 0, -5]}\n", ["outside the cell", "z >= 0"]),
@@ -202,14 +214,7 @@ def test_cli_prints_one_line_errors_only(tmp_path_factory, doc, argv):
     ("base: omtp_factory\nrobots:\n  - {name: robot1, xy: [.nan, 1.8]}\n", ["robots[robot1].xy", "nan"]),
 ])
 def test_non_finite_and_out_of_cell_values_are_refused_at_load(tmp_path, text, words):
-    from omtp_drake.scenario import load_scenario
-
-    path = tmp_path / "bad.yaml"
-    path.write_text(text)
-    with pytest.raises(OmtpError) as e:
-        load_scenario(path)
-    for word in words:
-        assert word in str(e.value), str(e.value)
+    _assert_refused(tmp_path, text, words)
 
 
 @pytest.mark.parametrize("text, words", [
@@ -231,14 +236,7 @@ def test_rates_steps_and_sizes_that_would_hang_or_exhaust_memory_are_refused(tmp
     """Found by the fuzz test: a camera at 1e9 Hz, a 1 ns plant step or a spawner
     period, a pool of 1e5 parts, a 4096 x 4e6 RGB-D image loaded and then hung the
     build or the first advance (one used 6 GB before it was stopped)."""
-    from omtp_drake.scenario import load_scenario
-
-    path = tmp_path / "bad.yaml"
-    path.write_text(text)
-    with pytest.raises(OmtpError) as e:
-        load_scenario(path)
-    for word in words:
-        assert word in str(e.value), str(e.value)
+    _assert_refused(tmp_path, text, words)
 
 
 def test_malformed_yaml_is_one_line_with_file_line_and_column(tmp_path):
