@@ -43,6 +43,7 @@ course's ``vacuum_gripperN_suction_cup``, 0.0675 m behind the face) and ``tool0`
 
 from __future__ import annotations
 
+import functools
 import logging
 import math
 from collections.abc import Callable, Sequence
@@ -243,7 +244,7 @@ class Arm:
         if not pairs:
             return []
         inspector = query.inspector()
-        own, cup, parts = self._contact_bodies()
+        own, cup, parts = self._contact_bodies
         touched = set()
         for pair in pairs:
             a, b = (plant.GetBodyFromFrameId(inspector.GetFrameId(g)) for g in (pair.id_A, pair.id_B))
@@ -253,9 +254,10 @@ class Arm:
                     touched.add((mine.name(), other.name()))
         return sorted(touched)
 
+    @functools.cached_property
     def _contact_bodies(self) -> tuple[set[int], int, set[int]]:
-        """Body indices: the arm's and its gripper's, the cup's (-1 without a
-        gripper), the parts'."""
+        """Body indices (fixed once the station is built): the arm's and its
+        gripper's, the cup's (-1 without a gripper), the parts'."""
         station = self._cell.station
         plant = station.plant
         handles = station.arm(self.name)
