@@ -170,7 +170,6 @@ class CommandSampler:
         )
         self._split = builder.AddNamedSystem(f"{name}.desired_state", Demultiplexer([2 * n, n]))
         builder.Connect(self._samples.get_output_port(), self._split.get_input_port())
-        self._n = n
 
     def connect_input(self, builder: DiagramBuilder, name: str) -> None:
         """Exports the command input as ``name`` on ``builder``'s diagram."""

@@ -86,7 +86,6 @@ RunFunction = Callable[["Scenario", Optional[float]], "TaskResult"]
 #: Statuses of a run: it ran to its end (successful or not), it raised, it
 #: exceeded its wall-time limit, or its process died.
 FINISHED, ERROR, TIMEOUT, CRASHED = "finished", "error", "timeout", "crashed"
-STATUSES = (FINISHED, ERROR, TIMEOUT, CRASHED)
 
 #: Fields a sweep may not set: identity, and the seed (``seeds`` sets it).
 _NOT_SWEEPABLE = ("name", "description", "base", "seed")
@@ -336,15 +335,6 @@ class BatchPlan:
     duration: Optional[float]
     #: Identifies the base scenario and run options (for resuming).
     fingerprint: str
-
-    @property
-    def settings(self) -> list[dict[str, Any]]:
-        """The settings of the grid, in order."""
-        out: list[dict[str, Any]] = []
-        for run in self.runs:
-            if run.settings not in out:
-                out.append(run.settings)
-        return out
 
 
 def plan_batch(

@@ -278,10 +278,6 @@ class Driver:
     def time(self) -> float:
         return self.context.get_time()
 
-    def edit(self, kind: type) -> Optional[WorldEdit]:
-        """The world edit of class ``kind``, if the driver has one."""
-        return next((e for e in self.edits if isinstance(e, kind)), None)
-
     def every(self, period: float, callback: Callable[[], None]) -> None:
         """Calls ``callback()`` at every multiple of ``period`` (after the edits due then)."""
         if not (period > 0 and math.isfinite(period)):

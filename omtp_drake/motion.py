@@ -82,9 +82,6 @@ ACCELERATION_LIMITS: Mapping[str, tuple[float, ...]] = {
     "ur5": (4.0, 4.0, 4.0, 5.0, 5.0, 5.0),
 }
 
-#: Tool frames by short name: the frame's name in the plant, given the robot.
-TOOL_FRAMES = ("tip", "suction_cup", "tool0")
-
 #: Joint-space distance (rad) between two checked configurations of an edge.
 DEFAULT_EDGE_STEP = 0.01
 
@@ -283,11 +280,6 @@ class ArmPlanner:
         """Default joint acceleration limits (rad/s^2), see :data:`ACCELERATION_LIMITS`."""
         return np.array(ACCELERATION_LIMITS[self._config.model], dtype=float)
 
-    @property
-    def checker(self) -> SceneGraphCollisionChecker:
-        """The Drake collision checker (configurations are the full plant's positions)."""
-        return self._checker
-
     def _enable_self_collisions(self, plant: MultibodyPlant, pedestal: ModelInstanceIndex) -> None:
         inspector = self._checker.model().scene_graph().model_inspector()
 
@@ -420,10 +412,6 @@ class ArmPlanner:
         return list(inspector.GetGeometries(frame, Role.kProximity))
 
     # ----------------------------------------------------------- collisions
-
-    def is_collision_free(self, q, other_q: OtherPositions = None) -> bool:
-        """Does the arm at ``q`` keep ``margin`` to everything (itself included)?"""
-        return self._checker.CheckConfigCollisionFree(self._full(self._check_shape(q, "q"), other_q))
 
     def collisions(self, q, other_q: OtherPositions = None) -> list[tuple[str, str]]:
         """The body pairs (robot body, other body) closer than ``margin`` at ``q``;

@@ -23,7 +23,6 @@ from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
-from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.framework import Context
 
 from omtp_drake.errors import MAX_RATE_HZ, ConfigError, SimulationError, UnknownNameError
@@ -112,7 +111,7 @@ class PartPool:
     """Spawns, parks and disposes of the station's parts, between advances.
 
     Every part of the station (placed and pool) has a parking slot; the pool's
-    parts start parked (see :meth:`initialize`). The log of spawns and
+    parts start parked (:meth:`Station.initialize_context`). The log of spawns and
     disposals (:attr:`events`) is a record of what happened, for the ledger and
     reports; the state of each part is its joint's lock in the Context.
     """
@@ -122,7 +121,6 @@ class PartPool:
         plant = station.plant
         self._names = list(station.parts)
         self._pool = list(station.pool)
-        self._bodies = {n: plant.GetBodyByName(n, station.parts[n]) for n in self._names}
         self._joints = {}
         for name in self._names:
             (index,) = plant.GetJointIndices(station.parts[name])
@@ -144,18 +142,6 @@ class PartPool:
     @property
     def dispose_count(self) -> int:
         return sum(e.event == "dispose" for e in self.events)
-
-    def initialize(self, root_context: Context) -> None:
-        """Parks every pool part (a new Context has them free at their parking poses)."""
-        plant_context = self._plant_context(root_context)
-        for name in self._pool:
-            self._park(plant_context, name)
-        self.events.clear()
-        self.written_off.clear()
-
-    def is_parked(self, root_context: Context, name: str) -> bool:
-        self._check(name)
-        return self._joints[name].is_locked(self._plant_context(root_context))
 
     def in_world(self, root_context: Context) -> list[str]:
         """The parts in the world (placed and spawned, not disposed of), in name order."""
@@ -179,11 +165,7 @@ class PartPool:
                 "raise the scenario's part_pool or dispose of parts first"
             )
         name = queue[0]
-        plant = self._station.plant
-        plant_context = self._plant_context(root_context)
-        self._joints[name].Unlock(plant_context)
-        plant.SetFreeBodyPose(plant_context, self._bodies[name], X_WP)
-        plant.SetFreeBodySpatialVelocity(plant_context, self._bodies[name], SpatialVelocity.Zero())
+        self._station.unpark(self._plant_context(root_context), name, X_WP)
         self.events.append(PartEvent(root_context.get_time(), "spawn", name))
         _log.info("t=%.2f spawned %s at %s", root_context.get_time(), name, X_WP.translation())
         return name
@@ -193,22 +175,10 @@ class PartPool:
         in_world = self.in_world(root_context)
         if name not in in_world:
             raise UnknownNameError("part in the world", name, in_world)
-        self._park(self._plant_context(root_context), name)
+        self._station.park(self._plant_context(root_context), name)
         self.written_off.discard(name)
         self.events.append(PartEvent(root_context.get_time(), "dispose", name))
         _log.info("t=%.2f disposed of %s", root_context.get_time(), name)
 
-    def _park(self, plant_context: Context, name: str) -> None:
-        plant = self._station.plant
-        body = self._bodies[name]
-        self._joints[name].Unlock(plant_context)
-        plant.SetFreeBodyPose(plant_context, body, parking_pose(self._names.index(name)))
-        plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
-        self._joints[name].Lock(plant_context)
-
     def _plant_context(self, root_context: Context) -> Context:
         return self._station.plant.GetMyMutableContextFromRoot(root_context)
-
-    def _check(self, name: str) -> None:
-        if name not in self._bodies:
-            raise UnknownNameError("part", name, self._names)

@@ -133,14 +133,12 @@ class ArmCommander(LeafSystem):
     def __init__(self, robot: RobotConfig):
         super().__init__()
         self.set_name(f"{robot.name}.commander")
-        n = len(arms.JOINT_NAMES)
         q0 = arms.named_pose(robot.initial_pose, robot)
         self._command = self.DeclareAbstractState(AbstractValue.Make(_Command(q0)))
         self._q = self.DeclareDiscreteState(q0)
         self.DeclareStateOutputPort("position", self._q)
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / robot.command_rate_hz, 0.0, self._sample)
         self.DeclareInitializationDiscreteUpdateEvent(self._sample)
-        self._n = n
 
     def _sample(self, context: Context, discrete_state: DiscreteValues) -> None:
         command: _Command = context.get_abstract_state(self._command).get_value()

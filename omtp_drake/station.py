@@ -102,7 +102,7 @@ class ArmHandles:
     control_plant: Optional[MultibodyPlant] = None
     #: The servo's command sampler (its initial position is set by
     #: :meth:`Station.initialize_context`).
-    interpolator: Optional[arms.CommandSampler] = None
+    sampler: Optional[arms.CommandSampler] = None
     #: The servo (computed torque; with ``ki > 0`` a PID whose integral is its
     #: continuous state).
     controller: Optional[Diagram] = None
@@ -217,10 +217,10 @@ class Station:
         plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
         self.plant.SetPositions(plant_context, handles.arm, q)
         self.plant.SetVelocities(plant_context, handles.arm, np.zeros_like(q))
-        interpolator = handles.interpolator
-        if interpolator is None:
+        sampler = handles.sampler
+        if sampler is None:
             raise ConfigError(f"arm {name!r} has no servo (the station is not built)")
-        interpolator.set_initial_position(root_context, q)
+        sampler.set_initial_position(root_context, q)
 
     def clear_servo_integral(self, root_context: Context, name: str) -> None:
         """Zeroes arm ``name``'s servo integral, if it has one (after a blocked arm is
@@ -523,12 +523,12 @@ def _add_arm_servo(
 ) -> None:
     """The arm's position servo and its exported ports."""
     name = handles.config.name
-    interpolator, controller, handles.control_plant = arms.add_arm_controller(
+    sampler, controller, handles.control_plant = arms.add_arm_controller(
         builder, plant, handles.arm, handles.config, gravity
     )
-    handles.interpolator = interpolator
+    handles.sampler = sampler
     handles.controller = controller
-    interpolator.connect_input(builder, f"{name}.position")
+    sampler.connect_input(builder, f"{name}.position")
     state = plant.get_state_output_port(handles.arm)
     n = plant.num_positions(handles.arm)
     demux = builder.AddNamedSystem(f"{name}.demux", Demultiplexer([n, n]))
