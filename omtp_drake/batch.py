@@ -66,7 +66,7 @@ from typing import TYPE_CHECKING, Any, NoReturn, Optional, Union
 import numpy as np
 import yaml
 
-from omtp_drake.errors import ConfigError, OmtpError
+from omtp_drake.errors import ConfigError, OmtpError, check_duration
 
 # pydrake, dask and matplotlib are imported where used: importing this module
 # stays cheap (the ``omtp-drake batch`` command is registered in omtp_drake.cli).
@@ -359,8 +359,8 @@ def plan_batch(
     seed_list = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
     base = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
     base.required_task()
-    if duration is not None and not (math.isfinite(duration) and duration > 0):
-        raise ConfigError(f"--duration must be a finite time > 0 s, got {duration}")
+    if duration is not None:
+        check_duration("--duration", duration)
     sweep = {str(k): list(v) for k, v in (settings or {}).items()}
     if parts is not None and "task.parts" in sweep:
         raise ConfigError("give the number of parts once: --parts or --set task.parts, not both")
@@ -997,8 +997,8 @@ def run_batch(
         raise ConfigError("give at most one of workers, scheduler and client")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ConfigError(f"--workers must be an integer >= 1, got {workers!r}")
-    if timeout is not None and not (math.isfinite(timeout) and timeout > 0):
-        raise ConfigError(f"--timeout must be a finite time > 0 s, got {timeout}")
+    if timeout is not None:
+        check_duration("--timeout", timeout)
     if isinstance(retries, bool) or not isinstance(retries, int) or retries < 0:
         raise ConfigError(f"retries must be an integer >= 0, got {retries!r}")
     if not callable(run_fn):

@@ -32,7 +32,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram
 
 from omtp_drake.conveyor import WRAP_TRAVEL
-from omtp_drake.errors import ConfigError, SimulationError
+from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.ledger import held_parts, locate
 from omtp_drake.parts import PartPool, SpawnerConfig, spawn_pose
 from omtp_drake.suction import WeldSuctionGripper, sync_weld
@@ -280,9 +280,7 @@ class Driver:
 
     def every(self, period: float, callback: Callable[[], None]) -> None:
         """Calls ``callback()`` at every multiple of ``period`` (after the edits due then)."""
-        if not (period > 0 and math.isfinite(period)):
-            raise ConfigError(f"callback period must be a finite time > 0 s, got {period}")
-        self._callbacks.append(_Callback(callback, period))
+        self._callbacks.append(_Callback(callback, check_duration("callback period", period)))
 
     def advance_to(self, t: float) -> None:
         """Simulates until time ``t``, applying the world edits when they are due."""

@@ -7,6 +7,7 @@ choices, lists them, so the message alone tells the user what to type instead.
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Iterable
 
 
@@ -78,3 +79,14 @@ def check_rate(what: str, value: float) -> None:
     """ConfigError unless ``0 < value <= MAX_RATE_HZ`` (NaN and inf are refused)."""
     if not 0 < value <= MAX_RATE_HZ:
         raise ConfigError(f"{what} must be in (0, {MAX_RATE_HZ:g}] Hz, got {value}")
+
+
+def check_duration(what: str, value: float) -> float:
+    """``value`` as a finite time > 0 s, or ConfigError naming ``what``."""
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{what} must be a time in seconds, got {value!r}") from None
+    if not (value > 0 and math.isfinite(value)):
+        raise ConfigError(f"{what} must be a finite time > 0 s, got {value!r}")
+    return value

@@ -35,7 +35,7 @@ from pydrake.systems.framework import Context, DiagramBuilder
 
 from omtp_drake import arms
 from omtp_drake.driver import AutoSpawner, Driver, loose_parts, spawn, world_edits
-from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
+from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError, check_duration
 from omtp_drake.ledger import Ledger, held_parts, locate, take_ledger
 from omtp_drake.logical_camera import LogicalCameraImage
 from omtp_drake.parts import PartPool
@@ -48,17 +48,6 @@ _log = logging.getLogger(__name__)
 #: A function that adds systems around the station (controllers...) before the
 #: diagram is built; it connects whatever station inputs it drives.
 Extension = Callable[[DiagramBuilder, Station], None]
-
-
-def check_duration(what: str, value: float) -> float:
-    """``value`` as a finite time > 0 s, or ConfigError naming ``what``."""
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{what} must be a time in seconds, got {value!r}") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise ConfigError(f"{what} must be a finite time > 0 s, got {value!r}")
-    return value
 
 
 class ArmBlock:

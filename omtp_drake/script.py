@@ -64,12 +64,13 @@ from omtp_drake.errors import (
     PlanningError,
     SimulationError,
     UnknownNameError,
+    check_duration,
 )
 from omtp_drake.frames import PoseStamped, TfBuffer
 from omtp_drake.ledger import Ledger
 from omtp_drake.logical_camera import LogicalCameraImage
 from omtp_drake.motion import ArmPlanner
-from omtp_drake.runtime import FactoryRuntime, check_duration
+from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
 from omtp_drake.station import Station
 from omtp_drake.suction import GripperState

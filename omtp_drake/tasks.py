@@ -20,7 +20,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Optional
 
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.ledger import Ledger
 from omtp_drake.pick_and_place import (
     ControlState,
@@ -222,9 +222,7 @@ def run_task(
     scenario = prepare(scenario, seed=seed, parts=parts)
     task = scenario.required_task()
     n = task.parts
-    limit = duration if duration is not None else 30.0 * n
-    if not (limit > 0 and math.isfinite(limit)):
-        raise ConfigError(f"--duration must be a finite time > 0 s, got {limit}")
+    limit = check_duration("--duration", duration if duration is not None else 30.0 * n)
     viewer = start_meshcat(view_for(scenario)) if (meshcat or record) else None
     run = TaskRun(scenario, meshcat=viewer)
     rt = run.runtime
