@@ -667,6 +667,7 @@ class _RayCastOcclusion:
         self._d_plus = np.concatenate(d_plus) if d_plus else np.zeros(0)
         self._d_minus = np.concatenate(d_minus) if d_minus else np.zeros(0)
         self._slab_counts = np.array(counts, dtype=np.intp)
+        self._slab_start = np.cumsum(self._slab_counts) - self._slab_counts  # each geometry's first slab
         self._slab_geometry = np.repeat(np.arange(len(counts)), counts)
         # A cell-centred grid g on [0, 1]^2 (scaled onto each model's rectangle), as
         # columns 1, g_y, g_z.
@@ -781,7 +782,7 @@ class _RayCastOcclusion:
         """
         count = self._slab_counts[view[geometry]]
         runs = np.cumsum(count) - count
-        first_slab = (np.cumsum(self._slab_counts) - self._slab_counts)[view[geometry]]
+        first_slab = self._slab_start[view[geometry]]
         slabs = np.arange(count.sum()) - np.repeat(runs - first_slab, count)
         body = self._body_row[self._slab_geometry[slabs]]
         n = (R_CB[body] @ self._normals[slabs, :, None])[:, :, 0]

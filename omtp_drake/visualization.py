@@ -178,6 +178,8 @@ class DetectionMarkers:
                 meshcat.SetObject(slot, Sphere(radius), rgba)
                 meshcat.SetProperty(slot, "visible", False)
         self._shown: dict[str, bool] = {}
+        #: camera name -> its sampling period (s): an older image is stale.
+        self._period = {name: 1.0 / camera.config.update_rate_hz for name, camera in station.cameras.items()}
         #: part name -> height of its marker above the reported position (m).
         self._lift = {name: station.scenario.part_size(name) / 2 + 2 * radius for name in station.parts}
 
@@ -206,8 +208,7 @@ class DetectionMarkers:
         markers: dict[str, list[RigidTransform]] = {}
         for camera, slots in self._slots.items():
             image = runtime.camera_image(camera)
-            period = 1.0 / runtime.station.cameras[camera].config.update_rate_hz
-            if not runtime.time - image.time <= period + 1e-9:
+            if not runtime.time - image.time <= self._period[camera] + 1e-9:
                 markers[camera] = []  # not sampled yet, or blacked out (its image is stale)
                 continue
             markers[camera] = [
