@@ -17,6 +17,7 @@ elsewhere + disposed.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -66,18 +67,7 @@ class Ledger:
         return self.on_belt + self.on_floor + self.elsewhere
 
     def to_dict(self) -> dict:
-        return {
-            "time": self.time,
-            "spawned": self.spawned,
-            "parked": self.parked,
-            "on_belt": self.on_belt,
-            "on_floor": self.on_floor,
-            "elsewhere": self.elsewhere,
-            "held": dict(self.held),
-            "in_bin": dict(self.in_bin),
-            "disposed": self.disposed,
-            "parts": dict(self.parts),
-        }
+        return dataclasses.asdict(self)
 
     def summary_line(self) -> str:
         return (
@@ -130,7 +120,8 @@ def take_ledger(station: Station, root_context: Context, pool: PartPool) -> Ledg
     in_bin = {b.name: 0 for b in station.scenario.bins}
     counts = {"on_belt": 0, "on_floor": 0, "elsewhere": 0}
     parts = {}
-    for name in pool.in_world(root_context):
+    in_world = pool.in_world(root_context)
+    for name in in_world:
         place, detail = locate(station, root_context, name, held_by)
         parts[name] = f"{place}:{detail}" if detail else place
         if place == "held":
@@ -143,7 +134,7 @@ def take_ledger(station: Station, root_context: Context, pool: PartPool) -> Ledg
     return Ledger(
         time=root_context.get_time(),
         spawned=pool.spawn_count + placed,
-        parked=len(pool.names) - len(pool.in_world(root_context)),
+        parked=len(pool.names) - len(in_world),
         on_belt=counts["on_belt"],
         on_floor=counts["on_floor"],
         elsewhere=counts["elsewhere"],

@@ -42,6 +42,7 @@ port                           kind    meaning
 
 from __future__ import annotations
 
+import functools
 import logging
 from dataclasses import dataclass, field
 from typing import Optional
@@ -154,7 +155,7 @@ class Station:
             raise UnknownNameError("robot", name, self.arms)
         return self.arms[name]
 
-    @property
+    @functools.cached_property
     def belt(self) -> Optional[BeltGeometry]:
         """Where the belt is (None without a conveyor)."""
         return BeltGeometry.from_model() if self.conveyor is not None else None
