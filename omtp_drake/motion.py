@@ -327,8 +327,7 @@ class ArmPlanner:
                     self._checker.SetCollisionFilteredBetween(a, b, False)
 
     def _full(self, q: np.ndarray, other_q: OtherPositions = None) -> np.ndarray:
-        full = self._q_default.copy()
-        full[self._q_index] = q
+        full = _to_full_q(self._q_default, self._q_index, q)
         if other_q is None:
             return full
         if isinstance(other_q, Mapping):
@@ -520,16 +519,13 @@ class ArmPlanner:
         q_start = self._check_q(q_start, "start")
         q_goal = self._check_q(q_goal, "goal")
         base = self._full(q_start, other_q)
-        for what, q in (("start", q_start), ("goal", q_goal)):
-            full = base.copy()
-            full[self._q_index] = q
+        goal_full = _to_full_q(base, self._q_index, q_goal)
+        for what, q, full in (("start", q_start, base), ("goal", q_goal, goal_full)):
             if not self._checker.CheckConfigCollisionFree(full):
                 raise PlanningError(
                     f"the {what} configuration {_fmt(q)} of {self._config.name} is in collision: "
                     f"{_fmt_pairs(self._collision_pairs(full))}"
                 )
-        goal_full = base.copy()
-        goal_full[self._q_index] = q_goal
         if self._checker.CheckEdgeCollisionFree(base, goal_full):
             return [q_start, q_goal]
         path = self._rrt_connect(q_start, q_goal, base, timeout, int(seed), simplify)
@@ -588,9 +584,7 @@ class ArmPlanner:
         fine = checker.edge_step_size()
 
         def to_full(state) -> np.ndarray:
-            full = base.copy()
-            full[index] = [state[i] for i in range(n)]
-            return full
+            return _to_full_q(base, index, [state[i] for i in range(n)])
 
         checker.set_edge_step_size(step)
         try:
@@ -682,9 +676,7 @@ class ArmPlanner:
         def usable(q: np.ndarray) -> bool:
             if not check_collisions:
                 return True
-            full = base.copy()
-            full[self._q_index] = q
-            return self._checker.CheckConfigCollisionFree(full)
+            return self._checker.CheckConfigCollisionFree(_to_full_q(base, self._q_index, q))
 
         seeds = self._ik_seeds(q_seed, num_seeds)
         solutions: list[np.ndarray] = []
@@ -725,8 +717,7 @@ class ArmPlanner:
         """The error for IK whose every solution is in collision: the bodies touching
         at the solution nearest ``q_seed`` (``base``: the full configuration)."""
         nearest = min(solutions, key=lambda q: float(np.linalg.norm(q - q_seed)))
-        full = base.copy()
-        full[self._q_index] = nearest
+        full = _to_full_q(base, self._q_index, nearest)
         return PlanningError(
             f"every IK solution of the {where} is in collision; the nearest "
             f"{_fmt(nearest)}: {_fmt_pairs(self._collision_pairs(full))}"

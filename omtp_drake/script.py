@@ -292,10 +292,9 @@ class Arm:
                 collision-free path (the message says which and names the bodies).
         """
         speed = _check_fraction("speed", speed)
-        q_goal = self._goal(target, frame)
-        q_start = self.joint_values()
-        planner = self._planning_scene()
-        path = planner.plan(q_start, q_goal, other_q=self._other_arms())
+        planner, other_q = self._planning_scene(), self._other_arms()
+        q_goal = self._goal(target, frame, planner, other_q)
+        path = planner.plan(self.joint_values(), q_goal, other_q=other_q)
         trajectory = planner.time_parameterize(path, velocity_scale=speed)
         return Plan(trajectory, tuple(path), "joint")
 
@@ -395,16 +394,17 @@ class Arm:
             raise UnknownNameError("tool frame", frame, self._tool_frames)
         return self._tool_frames[frame]
 
-    def _goal(self, target: Target, frame: str) -> np.ndarray:
+    def _goal(
+        self, target: Target, frame: str, planner: ArmPlanner, other_q: dict[str, np.ndarray]
+    ) -> np.ndarray:
+        """The joint positions of ``target`` (see :meth:`plan`), in ``planner``'s scene."""
         if isinstance(target, str):
             return arms.named_pose(target, self.config)
         if isinstance(target, (RigidTransform, PoseStamped)):
             X_WE = self._cell.world_pose(target)
-            return self._planning_scene().ik(
-                X_WE, frame=frame, q_seed=self.joint_values(), other_q=self._other_arms()
-            )
+            return planner.ik(X_WE, frame=frame, q_seed=self.joint_values(), other_q=other_q)
         q = arms.check_joint_positions(target, self.config)
-        collisions = self._planning_scene().collisions(q, self._other_arms())
+        collisions = planner.collisions(q, other_q)
         if collisions:
             pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
             raise PlanningError(f"{self.name}: the goal {np.round(q, 3).tolist()} is in collision: {pairs}")
