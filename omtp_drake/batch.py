@@ -197,14 +197,6 @@ def settings_label(settings: Mapping[str, Any]) -> str:
     return " ".join(f"{k}={format_value(v)}" for k, v in settings.items()) or "defaults"
 
 
-def _field_types(schema: Any) -> dict[str, Any]:
-    """Field name -> type of a scenario dataclass or a pydrake config class."""
-    if dataclasses.is_dataclass(schema):
-        hints = typing.get_type_hints(schema)
-        return {f.name: hints[f.name] for f in dataclasses.fields(schema)}
-    return {f.name: f.type for f in getattr(schema, "__fields__", ())}
-
-
 def _unwrap_optional(schema: Any) -> Any:
     if typing.get_origin(schema) is Union:
         options = [a for a in typing.get_args(schema) if a is not type(None)]
@@ -212,14 +204,10 @@ def _unwrap_optional(schema: Any) -> Any:
     return schema
 
 
-def _is_group(schema: Any) -> bool:
-    return isinstance(schema, type) and bool(_field_types(schema)) and schema.__name__ != "Transform"
-
-
 def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[str, str]]:
     """The steps (``field`` name or list ``item`` name) of ``key`` into a
     scenario's plain data; ConfigError naming the valid keys or names."""
-    from omtp_drake.scenario import Scenario, closest_name
+    from omtp_drake.scenario import Scenario, closest_name, is_record, schema_fields
 
     words = key.split(".")
     if not all(words):
@@ -230,7 +218,7 @@ def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[st
     i = 0
     while True:
         where = ".".join(words[:i]) or "the scenario"
-        fields = [f for f in _field_types(schema) if not (schema is Scenario and f in _NOT_SWEEPABLE)]
+        fields = [f for f in schema_fields(schema) if not (schema is Scenario and f in _NOT_SWEEPABLE)]
         word = words[i]
         if word not in fields:
             near = closest_name(word, fields)
@@ -239,13 +227,13 @@ def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[st
             raise ConfigError(
                 f"--set {key}: unknown key {word!r} in {where}{hint}; valid keys: {', '.join(fields)}{extra}"
             )
-        ftype = _unwrap_optional(_field_types(schema)[word])
+        ftype = _unwrap_optional(schema_fields(schema)[word])
         steps.append(("field", word))
         prefix = ".".join(words[: i + 1])
         child = node.get(word) if isinstance(node, dict) else None
         i += 1
         item_type = typing.get_args(ftype)[0] if typing.get_origin(ftype) is list else None
-        if item_type is not None and _is_group(item_type):
+        if item_type is not None and is_record(item_type):
             names = [str(x.get("name")) for x in (child or []) if isinstance(x, dict)]
             if i == len(words):
                 raise ConfigError(
@@ -267,16 +255,16 @@ def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[st
             if i == len(words):
                 raise ConfigError(
                     f"--set {key}: names an item, not a value; valid keys under it: "
-                    f"{', '.join(_field_types(item_type))}"
+                    f"{', '.join(schema_fields(item_type))}"
                 )
             continue
-        if _is_group(ftype):
+        if is_record(ftype):
             if child is None:
                 raise ConfigError(f"--set {key}: scenario {scenario} has no {prefix} to change")
             if i == len(words):
                 raise ConfigError(
                     f"--set {key}: names a group, not a value; valid keys under it: "
-                    f"{', '.join(_field_types(ftype))}"
+                    f"{', '.join(schema_fields(ftype))}"
                 )
             node, schema = child, ftype
             continue

@@ -708,15 +708,17 @@ def _apply_poses(scenario: Scenario, raw: dict, source: str) -> None:
 # The schema check: every key known, every value of its field's type
 
 
-def _fields(schema: Any) -> dict[str, Any]:
-    """Field name -> type of a dataclass or a pydrake config class."""
+def schema_fields(schema: Any) -> dict[str, Any]:
+    """Field name -> type of a dataclass or a pydrake config class (of the
+    scenario's schema); empty for any other type."""
     if dataclasses.is_dataclass(schema):
         hints = typing.get_type_hints(schema)
         return {f.name: hints[f.name] for f in dataclasses.fields(schema)}
-    return {f.name: f.type for f in schema.__fields__}
+    return {f.name: f.type for f in getattr(schema, "__fields__", ())}
 
 
-def _is_record(schema: Any) -> bool:
+def is_record(schema: Any) -> bool:
+    """Is ``schema`` a group of keys (a dataclass or config class, not a pose)?"""
     return (dataclasses.is_dataclass(schema) or hasattr(schema, "__fields__")) and schema is not Transform
 
 
@@ -742,12 +744,12 @@ def _check_schema(value: Any, schema: Any, source: str, path: str) -> None:
             )
         _check_pose(value, where)
         return
-    if _is_record(schema):
+    if is_record(schema):
         if not isinstance(value, dict):
             raise ScenarioError(
-                f"{where} must be a mapping of keys ({', '.join(_fields(schema))}), got {value!r}"
+                f"{where} must be a mapping of keys ({', '.join(schema_fields(schema))}), got {value!r}"
             )
-        fields = _fields(schema)
+        fields = schema_fields(schema)
         for key, item in value.items():
             if key not in fields:
                 raise ScenarioError(_unknown_key_message(where, str(key), list(fields)))
