@@ -34,7 +34,7 @@ from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import ConstantVectorSource
 
 from omtp_drake import arms
-from omtp_drake.conveyor import MAX_SPEED
+from omtp_drake.conveyor import BeltGeometry, belt_desired_state
 from omtp_drake.errors import ConfigError
 from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario
@@ -43,8 +43,12 @@ from omtp_drake.tasks import TaskResult, TaskRun, prepare, run_task
 
 log = logging.getLogger(__name__)
 
-#: Centre height (m) of a 0.2 m part resting on the belt.
-_ON_BELT_Z = 0.92 + 0.1 + 0.001
+_BELT = BeltGeometry.from_model()
+
+
+def _on_belt(y: float, size: float = 0.2) -> list[float]:
+    """Where a part of edge ``size`` rests on the belt's centre line at ``y``."""
+    return [_BELT.x, y, _BELT.top + size / 2 + 0.001]
 
 
 def bare_plant_seconds(scenario: Scenario, seconds: float) -> float:
@@ -64,7 +68,7 @@ def bare_plant_seconds(scenario: Scenario, seconds: float) -> float:
         samplers[name] = (sampler, q)
     if models.conveyor is not None:
         power = scenario.conveyor.power if scenario.conveyor else 0.0
-        belt = builder.AddSystem(ConstantVectorSource([0.0, -MAX_SPEED * power / 100.0]))
+        belt = builder.AddSystem(ConstantVectorSource(belt_desired_state(power)))
         builder.Connect(belt.get_output_port(), plant.get_desired_state_input_port(models.conveyor))
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
@@ -95,7 +99,7 @@ def belt_scenario(parts: int) -> Scenario:
     if s.conveyor is None:
         raise ConfigError("lecture7_conveyor has no conveyor")
     s = replace(s, conveyor=replace(s.conveyor, stop_on_beam=False, power=100.0), part_pool=0)
-    return with_parts(s, [[1.2, 4.6 - 0.45 * k, _ON_BELT_Z] for k in range(parts)], 0.2)
+    return with_parts(s, [_on_belt(4.6 - 0.45 * k) for k in range(parts)], 0.2)
 
 
 def task_seconds(name: str) -> tuple[float, TaskResult]:
@@ -227,7 +231,7 @@ def measure(
         ),
         (
             "lecture7_conveyor_pick (2 parts)",
-            with_parts(pick, [[1.2, 1.8, _ON_BELT_Z]], 0.2),
+            with_parts(pick, [_on_belt(1.8)], 0.2),
             lambda: full_task("lecture7_conveyor_pick"),
         ),
         (

@@ -33,6 +33,12 @@ WRAP_TRAVEL = 0.5
 X_W_CONVEYOR = RigidTransform([1.2, 0.0, 0.0])
 
 
+def belt_desired_state(power: float) -> list[float]:
+    """The belt joint's desired [position, velocity] at ``power`` percent: the
+    surface runs toward -y at MAX_SPEED at full power."""
+    return [0.0, -MAX_SPEED * power / 100.0]
+
+
 @dataclass(frozen=True)
 class BeltGeometry:
     """Where the drawn belt is in world, from ``models/conveyor.urdf.xacro``."""
@@ -116,8 +122,7 @@ class ConveyorBelt(LeafSystem):
             self.DeclarePeriodicDiscreteUpdateEvent(1.0 / beam_check_rate_hz, 0.0, self._check_beam)
 
     def _calc_desired_state(self, context: Context, output: BasicVector) -> None:
-        power = context.get_discrete_state(self._state)[0]
-        output.SetFromVector([0.0, -MAX_SPEED * power / 100.0])
+        output.SetFromVector(belt_desired_state(context.get_discrete_state(self._state)[0]))
 
     def _check_beam(self, context: Context, discrete_state: DiscreteValues) -> None:
         power, was_detected = context.get_discrete_state(self._state).value()
