@@ -305,6 +305,15 @@ def tool_down_reach(robot: RobotConfig, z_W: float) -> float:
     return float(np.max(radii[max(0, k - 1) : k + 2]))
 
 
+def tool_frame_names(robot: RobotConfig) -> dict[str, str]:
+    """The arm's tool frames by short name -> their names in the plant: ``tip`` (the
+    cup face) and ``suction_cup`` (the course's frame) with a gripper, and ``tool0``."""
+    names = {"tool0": f"{robot.name}_tool0"}
+    if robot.gripper:
+        names = {"tip": f"{robot.gripper}_tip", "suction_cup": f"{robot.gripper}_suction_cup", **names}
+    return names
+
+
 def base_pose(robot: RobotConfig) -> RigidTransform:
     """``X_WB``: the arm's base_link on top of its pedestal."""
     x, y = robot.xy

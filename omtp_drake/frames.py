@@ -211,7 +211,7 @@ def detected_frame_name(camera: str, model: str) -> str:
     return f"{camera}_{model}_frame"
 
 
-def _interpolate(X_a: RigidTransform, X_b: RigidTransform, alpha: float) -> RigidTransform:
+def interpolate_pose(X_a: RigidTransform, X_b: RigidTransform, alpha: float) -> RigidTransform:
     """Linear in translation, slerp in rotation; ``alpha`` = 0 gives X_a, 1 gives X_b."""
     q = X_a.rotation().ToQuaternion().slerp(alpha, X_b.rotation().ToQuaternion())
     p = (1.0 - alpha) * X_a.translation() + alpha * X_b.translation()
@@ -517,7 +517,7 @@ class TfBuffer:
         X_CM = images[i].frames[name][1]
         if abs(times[i] - time) > TIME_EPS and i + 1 < len(images) and name in images[i + 1].frames:
             alpha = (time - times[i]) / (times[i + 1] - times[i])
-            X_CM = _interpolate(X_CM, images[i + 1].frames[name][1], alpha)
+            X_CM = interpolate_pose(X_CM, images[i + 1].frames[name][1], alpha)
         return camera, X_CM
 
     def _snapshot_world_pose(self, snapshot: _Snapshot, name: str) -> RigidTransform:
@@ -545,7 +545,7 @@ class TfBuffer:
             else:
                 if name in self._body_frames:
                     alpha = (time - before.time) / (after.time - before.time)
-                    X_PF = _interpolate(
+                    X_PF = interpolate_pose(
                         self._snapshot_world_pose(before, parent).InvertAndCompose(
                             self._snapshot_world_pose(before, name)
                         ),

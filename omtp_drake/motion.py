@@ -67,6 +67,7 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake import arms
 from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
+from omtp_drake.frames import interpolate_pose
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
 from omtp_drake.station import ArmHandles, CellModels, add_cell_models
 
@@ -235,10 +236,9 @@ class ArmPlanner:
 
     def _find_tool_frames(self, plant: MultibodyPlant, gripper_instance: ModelInstanceIndex | None) -> None:
         """The tool frames' names in the plant, and the gripper's cup body (if any)."""
-        robot, gripper = self._config.name, self._config.gripper
-        self._frame_names = {"tool0": f"{robot}_tool0"}
+        gripper = self._config.gripper
+        self._frame_names = arms.tool_frame_names(self._config)
         if gripper:
-            self._frame_names.update(tip=f"{gripper}_tip", suction_cup=f"{gripper}_suction_cup")
             self._cup: RigidBody | None = plant.GetBodyByName(f"{gripper}_cup", gripper_instance)
         else:
             self._cup = None
@@ -1087,7 +1087,6 @@ def _interpolate_poses(
     poses, previous = [], X_start
     for X in waypoints:
         p0, p1 = previous.translation(), X.translation()
-        q0, q1 = previous.rotation().ToQuaternion(), X.rotation().ToQuaternion()
         angle = previous.rotation().InvertAndCompose(X.rotation()).ToAngleAxis().angle()
         # (1e-9: 0.1 m in 5 mm steps is 20 steps despite rounding)
         steps = max(
@@ -1095,9 +1094,7 @@ def _interpolate_poses(
             math.ceil(np.linalg.norm(p1 - p0) / max_step - 1e-9),
             math.ceil(angle / max_rotation_step - 1e-9),
         )
-        for k in range(1, steps + 1):
-            s = k / steps
-            poses.append(RigidTransform(RotationMatrix(q0.slerp(s, q1)), p0 + s * (p1 - p0)))
+        poses += [interpolate_pose(previous, X, k / steps) for k in range(1, steps + 1)]
         previous = X
     return poses
 

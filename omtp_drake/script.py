@@ -209,13 +209,7 @@ class Arm:
         self.name = name
         self.config = cell.station.arm(name).config
         self._planner: Optional[ArmPlanner] = None
-        self._tool_frames = {
-            "tip": f"{self.config.gripper}_tip",
-            "suction_cup": f"{self.config.gripper}_suction_cup",
-            "tool0": f"{name}_tool0",
-        }
-        if not self.config.gripper:
-            self._tool_frames = {"tool0": f"{name}_tool0"}
+        self._tool_frames = arms.tool_frame_names(self.config)
 
     # ------------------------------------------------------------ state
 
