@@ -170,11 +170,21 @@ class PartPool:
         _log.info("t=%.2f spawned %s at %s", root_context.get_time(), name, X_WP.translation())
         return name
 
-    def dispose(self, root_context: Context, name: str) -> None:
-        """Takes part ``name`` out of the world (parks it)."""
+    def check_in_world(self, root_context: Context, name: str) -> None:
+        """UnknownNameError (listing the parts in the world) unless ``name`` is one."""
         in_world = self.in_world(root_context)
         if name not in in_world:
             raise UnknownNameError("part in the world", name, in_world)
+
+    def write_off(self, root_context: Context, name: str) -> None:
+        """Gives up on part ``name``: it stays in the world, but no longer holds a
+        one-at-a-time spawner back."""
+        self.check_in_world(root_context, name)
+        self.written_off.add(name)
+
+    def dispose(self, root_context: Context, name: str) -> None:
+        """Takes part ``name`` out of the world (parks it)."""
+        self.check_in_world(root_context, name)
         self._station.park(self._plant_context(root_context), name)
         self.written_off.discard(name)
         self.events.append(PartEvent(root_context.get_time(), "dispose", name))

@@ -36,7 +36,7 @@ from pydrake.systems.framework import Context, DiagramBuilder
 from omtp_drake import arms
 from omtp_drake.driver import AutoSpawner, Driver, loose_parts, spawn, world_edits
 from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError, check_duration
-from omtp_drake.ledger import Ledger, held_parts, locate, take_ledger
+from omtp_drake.ledger import Ledger, take_ledger
 from omtp_drake.logical_camera import LogicalCameraImage
 from omtp_drake.parts import PartPool
 from omtp_drake.scenario import Scenario, check_in_cell, load_scenario
@@ -249,18 +249,9 @@ class FactoryRuntime:
                 f"move_bin needs xyz as 3 finite numbers and a finite yaw, got {list(xyz)!r}, {yaw!r}"
             )
         X_new = RigidTransform(RollPitchYaw(0.0, 0.0, yaw), p)
-        held = {
-            g.get_state(g.GetMyContextFromRoot(self.context)).part for g in self.station.grippers.values()
-        }
         X_move = X_new @ X_old.inverse()
         plant = self.station.plant
-        carried = [
-            n
-            for n, (place, _) in self._places().items()
-            if place == "in_bin"
-            and n not in held
-            and self.scenario.bin(name).contains(self.part_pose(n).translation(), X_old)
-        ]
+        carried = [n for n, where in self.ledger().parts.items() if where == f"in_bin:{name}"]
         self.station.move_bin(self.context, name, X_new)
         for part in carried:
             body = plant.GetBodyByName(part, self.station.parts[part])
@@ -332,17 +323,12 @@ class FactoryRuntime:
         """Gives up on part ``name`` (lost where nobody can pick it): it stays where it
         is and in the ledger, but no longer holds a one-at-a-time spawner back, and the
         spawner replaces it."""
-        in_world = self.pool.in_world(self.context)
-        if name not in in_world:
-            raise UnknownNameError("part in the world", name, in_world)
-        self.pool.written_off.add(name)
+        self.pool.write_off(self.context, name)
 
     def knock_part(self, name: str, velocity: Sequence[float]) -> None:
         """Fault injection: part ``name`` is knocked: it moves off at ``velocity``
         (m/s, world) and then slides, tumbles or falls as physics has it."""
-        in_world = self.pool.in_world(self.context)
-        if name not in in_world:
-            raise UnknownNameError("part in the world", name, in_world)
+        self.pool.check_in_world(self.context, name)
         v = np.asarray(velocity, dtype=float).reshape(-1)
         if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) > 20.0:
             raise ConfigError(
@@ -368,10 +354,6 @@ class FactoryRuntime:
     def parts_in_world(self) -> list[str]:
         """Placed parts and spawned parts not disposed of."""
         return self.pool.in_world(self.context)
-
-    def _places(self) -> dict[str, tuple[str, str]]:
-        held = held_parts(self.station, self.context)
-        return {n: locate(self.station, self.context, n, held) for n in self.parts_in_world()}
 
     def ledger(self) -> Ledger:
         """Where every part that entered the world is now."""
