@@ -477,39 +477,9 @@ class RunRecord:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> RunRecord:
         """The record of ``to_dict`` (a run's JSON file)."""
-        from omtp_drake.ledger import Ledger
-        from omtp_drake.pick_and_place import PickRecord
         from omtp_drake.tasks import TaskResult
 
-        result = None
-        if "summary" in data:
-            summary = data["summary"]
-            picks = [
-                PickRecord(
-                    part=p["part"],
-                    start=p["start"],
-                    end=p["end"],
-                    success=p["success"],
-                    reason=p["failure_reason"],
-                    attempt=p["attempt"],
-                    position=tuple(p["position"]) if p.get("position") is not None else None,
-                    given_up=p.get("given_up", False),
-                )
-                for p in data["picks"]
-            ]
-            ledger_fields = {f.name for f in dataclasses.fields(Ledger)}
-            ledger = Ledger(**{k: v for k, v in data["ledger"].items() if k in ledger_fields})
-            result = TaskResult(
-                scenario=data["scenario"],
-                seed=data["seed"],
-                picks=picks,
-                ledger=ledger,
-                success=summary["success"],
-                sim_time_s=summary["sim_time_s"],
-                wall_time_s=summary["wall_time_s"],
-                bin=data["bin"],
-                parts=summary["parts"],
-            )
+        result = TaskResult.from_dict(data, data["bin"]) if "summary" in data else None
         return cls(
             scenario=data["scenario"],
             seed=data["seed"],

@@ -18,8 +18,9 @@ elsewhere + disposed.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -68,6 +69,11 @@ class Ledger:
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Ledger:
+        """The ledger of :meth:`to_dict` (other keys ignored)."""
+        return cls(**{f.name: data[f.name] for f in dataclasses.fields(cls)})
 
     def summary_line(self) -> str:
         return (

@@ -36,10 +36,10 @@ a bin moved after a plan is found again for the next one.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from enum import Enum
-from typing import Optional
+from typing import Any, Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -108,6 +108,21 @@ class PickRecord:
             "position": list(self.position) if self.position is not None else None,
             "given_up": self.given_up,
         }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> PickRecord:
+        """The record of :meth:`to_dict`."""
+        position = data.get("position")
+        return cls(
+            part=data["part"],
+            start=data["start"],
+            end=data["end"],
+            success=data["success"],
+            reason=data["failure_reason"],
+            attempt=data["attempt"],
+            position=tuple(position) if position is not None else None,
+            given_up=data.get("given_up", False),
+        )
 
 
 @dataclass(frozen=True)

@@ -15,10 +15,10 @@ import collections
 import logging
 import math
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
 from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.ledger import Ledger
@@ -104,6 +104,22 @@ class TaskResult:
             "summary": self.summary,
             "ledger": self.ledger.to_dict(),
         }
+
+    @classmethod
+    def from_dict(cls, data: Mapping[str, Any], bin: str) -> TaskResult:
+        """The result of :meth:`to_dict`, for the task's bin ``bin``."""
+        summary = data["summary"]
+        return cls(
+            scenario=data["scenario"],
+            seed=data["seed"],
+            picks=[PickRecord.from_dict(p) for p in data["picks"]],
+            ledger=Ledger.from_dict(data["ledger"]),
+            success=summary["success"],
+            sim_time_s=summary["sim_time_s"],
+            wall_time_s=summary["wall_time_s"],
+            bin=bin,
+            parts=summary["parts"],
+        )
 
 
 def judge(picks: list[PickRecord], ledger: Ledger, bin_name: str, parts: int) -> bool:
