@@ -415,6 +415,11 @@ class PickAndPlaceController(LeafSystem):
         )
         return self._planner.travel(t, X_now, X_goal, max(rim, min_height), **clear)
 
+    def _travel_home(self, context: Context, inputs: _Inputs, size: float) -> Path:
+        """The travel Home (turned to keep the wrist wound less than half a turn)."""
+        X_home = self._planner.home_pose(self._X_W_home, inputs.X_now, inputs.wrist)
+        return self._travel(context, inputs.t, inputs.X_now, X_home, size)
+
     # ---------------------------------------------------------------- the machine
 
     def _update(self, context: Context, state: State) -> None:
@@ -490,13 +495,7 @@ class PickAndPlaceController(LeafSystem):
             attempt = 1
         position = _position(s.X_WP) if given_up else None
         record = PickRecord(s.part, s.pick_start, t, False, reason, s.attempt, position, given_up)
-        path = self._travel(
-            context,
-            t,
-            inputs.X_now,
-            self._planner.home_pose(self._X_W_home, inputs.X_now, inputs.wrist),
-            self._part_size(s.part) if s.part else 0.0,
-        )
+        path = self._travel_home(context, inputs, self._part_size(s.part) if s.part else 0.0)
         return self._go(
             s,
             Mode.HOME,
@@ -737,15 +736,11 @@ class PickAndPlaceController(LeafSystem):
         t = inputs.t
         start = s.pick_start if s.part == name else t
         record = PickRecord(name, start, t, False, "bin_full", s.attempt, _position(X_WP), given_up=True)
-        path = self._travel(
-            context,
-            t,
-            inputs.X_now,
-            self._planner.home_pose(self._X_W_home, inputs.X_now, inputs.wrist),
-            self._part_size(name),
+        path = self._travel_home(context, inputs, self._part_size(name))
+        state = self._go(
+            s, Mode.BIN_FULL, t, part="", attempt=1, ignored=s.ignored + (name,), suction=False, path=path
         )
-        state = self._go(s, Mode.BIN_FULL, t, part="", attempt=1, ignored=s.ignored + (name,), suction=False)
-        return replace(state, path=path), record
+        return state, record
 
     def _bin_full_idle(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
         return s, None
