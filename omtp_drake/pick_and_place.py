@@ -390,11 +390,7 @@ class PickAndPlaceController(LeafSystem):
         image: LogicalCameraImage = self._bin_image.Eval(context)
         if not math.isfinite(image.time) or image.time < released_at + self._config.settle_time - 1e-9:
             return None
-        X_WBin = self._bin_seen(image)
-        for m in image.models:
-            if m.name == name:
-                return X_WBin is not None and self._bin.contains((image.X_WC @ m.X_CM).translation(), X_WBin)
-        return False
+        return self._pose_in_bin(image, name) is not None
 
     def _travel(
         self,
@@ -639,12 +635,16 @@ class PickAndPlaceController(LeafSystem):
         image: LogicalCameraImage = self._bin_image.Eval(context)
         if not self._fresh(image, context.get_time(), self._config.image_timeout):
             return None
+        return self._pose_in_bin(image, name)
+
+    def _pose_in_bin(self, image: LogicalCameraImage, name: str) -> Optional[RigidTransform]:
+        """``X_WP`` of part ``name`` if ``image`` (the bin camera's) shows it inside
+        the bin, where that image shows the bin."""
         X_WBin = self._bin_seen(image)
         for m in image.models:
             if m.name == name and X_WBin is not None:
                 X_WP = image.X_WC @ m.X_CM
-                if self._bin.contains(X_WP.translation(), X_WBin):
-                    return X_WP
+                return X_WP if self._bin.contains(X_WP.translation(), X_WBin) else None
         return None
 
     def _approach(self, context: Context, inputs: _Inputs, s: ControlState) -> _Step:
