@@ -1,4 +1,4 @@
-"""Benchmark of batch evaluation on Dask (omtp_drake.batch).
+"""Benchmark of batch evaluation on Dask (omtp_drake.batch.run).
 
     python bench/bench_batch.py [--runs 8] [--trivial 200] [--scenario lecture6_assignment4]
 
@@ -27,8 +27,8 @@ import tempfile
 import time
 
 from omtp_drake import batch
-from omtp_drake.ledger import Ledger
-from omtp_drake.tasks import TaskResult, run_task
+from omtp_drake.sim.ledger import Ledger
+from omtp_drake.tasks.run import TaskResult, run_task
 
 
 def trivial(scenario, duration):

@@ -31,7 +31,8 @@ from pydrake.multibody.plant import AddMultibodyPlantSceneGraph  # noqa: E402
 from pydrake.multibody.tree import FixedOffsetFrame, SpatialInertia  # noqa: E402
 from pydrake.systems.framework import DiagramBuilder  # noqa: E402
 
-from omtp_drake.logical_camera import LogicalCameraConfig, add_logical_camera  # noqa: E402
+from omtp_drake.cell.logical_camera import add_logical_camera  # noqa: E402
+from omtp_drake.scenario import LogicalCameraConfig
 
 IN_VIEW = 20
 OUT_OF_VIEW = 10

@@ -31,8 +31,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from pydrake.systems.analysis import Simulator  # noqa: E402
 
+from omtp_drake.cell.station import build_station  # noqa: E402
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario  # noqa: E402
-from omtp_drake.station import build_station  # noqa: E402
 
 STEP = 0.002
 

@@ -17,8 +17,8 @@ import pstats
 import time
 from dataclasses import replace
 
-from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import load_scenario
+from omtp_drake.sim.runtime import FactoryRuntime
 
 REST_Z = 0.92 + 0.1 + 0.001
 

@@ -13,9 +13,9 @@ import logging
 import statistics
 import time
 
+from omtp_drake.cell.station import build_station
 from omtp_drake.demos import named_pose_tour
 from omtp_drake.scenario import load_scenario
-from omtp_drake.station import build_station
 
 
 def main() -> None:

@@ -31,11 +31,11 @@ from typing import Optional
 
 import numpy as np
 
-from omtp_drake.batch import run_batch
-from omtp_drake.ledger import held_parts
+from omtp_drake.batch.run import run_batch
 from omtp_drake.errors import OmtpError
 from omtp_drake.scenario import Scenario
-from omtp_drake.tasks import TaskResult, TaskRun, run_task
+from omtp_drake.sim.ledger import held_parts
+from omtp_drake.tasks.run import TaskResult, TaskRun, run_task
 
 _log = logging.getLogger("bench_faults")
 

@@ -15,7 +15,7 @@ import logging
 import statistics
 import time
 
-from omtp_drake.tasks import run_task
+from omtp_drake.tasks.run import run_task
 
 
 def main() -> None:

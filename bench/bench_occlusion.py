@@ -42,11 +42,11 @@ from pydrake.geometry import ClippingRange, ColorRenderCamera, QueryObject, Rend
 from pydrake.math import RigidTransform  # noqa: E402
 from pydrake.systems.framework import Context  # noqa: E402
 
-from omtp_drake.logical_camera import OCCLUSION_GRID, X_CameraOptical  # noqa: E402
-from omtp_drake.rgbd import RENDERER_NAME, camera_info  # noqa: E402
+from omtp_drake.cell.logical_camera import OCCLUSION_GRID, X_CameraOptical  # noqa: E402
+from omtp_drake.cell.rgbd import RENDERER_NAME, camera_info  # noqa: E402
+from omtp_drake.cell.station import Station, build_station  # noqa: E402
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario  # noqa: E402
-from omtp_drake.station import Station, build_station  # noqa: E402
-from omtp_drake.tasks import TaskRun, run_task  # noqa: E402
+from omtp_drake.tasks.run import TaskRun, run_task  # noqa: E402
 
 CAMERA = "logical_camera_2"
 RUNS = 7

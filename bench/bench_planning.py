@@ -1,4 +1,4 @@
-"""Cost of collision-aware motion planning (omtp_drake.motion) for robot 2 at bin 1.
+"""Cost of collision-aware motion planning (omtp_drake.control.motion) for robot 2 at bin 1.
 
 Scene: scenario ``lecture6_assignment4`` (robot 2, a UR5, next to bin 1), no parts.
 Goals: random tool poses around bin 1 (the tip within 0.35 m of the bin's axis
@@ -27,8 +27,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
 
-from omtp_drake import arms
-from omtp_drake.motion import ArmPlanner, PlanningError
+from omtp_drake.cell import arms
+from omtp_drake.control.motion import ArmPlanner
+from omtp_drake.errors import PlanningError
 from omtp_drake.scenario import load_scenario
 
 logging.getLogger("drake").setLevel(logging.ERROR)

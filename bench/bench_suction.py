@@ -1,6 +1,6 @@
 """Cost of the vacuum gripper, per backend.
 
-Scene (omtp_drake.suction_rig, the rig the suction tests use): a world floor, 10 parts of 1 kg
+Scene (omtp_drake.cell.suction_rig, the rig the suction tests use): a world floor, 10 parts of 1 kg
 (0.2 m cubes) on it, a tool on stiff SAP-PD joints carrying the course's vacuum
 gripper, SAP point contact at the station's plant settings (5 ms steps). The tool presses
 on one part, the gripper attaches it, and the tool then carries it back and
@@ -22,8 +22,8 @@ import statistics
 import time
 from typing import Callable
 
-from omtp_drake.suction import SuctionConfig
-from omtp_drake.suction_rig import PRESS, TOP, Rig, build_rig, plant_config, tool_q, trajectory
+from omtp_drake.cell.suction_rig import PRESS, TOP, Rig, build_rig, plant_config, tool_q, trajectory
+from omtp_drake.scenario import SuctionConfig
 
 logging.getLogger("drake").setLevel(logging.ERROR)
 logging.getLogger("omtp_drake").setLevel(logging.WARNING)

@@ -3,7 +3,7 @@
 Record a profile (py-spy samples Drake's C++ with --native), then split it:
 
     py-spy record --native -r 250 -f raw -o fill_bin.raw -- \\
-        python -c "from omtp_drake.tasks import run_task; run_task('fill_bin')"
+        python -c "from omtp_drake.tasks.run import run_task; run_task('fill_bin')"
     python bench/profile_split.py fill_bin.raw
 
 Only samples inside ``run_task`` (the simulation, not imports or the build) count.
@@ -71,7 +71,7 @@ def main() -> None:
     parser.add_argument("profile", help="a py-spy --native -f raw file")
     args = parser.parse_args()
     samples, totals = split(args.profile)
-    print(f"| part | share | what |\n|---|---:|---|")
+    print("| part | share | what |\n|---|---:|---|")
     for name, what, _ in CATEGORIES + [("other (the task loop)", "run_task's own loop", [])]:
         print(f"| {name} | {100 * totals[name] / samples:.1f} % | {what} |")
     print(f"\n({samples} samples inside run_task)")

@@ -33,13 +33,13 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import ConstantVectorSource
 
-from omtp_drake import arms
-from omtp_drake.conveyor import BeltGeometry, belt_desired_state
+from omtp_drake.cell import arms
+from omtp_drake.cell.conveyor import BeltGeometry, belt_desired_state
+from omtp_drake.cell.station import add_cell_models, build_station
 from omtp_drake.errors import ConfigError
-from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario
-from omtp_drake.station import add_cell_models, build_station
-from omtp_drake.tasks import TaskResult, TaskRun, prepare, run_task
+from omtp_drake.sim.runtime import FactoryRuntime
+from omtp_drake.tasks.run import TaskResult, TaskRun, prepare, run_task
 
 log = logging.getLogger(__name__)
 

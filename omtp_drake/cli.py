@@ -23,7 +23,7 @@ from omtp_drake.errors import ConfigError, OmtpError
 if TYPE_CHECKING:
     from pydrake.systems.framework import Context
 
-    from omtp_drake.station import Station
+    from omtp_drake.cell.station import Station
 
 _log = logging.getLogger("omtp_drake")
 
@@ -68,7 +68,7 @@ def _print_result(result) -> None:
 
 def _run_and_report(args: argparse.Namespace, scenario: str, *, progress: bool) -> int:
     """Runs ``scenario``'s task with the view options of ``args``; prints the result."""
-    from omtp_drake.tasks import TaskRun, run_task
+    from omtp_drake.tasks.run import TaskRun, run_task
 
     runs: list[TaskRun] = []
 
@@ -128,7 +128,7 @@ def cmd_demo(args: argparse.Namespace) -> int:
 
 def cmd_screenshot(args: argparse.Namespace) -> int:
     """A PNG of a recorded replay at a replay time, rendered by headless chromium."""
-    from omtp_drake.browser import screenshot
+    from omtp_drake.viz.browser import screenshot
 
     width, sep, height = args.size.partition("x")
     if not (sep and width.isdigit() and height.isdigit()):
@@ -159,7 +159,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def cmd_batch(args: argparse.Namespace) -> int:
     """``omtp-drake batch``: exit 0 when every run succeeded, 1 otherwise."""
-    from omtp_drake.batch import format_summary, parse_seeds, parse_sets, run_batch, summarize
+    from omtp_drake.batch.run import format_summary, parse_seeds, parse_sets, run_batch, summarize
 
     seeds = parse_seeds(args.seeds)
     sweep = parse_sets(args.set)
@@ -207,9 +207,9 @@ def _simulated_station(
     ``time``, each arm held at a named pose (``poses``: robot -> pose, default
     Home) or, without ``poses``, at its initial pose. ``camera`` is checked
     before simulating."""
-    from omtp_drake import arms
+    from omtp_drake.cell import arms
     from omtp_drake.errors import UnknownNameError
-    from omtp_drake.runtime import FactoryRuntime
+    from omtp_drake.sim.runtime import FactoryRuntime
 
     if not (math.isfinite(time) and time >= 0):
         raise ConfigError(f"--time {time!r} is invalid; valid: a finite time >= 0 s")
@@ -230,7 +230,7 @@ def _simulated_station(
 
 
 def cmd_tf_echo(args: argparse.Namespace) -> int:
-    from omtp_drake.frames import TfBuffer
+    from omtp_drake.sim.tf import TfBuffer
 
     station, context = _simulated_station(args.scenario, args.time, _parse_poses(args.pose))
     stamped = TfBuffer.from_context(station, context).lookup_transform(args.source, args.target)
@@ -267,7 +267,7 @@ def cmd_camera(args: argparse.Namespace) -> int:
     image = station.diagram.GetOutputPort(f"{args.camera}.image").Eval(station_context)
     print(json.dumps(image.to_dict()) if args.json else str(image))
     if args.image:
-        from omtp_drake.rgbd import color_image, save_png
+        from omtp_drake.cell.rgbd import color_image, save_png
 
         color = color_image(station.diagram, context, args.camera)
         path = save_png(color, args.image)
@@ -277,7 +277,8 @@ def cmd_camera(args: argparse.Namespace) -> int:
 
 
 def cmd_frames(args: argparse.Namespace) -> int:
-    from omtp_drake.frames import TfBuffer, view_frames
+    from omtp_drake.sim.tf import TfBuffer
+    from omtp_drake.viz.tree import view_frames
 
     station, context = _simulated_station(args.scenario, args.time)
     paths = view_frames(

@@ -11,11 +11,11 @@ from typing import Optional
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import TrajectorySource
 
-from omtp_drake import arms
-from omtp_drake.runtime import FactoryRuntime
+from omtp_drake.cell import arms
+from omtp_drake.cell.station import Station
 from omtp_drake.scenario import Scenario, load_scenario
-from omtp_drake.station import Station
-from omtp_drake.visualization import save_recording, start_meshcat, start_recording
+from omtp_drake.sim.runtime import FactoryRuntime
+from omtp_drake.viz.meshcat import save_recording, start_meshcat, start_recording
 
 _log = logging.getLogger(__name__)
 

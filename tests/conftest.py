@@ -4,7 +4,7 @@ import logging
 
 import pytest
 
-from omtp_drake.station import build_station
+from omtp_drake.cell.station import build_station
 
 logging.getLogger("drake").setLevel(logging.ERROR)
 

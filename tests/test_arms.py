@@ -4,15 +4,14 @@ import math
 
 import numpy as np
 import pytest
-from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import TrajectorySource
 
-from omtp_drake import arms
+from omtp_drake.cell import arms
+from omtp_drake.cell.station import build_station
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import RobotConfig
-from omtp_drake.station import build_station
 
 DH = {  # classic UR standard DH: d1, a2, a3, d4, d5, d6
     "ur10": (0.1273, -0.612, -0.5723, 0.163941, 0.1157, 0.0922),

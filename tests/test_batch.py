@@ -1,4 +1,4 @@
-"""Batch evaluation on Dask (omtp_drake.batch): the same results as serial runs,
+"""Batch evaluation on Dask (omtp_drake.batch.run): the same results as serial runs,
 a real scheduler and workers, faults recorded and retried, resume, bad input.
 
 Runs are lecture 6 assignment 4 with one part (~2 s of wall each) or shorter.
@@ -18,7 +18,8 @@ import pytest
 from omtp_drake import batch
 from omtp_drake.batch import plan_batch, run_batch, wilson_interval
 from omtp_drake.cli import main
-from omtp_drake.tasks import run_task
+from omtp_drake.errors import ConfigError
+from omtp_drake.tasks.run import run_task
 
 SCENARIO = "lecture6_assignment4"
 BIN = Path(sys.executable).parent
@@ -216,7 +217,7 @@ def test_resume_refuses_another_batchs_folder(tmp_path, monkeypatch):
     out.mkdir()
     (out / "batch.json").write_text(json.dumps({"scenario": "fill_bin", "parts": 3, "fingerprint": "x"}))
     monkeypatch.setattr(batch, "connect", _no_cluster)
-    with pytest.raises(batch.ConfigError, match="holds a batch of another scenario"):
+    with pytest.raises(ConfigError, match="holds a batch of another scenario"):
         run_batch(SCENARIO, [0], parts=1, out=out, progress=False)
 
 
@@ -227,9 +228,9 @@ def test_wilson_interval():
 
 
 def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_json():
-    from omtp_drake.ledger import Ledger
-    from omtp_drake.pick_and_place import PickRecord
-    from omtp_drake.tasks import TaskResult
+    from omtp_drake.control.pick_and_place import PickRecord
+    from omtp_drake.sim.ledger import Ledger
+    from omtp_drake.tasks.run import TaskResult
 
     ledger = Ledger(time=30.0, spawned=2, parked=0, on_belt=0, on_floor=1, elsewhere=0, held={"robot2": 0},
                     in_bin={"bin_1": 1}, disposed=0, parts={"object_1": "in_bin:bin_1", "object_2": "on_floor"})

@@ -6,7 +6,7 @@ import pytest
 
 from omtp_drake.benchmark import CaseTiming, SpeedReport, bare_plant_seconds, measure, with_parts
 from omtp_drake.errors import ConfigError
-from omtp_drake.tasks import prepare
+from omtp_drake.tasks.run import prepare
 
 
 def test_table_says_which_targets_are_met():

@@ -77,7 +77,7 @@ def test_progress_bar_shows_simulated_time(capsys):
 def test_tf_echo_reports_the_state_at_the_time_asked(capsys):
     """Issue 12: the part in free fall at T = 0.1 s is where the plant has it at T (it was
     one plant step later, 2 mm lower)."""
-    from omtp_drake.runtime import FactoryRuntime
+    from omtp_drake.sim.runtime import FactoryRuntime
 
     assert main(["tf-echo", "lecture6_assignment3", "world", "object_1", "--time", "0.1", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)

@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from omtp_drake.errors import ConfigError, SimulationError
-from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import load_scenario
+from omtp_drake.sim.runtime import FactoryRuntime
 
 REST_Z = 0.92 + 0.1 + 0.001  # belt top + half a part + the 1 mm corner spheres
 
@@ -15,7 +15,7 @@ def belt_world(pool=3, **spawner):
     s.cameras = []
     s.part_pool = pool
     if spawner:
-        from omtp_drake.parts import SpawnerConfig
+        from omtp_drake.scenario import SpawnerConfig
 
         s.spawner = SpawnerConfig(**spawner)
     return s

@@ -1,4 +1,4 @@
-"""The driver (omtp_drake.driver): one way to run the cell, world edits between advances,
+"""The driver (omtp_drake.sim.driver): one way to run the cell, world edits between advances,
 one function that initialises every Context."""
 
 import math
@@ -6,12 +6,12 @@ import math
 import numpy as np
 import pytest
 
+from omtp_drake.cell.parts import PARK_X0
 from omtp_drake.demos import named_pose_tour
-from omtp_drake.driver import BeltWrap, DeletionWall, Driver, WeldSync
 from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
-from omtp_drake.parts import PARK_X0
-from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import PartConfig, load_scenario
+from omtp_drake.sim.driver import BeltWrap, DeletionWall, Driver, WeldSync
+from omtp_drake.sim.runtime import FactoryRuntime
 
 REST_Z = 0.92 + 0.1 + 0.001  # belt top + half a 0.2 m part + the 1 mm corner spheres
 
@@ -41,7 +41,7 @@ def test_placed_parts_can_be_removed_and_are_disposed_by_the_wall():
 
 def test_every_context_is_initialised_by_one_function():
     """The station alone and the runtime start from the same state."""
-    from omtp_drake.station import build_station
+    from omtp_drake.cell.station import build_station
 
     rt = FactoryRuntime("lecture6_assignment4", auto_spawn=False)  # nothing spawned at t = 0
     alone = build_station("lecture6_assignment4")

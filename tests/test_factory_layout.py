@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake import arms
-from omtp_drake.frames import FrameTree
+from omtp_drake.cell import arms
+from omtp_drake.cell.frames import FrameTree
 
 # Reference layout table: frame -> (xyz, rpy or None when only the position is given).
 LAYOUT = {

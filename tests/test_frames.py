@@ -13,11 +13,13 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import DiagramBuilder
 from pydrake.systems.primitives import TrajectorySource
 
-from omtp_drake import arms
+from omtp_drake.cell import arms
+from omtp_drake.cell.frames import FrameTree
+from omtp_drake.cell.poses import PoseStamped, TransformStamped, detected_frame_name
+from omtp_drake.cell.station import build_station
 from omtp_drake.errors import ConfigError, FrameError, UnknownNameError
-from omtp_drake.frames import (FrameTree, PoseStamped, TfBuffer, TransformStamped,
-                               detected_frame_name, view_frames)
-from omtp_drake.station import build_station
+from omtp_drake.sim.tf import TfBuffer
+from omtp_drake.viz.tree import view_frames
 
 PART = "logical_camera_1_object_1_frame"
 PART2 = "logical_camera_2_object_1_frame"

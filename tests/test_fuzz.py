@@ -20,7 +20,8 @@ from hypothesis import strategies as st
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from omtp_drake.errors import OmtpError
-from omtp_drake.scenario import DIAGRAMS_DIR, Scenario, scenario_from_dict
+from omtp_drake.scenario import Scenario, scenario_from_dict
+from omtp_drake.scenario.loader import DIAGRAMS_DIR
 
 #: How many documents each property tries (bench/bench_fuzz.py raises it).
 SCALE = float(os.environ.get("OMTP_FUZZ_SCALE", "1"))
@@ -78,7 +79,7 @@ def _set(doc, path, value):
 
 def _base_documents() -> list[dict]:
     """The shipped scenarios as plain documents (bases merged), to mutate."""
-    from omtp_drake.scenario import _raw_scenario
+    from omtp_drake.scenario.loader import _raw_scenario
 
     docs = []
     for path in sorted(DIAGRAMS_DIR.glob("*.yaml")):
@@ -140,7 +141,7 @@ def _get(doc, path):
 
 
 def _dumper():
-    from omtp_drake.scenario import _Dumper
+    from omtp_drake.scenario.loader import _Dumper
 
     return _Dumper
 
@@ -166,7 +167,7 @@ def test_loader_loads_or_refuses_with_an_omtp_error(doc):
 @settings(max_examples=int(25 * SCALE), deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(documents())
 def test_what_loads_builds_and_runs_or_is_refused(doc):
-    from omtp_drake.runtime import FactoryRuntime
+    from omtp_drake.sim.runtime import FactoryRuntime
 
     scenario = _load(doc)
     if scenario is None:

@@ -7,10 +7,10 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from omtp_drake.control.pick_and_place import Mode
 from omtp_drake.errors import ConfigError
-from omtp_drake.pick_and_place import Mode
 from omtp_drake.scenario import load_scenario
-from omtp_drake.tasks import TaskResult, TaskRun, judge, prepare, run_task
+from omtp_drake.tasks.run import TaskResult, TaskRun, judge, prepare, run_task
 
 
 def finish(run, limit):

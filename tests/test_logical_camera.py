@@ -1,4 +1,4 @@
-"""Tests of omtp_drake.logical_camera on small hand-built plants."""
+"""Tests of omtp_drake.cell.logical_camera on small hand-built plants."""
 
 import math
 from dataclasses import dataclass
@@ -16,10 +16,16 @@ from pydrake.solvers import MathematicalProgram, Solve
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder
 
+from omtp_drake.cell.logical_camera import (
+    DetectedModel,
+    LogicalCamera,
+    LogicalCameraImage,
+    X_CameraOptical,
+    add_logical_camera,
+    model_type,
+)
 from omtp_drake.errors import ConfigError
-from omtp_drake.logical_camera import (DetectedModel, LogicalCamera, LogicalCameraConfig,
-                                       LogicalCameraImage, X_CameraOptical, add_logical_camera,
-                                       model_type)
+from omtp_drake.scenario import LogicalCameraConfig
 
 # Frustum of the defaults: near 0.2, far 1.0, fov 1.1, aspect 1.5.
 NEAR, FAR = 0.2, 1.0
@@ -391,7 +397,7 @@ def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None
     """Boxes straddling the frustum's faces, edges and corners: each answer equals the
     LP's, and all three stages decide some (centre or face normals; a vertex inside;
     the 21 edge and box axes, with both answers)."""
-    from omtp_drake import logical_camera
+    from omtp_drake.cell import logical_camera
 
     overlap = logical_camera._FrustumOverlap(LogicalCameraConfig(name="c"))
     full_answers: list[bool] = []

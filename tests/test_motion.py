@@ -1,4 +1,4 @@
-"""Motion planning for one arm (omtp_drake.motion): collisions, planning, IK,
+"""Motion planning for one arm (omtp_drake.control.motion): collisions, planning, IK,
 Cartesian paths and time parameterization, for robot 2 (a UR5) next to bin 1."""
 
 import dataclasses
@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
 
-from omtp_drake import arms
-from omtp_drake.motion import ArmPlanner, PlanningError
+from omtp_drake.cell import arms
+from omtp_drake.control.motion import ArmPlanner
+from omtp_drake.errors import PlanningError
 from omtp_drake.scenario import load_scenario
 
 DOWN = RotationMatrix(RollPitchYaw(np.pi, 0.0, 0.0))  # tool +z pointing down

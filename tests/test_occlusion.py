@@ -16,9 +16,8 @@ from pydrake.math import RigidTransform
 
 from omtp_drake.assets import model_dimensions
 from omtp_drake.errors import ConfigError, ScenarioError
-from omtp_drake.logical_camera import LogicalCameraConfig
-from omtp_drake.runtime import FactoryRuntime
-from omtp_drake.scenario import PartConfig, load_scenario, scenario_from_dict
+from omtp_drake.scenario import LogicalCameraConfig, PartConfig, load_scenario, scenario_from_dict
+from omtp_drake.sim.runtime import FactoryRuntime
 
 SIZE = 0.2  # the parts' edge (m)
 CORNER = 0.001  # radius of a part's corner spheres: it rests this far above its support
@@ -164,7 +163,7 @@ def test_image_text_and_dict_carry_the_fraction(cell):
 def test_hidden_parts_get_no_detection_marker(cell):
     from pydrake.geometry import Meshcat
 
-    from omtp_drake.visualization import DetectionMarkers
+    from omtp_drake.viz.meshcat import DetectionMarkers
 
     markers = DetectionMarkers(Meshcat(), cell.station).marker_poses(cell)
     top = cell.part_pose("object_2").translation()
@@ -234,7 +233,7 @@ def test_each_shape_becomes_a_tight_polytope(tmp_path):
     from pydrake.geometry import Box, Capsule, Convex, Cylinder, Ellipsoid, HalfSpace, SceneGraph, Sphere
     from pydrake.multibody.plant import MultibodyPlant
 
-    from omtp_drake.logical_camera import _slabs_in_geometry_frame
+    from omtp_drake.cell.logical_camera import _slabs_in_geometry_frame
 
     vertices = np.array([[0.3, 0, 0], [-0.1, 0, 0], [0, 0.2, 0], [0, -0.2, 0], [0, 0, 0.1],
                          [0.05, 0.05, -0.25]])

@@ -7,11 +7,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from omtp_drake import arms
+from omtp_drake.cell import arms
+from omtp_drake.control.pick_and_place import Mode, bin_capacity
 from omtp_drake.errors import ConfigError
-from omtp_drake.pick_and_place import Mode, bin_capacity
 from omtp_drake.scenario import load_scenario
-from omtp_drake.tasks import TaskResult, TaskRun, prepare, run_task
+from omtp_drake.tasks.run import TaskResult, TaskRun, prepare, run_task
 
 
 def assert_clean_success(result, bin_name, n):

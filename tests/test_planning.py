@@ -1,4 +1,4 @@
-"""The pick-and-place planner's maths (omtp_drake.planning): paths, timing, slots, grasps."""
+"""The pick-and-place planner's maths (omtp_drake.control.tool_paths): paths, timing, slots, grasps."""
 
 import math
 
@@ -8,11 +8,25 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake import arms
-from omtp_drake.planning import (WRIST_PER_YAW, WRIST_WIND_LIMIT, BLEND_DROP, MAX_TOOL_ACCELERATION, MAX_TOOL_ROTATION_ACCELERATION,
-                                 MAX_TOOL_ROTATION_SPEED, MIN_DURATION,
-                                 Path, PickPlanner, Segment, SegmentKind, progress, timing, tool_down, wrap,
-                                 yaw_of)
+from omtp_drake.cell import arms
+from omtp_drake.control.tool_paths import (
+    BLEND_DROP,
+    MAX_TOOL_ACCELERATION,
+    MAX_TOOL_ROTATION_ACCELERATION,
+    MAX_TOOL_ROTATION_SPEED,
+    MIN_DURATION,
+    WRIST_PER_YAW,
+    WRIST_WIND_LIMIT,
+    Path,
+    PickPlanner,
+    Segment,
+    SegmentKind,
+    progress,
+    timing,
+    tool_down,
+    wrap,
+    yaw_of,
+)
 from omtp_drake.scenario import BinGeometry, load_scenario
 
 BIN = BinGeometry.from_model()

@@ -1,17 +1,26 @@
-"""Plots of a run (omtp_drake.plots): the recorder samples sane data, each figure shows it."""
+"""Plots of a run (omtp_drake.tasks.plots): the recorder samples sane data, each figure shows it."""
 
 
 import numpy as np
 import pytest
+from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 
+from omtp_drake.control.pick_and_place import PickRecord
 from omtp_drake.errors import ConfigError
-from omtp_drake.plots import (FAIL_COLOUR, OK_COLOUR, RunRecorder, RunRecording,
-                              plot_conveyor, plot_cycle_times, plot_detections, plot_ledger, plot_seed_stats,
-                              plot_tracking_error)
-from omtp_drake.pick_and_place import PickRecord
-from omtp_drake.tasks import run_task
-from matplotlib.colors import to_rgba
+from omtp_drake.tasks.plots import (
+    FAIL_COLOUR,
+    OK_COLOUR,
+    RunRecorder,
+    RunRecording,
+    plot_conveyor,
+    plot_cycle_times,
+    plot_detections,
+    plot_ledger,
+    plot_seed_stats,
+    plot_tracking_error,
+)
+from omtp_drake.tasks.run import run_task
 
 
 @pytest.fixture(scope="module")

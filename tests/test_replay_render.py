@@ -8,13 +8,12 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from omtp_drake.browser import find_browser, screenshot
 from omtp_drake.cli import main
 from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 from omtp_drake.scenario import load_scenario
-from omtp_drake.tasks import TaskRun, prepare, run_task
-from omtp_drake.visualization import (DEFAULT_VIEW, DetectionMarkers, frustum_segments,
-                                      start_meshcat, view_for)
+from omtp_drake.tasks.run import TaskRun, prepare, run_task
+from omtp_drake.viz.browser import find_browser, screenshot
+from omtp_drake.viz.meshcat import DEFAULT_VIEW, DetectionMarkers, frustum_segments, start_meshcat, view_for
 
 CHROMIUM = find_browser()
 needs_chromium = pytest.mark.skipif(

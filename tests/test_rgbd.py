@@ -9,12 +9,12 @@ import pytest
 import yaml
 from matplotlib.image import imread
 
+from omtp_drake.cell.logical_camera import X_CameraOptical
+from omtp_drake.cell.rgbd import body_label, camera_info, rgba_array
+from omtp_drake.cell.station import build_station
 from omtp_drake.cli import main
-from omtp_drake.logical_camera import X_CameraOptical
-from omtp_drake.rgbd import body_label, camera_info, rgba_array
-from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import PartConfig, load_scenario
-from omtp_drake.station import build_station
+from omtp_drake.sim.runtime import FactoryRuntime
 
 CAMERA = "logical_camera_1"
 

@@ -2,9 +2,9 @@
 
 import pytest
 
+from omtp_drake.cell.station import build_station
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.scenario import load_scenario, scenario_names
-from omtp_drake.station import build_station
 
 
 def test_factory_scenario_contents():

@@ -1,10 +1,11 @@
-"""The scripting layer (omtp_drake.script): moves, guards, errors, tf and the services."""
+"""The scripting layer (omtp_drake.script.cell): moves, guards, errors, tf and the services."""
 
 import numpy as np
 import pytest
 from pydrake.math import RigidTransform
 
-from omtp_drake import Cell, arms, tool_down
+from omtp_drake import Cell, tool_down
+from omtp_drake.cell import arms
 from omtp_drake.errors import CollisionError, ConfigError, FrameError, PlanningError, UnknownNameError
 
 #: Cup face inside bin 1 (rim at 0.475 m), and just outside its wall toward robot 2.

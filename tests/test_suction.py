@@ -1,5 +1,5 @@
-"""The vacuum gripper (omtp_drake.suction), both backends, on the suction rig
-(omtp_drake.suction_rig: a 5-DOF tool over a floor with parts)."""
+"""The vacuum gripper (omtp_drake.cell.suction), both backends, on the suction rig
+(omtp_drake.cell.suction_rig: a 5-DOF tool over a floor with parts)."""
 
 import math
 
@@ -13,20 +13,34 @@ from pydrake.systems.framework import DiagramBuilder
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.suction import (
+from omtp_drake.cell.suction import (
     ForceSuctionGripper,
     GripperState,
-    SuctionConfig,
     add_suction_gripper,
     connect_spatial_forces,
     declare_suction_constraints,
     octahedron,
     sync_weld,
 )
-from omtp_drake.suction_rig import (
-    GRIPPER, H, PART_Z, PRESS, SIZE, TOP, CUP_OFFSET, Rig, build_rig, hold, logged_at,
-    plant_config, pose_change, tool_q, trajectory)
+from omtp_drake.cell.suction_rig import (
+    CUP_OFFSET,
+    GRIPPER,
+    PART_Z,
+    PRESS,
+    SIZE,
+    TOP,
+    H,
+    Rig,
+    build_rig,
+    hold,
+    logged_at,
+    plant_config,
+    pose_change,
+    tool_q,
+    trajectory,
+)
+from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.scenario import SuctionConfig
 
 BACKENDS = ("weld", "force")
 

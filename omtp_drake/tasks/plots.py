@@ -9,8 +9,8 @@ notebooks alike (there, the Figure is the cell's value, or ``display(fig)``).
 
 Example::
 
-    from omtp_drake.plots import RunRecorder, plot_tracking_error
-    from omtp_drake.tasks import run_task
+    from omtp_drake.tasks.plots import RunRecorder, plot_tracking_error
+    from omtp_drake.tasks.run import run_task
 
     recorders = []
     result = run_task("lecture6_assignment4", parts=1,
@@ -30,13 +30,13 @@ import numpy as np
 from matplotlib.figure import Figure
 from pydrake.math import RigidTransform
 
+from omtp_drake.cell.logical_camera import model_type
+from omtp_drake.control.pick_and_place import ControlState
 from omtp_drake.errors import ConfigError
-from omtp_drake.logical_camera import model_type
-from omtp_drake.pick_and_place import ControlState
 
 if TYPE_CHECKING:
-    from omtp_drake.runtime import FactoryRuntime
-    from omtp_drake.tasks import TaskResult, TaskRun
+    from omtp_drake.sim.runtime import FactoryRuntime
+    from omtp_drake.tasks.run import TaskResult, TaskRun
 
 _log = logging.getLogger(__name__)
 

@@ -27,8 +27,8 @@ from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context
 
 if TYPE_CHECKING:
-    from omtp_drake.parts import PartPool
-    from omtp_drake.station import Station
+    from omtp_drake.cell.station import Station
+    from omtp_drake.sim.pool import PartPool
 
 #: A part whose lowest point is this close (m) above a surface rests on it.
 RESTING_GAP = 0.02

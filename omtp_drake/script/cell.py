@@ -31,7 +31,7 @@ pose or joint values, ``move_to`` a tool pose (inverse kinematics; any tf frame)
 ``move_linear`` along straight lines (like ``compute_cartesian_path``, with a
 guard that stops the move as soon as a condition holds), ``plan`` / ``execute``.
 Joint moves are collision-aware (Drake's ``SceneGraphCollisionChecker`` and OMPL's
-RRTConnect, :mod:`omtp_drake.motion`) and timed within the arm's joint velocity
+RRTConnect, :mod:`omtp_drake.control.motion`) and timed within the arm's joint velocity
 and acceleration limits (TOPP-RA). A move that touches anything it should not
 stops the arm and raises :class:`~omtp_drake.errors.CollisionError` naming what
 it hit; a move that cannot be planned raises
@@ -57,7 +57,12 @@ from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context, DiagramBuilder, DiscreteValues, LeafSystem
 from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake import arms
+from omtp_drake.cell import arms
+from omtp_drake.cell.logical_camera import LogicalCameraImage
+from omtp_drake.cell.poses import PoseStamped
+from omtp_drake.cell.station import Station
+from omtp_drake.cell.suction import GripperState
+from omtp_drake.control.motion import ArmPlanner
 from omtp_drake.errors import (
     CollisionError,
     ConfigError,
@@ -66,21 +71,11 @@ from omtp_drake.errors import (
     UnknownNameError,
     check_duration,
 )
-from omtp_drake.frames import PoseStamped, TfBuffer
-from omtp_drake.ledger import Ledger
-from omtp_drake.logical_camera import LogicalCameraImage
-from omtp_drake.motion import ArmPlanner
-from omtp_drake.runtime import FactoryRuntime
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
-from omtp_drake.station import Station
-from omtp_drake.suction import GripperState
-from omtp_drake.visualization import (
-    add_visual_extras,
-    save_recording,
-    start_meshcat,
-    start_recording,
-    view_for,
-)
+from omtp_drake.sim.ledger import Ledger
+from omtp_drake.sim.runtime import FactoryRuntime
+from omtp_drake.sim.tf import TfBuffer
+from omtp_drake.viz.meshcat import add_visual_extras, save_recording, start_meshcat, start_recording, view_for
 
 _log = logging.getLogger(__name__)
 

@@ -2,7 +2,7 @@
 
 A task (``Scenario.task``) says which robot puts how many parts into which
 bin; the scenario's spawner says where parts appear; the planner
-(:mod:`omtp_drake.pick_and_place`) and the gripper do the work.
+(:mod:`omtp_drake.control.pick_and_place`) and the gripper do the work.
 
 Success is judged from what happened, not from what was hoped: ``parts``
 parts in the bin, each put there by a successful place, and nothing lost (no
@@ -20,9 +20,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, Optional
 
-from omtp_drake.errors import ConfigError, check_duration
-from omtp_drake.ledger import Ledger
-from omtp_drake.pick_and_place import (
+from omtp_drake.control.pick_and_place import (
     ControlState,
     Mode,
     PickAndPlaceController,
@@ -33,15 +31,11 @@ from omtp_drake.pick_and_place import (
     control_of,
     history_of,
 )
-from omtp_drake.runtime import FactoryRuntime
+from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.scenario import Scenario, load_scenario
-from omtp_drake.visualization import (
-    add_visual_extras,
-    save_recording,
-    start_meshcat,
-    start_recording,
-    view_for,
-)
+from omtp_drake.sim.ledger import Ledger
+from omtp_drake.sim.runtime import FactoryRuntime
+from omtp_drake.viz.meshcat import add_visual_extras, save_recording, start_meshcat, start_recording, view_for
 
 _log = logging.getLogger(__name__)
 
@@ -232,7 +226,7 @@ def run_task(
     """Runs the scenario's task until it succeeds or ``duration`` (default: 30 s per part).
 
     ``on_start(run)`` is called once before the first advance (e.g. to attach a
-    :class:`omtp_drake.plots.RunRecorder`); ``on_chunk(run)`` after every chunk.
+    :class:`omtp_drake.tasks.plots.RunRecorder`); ``on_chunk(run)`` after every chunk.
     With ``progress``, a progress bar shows simulated time and parts in the bin.
     """
     scenario = prepare(scenario, seed=seed, parts=parts)

@@ -1,6 +1,6 @@
 """The RGB-D view of a logical camera: colour, depth and label images rendered by VTK.
 
-A logical camera (:mod:`omtp_drake.logical_camera`) reports names and poses;
+A logical camera (:mod:`omtp_drake.cell.logical_camera`) reports names and poses;
 its RGB-D view shows the same frustum as images, from Drake's ``RgbdSensor``
 on a ``RenderEngineVtk`` (headless: the pip wheel renders without a display).
 It is added per camera (``rgbd: true`` in the scenario, ``rgbd_width`` pixels
@@ -10,7 +10,7 @@ for a view: a station without one has no renderer and renders nothing.
 Frames (monogram notation, ``X_AB`` is the pose of frame B in frame A):
 
 * ``C``: the logical camera's frame (it looks along +Cx, Gazebo's convention).
-* ``O``: its optical frame, :func:`~omtp_drake.logical_camera.X_CameraOptical`
+* ``O``: its optical frame, :func:`~omtp_drake.cell.logical_camera.X_CameraOptical`
   (+Oz forward, +Ox right, +Oy down): the frame of the sensor's images.
 * ``P``: the body the camera frame is fixed to (the sensor's parent frame).
 
@@ -55,8 +55,9 @@ from pydrake.multibody.tree import Body, Frame
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder
 from pydrake.systems.sensors import CameraInfo, ImageRgba8U, RgbdSensor
 
+from omtp_drake.cell.logical_camera import X_CameraOptical
 from omtp_drake.errors import ConfigError
-from omtp_drake.logical_camera import LogicalCameraConfig, X_CameraOptical
+from omtp_drake.scenario import LogicalCameraConfig
 
 _log = logging.getLogger(__name__)
 

@@ -1,7 +1,7 @@
 """Tool paths for pick and place: segments, timing, grasp poses and bin slots.
 
 Pure functions of poses and settings (no Drake systems, no Context), so each
-piece is tested on its own. The controller (:mod:`omtp_drake.pick_and_place`)
+piece is tested on its own. The controller (:mod:`omtp_drake.control.pick_and_place`)
 asks this module where the tool goes next and follows the answer.
 
 Frames (monogram notation): W world, E the tool frame being planned (the

@@ -1,23 +1,12 @@
-"""Frames by name, like ROS tf: every frame of the factory and the transforms between them.
+"""tf2's buffer over a running station: frame poses and camera images with history.
 
-Names are the reference frame-tree names (``robot1_base_link``,
-``vacuum_gripper2_suction_cup``, ``bin_1_drop_point``, ``logical_camera_1_frame``...),
-unique across the whole plant, plus ``world``.
-
-Two levels, as in ROS:
-
-* :class:`FrameTree`: the plant's named frames and their parent -> child tree;
-  ``lookup_transform(plant_context, target, source)`` evaluates a plant Context.
-* :class:`TfBuffer`: tf2's buffer over a running station. ``record(context)``
-  stores a snapshot (every frame's world pose and every logical camera's last
-  image); lookups by name and time, interpolated between snapshots. Besides the
-  plant's frames it knows one frame per model a logical camera sees,
-  ``<camera>_<model>_frame`` (e.g. ``logical_camera_2_object_1_frame``), child of
-  ``<camera>_frame``, at the pose the camera reported.
-
-``lookup_transform(target, source)`` has tf2's meaning: it returns ``X_TS``, the
-pose of the source frame in the target frame, i.e. the transform that takes data
-expressed in ``source`` into ``target``.
+:class:`TfBuffer` ``record(context)`` stores a snapshot (every frame's world
+pose and every logical camera's last image); lookups by name and time are
+interpolated between snapshots. Besides the plant's frames it knows one frame
+per model a logical camera sees, ``<camera>_<model>_frame`` (e.g.
+``logical_camera_2_object_1_frame``), child of ``<camera>_frame``, at the pose
+the camera reported. ``lookup_transform(target, source)`` has tf2's meaning: it
+returns ``X_TS``, the pose of the source frame in the target frame.
 
 Typical use::
 
@@ -27,7 +16,6 @@ Typical use::
     runtime.advance_to(1.5)
     X = buffer.lookup_transform("vacuum_gripper2_suction_cup",
                                 "logical_camera_2_object_1_frame").transform
-    view_frames(buffer, "frames")  # frames.pdf, frames.png
 """
 
 from __future__ import annotations
@@ -35,156 +23,20 @@ from __future__ import annotations
 import bisect
 import logging
 import math
-import textwrap
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
-from typing import TYPE_CHECKING, Optional
+from typing import Optional
 
 from pydrake.math import RigidTransform
-from pydrake.multibody.plant import MultibodyPlant
-from pydrake.multibody.tree import Frame, FrameIndex, JointIndex
 from pydrake.systems.framework import Context, EventStatus
 
+from omtp_drake.cell.frames import TIME_EPS, FrameTree
+from omtp_drake.cell.logical_camera import LogicalCameraImage
+from omtp_drake.cell.poses import PoseStamped, TransformStamped, detected_frame_name, interpolate_pose
+from omtp_drake.cell.station import Station
 from omtp_drake.errors import ConfigError, FrameError, UnknownNameError
 
-if TYPE_CHECKING:
-    from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
-    from matplotlib.text import Text
-
-    from omtp_drake.logical_camera import LogicalCameraImage
-    from omtp_drake.station import Station
-
 _log = logging.getLogger(__name__)
-
-#: Times closer than this [s] are the same time (snapshots, range checks).
-TIME_EPS = 1e-9
-
-
-class FrameTree:
-    """The named frames of a plant and their parent -> child tree.
-
-    Joint-internal frames (``*_joint_parent``), model-instance frames
-    (``__model__``) and the frames Drake adds itself when it finalizes the plant
-    (ephemeral, e.g. ``world_welds_to_robot1_base_link_world_F``) are not listed;
-    everything else is, by its own name.
-    """
-
-    def __init__(self, plant: MultibodyPlant):
-        if not plant.is_finalized():
-            raise ConfigError("FrameTree needs a finalized plant")
-        self._plant = plant
-        hidden: set[int] = set()
-        #: body index -> name of the body frame on the parent side of its joint
-        self._inboard: dict[int, str] = {}
-        #: body index -> whether its inboard joint moves (has positions)
-        self._moving: dict[int, bool] = {}
-        for j in range(plant.num_joints()):
-            joint = plant.get_joint(JointIndex(j))
-            for f in (joint.frame_on_parent(), joint.frame_on_child()):
-                if not f.is_body_frame():
-                    hidden.add(int(f.index()))
-            child = int(joint.child_body().index())
-            self._inboard[child] = joint.parent_body().body_frame().name()
-            self._moving[child] = joint.num_positions() > 0
-        frames: dict[str, Frame] = {}
-        duplicates: set[str] = set()
-        for i in range(plant.num_frames()):
-            frame = plant.get_frame(FrameIndex(i))
-            name = frame.name()
-            if i in hidden or name == "__model__" or name.endswith("__model__") or frame.is_ephemeral():
-                continue
-            if name in frames:
-                duplicates.add(name)
-            frames[name] = frame
-        if duplicates:
-            raise ConfigError(f"frame names must be unique; repeated: {', '.join(sorted(duplicates))}")
-        self._frames = frames
-
-    @property
-    def plant(self) -> MultibodyPlant:
-        return self._plant
-
-    def names(self) -> list[str]:
-        """Every frame name, sorted."""
-        return sorted(self._frames)
-
-    def __contains__(self, name: str) -> bool:
-        return name in self._frames
-
-    def frame(self, name: str) -> Frame:
-        """The plant frame called ``name`` (the error lists the closest names)."""
-        try:
-            return self._frames[name]
-        except KeyError:
-            raise UnknownNameError("frame", name, self._frames, closest=True) from None
-
-    def parent(self, name: str) -> Optional[str]:
-        """The frame ``name`` hangs from in the tree (None for ``world``).
-
-        A body frame hangs from the body frame on the other side of its inboard
-        joint (``world`` for a free body); any other frame from its body's frame.
-        """
-        frame = self.frame(name)
-        body = frame.body()
-        if not frame.is_body_frame():
-            return body.body_frame().name()
-        if body.index() == self._plant.world_body().index():
-            return None
-        return self._inboard.get(int(body.index()), "world")
-
-    def is_fixed(self, name: str) -> bool:
-        """Whether ``name`` is fixed to its parent (False across a moving or free joint)."""
-        frame = self.frame(name)
-        if not frame.is_body_frame() or frame.body().index() == self._plant.world_body().index():
-            return True
-        return not self._moving.get(int(frame.body().index()), True)
-
-    def edges(self) -> list[tuple[str, str]]:
-        """(parent, child) pairs of the whole tree."""
-        return [(p, n) for n in self.names() if (p := self.parent(n)) is not None]
-
-    def lookup_transform(self, plant_context: Context, target: str, source: str) -> RigidTransform:
-        """``X_TS``: the pose of ``source`` in ``target`` (tf2's lookup_transform)."""
-        return self.frame(source).CalcPose(plant_context, self.frame(target))
-
-
-# ----------------------------------------------------------------------------
-# Stamped values (tf2's geometry_msgs)
-
-
-@dataclass(frozen=True)
-class TransformStamped:
-    """tf2's ``TransformStamped``: the pose of ``child_frame_id`` in ``header_frame_id``.
-
-    Attributes:
-        header_frame_id: the target frame T.
-        child_frame_id: the source frame S.
-        time: the time of the transform [s] (simulated time).
-        transform: ``X_TS``.
-    """
-
-    header_frame_id: str
-    child_frame_id: str
-    time: float
-    transform: RigidTransform
-
-
-@dataclass(frozen=True)
-class PoseStamped:
-    """tf2's ``PoseStamped``: ``pose`` is X_FP, the pose of something P in ``frame_id`` F.
-
-    ``time=None`` means the latest time the buffer has.
-    """
-
-    frame_id: str
-    time: Optional[float]
-    pose: RigidTransform
-
-
-# ----------------------------------------------------------------------------
-# The buffer
 
 
 @dataclass(frozen=True)
@@ -204,18 +56,6 @@ class _Image:
     @property
     def time(self) -> float:
         return self.image.time
-
-
-def detected_frame_name(camera: str, model: str) -> str:
-    """The frame of a model a camera sees: ``<camera>_<model>_frame``."""
-    return f"{camera}_{model}_frame"
-
-
-def interpolate_pose(X_a: RigidTransform, X_b: RigidTransform, alpha: float) -> RigidTransform:
-    """Linear in translation, slerp in rotation; ``alpha`` = 0 gives X_a, 1 gives X_b."""
-    q = X_a.rotation().ToQuaternion().slerp(alpha, X_b.rotation().ToQuaternion())
-    p = (1.0 - alpha) * X_a.translation() + alpha * X_b.translation()
-    return RigidTransform(q, p)
 
 
 def _at_or_before(times: list[float], time: float) -> int:
@@ -572,215 +412,3 @@ class TfBuffer:
         if self._tree.is_fixed(name):
             return "fixed"
         return "moving"
-
-
-# ----------------------------------------------------------------------------
-# view_frames
-
-
-_COLOURS = {
-    "fixed": ("#f5f6f8", "#8391a7"),
-    "moving": ("#cfe0fa", "#1f4e8c"),
-    "camera": ("#ffe2c2", "#d2691e"),
-    "detected": ("#d5f5d5", "#2e8b57"),
-}
-_LEGEND = {
-    "fixed": "frame (fixed to its parent)",
-    "moving": "frame (across a joint)",
-    "camera": "logical camera frame",
-    "detected": "model seen by a camera",
-}
-
-
-def _wrap(name: str, width: int = 15) -> str:
-    """Splits a frame name at underscores into lines of about ``width`` characters."""
-    lines: list[str] = []
-    for word in name.split("_"):
-        if lines and len(lines[-1]) + 1 + len(word) <= width:
-            lines[-1] += "_" + word
-        else:
-            if lines:
-                lines[-1] += "_"
-            lines.append(word)
-    return "\n".join(textwrap.fill(line, width + 1) for line in lines)
-
-
-def _tree_layout(edges: list[tuple[str, str]], root: str) -> tuple[dict[str, tuple[float, int]], int]:
-    """Tidy top-down layout: leaves at consecutive x in depth-first order, each
-    parent centred over its children. Returns name -> (x, depth) and the leaf count."""
-    children: dict[str, list[str]] = {}
-    for parent, child in edges:
-        children.setdefault(parent, []).append(child)
-    for kids in children.values():
-        kids.sort()
-    position: dict[str, tuple[float, int]] = {}
-    next_leaf = 0
-
-    def place(name: str, depth: int) -> float:
-        nonlocal next_leaf
-        kids = children.get(name, [])
-        if not kids:
-            x = float(next_leaf)
-            next_leaf += 1
-        else:
-            xs = [place(k, depth + 1) for k in kids]
-            x = (xs[0] + xs[-1]) / 2
-        position[name] = (x, depth)
-        return x
-
-    place(root, 0)
-    return position, next_leaf
-
-
-def _tree_axes(position: dict[str, tuple[float, int]], leaves: int) -> tuple[Figure, Axes]:
-    """A figure sized for the layout ``position`` of ``leaves`` leaves, and its
-    frameless axes in layout units (x: leaf slots, y: minus the depth)."""
-    from matplotlib.figure import Figure
-
-    depth = max(d for _, d in position.values())
-    slot, row = 1.25, 0.95  # inches per leaf, per level
-    width = max(8.0, slot * leaves + 1.0)
-    height = row * (depth + 1) + 1.0
-    fig = Figure(figsize=(width, height))
-    ax = fig.add_axes((0.0, 0.0, 1.0, 1.0))
-    ax.set_xlim(-0.5 - 0.4 / slot, leaves - 0.5 + 0.4 / slot)
-    ax.set_ylim(-(depth + 0.5), 0.5 + 0.6 / row)
-    ax.axis("off")
-    return fig, ax
-
-
-def _draw_frame_boxes(ax: Axes, buffer: TfBuffer, position: dict[str, tuple[float, int]]) -> dict[str, Text]:
-    """One box per frame at its layout position, coloured by its kind; name -> box."""
-    fontsize = 8.5
-    boxes = {}
-    for name, (x, d) in position.items():
-        face, edge = _COLOURS[buffer._frame_kind(name)]
-        boxes[name] = ax.text(
-            x,
-            -d,
-            _wrap(name),
-            ha="center",
-            va="center",
-            fontsize=fontsize,
-            zorder=3,
-            bbox=dict(boxstyle="round,pad=0.35", facecolor=face, edgecolor=edge, linewidth=1.2),
-        )
-    return boxes
-
-
-def _box_extents(fig: Figure, ax: Axes, boxes: dict[str, Text]) -> dict[str, tuple[float, float]]:
-    """Draws ``fig`` (which places the boxes) and returns name -> (bottom, top) of each box, in data units."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-
-    canvas = FigureCanvasAgg(fig)
-    canvas.draw()  # places the boxes
-    renderer = canvas.get_renderer()
-    to_data = ax.transData.inverted()
-    extent = {}
-    for name, text in boxes.items():
-        (_, y0), (_, y1) = to_data.transform(text.get_bbox_patch().get_window_extent(renderer).get_points())
-        extent[name] = (min(y0, y1), max(y0, y1))
-    return extent
-
-
-def _draw_connectors(
-    ax: Axes,
-    buffer: TfBuffer,
-    edges: list[tuple[str, str]],
-    position: dict[str, tuple[float, int]],
-    extent: dict[str, tuple[float, float]],
-) -> None:
-    """Org-chart connectors: down from the parent, along a bus, an arrow down into each child."""
-    from matplotlib.patches import FancyArrowPatch
-
-    children: dict[str, list[str]] = {}
-    for parent, child in edges:
-        children.setdefault(parent, []).append(child)
-    trunk = "#8391a7"
-    for parent, kids in children.items():
-        x0 = position[parent][0]
-        bottom = extent[parent][0]
-        bus = min(bottom - 0.12, max(extent[k][1] for k in kids) + 0.16)
-        xs = [position[k][0] for k in kids]
-        ax.plot([x0, x0], [bottom, bus], color=trunk, linewidth=1.0, zorder=1)
-        ax.plot([min(xs + [x0]), max(xs + [x0])], [bus, bus], color=trunk, linewidth=1.0, zorder=1)
-        for kid, x1 in zip(kids, xs):
-            kind = buffer._frame_kind(kid)
-            colour = _COLOURS[kind][1] if kind in ("detected", "moving") else trunk
-            ax.add_patch(
-                FancyArrowPatch(
-                    (x1, bus),
-                    (x1, extent[kid][1]),
-                    arrowstyle="-|>",
-                    mutation_scale=9,
-                    color=colour,
-                    linewidth=1.5 if kind == "moving" else 1.0,
-                    linestyle="--" if kind == "detected" else "-",
-                    shrinkA=0,
-                    shrinkB=1,
-                    zorder=2,
-                )
-            )
-
-
-def _draw_heading_and_legend(ax: Axes, heading: str, t: float, frames: int) -> None:
-    """The title line (``heading``, time, frame count) top left and the colour legend top right."""
-    from matplotlib.patches import Patch
-
-    ax.text(
-        0.01,
-        0.995,
-        f"{heading}  (t = {t:.3f} s, {frames} frames)",
-        transform=ax.transAxes,
-        ha="left",
-        va="top",
-        fontsize=13,
-        weight="bold",
-    )
-    ax.legend(
-        handles=[Patch(facecolor=f, edgecolor=e, label=_LEGEND[k]) for k, (f, e) in _COLOURS.items()],
-        loc="upper right",
-        fontsize=9,
-        frameon=False,
-        ncol=4,
-        bbox_to_anchor=(0.995, 0.995),
-    )
-
-
-def _save_pdf_and_png(fig: Figure, path_stem: Path) -> list[Path]:
-    """Writes ``<stem>.pdf`` and ``<stem>.png`` (creating the folder); returns their paths."""
-    paths = []
-    path_stem.parent.mkdir(parents=True, exist_ok=True)
-    for suffix in (".pdf", ".png"):
-        path = path_stem.parent / (path_stem.name + suffix)
-        fig.savefig(path, dpi=100)
-        paths.append(path)
-    return paths
-
-
-def view_frames(
-    buffer: TfBuffer, path_stem: str | Path, time: Optional[float] = None, *, title: Optional[str] = None
-) -> list[Path]:
-    """Draws the frame tree at ``time`` (None: latest) into ``<stem>.pdf`` and ``<stem>.png``.
-
-    Like ROS ``view_frames``, with matplotlib (no graphviz): frames are boxes,
-    arrows go parent -> child, ``world`` on top. Logical camera frames and the
-    frames of the models they see are coloured. Returns the two paths written.
-    A ``.pdf`` or ``.png`` suffix of ``path_stem`` is dropped.
-    """
-    # matplotlib is imported in the helpers: it takes ~0.3 s to import. No pyplot: no global state.
-    path_stem = Path(path_stem)
-    if path_stem.suffix.lower() in (".pdf", ".png"):
-        path_stem = path_stem.with_suffix("")
-    edges = buffer.edges(time)
-    t = buffer.times[-1] if time is None else float(time)
-    position, leaves = _tree_layout(edges, "world")
-    fig, ax = _tree_axes(position, leaves)
-    boxes = _draw_frame_boxes(ax, buffer, position)
-    # Arrows run from the bottom of the parent's box to the top of the child's.
-    extent = _box_extents(fig, ax, boxes)
-    _draw_connectors(ax, buffer, edges, position, extent)
-    _draw_heading_and_legend(ax, title or "Frame tree", t, len(position))
-    paths = _save_pdf_and_png(fig, path_stem)
-    _log.info("frame tree written to %s", ", ".join(str(p) for p in paths))
-    return paths

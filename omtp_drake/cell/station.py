@@ -11,8 +11,8 @@ Some changes to the world are not a system's to make (a system may not write
 another system's Context): spawning and disposing of parts, making a weld
 gripper's constraints, shifting the belt surface back. A plain ``Simulator``
 on this diagram therefore never spawns a part and never attaches one with the
-weld backend: run it with :class:`omtp_drake.driver.Driver` (what
-:class:`omtp_drake.runtime.FactoryRuntime` does), and initialise every new
+weld backend: run it with :class:`omtp_drake.sim.driver.Driver` (what
+:class:`omtp_drake.sim.runtime.FactoryRuntime` does), and initialise every new
 Context with :meth:`Station.initialize_context`.
 
 Exported ports are named ``<instance>.<signal>``:
@@ -65,14 +65,12 @@ from pydrake.multibody.tree import FixedOffsetFrame, ModelInstanceIndex, PdContr
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, InputPort
 from pydrake.systems.primitives import Demultiplexer
 
-from omtp_drake import arms
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.conveyor import X_W_CONVEYOR, BeltGeometry, BreakBeam, ConveyorBelt
-from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.logical_camera import LogicalCamera, add_logical_camera
-from omtp_drake.parts import parking_pose
-from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
-from omtp_drake.suction import (
+from omtp_drake.cell import arms
+from omtp_drake.cell.conveyor import X_W_CONVEYOR, BeltGeometry, BreakBeam, ConveyorBelt
+from omtp_drake.cell.logical_camera import LogicalCamera, add_logical_camera
+from omtp_drake.cell.parts import parking_pose
+from omtp_drake.cell.suction import (
     SuctionConstraints,
     SuctionGripper,
     WeldSuctionGripper,
@@ -80,6 +78,8 @@ from omtp_drake.suction import (
     connect_spatial_forces,
     declare_suction_constraints,
 )
+from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
 
 _log = logging.getLogger(__name__)
 
@@ -494,7 +494,7 @@ def _add_rgbd_view(
 ) -> None:
     """The RGB-D view of ``camera`` (the renderer comes with the first one) and its ports
     ``<camera>.color_image``, ``<camera>.depth_image`` (32F, m), ``<camera>.label_image``."""
-    from omtp_drake.rgbd import add_rgbd_view
+    from omtp_drake.cell.rgbd import add_rgbd_view
 
     name = camera.get_name()
     sensor = add_rgbd_view(builder, plant, scene_graph, plant.GetFrameByName(f"{name}_frame"), camera.config)

@@ -10,7 +10,7 @@ callback) is due, and applies the edits due there, between advances.
 Everything depends only on simulated time and the scenario's seed, so the same
 scenario and seed give the same run.
 
-Example (what :class:`omtp_drake.runtime.FactoryRuntime` does)::
+Example (what :class:`omtp_drake.sim.runtime.FactoryRuntime` does)::
 
     context = diagram.CreateDefaultContext()
     station.initialize_context(context, hold=free_station_inputs)
@@ -31,14 +31,16 @@ from pydrake.geometry import Role
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram
 
-from omtp_drake.conveyor import WRAP_TRAVEL
+from omtp_drake.cell.conveyor import WRAP_TRAVEL
+from omtp_drake.cell.parts import spawn_pose
+from omtp_drake.cell.suction import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
-from omtp_drake.ledger import held_parts, locate
-from omtp_drake.parts import PartPool, SpawnerConfig, spawn_pose
-from omtp_drake.suction import WeldSuctionGripper, sync_weld
+from omtp_drake.scenario import SpawnerConfig
+from omtp_drake.sim.ledger import held_parts, locate
+from omtp_drake.sim.pool import PartPool
 
 if TYPE_CHECKING:
-    from omtp_drake.station import Station
+    from omtp_drake.cell.station import Station
 
 _log = logging.getLogger(__name__)
 
@@ -68,7 +70,7 @@ class WorldEdit(Protocol):
 
 class WeldSync:
     """Weld grippers: makes the plant's constraints follow each gripper's state
-    (:func:`omtp_drake.suction.sync_weld`), right after every gripper check."""
+    (:func:`omtp_drake.cell.suction.sync_weld`), right after every gripper check."""
 
     def __init__(self, station: Station):
         self._plant = station.plant

@@ -44,11 +44,8 @@ from pydrake.systems.primitives import TrajectorySource
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.errors import ConfigError
-from omtp_drake.scenario import Scenario
-from omtp_drake.suction import (
+from omtp_drake.cell.suction import (
     GripperState,
-    SuctionConfig,
     SuctionGripper,
     WeldSuctionGripper,
     add_suction_gripper,
@@ -56,6 +53,8 @@ from omtp_drake.suction import (
     declare_suction_constraints,
     sync_weld,
 )
+from omtp_drake.errors import ConfigError
+from omtp_drake.scenario import Scenario, SuctionConfig
 
 H = Scenario().plant_config.time_step  # plant step [s]: the station's
 CHUNK = 0.05  # driver chunk = the runtime's tick [s]

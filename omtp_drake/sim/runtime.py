@@ -2,7 +2,7 @@
 
 :class:`FactoryRuntime` builds the station (and whatever ``extend`` adds around
 it, e.g. a controller), initialises the Context, and runs it with the
-:class:`~omtp_drake.driver.Driver` (the world edits between advances). Its
+:class:`~omtp_drake.sim.driver.Driver` (the world edits between advances). Its
 methods are the course's services: spawn or remove a part, set the conveyor
 power, enable or disable a gripper, read a gripper, a camera, the break beam,
 the ledger; and fault injection for tests (vacuum failure, camera blackout, a
@@ -33,15 +33,15 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.systems.framework import Context, DiagramBuilder
 
-from omtp_drake import arms
-from omtp_drake.driver import AutoSpawner, Driver, loose_parts, spawn, world_edits
+from omtp_drake.cell import arms
+from omtp_drake.cell.logical_camera import LogicalCameraImage
+from omtp_drake.cell.station import Station, build_station
+from omtp_drake.cell.suction import GripperState
 from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError, check_duration
-from omtp_drake.ledger import Ledger, take_ledger
-from omtp_drake.logical_camera import LogicalCameraImage
-from omtp_drake.parts import PartPool
 from omtp_drake.scenario import Scenario, check_in_cell, load_scenario
-from omtp_drake.station import Station, build_station
-from omtp_drake.suction import GripperState
+from omtp_drake.sim.driver import AutoSpawner, Driver, loose_parts, spawn, world_edits
+from omtp_drake.sim.ledger import Ledger, take_ledger
+from omtp_drake.sim.pool import PartPool
 
 _log = logging.getLogger(__name__)
 

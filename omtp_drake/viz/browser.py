@@ -1,7 +1,7 @@
 """Screenshots of standalone Meshcat replays in headless chromium.
 
 ``screenshot(replay.html, out.png, time=2.0)`` opens a replay written by
-``--record`` (see :func:`omtp_drake.visualization.save_recording`), waits until
+``--record`` (see :func:`omtp_drake.viz.meshcat.save_recording`), waits until
 every embedded Meshcat command has been applied, moves the recorded animation
 to ``time`` (seconds of simulated time; default: its end), and saves what a
 user would see in a 1280 x 800 browser window.

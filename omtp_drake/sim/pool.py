@@ -1,101 +1,22 @@
-"""Parts: the pre-allocated pool, the spawner's settings and spawn poses.
+"""The part pool while the cell runs: which parts are parked, spawning and disposal.
 
-Drake cannot add bodies to a built plant, so every part that may ever appear
-is in the plant from the start: the scenario's placed parts and a pool of
-``object_1 ... object_N``. A part out of the world is *parked*: far from the
-cell (a row at x = 50 m) with its floating joint locked (no motion, no contact,
-no cost in the contact solver). Spawning unlocks the next parked pool part and
-puts it at the spawn pose; disposal parks a part again. Pool parts are spawned
-in name order; a disposed pool part goes to the back of the queue and keeps its
-name when it is spawned again (a disposed placed part stays parked).
-
-Whether a part is parked is the lock of its joint in the plant's Context, so
-it is never restated elsewhere. :class:`PartPool` makes the world edits (lock,
-move) between advances and logs what it did; the driver owns it.
+Whether a part is parked is the lock of its joint in the plant's Context, so it
+is never restated elsewhere. :class:`PartPool` makes the world edits (lock,
+move) between advances and logs what it did; the driver owns it. Poses of
+parked and spawned parts are in :mod:`omtp_drake.cell.parts`.
 """
-
-# No `from __future__ import annotations`: SpawnerConfig is a YAML schema.
 
 import logging
 import math
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Optional
+from dataclasses import dataclass
 
-import numpy as np
-from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context
 
-from omtp_drake.errors import MAX_RATE_HZ, ConfigError, SimulationError, UnknownNameError
-
-if TYPE_CHECKING:
-    from omtp_drake.station import Station
+from omtp_drake.cell.station import Station
+from omtp_drake.errors import SimulationError, UnknownNameError
 
 _log = logging.getLogger(__name__)
-
-#: Where parked part k waits (x = PARK_X0 + k * PARK_DX, on a line far from the cell).
-PARK_X0, PARK_DX, PARK_Y, PARK_Z = 50.0, 0.5, 50.0, 1.0
-
-
-def parking_pose(slot: int) -> RigidTransform:
-    """``X_WP`` of the part parked in ``slot`` (its index among all parts)."""
-    return RigidTransform([PARK_X0 + slot * PARK_DX, PARK_Y, PARK_Z])
-
-
-@dataclass
-class SpawnerConfig:
-    """Where and when parts appear (the course's spawner and ``spawn_object_once``)."""
-
-    #: Spawn position (world) of the part's centre.
-    xyz: list[float] = field(default_factory=lambda: [1.2, 2.5, 1.021])
-    #: Spawn yaw (rad) about world z.
-    yaw: float = 0.0
-    #: Uniform random offset in [-v, v] along world x (across the belt) and in yaw.
-    lateral_variance: float = 0.0
-    yaw_variance: float = 0.0
-    #: Seconds between automatic spawns; 0 = only on request.
-    period: float = 0.0
-    #: Time of the first automatic spawn.
-    start_time: float = 0.0
-    #: Spawn only when no other spawned part is in the world (``spawn_object_once``).
-    one_at_a_time: bool = True
-    #: Stop after this many automatic spawns; 0 = no limit.
-    max_parts: int = 0
-
-    def validate(self) -> None:
-        if len(self.xyz) != 3:
-            raise ConfigError(f"spawner.xyz needs 3 numbers, got {list(self.xyz)}")
-        for key in ("lateral_variance", "yaw_variance", "period", "start_time"):
-            value = getattr(self, key)
-            if not (value >= 0 and math.isfinite(value)):
-                raise ConfigError(f"spawner.{key} must be a finite number >= 0, got {value}")
-        if 0 < self.period < 1.0 / MAX_RATE_HZ:
-            raise ConfigError(
-                f"spawner.period must be 0 (no automatic spawns) or >= {1.0 / MAX_RATE_HZ:g} s, "
-                f"got {self.period}"
-            )
-        if self.max_parts < 0:
-            raise ConfigError(f"spawner.max_parts must be >= 0, got {self.max_parts}")
-
-
-def spawn_pose(
-    spawner: SpawnerConfig,
-    seed: int,
-    index: int,
-    xyz: Optional[list[float]] = None,
-    yaw: Optional[float] = None,
-) -> RigidTransform:
-    """The pose of the ``index``-th spawn: the configured pose plus seeded variance,
-    or ``xyz`` / ``yaw`` as given (no variance on what is given).
-
-    The draw depends only on (seed, index), so runs are reproducible.
-    """
-    rng = np.random.default_rng((seed, 7919, index))
-    dx, dyaw = rng.uniform(-1.0, 1.0, 2)
-    p = np.array(xyz if xyz is not None else spawner.xyz, dtype=float)
-    if xyz is None:
-        p[0] += dx * spawner.lateral_variance
-    angle = (yaw if yaw is not None else spawner.yaw) + (dyaw * spawner.yaw_variance if yaw is None else 0.0)
-    return RigidTransform(RollPitchYaw(0.0, 0.0, angle), p)
 
 
 @dataclass(frozen=True)

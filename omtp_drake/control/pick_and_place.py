@@ -2,7 +2,7 @@
 
 The controller perceives parts **only through logical cameras** (the part's
 pose is the camera's ``X_WC`` times the reported ``X_CM``) and its own arm's
-joint encoders; it never reads ground truth. It asks :mod:`omtp_drake.planning`
+joint encoders; it never reads ground truth. It asks :mod:`omtp_drake.control.tool_paths`
 for tool paths of the suction-cup face (``<gripper>_tip``) and feeds them, as
 desired poses, to Drake's ``DifferentialInverseKinematicsIntegrator``, whose
 joint positions drive the arm's position servo.
@@ -52,12 +52,12 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, State, ValueProducer
 from pydrake.systems.primitives import ConstantValueSource
 
-from omtp_drake import arms
+from omtp_drake.cell import arms
+from omtp_drake.cell.logical_camera import LogicalCameraImage
+from omtp_drake.cell.suction import GripperState
+from omtp_drake.control.tool_paths import Path, PickPlanner, SegmentKind, hold, yaw_of
 from omtp_drake.errors import ConfigError
-from omtp_drake.logical_camera import LogicalCameraImage
-from omtp_drake.planning import Path, PickPlanner, SegmentKind, hold, yaw_of
 from omtp_drake.scenario import BinConfig, RobotConfig, Scenario, TaskConfig
-from omtp_drake.suction import GripperState
 
 
 class Mode(Enum):

@@ -16,10 +16,9 @@ from pydrake.systems.framework import Context
 from omtp_drake.errors import ConfigError
 
 if TYPE_CHECKING:
-    from omtp_drake.logical_camera import LogicalCameraConfig
-    from omtp_drake.runtime import FactoryRuntime
-    from omtp_drake.scenario import Scenario
-    from omtp_drake.station import Station
+    from omtp_drake.cell.station import Station
+    from omtp_drake.scenario import LogicalCameraConfig, Scenario
+    from omtp_drake.sim.runtime import FactoryRuntime
 
 _log = logging.getLogger(__name__)
 
@@ -64,7 +63,7 @@ def view_for(scenario: Scenario) -> tuple[tuple[float, ...], tuple[float, ...]]:
     """(eye, target) of the Meshcat camera for ``scenario``: its task robot, the
     bin it fills and the spot it picks from (its pick camera); without a task,
     its first placed part and the nearest robot; else :data:`DEFAULT_VIEW`."""
-    from omtp_drake import arms
+    from omtp_drake.cell import arms
 
     robots = {r.name: r for r in scenario.robots}
     cameras = {c.name: c for c in scenario.cameras}

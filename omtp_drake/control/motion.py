@@ -1,7 +1,7 @@
 """Collision-aware motion planning for one arm of the cell (a MoveIt-like back end).
 
 :class:`ArmPlanner` owns a collision model of the whole static cell (every model
-:func:`~omtp_drake.station.add_cell_models` adds, without parts) and answers, for
+:func:`~omtp_drake.cell.station.add_cell_models` adds, without parts) and answers, for
 one arm of a scenario:
 
 - ``collisions(q)``: which bodies touch (within ``margin``) at joint positions q;
@@ -65,11 +65,11 @@ from pydrake.planning import RobotDiagramBuilder, SceneGraphCollisionChecker
 from pydrake.solvers import Solve
 from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake import arms
+from omtp_drake.cell import arms
+from omtp_drake.cell.poses import interpolate_pose
+from omtp_drake.cell.station import ArmHandles, CellModels, add_cell_models
 from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
-from omtp_drake.frames import interpolate_pose
 from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
-from omtp_drake.station import ArmHandles, CellModels, add_cell_models
 
 _log = logging.getLogger(__name__)
 

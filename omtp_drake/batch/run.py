@@ -6,7 +6,7 @@ Every (seed, setting) pair is one independent run of
 worker processes on this machine (one thread each), or an existing cluster
 given by its scheduler's address (``dask scheduler`` / ``dask worker``)::
 
-    from omtp_drake.batch import run_batch, summarize, format_summary
+    from omtp_drake.batch.run import run_batch, summarize, format_summary
 
     records = run_batch("lecture6_assignment4", range(20), parts=1,
                         settings={"task.max_tool_speed": [0.6, 1.0]}, out="batch_a4")
@@ -75,7 +75,7 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
     from omtp_drake.scenario import Scenario
-    from omtp_drake.tasks import TaskResult
+    from omtp_drake.tasks.run import TaskResult
 
 _log = logging.getLogger(__name__)
 
@@ -379,7 +379,7 @@ def _build(
 ) -> Scenario:
     """The scenario with ``setting`` applied, loaded and prepared (checked)."""
     from omtp_drake.scenario import scenario_from_dict
-    from omtp_drake.tasks import prepare
+    from omtp_drake.tasks.run import prepare
 
     data = raw
     for key, value in setting.items():
@@ -477,7 +477,7 @@ class RunRecord:
     @classmethod
     def from_dict(cls, data: Mapping[str, Any]) -> RunRecord:
         """The record of ``to_dict`` (a run's JSON file)."""
-        from omtp_drake.tasks import TaskResult
+        from omtp_drake.tasks.run import TaskResult
 
         result = TaskResult.from_dict(data, data["bin"]) if "summary" in data else None
         return cls(
@@ -538,7 +538,7 @@ def _runner_main() -> None:
     # Preloaded once: every forked child starts with pydrake and omtp_drake imported.
     import pydrake.common  # noqa: F401
 
-    import omtp_drake.tasks  # noqa: F401
+    import omtp_drake.tasks.run  # noqa: F401
 
     logging.getLogger("drake").setLevel(logging.ERROR)
     _write_frame(out_fd, {"ready": os.getpid()})
@@ -658,7 +658,7 @@ class _Sandbox:
         for var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
             env.setdefault(var, "1")  # one core per run: the workers are the parallelism
         proc = subprocess.Popen(
-            [sys.executable, "-c", "from omtp_drake.batch import _runner_main; _runner_main()"],
+            [sys.executable, "-c", "from omtp_drake.batch.run import _runner_main; _runner_main()"],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             bufsize=0,
@@ -714,7 +714,7 @@ def _sandbox() -> _Sandbox:
 
 def simulate(scenario: Scenario, duration: Optional[float]) -> TaskResult:
     """The default run function: the scenario's task (:func:`run_task`)."""
-    from omtp_drake.tasks import run_task
+    from omtp_drake.tasks.run import run_task
 
     return run_task(scenario, duration=duration)
 
@@ -745,7 +745,7 @@ def _worker_address() -> str:
 
 def _execute(job: _Job) -> RunRecord:
     """A Dask task: one run in this worker's sandbox."""
-    from omtp_drake.tasks import TaskResult
+    from omtp_drake.tasks.run import TaskResult
 
     outcome = _sandbox().call(_run_in_child, (job.spec, job.duration, job.run_fn), job.timeout)
     status = outcome["status"]

@@ -1,0 +1,11 @@
+"""The cell: what the factory is made of, as Drake systems and models.
+
+Lives here: the station (``station.build_station``: the whole cell as one diagram),
+the UR arms and their servo (``arms``), belt and break beam (``conveyor``), part
+poses (``parts``), named frames (``frames``) and stamped poses (``poses``), the
+logical camera (``logical_camera``, its overlap and occlusion tests in
+``camera_geometry``), the RGB-D view (``rgbd``), the vacuum gripper (``suction``)
+and its test rig (``suction_rig``).
+
+May import: ``omtp_drake.scenario``, ``omtp_drake.errors``, ``omtp_drake.assets``.
+"""

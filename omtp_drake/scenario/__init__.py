@@ -1,0 +1,52 @@
+"""The scenario: the typed schema of ``diagrams/*.yaml`` and the one loader.
+
+Lives here: :class:`Scenario` and every ``*Config`` of the schema (``configs``,
+``camera``, ``suction``), the loader (``loader``: YAML, ``base:`` merges, checks),
+and :func:`as_scenario`, the one door from a name or path to a ``Scenario``.
+
+May import: ``omtp_drake.errors`` and ``omtp_drake.assets`` only (the bottom layer).
+"""
+
+from omtp_drake.scenario.camera import LogicalCameraConfig
+from omtp_drake.scenario.configs import (
+    BinConfig,
+    BinGeometry,
+    ConveyorConfig,
+    PartConfig,
+    RobotConfig,
+    SpawnerConfig,
+    TaskConfig,
+    check_in_cell,
+)
+from omtp_drake.scenario.loader import (
+    as_scenario,
+    closest_name,
+    is_record,
+    load_scenario,
+    scenario_from_dict,
+    scenario_names,
+    schema_fields,
+)
+from omtp_drake.scenario.schema import Scenario
+from omtp_drake.scenario.suction import SuctionConfig
+
+__all__ = [
+    "BinConfig",
+    "BinGeometry",
+    "ConveyorConfig",
+    "LogicalCameraConfig",
+    "PartConfig",
+    "RobotConfig",
+    "Scenario",
+    "SpawnerConfig",
+    "SuctionConfig",
+    "TaskConfig",
+    "as_scenario",
+    "check_in_cell",
+    "closest_name",
+    "is_record",
+    "load_scenario",
+    "scenario_from_dict",
+    "scenario_names",
+    "schema_fields",
+]

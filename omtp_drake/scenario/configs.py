@@ -1,0 +1,276 @@
+"""The scenario's pieces: robots, bins, parts, the belt, the spawner and the task.
+
+Each is a dataclass of the YAML schema (Drake's typed loader reads the field
+types at run time) that checks its own values in ``validate()``.
+"""
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+from pydrake.common.schema import Transform
+from pydrake.math import RigidTransform, RollPitchYaw
+
+from omtp_drake.assets import model_dimensions
+from omtp_drake.errors import MAX_RATE_HZ, ConfigError, check_rate
+
+#: The cell's floor: a square of this half width (m) about the world origin
+#: (the original's 20.1 m plane); nothing may start outside it or below it.
+FLOOR_HALF_WIDTH = 10.0
+
+
+@dataclass
+class RobotConfig:
+    """A UR arm on a pedestal, with an optional vacuum gripper on its flange."""
+
+    #: Instance name and frame prefix: ``robot1`` gives ``robot1_base_link``.
+    name: str = "robot1"
+    #: ``ur10`` or ``ur5`` (classic, from example-robot-data).
+    model: str = "ur10"
+    #: Pedestal position on the floor (world x, y) and height; the arm's base
+    #: sits on top of it.
+    xy: list[float] = field(default_factory=lambda: [0.5, 1.8])
+    pedestal_height: float = 0.95
+    #: Rotation of the arm's base about world z.
+    yaw: float = 0.0
+    #: Prefix of the course's named poses for this arm (``R1`` -> ``R1Home``).
+    pose_prefix: str = "R1"
+    #: Joint positions at t = 0: a named pose (``Home`` or ``R1Home``).
+    initial_pose: str = "Home"
+    #: Name of the vacuum gripper on tool0 (empty: none).
+    gripper: str = "vacuum_gripper1"
+    #: Symmetric joint position limit (the course limits every joint to pi).
+    joint_limit: float = math.pi
+    #: Rate (Hz) at which the servo samples the position command and
+    #: differentiates it into a desired velocity (a real UR: 125 Hz). Match a
+    #: discrete commander's rate (DiffIK runs at 100 Hz) so velocities are smooth.
+    command_rate_hz: float = 100.0
+    #: Servo gains (per joint, acceleration units): a critically damped 30 rad/s
+    #: loop. Peak cup speed over a 1 m/s plan (lecture6_assignment4, fill_bin):
+    #: 1.014 at kp 400, 1.008 at 900, 1.013 at 1600; CPU per simulated second
+    #: within the run-to-run noise. ``ki > 0`` adds an integral (Drake's
+    #: InverseDynamicsController), which gives the simulator continuous state to
+    #: integrate: about 20 % of a run's time, for a pole at -ki/kp that hardly acts
+    #: within a pick.
+    kp: float = 900.0
+    kd: float = 60.0
+    ki: float = 0.0
+
+
+#: Names of the cell's fixed models and Drake's own (a robot's pedestal is
+#: ``<robot>_pedestal``): no robot, camera, bin or part may take one.
+RESERVED_NAMES = (
+    "world",
+    "floor",
+    "conveyor",
+    "deletion_wall",
+    "break_beam",
+    "WorldModelInstance",
+    "DefaultModelInstance",
+)
+
+
+@dataclass(frozen=True)
+class BinGeometry:
+    """The fixed sizes of every bin, read from ``models/bin.urdf.xacro``."""
+
+    #: Half the inner width (m): the inner faces of the walls.
+    inner_half_width: float
+    #: Height (m) of the top of the bin's floor above its base frame.
+    floor_top: float
+    #: Height (m) of the rim above the base frame.
+    height: float
+
+    @classmethod
+    def from_model(cls) -> "BinGeometry":
+        d = model_dimensions("bin.urdf.xacro")
+        return cls(inner_half_width=d["outer"] / 2 - d["wall"], floor_top=d["floor_top"], height=d["height"])
+
+
+@dataclass
+class BinConfig:
+    """An open bin standing on the floor (models/bin.urdf.xacro)."""
+
+    name: str = "bin_1"
+    xyz: list[float] = field(default_factory=lambda: [-8.0, -2.2, 0.0])
+    yaw: float = 0.0
+
+    @property
+    def geometry(self) -> BinGeometry:
+        return _BIN_GEOMETRY
+
+    def X_WB(self) -> RigidTransform:
+        """The bin's base frame in world (as placed by the scenario)."""
+        return RigidTransform(RollPitchYaw(0.0, 0.0, self.yaw), self.xyz)
+
+    def contains(self, p_W, X_WB: Optional[RigidTransform] = None) -> bool:
+        """Is the world point ``p_W`` (a part's centre) in the bin: inside the
+        inner footprint, above the bin's floor and less than 0.5 m above its rim?
+        ``X_WB``: the bin's pose if it is not where the scenario put it."""
+        p_B = (X_WB or self.X_WB()).inverse() @ np.asarray(p_W, dtype=float)
+        g = _BIN_GEOMETRY
+        return bool(
+            abs(p_B[0]) < g.inner_half_width
+            and abs(p_B[1]) < g.inner_half_width
+            and g.floor_top < p_B[2] < g.height + 0.5
+        )
+
+    def rim_height(self) -> float:
+        """World height of the bin's rim."""
+        return self.xyz[2] + _BIN_GEOMETRY.height
+
+
+_BIN_GEOMETRY = BinGeometry.from_model()
+
+
+@dataclass
+class PartConfig:
+    """A part (a uniform cube) placed in the world at t = 0."""
+
+    name: str = "object_1"
+    xyz: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.1])
+    rpy: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    #: The pose as a ``schema::Transform`` instead of ``xyz`` / ``rpy`` (see module doc).
+    pose: Optional[Transform] = None
+    size: float = 0.2
+    mass: float = 0.2
+
+
+@dataclass
+class ConveyorConfig:
+    """The conveyor belt (always at the reference pose)."""
+
+    #: Initial power in percent, 0...100 (belt speed = 0.2 m/s x power / 100).
+    power: float = 0.0
+    #: The course's helper: set the power to 0 when the break beam becomes broken.
+    stop_on_beam: bool = False
+
+
+@dataclass
+class TaskConfig:
+    """A pick-and-place task: which robot moves how many parts into which bin,
+    seen by which cameras; and the planner's tuning.
+
+    Heights and slots follow each part's size, which the planner takes from the
+    scenario (``parts`` and ``pool_part_size``). Success: ``parts`` parts in
+    ``bin`` and none lost (see omtp_drake.tasks.run).
+    """
+
+    #: How many parts must end in the bin.
+    parts: int = 1
+
+    robot: str = "robot2"
+    #: The camera that sees the parts to pick, and the one over the bin.
+    camera: str = "logical_camera_2"
+    bin: str = "bin_1"
+    bin_camera: str = ""
+    #: Type of the parts to pick (camera ``type``).
+    part_type: str = "object"
+    #: Heights (m) of the approach above the top face, and of the tip above the
+    #: bin's rim during transfer.
+    approach_height: float = 0.1
+    transfer_clearance: float = 0.05
+    #: Tool speed limit (m/s), and the slow speed of the last few cm before contact.
+    max_tool_speed: float = 1.0
+    descent_speed: float = 0.1
+    #: The descent slows down this far (m) above the top face.
+    slow_zone: float = 0.02
+    #: How far the tip target goes below the top face (m): just enough for contact.
+    press_depth: float = 0.003
+    attach_timeout: float = 1.0
+    detect_timeout: float = 15.0
+    #: A part being picked again that no camera has seen for this long (s), or
+    #: that lies out of reach, is given up on (recorded "lost" with its position).
+    lost_timeout: float = 3.0
+    max_attempts: int = 3
+    #: DiffIK tracking: position error (m) tolerated, and for how long (s).
+    tracking_tolerance: float = 0.03
+    tracking_time: float = 0.5
+    #: Images older than this (s) count as missing.
+    image_timeout: float = 0.5
+    update_rate_hz: float = 20.0
+    diffik_rate_hz: float = 100.0
+    #: Place parts on a grid of slots (fill a bin) instead of all at its centre.
+    grid: bool = True
+    #: Settle time after release before verifying (the part drops ~2 cm).
+    settle_time: float = 0.3
+
+    def validate(self) -> None:
+        if not 0 < self.max_tool_speed <= 1.0:
+            raise ConfigError(f"task.max_tool_speed must be in (0, 1] m/s, got {self.max_tool_speed}")
+        for key in (
+            "approach_height",
+            "descent_speed",
+            "slow_zone",
+            "attach_timeout",
+            "detect_timeout",
+            "lost_timeout",
+            "tracking_tolerance",
+            "tracking_time",
+            "image_timeout",
+            "settle_time",
+        ):
+            if not getattr(self, key) > 0:
+                raise ConfigError(f"task.{key} must be > 0, got {getattr(self, key)}")
+        for key in ("update_rate_hz", "diffik_rate_hz"):
+            check_rate(f"task.{key}", getattr(self, key))
+        for key in ("transfer_clearance", "press_depth"):
+            if not getattr(self, key) >= 0:
+                raise ConfigError(f"task.{key} must be >= 0, got {getattr(self, key)}")
+        if self.parts < 1:
+            raise ConfigError(f"task.parts must be >= 1, got {self.parts}")
+        if self.max_attempts < 1:
+            raise ConfigError(f"task.max_attempts must be >= 1, got {self.max_attempts}")
+
+
+def check_len(what: str, values: list[float], n: int) -> None:
+    if len(values) != n:
+        raise ConfigError(f"{what} needs {n} numbers, got {list(values)}")
+
+
+def check_in_cell(what: str, xyz: Sequence[float]) -> None:
+    """A position of the cell: above the floor and within its 20 x 20 m, or ConfigError."""
+    x, y, z = (list(xyz) + [0.0])[:3]
+    if max(abs(x), abs(y)) > FLOOR_HALF_WIDTH or z < 0:
+        raise ConfigError(
+            f"{what} = {list(xyz)} is outside the cell; valid: |x|, |y| <= {FLOOR_HALF_WIDTH:g} m "
+            "(the floor) and z >= 0 (above it)"
+        )
+
+
+@dataclass
+class SpawnerConfig:
+    """Where and when parts appear (the course's spawner and ``spawn_object_once``)."""
+
+    #: Spawn position (world) of the part's centre.
+    xyz: list[float] = field(default_factory=lambda: [1.2, 2.5, 1.021])
+    #: Spawn yaw (rad) about world z.
+    yaw: float = 0.0
+    #: Uniform random offset in [-v, v] along world x (across the belt) and in yaw.
+    lateral_variance: float = 0.0
+    yaw_variance: float = 0.0
+    #: Seconds between automatic spawns; 0 = only on request.
+    period: float = 0.0
+    #: Time of the first automatic spawn.
+    start_time: float = 0.0
+    #: Spawn only when no other spawned part is in the world (``spawn_object_once``).
+    one_at_a_time: bool = True
+    #: Stop after this many automatic spawns; 0 = no limit.
+    max_parts: int = 0
+
+    def validate(self) -> None:
+        if len(self.xyz) != 3:
+            raise ConfigError(f"spawner.xyz needs 3 numbers, got {list(self.xyz)}")
+        for key in ("lateral_variance", "yaw_variance", "period", "start_time"):
+            value = getattr(self, key)
+            if not (value >= 0 and math.isfinite(value)):
+                raise ConfigError(f"spawner.{key} must be a finite number >= 0, got {value}")
+        if 0 < self.period < 1.0 / MAX_RATE_HZ:
+            raise ConfigError(
+                f"spawner.period must be 0 (no automatic spawns) or >= {1.0 / MAX_RATE_HZ:g} s, "
+                f"got {self.period}"
+            )
+        if self.max_parts < 0:
+            raise ConfigError(f"spawner.max_parts must be >= 0, got {self.max_parts}")

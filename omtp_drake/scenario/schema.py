@@ -1,0 +1,268 @@
+"""The scenario schema: :class:`Scenario`, which world to build.
+
+A scenario says which world to build: robots, cameras, bins, parts, plant
+settings and the seed. It is the analogue of a Gazebo world plus launch file,
+and the one home of the cell's facts that may vary (poses, sizes, rates); the
+fixed sizes of the cell's pieces live in their model files (``models/``).
+Each piece's config (``configs``, ``camera``, ``suction``) checks its own
+values; :meth:`Scenario.validate` checks those and what ties them together
+(unique names, cross-references). Files become scenarios in ``loader``.
+"""
+
+# No `from __future__ import annotations`: Drake's typed YAML loader reads
+# the dataclass field types at run time.
+import dataclasses
+import math
+import re
+from dataclasses import dataclass, field
+from typing import Any, Optional
+
+import numpy as np
+from pydrake.multibody.plant import MultibodyPlantConfig
+
+from omtp_drake.assets import UR_MODELS
+from omtp_drake.errors import ConfigError, UnknownNameError, check_rate
+from omtp_drake.scenario.camera import LogicalCameraConfig
+from omtp_drake.scenario.configs import (
+    RESERVED_NAMES,
+    BinConfig,
+    ConveyorConfig,
+    PartConfig,
+    RobotConfig,
+    SpawnerConfig,
+    TaskConfig,
+    check_in_cell,
+    check_len,
+)
+from omtp_drake.scenario.suction import SuctionConfig
+
+#: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
+MIN_TIME_STEP = 1e-4
+#: The most parts a pool may hold: every one is a body in the plant, and the build
+#: grows faster than linearly (fill_bin's FactoryRuntime: 0.6 s with 12 parts, 2.1 s
+#: with 100, 88 s with 500).
+MAX_PART_POOL = 100
+
+
+def _default_plant_config() -> MultibodyPlantConfig:
+    # 5 ms steps: SAP is built for large steps. CPU per simulated second of a
+    # fill_bin run: 362 ms at 2 ms, 204 at 4 ms (integral servo), then 214 -> 178
+    # from 4 to 5 ms (stateless servo); every outcome test stays green (no snap at
+    # attach, held-part drift, belt speed) and fill_bin succeeds for seeds 0-39,
+    # lecture7_conveyor_pick for 0-19. Commands (100 Hz) and cameras (10 Hz) fall
+    # on step boundaries. SAP is needed for the
+    # run-time constraints and the belt's velocity-controlled actuator; point
+    # contact is about 2.4x cheaper than hydroelastic here. Unsampled output
+    # ports (poses and contacts computed from the current state when read)
+    # spare every Python system a call each step: 10-12 % faster.
+    return MultibodyPlantConfig(
+        time_step=0.005,
+        discrete_contact_approximation="sap",
+        contact_model="point",
+        use_sampled_output_ports=False,
+    )
+
+
+@dataclass
+class Scenario:
+    """Everything that decides what the factory diagram contains."""
+
+    #: Short name (the file's stem when loaded from a file).
+    name: str = ""
+    description: str = ""
+    #: Another scenario this one starts from (a name or a path); see module doc.
+    base: str = ""
+    #: Seed of every random thing in the world (camera noise, spawner...).
+    seed: int = 0
+    plant_config: MultibodyPlantConfig = field(default_factory=_default_plant_config)
+    gravity: list[float] = field(default_factory=lambda: [0.0, 0.0, -9.8])
+    robots: list[RobotConfig] = field(default_factory=list)
+    cameras: list[LogicalCameraConfig] = field(default_factory=list)
+    bins: list[BinConfig] = field(default_factory=list)
+    #: Parts placed in the world at t = 0.
+    parts: list[PartConfig] = field(default_factory=list)
+    #: Parts pre-allocated for spawning (``object_k`` after the placed ones).
+    part_pool: int = 0
+    #: Edge length (m) and mass (kg) of the pool's parts (uniform cubes).
+    pool_part_size: float = 0.2
+    pool_part_mass: float = 0.2
+    spawner: Optional[SpawnerConfig] = None
+    #: The vacuum grippers' behaviour and backend (``weld`` or ``force``).
+    suction: SuctionConfig = field(default_factory=SuctionConfig)
+    #: A pick-and-place task for ``omtp-drake run``.
+    task: Optional[TaskConfig] = None
+    conveyor: Optional[ConveyorConfig] = None
+    break_beam: bool = False
+    deletion_wall: bool = False
+
+    def part_size(self, name: str) -> float:
+        """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
+        for part in self.parts:
+            if part.name == name:
+                return part.size
+        return self.pool_part_size
+
+    def required_task(self) -> TaskConfig:
+        """The scenario's task (ConfigError when it has none)."""
+        if self.task is None:
+            raise ConfigError(f"scenario {self.name!r} has no task to run")
+        return self.task
+
+    def robot(self, name: str) -> RobotConfig:
+        """The robot called ``name`` (the error lists the robots)."""
+        for robot in self.robots:
+            if robot.name == name:
+                return robot
+        raise UnknownNameError("robot", name, [r.name for r in self.robots])
+
+    def bin(self, name: str) -> BinConfig:
+        """The bin called ``name`` (the error lists the bins)."""
+        for b in self.bins:
+            if b.name == name:
+                return b
+        raise UnknownNameError("bin", name, [b.name for b in self.bins])
+
+    def validate(self) -> None:
+        """Raises :class:`ConfigError` for values no world can be built from, and
+        :class:`UnknownNameError` for a reference to something the scenario lacks."""
+        _check_finite("", self)
+        names: list[str] = []
+        for robot in self.robots:
+            if robot.model not in UR_MODELS:
+                raise UnknownNameError(f"model of {robot.name}", robot.model, UR_MODELS)
+            check_len(f"robots[{robot.name}].xy", robot.xy, 2)
+            check_in_cell(f"robots[{robot.name}].xy", [*robot.xy, 0.0])
+            if robot.pedestal_height <= 0:
+                raise ConfigError(
+                    f"robots[{robot.name}].pedestal_height must be > 0, got {robot.pedestal_height}"
+                )
+            check_rate(f"robots[{robot.name}].command_rate_hz", robot.command_rate_hz)
+            if not 0 < robot.joint_limit <= 2 * math.pi:
+                raise ConfigError(
+                    f"robots[{robot.name}].joint_limit must be in (0, 2 pi], got {robot.joint_limit}"
+                )
+            for gain in ("kp", "kd", "ki"):
+                if getattr(robot, gain) < 0:
+                    raise ConfigError(f"robots[{robot.name}].{gain} must be >= 0, got {getattr(robot, gain)}")
+            names += [robot.name, f"{robot.name}_pedestal"] + ([robot.gripper] if robot.gripper else [])
+        for camera in self.cameras:
+            camera.validate()
+            if camera.parent == "world":
+                check_in_cell(f"cameras[{camera.name}].xyz", camera.xyz)
+            names.append(camera.name)
+        for b in self.bins:
+            check_len(f"bins[{b.name}].xyz", b.xyz, 3)
+            check_in_cell(f"bins[{b.name}].xyz", b.xyz)
+            names.append(b.name)
+        for part in self.parts:
+            check_len(f"parts[{part.name}].xyz", part.xyz, 3)
+            check_len(f"parts[{part.name}].rpy", part.rpy, 3)
+            check_in_cell(f"parts[{part.name}].xyz", part.xyz)
+            if part.size <= 0 or part.mass <= 0:
+                raise ConfigError(
+                    f"parts[{part.name}] needs size > 0 and mass > 0, got {part.size}, {part.mass}"
+                )
+            names.append(part.name)
+        self.suction.validate()
+        if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
+            raise ConfigError(
+                f"pool parts need size > 0 and mass > 0, got {self.pool_part_size}, {self.pool_part_mass}"
+            )
+        if not 0 <= self.part_pool <= MAX_PART_POOL:
+            raise ConfigError(f"part_pool must be in [0, {MAX_PART_POOL}], got {self.part_pool}")
+        if self.spawner is not None:
+            self.spawner.validate()
+            check_in_cell("spawner.xyz", self.spawner.xyz)
+            if self.part_pool == 0:
+                raise ConfigError("a spawner needs parts: set part_pool > 0")
+        if self.conveyor is not None:
+            if not 0 <= self.conveyor.power <= 100:
+                raise ConfigError(f"conveyor.power must be in [0, 100], got {self.conveyor.power}")
+            if self.conveyor.stop_on_beam and not self.break_beam:
+                raise ConfigError("conveyor.stop_on_beam needs break_beam: true")
+        check_len("gravity", self.gravity, 3)
+        self._validate_plant_config()
+        if self.task is not None:
+            self._validate_task(self.task)
+        part_names = {part.name for part in self.parts}
+        dupes = sorted({n for n in names if names.count(n) > 1})
+        if dupes:
+            raise ConfigError(f"names must be unique in a scenario; repeated: {', '.join(dupes)}")
+        pool_like = [n for n in names if n not in part_names and re.fullmatch(r"object_\d+", n)]
+        if pool_like:
+            raise ConfigError(
+                f"name {pool_like[0]!r}: names object_<k> are the part pool's; only parts may take one"
+            )
+        taken = sorted(set(names) & set(RESERVED_NAMES))
+        if taken:
+            raise ConfigError(
+                f"name {taken[0]!r} is taken by the cell; reserved names: {', '.join(RESERVED_NAMES)}"
+            )
+        for n in names:
+            if not re.fullmatch(r"[A-Za-z][A-Za-z0-9_]*", n):
+                raise ConfigError(f"name {n!r} must be letters, digits and '_', starting with a letter")
+
+    def _validate_plant_config(self) -> None:
+        config = self.plant_config
+        if not MIN_TIME_STEP <= config.time_step <= 0.01:
+            raise ConfigError(
+                f"plant_config.time_step must be in [{MIN_TIME_STEP:g}, 0.01] s (a discrete plant), "
+                f"got {config.time_step}"
+            )
+        choices = {
+            "contact_model": ("point", "hydroelastic", "hydroelastic_with_fallback"),
+            "discrete_contact_approximation": ("sap", "lagged", "similar"),
+        }
+        for key, valid in choices.items():
+            if getattr(config, key) not in valid:
+                raise UnknownNameError(f"plant_config.{key}", getattr(config, key), valid)
+
+    def _validate_task(self, task: TaskConfig) -> None:
+        task.validate()
+        robots = {r.name: r for r in self.robots}
+        if task.robot not in robots:
+            raise UnknownNameError("task.robot", task.robot, robots)
+        robot = robots[task.robot]
+        if not robot.gripper:
+            raise ConfigError(f"task.robot {task.robot!r} has no gripper to pick with")
+        cameras = [c.name for c in self.cameras]
+        for key in ("camera", "bin_camera"):
+            value = getattr(task, key)
+            if (value or key == "camera") and value not in cameras:
+                raise UnknownNameError(f"task.{key}", value, cameras)
+        bins = [b.name for b in self.bins]
+        if task.bin not in bins:
+            raise UnknownNameError("task.bin", task.bin, bins)
+
+
+def _check_finite(path: str, value: Any) -> None:
+    """Every number anywhere in the scenario is finite."""
+    if isinstance(value, bool) or value is None or isinstance(value, str):
+        return
+    if isinstance(value, (int, float)):
+        if not math.isfinite(value):
+            raise ConfigError(f"{path or 'value'} = {value} is not a finite number")
+        return
+    if isinstance(value, (list, tuple, np.ndarray)):
+        for i, item in enumerate(value):
+            _check_finite(f"{path}[{_item_name(item, i)}]", item)
+        return
+    if dataclasses.is_dataclass(value):
+        for f in dataclasses.fields(value):
+            _check_finite(f"{path}.{f.name}" if path else f.name, getattr(value, f.name))
+        return
+    if isinstance(value, MultibodyPlantConfig):
+        for f in MultibodyPlantConfig.__fields__:
+            _check_finite(f"{path}.{f.name}", getattr(value, f.name))
+
+
+def _item_name(item: Any, index: int) -> str:
+    return getattr(item, "name", None) or str(index)
+
+
+# ----------------------------------------------------------------------------
+# Loading
+
+
+# ----------------------------------------------------------------------------
+# The schema check: every key known, every value of its field's type

@@ -1,0 +1,145 @@
+"""The package's shape: layers point one way and no module imports itself back.
+
+Every import counts: at module level, inside functions, and under
+``TYPE_CHECKING``. ``omtp_drake/__init__.py`` is the lazy facade over the
+layers (it imports nothing when loaded) and is left out.
+"""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "omtp_drake"
+
+#: Bottom to top: a unit imports only from a lower layer or from its own package.
+LAYERS = {
+    "errors": 0,
+    "assets": 1,
+    "scenario": 2,
+    "cell": 3,
+    "sim": 4,
+    "control": 4,
+    "viz": 5,
+    "tasks": 6,
+    "script": 6,
+    "batch": 7,
+    "ros": 8,
+    "demos": 8,
+    "benchmark": 8,
+    "cli": 9,
+}
+
+
+def _modules() -> dict[str, Path]:
+    found = {}
+    for path in sorted(PACKAGE.rglob("*.py")):
+        parts = path.relative_to(PACKAGE).with_suffix("").parts
+        if parts == ("__init__",):
+            continue
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        found["omtp_drake." + ".".join(parts)] = path
+    return found
+
+
+def _imports(path: Path, modules: dict[str, Path]) -> set[str]:
+    """The omtp_drake modules ``path`` imports (a name imported from a package
+    counts as that package, or as its submodule when it is one)."""
+    out = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Import):
+            out |= {a.name for a in node.names if a.name.startswith("omtp_drake.")}
+        elif isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("omtp_drake"):
+            for alias in node.names:
+                sub = f"{node.module}.{alias.name}"
+                out.add(sub if sub in modules else node.module)
+    return out
+
+
+def _unit(module: str) -> str:
+    return module.split(".")[1]
+
+
+def _graph() -> dict[str, set[str]]:
+    modules = _modules()
+    return {name: _imports(path, modules) - {name} for name, path in modules.items()}
+
+
+def test_every_unit_has_a_layer():
+    units = {_unit(m) for m in _modules()}
+    assert units <= set(LAYERS), f"units without a layer: {sorted(units - set(LAYERS))}"
+
+
+def test_layers_point_one_way():
+    wrong = []
+    for module, imported in _graph().items():
+        for target in imported:
+            if target == "omtp_drake":
+                wrong.append(f"{module} imports the facade omtp_drake (import from the unit instead)")
+                continue
+            a, b = _unit(module), _unit(target)
+            if a != b and LAYERS[b] >= LAYERS[a]:
+                wrong.append(f"{module} (layer {LAYERS[a]}) imports {target} (layer {LAYERS[b]})")
+    assert not wrong, "\n".join(sorted(wrong))
+
+
+def _circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Tarjan's strongly connected components; each of 2+ modules is a circle."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    circles: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph.get(v, ()):
+            if w not in graph:
+                continue
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                circles.append(sorted(component))
+
+    for v in graph:
+        if v not in index:
+            visit(v)
+    return circles
+
+
+def test_no_import_circle():
+    assert not _circles(_graph()), f"import circles: {_circles(_graph())}"
+
+
+def test_the_circle_check_finds_a_circle():
+    graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
+    assert _circles(graph) == [["a", "b", "c"]]
+
+
+@pytest.mark.parametrize("heavy", ["ompl", "pydrake", "matplotlib", "dask"])
+def test_importing_the_package_loads_nothing_heavy(heavy):
+    code = (
+        "import sys, omtp_drake\n"
+        f"loaded = [m for m in sys.modules if m == {heavy!r} or m.startswith({heavy!r} + '.')]\n"
+        "print(len(loaded))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "0"
