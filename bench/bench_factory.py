@@ -24,11 +24,11 @@ def main() -> None:
     args = parser.parse_args()
     logging.getLogger("drake").setLevel(logging.ERROR)
 
-    build_station("omtp_factory")  # warm the model cache and imports
+    build_station(load_scenario("omtp_factory"))  # warm the model cache and imports
     builds = []
     for _ in range(args.repeats):
         t = time.perf_counter()
-        build_station("omtp_factory")
+        build_station(load_scenario("omtp_factory"))
         builds.append(time.perf_counter() - t)
     print(f"diagram build time: median {statistics.median(builds):.3f} s "
           f"(min {min(builds):.3f}, max {max(builds):.3f}, n={args.repeats})")

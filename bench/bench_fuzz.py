@@ -1,6 +1,6 @@
 """The scenario/CLI fuzz test (tests/test_fuzz.py) with many more examples.
 
-Runs the property tests with OMTP_FUZZ_SCALE (default 20: 6000 documents through the
+Runs the property tests exploring new examples (OMTP_HYPOTHESIS=explore) with OMTP_FUZZ_SCALE (default 20: 6000 documents through the
 loader, 500 loaded and built and run for 50 ms, 400 through the CLI) and prints what
 pytest reports; a failure prints Hypothesis's smallest failing document.
 
@@ -20,7 +20,7 @@ def main() -> None:
     parser.add_argument("--scale", type=float, default=20.0)
     args = parser.parse_args()
     root = Path(__file__).resolve().parent.parent
-    env = dict(os.environ, OMTP_FUZZ_SCALE=str(args.scale))
+    env = dict(os.environ, OMTP_FUZZ_SCALE=str(args.scale), OMTP_HYPOTHESIS="explore")
     start = time.perf_counter()
     result = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
                              str(root / "tests" / "test_fuzz.py"), "-k", "loader or builds or cli"],

@@ -212,8 +212,8 @@ def measure(
     # The bare plants park the same pool as the full runs.
     fill, pick = prepare("fill_bin"), prepare("lecture7_conveyor_pick")
     say("diagram build")
-    build_station("fill_bin")  # warm the model cache and imports
-    station_build = _build_seconds(lambda: build_station("fill_bin"), max(3, repeats))
+    build_station(load_scenario("fill_bin"))  # warm the model cache and imports
+    station_build = _build_seconds(lambda: build_station(load_scenario("fill_bin")), max(3, repeats))
     task_build = _build_seconds(lambda: TaskRun(prepare("fill_bin")), max(3, repeats))
     results: list[TaskResult] = []
 

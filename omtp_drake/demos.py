@@ -13,7 +13,7 @@ from pydrake.systems.primitives import TrajectorySource
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.station import Station
-from omtp_drake.scenario import Scenario, load_scenario
+from omtp_drake.scenario import Scenario, as_scenario
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.viz.meshcat import save_recording, start_meshcat, start_recording
 
@@ -44,8 +44,7 @@ def named_pose_tour(
     """Both arms move through their named poses (Home, PreGrasp, Place, Home),
     in any scenario (its spawner, belt and grippers run as usual, vacuum off)."""
     t0 = time.perf_counter()
-    if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario)
+    scenario = as_scenario(scenario)
     robots = {r.name: r for r in scenario.robots}
     for robot in robots.values():
         arms.named_pose(tour[0], robot)  # a bad pose name: one clear error before building

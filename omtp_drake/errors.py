@@ -90,3 +90,18 @@ def check_duration(what: str, value: float) -> float:
     if not (value > 0 and math.isfinite(value)):
         raise ConfigError(f"{what} must be a finite time > 0 s, got {value!r}")
     return value
+
+
+def check_vector(what: str, value: Iterable[float], *, max_norm: float = math.inf) -> list[float]:
+    """``value`` as 3 finite numbers (of norm at most ``max_norm``), or ConfigError
+    naming ``what`` and what it got."""
+    try:
+        v = [float(x) for x in value]
+    except (TypeError, ValueError):
+        v = []
+    norm = math.sqrt(sum(x * x for x in v))
+    if len(v) != 3 or not all(math.isfinite(x) for x in v) or norm > max_norm:
+        limit = f" of at most {max_norm:g}" if math.isfinite(max_norm) else ""
+        shown = list(value) if isinstance(value, Iterable) else value
+        raise ConfigError(f"{what} needs 3 finite numbers{limit}, got {shown!r}")
+    return v

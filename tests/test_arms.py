@@ -11,7 +11,7 @@ from pydrake.systems.primitives import TrajectorySource
 from omtp_drake.cell import arms
 from omtp_drake.cell.station import build_station
 from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.scenario import RobotConfig
+from omtp_drake.scenario import RobotConfig, load_scenario
 
 DH = {  # classic UR standard DH: d1, a2, a3, d4, d5, d6
     "ur10": (0.1273, -0.612, -0.5723, 0.163941, 0.1157, 0.0922),
@@ -127,7 +127,7 @@ def test_arms_hold_home_under_gravity(factory):
 
 def test_commanded_move_settles():
     """A joint move Home -> Place (the course's named poses) settles within 1 mrad."""
-    factory = build_station("omtp_factory")  # embedded below: not the shared fixture
+    factory = build_station(load_scenario("omtp_factory"))  # embedded below: not the shared fixture
     builder = DiagramBuilder()
     builder.AddSystem(factory.diagram)
     end = 0.0

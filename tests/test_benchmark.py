@@ -11,7 +11,10 @@ from omtp_drake.tasks.run import prepare
 
 def test_table_says_which_targets_are_met():
     report = SpeedReport(
-        cases=(CaseTiming("fast case", bare=0.080, full=0.095), CaseTiming("slow case", bare=0.060, full=0.150)),
+        cases=(
+            CaseTiming("fast case", bare=0.080, full=0.095),
+            CaseTiming("slow case", bare=0.060, full=0.150),
+        ),
         station_build_s=0.21, task_build_s=0.62, cycles=(5.5, 6.2, 7.3), repeats=2)
     rows = {line.split("  ")[0].strip(): line for line in report.table().splitlines()}
     assert rows["fast case: wall ms per simulated s (RTF)"].rstrip().endswith("yes")

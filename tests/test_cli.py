@@ -37,9 +37,15 @@ def test_tf_echo_at_named_pose(capsys):
 
 @pytest.mark.parametrize("args, message", [
     (["tf-echo", "omtp_fctory", "world", "robot1_tool0"], "unknown scenario 'omtp_fctory'; valid: "),
-    (["tf-echo", "omtp_factory", "world", "robot1_tol0"], "unknown frame 'robot1_tol0'; closest: robot1_tool0"),
+    (
+        ["tf-echo", "omtp_factory", "world", "robot1_tol0"],
+        "unknown frame 'robot1_tol0'; closest: robot1_tool0",
+    ),
     (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot3=R1Up"], "unknown robot 'robot3'"),
-    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1=R1Upp"], "unknown named pose of robot1 'R1Upp'"),
+    (
+        ["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1=R1Upp"],
+        "unknown named pose of robot1 'R1Upp'",
+    ),
     (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1"], "--pose takes ROBOT=POSE"),
     (["screenshot", "no_such_replay.html"], "replay '"),
     (["screenshot", "no_such_replay.html", "--size", "1280"], "--size takes WIDTHxHEIGHT"),

@@ -2,6 +2,7 @@
 one function that initialises every Context."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -44,7 +45,7 @@ def test_every_context_is_initialised_by_one_function():
     from omtp_drake.cell.station import build_station
 
     rt = FactoryRuntime("lecture6_assignment4", auto_spawn=False)  # nothing spawned at t = 0
-    alone = build_station("lecture6_assignment4")
+    alone = build_station(load_scenario("lecture6_assignment4"))
     states = []
     for station, context in ((alone, alone.create_context()), (rt.station, rt.context)):
         plant_context = station.plant.GetMyContextFromRoot(context)
@@ -111,3 +112,21 @@ def test_ledger_names_where_each_part_is():
     assert rt.part_pose("stack_2").translation()[2] > 0.475 + 0.1  # above the rim
     assert ledger.parts["flying"].startswith("elsewhere:(-6.000, 0.000, 2.")
     assert ledger.elsewhere == 1 and ledger.balanced
+
+
+@pytest.mark.parametrize(
+    "call, words",
+    [
+        (lambda rt: rt.spawn_part(xyz=[-8.3, -1.2]), "xyz needs 3 finite numbers, got [-8.3, -1.2]"),
+        (lambda rt: rt.spawn_part(xyz=[0.0, math.nan, 1.0]), "spawn_part xyz needs 3 finite numbers"),
+        (lambda rt: rt.knock_part("object_1", [30.0, 0.0, 0.0]), "of at most 20, got [30.0, 0.0, 0.0]"),
+        (lambda rt: rt.move_bin("bin_1", [1.0, 2.0]), "move_bin xyz needs 3 finite numbers, got [1.0, 2.0]"),
+    ],
+)
+def test_services_refuse_a_position_or_velocity_that_is_not_three_finite_numbers(call, words):
+    rt = FactoryRuntime("lecture6_assignment4", auto_spawn=False)
+    rt.spawn_part()
+    before = rt.ledger().parts
+    with pytest.raises(ConfigError, match=re.escape(words)):
+        call(rt)
+    assert rt.ledger().parts == before  # nothing half done

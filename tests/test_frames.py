@@ -18,6 +18,7 @@ from omtp_drake.cell.frames import FrameTree
 from omtp_drake.cell.poses import PoseStamped, TransformStamped, detected_frame_name
 from omtp_drake.cell.station import build_station
 from omtp_drake.errors import ConfigError, FrameError, UnknownNameError
+from omtp_drake.scenario import load_scenario
 from omtp_drake.sim.tf import TfBuffer
 from omtp_drake.viz.tree import view_frames
 
@@ -42,7 +43,7 @@ def angle_between(R_a, R_b) -> float:
 @pytest.fixture(scope="module")
 def belt():
     """lecture6_assignment1 at rest at t = 0.5 s: (station, context, buffer)."""
-    station = build_station("lecture6_assignment1")
+    station = build_station(load_scenario("lecture6_assignment1"))
     context = station.create_context()
     simulator = Simulator(station.diagram, context)
     simulator.Initialize()
@@ -160,7 +161,7 @@ def falling():
     Returns (station, buffer, truth, short) with truth[t] = plant poses at t:
     (X_W_part, X_W_cup, X_cup_part), and ``short`` a buffer with cache_time 0.5.
     """
-    station = build_station("lecture6_assignment3")
+    station = build_station(load_scenario("lecture6_assignment3"))
     builder = DiagramBuilder()
     builder.AddSystem(station.diagram)
     robot2 = station.arm("robot2").config
@@ -287,7 +288,7 @@ def test_transform_pose_round_trip(falling):
 
 
 def test_monitor_records_every_period():
-    station = build_station("lecture6_assignment1")
+    station = build_station(load_scenario("lecture6_assignment1"))
     context = station.create_context()
     simulator = Simulator(station.diagram, context)
     buffer = TfBuffer(station)
@@ -301,7 +302,7 @@ def test_monitor_records_every_period():
 
 def test_detected_frame_exists_only_while_the_camera_sees_the_model():
     """Recorded before the camera's first sample, then seen, then moved out of view."""
-    station = build_station("lecture6_assignment1")
+    station = build_station(load_scenario("lecture6_assignment1"))
     context = station.create_context()
     buffer = TfBuffer(station)
     buffer.record(context)  # t = 0, the camera has not sampled yet

@@ -209,7 +209,10 @@ def _assert_refused(tmp_path, text, words):
 @pytest.mark.parametrize("text, words", [
     ("base: omtp_factory\nparts:\n  - {name: p, xyz: [.nan, 0, 1]}\n", ["parts[p].xyz[0]", "nan", "finite"]),
     ("base: omtp_factory\nparts:\n  - {name: p, xyz: [0, 0, -5]}\n", ["outside the cell", "z >= 0"]),
-    ("base: omtp_factory\nparts:\n  - {name: p, xyz: [1000000, 0, 1]}\n", ["outside the cell", "|x|, |y| <= 10"]),
+    (
+        "base: omtp_factory\nparts:\n  - {name: p, xyz: [1000000, 0, 1]}\n",
+        ["outside the cell", "|x|, |y| <= 10"],
+    ),
     ("base: lecture6_assignment4\nspawner: {xyz: [-8.3, -1.23, .inf]}\n", ["spawner.xyz", "inf", "finite"]),
     ("base: omtp_factory\ngravity: [0, 0, .nan]\n", ["gravity", "nan"]),
     ("base: omtp_factory\nrobots:\n  - {name: robot1, xy: [.nan, 1.8]}\n", ["robots[robot1].xy", "nan"]),

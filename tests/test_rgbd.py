@@ -81,7 +81,7 @@ def _signed_distance(hull: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
 
 
 def test_renderer_only_when_a_camera_asks(view):
-    plain = build_station("lecture6_assignment1")
+    plain = build_station(load_scenario("lecture6_assignment1"))
     assert plain.scene_graph.RendererCount() == 0
     assert not plain.diagram.HasOutputPort(f"{CAMERA}.color_image")
     assert view.station.scene_graph.RendererCount() == 1

@@ -30,7 +30,8 @@ def test_missing_file(tmp_path):
 def test_unknown_key_names_valid_keys(tmp_path):
     path = tmp_path / "bad.yaml"
     path.write_text("base: omtp_factory\nrobot: []\n")
-    with pytest.raises(ScenarioError, match=r"bad.yaml: unknown key 'robot' \(did you mean 'robots'\?\); valid keys: .*robots"):
+    words = r"bad.yaml: unknown key 'robot' \(did you mean 'robots'\?\); valid keys: .*robots"
+    with pytest.raises(ScenarioError, match=words):
         load_scenario(path)
 
 

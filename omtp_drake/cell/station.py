@@ -79,7 +79,7 @@ from omtp_drake.cell.suction import (
     declare_suction_constraints,
 )
 from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
+from omtp_drake.scenario import RobotConfig, Scenario
 
 _log = logging.getLogger(__name__)
 
@@ -418,17 +418,22 @@ def _filter_robot_collisions(
 
 
 def build_station(
-    scenario: Scenario | str,
+    scenario: Scenario,
     *,
     meshcat: Optional[Meshcat] = None,
 ) -> Station:
-    """Builds the factory diagram described by ``scenario`` (a Scenario, name or path).
+    """Builds the factory diagram described by ``scenario`` (validated here, once
+    per build; a name or path becomes a Scenario in
+    :func:`omtp_drake.scenario.load_scenario`).
 
     With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
     other systems, add ``station.diagram`` to a builder of your own.
     """
     if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario)
+        raise ConfigError(
+            f"build_station takes a Scenario, got {type(scenario).__name__} {scenario!r}; "
+            "load one first: build_station(load_scenario(name_or_path))"
+        )
     scenario.validate()
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlant(scenario.plant_config, builder)

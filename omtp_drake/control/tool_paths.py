@@ -433,20 +433,26 @@ class PickPlanner:
         X_up = RigidTransform(X_now.rotation(), [*X_now.translation()[:2], z_travel])
         X_over = RigidTransform(X_goal.rotation(), [*X_goal.translation()[:2], z_travel])
         segments: list[Segment] = []
-        for kind, X0, X1 in (
-            (SegmentKind.LINE, X_now, X_up),
-            (SegmentKind.ARC, X_up, X_over),
-            (SegmentKind.LINE, X_over, X_goal),
-        ):
-            if X0.IsNearlyEqualTo(X1, 1e-6):
+        # A leg shorter than 1 um is not moved on its own, but what it would have
+        # moved is not lost: the next leg starts where the last one ended, and the
+        # last leg ends at the goal, so the path ends exactly at X_goal.
+        X_from = X_now
+        for kind, X1 in ((SegmentKind.LINE, X_up), (SegmentKind.ARC, X_over), (SegmentKind.LINE, X_goal)):
+            if X_from.IsNearlyEqualTo(X1, 1e-6):
                 continue
-            following = self.move(kind, t, X0, X1)
+            following = self.move(kind, t, X_from, X1)
             if segments:
                 previous = segments[-1]
                 start = previous.t1 - _overlap(previous, following, blend_up, blend_down)
                 following = replace(following, t0=start)
             segments.append(following)
-        return Path(tuple(segments), blended=True) if segments else hold(t, X_goal)
+            X_from = X1
+        if not segments:
+            return hold(t, X_goal)
+        if X_from is not X_goal:  # the last leg ends within 1 um of the goal: end on it
+            last = segments[-1]
+            segments[-1] = replace(self.move(last.kind, t, last.X_start, X_goal), t0=last.t0)
+        return Path(tuple(segments), blended=True)
 
     def clearance_height(
         self, X_WBin: RigidTransform, bin_geometry: BinGeometry, held_size: float, points: list[np.ndarray]

@@ -13,8 +13,8 @@ import numpy as np
 from pydrake.common.schema import Transform
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake.assets import model_dimensions
-from omtp_drake.errors import MAX_RATE_HZ, ConfigError, check_rate
+from omtp_drake.assets import UR_MODELS, model_dimensions
+from omtp_drake.errors import MAX_RATE_HZ, ConfigError, UnknownNameError, check_rate
 
 #: The cell's floor: a square of this half width (m) about the world origin
 #: (the original's 20.1 m plane); nothing may start outside it or below it.
@@ -57,6 +57,23 @@ class RobotConfig:
     kp: float = 900.0
     kd: float = 60.0
     ki: float = 0.0
+
+    def validate(self) -> None:
+        """Raises :class:`ConfigError` (or :class:`UnknownNameError` for the model)
+        naming the field, its value and the valid range."""
+        where = f"robots[{self.name}]"
+        if self.model not in UR_MODELS:
+            raise UnknownNameError(f"model of {self.name}", self.model, UR_MODELS)
+        check_len(f"{where}.xy", self.xy, 2)
+        check_in_cell(f"{where}.xy", [*self.xy, 0.0])
+        if self.pedestal_height <= 0:
+            raise ConfigError(f"{where}.pedestal_height must be > 0, got {self.pedestal_height}")
+        check_rate(f"{where}.command_rate_hz", self.command_rate_hz)
+        if not 0 < self.joint_limit <= 2 * math.pi:
+            raise ConfigError(f"{where}.joint_limit must be in (0, 2 pi], got {self.joint_limit}")
+        for gain in ("kp", "kd", "ki"):
+            if getattr(self, gain) < 0:
+                raise ConfigError(f"{where}.{gain} must be >= 0, got {getattr(self, gain)}")
 
 
 #: Names of the cell's fixed models and Drake's own (a robot's pedestal is
@@ -117,6 +134,11 @@ class BinConfig:
             and g.floor_top < p_B[2] < g.height + 0.5
         )
 
+    def validate(self) -> None:
+        """Raises :class:`ConfigError` for a position that is not 3 numbers in the cell."""
+        check_len(f"bins[{self.name}].xyz", self.xyz, 3)
+        check_in_cell(f"bins[{self.name}].xyz", self.xyz)
+
     def rim_height(self) -> float:
         """World height of the bin's rim."""
         return self.xyz[2] + _BIN_GEOMETRY.height
@@ -137,6 +159,14 @@ class PartConfig:
     size: float = 0.2
     mass: float = 0.2
 
+    def validate(self) -> None:
+        """Raises :class:`ConfigError` naming the part, the bad field and its value."""
+        check_len(f"parts[{self.name}].xyz", self.xyz, 3)
+        check_len(f"parts[{self.name}].rpy", self.rpy, 3)
+        check_in_cell(f"parts[{self.name}].xyz", self.xyz)
+        if self.size <= 0 or self.mass <= 0:
+            raise ConfigError(f"parts[{self.name}] needs size > 0 and mass > 0, got {self.size}, {self.mass}")
+
 
 @dataclass
 class ConveyorConfig:
@@ -146,6 +176,10 @@ class ConveyorConfig:
     power: float = 0.0
     #: The course's helper: set the power to 0 when the break beam becomes broken.
     stop_on_beam: bool = False
+
+    def validate(self) -> None:
+        if not 0 <= self.power <= 100:
+            raise ConfigError(f"conveyor.power must be in [0, 100], got {self.power}")
 
 
 @dataclass

@@ -20,8 +20,7 @@ from typing import Any, Optional
 import numpy as np
 from pydrake.multibody.plant import MultibodyPlantConfig
 
-from omtp_drake.assets import UR_MODELS
-from omtp_drake.errors import ConfigError, UnknownNameError, check_rate
+from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario.camera import LogicalCameraConfig
 from omtp_drake.scenario.configs import (
     RESERVED_NAMES,
@@ -128,22 +127,7 @@ class Scenario:
         _check_finite("", self)
         names: list[str] = []
         for robot in self.robots:
-            if robot.model not in UR_MODELS:
-                raise UnknownNameError(f"model of {robot.name}", robot.model, UR_MODELS)
-            check_len(f"robots[{robot.name}].xy", robot.xy, 2)
-            check_in_cell(f"robots[{robot.name}].xy", [*robot.xy, 0.0])
-            if robot.pedestal_height <= 0:
-                raise ConfigError(
-                    f"robots[{robot.name}].pedestal_height must be > 0, got {robot.pedestal_height}"
-                )
-            check_rate(f"robots[{robot.name}].command_rate_hz", robot.command_rate_hz)
-            if not 0 < robot.joint_limit <= 2 * math.pi:
-                raise ConfigError(
-                    f"robots[{robot.name}].joint_limit must be in (0, 2 pi], got {robot.joint_limit}"
-                )
-            for gain in ("kp", "kd", "ki"):
-                if getattr(robot, gain) < 0:
-                    raise ConfigError(f"robots[{robot.name}].{gain} must be >= 0, got {getattr(robot, gain)}")
+            robot.validate()
             names += [robot.name, f"{robot.name}_pedestal"] + ([robot.gripper] if robot.gripper else [])
         for camera in self.cameras:
             camera.validate()
@@ -151,17 +135,10 @@ class Scenario:
                 check_in_cell(f"cameras[{camera.name}].xyz", camera.xyz)
             names.append(camera.name)
         for b in self.bins:
-            check_len(f"bins[{b.name}].xyz", b.xyz, 3)
-            check_in_cell(f"bins[{b.name}].xyz", b.xyz)
+            b.validate()
             names.append(b.name)
         for part in self.parts:
-            check_len(f"parts[{part.name}].xyz", part.xyz, 3)
-            check_len(f"parts[{part.name}].rpy", part.rpy, 3)
-            check_in_cell(f"parts[{part.name}].xyz", part.xyz)
-            if part.size <= 0 or part.mass <= 0:
-                raise ConfigError(
-                    f"parts[{part.name}] needs size > 0 and mass > 0, got {part.size}, {part.mass}"
-                )
+            part.validate()
             names.append(part.name)
         self.suction.validate()
         if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
@@ -176,8 +153,7 @@ class Scenario:
             if self.part_pool == 0:
                 raise ConfigError("a spawner needs parts: set part_pool > 0")
         if self.conveyor is not None:
-            if not 0 <= self.conveyor.power <= 100:
-                raise ConfigError(f"conveyor.power must be in [0, 100], got {self.conveyor.power}")
+            self.conveyor.validate()
             if self.conveyor.stop_on_beam and not self.break_beam:
                 raise ConfigError("conveyor.stop_on_beam needs break_beam: true")
         check_len("gravity", self.gravity, 3)

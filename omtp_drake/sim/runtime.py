@@ -37,8 +37,8 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.logical_camera import LogicalCameraImage
 from omtp_drake.cell.station import Station, build_station
 from omtp_drake.cell.suction import GripperState
-from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError, check_duration
-from omtp_drake.scenario import Scenario, check_in_cell, load_scenario
+from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError, check_duration, check_vector
+from omtp_drake.scenario import Scenario, as_scenario, check_in_cell
 from omtp_drake.sim.driver import AutoSpawner, Driver, loose_parts, spawn, world_edits
 from omtp_drake.sim.ledger import Ledger, take_ledger
 from omtp_drake.sim.pool import PartPool
@@ -98,8 +98,7 @@ class FactoryRuntime:
         extend: Optional[Extension] = None,
         auto_spawn: bool = True,
     ):
-        if not isinstance(scenario, Scenario):
-            scenario = load_scenario(scenario)
+        scenario = as_scenario(scenario)
         tick = check_duration("tick", tick)
         if tick > 1.0:
             raise ConfigError(f"tick must be in (0, 1] s, got {tick}")
@@ -243,11 +242,9 @@ class FactoryRuntime:
         """Fault injection: bin ``name`` jumps to ``xyz`` (its base, on the floor)
         turned ``yaw`` about world z; parts in it move with it."""
         X_old = self.bin_pose(name)
-        p = np.asarray(xyz, dtype=float)
-        if p.shape != (3,) or not np.all(np.isfinite(p)) or not math.isfinite(yaw):
-            raise ConfigError(
-                f"move_bin needs xyz as 3 finite numbers and a finite yaw, got {list(xyz)!r}, {yaw!r}"
-            )
+        p = check_vector("move_bin xyz", xyz)
+        if not math.isfinite(yaw):
+            raise ConfigError(f"move_bin yaw must be finite, got {yaw!r}")
         X_new = RigidTransform(RollPitchYaw(0.0, 0.0, yaw), p)
         X_move = X_new @ X_old.inverse()
         plant = self.station.plant
@@ -306,10 +303,7 @@ class FactoryRuntime:
         world (not in a bin) raises SimulationError.
         """
         if xyz is not None:
-            p = np.asarray(xyz, dtype=float).reshape(-1)
-            if p.shape != (3,) or not np.all(np.isfinite(p)):
-                raise ConfigError(f"spawn_part needs xyz as 3 finite numbers, got {list(xyz)!r}")
-            check_in_cell("spawn_part xyz", p.tolist())
+            check_in_cell("spawn_part xyz", check_vector("spawn_part xyz", xyz))
         if yaw is not None and not math.isfinite(yaw):
             raise ConfigError(f"spawn_part yaw must be finite, got {yaw!r}")
         spawner = self.scenario.spawner
@@ -329,11 +323,7 @@ class FactoryRuntime:
         """Fault injection: part ``name`` is knocked: it moves off at ``velocity``
         (m/s, world) and then slides, tumbles or falls as physics has it."""
         self.pool.check_in_world(self.context, name)
-        v = np.asarray(velocity, dtype=float).reshape(-1)
-        if v.shape != (3,) or not np.all(np.isfinite(v)) or np.linalg.norm(v) > 20.0:
-            raise ConfigError(
-                f"knock_part needs a velocity of 3 finite numbers of at most 20 m/s, got {list(velocity)!r}"
-            )
+        v = np.array(check_vector("knock_part velocity (m/s)", velocity, max_norm=20.0))
         plant = self.station.plant
         body = plant.GetBodyByName(name, self.station.parts[name])
         plant.SetFreeBodySpatialVelocity(self._plant_context, body, SpatialVelocity(np.zeros(3), v))

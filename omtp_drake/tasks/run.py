@@ -32,7 +32,7 @@ from omtp_drake.control.pick_and_place import (
     history_of,
 )
 from omtp_drake.errors import ConfigError, check_duration
-from omtp_drake.scenario import Scenario, load_scenario
+from omtp_drake.scenario import Scenario, as_scenario
 from omtp_drake.sim.ledger import Ledger
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.viz.meshcat import add_visual_extras, save_recording, start_meshcat, start_recording, view_for
@@ -132,8 +132,7 @@ def judge(picks: list[PickRecord], ledger: Ledger, bin_name: str, parts: int) ->
 
 def prepare(scenario: Scenario | str, *, seed: Optional[int] = None, parts: Optional[int] = None) -> Scenario:
     """The scenario with the run's overrides (seed, number of parts) applied."""
-    if not isinstance(scenario, Scenario):
-        scenario = load_scenario(scenario)
+    scenario = as_scenario(scenario)
     task = scenario.required_task()
     if seed is not None:
         scenario = replace(scenario, seed=int(seed))
@@ -153,8 +152,7 @@ def prepare(scenario: Scenario | str, *, seed: Optional[int] = None, parts: Opti
         scenario = replace(
             scenario, spawner=replace(scenario.spawner, max_parts=n), part_pool=max(scenario.part_pool, n + 2)
         )
-    scenario.validate()
-    return scenario
+    return scenario  # checked where the cell is built from it (build_station)
 
 
 class TaskRun:
