@@ -2,17 +2,18 @@
 
     python bench/bench_faults.py [--seeds 50] [--workers 2] [--out /tmp/faults]
 
-For ``fill_bin`` and ``lecture7_conveyor_pick``, every run gets four faults at
-random times (drawn from the run's seed, over the task's first 80 % of its
-nominal duration):
+For ``fill_bin`` and ``lecture7_conveyor_pick``, every run declares four faults
+in its scenario's ``faults:`` (omtp_drake.scenario.faults), drawn from the run's
+seed over the task's first 80 % of its nominal duration:
 
-- a vacuum failure of the task's robot (0.5 s), at the first moment from its
-  time on that the robot holds a part (so the part drops),
-- a blackout of the pick camera (1 s),
+- a vacuum failure of the task's robot (0.5 s) during its k-th hold of a part
+  (k random), 0-1 s after the attach (so the part drops),
+- a blackout of the pick camera (1 s) at a random time,
 - a belt stop (power 0, held for 2 s against the task's restart helper),
-- a spawned part knocked off its spot (0.5-1.5 m/s, a random horizontal
-  direction), at the first moment from its time on that a part rests on the
-  floor or the belt.
+- the part that came to rest last knocked off its spot (0.5-1.5 m/s, a random
+  horizontal direction) at a random time (nothing, if none rests then).
+
+Each run's result lists what each fault did (``TaskResult.faults``).
 
 Runs go through ``omtp_drake.batch.run_batch`` (Dask, local processes). Printed
 per scenario: runs; runs with every part accounted for (``TaskResult.accounted_for``:
@@ -27,15 +28,15 @@ import argparse
 import collections
 import logging
 import math
+from dataclasses import replace
 from typing import Optional
 
 import numpy as np
 
-from omtp_drake.batch.run import run_batch
+from omtp_drake.batch import run_batch
 from omtp_drake.errors import OmtpError
-from omtp_drake.scenario import Scenario
-from omtp_drake.sim.ledger import held_parts
-from omtp_drake.tasks.run import TaskResult, TaskRun, run_task
+from omtp_drake.scenario import FaultConfig, Scenario
+from omtp_drake.tasks import TaskResult, run_task
 
 _log = logging.getLogger("bench_faults")
 
@@ -43,52 +44,29 @@ _log = logging.getLogger("bench_faults")
 NOMINAL = {"fill_bin": 6.0, "lecture7_conveyor_pick": 9.0}
 
 
-def schedule(scenario: str, seed: int, parts: int) -> dict[str, float]:
-    """When each fault strikes in run ``seed`` (simulated seconds)."""
-    rng = np.random.default_rng([seed, 4242])
-    end = 0.8 * NOMINAL[scenario] * parts
-    return {fault: float(rng.uniform(1.0, end)) for fault in ("vacuum", "blackout", "belt_stop", "knock")}
+def schedule(scenario: Scenario) -> list[FaultConfig]:
+    """The run's four faults, as scenario data (drawn from the run's seed)."""
+    task = scenario.required_task()
+    rng = np.random.default_rng([scenario.seed, 4242])
+    end = 0.8 * NOMINAL[scenario.name] * task.parts
+    angle, speed = rng.uniform(0.0, 2 * math.pi), rng.uniform(0.5, 1.5)
+    return [
+        # The vacuum fails while the robot holds a part: during the k-th hold, after 0-1 s.
+        FaultConfig(name="vacuum", kind="vacuum_failure", robot=task.robot, event="holding",
+                    count=int(rng.integers(1, task.parts + 1)), after=float(rng.uniform(0.0, 1.0)),
+                    duration=0.5),
+        FaultConfig(name="blackout", kind="camera_blackout", camera=task.camera,
+                    at=float(rng.uniform(1.0, end)), duration=1.0),
+        FaultConfig(name="belt_stop", kind="belt_stop", at=float(rng.uniform(1.0, end)), duration=2.0),
+        # The part that came to rest last is knocked (nothing, if none rests then).
+        FaultConfig(name="knock", kind="part_knocked", at=float(rng.uniform(1.0, end)),
+                    velocity=[speed * math.cos(angle), speed * math.sin(angle), 0.0]),
+    ]
 
 
 def faulty_run(scenario: Scenario, duration: Optional[float]) -> TaskResult:
-    """``run_task`` with the four faults of :func:`schedule` injected (a batch run_fn)."""
-    task = scenario.required_task()
-    when = schedule(scenario.name, scenario.seed, task.parts)
-    rng = np.random.default_rng([scenario.seed, 77])
-    done: set[str] = set()
-
-    def belt_stop(rt) -> None:  # holds the belt at 0 for 2 s (the task's helper restarts it)
-        t0 = when["belt_stop"]
-        if rt.station.conveyor is not None and t0 <= rt.time <= t0 + 2.0:
-            if "belt_stop" not in done:
-                _log.info("t=%.2f belt stopped for 2 s", rt.time)
-                done.add("belt_stop")
-            rt.set_conveyor_power(0.0)
-
-    def start(run: TaskRun) -> None:
-        run.runtime.on_tick(belt_stop)
-        run.runtime.on_tick(lambda rt: inject(run))
-
-    def inject(run: TaskRun) -> None:
-        rt = run.runtime
-        if "vacuum" not in done and rt.time >= when["vacuum"] and task.robot in held_parts(rt.station, rt.context):
-            rt.fail_vacuum(task.robot, 0.5)
-            done.add("vacuum")
-            _log.info("t=%.2f vacuum of %s fails", rt.time, task.robot)
-        if "blackout" not in done and rt.time >= when["blackout"]:
-            rt.black_out_camera(task.camera, 1.0)
-            done.add("blackout")
-            _log.info("t=%.2f %s blacked out", rt.time, task.camera)
-        if "knock" not in done and rt.time >= when["knock"]:
-            loose = [n for n, place in rt.ledger().parts.items() if place in ("on_floor", "on_belt")]
-            if loose:  # otherwise: the next tick
-                angle = rng.uniform(0.0, 2 * math.pi)
-                speed = rng.uniform(0.5, 1.5)
-                rt.knock_part(loose[-1], [speed * math.cos(angle), speed * math.sin(angle), 0.0])
-                done.add("knock")
-                _log.info("t=%.2f %s knocked at %.2f m/s", rt.time, loose[-1], speed)
-
-    return run_task(scenario, duration=duration, on_start=start)
+    """``run_task`` with the four faults of :func:`schedule` declared in the scenario (a batch run_fn)."""
+    return run_task(replace(scenario, faults=schedule(scenario)), duration=duration)
 
 
 def main() -> None:
@@ -115,6 +93,9 @@ def main() -> None:
         print(f"  every part accounted for: {len(ok)}/{len(records)}"
               f" (not: seeds {[r.seed for r in finished if not r.result.accounted_for] or 'none'})")
         print(f"  succeeded: {sum(r.success for r in records)}/{len(records)}")
+        struck = collections.Counter(f["name"] for r in finished for f in r.result.faults)
+        dropped = sum(1 for r in finished for f in r.result.faults if f["effect"].get("dropped"))
+        print(f"  faults struck: {dict(struck) or 'none'}; parts dropped by the vacuum failure: {dropped}")
         print(f"  failed pick attempts by reason: {dict(picks) or 'none'}")
         print(f"  runs not succeeding, by reason: {dict(runs) or 'none'}")
         cycles = [p.cycle_time for r in finished for p in r.result.picks if p.success]

@@ -18,6 +18,7 @@ from omtp_drake.scenario.configs import (
     TaskConfig,
     check_in_cell,
 )
+from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.loader import (
     as_scenario,
     closest_name,
@@ -34,6 +35,7 @@ __all__ = [
     "BinConfig",
     "BinGeometry",
     "ConveyorConfig",
+    "FaultConfig",
     "LogicalCameraConfig",
     "PartConfig",
     "RobotConfig",

@@ -126,14 +126,34 @@ def _read_yaml(path: Path) -> dict:
     except (OSError, UnicodeDecodeError) as e:
         raise ScenarioError(f"{path}: cannot be read ({e})") from None
     if raw is None:
-        return {}
+        raise ScenarioError(
+            f"{path}: the file is empty; a scenario needs keys (start it with: base: omtp_factory)"
+        )
     if not isinstance(raw, dict):
         raise ScenarioError(f"{path}: a scenario must be a mapping of keys, got {type(raw).__name__}")
+    _check_unique_names(raw, path)
     return raw
 
 
+def _check_unique_names(raw: dict, path: Path) -> None:
+    """A name given twice in one list of one file is an error (merging by name is
+    for an item of a ``base:`` and the file that changes it)."""
+    for key in _NAMED_LISTS:
+        items = raw.get(key)
+        if isinstance(items, _Tagged):
+            items = items.value
+        if not isinstance(items, list):
+            continue
+        names = [x["name"] for x in items if isinstance(x, dict) and isinstance(x.get("name"), str)]
+        repeated = sorted({n for n in names if names.count(n) > 1})
+        if repeated:
+            raise ScenarioError(
+                f"{path}: {key}: name {repeated[0]!r} is given twice; names in a list must be unique"
+            )
+
+
 #: The lists that merge item by item by ``name`` (see module doc).
-_NAMED_LISTS = ("robots", "cameras", "bins", "parts")
+_NAMED_LISTS = ("robots", "cameras", "bins", "parts", "faults")
 
 
 def _merge(base: Any, child: Any, key: str = "") -> Any:

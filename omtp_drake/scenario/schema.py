@@ -33,6 +33,7 @@ from omtp_drake.scenario.configs import (
     check_in_cell,
     check_len,
 )
+from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.suction import SuctionConfig
 
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
@@ -93,6 +94,8 @@ class Scenario:
     conveyor: Optional[ConveyorConfig] = None
     break_beam: bool = False
     deletion_wall: bool = False
+    #: What goes wrong in a run, and when (see :mod:`omtp_drake.scenario.faults`).
+    faults: list[FaultConfig] = field(default_factory=list)
 
     def part_size(self, name: str) -> float:
         """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
@@ -160,6 +163,7 @@ class Scenario:
         self._validate_plant_config()
         if self.task is not None:
             self._validate_task(self.task)
+        self._validate_faults()
         part_names = {part.name for part in self.parts}
         dupes = sorted({n for n in names if names.count(n) > 1})
         if dupes:
@@ -192,6 +196,35 @@ class Scenario:
         for key, valid in choices.items():
             if getattr(config, key) not in valid:
                 raise UnknownNameError(f"plant_config.{key}", getattr(config, key), valid)
+
+    def _validate_faults(self) -> None:
+        seen: set[str] = set()
+        grippers = [r.name for r in self.robots if r.gripper]
+        parts = [p.name for p in self.parts] + [
+            f"object_{k}" for k in range(1, len(self.parts) + self.part_pool + 1)
+        ]
+        known = {
+            "robot": [r.name for r in self.robots],
+            "camera": [c.name for c in self.cameras],
+            "bin": [b.name for b in self.bins],
+            "part": parts,
+        }
+        for fault in self.faults:
+            fault.validate()
+            where = f"faults[{fault.name}]"
+            if fault.name in seen:
+                raise ConfigError(f"fault names must be unique; repeated: {fault.name}")
+            seen.add(fault.name)
+            for key, valid in known.items():
+                value = getattr(fault, key)
+                if value and value not in valid:
+                    raise UnknownNameError(f"{where}.{key}", value, valid)
+            if fault.kind == "vacuum_failure" and fault.robot not in grippers:
+                raise UnknownNameError(f"{where}.robot (a robot with a gripper)", fault.robot, grippers)
+            if fault.kind == "belt_stop" and self.conveyor is None:
+                raise ConfigError(f"{where}: belt_stop needs the scenario's conveyor")
+            if fault.event == "beam" and not self.break_beam:
+                raise ConfigError(f"{where}: event beam needs break_beam: true")
 
     def _validate_task(self, task: TaskConfig) -> None:
         task.validate()

@@ -40,6 +40,7 @@ from omtp_drake.cell.suction import GripperState
 from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError, check_duration, check_vector
 from omtp_drake.scenario import Scenario, as_scenario, check_in_cell
 from omtp_drake.sim.driver import AutoSpawner, Driver, loose_parts, spawn, world_edits
+from omtp_drake.sim.faults import FaultInjector
 from omtp_drake.sim.ledger import Ledger, take_ledger
 from omtp_drake.sim.pool import PartPool
 
@@ -130,6 +131,10 @@ class FactoryRuntime:
             spawner.enabled = auto_spawn
         self._spawner = spawner
         self.driver = Driver(self.diagram, self.context, edits)
+        #: The scenario's faults as they strike (None when it declares none).
+        self.faults = FaultInjector(self, scenario.faults) if scenario.faults else None
+        if self.faults is not None:
+            self.driver.every(self.faults.period, self.faults)
 
     # ------------------------------------------------------------------ time
 

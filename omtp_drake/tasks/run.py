@@ -16,7 +16,7 @@ import logging
 import math
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Optional
 
@@ -53,6 +53,8 @@ class TaskResult:
     wall_time_s: float
     bin: str
     parts: int
+    #: The scenario's faults that struck (FaultReport.to_dict: what, when, the effect).
+    faults: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def summary(self) -> dict:
@@ -97,6 +99,7 @@ class TaskResult:
             "picks": [p.to_dict() for p in self.picks],
             "summary": self.summary,
             "ledger": self.ledger.to_dict(),
+            "faults": self.faults,
         }
 
     @classmethod
@@ -113,6 +116,7 @@ class TaskResult:
             wall_time_s=summary["wall_time_s"],
             bin=bin,
             parts=summary["parts"],
+            faults=list(data.get("faults", [])),
         )
 
 
@@ -280,4 +284,5 @@ def run_task(
         wall_time_s=wall,
         bin=task.bin,
         parts=n,
+        faults=[r.to_dict() for r in rt.faults.reports] if rt.faults is not None else [],
     )
