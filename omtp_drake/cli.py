@@ -11,10 +11,11 @@ import argparse
 import json
 import logging
 import math
+import re
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NoReturn
 
 import numpy as np
 
@@ -494,10 +495,29 @@ def _add_batch_command(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_batch)
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse whose errors are one line (exit 2), like every other error of the CLI."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+
+def _values_that_look_like_options(argv: Sequence[str]) -> list[str]:
+    """``--seeds -1:3`` as ``--seeds=-1:3``: a value that starts with a minus sign and
+    a digit is the option's value (argparse would take it for an option and print its
+    usage), so the option's own check can say what is wrong with it."""
+    out: list[str] = []
+    for token in argv:
+        previous = out[-1] if out else ""
+        if re.match(r"-[0-9.]", token) and previous.startswith("--") and "=" not in previous:
+            out[-1] = f"{previous}={token}"
+        else:
+            out.append(token)
+    return out
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="omtp-drake", description="The OMTP factory cell simulated with Drake."
-    )
+    parser = _Parser(prog="omtp-drake", description="The OMTP factory cell simulated with Drake.")
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = parser.add_subparsers(dest="command", required=True)
     _add_task_commands(sub)
@@ -510,7 +530,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_values_that_look_like_options(sys.argv[1:] if argv is None else argv))
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s"
     )

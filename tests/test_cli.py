@@ -49,6 +49,13 @@ def test_tf_echo_at_named_pose(capsys):
     (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1"], "--pose takes ROBOT=POSE"),
     (["screenshot", "no_such_replay.html"], "replay '"),
     (["screenshot", "no_such_replay.html", "--size", "1280"], "--size takes WIDTHxHEIGHT"),
+    # Ranges and values name the option the user wrote, in one line (no usage text).
+    (["batch", "lecture6_assignment4", "--seeds", "-1:3"], "--seeds '-1:3' is an empty range; valid: START:STOP"),
+    (["run", "lecture6_assignment4", "--seed", "-1"], "--seed must be an integer >= 0, got -1"),
+    (["run", "lecture6_assignment4", "--parts", "x"], "argument --parts: invalid int value: 'x'"),
+    (["run", "lecture6_assignment4", "--parts", "0"], "--parts must be >= 1, got 0"),
+    (["run", "lecture6_assignment4", "--duration", "-5"], "--duration must be a finite time > 0 s, got -5.0"),
+    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--time", "-1"], "--time -1.0 is invalid"),
 ])
 def test_errors_are_one_line_without_traceback(args, message):
     result = run(*args)
@@ -95,3 +102,25 @@ def test_tf_echo_reports_the_state_at_the_time_asked(capsys):
                  "--time", "0.1", "--json"]) == 0
     seen = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(seen["translation"], rt.part_pose("object_1").translation(), atol=1e-9)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("", "the file is empty; a scenario needs keys"),
+    ("# only a comment\n", "the file is empty; a scenario needs keys"),
+    (
+        "base: omtp_factory\nparts:\n  - {name: p, xyz: [0, 0, 1]}\n  - {name: p, xyz: [1, 0, 1]}\n",
+        "parts: name 'p' is given twice; names in a list must be unique",
+    ),
+    (
+        "base: omtp_factory\ncameras:\n  - {name: logical_camera_1, near: 0.3}\n  - {name: logical_camera_1}\n",
+        "cameras: name 'logical_camera_1' is given twice",
+    ),
+    ("base: omtp_factory\nseed: -3\n", "seed must be an integer >= 0, got -3"),
+])
+def test_scenario_files_that_are_refused_in_one_line(tmp_path, text, message):
+    path = tmp_path / "mine.yaml"
+    path.write_text(text)
+    result = run("tf-echo", str(path), "world", "robot1_tool0")
+    assert result.returncode == 2
+    assert message in result.stderr
+    assert result.stderr.count("\n") == 1

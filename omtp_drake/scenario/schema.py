@@ -128,6 +128,8 @@ class Scenario:
         """Raises :class:`ConfigError` for values no world can be built from, and
         :class:`UnknownNameError` for a reference to something the scenario lacks."""
         _check_finite("", self)
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ConfigError(f"seed must be an integer >= 0, got {self.seed!r}")
         names: list[str] = []
         for robot in self.robots:
             robot.validate()

@@ -139,6 +139,8 @@ def prepare(scenario: Scenario | str, *, seed: Optional[int] = None, parts: Opti
     scenario = as_scenario(scenario)
     task = scenario.required_task()
     if seed is not None:
+        if isinstance(seed, bool) or int(seed) != seed or seed < 0:
+            raise ConfigError(f"--seed must be an integer >= 0, got {seed!r}")
         scenario = replace(scenario, seed=int(seed))
     if parts is not None:
         if parts < 1:
