@@ -31,7 +31,7 @@ from typing import Optional
 
 import numpy as np
 
-from omtp_drake.batch.run import run_batch
+from omtp_drake.batch import run_batch
 from omtp_drake.errors import OmtpError
 from omtp_drake.scenario import Scenario
 from omtp_drake.sim.ledger import held_parts
