@@ -455,7 +455,7 @@ def build_station(
             exclude=[models.cameras[cam.name], models.floor],
             seed=scenario.seed,
         )
-        builder.ExportOutput(cameras[cam.name].GetOutputPort("image"), f"{cam.name}.image")
+        builder.ExportOutput(cameras[cam.name].image_output_port(), f"{cam.name}.image")
         if cam.rgbd:
             _add_rgbd_view(builder, plant, scene_graph, cameras[cam.name])
 
