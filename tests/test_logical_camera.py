@@ -431,7 +431,7 @@ def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None
     R_CB = np.array([X.rotation().matrix() for X in poses])
     answers = overlap.overlaps(p_CB, R_CB, np.array(sizes) / 2)
     assert answers.tolist() == expected
-    centre_inside = int((overlap._face_distances(p_CB) <= 0).all(axis=1).sum())
+    centre_inside = int((overlap.face_distances(p_CB) <= 0).all(axis=1).sum())
     decided_by_vertex = sum(expected) - sum(full_answers) - centre_inside
     assert decided_by_vertex > 20
     assert full_answers.count(True) > 5 and full_answers.count(False) > 5

@@ -103,7 +103,7 @@ class FrustumOverlap:
         Returns:
             (n,) bool.
         """
-        distance = self._face_distances(p_CB)
+        distance = self.face_distances(p_CB)
         radius = (np.abs(self._face_normals @ R_CB) @ half[:, :, None])[:, :, 0]
         result = (distance <= 0).all(axis=1)
         undecided = np.flatnonzero(~(result | (distance > radius).any(axis=1)))
@@ -115,14 +115,14 @@ class FrustumOverlap:
             R = R_CB[undecided]
             toward = np.sign((normal[:, None, :] @ R)[:, 0, :])  # +-1 per box axis
             vertex = p_CB[undecided] - (R @ (toward * half[undecided])[:, :, None])[:, :, 0]
-            inside = (self._face_distances(vertex) <= 0).all(axis=1)
+            inside = (self.face_distances(vertex) <= 0).all(axis=1)
             result[undecided[inside]] = True
             rest = undecided[~inside]
             if len(rest):
                 result[rest] = self.not_separated_by_edges_or_box(p_CB[rest], R_CB[rest], half[rest])
         return result
 
-    def _face_distances(self, p_C: np.ndarray) -> np.ndarray:
+    def face_distances(self, p_C: np.ndarray) -> np.ndarray:
         """n_k . p - b_k for points p (n, 3) in C and the six faces (near, far,
         +y, -y, +z, -z): (n, 6), > 0 where p is outside that face."""
         return p_C @ self._face_normals.T - self._face_offsets
