@@ -14,7 +14,7 @@ given by its scheduler's address (``dask scheduler`` / ``dask worker``)::
 
 The plan (every run, checked) comes from :mod:`omtp_drake.batch.sweep`; each run
 goes to its worker's sandbox (:mod:`omtp_drake.batch.sandbox`), so a run that
-raises, hangs or crashes becomes a :class:`RunRecord` of status ``error``,
+raises, hangs or crashes becomes a :class:`~omtp_drake.batch.records.RunRecord` of status ``error``,
 ``timeout`` or ``crashed``, is retried once on another worker, and the batch
 goes on. Results go to ``out`` (:mod:`omtp_drake.batch.store`).
 """

@@ -29,7 +29,7 @@ from typing import Optional, Union
 import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform
-from pydrake.systems.framework import Context, DiscreteValues, LeafSystem
+from pydrake.systems.framework import Context, DiscreteValues, LeafSystem, OutputPort
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
@@ -75,9 +75,15 @@ class _Command:
 class ArmCommander(LeafSystem):
     """Feeds an arm's position servo with a joint trajectory that a script sets.
 
-    Output port ``position`` (vector, 6): the trajectory sampled at
-    ``rate_hz`` (the servo's command rate) and held, so the servo reads a
-    cached value between samples (no Python per plant step).
+    .. pydrake_system::
+
+        name: ArmCommander
+        output_ports:
+        - position
+
+    Output port ``position`` (vector, 6, :meth:`position_output_port`): the
+    trajectory sampled at ``rate_hz`` (the servo's command rate) and held, so
+    the servo reads a cached value between samples (no Python per plant step).
 
     State: abstract, the command (:class:`_Command`: a trajectory and its start
     time, or a position to hold); discrete, the sampled position. A script sets a
@@ -90,9 +96,13 @@ class ArmCommander(LeafSystem):
         q0 = arms.named_pose(robot.initial_pose, robot)
         self._command = self.DeclareAbstractState(AbstractValue.Make(_Command(q0)))
         self._q = self.DeclareDiscreteState(q0)
-        self.DeclareStateOutputPort("position", self._q)
+        self._position_port = self.DeclareStateOutputPort("position", self._q)
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / robot.command_rate_hz, 0.0, self._sample)
         self.DeclareInitializationDiscreteUpdateEvent(self._sample)
+
+    def position_output_port(self) -> OutputPort:
+        """The ``position`` output: the sampled joint positions for the arm's servo."""
+        return self._position_port
 
     def _sample(self, context: Context, discrete_state: DiscreteValues) -> None:
         command: _Command = context.get_abstract_state(self._command).get_value()
@@ -271,7 +281,8 @@ class _ArmMotion:
 
 
 class Arm:
-    """One arm of the cell, MoveIt-commander style. Get it from :meth:`Cell.arm`."""
+    """One arm of the cell, MoveIt-commander style. Get it from
+    :meth:`~omtp_drake.script.cell.Cell.arm`."""
 
     def __init__(self, runtime: FactoryRuntime, tf: TfBuffer, name: str, commander: ArmCommander):
         self._runtime = runtime

@@ -88,7 +88,7 @@ class Cell:
             for name, handles in station.arms.items():
                 commanders[name] = builder.AddSystem(ArmCommander(handles.config))
                 builder.Connect(
-                    commanders[name].get_output_port(), station.diagram.GetInputPort(f"{name}.position")
+                    commanders[name].position_output_port(), station.diagram.GetInputPort(f"{name}.position")
                 )
 
         self.runtime = FactoryRuntime(

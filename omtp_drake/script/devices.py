@@ -34,7 +34,7 @@ def wait_until(
 
 class Gripper:
     """A vacuum gripper (the course's ``/gripperN/control`` service). Get it from
-    :meth:`Cell.gripper`."""
+    :meth:`~omtp_drake.script.cell.Cell.gripper`."""
 
     def __init__(self, runtime: FactoryRuntime, robot: str):
         self._runtime = runtime
@@ -68,7 +68,7 @@ class Gripper:
 
 
 class Camera:
-    """A logical camera. Get it from :meth:`Cell.camera`."""
+    """A logical camera. Get it from :meth:`~omtp_drake.script.cell.Cell.camera`."""
 
     def __init__(self, runtime: FactoryRuntime, name: str):
         self._runtime = runtime
