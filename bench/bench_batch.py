@@ -1,4 +1,4 @@
-"""Benchmark of batch evaluation on Dask (omtp_drake.batch.run).
+"""Benchmark of batch evaluation on Dask (omtp_drake.batch).
 
     python bench/bench_batch.py [--runs 8] [--trivial 200] [--scenario lecture6_assignment4]
 
@@ -108,7 +108,7 @@ def main() -> None:
     print(f"one run in-process: {inproc:.2f} s wall; peak RSS of this process {peak_mb:.0f} MB")
 
     # The child per run alone (runner already started): fork, run, answer.
-    sandbox = batch._Sandbox()
+    sandbox = batch.Sandbox()
     sandbox.call(noop, (0,), None)
     n = 50
     start = time.perf_counter()

@@ -42,7 +42,8 @@ from pydrake.geometry import ClippingRange, ColorRenderCamera, QueryObject, Rend
 from pydrake.math import RigidTransform  # noqa: E402
 from pydrake.systems.framework import Context  # noqa: E402
 
-from omtp_drake.cell.logical_camera import OCCLUSION_GRID, X_CameraOptical  # noqa: E402
+from omtp_drake.cell.camera_geometry import OCCLUSION_GRID  # noqa: E402
+from omtp_drake.cell.logical_camera import X_CameraOptical  # noqa: E402
 from omtp_drake.cell.rgbd import RENDERER_NAME, camera_info  # noqa: E402
 from omtp_drake.cell.station import Station, build_station  # noqa: E402
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario  # noqa: E402

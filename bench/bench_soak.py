@@ -22,7 +22,7 @@ import argparse
 import logging
 from typing import Optional
 
-from omtp_drake.batch.run import format_summary, run_batch, summarize
+from omtp_drake.batch import format_summary, run_batch, summarize
 from omtp_drake.control.pick_and_place import Mode
 from omtp_drake.scenario import Scenario
 from omtp_drake.tasks.run import TaskResult, TaskRun, run_task

@@ -183,7 +183,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 def cmd_batch(args: argparse.Namespace) -> int:
     """``omtp-drake batch``: exit 0 when every run succeeded, 1 otherwise."""
-    from omtp_drake.batch.run import format_summary, parse_seeds, parse_sets, run_batch, summarize
+    from omtp_drake.batch import format_summary, parse_seeds, parse_sets, run_batch, summarize
 
     seeds = parse_seeds(args.seeds)
     sweep = parse_sets(args.set)

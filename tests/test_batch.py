@@ -1,4 +1,4 @@
-"""Batch evaluation on Dask (omtp_drake.batch.run): the same results as serial runs,
+"""Batch evaluation on Dask (omtp_drake.batch): the same results as serial runs,
 a real scheduler and workers, faults recorded and retried, resume, bad input.
 
 Runs are lecture 6 assignment 4 with one part (~2 s of wall each) or shorter.

@@ -397,18 +397,18 @@ def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None
     """Boxes straddling the frustum's faces, edges and corners: each answer equals the
     LP's, and all three stages decide some (centre or face normals; a vertex inside;
     the 21 edge and box axes, with both answers)."""
-    from omtp_drake.cell import logical_camera
+    from omtp_drake.cell.camera_geometry import FrustumOverlap
 
-    overlap = logical_camera._FrustumOverlap(LogicalCameraConfig(name="c"))
+    overlap = FrustumOverlap(LogicalCameraConfig(name="c"))
     full_answers: list[bool] = []
-    full_test = overlap._not_separated_by_edges_or_box
+    full_test = overlap.not_separated_by_edges_or_box
 
     def spy(*args):
         answer = full_test(*args)
         full_answers.extend(answer.tolist())
         return answer
 
-    monkeypatch.setattr(overlap, "_not_separated_by_edges_or_box", spy)
+    monkeypatch.setattr(overlap, "not_separated_by_edges_or_box", spy)
     rng = np.random.default_rng(7)
     # Points on the frustum's boundary: its 8 corners and the middles of its 12 edges.
     corners = np.array([[d, sy * d * TY, sz * d * TZ] for d in (NEAR, FAR)
@@ -431,7 +431,7 @@ def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None
     R_CB = np.array([X.rotation().matrix() for X in poses])
     answers = overlap.overlaps(p_CB, R_CB, np.array(sizes) / 2)
     assert answers.tolist() == expected
-    centre_inside = int((overlap._face_distances(p_CB) <= 0).all(axis=1).sum())
+    centre_inside = int((overlap.face_distances(p_CB) <= 0).all(axis=1).sum())
     decided_by_vertex = sum(expected) - sum(full_answers) - centre_inside
     assert decided_by_vertex > 20
     assert full_answers.count(True) > 5 and full_answers.count(False) > 5

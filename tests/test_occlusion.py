@@ -233,7 +233,7 @@ def test_each_shape_becomes_a_tight_polytope(tmp_path):
     from pydrake.geometry import Box, Capsule, Convex, Cylinder, Ellipsoid, HalfSpace, SceneGraph, Sphere
     from pydrake.multibody.plant import MultibodyPlant
 
-    from omtp_drake.cell.logical_camera import _slabs_in_geometry_frame
+    from omtp_drake.cell.camera_geometry import slabs_in_geometry_frame
 
     vertices = np.array([[0.3, 0, 0], [-0.1, 0, 0], [0, 0.2, 0], [0, -0.2, 0], [0, 0, 0.1],
                          [0.05, 0.05, -0.25]])
@@ -251,7 +251,7 @@ def test_each_shape_becomes_a_tight_polytope(tmp_path):
     inspector = scene_graph.model_inspector()
     rng = np.random.default_rng(3)
     for shape, geometry_id in zip(shapes, ids):
-        n, d_plus, d_minus = _slabs_in_geometry_frame(inspector, geometry_id)
+        n, d_plus, d_minus = slabs_in_geometry_frame(inspector, geometry_id)
         assert np.allclose(np.linalg.norm(n, axis=1), 1)
         if isinstance(shape, HalfSpace):
             assert np.allclose(n, [[0, 0, 1]]) and d_plus[0] == 0 and np.isinf(d_minus[0])

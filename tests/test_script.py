@@ -1,4 +1,4 @@
-"""The scripting layer (omtp_drake.script.cell): moves, guards, errors, tf and the services."""
+"""The scripting layer (omtp_drake.script): moves, guards, errors, tf and the services."""
 
 import numpy as np
 import pytest

@@ -13,9 +13,9 @@ from pydrake.systems.framework import DiagramBuilder
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.cell.suction import (
+from omtp_drake.cell.suction import GripperState
+from omtp_drake.cell.suction_holds import (
     ForceSuctionGripper,
-    GripperState,
     add_suction_gripper,
     connect_spatial_forces,
     declare_suction_constraints,

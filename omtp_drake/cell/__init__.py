@@ -4,8 +4,8 @@ Lives here: the station (``station.build_station``: the whole cell as one diagra
 the UR arms and their servo (``arms``), belt and break beam (``conveyor``), part
 poses (``parts``), named frames (``frames``) and stamped poses (``poses``), the
 logical camera (``logical_camera``, its overlap and occlusion tests in
-``camera_geometry``), the RGB-D view (``rgbd``), the vacuum gripper (``suction``)
-and its test rig (``suction_rig``).
+``camera_geometry``), the RGB-D view (``rgbd``), the vacuum gripper's attach rule
+(``suction``), its two holds (``suction_holds``) and its test rig (``suction_rig``).
 
 May import: ``omtp_drake.scenario``, ``omtp_drake.errors``, ``omtp_drake.assets``.
 """

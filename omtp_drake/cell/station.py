@@ -70,9 +70,9 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import X_W_CONVEYOR, BeltGeometry, BreakBeam, ConveyorBelt
 from omtp_drake.cell.logical_camera import LogicalCamera, add_logical_camera
 from omtp_drake.cell.parts import parking_pose
-from omtp_drake.cell.suction import (
+from omtp_drake.cell.suction import SuctionGripper
+from omtp_drake.cell.suction_holds import (
     SuctionConstraints,
-    SuctionGripper,
     WeldSuctionGripper,
     add_suction_gripper,
     connect_spatial_forces,
@@ -460,7 +460,7 @@ def build_station(
             exclude=[models.cameras[cam.name], models.floor],
             seed=scenario.seed,
         )
-        builder.ExportOutput(cameras[cam.name].GetOutputPort("image"), f"{cam.name}.image")
+        builder.ExportOutput(cameras[cam.name].image_output_port(), f"{cam.name}.image")
         if cam.rgbd:
             _add_rgbd_view(builder, plant, scene_graph, cameras[cam.name])
 
@@ -598,7 +598,7 @@ def _add_grippers(
         grippers[name] = add_suction_gripper(
             builder, plant, cup, part_bodies, scenario.suction, suction, constraints.get(name)
         )
-        builder.ExportInput(grippers[name].GetInputPort("command"), f"{suction}.command")
-        builder.ExportOutput(grippers[name].GetOutputPort("state"), f"{suction}.state")
+        builder.ExportInput(grippers[name].command_input_port(), f"{suction}.command")
+        builder.ExportOutput(grippers[name].state_output_port(), f"{suction}.state")
     connect_spatial_forces(builder, plant, list(grippers.values()))
     return grippers

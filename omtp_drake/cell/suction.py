@@ -19,44 +19,13 @@ Frames (monogram notation, ``X_AB`` is the pose of frame B in frame A):
 * ``P``: a part's body frame (the centre of a cube part).
 * ``X_CP``: the part's pose in the cup, captured when it is attached.
 
-Two ways of holding the part (``SuctionConfig.backend``):
-
-* ``"weld"`` (default): six rigid distance constraints of the plant, between
-  three points of the cup and three points of the part (an octahedron, see
-  :func:`declare_suction_constraints`). They are declared before
-  ``Finalize()`` and rewritten at run time with the *current* distances, so
-  the part is held exactly where it is. Constraint parameters live in the
-  plant's Context and no system may write another system's Context, so the
-  owner of the simulator calls :func:`sync_weld` between advances: the
-  gripper's checks *decide* an attach, and the next :func:`sync_weld` (one
-  runtime tick later at most) re-checks the touch, makes the constraints and
-  only then reports ``attached`` (so a controller that lifts as soon as it
-  sees ``attached`` never leaves the part behind). It also releases the
-  constraints once the gripper has let go. Without :func:`sync_weld` calls a
-  weld gripper never attaches (a warning is logged after 1 s). Measured: no
-  snap (0.2 um), about 10 um drift carrying 1 kg at 1 m/s.
-* ``"force"``: a stiff 6-DOF spring-damper pulling the part toward
-  ``X_WC * X_CP``, applied through the plant's ``applied_spatial_force``
-  input. It lives entirely inside the diagram (no runtime help) and the hold
-  starts at the attaching check itself, but it is compliant (0.8 mm drift
-  carrying 0.2-1 kg at 1 m/s with 20 m/s^2 ramps at the default 5 ms step,
-  0.3-0.8 mm at 2 ms: the limit of any explicit spring at that step),
-  and it costs a Python evaluation (about 40 us) every plant step while a
-  part is held.
-
-Typical use (station side)::
-
-    constraints = declare_suction_constraints(plant, cup, any_part)   # weld, before Finalize
-    plant.Finalize()
-    gripper = add_suction_gripper(builder, plant, cup, parts, config, "suction1", constraints)
-    connect_spatial_forces(builder, plant, [gripper])
-    ...
-    constraints.deactivate_all(plant, plant_context)    # every new Context
-    while ...:
-        simulator.AdvanceTo(t)
-        sync_weld(gripper, plant, root_context)         # weld grippers only
+The attach rule and the state live here (:class:`SuctionGripper`,
+:class:`GripperState`); the two ways of holding a part (``"weld"``: rigid
+constraints of the plant; ``"force"``: a spring-damper inside the diagram),
+the factory :func:`~omtp_drake.cell.suction_holds.add_suction_gripper` and
+:func:`~omtp_drake.cell.suction_holds.sync_weld` live in
+:mod:`omtp_drake.cell.suction_holds`.
 """
-
 # No `from __future__ import annotations`: SuctionConfig is part of the
 # scenario YAML schema and Drake's typed loader reads field types at run time.
 
@@ -69,33 +38,17 @@ from typing import Optional
 import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform
-from pydrake.multibody.math import SpatialForce, SpatialVelocity
 from pydrake.multibody.plant import (
     ContactResults,
-    DiscreteContactSolver,
-    DistanceConstraintParams,
-    ExternallyAppliedSpatialForce_,
-    ExternallyAppliedSpatialForceMultiplexer,
     MultibodyPlant,
 )
-from pydrake.multibody.tree import BodyIndex, MultibodyConstraintId, RigidBody
-from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, State
+from pydrake.multibody.tree import BodyIndex, RigidBody
+from pydrake.systems.framework import Context, InputPort, LeafSystem, OutputPort, State
 
-from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
+from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario.suction import SuctionConfig
 
 _log = logging.getLogger(__name__)
-
-
-ExternallyAppliedSpatialForce = ExternallyAppliedSpatialForce_[float]
-
-
-# ----------------------------------------------------------------------------
-# Configuration
-
-
-# ----------------------------------------------------------------------------
-# State
 
 
 @dataclass(frozen=True)
@@ -105,7 +58,7 @@ class GripperState:
     Attributes:
         enabled: the command as sampled at the last check.
         attached: a part is held. Force backend: from the attaching check on.
-            Weld backend: from the :func:`sync_weld` that made the constraints
+            Weld backend: from the :func:`~omtp_drake.cell.suction_holds.sync_weld` that made the constraints
             on (the check only decides; a controller that lifts as soon as it
             sees ``attached`` never leaves the part behind).
         part: the held part's body name; "" when none.
@@ -126,8 +79,9 @@ class GripperState:
 
 
 @dataclass(frozen=True)
-class _Memory:
-    """The gripper's abstract state: what it reports plus its count of good checks."""
+class GripperMemory:
+    """The gripper's abstract state: what it reports plus its count of good checks
+    (its holds in :mod:`omtp_drake.cell.suction_holds` write it too)."""
 
     state: GripperState
     #: Number of consecutive good checks of ``streak_body``.
@@ -135,40 +89,25 @@ class _Memory:
     #: Body index of the part seen on the last good check (-1: none).
     streak_body: int = -1
     #: Weld backend: the part the checks decided to attach, waiting for
-    #: :func:`sync_weld` (-1: none), and when that was decided.
+    #: :func:`~omtp_drake.cell.suction_holds.sync_weld` (-1: none), and when that was decided.
     pending_body: int = -1
     pending_since: float = math.nan
 
-    def __deepcopy__(self, memo: dict) -> "_Memory":
+    def __deepcopy__(self, memo: dict) -> "GripperMemory":
         return self  # immutable: Drake clones abstract state at every check
 
 
 _IDLE = GripperState(enabled=False, attached=False, part="", X_CP=None, since=math.nan)
 
 
-# ----------------------------------------------------------------------------
-# The gripper systems: one attach rule, two ways of holding
-
-
-@dataclass(frozen=True)
-class _PartGains:
-    """Force-backend gains of one part, capped to its stability limits."""
-
-    k: float
-    c: float
-    kr: float
-    cr: float
-    p_PScm: np.ndarray  # centre of mass in the part frame
-
-
 class SuctionGripper(LeafSystem):
     """A vacuum gripper on a cup body: the course's attach rule, checked at a fixed rate.
 
     This base class decides *when* a part is attached or released; its two
-    subclasses decide *how* it is held: :class:`WeldSuctionGripper` (rigid
-    constraints of the plant, made between advances by :func:`sync_weld`) and
-    :class:`ForceSuctionGripper` (a spring-damper force inside the diagram).
-    Build one with :func:`add_suction_gripper`, which picks the class from
+    subclasses decide *how* it is held: :class:`~omtp_drake.cell.suction_holds.WeldSuctionGripper` (rigid
+    constraints of the plant, made between advances by :func:`~omtp_drake.cell.suction_holds.sync_weld`) and
+    :class:`~omtp_drake.cell.suction_holds.ForceSuctionGripper` (a spring-damper force inside the diagram).
+    Build one with :func:`~omtp_drake.cell.suction_holds.add_suction_gripper`, which picks the class from
     ``SuctionConfig.backend``.
 
     .. pydrake_system::
@@ -182,13 +121,17 @@ class SuctionGripper(LeafSystem):
         - state
 
     Input ports:
-      - ``command`` (vector [1]): > 0.5 enables the gripper.
-      - ``body_poses`` (list of RigidTransform): the plant's body poses X_WB.
-      - ``contact_results`` (ContactResults): the plant's contact results;
-        point-pair contacts are used (the station uses point contact).
+      - ``command`` (vector [1], :meth:`command_input_port`): > 0.5 enables
+        the gripper.
+      - ``body_poses`` (list of RigidTransform, :meth:`body_poses_input_port`):
+        the plant's body poses X_WB.
+      - ``contact_results`` (ContactResults, :meth:`contact_results_input_port`):
+        the plant's contact results; point-pair contacts are used (the station
+        uses point contact).
 
     Output ports:
-      - ``state`` (:class:`GripperState`): depends on the state only.
+      - ``state`` (:class:`GripperState`, :meth:`state_output_port`): depends
+        on the state only.
 
     State (abstract, updated by a periodic unrestricted event at
     ``check_rate_hz``, first check at t = 0): the reported
@@ -246,17 +189,35 @@ class SuctionGripper(LeafSystem):
         self._contacts = self.DeclareAbstractInputPort(
             "contact_results", AbstractValue.Make(ContactResults())
         )
-        self._memory = self.DeclareAbstractState(AbstractValue.Make(_Memory(_IDLE)))
+        self._memory = self.DeclareAbstractState(AbstractValue.Make(GripperMemory(_IDLE)))
         # Fault injection: the vacuum fails (commands are ignored, nothing is held)
         # until this time; see fail_vacuum().
         self._fault = self.DeclareDiscreteState(np.array([-math.inf]))
         self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._check)
-        self.DeclareAbstractOutputPort(
+        self._state_port = self.DeclareAbstractOutputPort(
             "state",
             lambda: AbstractValue.Make(_IDLE),
             self._calc_state,
             prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
         )
+
+    # ------------------------------------------------------------------ ports
+
+    def command_input_port(self) -> InputPort:
+        """The ``command`` input: > 0.5 enables the gripper."""
+        return self._command
+
+    def body_poses_input_port(self) -> InputPort:
+        """The ``body_poses`` input: the plant's body poses X_WB."""
+        return self._poses
+
+    def contact_results_input_port(self) -> InputPort:
+        """The ``contact_results`` input: the plant's contact results."""
+        return self._contacts
+
+    def state_output_port(self) -> OutputPort:
+        """The ``state`` output: the :class:`GripperState`."""
+        return self._state_port
 
     # ------------------------------------------------------------------ queries
 
@@ -306,7 +267,7 @@ class SuctionGripper(LeafSystem):
         memory = self._get_memory(context)
         state.get_mutable_abstract_state(self._memory).set_value(self._next(context, memory))
 
-    def _next(self, context: Context, memory: _Memory) -> _Memory:
+    def _next(self, context: Context, memory: GripperMemory) -> GripperMemory:
         """The attach / release rule: the memory after one check."""
         old = memory.state
         t = context.get_time()
@@ -314,14 +275,14 @@ class SuctionGripper(LeafSystem):
         if t < self.fault_until(context):
             if old.attached:
                 _log.warning("%s: vacuum failure: dropped %s at t = %.3f s", self.get_name(), old.part, t)
-            return _Memory(
+            return GripperMemory(
                 replace(_IDLE, enabled=enabled, last_release="fault" if old.attached else old.last_release)
             )
         if not enabled:
             if old.attached:
                 _log.info("%s: released %s at t = %.3f s (disabled)", self.get_name(), old.part, t)
-                return _Memory(replace(_IDLE, last_release="disabled"))
-            return _Memory(replace(_IDLE, last_release=old.last_release))
+                return GripperMemory(replace(_IDLE, last_release="disabled"))
+            return GripperMemory(replace(_IDLE, last_release=old.last_release))
         if old.attached and old.X_CP is not None:
             X_WB = self._poses.Eval(context)
             X_CP_now = X_WB[self._cup].InvertAndCompose(X_WB[self._bodies[old.part]])
@@ -335,24 +296,26 @@ class SuctionGripper(LeafSystem):
                     offset,
                     self._config.max_hold_distance,
                 )
-                return _Memory(replace(_IDLE, enabled=True, last_release="hold lost"))
-            return _Memory(replace(old, enabled=True))
+                return GripperMemory(replace(_IDLE, enabled=True, last_release="hold lost"))
+            return GripperMemory(replace(old, enabled=True))
         idle = replace(_IDLE, enabled=True, last_release=old.last_release)
         if memory.pending_body >= 0:
             return self._while_pending(memory, idle, t)
         touching = self._touching_part(context)
         if touching < 0:
-            return _Memory(idle)
+            return GripperMemory(idle)
         streak = memory.streak + 1 if touching == memory.streak_body else 1
         if streak < self._config.consecutive_checks:
-            return _Memory(idle, streak, touching)
+            return GripperMemory(idle, streak, touching)
         return self._attach_decided(context, idle, streak, touching)
 
-    def _attach_decided(self, context: Context, idle: GripperState, streak: int, touching: int) -> _Memory:
+    def _attach_decided(
+        self, context: Context, idle: GripperState, streak: int, touching: int
+    ) -> GripperMemory:
         """The memory once the rule has decided to attach body ``touching``."""
         raise NotImplementedError  # each hold decides (a subclass always overrides this)
 
-    def _while_pending(self, memory: _Memory, idle: GripperState, t: float) -> _Memory:
+    def _while_pending(self, memory: GripperMemory, idle: GripperState, t: float) -> GripperMemory:
         return replace(memory, state=idle)
 
     def _touching_part(self, context: Context) -> int:
@@ -377,447 +340,8 @@ class SuctionGripper(LeafSystem):
                 best, best_depth = part, pair.depth
         return best
 
-    def _get_memory(self, context: Context) -> _Memory:
+    def _get_memory(self, context: Context) -> GripperMemory:
         return context.get_abstract_state(self._memory).get_value()
 
-    def _set_memory(self, context: Context, memory: _Memory) -> None:
+    def _set_memory(self, context: Context, memory: GripperMemory) -> None:
         context.SetAbstractState(self._memory, memory)
-
-
-class WeldSuctionGripper(SuctionGripper):
-    """A vacuum gripper that holds with the plant's rigid constraints.
-
-    The checks *decide* an attach; the attach is *made* between advances by
-    :func:`sync_weld` (constraint parameters live in the plant's Context, which
-    no system may write), which re-checks the touch, writes the constraints at
-    the part's current pose and only then reports ``attached``. Without
-    :func:`sync_weld` a decided attach stays pending (a warning is logged after
-    1 s). Measured: no snap (0.2 um), about 10 um drift carrying 1 kg at 1 m/s.
-
-    The driver's API (used by :func:`sync_weld`): :attr:`constraints`,
-    :meth:`pending_part`, :meth:`complete_attach`, :meth:`cancel_attach`,
-    :meth:`remake_hold`.
-    """
-
-    def __init__(
-        self,
-        plant: MultibodyPlant,
-        cup_body: RigidBody,
-        part_bodies: Sequence[RigidBody],
-        config: SuctionConfig,
-        name: str,
-        constraints: "SuctionConstraints",
-    ):
-        super().__init__(plant, cup_body, part_bodies, config, name)
-        if int(constraints.cup) != self._cup:
-            raise ConfigError(
-                f"gripper {name!r}: the constraints belong to cup body "
-                f"{int(constraints.cup)}, the gripper to {self._cup}"
-            )
-        self._constraints = constraints
-
-    @property
-    def constraints(self) -> "SuctionConstraints":
-        """The plant constraints this gripper holds with."""
-        return self._constraints
-
-    def pending_part(self, context: Context) -> str:
-        """The part an attach was decided for, waiting for :func:`sync_weld`; "" when none."""
-        memory = self._get_memory(context)
-        return self._names[memory.pending_body] if memory.pending_body >= 0 else ""
-
-    def complete_attach(self, context: Context, X_CP: RigidTransform) -> None:
-        """The pending attach is made: the part is held at ``X_CP`` from now on."""
-        memory = self._get_memory(context)
-        if memory.pending_body < 0:
-            raise SimulationError(f"{self.get_name()}: no attach is pending")
-        name = self._names[memory.pending_body]
-        t = context.get_time()
-        _log.info("%s: attached %s at t = %.3f s", self.get_name(), name, t)
-        self._set_memory(
-            context, _Memory(GripperState(enabled=True, attached=True, part=name, X_CP=X_CP, since=t))
-        )
-
-    def cancel_attach(self, context: Context) -> None:
-        """The pending attach is dropped; the count of good checks starts again."""
-        memory = self._get_memory(context)
-        if memory.pending_body >= 0:
-            _log.info(
-                "%s: attach of %s dropped at t = %.3f s (no longer touching)",
-                self.get_name(),
-                self._names[memory.pending_body],
-                context.get_time(),
-            )
-        self._set_memory(context, _Memory(memory.state))
-
-    def remake_hold(self, context: Context, X_CP: RigidTransform) -> None:
-        """The held part's captured pose after its constraints were re-made."""
-        memory = self._get_memory(context)
-        self._set_memory(context, replace(memory, state=replace(memory.state, X_CP=X_CP)))
-
-    def _attach_decided(self, context: Context, idle: GripperState, streak: int, touching: int) -> _Memory:
-        _log.debug(
-            "%s: attach of %s decided at t = %.3f s",
-            self.get_name(),
-            self._names[touching],
-            context.get_time(),
-        )
-        return _Memory(idle, streak, touching, pending_body=touching, pending_since=context.get_time())
-
-    def _while_pending(self, memory: _Memory, idle: GripperState, t: float) -> _Memory:
-        waited = t - memory.pending_since
-        if 1.0 <= waited < 1.0 + 1.0 / self._config.check_rate_hz:
-            _log.warning(
-                "%s: attach of %s pending for %.2f s: is sync_weld called between advances?",
-                self.get_name(),
-                self._names[memory.pending_body],
-                waited,
-            )
-        return replace(memory, state=idle)
-
-
-class ForceSuctionGripper(SuctionGripper):
-    """A vacuum gripper that holds with a stiff 6-DOF spring-damper force.
-
-    The hold starts at the attaching check itself and lives entirely inside the
-    diagram, but it is compliant (0.3-0.8 mm drift carrying 0.2-1 kg at 1 m/s)
-    and costs a Python evaluation every plant step while a part is held.
-
-    Extra ports (besides :class:`SuctionGripper`'s):
-      - input ``body_spatial_velocities`` (list of SpatialVelocity): the
-        plant's body velocities, read while holding.
-      - output ``spatial_forces`` (list of ExternallyAppliedSpatialForce):
-        while holding, the spring-damper wrench on the part (at its centre of
-        mass) and, with ``apply_reaction``, the opposite wrench on the cup at
-        the same point; empty otherwise. Feed it to the plant with
-        :func:`connect_spatial_forces`.
-    """
-
-    def __init__(
-        self,
-        plant: MultibodyPlant,
-        cup_body: RigidBody,
-        part_bodies: Sequence[RigidBody],
-        config: SuctionConfig,
-        name: str = "suction",
-    ):
-        super().__init__(plant, cup_body, part_bodies, config, name)
-        self._gains = {int(b.index()): _gains_for(b, config, plant.time_step()) for b in part_bodies}
-        self._velocities = self.DeclareAbstractInputPort(
-            "body_spatial_velocities", AbstractValue.Make([SpatialVelocity()])
-        )
-        self.DeclareAbstractOutputPort(
-            "spatial_forces",
-            lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]),
-            self._calc_forces,
-            prerequisites_of_calc={
-                self.abstract_state_ticket(self._memory),
-                self.input_port_ticket(self._poses.get_index()),
-                self.input_port_ticket(self._velocities.get_index()),
-            },
-        )
-
-    def _attach_decided(self, context: Context, idle: GripperState, streak: int, touching: int) -> _Memory:
-        X_WB = self._poses.Eval(context)
-        X_CP = X_WB[self._cup].InvertAndCompose(X_WB[touching])
-        t = context.get_time()
-        _log.info("%s: attached %s at t = %.3f s", self.get_name(), self._names[touching], t)
-        return _Memory(
-            GripperState(enabled=True, attached=True, part=self._names[touching], X_CP=X_CP, since=t)
-        )
-
-    def _calc_forces(self, context: Context, output: AbstractValue) -> None:
-        state = self._get_memory(context).state
-        if not state.attached or state.X_CP is None:
-            output.set_value([])
-            return
-        part = self._bodies[state.part]
-        g = self._gains[part]
-        # Only the two bodies' poses and velocities, as plain arrays (pydrake
-        # accessors and np.cross, ~20 us alone, are slow at this size).
-        poses = self._poses.Eval(context)
-        velocities = self._velocities.Eval(context)
-        M_WC, M_WP = poses[self._cup].GetAsMatrix34(), poses[part].GetAsMatrix34()
-        V_WC, V_WP = velocities[self._cup].get_coeffs(), velocities[part].get_coeffs()
-        M_CP = state.X_CP.GetAsMatrix34()
-        R_WC, p_WC, R_WP, p_WP = M_WC[:, :3], M_WC[:, 3], M_WP[:, :3], M_WP[:, 3]
-        # Part's centre of mass Scm now, and where the cup wants it (Scm_d).
-        r_PScm_W = R_WP @ g.p_PScm
-        r_CScmd_W = R_WC @ (M_CP[:, 3] + M_CP[:, :3] @ g.p_PScm)
-        p_err = (p_WC + r_CScmd_W) - (p_WP + r_PScm_W)
-        # Velocity of Scm minus that of the cup-fixed point at Scm_d.
-        v_rel = (V_WP[3:] + _cross(V_WP[:3], r_PScm_W)) - (V_WC[3:] + _cross(V_WC[:3], r_CScmd_W))
-        f = g.k * p_err - g.c * v_rel
-        # Rotation error R_WPd R_WP^T as a rotation vector, small-angle form (sin(angle) axis).
-        R_err = (R_WC @ M_CP[:, :3]) @ R_WP.T
-        theta = 0.5 * np.array(
-            [R_err[2, 1] - R_err[1, 2], R_err[0, 2] - R_err[2, 0], R_err[1, 0] - R_err[0, 1]]
-        )
-        tau = g.kr * theta - g.cr * (V_WP[:3] - V_WC[:3])
-        on_part = ExternallyAppliedSpatialForce()
-        on_part.body_index = BodyIndex(part)
-        on_part.p_BoBq_B = g.p_PScm
-        on_part.F_Bq_W = SpatialForce(tau, f)
-        if not self._config.apply_reaction:
-            output.set_value([on_part])
-            return
-        on_cup = ExternallyAppliedSpatialForce()
-        on_cup.body_index = BodyIndex(self._cup)
-        on_cup.p_BoBq_B = R_WC.T @ (p_WP + r_PScm_W - p_WC)
-        on_cup.F_Bq_W = SpatialForce(-tau, -f)
-        output.set_value([on_part, on_cup])
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """a x b for 3-vectors (np.cross costs ~20x more at this size)."""
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
-
-
-def _gains_for(body: RigidBody, config: SuctionConfig, h: float) -> _PartGains:
-    """The force gains for ``body``, capped at its deadbeat limits for step ``h``."""
-    M_PPo_P = body.default_spatial_inertia()
-    m = M_PPo_P.get_mass()
-    p_PScm = np.array(M_PPo_P.get_com(), dtype=float)
-    I_PScm_P = M_PPo_P.Shift(p_PScm).CalcRotationalInertia()
-    inertia = float(np.min(np.linalg.eigvalsh(I_PScm_P.CopyToFullMatrix3())))
-    k, c = config.stiffness, config.damping
-    kr, cr = config.angular_stiffness, config.angular_damping
-    if h > 0 and m > 0:
-        k, c = min(k, m / h**2), min(c, m / h)
-    if h > 0 and inertia > 0:
-        kr, cr = min(kr, inertia / h**2), min(cr, inertia / h)
-    return _PartGains(k, c, kr, cr, p_PScm)
-
-
-# ----------------------------------------------------------------------------
-# Weld backend: the plant's distance constraints
-
-
-#: Circumradius of the cup's and the part's triangles of constraint points [m].
-_TRIANGLE_RADIUS = 0.05
-#: Distance along +Cz between the two triangles (regular octahedron) [m].
-_TRIANGLE_GAP = _TRIANGLE_RADIUS * math.sqrt(3.0) * math.sqrt(2.0 / 3.0)
-
-
-def octahedron() -> tuple[np.ndarray, np.ndarray, list[tuple[int, int]]]:
-    """Points a_i (in C), b_j (in C, on the part side) and the six (i, j) pairs.
-
-    Two equilateral triangles of circumradius R in planes normal to Cz, one at
-    the cup face and one R sqrt(2) further along +Cz, turned 60 deg from each
-    other, form a regular octahedron; its six "side" edges join each a_i to
-    b_i and b_(i+1). With the triangles rigid (they belong to the bodies), the
-    octahedron is rigid, so the six lengths fix the relative pose.
-    """
-    angles_a = np.radians([90.0, 210.0, 330.0])
-    angles_b = angles_a + np.radians(60.0)
-    R = _TRIANGLE_RADIUS
-    a = np.stack([R * np.cos(angles_a), R * np.sin(angles_a), np.zeros(3)], axis=1)
-    b = np.stack([R * np.cos(angles_b), R * np.sin(angles_b), np.full(3, _TRIANGLE_GAP)], axis=1)
-    pairs = [(0, 0), (0, 2), (1, 0), (1, 1), (2, 1), (2, 2)]
-    return a, b, pairs
-
-
-@dataclass(frozen=True)
-class SuctionConstraints:
-    """Six distance constraints between a cup and (at run time) the held part.
-
-    Declared by :func:`declare_suction_constraints`. The constraints' bodies,
-    points, lengths and active status live in the plant's Context: every new
-    Context must go through :meth:`deactivate_all` (Drake makes constraints
-    active in a new Context).
-    """
-
-    cup: BodyIndex
-    ids: tuple[MultibodyConstraintId, ...]
-    #: Constraint points in the cup frame: a_i (on the cup) and b_j (part side).
-    p_CA: np.ndarray
-    p_CB: np.ndarray
-    pairs: tuple[tuple[int, int], ...]
-
-    def deactivate_all(self, plant: MultibodyPlant, plant_context: Context) -> None:
-        """Deactivates the six constraints (needed in every new Context)."""
-        for id_ in self.ids:
-            plant.SetConstraintActiveStatus(plant_context, id_, False)
-
-    def held_body(self, plant: MultibodyPlant, plant_context: Context) -> Optional[BodyIndex]:
-        """The body the active constraints hold; None when inactive."""
-        if not plant.GetConstraintActiveStatus(plant_context, self.ids[0]):
-            return None
-        return plant.GetDistanceConstraintParams(plant_context, self.ids[0]).bodyB()
-
-    def attach(self, plant: MultibodyPlant, plant_context: Context, part_body: RigidBody) -> RigidTransform:
-        """Holds ``part_body`` at its current pose in the cup; returns that pose X_CP.
-
-        The part's points are the octahedron's points b_j placed where they are
-        now, so every constraint's length is its current length: nothing moves.
-        """
-        cup = plant.get_body(self.cup)
-        if int(part_body.index()) == int(self.cup):
-            raise ConfigError(f"suction: the cup {cup.name()!r} cannot hold itself")
-        X_WC = plant.EvalBodyPoseInWorld(plant_context, cup)
-        X_WP = plant.EvalBodyPoseInWorld(plant_context, part_body)
-        X_CP = X_WC.InvertAndCompose(X_WP)
-        X_PC = X_CP.inverse()
-        for id_, (i, j) in zip(self.ids, self.pairs):
-            p_CA, p_PB = self.p_CA[i], X_PC @ self.p_CB[j]
-            distance = float(np.linalg.norm(X_WC @ p_CA - X_WP @ p_PB))
-            plant.SetDistanceConstraintParams(
-                plant_context,
-                id_,
-                DistanceConstraintParams(self.cup, p_CA, part_body.index(), p_PB, distance, math.inf, 0.0),
-            )
-            plant.SetConstraintActiveStatus(plant_context, id_, True)
-        return X_CP
-
-    def release(self, plant: MultibodyPlant, plant_context: Context) -> None:
-        """Lets the held part go (deactivates the constraints)."""
-        self.deactivate_all(plant, plant_context)
-
-
-def declare_suction_constraints(
-    plant: MultibodyPlant, cup_body: RigidBody, any_part_body: RigidBody
-) -> SuctionConstraints:
-    """Declares the weld backend's six distance constraints; call before ``plant.Finalize()``.
-
-    ``any_part_body`` is a placeholder (any movable body other than the cup):
-    :meth:`SuctionConstraints.attach` rewrites the constraints for the part
-    actually held. The plant must use the SAP solver. Neither body may be the
-    world body (constraints on it crash Drake 1.51's simulation).
-    """
-    if plant.is_finalized():
-        raise ConfigError("declare_suction_constraints must be called before plant.Finalize()")
-    solver = plant.get_discrete_contact_solver()
-    if plant.time_step() <= 0 or solver != DiscreteContactSolver.kSap:
-        raise ConfigError(
-            "the weld backend needs a discrete plant with the SAP solver (time_step > 0, "
-            "discrete_contact_approximation 'sap', 'lagged' or 'similar'); got time_step "
-            f"{plant.time_step()} and {_approximation_name(plant)!r}"
-        )
-    world = int(plant.world_body().index())
-    for body, what in ((cup_body, "cup"), (any_part_body, "placeholder part")):
-        if int(body.index()) == world:
-            raise ConfigError(f"suction {what} body cannot be the world body")
-    if int(cup_body.index()) == int(any_part_body.index()):
-        raise ConfigError(f"suction placeholder part must differ from the cup {cup_body.name()!r}")
-    a, b, pairs = octahedron()
-    ids = []
-    for i, j in pairs:
-        distance = float(np.linalg.norm(a[i] - b[j]))
-        ids.append(plant.AddDistanceConstraint(cup_body, a[i], any_part_body, b[j], distance))
-    return SuctionConstraints(cup_body.index(), tuple(ids), a, b, tuple(pairs))
-
-
-def _approximation_name(plant: MultibodyPlant) -> str:
-    """The plant's discrete contact approximation as spelt in MultibodyPlantConfig ("sap")."""
-    return str(plant.get_discrete_contact_approximation()).rsplit(".k", 1)[-1].lower()
-
-
-def sync_weld(gripper: WeldSuctionGripper, plant: MultibodyPlant, root_context: Context) -> None:
-    """Makes a weld gripper's constraints follow its state; call between advances.
-
-    * An attach decided by the gripper's checks is made here: if the part
-      still touches the cup (same rule as a check), the constraints hold it at
-      its current pose in the cup and the gripper's state becomes attached
-      (``X_CP`` that pose, ``since`` now); if not, the decision is dropped and
-      the count of good checks starts again.
-    * A state that says attached while the constraints do not hold the part
-      (e.g. a fresh plant Context) is re-made at the current pose.
-    * A state that says nothing is attached releases the constraints.
-
-    Writes nothing when already in sync.
-    """
-    if not isinstance(gripper, WeldSuctionGripper):
-        raise ConfigError(
-            f"sync_weld needs a weld gripper; {gripper.get_name()!r} has backend {gripper.config.backend!r}"
-        )
-    constraints = gripper.constraints
-    gripper_context = gripper.GetMyMutableContextFromRoot(root_context)
-    plant_context = plant.GetMyMutableContextFromRoot(root_context)
-    state = gripper.get_state(gripper_context)
-    held = constraints.held_body(plant, plant_context)
-    if state.attached:
-        index = gripper.part_body_index(state.part)
-        if held is None or int(held) != int(index):
-            gripper.remake_hold(
-                gripper_context, constraints.attach(plant, plant_context, plant.get_body(index))
-            )
-        return
-    if held is not None:
-        constraints.release(plant, plant_context)
-    pending = gripper.pending_part(gripper_context)
-    if not pending:
-        return
-    if gripper.touching_part(gripper_context) != pending:
-        gripper.cancel_attach(gripper_context)
-        return
-    X_CP = constraints.attach(plant, plant_context, plant.get_body(gripper.part_body_index(pending)))
-    gripper.complete_attach(gripper_context, X_CP)
-
-
-# ----------------------------------------------------------------------------
-# Wiring
-
-
-def add_suction_gripper(
-    builder: DiagramBuilder,
-    plant: MultibodyPlant,
-    cup_body: RigidBody,
-    part_bodies: Sequence[RigidBody],
-    config: SuctionConfig,
-    name: str,
-    constraints: Optional[SuctionConstraints] = None,
-) -> SuctionGripper:
-    """Adds the vacuum gripper of ``config.backend`` named ``name`` and connects it to the plant.
-
-    ``weld`` needs the ``constraints`` declared for this cup before the plant was
-    finalized (:func:`declare_suction_constraints`); ``force`` needs none.
-    Connects the plant's outputs the gripper reads; ``command`` is left to the
-    caller, and so are the force outputs (see :func:`connect_spatial_forces`).
-    """
-    config.validate()
-    gripper: SuctionGripper
-    if config.backend == "weld":
-        if constraints is None:
-            raise ConfigError(
-                f"gripper {name!r}: the weld backend needs its constraints "
-                "(declare_suction_constraints before plant.Finalize())"
-            )
-        gripper = WeldSuctionGripper(plant, cup_body, part_bodies, config, name, constraints)
-    else:
-        gripper = ForceSuctionGripper(plant, cup_body, part_bodies, config, name)
-    builder.AddNamedSystem(name, gripper)
-    if isinstance(gripper, ForceSuctionGripper):
-        builder.Connect(
-            plant.get_body_spatial_velocities_output_port(), gripper.GetInputPort("body_spatial_velocities")
-        )
-    builder.Connect(plant.get_body_poses_output_port(), gripper.GetInputPort("body_poses"))
-    builder.Connect(plant.get_contact_results_output_port(), gripper.GetInputPort("contact_results"))
-    return gripper
-
-
-def connect_spatial_forces(
-    builder: DiagramBuilder, plant: MultibodyPlant, grippers: Sequence[SuctionGripper]
-) -> None:
-    """Feeds the force grippers' ``spatial_forces`` to the plant.
-
-    The plant has a single ``applied_spatial_force`` input: one force gripper
-    is connected directly, several through an
-    ``ExternallyAppliedSpatialForceMultiplexer``. Weld grippers have no force
-    output; with no force gripper nothing is connected.
-    """
-    sources = [g for g in grippers if isinstance(g, ForceSuctionGripper)]
-    if not sources:
-        return
-    port = plant.get_applied_spatial_force_input_port()
-    if builder.IsConnectedOrExported(port):
-        raise ConfigError(
-            "the plant's applied_spatial_force input is already connected; "
-            "connect_spatial_forces must be its only source"
-        )
-    if len(sources) == 1:
-        builder.Connect(sources[0].GetOutputPort("spatial_forces"), port)
-        return
-    mux = builder.AddNamedSystem("suction_forces", ExternallyAppliedSpatialForceMultiplexer(len(sources)))
-    for i, gripper in enumerate(sources):
-        builder.Connect(gripper.GetOutputPort("spatial_forces"), mux.get_input_port(i))
-    builder.Connect(mux.get_output_port(), port)

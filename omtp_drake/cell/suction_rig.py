@@ -44,9 +44,8 @@ from pydrake.systems.primitives import TrajectorySource
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.cell.suction import (
-    GripperState,
-    SuctionGripper,
+from omtp_drake.cell.suction import GripperState, SuctionGripper
+from omtp_drake.cell.suction_holds import (
     WeldSuctionGripper,
     add_suction_gripper,
     connect_spatial_forces,
@@ -94,12 +93,12 @@ class Rig:
         return self.context.get_time()
 
     def command(self, on: bool) -> None:
-        self.gripper.GetInputPort("command").FixValue(
+        self.gripper.command_input_port().FixValue(
             self.gripper.GetMyMutableContextFromRoot(self.context), [1.0 if on else 0.0]
         )
 
     def state(self) -> GripperState:
-        return self.gripper.GetOutputPort("state").Eval(self.gripper.GetMyContextFromRoot(self.context))
+        return self.gripper.state_output_port().Eval(self.gripper.GetMyContextFromRoot(self.context))
 
     def X_WP(self, i: int = 0) -> RigidTransform:
         return self.plant.EvalBodyPoseInWorld(self.plant_context, self.parts[i])

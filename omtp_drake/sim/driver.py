@@ -33,7 +33,7 @@ from pydrake.systems.framework import Context, Diagram
 
 from omtp_drake.cell.conveyor import WRAP_TRAVEL
 from omtp_drake.cell.parts import spawn_pose
-from omtp_drake.cell.suction import WeldSuctionGripper, sync_weld
+from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
 from omtp_drake.sim.ledger import held_parts, locate
@@ -70,7 +70,7 @@ class WorldEdit(Protocol):
 
 class WeldSync:
     """Weld grippers: makes the plant's constraints follow each gripper's state
-    (:func:`omtp_drake.cell.suction.sync_weld`), right after every gripper check."""
+    (:func:`omtp_drake.cell.suction_holds.sync_weld`), right after every gripper check."""
 
     def __init__(self, station: Station):
         self._plant = station.plant

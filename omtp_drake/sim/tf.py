@@ -23,7 +23,7 @@ from __future__ import annotations
 import bisect
 import logging
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import Optional
 
@@ -61,6 +61,127 @@ class _Image:
 def _at_or_before(times: list[float], time: float) -> int:
     """Index of the last of the sorted ``times`` <= ``time`` (within TIME_EPS), or -1."""
     return bisect.bisect_right(times, time + TIME_EPS) - 1
+
+
+class _DetectedFrames:
+    """The cameras' images over time and the frames they give: one frame
+    ``<camera>_<model>_frame`` per named model an image sees, at the pose X_CM
+    the camera reported (see :class:`TfBuffer`, "Detected models").
+
+    ``static`` are the plant's frame names: a detection whose frame name is
+    taken by one gets no frame.
+    """
+
+    def __init__(self, cameras: tuple[str, ...], static: Collection[str]):
+        self._cameras = cameras
+        self._static = static
+        #: camera -> its distinct images, oldest first, and their times
+        self._images: dict[str, list[_Image]] = {c: [] for c in cameras}
+        self._image_times: dict[str, list[float]] = {c: [] for c in cameras}
+
+    def add(self, camera: str, image: LogicalCameraImage) -> None:
+        """Stores ``image`` of ``camera`` (one at the same time is replaced)."""
+        if not math.isfinite(image.time):
+            return  # the camera has not sampled yet
+        frames: dict[str, tuple[str, RigidTransform]] = {}
+        for model in image.models:
+            if not model.name:
+                continue  # anonymized: no frame
+            name = detected_frame_name(camera, model.name)
+            if name in self._static:
+                _log.warning(
+                    "%s sees %r but a plant frame is already called %s; no frame for the detection",
+                    camera,
+                    model.name,
+                    name,
+                )
+                continue
+            frames[name] = (model.name, model.X_CM)
+        times = self._image_times[camera]
+        i = bisect.bisect_left(times, image.time - TIME_EPS)
+        if i < len(times) and abs(times[i] - image.time) <= TIME_EPS:
+            self._images[camera][i] = _Image(image, frames)
+        else:
+            self._images[camera].insert(i, _Image(image, frames))
+            times.insert(i, image.time)
+
+    def trim(self, time: float) -> None:
+        """Drops each camera's images older than the one it held at ``time``."""
+        for camera in self._cameras:
+            keep_from = _at_or_before(self._image_times[camera], time)
+            if keep_from > 0:
+                del self._images[camera][:keep_from]
+                del self._image_times[camera][:keep_from]
+
+    def clear(self) -> None:
+        for camera in self._cameras:
+            self._images[camera].clear()
+            self._image_times[camera].clear()
+
+    def image(self, camera: str, time: float) -> LogicalCameraImage:
+        """The image ``camera`` held at ``time``: its last sample at or before."""
+        i = _at_or_before(self._image_times[camera], time)
+        if i < 0:
+            raise FrameError(f"{camera} has no image at or before {time:.6g} s")
+        return self._images[camera][i].image
+
+    def at(self, time: float) -> dict[str, str]:
+        """Detected frame name -> camera, of the images held at ``time``."""
+        detected: dict[str, str] = {}
+        for camera in self._cameras:
+            i = _at_or_before(self._image_times[camera], time)
+            if i >= 0:
+                detected.update(dict.fromkeys(self._images[camera][i].frames, camera))
+        return detected
+
+    def camera_of(self, name: str) -> Optional[str]:
+        """The camera that gives the detected frame ``name`` (None: no image has it)."""
+        for camera in self._cameras:
+            if any(name in image.frames for image in self._images[camera]):
+                return camera
+        return None
+
+    def names(self) -> set[str]:
+        """Every detected frame any held image gives."""
+        return {name for images in self._images.values() for image in images for name in image.frames}
+
+    def check_unseen(self, name: str) -> None:
+        """FrameError when ``name`` is a camera's detected-frame name for a model
+        none of its held images sees (the error says what they show)."""
+        for camera in self._cameras:
+            prefix = f"{camera}_"
+            if name.startswith(prefix) and name.endswith("_frame") and len(name) > len(prefix) + 6:
+                model = name[len(prefix) : -len("_frame")]
+                images = self._images[camera]
+                seen = sorted({m for image in images for m, _ in image.frames.values()})
+                held = (
+                    (
+                        f"its images from {images[0].time:.6g} to {images[-1].time:.6g} s show "
+                        + (", ".join(seen) if seen else "nothing")
+                    )
+                    if images
+                    else "it has no image yet"
+                )
+                raise FrameError(f"frame {name!r} does not exist: {camera} has not seen {model!r} ({held})")
+
+    def detection(self, name: str, camera: str, time: float) -> RigidTransform:
+        """X_CM of the detected frame ``name`` of ``camera`` at ``time``."""
+        images, times = self._images[camera], self._image_times[camera]
+        i = _at_or_before(times, time)
+        if i < 0 or name not in images[i].frames:
+            seen = [image.time for image in images if name in image.frames]
+            model = next(image.frames[name][0] for image in images if name in image.frames)
+            held = f"its image at {times[i]:.6g} s" if i >= 0 else "no image yet"
+            raise FrameError(
+                f"frame {name!r} does not exist at time {time:.6g} s: {camera} did not see "
+                f"{model!r} then ({held}; it saw it in {len(seen)} image(s) from "
+                f"{min(seen):.6g} to {max(seen):.6g} s)"
+            )
+        X_CM = images[i].frames[name][1]
+        if abs(times[i] - time) > TIME_EPS and i + 1 < len(images) and name in images[i + 1].frames:
+            alpha = (time - times[i]) / (times[i + 1] - times[i])
+            X_CM = interpolate_pose(X_CM, images[i + 1].frames[name][1], alpha)
+        return X_CM
 
 
 class TfBuffer:
@@ -111,9 +232,7 @@ class TfBuffer:
                 raise ConfigError(f"camera {camera!r} has no plant frame {camera}_frame")
         self._snapshots: list[_Snapshot] = []
         self._times: list[float] = []
-        #: camera -> its distinct images, oldest first, and their times
-        self._images: dict[str, list[_Image]] = {c: [] for c in self._cameras}
-        self._image_times: dict[str, list[float]] = {c: [] for c in self._cameras}
+        self._detected = _DetectedFrames(self._cameras, self._static.keys())
 
     @classmethod
     def from_context(cls, station: Station, root_context: Context, cache_time: float = 10.0) -> TfBuffer:
@@ -152,33 +271,8 @@ class TfBuffer:
             self._times.insert(i, time)
         for camera in self._cameras:
             image = self._station.diagram.GetOutputPort(f"{camera}.image").Eval(station_context)
-            self._add_image(camera, image)
+            self._detected.add(camera, image)
         self._trim()
-
-    def _add_image(self, camera: str, image: LogicalCameraImage) -> None:
-        if not math.isfinite(image.time):
-            return  # the camera has not sampled yet
-        frames: dict[str, tuple[str, RigidTransform]] = {}
-        for model in image.models:
-            if not model.name:
-                continue  # anonymized: no frame
-            name = detected_frame_name(camera, model.name)
-            if name in self._static:
-                _log.warning(
-                    "%s sees %r but a plant frame is already called %s; no frame for the detection",
-                    camera,
-                    model.name,
-                    name,
-                )
-                continue
-            frames[name] = (model.name, model.X_CM)
-        times = self._image_times[camera]
-        i = bisect.bisect_left(times, image.time - TIME_EPS)
-        if i < len(times) and abs(times[i] - image.time) <= TIME_EPS:
-            self._images[camera][i] = _Image(image, frames)
-        else:
-            self._images[camera].insert(i, _Image(image, frames))
-            times.insert(i, image.time)
 
     def _trim(self) -> None:
         """Drops snapshots older than cache_time, and images older than the one
@@ -187,11 +281,7 @@ class TfBuffer:
         if drop:
             del self._snapshots[:drop]
             del self._times[:drop]
-        for camera in self._cameras:
-            keep_from = _at_or_before(self._image_times[camera], self._times[0])
-            if keep_from > 0:
-                del self._images[camera][:keep_from]
-                del self._image_times[camera][:keep_from]
+        self._detected.trim(self._times[0])
 
     def monitor(self, period: float = 0.1) -> Callable[[Context], EventStatus]:
         """A Simulator monitor (``simulator.set_monitor(buffer.monitor(0.05))``)
@@ -214,19 +304,17 @@ class TfBuffer:
         """Forgets everything recorded."""
         self._snapshots.clear()
         self._times.clear()
-        for camera in self._cameras:
-            self._images[camera].clear()
-            self._image_times[camera].clear()
+        self._detected.clear()
 
     # ------------------------------------------------------------------ queries
 
     def all_frame_names(self, time: Optional[float] = None) -> list[str]:
         """Every frame at ``time`` (None: the latest), detected frames included, sorted."""
-        return sorted([*self._static, *self._detected_at(self._resolve_time(time))])
+        return sorted([*self._static, *self._detected.at(self._resolve_time(time))])
 
     def edges(self, time: Optional[float] = None) -> list[tuple[str, str]]:
         """(parent, child) pairs of the tree at ``time`` (None: the latest)."""
-        detected = self._detected_at(self._resolve_time(time))
+        detected = self._detected.at(self._resolve_time(time))
         return self._tree.edges() + [(f"{camera}_frame", name) for name, camera in sorted(detected.items())]
 
     def parent(self, name: str) -> Optional[str]:
@@ -234,17 +322,13 @@ class TfBuffer:
         self._check_name(name)
         if name in self._static:
             return self._parents[name]
-        return f"{self._camera_of(name)}_frame"
+        return f"{self._detected.camera_of(name)}_frame"
 
     def image(self, camera: str, time: Optional[float] = None) -> LogicalCameraImage:
         """The image ``camera`` held at ``time`` (None: latest): its last sample at or before."""
         if camera not in self._cameras:
             raise UnknownNameError("camera", camera, self._cameras, closest=True)
-        time = self._resolve_time(time)
-        i = _at_or_before(self._image_times[camera], time)
-        if i < 0:
-            raise FrameError(f"{camera} has no image at or before {time:.6g} s")
-        return self._images[camera][i].image
+        return self._detected.image(camera, self._resolve_time(time))
 
     def can_transform(self, target: str, source: str, time: Optional[float] = None) -> bool:
         """Whether :meth:`lookup_transform` would succeed."""
@@ -298,67 +382,18 @@ class TfBuffer:
             )
         return min(max(time, oldest), newest)
 
-    def _detected_at(self, time: float) -> dict[str, str]:
-        """Detected frame name -> camera, of the images held at ``time``."""
-        detected: dict[str, str] = {}
-        for camera in self._cameras:
-            i = _at_or_before(self._image_times[camera], time)
-            if i >= 0:
-                detected.update(dict.fromkeys(self._images[camera][i].frames, camera))
-        return detected
-
-    def _camera_of(self, name: str) -> Optional[str]:
-        """The camera that gives the detected frame ``name`` (None: no image has it)."""
-        for camera in self._cameras:
-            if any(name in image.frames for image in self._images[camera]):
-                return camera
-        return None
-
     def _check_name(self, name: str) -> None:
-        if name in self._static or self._camera_of(name) is not None:
+        if name in self._static or self._detected.camera_of(name) is not None:
             return
-        for camera in self._cameras:
-            prefix = f"{camera}_"
-            if name.startswith(prefix) and name.endswith("_frame") and len(name) > len(prefix) + 6:
-                model = name[len(prefix) : -len("_frame")]
-                images = self._images[camera]
-                seen = sorted({m for image in images for m, _ in image.frames.values()})
-                held = (
-                    (
-                        f"its images from {images[0].time:.6g} to {images[-1].time:.6g} s show "
-                        + (", ".join(seen) if seen else "nothing")
-                    )
-                    if images
-                    else "it has no image yet"
-                )
-                raise FrameError(f"frame {name!r} does not exist: {camera} has not seen {model!r} ({held})")
-        known = set(self._static)
-        for images in self._images.values():
-            for image in images:
-                known.update(image.frames)
-        raise UnknownNameError("frame", name, known, closest=True)
+        self._detected.check_unseen(name)
+        raise UnknownNameError("frame", name, set(self._static) | self._detected.names(), closest=True)
 
     def _detection(self, name: str, time: float) -> tuple[str, RigidTransform]:
         """(camera, X_CM) of the detected frame ``name`` at ``time``."""
-        camera = self._camera_of(name)
+        camera = self._detected.camera_of(name)
         if camera is None:
             raise UnknownNameError("frame", name, self.all_frame_names(time), closest=True)
-        images, times = self._images[camera], self._image_times[camera]
-        i = _at_or_before(times, time)
-        if i < 0 or name not in images[i].frames:
-            seen = [image.time for image in images if name in image.frames]
-            model = next(image.frames[name][0] for image in images if name in image.frames)
-            held = f"its image at {times[i]:.6g} s" if i >= 0 else "no image yet"
-            raise FrameError(
-                f"frame {name!r} does not exist at time {time:.6g} s: {camera} did not see "
-                f"{model!r} then ({held}; it saw it in {len(seen)} image(s) from "
-                f"{min(seen):.6g} to {max(seen):.6g} s)"
-            )
-        X_CM = images[i].frames[name][1]
-        if abs(times[i] - time) > TIME_EPS and i + 1 < len(images) and name in images[i + 1].frames:
-            alpha = (time - times[i]) / (times[i + 1] - times[i])
-            X_CM = interpolate_pose(X_CM, images[i + 1].frames[name][1], alpha)
-        return camera, X_CM
+        return camera, self._detected.detection(name, camera, time)
 
     def _snapshot_world_pose(self, snapshot: _Snapshot, name: str) -> RigidTransform:
         """X_WF of a plant frame in one snapshot."""
