@@ -233,7 +233,8 @@ def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_
     from omtp_drake.tasks.run import TaskResult
 
     ledger = Ledger(time=30.0, spawned=2, parked=0, on_belt=0, on_floor=1, elsewhere=0, held={"robot2": 0},
-                    in_bin={"bin_1": 1}, disposed=0, parts={"object_1": "in_bin:bin_1", "object_2": "on_floor"})
+                    in_bin={"bin_1": 1}, disposed=0,
+                    parts={"object_1": "in_bin:bin_1", "object_2": "on_floor"})
     picks = [PickRecord("object_1", 0.5, 6.0, True),
              PickRecord("object_2", 6.5, 12.0, False, "lost", 1, position=(-7.0, 1.5, 0.05), given_up=True)]
     result = TaskResult(SCENARIO, 3, picks, ledger, False, 30.0, 3.0, "bin_1", 2)

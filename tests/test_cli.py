@@ -50,7 +50,7 @@ def test_tf_echo_at_named_pose(capsys):
     (["screenshot", "no_such_replay.html"], "replay '"),
     (["screenshot", "no_such_replay.html", "--size", "1280"], "--size takes WIDTHxHEIGHT"),
     # Ranges and values name the option the user wrote, in one line (no usage text).
-    (["batch", "lecture6_assignment4", "--seeds", "-1:3"], "--seeds '-1:3' is an empty range; valid: START:STOP"),
+    (["batch", "lecture6_assignment4", "--seeds", "-1:3"], "--seeds '-1:3' is an empty range; valid: START"),
     (["run", "lecture6_assignment4", "--seed", "-1"], "--seed must be an integer >= 0, got -1"),
     (["run", "lecture6_assignment4", "--parts", "x"], "argument --parts: invalid int value: 'x'"),
     (["run", "lecture6_assignment4", "--parts", "0"], "--parts must be >= 1, got 0"),
@@ -112,7 +112,8 @@ def test_tf_echo_reports_the_state_at_the_time_asked(capsys):
         "parts: name 'p' is given twice; names in a list must be unique",
     ),
     (
-        "base: omtp_factory\ncameras:\n  - {name: logical_camera_1, near: 0.3}\n  - {name: logical_camera_1}\n",
+        "base: omtp_factory\ncameras:\n  - {name: logical_camera_1, near: 0.3}\n"
+        "  - {name: logical_camera_1}\n",
         "cameras: name 'logical_camera_1' is given twice",
     ),
     ("base: omtp_factory\nseed: -3\n", "seed must be an integer >= 0, got -3"),

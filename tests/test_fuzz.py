@@ -14,13 +14,12 @@ import os
 import typing
 
 import pytest
-import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from pydrake.multibody.plant import MultibodyPlantConfig
 
 from omtp_drake.errors import OmtpError
-from omtp_drake.scenario import Scenario, scenario_from_dict
+from omtp_drake.scenario import Scenario, scenario_document, scenario_from_dict, scenario_text
 from omtp_drake.scenario.loader import DIAGRAMS_DIR
 
 #: How many documents each property tries (bench/bench_fuzz.py raises it).
@@ -79,14 +78,7 @@ def _set(doc, path, value):
 
 def _base_documents() -> list[dict]:
     """The shipped scenarios as plain documents (bases merged), to mutate."""
-    from omtp_drake.scenario.loader import _raw_scenario
-
-    docs = []
-    for path in sorted(DIAGRAMS_DIR.glob("*.yaml")):
-        raw, _ = _raw_scenario(path.resolve(), ())
-        raw.pop("base", None)
-        docs.append(raw)
-    return docs
+    return [scenario_document(path) for path in sorted(DIAGRAMS_DIR.glob("*.yaml"))]
 
 
 BASES = _base_documents()
@@ -140,12 +132,6 @@ def _get(doc, path):
     return doc
 
 
-def _dumper():
-    from omtp_drake.scenario.loader import _Dumper
-
-    return _Dumper
-
-
 def _load(doc):
     """A scenario, or None when refused with an omtp_drake error."""
     try:
@@ -189,7 +175,7 @@ def test_cli_prints_one_line_errors_only(tmp_path_factory, doc, argv):
     from omtp_drake.cli import main
 
     path = tmp_path_factory.mktemp("fuzz") / "fuzz.yaml"
-    path.write_text(yaml.dump(doc, Dumper=_dumper()))
+    path.write_text(scenario_text(doc))
     code = main([a.format(path=path) for a in argv])  # any other exception fails the test
     assert code in (0, 1, 2)
 

@@ -24,8 +24,10 @@ from omtp_drake.scenario.loader import (
     closest_name,
     is_record,
     load_scenario,
+    scenario_document,
     scenario_from_dict,
     scenario_names,
+    scenario_text,
     schema_fields,
 )
 from omtp_drake.scenario.schema import Scenario
@@ -48,7 +50,9 @@ __all__ = [
     "closest_name",
     "is_record",
     "load_scenario",
+    "scenario_document",
     "scenario_from_dict",
     "scenario_names",
+    "scenario_text",
     "schema_fields",
 ]

@@ -201,6 +201,21 @@ def _raw_scenario(path: Path, seen: tuple[Path, ...]) -> tuple[dict, str]:
     return raw, path.stem
 
 
+def scenario_document(name_or_path: str | Path) -> dict:
+    """A scenario file as plain data: its mapping with every ``base:`` merged in (what
+    :func:`load_scenario` checks and types), e.g. to change and write back with
+    :func:`scenario_text`."""
+    raw, _ = _raw_scenario(_resolve(name_or_path).resolve(), ())
+    raw.pop("base", None)
+    return raw
+
+
+def scenario_text(document: dict) -> str:
+    """A scenario document as YAML text that loads back the same (tags such as
+    ``!Rpy`` kept)."""
+    return yaml.dump(document, Dumper=_Dumper, sort_keys=False)
+
+
 def load_scenario(name_or_path: str | Path) -> Scenario:
     """Loads a scenario by name (from ``diagrams/``) or from a YAML file path.
 

@@ -1,6 +1,7 @@
 """A vacuum gripper's settings (part of the scenario YAML schema).
 
-The gripper systems that apply them live in :mod:`omtp_drake.cell.suction`.
+The gripper systems that apply them live in :mod:`omtp_drake.cell.suction` (the attach
+rule) and :mod:`omtp_drake.cell.suction_holds` (the two ways of holding a part).
 """
 
 import math

@@ -16,14 +16,16 @@ faults is as repeatable as one without.
 from __future__ import annotations
 
 import logging
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Optional
+from typing import Any, Optional, Protocol
 
+from pydrake.math import RigidTransform
+from pydrake.systems.framework import Context
+
+from omtp_drake.cell.station import Station
 from omtp_drake.scenario.faults import FaultConfig
-from omtp_drake.sim.ledger import held_parts
-
-if TYPE_CHECKING:
-    from omtp_drake.sim.runtime import FactoryRuntime
+from omtp_drake.sim.ledger import Ledger, held_parts
 
 _log = logging.getLogger(__name__)
 
@@ -33,6 +35,27 @@ FAULT_CHECK_PERIOD = 0.01
 _EPS = 1e-9
 #: A dropped part's resting place is read this long (s) after the drop.
 LANDING_TIME = 1.5
+
+
+class FaultServices(Protocol):
+    """What a fault needs of the running cell (:class:`~omtp_drake.sim.runtime.FactoryRuntime` has it)."""
+
+    station: Station
+    context: Context
+
+    @property
+    def time(self) -> float: ...
+    def fail_vacuum(self, robot: str, duration: float) -> None: ...
+    def black_out_camera(self, camera: str, duration: float) -> None: ...
+    def block_arm(self, robot: str, duration: float) -> None: ...
+    def knock_part(self, name: str, velocity: Sequence[float]) -> None: ...
+    def move_bin(self, name: str, xyz: Sequence[float], yaw: float = 0.0) -> None: ...
+    def set_conveyor_power(self, power: float) -> None: ...
+    def conveyor_power(self) -> float: ...
+    def break_beam(self) -> tuple[bool, float]: ...
+    def ledger(self) -> Ledger: ...
+    def part_pose(self, name: str) -> RigidTransform: ...
+    def parts_in_world(self) -> list[str]: ...
 
 
 @dataclass
@@ -74,7 +97,7 @@ class FaultInjector:
     Call it every :data:`FAULT_CHECK_PERIOD` (``FactoryRuntime`` does).
     """
 
-    def __init__(self, runtime: FactoryRuntime, faults: list[FaultConfig]):
+    def __init__(self, runtime: FaultServices, faults: list[FaultConfig]):
         self._rt = runtime
         self._watches = [_Watch(f) for f in faults]
         self._landings: list[tuple[float, FaultReport, str]] = []

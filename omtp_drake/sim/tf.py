@@ -438,7 +438,7 @@ class TfBuffer:
         cache[name] = X
         return X
 
-    def _frame_kind(self, name: str) -> str:
+    def frame_kind(self, name: str) -> str:
         """``camera``, ``detected``, ``moving`` (across a joint) or ``fixed``."""
         if name not in self._static:
             return "detected"

@@ -96,7 +96,7 @@ def _draw_frame_boxes(ax: Axes, buffer: TfBuffer, position: dict[str, tuple[floa
     fontsize = 8.5
     boxes = {}
     for name, (x, d) in position.items():
-        face, edge = _COLOURS[buffer._frame_kind(name)]
+        face, edge = _COLOURS[buffer.frame_kind(name)]
         boxes[name] = ax.text(
             x,
             -d,
@@ -147,7 +147,7 @@ def _draw_connectors(
         ax.plot([x0, x0], [bottom, bus], color=trunk, linewidth=1.0, zorder=1)
         ax.plot([min(xs + [x0]), max(xs + [x0])], [bus, bus], color=trunk, linewidth=1.0, zorder=1)
         for kid, x1 in zip(kids, xs):
-            kind = buffer._frame_kind(kid)
+            kind = buffer.frame_kind(kid)
             colour = _COLOURS[kind][1] if kind in ("detected", "moving") else trunk
             ax.add_patch(
                 FancyArrowPatch(
