@@ -202,6 +202,9 @@ def cmd_batch(args: argparse.Namespace) -> int:
         out=out,
         progress=not args.quiet,
     )
+    resumed = sum(r.resumed for r in records)
+    if resumed:
+        print(f"resumed: {resumed} of {len(records)} runs were done already in {out}/ and were skipped")
     print(format_summary(summarize(records)))
     print(f"results: {out}/ (runs/*.json, runs.csv, summary.json, success_rate.png, cycle_times.png)")
     return 0 if all(r.success for r in records) else 1

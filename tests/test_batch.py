@@ -4,8 +4,10 @@ a real scheduler and workers, faults recorded and retried, resume, bad input.
 Runs are lecture 6 assignment 4 with one part (~2 s of wall each) or shorter.
 """
 
+import functools
 import json
 import os
+import signal
 import socket
 import subprocess
 import sys
@@ -16,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from omtp_drake import batch
-from omtp_drake.batch import plan_batch, run_batch, wilson_interval
+from omtp_drake.batch import cluster, plan_batch, run_batch, wilson_interval
 from omtp_drake.cli import main
 from omtp_drake.errors import ConfigError
 from omtp_drake.tasks.run import run_task
@@ -41,6 +43,19 @@ def only_seed_0(scenario, duration):
     """A run function for the resume test: any run but seed 0's is an error."""
     if scenario.seed != 0:
         raise AssertionError(f"seed {scenario.seed} should have been skipped")
+    return batch.simulate(scenario, duration)
+
+
+def kill_the_worker_once(scenario, duration, *, marker):
+    """A run function whose first call kills the Dask worker running it (SIGKILL, as
+    the out-of-memory killer would); Dask then runs it again on another worker."""
+    if not os.path.exists(marker):
+        open(marker, "w").close()
+        runner = os.getppid()  # the run's process is forked by its worker's runner
+        with open(f"/proc/{runner}/stat") as f:
+            worker = int(f.read().rsplit(")", 1)[1].split()[1])
+        os.kill(worker, signal.SIGKILL)
+        time.sleep(60)
     return batch.simulate(scenario, duration)
 
 
@@ -179,7 +194,7 @@ def test_faults_are_recorded_retried_and_resume_skips_done_runs(local_client, tm
     assert [r.status for r in resumed] == ["finished", "crashed", "error", "timeout", "finished"]
     assert resumed[0].result.ledger == by_seed[0].result.ledger
     # Everything done: no cluster at all.
-    monkeypatch.setattr(batch, "connect", _no_cluster)
+    monkeypatch.setattr(cluster, "connect", _no_cluster)
     again = run_batch(SCENARIO, range(5), workers=2, run_fn=only_seed_0, **kwargs)
     assert [r.to_dict() for r in again] == [r.to_dict() for r in resumed]
 
@@ -204,7 +219,7 @@ def test_faults_are_recorded_retried_and_resume_skips_done_runs(local_client, tm
     ],
 )
 def test_bad_input_is_one_error_before_anything_starts(args, message, tmp_path, monkeypatch, capsys):
-    monkeypatch.setattr(batch, "connect", _no_cluster)
+    monkeypatch.setattr(cluster, "connect", _no_cluster)
     out = tmp_path / "never"
     assert main(["batch", SCENARIO, *args, "--out", str(out)]) == 2
     err = capsys.readouterr().err
@@ -216,7 +231,7 @@ def test_resume_refuses_another_batchs_folder(tmp_path, monkeypatch):
     out = tmp_path / "other"
     out.mkdir()
     (out / "batch.json").write_text(json.dumps({"scenario": "fill_bin", "parts": 3, "fingerprint": "x"}))
-    monkeypatch.setattr(batch, "connect", _no_cluster)
+    monkeypatch.setattr(cluster, "connect", _no_cluster)
     with pytest.raises(ConfigError, match="holds a batch of another scenario"):
         run_batch(SCENARIO, [0], parts=1, out=out, progress=False)
 
@@ -245,3 +260,23 @@ def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_
     unrecorded = batch.RunRecord(SCENARIO, 3, {}, "finished", result=TaskResult(
         SCENARIO, 3, picks[:1], ledger, False, 30.0, 3.0, "bin_1", 2))
     assert unrecorded.ledger_anomaly
+
+
+def test_a_run_whose_worker_dies_is_run_again_and_says_so(tmp_path, capsys):
+    out = tmp_path / "lost"
+    run_fn = functools.partial(kill_the_worker_once, marker=str(tmp_path / "killed"))
+    with batch.connect(workers=2) as client:
+        [record] = run_batch(SCENARIO, [0], parts=1, duration=0.3, client=client, out=out, progress=False,
+                             run_fn=run_fn)
+    assert record.status == "finished" and record.result.sim_time_s == pytest.approx(0.3)
+    assert (record.lost_workers, record.attempts, record.retries) == (1, 1, 1)
+    saved = json.loads((out / "runs" / "seed0.json").read_text())
+    assert (saved["lost_workers"], saved["retries"]) == (1, 1)
+    [summary] = batch.summarize([record])
+    assert (summary.retries, summary.lost_workers) == (1, 1)
+    assert "retries 1 (workers lost 1)" in batch.format_summary([summary])
+    # Run again on the same folder: nothing runs, and the CLI says how many were skipped.
+    argv = ["batch", SCENARIO, "--seeds", "0:1", "--parts", "1", "--duration", "0.3", "--out", str(out), "-q"]
+    code = main(argv)
+    assert code == 1  # 0.3 s places no part
+    assert "resumed: 1 of 1 runs were done already" in capsys.readouterr().out

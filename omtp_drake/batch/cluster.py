@@ -221,9 +221,9 @@ def _run_jobs(
     from distributed import as_completed
 
     pending = as_completed()
-    meta: dict[str, tuple[_Job, int, list[dict[str, Any]]]] = {}
+    meta: dict[str, tuple[_Job, int, list[dict[str, Any]], int]] = {}
 
-    def submit(job: _Job, attempt: int, failures: list[dict[str, Any]], avoid: str) -> None:
+    def submit(job: _Job, attempt: int, failures: list[dict[str, Any]], avoid: str, lost: int = 0) -> None:
         workers = None
         if avoid:
             others = [w for w in client.has_what() if w != avoid]
@@ -232,23 +232,42 @@ def _run_jobs(
         # Only the other workers (a loose restriction would let an idle
         # worker steal the task back); any worker when there is no other.
         future = client.submit(_execute, job, key=key, pure=False, workers=workers)
-        meta[future.key] = (job, attempt, failures)
+        meta[future.key] = (job, attempt, failures, lost)
         pending.add(future)
 
     for job in jobs:
         submit(job, 1, [], "")
     for future in pending:
-        job, attempt, failures = meta.pop(future.key)
+        job, attempt, failures, lost = meta.pop(future.key)
         record = _record_of(future, job)
+        lost += _lost_workers(client, future.key)
         future.release()
         if record.status != FINISHED and attempt <= retries:
             _log.info("run %s: %s (%s); retrying", job.spec.run_id, record.status, record.message)
             failure = {"status": record.status, "message": record.message, "worker": record.worker}
-            submit(job, attempt + 1, failures + [failure], record.worker)
+            submit(job, attempt + 1, failures + [failure], record.worker, lost)
             continue
         record.attempts = attempt
         record.failed_attempts = failures
+        record.lost_workers = lost
+        if lost:
+            _log.warning("run %s: its worker died %d time(s); Dask ran it again", job.spec.run_id, lost)
         on_record(record)
+
+
+def _lost_workers(client: Client, key: str) -> int:
+    """How many workers died while they held the task ``key`` (the scheduler's
+    ``suspicious`` count: Dask runs such a task again on another worker, silently)."""
+
+    def suspicious(dask_scheduler: Any) -> int:
+        task = dask_scheduler.tasks.get(key)
+        return int(task.suspicious) if task is not None else 0
+
+    try:
+        return int(client.run_on_scheduler(suspicious))
+    except Exception as e:  # a scheduler that cannot answer: say so, count none
+        _log.warning("cannot ask the scheduler about task %s (%s)", key, e)
+        return 0
 
 
 def run_batch(

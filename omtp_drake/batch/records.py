@@ -40,6 +40,15 @@ class RunRecord:
     run_wall_time_s: float = math.nan
     #: Earlier attempts that failed: status, message, worker.
     failed_attempts: list[dict[str, Any]] = field(default_factory=list)
+    #: Times a worker died while it ran this run and Dask ran it again elsewhere.
+    lost_workers: int = 0
+    #: Loaded from the results folder of an earlier call (a resume), not run by this one.
+    resumed: bool = field(default=False, compare=False)
+
+    @property
+    def retries(self) -> int:
+        """Times the run was started again: after a failed attempt, or a lost worker."""
+        return self.attempts - 1 + self.lost_workers
 
     @property
     def success(self) -> bool:
@@ -82,6 +91,8 @@ class RunRecord:
                 "worker": self.worker,
                 "run_wall_time_s": self.run_wall_time_s,
                 "failed_attempts": list(self.failed_attempts),
+                "lost_workers": self.lost_workers,
+                "retries": self.retries,
             }
         )
         return out
@@ -103,6 +114,7 @@ class RunRecord:
             worker=data.get("worker", ""),
             run_wall_time_s=data.get("run_wall_time_s", math.nan),
             failed_attempts=list(data.get("failed_attempts", [])),
+            lost_workers=data.get("lost_workers", 0),
         )
 
 

@@ -72,6 +72,7 @@ class ResultStore:
                 _log.warning("%s is unreadable (%s); running it again", path, e)
                 continue
             if record.seed == spec.seed and record.settings == spec.settings:
+                record.resumed = True
                 done[spec.run_id] = record
         return done
 

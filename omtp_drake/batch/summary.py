@@ -52,6 +52,11 @@ class SettingSummary:
     ledger_anomalies: list[int]
     #: Mean real-time factor of the finished runs.
     real_time_factor: float
+    #: Runs started again (after a failed attempt or a lost worker), and workers lost.
+    retries: int = 0
+    lost_workers: int = 0
+    #: Runs taken from an earlier call's results folder (a resume) instead of run.
+    resumed: int = 0
 
     @property
     def label(self) -> str:
@@ -88,6 +93,9 @@ class SettingSummary:
             "failed_picks": dict(self.failed_picks),
             "ledger_anomalies": list(self.ledger_anomalies),
             "real_time_factor": self.real_time_factor,
+            "retries": self.retries,
+            "lost_workers": self.lost_workers,
+            "resumed": self.resumed,
         }
 
 
@@ -115,6 +123,9 @@ def summarize(records: Sequence[RunRecord]) -> list[SettingSummary]:
                 ),
                 ledger_anomalies=[r.seed for r in group if r.ledger_anomaly],
                 real_time_factor=float(np.mean(rtfs)) if rtfs else math.nan,
+                retries=sum(r.retries for r in group),
+                lost_workers=sum(r.lost_workers for r in group),
+                resumed=sum(r.resumed for r in group),
             )
         )
     return out
@@ -150,5 +161,9 @@ def format_summary(summaries: Sequence[SettingSummary]) -> str:
         anomalies = ", ".join(map(str, s.ledger_anomalies)) if s.ledger_anomalies else "none"
         lines.append(
             f"  ledger anomalies (parts unaccounted for): {len(s.ledger_anomalies)} (seeds: {anomalies})"
+        )
+        lines.append(
+            f"  retries {s.retries} (workers lost {s.lost_workers}); "
+            f"resumed from the results folder: {s.resumed} of {s.runs} runs"
         )
     return "\n".join(lines)
