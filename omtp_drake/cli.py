@@ -90,6 +90,14 @@ def _fault_line(fault: dict) -> str:
     return head + (": " + ", ".join(words) if words else "")
 
 
+def _progress(args: argparse.Namespace) -> bool:
+    """A progress bar only on a terminal (a log gets no carriage-return lines):
+    ``--progress`` asks for one anyway, ``-q`` for none."""
+    if getattr(args, "quiet", False):
+        return False
+    return bool(getattr(args, "progress", False)) or sys.stderr.isatty()
+
+
 def _run_and_report(args: argparse.Namespace, scenario: str, *, progress: bool) -> int:
     """Runs ``scenario``'s task with the view options of ``args``; prints the result."""
     from omtp_drake.tasks.run import TaskRun, run_task
@@ -142,12 +150,12 @@ def _serve(meshcat) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    return _run_and_report(args, args.scenario, progress=not args.quiet)
+    return _run_and_report(args, args.scenario, progress=_progress(args))
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main demo: the fill-a-bin challenge."""
-    return _run_and_report(args, "fill_bin", progress=True)
+    return _run_and_report(args, "fill_bin", progress=_progress(args))
 
 
 def cmd_screenshot(args: argparse.Namespace) -> int:
@@ -200,7 +208,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
         scheduler=args.scheduler,
         timeout=args.timeout,
         out=out,
-        progress=not args.quiet,
+        progress=_progress(args),
     )
     resumed = sum(r.resumed for r in records)
     if resumed:
@@ -340,6 +348,10 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--parts", type=int, default=None, help="parts to place (default 10)")
     p.add_argument("--seed", type=int, default=None)
     _add_view_options(p)
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
+    )
     p.set_defaults(func=cmd_demo)
 
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
@@ -352,6 +364,9 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     _add_view_options(p)
     p.add_argument("--json", metavar="FILE", help="write the result as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
+    )
     p.set_defaults(func=cmd_run)
 
 
@@ -495,6 +510,9 @@ def _add_batch_command(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--out", default=None, metavar="DIR", help="results folder (default: batch_<scenario>)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
+    )
     p.set_defaults(func=cmd_batch)
 
 

@@ -81,10 +81,14 @@ def test_run_with_meshcat_and_no_terminal_prints_the_url_and_ends_cleanly():
     assert "Traceback" not in result.stderr and "EOFError" not in result.stderr
 
 
-def test_progress_bar_shows_simulated_time(capsys):
-    assert main(["run", "lecture6_assignment4", "--parts", "1", "--duration", "1"]) == 1
+def test_progress_bar_shows_simulated_time_when_asked_and_stays_out_of_logs(capsys):
+    assert main(["run", "lecture6_assignment4", "--parts", "1", "--duration", "1", "--progress"]) == 1
     err = capsys.readouterr().err
     assert "1.0/1 s simulated" in err and "0/1 in bin_1" in err
+    # stderr is not a terminal here (a log): no bar, no carriage returns.
+    assert main(["run", "lecture6_assignment4", "--parts", "1", "--duration", "1"]) == 1
+    err = capsys.readouterr().err
+    assert "s simulated" not in err and "\r" not in err
 
 
 def test_tf_echo_reports_the_state_at_the_time_asked(capsys):
