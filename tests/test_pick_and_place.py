@@ -173,7 +173,8 @@ def test_run_cli_writes_json_and_exit_code(tmp_path, capsys):
     path = tmp_path / "result.json"
     assert main(["run", "lecture6_assignment4", "--parts", "1", "--json", str(path), "-q"]) == 0
     data = json.loads(path.read_text())
-    assert set(data) == {"scenario", "seed", "picks", "summary", "ledger"}
+    assert set(data) == {"scenario", "seed", "picks", "summary", "ledger", "faults"}
+    assert data["faults"] == []  # the scenario declares none
     assert {"attempted", "succeeded", "failed", "failure_reasons", "mean_cycle_time_s",
             "sim_time_s", "wall_time_s", "real_time_factor"} <= set(data["summary"])
     assert data["summary"]["failed"] == sum(not p["success"] for p in data["picks"])
