@@ -283,7 +283,6 @@ class LogicalCamera(LeafSystem):
         seed: int = 0,
     ):
         super().__init__()
-        config.validate()
         if seed < 0:
             raise ConfigError(f"logical camera {config.name!r}: seed={seed!r} is invalid; valid: seed >= 0")
         if not plant.is_finalized():
@@ -321,6 +320,26 @@ class LogicalCamera(LeafSystem):
         self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
         self.DeclareForcedUnrestrictedUpdateEvent(self._update)
         self._image_port = self.DeclareStateOutputPort("image", self._image)
+
+    @staticmethod
+    def AddToDiagram(
+        builder: DiagramBuilder,
+        plant: MultibodyPlant,
+        scene_graph: SceneGraph,
+        frame: Frame,
+        config: LogicalCameraConfig,
+        *,
+        exclude: Sequence[ModelInstanceIndex] = (),
+        seed: int = 0,
+    ) -> "LogicalCamera":
+        """Adds a camera of ``config`` (checked where it was loaded: :meth:`Scenario.validate`
+        or :func:`add_logical_camera`) to ``builder`` and connects the plant's body poses."""
+        camera = LogicalCamera(
+            plant, scene_graph.model_inspector(), frame, config, exclude=exclude, seed=seed
+        )
+        builder.AddSystem(camera)
+        builder.Connect(plant.get_body_poses_output_port(), camera.body_poses_input_port())
+        return camera
 
     def body_poses_input_port(self) -> InputPort:
         """The ``body_poses`` input: the plant's body poses X_WB, by body index."""
@@ -457,7 +476,4 @@ def add_logical_camera(
         ConfigError: invalid ``config`` or ``seed`` (nothing is added then).
     """
     config.validate()
-    camera = LogicalCamera(plant, scene_graph.model_inspector(), frame, config, exclude=exclude, seed=seed)
-    builder.AddSystem(camera)
-    builder.Connect(plant.get_body_poses_output_port(), camera.body_poses_input_port())
-    return camera
+    return LogicalCamera.AddToDiagram(builder, plant, scene_graph, frame, config, exclude=exclude, seed=seed)

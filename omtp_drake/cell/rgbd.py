@@ -71,7 +71,6 @@ CLIPPING_FAR = 30.0
 def camera_info(config: LogicalCameraConfig) -> CameraInfo:
     """The intrinsics of ``config``'s RGB-D view: ``rgbd_width`` x ``rgbd_height()``
     pixels spanning exactly the frustum's horizontal fov and its vertical extent."""
-    config.validate()
     width, height = config.rgbd_width, config.rgbd_height()
     tan_y = math.tan(config.horizontal_fov / 2)  # half-width / depth
     tan_z = tan_y / config.aspect_ratio  # half-height / depth
@@ -130,10 +129,12 @@ def add_rgbd_view(
         - body_pose_in_world
         - image_time
 
+    ``config`` is the logical camera's, checked where it was loaded (the scenario,
+    or :func:`~omtp_drake.cell.logical_camera.add_logical_camera`).
+
     Raises:
-        ConfigError: invalid ``config``; a frame not fixed to a body with a geometry frame.
+        ConfigError: a frame not fixed to a body with a geometry frame.
     """
-    config.validate()
     body: Body = frame.body()
     parent = plant.GetBodyFrameIdIfExists(body.index())
     if parent is None:

@@ -68,7 +68,7 @@ from pydrake.systems.primitives import Demultiplexer
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import X_W_CONVEYOR, BeltGeometry, BreakBeam, ConveyorBelt
-from omtp_drake.cell.logical_camera import LogicalCamera, add_logical_camera
+from omtp_drake.cell.logical_camera import LogicalCamera
 from omtp_drake.cell.parts import parking_pose
 from omtp_drake.cell.suction import SuctionGripper
 from omtp_drake.cell.suction_holds import (
@@ -451,7 +451,7 @@ def build_station(
     grippers = _add_grippers(builder, plant, scenario, models, constraints)
     cameras: dict[str, LogicalCamera] = {}
     for cam in scenario.cameras:
-        cameras[cam.name] = add_logical_camera(
+        cameras[cam.name] = LogicalCamera.AddToDiagram(  # cam was checked with the scenario
             builder,
             plant,
             scene_graph,

@@ -161,7 +161,6 @@ class SuctionGripper(LeafSystem):
         name: str = "suction",
     ):
         super().__init__()
-        config.validate()
         if not plant.is_finalized():
             raise ConfigError(f"gripper {name!r}: the plant must be finalized first")
         if not part_bodies:
