@@ -123,3 +123,15 @@ def test_a_part_dropped_in_transit_is_recorded(machine):
     assert d.record.reason == "dropped" and not d.record.success and d.record.part == "object_1"
     # Last known: under the cup where it fell.
     assert np.allclose(d.control.X_WP.translation(), X_WE.translation() - [0.0, 0.0, SIZE / 2])
+
+
+def test_a_part_only_a_search_camera_sees_is_found(machine):
+    """The pick camera shows nothing; another camera sees a part outside the bin (it
+    fell out of view): once it is at rest there, it is approached."""
+    s = machine.step(seen(0.0), ControlState()).control
+    q = tuple(arms.named_pose("R2Home"))
+    for t in (0.05, 0.10):
+        search = image(t, ("object_3", P_PART))
+        d = machine.step(MachineInput(t, X_ABOVE, FREE, q, pick_image=image(t), search_images=(search,)), s)
+        s = d.control
+    assert d.mode is Mode.APPROACH and s.part == "object_3"

@@ -269,24 +269,24 @@ def add_pick_and_place(
     d = station.diagram
     if config.camera not in station.cameras:
         raise ConfigError(f"task.camera {config.camera!r} is not a camera of the station")
-    builder.Connect(d.GetOutputPort(f"{config.camera}.image"), controller.GetInputPort("camera_image"))
+    builder.Connect(d.GetOutputPort(f"{config.camera}.image"), controller.camera_image_input_port())
     if config.bin_camera:
         builder.Connect(
-            d.GetOutputPort(f"{config.bin_camera}.image"), controller.GetInputPort("bin_camera_image")
+            d.GetOutputPort(f"{config.bin_camera}.image"), controller.bin_camera_image_input_port()
         )
     else:
         empty = builder.AddSystem(ConstantValueSource(AbstractValue.Make(NO_IMAGE)))
-        builder.Connect(empty.get_output_port(), controller.GetInputPort("bin_camera_image"))
+        builder.Connect(empty.get_output_port(), controller.bin_camera_image_input_port())
     for k, camera in enumerate(search):
-        builder.Connect(d.GetOutputPort(f"{camera}.image"), controller.GetInputPort(f"search_camera_{k}"))
+        builder.Connect(d.GetOutputPort(f"{camera}.image"), controller.search_camera_input_port(k))
     suction = station.suction_name(config.robot)
-    builder.Connect(d.GetOutputPort(f"{suction}.state"), controller.GetInputPort("gripper_state"))
-    builder.Connect(d.GetOutputPort(f"{robot.name}.state_estimated"), controller.GetInputPort("robot_state"))
-    builder.Connect(controller.GetOutputPort("X_BE_desired"), diffik.GetInputPort("X_AE_desired"))
-    builder.Connect(controller.GetOutputPort("use_robot_state"), diffik.GetInputPort("use_robot_state"))
+    builder.Connect(d.GetOutputPort(f"{suction}.state"), controller.gripper_state_input_port())
+    builder.Connect(d.GetOutputPort(f"{robot.name}.state_estimated"), controller.robot_state_input_port())
+    builder.Connect(controller.tool_pose_output_port(), diffik.GetInputPort("X_AE_desired"))
+    builder.Connect(controller.use_robot_state_output_port(), diffik.GetInputPort("use_robot_state"))
     builder.Connect(d.GetOutputPort(f"{robot.name}.state_estimated"), diffik.GetInputPort("robot_state"))
     builder.Connect(diffik.GetOutputPort("joint_positions"), d.GetInputPort(f"{robot.name}.position"))
-    builder.Connect(controller.GetOutputPort("suction_command"), d.GetInputPort(f"{suction}.command"))
+    builder.Connect(controller.suction_command_output_port(), d.GetInputPort(f"{suction}.command"))
     return controller, diffik
 
 
