@@ -1,0 +1,117 @@
+"""Straight-line tool motions, like MoveIt's ``compute_cartesian_path``: the tool
+frame E moves in straight lines (rotation by slerp) through world poses, each small
+step solved by IK seeded by the step before, until a step is unreachable, jumps to
+another IK branch, or collides.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import Sequence
+
+import numpy as np
+from pydrake.math import RigidTransform
+
+from omtp_drake.cell.poses import interpolate_pose
+from omtp_drake.control.motion.collision import CollisionModel
+from omtp_drake.control.motion.ik import ArmKinematics
+from omtp_drake.control.motion.messages import fmt_pairs, fmt_pose
+from omtp_drake.errors import ConfigError
+
+_log = logging.getLogger(__name__)
+
+
+def cartesian_path(
+    kinematics: ArmKinematics,
+    collision: CollisionModel | None,
+    q_start: np.ndarray,
+    waypoints: Sequence[RigidTransform],
+    base: np.ndarray,
+    *,
+    frame: str,
+    max_step: float,
+    max_rotation_step: float,
+    jump_threshold: float | None,
+) -> tuple[list[np.ndarray], float]:
+    """The joint path (from ``q_start``, already checked) of a straight-line motion of
+    tool frame ``frame`` through ``waypoints`` (each an ``X_WE``), and the fraction of
+    its steps achieved: see :meth:`ArmPlanner.cartesian_path
+    <omtp_drake.control.motion.planner.ArmPlanner.cartesian_path>`.
+
+    ``collision``: the model each step's joint segment is checked with (None: no
+    check); ``base``: the full configuration of everything but the arm.
+    """
+    if max_step <= 0 or max_rotation_step <= 0:
+        raise ConfigError(f"max_step and max_rotation_step must be > 0, got {max_step}, {max_rotation_step}")
+    if jump_threshold is not None and jump_threshold <= 0:
+        raise ConfigError(f"jump_threshold must be > 0 rad or None, got {jump_threshold}")
+    tool = kinematics.frame(frame)
+    targets = _interpolate_poses(
+        kinematics.forward_kinematics(q_start, frame),
+        [RigidTransform(X) for X in waypoints],
+        max_step,
+        max_rotation_step,
+    )
+    path = [q_start]
+    if not targets:
+        return path, 1.0
+    X_BW = kinematics.X_WB.inverse()
+    for X_WE in targets:
+        previous = path[-1]
+        q = kinematics.solve(tool, X_BW @ X_WE, previous, previous, 1e-4, 1e-3)
+        reason = _why_stop(collision, base, X_WE, previous, q, jump_threshold)
+        if reason is not None or q is None:
+            _log.info(
+                "cartesian path of %s stops after %d of %d steps: %s",
+                kinematics.config.name,
+                len(path) - 1,
+                len(targets),
+                reason,
+            )
+            break
+        path.append(q)
+    return path, (len(path) - 1) / len(targets)
+
+
+def _why_stop(
+    collision: CollisionModel | None,
+    base: np.ndarray,
+    X_WE: RigidTransform,
+    previous: np.ndarray,
+    q: np.ndarray | None,
+    jump_threshold: float | None,
+) -> str | None:
+    """Why the step from ``previous`` to ``q`` (the IK solution at ``X_WE``, None if
+    unreachable) ends the path; None when it does not."""
+    if q is None:
+        return f"unreachable at {fmt_pose(X_WE)}"
+    jump = float(np.max(np.abs(q - previous)))
+    if jump_threshold is not None and jump > jump_threshold:
+        return f"joint jump of {jump:.3f} rad at {fmt_pose(X_WE)}"
+    if collision is not None and not collision.edge_free(
+        collision.with_arm(base, previous), collision.with_arm(base, q)
+    ):
+        pairs = fmt_pairs(collision.pairs(collision.with_arm(base, q)))
+        return f"collision at {fmt_pose(X_WE)}: {pairs or 'on the way'}"
+    return None
+
+
+def _interpolate_poses(
+    X_start: RigidTransform, waypoints: list[RigidTransform], max_step: float, max_rotation_step: float
+) -> list[RigidTransform]:
+    """Poses along straight lines (slerped rotations) through ``waypoints``, at most
+    ``max_step`` m and ``max_rotation_step`` rad apart, ``X_start`` excluded."""
+    poses, previous = [], X_start
+    for X in waypoints:
+        p0, p1 = previous.translation(), X.translation()
+        angle = previous.rotation().InvertAndCompose(X.rotation()).ToAngleAxis().angle()
+        # (1e-9: 0.1 m in 5 mm steps is 20 steps despite rounding)
+        steps = max(
+            1,
+            math.ceil(np.linalg.norm(p1 - p0) / max_step - 1e-9),
+            math.ceil(angle / max_rotation_step - 1e-9),
+        )
+        poses += [interpolate_pose(previous, X, k / steps) for k in range(1, steps + 1)]
+        previous = X
+    return poses

@@ -1,0 +1,377 @@
+"""Collision-aware motion planning for one arm of the cell (a MoveIt-like back end).
+
+:class:`ArmPlanner` owns a collision model of the whole static cell (every model
+:func:`~omtp_drake.cell.station.add_cell_models` adds, without parts) and answers, for
+one arm of a scenario:
+
+- ``collisions(q)``: which bodies touch (within ``margin``) at joint positions q;
+- ``plan(q_start, q_goal)``: joint waypoints of a collision-free path (the straight
+  joint segment when it is free, else OMPL's RRTConnect, then OMPL's simplifier),
+  deterministic for a given seed;
+- ``ik(X_WE)``: joint positions putting a tool frame E at a world pose;
+- ``cartesian_path(q_start, waypoints)``: a straight-line tool motion, like
+  MoveIt's ``compute_cartesian_path`` (joint path and the fraction achieved);
+- ``time_parameterize(path)``: a rest-to-rest joint trajectory within the arm's
+  velocity and acceleration limits (TOPP-RA), as a Drake ``PiecewisePolynomial``.
+
+It is the one facade over the package's parts, one module per concept:
+
+- :mod:`~omtp_drake.control.motion.collision`: the collision model (Drake's
+  ``SceneGraphCollisionChecker`` over the cell, self collisions);
+- :mod:`~omtp_drake.control.motion.scene`: the planning scene, what is added to it
+  (obstacle boxes, a held part);
+- :mod:`~omtp_drake.control.motion.ik`: forward and inverse kinematics with seeds;
+- :mod:`~omtp_drake.control.motion.search`: OMPL's RRTConnect and simplifier;
+- :mod:`~omtp_drake.control.motion.cartesian`: straight-line tool motions;
+- :mod:`~omtp_drake.control.motion.timing`: TOPP-RA time parameterization.
+
+Cost (2 cores, robot 2 at bin 1, bench/bench_planning.py): build about 0.25 s;
+a blocked move about 0.1-0.2 s, a free one about 10 ms; IK 3-60 ms; the first
+time parameterization imports TOPP-RA (scipy, about 0.7 s), later ones 10-40 ms.
+
+Notation: ``X_AB`` is the pose of frame B in frame A (W world, B the arm's base,
+E the tool frame, C the gripper's cup body, P a held part, O an obstacle);
+``q`` are the arm's six joint positions (pan, lift, elbow, wrist 1..3).
+
+Example::
+
+    planner = ArmPlanner("lecture6_assignment4", "robot2")
+    path = planner.plan(arms.named_pose("R2Home"), arms.named_pose("R2Place"))
+    trajectory = planner.time_parameterize(path)      # PiecewisePolynomial
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from pydrake.math import RigidTransform
+from pydrake.trajectories import PiecewisePolynomial
+
+from omtp_drake.cell import arms
+from omtp_drake.control.motion.cartesian import cartesian_path
+from omtp_drake.control.motion.collision import CollisionModel, OtherPositions
+from omtp_drake.control.motion.ik import ArmKinematics, inverse_kinematics
+from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
+from omtp_drake.control.motion.scene import Obstacle
+from omtp_drake.control.motion.search import JointSearch
+from omtp_drake.control.motion.timing import ACCELERATION_LIMITS, scaled_limits, time_parameterize
+from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
+from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
+
+#: Joint-space distance (rad) between two checked configurations of an edge.
+DEFAULT_EDGE_STEP = 0.01
+
+
+def _check_planner_options(margin: float, edge_step: float, search_step: float, planner_range: float) -> None:
+    """Raises ConfigError unless :class:`ArmPlanner`'s numeric options are in range."""
+    if not 0 <= margin < 0.2:
+        raise ConfigError(f"margin must be in [0, 0.2) m, got {margin}")
+    if not 0 < edge_step <= 0.1:
+        raise ConfigError(f"edge_step must be in (0, 0.1] rad, got {edge_step}")
+    if not 0 < search_step <= 0.2 or planner_range <= 0:
+        raise ConfigError(
+            f"search_step must be in (0, 0.2] rad and planner_range > 0 rad, "
+            f"got {search_step}, {planner_range}"
+        )
+
+
+class ArmPlanner:
+    """Collision checking, planning, IK and time parameterization for one arm.
+
+    Args:
+        scenario: a :class:`Scenario`, or a scenario name or path.
+        robot: the arm's name in the scenario (``robot1``...).
+        margin: clearance (m) every robot body keeps to everything else.
+        edge_step: joint-space distance (rad) between two checked configurations
+            of a straight joint segment (0.01 rad moves a point 1 m out by 1 cm):
+            every path :meth:`plan` returns is checked at this step.
+        search_step: the coarser step at which RRTConnect checks its motions (its
+            result is then checked at ``edge_step``): 3x fewer checks.
+        planner_range: RRTConnect's longest extension (rad).
+        self_collisions: also check the arm against itself (see
+            :mod:`~omtp_drake.control.motion.collision`).
+
+    Joint positions given to it are checked by
+    :func:`~omtp_drake.cell.arms.check_joint_positions` (ConfigError: not six finite
+    numbers within the arm's joint limits).
+
+    The build takes about 0.25 s (the cell's models and the checker). One planner
+    serves one thread at a time.
+    """
+
+    def __init__(
+        self,
+        scenario: Scenario | str,
+        robot: str,
+        *,
+        margin: float = 0.01,
+        edge_step: float = DEFAULT_EDGE_STEP,
+        search_step: float = 0.03,
+        planner_range: float = 1.0,
+        self_collisions: bool = True,
+    ) -> None:
+        if not isinstance(scenario, Scenario):
+            scenario = load_scenario(scenario)
+        configs = {r.name: r for r in scenario.robots}
+        if robot not in configs:
+            raise UnknownNameError("robot", robot, configs)
+        _check_planner_options(margin, edge_step, search_step, planner_range)
+        self._config: RobotConfig = configs[robot]
+        self._collision = CollisionModel(
+            scenario, robot, margin=margin, edge_step=edge_step, self_collisions=self_collisions
+        )
+        self._kinematics = ArmKinematics(scenario, self._config)
+        self._search = JointSearch(
+            self._collision,
+            self._kinematics.lower,
+            self._kinematics.upper,
+            max(edge_step, search_step),
+            planner_range,
+        )
+
+    # ------------------------------------------------------------------ model
+
+    @property
+    def robot(self) -> RobotConfig:
+        """The planned arm's configuration."""
+        return self._config
+
+    @property
+    def margin(self) -> float:
+        """Clearance (m) kept between robot bodies and everything else."""
+        return self._collision.margin
+
+    @property
+    def joint_limits(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper joint position limits (rad)."""
+        return self._kinematics.lower.copy(), self._kinematics.upper.copy()
+
+    @property
+    def velocity_limits(self) -> np.ndarray:
+        """Joint velocity limits (rad/s) of the arm's model."""
+        return np.array(arms.VELOCITY_LIMITS[self._config.model], dtype=float)
+
+    @property
+    def acceleration_limits(self) -> np.ndarray:
+        """Default joint acceleration limits (rad/s^2), see :data:`ACCELERATION_LIMITS
+        <omtp_drake.control.motion.timing.ACCELERATION_LIMITS>`."""
+        return np.array(ACCELERATION_LIMITS[self._config.model], dtype=float)
+
+    def _q(self, q) -> np.ndarray:
+        """``q`` checked (six finite joint positions within the limits), clipped to them."""
+        q = arms.check_joint_positions(q, self._config)
+        return np.clip(q, self._kinematics.lower, self._kinematics.upper)
+
+    # ----------------------------------------------------------- the scene
+
+    def set_obstacles(self, boxes: Sequence[Obstacle]) -> None:
+        """Replaces the extra world obstacles by ``boxes``: each ``(X_WO, size)``, the
+        box's centre pose in world and its edge (one number) or x, y, z edges (m).
+
+        Collisions with them are reported as ``obstacle_<i>`` (i: index in ``boxes``).
+        """
+        self._collision.scene.set_obstacles(boxes)
+
+    def set_held_part(self, X_CP: RigidTransform, size: float | Sequence[float]) -> None:
+        """A box-shaped part held by the gripper: P's centre at ``X_CP`` in the cup
+        body C (``<gripper>_cup``, origin on the cup face, +z out of the tool).
+
+        For a cube of edge a hanging from the cup face: ``X_CP = RigidTransform([0, 0, a/2])``.
+        Replaces any part held before. Collisions with it are reported as ``held_part``.
+        The part itself may touch the cup face (same body); everything else is checked.
+        """
+        self._collision.scene.set_held_part(X_CP, size)
+
+    def clear_held_part(self) -> None:
+        """The gripper holds nothing."""
+        self._collision.scene.clear_held_part()
+
+    # ----------------------------------------------------------- collisions
+
+    def collisions(self, q, other_q: OtherPositions = None) -> list[tuple[str, str]]:
+        """The body pairs (robot body, other body) closer than ``margin`` at ``q``;
+        empty when ``q`` is collision free. Added boxes are named ``obstacle_<i>``
+        and ``held_part``."""
+        full = self._collision.full(self._q(q), other_q)
+        if self._collision.config_free(full):
+            return []
+        return self._collision.pairs(full)
+
+    def path_collisions(self, q_start, q_goal, other_q: OtherPositions = None) -> list[tuple[str, str]]:
+        """The body pairs in collision anywhere on the straight joint segment
+        ``q_start`` -> ``q_goal`` (checked every ``edge_step``); empty when it is free."""
+        a = self._collision.full(self._q(q_start), other_q)
+        b = self._collision.full(self._q(q_goal), other_q)
+        return self._collision.path_pairs(a, b)
+
+    # ------------------------------------------------------------- planning
+
+    def plan(
+        self,
+        q_start,
+        q_goal,
+        *,
+        other_q: OtherPositions = None,
+        timeout: float = 2.0,
+        seed: int = 0,
+        simplify: bool = True,
+    ) -> list[np.ndarray]:
+        """Joint waypoints of a collision-free path from ``q_start`` to ``q_goal``.
+
+        The straight joint segment when it is free (two waypoints); otherwise OMPL's
+        RRTConnect within the joint limits (motions checked every ``search_step``), then
+        OMPL's path simplifier (rope shortcutting, vertex reduction); the result is
+        checked every ``edge_step`` (searched again at that step if it collides, which
+        is rare). The same query and ``seed`` give the same path (OMPL's global RNG is
+        re-seeded from ``seed`` for each search: not thread safe).
+
+        Raises:
+            PlanningError: start or goal outside the joint limits or in collision (the
+                message names the bodies), or no path found within ``timeout`` s (the
+                message names the bodies blocking the straight path).
+        """
+        if timeout <= 0:
+            raise ConfigError(f"timeout must be > 0 s, got {timeout}")
+        if int(seed) != seed or seed < 0:
+            raise ConfigError(f"seed must be an integer >= 0, got {seed}")
+        q_start, q_goal = self._q(q_start), self._q(q_goal)
+        base = self._collision.full(q_start, other_q)
+        goal_full = self._collision.with_arm(base, q_goal)
+        self._collision.require_free("start", q_start, base)
+        self._collision.require_free("goal", q_goal, goal_full)
+        if self._collision.edge_free(base, goal_full):
+            return [q_start, q_goal]
+        path = self._search.find(q_start, q_goal, base, timeout, int(seed), simplify)
+        if path is None:
+            raise PlanningError(
+                f"no collision-free path for {self._config.name} from {fmt_q(q_start)} to "
+                f"{fmt_q(q_goal)} found within {timeout:g} s; the straight path is blocked by "
+                f"{fmt_pairs(self._collision.path_pairs(base, goal_full))}"
+            )
+        return path
+
+    # ------------------------------------------------------------ kinematics
+
+    def forward_kinematics(self, q, frame: str = "tip") -> RigidTransform:
+        """``X_WE``: the world pose of tool frame E (``tip``, ``suction_cup``, ``tool0``) at ``q``."""
+        return self._kinematics.forward_kinematics(self._q(q), frame)
+
+    def ik(
+        self,
+        X_WE: RigidTransform,
+        *,
+        frame: str = "tip",
+        q_seed=None,
+        other_q: OtherPositions = None,
+        check_collisions: bool = True,
+        position_tolerance: float = 1e-4,
+        orientation_tolerance: float = 1e-3,
+        num_seeds: int = 8,
+    ) -> np.ndarray:
+        """Joint positions putting tool frame E at the world pose ``X_WE``, within the
+        joint limits, collision free (unless ``check_collisions`` is False), nearest
+        ``q_seed`` (default: the arm's initial pose).
+
+        Frames: ``tip`` (``<gripper>_tip``, the physical cup face), ``suction_cup``
+        (``<gripper>_suction_cup``, the course's frame, 1 cm off the flange), ``tool0``.
+        Solves Drake's InverseKinematics (SNOPT) from ``q_seed``; when that solution is
+        not usable, from the arm's named poses and a few fixed random seeds, and keeps
+        the usable solution nearest ``q_seed``.
+
+        Raises:
+            PlanningError: ``unreachable`` (with the distance and angle by which the
+                closest solution misses the pose), reachable only ``outside the joint
+                limits``, or every solution found is in collision (naming the bodies).
+        """
+        q_seed = self._q(self._collision.q_initial if q_seed is None else q_seed)
+        return inverse_kinematics(
+            self._kinematics,
+            self._collision if check_collisions else None,
+            self._collision.full(q_seed, other_q),
+            X_WE,
+            frame,
+            q_seed,
+            position_tolerance=position_tolerance,
+            orientation_tolerance=orientation_tolerance,
+            num_seeds=num_seeds,
+        )
+
+    def cartesian_path(
+        self,
+        q_start,
+        waypoints: Sequence[RigidTransform],
+        *,
+        frame: str = "tip",
+        max_step: float = 0.005,
+        max_rotation_step: float = 0.05,
+        jump_threshold: float | None = 0.5,
+        avoid_collisions: bool = True,
+        other_q: OtherPositions = None,
+    ) -> tuple[list[np.ndarray], float]:
+        """A straight-line tool motion through world poses, like MoveIt's
+        ``compute_cartesian_path``.
+
+        From the tool pose at ``q_start`` the pose of frame E moves in straight lines
+        (rotation by slerp) through ``waypoints`` (each an ``X_WE``), in steps of at most
+        ``max_step`` m and ``max_rotation_step`` rad. Each step's IK is seeded by the
+        previous step's solution and kept nearest it. The path stops at the first step
+        that is unreachable, moves some joint by more than ``jump_threshold`` rad (a
+        jump to another IK branch; None: no check) or, with ``avoid_collisions``,
+        collides (on the joint segment from the previous step).
+
+        Returns:
+            The joint path (starting with ``q_start``) and the fraction of the steps
+            achieved, 0...1 (1.0: the whole motion).
+        """
+        q_start = self._q(q_start)
+        return cartesian_path(
+            self._kinematics,
+            self._collision if avoid_collisions else None,
+            q_start,
+            waypoints,
+            self._collision.full(q_start, other_q),
+            frame=frame,
+            max_step=max_step,
+            max_rotation_step=max_rotation_step,
+            jump_threshold=jump_threshold,
+        )
+
+    # ---------------------------------------------------------------- timing
+
+    def time_parameterize(
+        self,
+        path: Sequence[np.ndarray],
+        *,
+        velocity_scale: float = 1.0,
+        acceleration_scale: float = 1.0,
+        acceleration_limits: Sequence[float] | None = None,
+        start_time: float = 0.0,
+        turn_tolerance: float = 0.002,
+    ) -> PiecewisePolynomial:
+        """A rest-to-rest joint trajectory along ``path`` (joint waypoints) with TOPP-RA.
+
+        Joint velocities stay within ``velocity_scale`` times the arm's velocity limits
+        and accelerations within ``acceleration_scale`` times ``acceleration_limits``
+        (default :data:`~omtp_drake.control.motion.timing.ACCELERATION_LIMITS`), exactly
+        (the returned cubic pieces are checked and, if needed, slowed). The arm stops at
+        every waypoint where its path turns so that a smooth curve through it would leave
+        the straight segments by more than ``turn_tolerance`` (rad, about the shorter
+        segment times the turn angle): so a planned path's collision-checked segments are
+        followed exactly. Elsewhere (a Cartesian path's dense waypoints) it follows a
+        cubic spline through the waypoints without stopping.
+
+        Returns:
+            A ``PiecewisePolynomial`` of the six joint positions, from ``start_time``, at
+            rest at both ends; ``value(end_time())`` is the last waypoint.
+        """
+        vlim, alim = scaled_limits(
+            self.velocity_limits,
+            self.acceleration_limits if acceleration_limits is None else acceleration_limits,
+            velocity_scale,
+            acceleration_scale,
+        )
+        points = [self._q(q) for q in path]
+        if not points:
+            raise ConfigError("path needs at least one waypoint")
+        return time_parameterize(points, vlim, alim, start_time=start_time, turn_tolerance=turn_tolerance)

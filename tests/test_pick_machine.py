@@ -1,0 +1,137 @@
+"""The pick-and-place state machine alone (omtp_drake.control.pick_and_place.machine):
+plain inputs in, decisions out, no Drake system or simulation."""
+
+import math
+
+import numpy as np
+import pytest
+from pydrake.math import RigidTransform
+
+from omtp_drake.cell import arms
+from omtp_drake.cell.logical_camera import DetectedModel, LogicalCameraImage
+from omtp_drake.cell.suction import GripperState
+from omtp_drake.control.pick_and_place import ControlState, MachineInput, Mode, PickMachine
+from omtp_drake.control.tool_paths import hold, tool_down
+from omtp_drake.scenario import load_scenario
+
+SIZE = 0.05
+#: A part on the belt within robot 2's reach, and the tool 5 cm above its top face.
+P_PART = np.array([-7.8, -0.95, 0.9])
+X_ABOVE = tool_down(P_PART + [0.0, 0.0, SIZE / 2 + 0.05], 0.0)
+FREE = GripperState(False, False, "", None, math.nan)
+
+
+@pytest.fixture(scope="module")
+def scenario():
+    return load_scenario("lecture6_assignment4")
+
+
+@pytest.fixture(scope="module")
+def machine(scenario):
+    task = scenario.required_task()
+    robot = scenario.robot(task.robot)
+    X_W_home = tool_down(np.array([-7.8, -1.0, 1.3]), 0.0)
+    return PickMachine(task, robot, scenario.bin(task.bin), lambda name: SIZE, X_W_home)
+
+
+@pytest.fixture(scope="module")
+def task(scenario):
+    return scenario.required_task()
+
+
+def image(t, *parts):
+    """The pick camera's image at ``t`` showing ``(name, p_WP)`` parts (camera at W)."""
+    models = tuple(DetectedModel(name, "object", RigidTransform(p)) for name, p in parts)
+    return LogicalCameraImage(t, "logical_camera_2", RigidTransform(), models)
+
+
+def seen(t, gripper=FREE, X_WE=X_ABOVE, *parts):
+    q = tuple(arms.named_pose("R2Home"))
+    return MachineInput(t=t, X_WE=X_WE, gripper=gripper, q=q, pick_image=image(t, *parts))
+
+
+def holding(part):
+    return GripperState(True, True, part, RigidTransform([0, 0, SIZE / 2]), 1.0)
+
+
+def test_no_part_seen_waits_then_records_it(machine, task):
+    started = machine.step(seen(0.0), ControlState())
+    assert started.mode is Mode.WAIT_PART and started.record is None and not started.vacuum
+    waiting = machine.step(seen(task.detect_timeout - 1.0), started.control)
+    assert waiting.mode is Mode.WAIT_PART and waiting.record is None
+    stale = MachineInput(task.detect_timeout + 1.0, X_ABOVE, FREE, tuple(arms.named_pose("R2Home")),
+                         pick_image=image(0.0))
+    assert machine.step(stale, waiting.control).record is None  # no fresh image: no verdict
+    late = machine.step(seen(task.detect_timeout + 1.0), waiting.control)
+    assert late.mode is Mode.WAIT_PART
+    assert late.record is not None and late.record.reason == "no_part" and not late.record.success
+
+
+def test_a_part_at_rest_is_approached(machine):
+    s = machine.step(seen(0.0), ControlState()).control
+    first = machine.step(seen(0.05, FREE, X_ABOVE, ("object_1", P_PART)), s)
+    assert first.mode is Mode.WAIT_PART  # seen once: it may still move
+    second = machine.step(seen(0.10, FREE, X_ABOVE, ("object_1", P_PART)), first.control)
+    assert second.mode is Mode.APPROACH and second.control.part == "object_1"
+    end = second.path.pose_at(second.path.end_time)
+    assert np.allclose(end.translation()[:2], P_PART[:2], atol=1e-6)
+    assert end.translation()[2] > P_PART[2] + SIZE / 2
+
+
+def attaching(t0=10.0, attempt=1):
+    X_touch = tool_down(P_PART + [0.0, 0.0, SIZE / 2], 0.0)
+    s = ControlState(mode=Mode.ATTACH, mode_start=t0, path=hold(t0, X_touch), suction=True,
+                     part="object_1", X_WP=RigidTransform(P_PART), pick_start=5.0, attempt=attempt)
+    return s, X_touch
+
+
+def test_attach_within_the_timeout_lifts_towards_the_bin(machine, task, scenario):
+    s, X_touch = attaching()
+    d = machine.step(seen(10.2, holding("object_1"), X_touch), s)
+    assert d.mode is Mode.TRANSFER and d.vacuum and d.record is None
+    path = d.path
+    z0 = X_touch.translation()[2]
+    lifted = [path.pose_at(t).translation() for t in np.linspace(10.2, path.end_time, 400)]
+    # Straight up by the approach height before any sideways motion.
+    first_sideways = next(p for p in lifted if np.linalg.norm(p[:2] - P_PART[:2]) > 1e-3)
+    assert first_sideways[2] >= z0 + task.approach_height - 1e-6
+    assert scenario.bin(task.bin).contains(lifted[-1] - [0.0, 0.0, SIZE])
+
+
+def test_attach_timeout_retries_then_gives_up_with_the_reason(machine, task):
+    s, X_touch = attaching()
+    t = 10.0 + task.attach_timeout + 0.05
+    retry = machine.step(seen(t, FREE, X_touch), s)
+    assert retry.mode is Mode.HOME and not retry.vacuum
+    assert retry.record.reason == "attach_timeout" and not retry.record.given_up
+    assert retry.control.part == "object_1" and retry.control.attempt == 2
+    last, _ = attaching(attempt=task.max_attempts)
+    given_up = machine.step(seen(t, FREE, X_touch), last)
+    assert given_up.mode is Mode.HOME
+    record = given_up.record
+    assert record.reason == "attach_timeout" and record.given_up and record.attempt == task.max_attempts
+    assert np.allclose(record.position, P_PART)
+    assert given_up.control.part == "" and "object_1" in given_up.control.ignored
+
+
+def test_a_part_dropped_in_transit_is_recorded(machine):
+    X_WE = tool_down(np.array([-7.9, -1.6, 1.1]), 0.0)
+    s = ControlState(mode=Mode.TRANSFER, mode_start=20.0, path=hold(20.0, X_WE), suction=True,
+                     part="object_1", X_WP=RigidTransform(P_PART), pick_start=15.0)
+    d = machine.step(seen(20.5, FREE, X_WE), s)
+    assert d.mode is Mode.HOME and not d.vacuum
+    assert d.record.reason == "dropped" and not d.record.success and d.record.part == "object_1"
+    # Last known: under the cup where it fell.
+    assert np.allclose(d.control.X_WP.translation(), X_WE.translation() - [0.0, 0.0, SIZE / 2])
+
+
+def test_a_part_only_a_search_camera_sees_is_found(machine):
+    """The pick camera shows nothing; another camera sees a part outside the bin (it
+    fell out of view): once it is at rest there, it is approached."""
+    s = machine.step(seen(0.0), ControlState()).control
+    q = tuple(arms.named_pose("R2Home"))
+    for t in (0.05, 0.10):
+        search = image(t, ("object_3", P_PART))
+        d = machine.step(MachineInput(t, X_ABOVE, FREE, q, pick_image=image(t), search_images=(search,)), s)
+        s = d.control
+    assert d.mode is Mode.APPROACH and s.part == "object_3"
