@@ -43,7 +43,9 @@ def finish(run, limit):
 
 def test_assignment4_robot2_places_parts_in_bin1():
     powers = []
-    result = run_task("lecture6_assignment4", on_chunk=lambda run: powers.append(run.runtime.conveyor_power()))
+    result = run_task(
+        "lecture6_assignment4", on_chunk=lambda run: powers.append(run.runtime.conveyor_power())
+    )
     assert_clean_success(result, "bin_1", 2)
     assert all(p.cycle_time < 8.5 for p in result.picks if p.success)
     assert powers and set(powers) == {0.0}  # the scenario's belt stays stopped (no beam-stop helper)

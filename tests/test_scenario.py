@@ -3,8 +3,9 @@
 import pytest
 
 from omtp_drake.cell.station import build_station
+from omtp_drake.control.motion import ArmPlanner
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
-from omtp_drake.scenario import load_scenario, scenario_names
+from omtp_drake.scenario import Scenario, as_scenario, load_scenario, scenario_names
 
 
 def test_factory_scenario_contents():
@@ -147,3 +148,15 @@ def test_only_parts_may_take_a_pool_name(tmp_path):
     path.write_text("base: fill_bin\nrobots:\n  - {name: robot2, gripper: object_1}\n")
     with pytest.raises(ConfigError, match="name 'object_1': names object_<k> are the part pool's"):
         load_scenario(path)
+
+
+def test_inner_builders_take_a_scenario_and_say_how_to_load_one():
+    """A name becomes a Scenario at the entry points (as_scenario); inside, a name is refused."""
+    with pytest.raises(ConfigError, match=r"build_station takes a Scenario, got str 'omtp_factory'; load"):
+        build_station("omtp_factory")
+    with pytest.raises(ConfigError, match=r"ArmPlanner takes a Scenario, got str"):
+        ArmPlanner("lecture6_assignment4", "robot2")
+    scenario = load_scenario("omtp_factory")
+    assert as_scenario(scenario) is scenario
+    loaded = as_scenario("omtp_factory")
+    assert isinstance(loaded, Scenario) and loaded.name == "omtp_factory"

@@ -265,10 +265,10 @@ def plan_batch(
     """
     from pydrake.common.yaml import yaml_dump_typed
 
-    from omtp_drake.scenario import Scenario, load_scenario
+    from omtp_drake.scenario import as_scenario
 
     seed_list = parse_seeds(seeds) if isinstance(seeds, str) else check_seeds(seeds)
-    base = scenario if isinstance(scenario, Scenario) else load_scenario(scenario)
+    base = as_scenario(scenario)
     base.required_task()
     if duration is not None:
         check_duration("--duration", duration)

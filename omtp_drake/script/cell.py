@@ -42,7 +42,7 @@ from pydrake.systems.framework import DiagramBuilder
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
 from omtp_drake.errors import UnknownNameError, check_duration
-from omtp_drake.scenario import Scenario, load_scenario
+from omtp_drake.scenario import Scenario, as_scenario
 from omtp_drake.script.arm import Arm, ArmCommander, world_pose
 from omtp_drake.script.devices import Camera, Gripper, wait_until
 from omtp_drake.sim.ledger import Ledger
@@ -77,8 +77,7 @@ class Cell:
         realtime: bool = False,
         tf_cache: float = 30.0,
     ):
-        if not isinstance(scenario, Scenario):
-            scenario = load_scenario(scenario)
+        scenario = as_scenario(scenario)
         self.scenario = scenario
         self._record = Path(record) if record else None
         self.meshcat = start_meshcat(view_for(scenario)) if (meshcat or record) else None

@@ -35,7 +35,7 @@ E the tool frame, C the gripper's cup body, P a held part, O an obstacle);
 
 Example::
 
-    planner = ArmPlanner("lecture6_assignment4", "robot2")
+    planner = ArmPlanner(load_scenario("lecture6_assignment4"), "robot2")
     path = planner.plan(arms.named_pose("R2Home"), arms.named_pose("R2Place"))
     trajectory = planner.time_parameterize(path)      # PiecewisePolynomial
 """
@@ -57,7 +57,7 @@ from omtp_drake.control.motion.scene import Obstacle
 from omtp_drake.control.motion.search import JointSearch
 from omtp_drake.control.motion.timing import ACCELERATION_LIMITS, scaled_limits, time_parameterize
 from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
-from omtp_drake.scenario import RobotConfig, Scenario, load_scenario
+from omtp_drake.scenario import RobotConfig, Scenario
 
 #: Joint-space distance (rad) between two checked configurations of an edge.
 DEFAULT_EDGE_STEP = 0.01
@@ -102,7 +102,7 @@ class ArmPlanner:
 
     def __init__(
         self,
-        scenario: Scenario | str,
+        scenario: Scenario,
         robot: str,
         *,
         margin: float = 0.01,
@@ -112,7 +112,10 @@ class ArmPlanner:
         self_collisions: bool = True,
     ) -> None:
         if not isinstance(scenario, Scenario):
-            scenario = load_scenario(scenario)
+            raise ConfigError(
+                f"ArmPlanner takes a Scenario, got {type(scenario).__name__} {scenario!r}; "
+                "load one first: ArmPlanner(load_scenario(name_or_path), robot)"
+            )
         configs = {r.name: r for r in scenario.robots}
         if robot not in configs:
             raise UnknownNameError("robot", robot, configs)
