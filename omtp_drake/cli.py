@@ -52,6 +52,8 @@ def _print_result(result) -> None:
     print(f"{'part':>10} {'start s':>8} {'end s':>8} {'cycle s':>8} {'attempt':>7}  result")
     for pick in result.picks:
         outcome = "ok" if pick.success else f"failed: {pick.reason}"
+        if pick.position is not None:  # where the part lies (a drop: where it landed)
+            outcome += " at ({:.2f}, {:.2f}, {:.2f})".format(*pick.position)
         print(
             f"{pick.part or '-':>10} {pick.start:8.2f} {pick.end:8.2f} {pick.cycle_time:8.2f} "
             f"{pick.attempt:7d}  {outcome}"

@@ -59,8 +59,11 @@ def test_a_part_that_falls_into_the_bin_is_not_a_success():
     run.runtime.advance(2.2)           # over the bin's near wall
     run.runtime.fail_vacuum("robot2", 0.5)
     picks, ledger, success = finish(run, 45)
+    # One record for the drop, saying where the part ended (issue 22: no second
+    # "attempt" that was never a pick), then two successful picks.
     reasons = [p.reason for p in picks]
-    assert reasons[:2] == ["dropped", "dropped_into_bin"] and picks[1].position is not None
+    assert reasons == ["dropped_into_bin", "", ""] and picks[0].given_up and picks[0].position is not None
+    assert picks[0].attempt == 1 and picks[1].start >= picks[0].end
     assert sum(p.success for p in picks) == 2 and ledger.in_bin["bin_1"] == 3 and ledger.balanced
     assert not success
 

@@ -114,15 +114,55 @@ def test_attach_timeout_retries_then_gives_up_with_the_reason(machine, task):
     assert given_up.control.part == "" and "object_1" in given_up.control.ignored
 
 
-def test_a_part_dropped_in_transit_is_recorded(machine):
+def _dropped(machine):
+    """A part held in transit that the gripper no longer holds: the update that sees it."""
     X_WE = tool_down(np.array([-7.9, -1.6, 1.1]), 0.0)
     s = ControlState(mode=Mode.TRANSFER, mode_start=20.0, path=hold(20.0, X_WE), suction=True,
                      part="object_1", X_WP=RigidTransform(P_PART), pick_start=15.0)
-    d = machine.step(seen(20.5, FREE, X_WE), s)
+    return machine.step(seen(20.5, FREE, X_WE), s), X_WE
+
+
+def test_a_part_dropped_in_transit_is_one_record_that_says_where_it_landed(machine):
+    d, X_WE = _dropped(machine)
     assert d.mode is Mode.HOME and not d.vacuum
-    assert d.record.reason == "dropped" and not d.record.success and d.record.part == "object_1"
+    assert d.record is None  # not yet: where it comes to rest is not known
     # Last known: under the cup where it fell.
     assert np.allclose(d.control.X_WP.translation(), X_WE.translation() - [0.0, 0.0, SIZE / 2])
+    s = d.control
+    landing = np.array([-7.7, -1.0, SIZE / 2])
+    records = []
+    for t in np.arange(20.55, 26.0, 0.05):  # the tool follows its path (no tracking error)
+        step = machine.step(seen(t, FREE, s.pose_at(t), ("object_1", landing)), s)
+        s = step.control
+        records += [step.record] if step.record is not None else []
+        if s.mode is Mode.APPROACH:
+            break
+    [drop] = records  # the drop, once; the new attempt is not a record until it ends
+    assert (drop.part, drop.reason, drop.attempt) == ("object_1", "dropped", 1)
+    assert (drop.start, drop.end) == (15.0, 20.5)
+    assert np.allclose(drop.position, landing) and not drop.given_up
+    assert s.mode is Mode.APPROACH and s.attempt == 2
+    assert s.pick_start > 20.5  # the second attempt starts once the part is seen at rest
+
+
+def test_a_part_dropped_into_the_bin_is_that_drop_record_not_a_new_attempt(machine, scenario, task):
+    d, _ = _dropped(machine)
+    X_WBin = scenario.bin(task.bin).X_WB()
+    in_bin = X_WBin.translation() + [0.0, 0.0, 0.2]
+    s, records = d.control, []
+    for t in np.arange(20.55, 26.0, 0.05):
+        models = (
+            DetectedModel(task.bin, "bin", X_WBin),
+            DetectedModel("object_1", "object", RigidTransform(in_bin)),
+        )
+        bin_view = LogicalCameraImage(t, task.bin_camera, RigidTransform(), models)
+        step = machine.step(MachineInput(t, s.pose_at(t), FREE, tuple(arms.named_pose("R2Home")),
+                                         pick_image=image(t), bin_image=bin_view), s)
+        s = step.control
+        records += [step.record] if step.record is not None else []
+    [drop] = records
+    assert (drop.reason, drop.attempt, drop.end, drop.given_up) == ("dropped_into_bin", 1, 20.5, True)
+    assert np.allclose(drop.position, in_bin)
 
 
 def test_a_part_only_a_search_camera_sees_is_found(machine):

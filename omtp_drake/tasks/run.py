@@ -276,6 +276,9 @@ def run_task(
         save_recording(rt.station.visualizer, viewer, record)
     ledger = rt.ledger()
     picks = list(run.history().picks)
+    pending = run.control().pending_drop
+    if pending is not None:  # dropped, and not seen at rest again before the run ended
+        picks.append(pending)
     return TaskResult(
         scenario=scenario.name,
         seed=scenario.seed,

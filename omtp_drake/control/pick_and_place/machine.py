@@ -227,6 +227,8 @@ class _Recovery:
         position = position_of(s.X_WP) if given_up else None
         record = PickRecord(s.part, s.pick_start, t, False, reason, s.attempt, position, given_up)
         path = self._moves.home(inputs, self._size(s.part) if s.part else 0.0)
+        # A drop is recorded once where the part came to rest is known (see landed()).
+        pending = record if reason == "dropped" and not given_up else None
         return _go(
             s,
             Mode.HOME,
@@ -237,7 +239,18 @@ class _Recovery:
             part="" if attempt == 1 else s.part,
             path=path,
             reset_ik=reset_ik,
-        ), record
+            pending_drop=pending,
+        ), (None if pending is not None else record)
+
+    @staticmethod
+    def landed(t: float, s: ControlState, X_WP: RigidTransform) -> _Step:
+        """The dropped part is seen at rest at ``X_WP`` at ``t``: its drop is recorded
+        with where it landed, and the next attempt starts now (a retry after another
+        failure counts from its first attempt; a drop has its own record's end)."""
+        drop = s.pending_drop
+        if drop is None:
+            return s, None
+        return replace(s, pending_drop=None, pick_start=t), replace(drop, position=position_of(X_WP))
 
     def lost(self, inputs: MachineInput, s: ControlState, name: str, mine: list[Sighting]) -> Optional[_Step]:
         """Part ``name`` (being picked again, or the last one seen) is given up on when
@@ -262,6 +275,10 @@ class _Recovery:
         start = s.pick_start if s.part else s.candidate_time
         attempt = s.attempt if s.part else 1
         record = PickRecord(name, start, t, False, why, attempt, position=position_of(X_WP), given_up=True)
+        if s.pending_drop is not None and s.pending_drop.part == name:
+            # Not a new attempt: where the drop ended (in the bin, or out of reach / unseen).
+            reason = "dropped_into_bin" if why == "dropped_into_bin" else "dropped"
+            record = replace(s.pending_drop, reason=reason, position=position_of(X_WP), given_up=True)
         return _go(
             s,
             Mode.WAIT_PART,
@@ -276,6 +293,7 @@ class _Recovery:
             candidate_X=None,
             candidate_time=math.nan,
             candidate_at_rest=False,
+            pending_drop=None,
         ), record
 
     def bin_full(
@@ -414,6 +432,8 @@ class PickMachine:
             s = replace(_note_candidate(s, name, X_WP, stamp), last_seen=t)
         if not (s.candidate == name and s.candidate_at_rest):
             return s, None
+        if s.pending_drop is not None and s.pending_drop.part == name:
+            return self._recovery.landed(t, s, X_WP)  # the pick is planned at the next update
         return self._plan_pick(inputs, s, name, X_WP)
 
     def _plan_pick(self, inputs: MachineInput, s: ControlState, name: str, X_WP: RigidTransform) -> _Step:

@@ -109,6 +109,9 @@ class ControlState:
     candidate_X: Optional[RigidTransform] = None
     candidate_time: float = math.nan
     candidate_at_rest: bool = False
+    #: A part dropped in transit whose record waits until a camera sees where it
+    #: came to rest (the record then says where it landed).
+    pending_drop: Optional[PickRecord] = None
 
     def pose_at(self, t: float) -> Optional[RigidTransform]:
         """The tool's desired pose ``X_WE`` at ``t`` (None without a path)."""
