@@ -79,7 +79,7 @@ from omtp_drake.cell.suction_holds import (
     declare_suction_constraints,
 )
 from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.scenario import RobotConfig, Scenario
+from omtp_drake.scenario import RobotConfig, Scenario, require_scenario
 
 _log = logging.getLogger(__name__)
 
@@ -429,12 +429,7 @@ def build_station(
     With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
     other systems, add ``station.diagram`` to a builder of your own.
     """
-    if not isinstance(scenario, Scenario):
-        raise ConfigError(
-            f"build_station takes a Scenario, got {type(scenario).__name__} {scenario!r}; "
-            "load one first: build_station(load_scenario(name_or_path))"
-        )
-    scenario.validate()
+    require_scenario(scenario, "build_station").validate()
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlant(scenario.plant_config, builder)
     plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)

@@ -43,7 +43,7 @@ from pydrake.common.schema import Transform
 from pydrake.common.yaml import yaml_load_typed
 from pydrake.math import RollPitchYaw
 
-from omtp_drake.errors import ScenarioError, UnknownNameError
+from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.scenario.camera import LogicalCameraConfig
 from omtp_drake.scenario.configs import PartConfig
 from omtp_drake.scenario.schema import Scenario
@@ -407,6 +407,17 @@ def _unknown_key_message(where: str, key: str, valid: list[str]) -> str:
     near = closest_name(key, valid)
     hint = f" (did you mean {near!r}?)" if near else ""
     return f"{where}: unknown key {key!r}{hint}; valid keys: {', '.join(valid)}"
+
+
+def require_scenario(value: Any, who: str) -> Scenario:
+    """``value`` if it is a :class:`Scenario`: the builders inside the package
+    (``who``) take one; a name or path is loaded at the entry points (:func:`as_scenario`)."""
+    if not isinstance(value, Scenario):
+        raise ConfigError(
+            f"{who} takes a Scenario, got {type(value).__name__} {value!r}; "
+            f"load one first: {who}(load_scenario(name_or_path), ...)"
+        )
+    return value
 
 
 def as_scenario(scenario: "Scenario | str | Path") -> Scenario:

@@ -57,7 +57,7 @@ from omtp_drake.control.motion.scene import Obstacle
 from omtp_drake.control.motion.search import JointSearch
 from omtp_drake.control.motion.timing import ACCELERATION_LIMITS, scaled_limits, time_parameterize
 from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
-from omtp_drake.scenario import RobotConfig, Scenario
+from omtp_drake.scenario import RobotConfig, Scenario, require_scenario
 
 #: Joint-space distance (rad) between two checked configurations of an edge.
 DEFAULT_EDGE_STEP = 0.01
@@ -111,12 +111,7 @@ class ArmPlanner:
         planner_range: float = 1.0,
         self_collisions: bool = True,
     ) -> None:
-        if not isinstance(scenario, Scenario):
-            raise ConfigError(
-                f"ArmPlanner takes a Scenario, got {type(scenario).__name__} {scenario!r}; "
-                "load one first: ArmPlanner(load_scenario(name_or_path), robot)"
-            )
-        configs = {r.name: r for r in scenario.robots}
+        configs = {r.name: r for r in require_scenario(scenario, "ArmPlanner").robots}
         if robot not in configs:
             raise UnknownNameError("robot", robot, configs)
         _check_planner_options(margin, edge_step, search_step, planner_range)
