@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from omtp_drake.batch import run_batch
+from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import FaultConfig, load_scenario, scenario_from_dict
 from omtp_drake.sim.faults import FAULT_CHECK_PERIOD
@@ -216,3 +217,27 @@ def test_a_batch_sweeps_a_faults_time_and_records_each_one(tmp_path):
     assert struck == [(0.5, 0.5), (2.5, 2.5)]
     saved = json.loads(next((tmp_path / "out" / "runs").glob("*.json")).read_text())
     assert saved["faults"][0]["name"] == "dark"
+
+
+def test_a_script_on_cell_meets_the_scenarios_faults(tmp_path):
+    """Cell applies a scenario's faults like run does: the vacuum fails 0.3 s into a hold."""
+    from omtp_drake import Cell
+
+    scenario = _with_faults(
+        "lecture6_assignment4",
+        FaultConfig(
+            name="drop", kind="vacuum_failure", robot="robot2", event="holding", after=0.3, duration=0.5
+        ),
+    )
+    with Cell(scenario, auto_spawn=False) as cell:
+        arm, vacuum = cell.arm("robot2"), cell.gripper("robot2")
+        part = cell.spawn_part()
+        cell.wait(1.5)
+        p = cell.part_pose(part).translation()
+        arm.move_to(tool_down(p + [0, 0, 0.2]))
+        vacuum.on()
+        arm.move_linear(tool_down(p + [0, 0, 0.08]), speed=0.05, until=lambda: vacuum.attached)
+        assert vacuum.attached and cell.faults() == []
+        cell.wait(0.5)
+        [report] = cell.faults()
+        assert report.effect["dropped"] == part and not vacuum.attached

@@ -45,6 +45,7 @@ from omtp_drake.errors import UnknownNameError, check_duration
 from omtp_drake.scenario import Scenario, as_scenario
 from omtp_drake.script.arm import Arm, ArmCommander, world_pose
 from omtp_drake.script.devices import Camera, Gripper, wait_until
+from omtp_drake.sim.faults import FaultReport
 from omtp_drake.sim.ledger import Ledger
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.sim.tf import TfBuffer
@@ -174,6 +175,10 @@ class Cell:
 
     def ledger(self) -> Ledger:
         return self.runtime.ledger()
+
+    def faults(self) -> list[FaultReport]:
+        """The scenario's faults that have struck so far: what, when, and their effect."""
+        return list(self.runtime.faults.reports) if self.runtime.faults is not None else []
 
     def world_pose(self, pose: RigidTransform | PoseStamped) -> RigidTransform:
         """A pose in world: a RigidTransform is one already; a PoseStamped is transformed
