@@ -1,0 +1,20 @@
+"""The one place the ROS layer imports the core from (module paths may move)."""
+
+from __future__ import annotations
+
+from omtp_drake import Cell, load_scenario, tool_down
+from omtp_drake.arms import JOINT_NAMES, check_joint_positions, named_pose, tool_frame_names
+from omtp_drake.frames import PoseStamped as CorePoseStamped
+from omtp_drake.script import Plan
+
+__all__ = [
+    "JOINT_NAMES",
+    "Cell",
+    "CorePoseStamped",
+    "Plan",
+    "check_joint_positions",
+    "load_scenario",
+    "named_pose",
+    "tool_down",
+    "tool_frame_names",
+]

@@ -1,0 +1,134 @@
+"""The ``ros-run`` and ``grade`` commands (registered with :func:`add_commands`).
+
+``python -m omtp_drake.ros.cli ros-run ...`` runs them without the main CLI.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+
+from omtp_drake.errors import OmtpError
+
+
+def _out(text: str) -> None:
+    sys.stdout.write(text + "\n")
+    sys.stdout.flush()
+
+
+def cmd_ros_run(args: argparse.Namespace) -> int:
+    """``ros-run``: exit 0 when the script ended cleanly (no exception, no collision)."""
+    from omtp_drake.ros.runner import run_script
+
+    if not args.quiet:
+        logging.getLogger("rospy").setLevel(logging.INFO)
+        logging.getLogger("moveit_commander").setLevel(logging.INFO)
+    report = run_script(
+        args.script,
+        args.script_args,
+        scenario=args.scenario,
+        seed=args.seed,
+        timeout=args.timeout,
+        moveit=args.moveit,
+        meshcat=args.meshcat,
+        realtime=args.realtime,
+        record=args.record,
+    )
+    _out(report.summary())
+    if args.json:
+        Path(args.json).write_text(json.dumps(report.to_dict(), indent=2))
+        _out(f"result: {args.json}")
+    if report.replay:
+        _out(f"replay: {report.replay} (open it in any browser)")
+    return 0 if report.ok else 1
+
+
+def cmd_grade(args: argparse.Namespace) -> int:
+    """``grade``: exit 0 when every script ran cleanly."""
+    from omtp_drake.ros.grade import OK, format_grades, grade_folder
+
+    out = args.out or f"grade_{Path(args.folder).resolve().name}"
+    grades = grade_folder(
+        args.folder,
+        args.scenario,
+        workers=args.workers,
+        seed=args.seed,
+        timeout=args.timeout,
+        wall_timeout=args.wall_timeout,
+        out=out,
+    )
+    _out(format_grades(grades))
+    _out(f"results: {out}/ (runs/*.json, grades.csv, grades.png)")
+    return 0 if all(g.status == OK for g in grades) else 1
+
+
+def add_commands(sub: argparse._SubParsersAction) -> None:
+    """Registers ``ros-run`` and ``grade`` on the CLI's subparsers."""
+    p = sub.add_parser(
+        "ros-run",
+        help="run an unmodified ROS 1 course script (rospy, MoveIt commander, tf2) in simulated time",
+        description="Runs SCRIPT with the ROS names of omtp_drake (rospy, moveit_commander, tf2_ros, "
+        "geometry_msgs, omtp_gazebo...) on the scenario's cell, in one process, in simulated time. "
+        "Script arguments go right after the script, or after --.",
+    )
+    p.add_argument("script", metavar="SCRIPT.py")
+    p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
+    p.add_argument("--scenario", required=True, metavar="NAME|FILE")
+    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    p.add_argument(
+        "--timeout",
+        type=float,
+        default=600.0,
+        metavar="S",
+        help="shut the ROS session down after S simulated seconds (default 600)",
+    )
+    p.add_argument(
+        "--moveit",
+        choices=["noetic", "melodic"],
+        default="noetic",
+        help="MoveIt's Python API version: the shape of plan() (default noetic)",
+    )
+    p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
+    p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
+    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
+    p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
+    p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
+    p.set_defaults(func=cmd_ros_run)
+
+    p = sub.add_parser(
+        "grade",
+        help="ros-run every script of a folder (submissions) on a scenario: one row per script",
+        description="Each script runs in a process of its own on local Dask workers; the table, "
+        "OUT/grades.csv, OUT/grades.png and each run's report in OUT/runs/.",
+    )
+    p.add_argument("folder", metavar="DIR")
+    p.add_argument("--scenario", required=True, metavar="NAME|FILE")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: cores)")
+    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds per script")
+    p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall seconds per script")
+    p.add_argument("--out", default=None, metavar="DIR", help="results folder (default grade_<DIR>)")
+    p.set_defaults(func=cmd_grade)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="omtp-drake", description="ROS scripts on the OMTP cell.")
+    add_commands(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.WARNING, format="[%(levelname)s] %(name)s: %(message)s")
+    import pydrake.common  # noqa: F401  (sets the drake logger's level first)
+
+    logging.getLogger("drake").setLevel(logging.ERROR)
+    try:
+        return args.func(args)
+    except OmtpError as e:
+        sys.stderr.write(f"omtp-drake: error: {e}\n")
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,375 @@
+"""moveit_commander's MoveGroupCommander on a cell's arm.
+
+Move groups are the scenario's robots (``robot1``, ``robot2``); the planning
+frame is ``world``; the end-effector link is the course's
+``vacuum_gripperN_suction_cup`` (``set_end_effector_link`` takes the gripper's
+``vacuum_gripperN_tip``, the cup face, or ``robotN_tool0``). Named targets are
+the SRDF's (``R2Home``...) and the remembered joint values.
+
+As in MoveIt, planning and execution failures are not exceptions: ``go`` and
+``execute`` return False and ``plan`` an empty trajectory (logged with the
+reason); a bad argument raises MoveItCommanderException. A motion that touches
+something it should not stops there (the arm's collision guard) and is recorded
+in the run's report. Blocking calls advance simulated time; the callbacks that
+became due run when they return.
+
+Plans are timed within the arm's joint limits scaled by the velocity and
+acceleration scaling factors (1.0 by default); Cartesian paths also keep the
+tool at or below the cell's tool-speed limit for straight moves.
+"""
+
+from __future__ import annotations
+
+import logging
+import time as wall
+from typing import Any, Optional
+
+import numpy as np
+from pydrake.math import RigidTransform
+from pydrake.trajectories import PiecewisePolynomial
+
+from omtp_drake.errors import CollisionError, OmtpError, PlanningError
+from omtp_drake.ros._core import CorePoseStamped, Plan, check_joint_positions, named_pose, tool_frame_names
+from omtp_drake.ros.convert import pose_from_list, pose_msg, rigid
+from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotTrajectory
+from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped, Time
+from omtp_drake.ros.node import _blocking
+from omtp_drake.ros.session import current
+from omtp_drake.ros.trajectories import from_msg, joint_names, to_msg
+from omtp_drake.ros.unsupported import not_supported
+
+_log = logging.getLogger("moveit_commander")
+
+
+class MoveItCommanderException(Exception):
+    """A bad argument to a commander (unknown group, name, link, or a target out of bounds)."""
+
+
+def _error_code(error: OmtpError) -> int:
+    text = str(error)
+    if "start configuration" in text:
+        return MoveItErrorCodes.START_STATE_IN_COLLISION
+    if "unreachable" in text or "joint limits" in text:
+        return MoveItErrorCodes.NO_IK_SOLUTION
+    if "in collision" in text:
+        return MoveItErrorCodes.GOAL_IN_COLLISION
+    return MoveItErrorCodes.PLANNING_FAILED
+
+
+class MoveGroupCommander:
+    """moveit_commander.MoveGroupCommander for ``name`` (``robot1``, ``robot2``)."""
+
+    def __init__(
+        self,
+        name: str,
+        robot_description: str = "robot_description",
+        ns: str = "",
+        wait_for_servers: float = 5.0,
+    ):
+        self._session = session = current()
+        arms = list(session.cell.station.arms)
+        if name not in arms:
+            raise MoveItCommanderException(f"group {name!r} was not found; groups: {', '.join(arms)}")
+        self._name = name
+        self._arm = session.cell.arm(name)
+        self._links = {full: short for short, full in tool_frame_names(self._arm.config).items()}
+        self._eef = next((f for f, s in self._links.items() if s == "suction_cup"), next(iter(self._links)))
+        self._target: Optional[tuple[str, Any]] = None
+        self._remembered: dict[str, np.ndarray] = {}
+        self._velocity_scale = 1.0
+        self._acceleration_scale = 1.0
+        self._motion_end = -1.0
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        not_supported(f"MoveGroupCommander.{name}")
+
+    # ------------------------------------------------------------ state
+
+    def get_name(self) -> str:
+        return self._name
+
+    def get_planning_frame(self) -> str:
+        return "world"
+
+    def get_pose_reference_frame(self) -> str:
+        return "world"
+
+    def get_end_effector_link(self) -> str:
+        return self._eef
+
+    def set_end_effector_link(self, link_name: str) -> None:
+        if link_name not in self._links:
+            raise MoveItCommanderException(
+                f"{link_name!r} is no end-effector link of {self._name}; links: {', '.join(self._links)}"
+            )
+        self._eef = link_name
+
+    def has_end_effector_link(self) -> bool:
+        return True
+
+    def get_active_joints(self) -> list[str]:
+        return joint_names(self._name)
+
+    get_joints = get_active_joints
+
+    def get_current_joint_values(self) -> list[float]:
+        return [float(x) for x in self._arm.joint_values()]
+
+    def get_current_pose(self, end_effector_link: str = "") -> PoseStamped:
+        X_WE = self._arm.tool_pose(self._short(end_effector_link))
+        return PoseStamped(Header(stamp=Time.now(), frame_id="world"), pose_msg(X_WE))
+
+    def get_current_rpy(self, end_effector_link: str = "") -> list[float]:
+        from pydrake.math import RollPitchYaw
+
+        X_WE = self._arm.tool_pose(self._short(end_effector_link))
+        return [float(x) for x in RollPitchYaw(X_WE.rotation()).vector()]
+
+    def _short(self, link: str) -> str:
+        link = link or self._eef
+        if link not in self._links:
+            raise MoveItCommanderException(
+                f"{link!r} is no link of {self._name}; links: {', '.join(self._links)}"
+            )
+        return self._links[link]
+
+    # ------------------------------------------------------------ targets
+
+    def get_named_targets(self) -> list[str]:
+        return self._arm.named_poses() + sorted(self._remembered)
+
+    def get_named_target_values(self, target: str) -> dict[str, float]:
+        q = self._named(target)
+        return dict(zip(joint_names(self._name), map(float, q)))
+
+    def _named(self, name: str) -> np.ndarray:
+        if name in self._remembered:
+            return self._remembered[name]
+        if name not in self._arm.named_poses():
+            raise MoveItCommanderException(
+                f"unable to set target {name!r}: named targets of {self._name}: "
+                + ", ".join(self.get_named_targets())
+            )
+        return named_pose(name, self._arm.config)
+
+    def set_named_target(self, name: str) -> None:
+        self._target = ("joints", self._named(name))
+
+    def remember_joint_values(self, name: str, values: Any = None) -> None:
+        q = self._joints(self._arm.joint_values() if values is None else values)
+        self._remembered[name] = q
+
+    def get_remembered_joint_values(self) -> dict[str, list[float]]:
+        return {k: [float(x) for x in v] for k, v in self._remembered.items()}
+
+    def forget_joint_values(self, name: str) -> None:
+        self._remembered.pop(name, None)
+
+    def _joints(self, values: Any) -> np.ndarray:
+        if isinstance(values, JointState):
+            values = dict(zip(values.name, values.position)) if values.name else list(values.position)
+        if isinstance(values, dict):
+            names = joint_names(self._name)
+            unknown = sorted(set(values) - set(names))
+            if unknown:
+                raise MoveItCommanderException(
+                    f"{unknown[0]!r} is no joint of {self._name}; joints: {', '.join(names)}"
+                )
+            current_q = self._arm.joint_values()
+            values = [values.get(n, current_q[i]) for i, n in enumerate(names)]
+        try:
+            return check_joint_positions(values, self._arm.config)
+        except OmtpError as e:
+            raise MoveItCommanderException(f"error setting joint target: {e}") from None
+
+    def set_joint_value_target(self, arg1: Any, arg2: Any = None, arg3: Any = None) -> None:
+        if isinstance(arg1, str) and arg2 is not None:
+            arg1 = {arg1: arg2}
+        if isinstance(arg1, (Pose, PoseStamped)):
+            not_supported("set_joint_value_target with a pose (approximate IK)", "use set_pose_target")
+        self._target = ("joints", self._joints(arg1))
+
+    def set_pose_target(self, pose: Any, end_effector_link: str = "") -> None:
+        """A pose target for the end-effector link: a Pose (world), a PoseStamped (any tf
+        frame, at its stamp), or a list of 6 (xyz rpy) or 7 (xyz quaternion) numbers."""
+        frame = self._short(end_effector_link)
+        if isinstance(pose, PoseStamped):
+            stamp = pose.header.stamp.to_sec()
+            target: Any = CorePoseStamped(
+                pose.header.frame_id.lstrip("/") or "world",
+                stamp or None,
+                rigid(pose.pose, "set_pose_target"),
+            )
+            if target.frame_id == "world":
+                target = target.pose
+        elif isinstance(pose, Pose):
+            target = rigid(pose, "set_pose_target")
+        elif isinstance(pose, (list, tuple, np.ndarray)):
+            target = pose_from_list(pose, "set_pose_target")
+        else:
+            raise MoveItCommanderException(
+                f"set_pose_target takes a Pose, PoseStamped or list, got {type(pose).__name__}"
+            )
+        self._target = ("pose", (target, frame))
+
+    def set_pose_targets(self, poses: Any, end_effector_link: str = "") -> None:
+        not_supported("MoveGroupCommander.set_pose_targets (several goal poses)", "use set_pose_target")
+
+    def clear_pose_targets(self) -> None:
+        self._target = None
+
+    def clear_pose_target(self, end_effector_link: str) -> None:
+        self._target = None
+
+    def set_max_velocity_scaling_factor(self, value: float) -> None:
+        self._velocity_scale = _fraction("max velocity scaling factor", value)
+
+    def set_max_acceleration_scaling_factor(self, value: float) -> None:
+        self._acceleration_scale = _fraction("max acceleration scaling factor", value)
+
+    def set_planning_time(self, seconds: float) -> None:
+        _log.info("set_planning_time(%s): the cell's planner has its own time limit", seconds)
+
+    def set_num_planning_attempts(self, num: int) -> None:
+        _log.info("set_num_planning_attempts(%s): the cell's planner is deterministic; one attempt", num)
+
+    def set_planner_id(self, planner_id: str) -> None:
+        _log.info("set_planner_id(%s): the cell plans with OMPL's RRTConnect", planner_id)
+
+    def allow_replanning(self, value: bool) -> None:
+        _log.info("allow_replanning(%s): the cell does not replan", value)
+
+    def set_goal_tolerance(self, value: float) -> None:
+        _log.info("set_goal_tolerance(%s): the cell's goals are exact (IK within 0.1 mm)", value)
+
+    set_goal_joint_tolerance = set_goal_position_tolerance = set_goal_orientation_tolerance = (
+        set_goal_tolerance
+    )
+
+    # ------------------------------------------------------------ planning and moving
+
+    def _plan(self, joints: Any) -> tuple[Optional[Plan], int, float]:
+        if joints is not None:
+            if isinstance(joints, (Pose, PoseStamped)):
+                self.set_pose_target(joints)
+            elif isinstance(joints, str):
+                self.set_named_target(joints)
+            else:
+                self.set_joint_value_target(joints)
+        if self._target is None:
+            raise MoveItCommanderException(
+                f"{self._name}: no target set (set_named_target, set_pose_target...)"
+            )
+        kind, value = self._target
+        start = wall.perf_counter()
+        try:
+            if kind == "pose":
+                target, frame = value
+                plan = self._arm.plan(target, frame=frame, speed=self._velocity_scale)
+            else:
+                plan = self._arm.plan(value, speed=self._velocity_scale)
+            plan = self._retime(plan)
+        except PlanningError as e:
+            _log.error("%s: planning failed: %s", self._name, e)
+            return None, _error_code(e), wall.perf_counter() - start
+        return plan, MoveItErrorCodes.SUCCESS, wall.perf_counter() - start
+
+    def _retime(self, plan: Plan) -> Plan:
+        if self._acceleration_scale >= 1.0:
+            return plan
+        trajectory = self._arm.planner.time_parameterize(
+            list(plan.path), velocity_scale=self._velocity_scale, acceleration_scale=self._acceleration_scale
+        )
+        return Plan(trajectory, plan.path, plan.kind, plan.fraction)
+
+    def plan(self, joints: Any = None) -> Any:
+        """Noetic: ``(success, RobotTrajectory, planning_time, MoveItErrorCodes)``; with
+        ``--moveit melodic``: the RobotTrajectory (empty when planning failed)."""
+        plan, code, seconds = self._plan(joints)
+        trajectory = to_msg(plan, self._name, self._session) if plan is not None else RobotTrajectory()
+        if self._session.moveit == "melodic":
+            return trajectory
+        return plan is not None, trajectory, seconds, MoveItErrorCodes(code)
+
+    def go(self, joints: Any = None, wait: bool = True) -> bool:
+        if isinstance(joints, bool):
+            joints, wait = None, joints
+        plan, _code, _seconds = self._plan(joints)
+        return plan is not None and self._run(plan, wait)
+
+    def execute(self, plan_msg: Any, wait: bool = True) -> bool:
+        try:
+            plan = from_msg(plan_msg, self._name, self._session)
+        except OmtpError as e:
+            raise MoveItCommanderException(str(e)) from None
+        return self._run(plan, wait)
+
+    def _run(self, plan: Plan, wait: bool) -> bool:
+        session = self._session
+        with _blocking():
+            try:
+                result = self._arm.execute(plan, wait=wait)
+            except CollisionError as e:
+                session.collisions.append(str(e))
+                _log.error("%s: execution stopped: %s", self._name, e)
+                return False
+            except PlanningError as e:
+                _log.error("%s: execution refused: %s", self._name, e)
+                return False
+        self._motion_end = result.end
+        return True
+
+    def stop(self) -> None:
+        """Stops a motion started with ``wait=False`` where the arm is (no-op when none runs)."""
+        if self._session.time < self._motion_end - 1e-9:
+            q = self._arm.joint_values()
+            hold = PiecewisePolynomial.FirstOrderHold([0.0, 1e-3], np.column_stack([q, q]))
+            self._arm.execute(Plan(hold, (q,), "joint"), wait=False)
+            self._motion_end = -1.0
+
+    def compute_cartesian_path(
+        self, waypoints: Any, eef_step: float, *args: Any, **kwargs: Any
+    ) -> tuple[RobotTrajectory, float]:
+        """``(plan, fraction)`` of straight tool moves through ``waypoints`` (Poses in world):
+        MoveIt's ``(waypoints, eef_step, jump_threshold, avoid_collisions=True)`` and the
+        1.1.15+ ``(waypoints, eef_step, avoid_collisions=True)``. ``avoid_collisions``
+        checks the planning scene (the static cell, the other arm, added objects, the
+        held part); loose parts are no obstacles, as in MoveIt's scene."""
+        jump_threshold, avoid = _cartesian_args(args, kwargs)
+        step = float(eef_step)
+        if not step > 0:
+            raise MoveItCommanderException(f"eef_step must be > 0 m, got {eef_step}")
+        if not avoid:
+            not_supported("compute_cartesian_path with avoid_collisions=False")
+        poses = [
+            rigid(p, f"waypoint {i}") if not isinstance(p, RigidTransform) else p
+            for i, p in enumerate(waypoints)
+        ]
+        del jump_threshold  # the cell's planner always refuses joint jumps over 0.5 rad
+        plan = self._arm.compute_cartesian_path(
+            poses, frame=self._links[self._eef], max_step=step, avoid_parts=False
+        )
+        return to_msg(plan, self._name, self._session), float(plan.fraction)
+
+
+def _cartesian_args(args: tuple, kwargs: dict) -> tuple[float, bool]:
+    """(jump_threshold, avoid_collisions) from both compute_cartesian_path signatures."""
+    rest = list(args)
+    jump = kwargs.pop("jump_threshold", None)
+    if rest and not isinstance(rest[0], bool) and jump is None:
+        jump = rest.pop(0)
+    avoid = kwargs.pop("avoid_collisions", rest.pop(0) if rest else True)
+    if kwargs.pop("path_constraints", None) is not None or (rest and rest[0] is not None):
+        not_supported("compute_cartesian_path with path_constraints")
+    if kwargs:
+        raise MoveItCommanderException(f"compute_cartesian_path got unknown arguments: {', '.join(kwargs)}")
+    return float(jump or 0.0), bool(avoid)
+
+
+def _fraction(what: str, value: float) -> float:
+    value = float(value)
+    if not 0 < value <= 1:
+        raise MoveItCommanderException(f"{what} must be in (0, 1], got {value}")
+    return value

@@ -1,0 +1,86 @@
+"""The report of one ``ros-run``: times, the ledger, collisions, the script's exception.
+
+``to_dict()`` is the ``--json`` file: ``{"ledger": <the ledger as in run's JSON>,
+"sim_time_s", "wall_time_s", "exception", ...}``. Everything but
+``wall_time_s`` (and ``replay``) depends only on the script, its arguments, the
+scenario and its seed.
+"""
+
+from __future__ import annotations
+
+import traceback
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any, Optional
+
+
+@dataclass
+class RosReport:
+    """What one script run did."""
+
+    script: str
+    scenario: str
+    seed: int
+    sim_time_s: float
+    wall_time_s: float
+    #: ``Ledger.to_dict()``: parts per bin, on the floor, held...
+    ledger: dict[str, Any]
+    #: Moves stopped by the collision guard (their messages).
+    collisions: list[str] = field(default_factory=list)
+    #: Callbacks that raised (``topic: Type: message``); rospy logs and goes on.
+    callback_errors: list[str] = field(default_factory=list)
+    #: The script's uncaught exception, ``Type: message (at script.py:LINE in f)``.
+    exception: Optional[str] = None
+    #: The script's own frames of that exception's traceback.
+    traceback: list[str] = field(default_factory=list)
+    #: Why the ROS session shut down (``signal_shutdown``, ``--timeout``), if it did.
+    shutdown: Optional[str] = None
+    #: The script's ``sys.exit`` code (0 when it ended normally).
+    exit_code: int = 0
+    replay: Optional[str] = None
+
+    @property
+    def ok(self) -> bool:
+        """The script ended without an exception, a collision or a failing exit code."""
+        return self.exception is None and not self.collisions and self.exit_code == 0
+
+    @property
+    def in_bins(self) -> int:
+        return sum(self.ledger["in_bin"].values())
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> RosReport:
+        return cls(**data)
+
+    def summary(self) -> str:
+        ledger = self.ledger
+        bins = ", ".join(f"{k} {v}" for k, v in ledger["in_bin"].items()) or "no bins"
+        held = sum(ledger["held"].values())
+        lines = [
+            f"{self.script} on {self.scenario} (seed {self.seed}): {self.sim_time_s:.1f} s simulated "
+            f"in {self.wall_time_s:.1f} s",
+            f"parts: spawned {ledger['spawned']}; in bins: {bins}; on floor {ledger['on_floor']}, "
+            f"on belt {ledger['on_belt']}, elsewhere {ledger['elsewhere']}, held {held}, "
+            f"disposed {ledger['disposed']}",
+        ]
+        lines += [f"collision: {c}" for c in self.collisions]
+        lines += [f"bad callback: {c}" for c in self.callback_errors]
+        if self.shutdown:
+            lines.append(f"shutdown: {self.shutdown}")
+        if self.exception:
+            lines += ["script traceback (most recent call last):"] + [f"  {t}" for t in self.traceback]
+            lines.append(f"exception: {self.exception}")
+        return "\n".join(lines)
+
+
+def describe_script_exception(e: BaseException, script: Path) -> str:
+    """``Type: message (at script.py:LINE in function)``: the deepest frame in the script."""
+    text = " ".join(str(e).split())
+    where = ""
+    for frame in traceback.extract_tb(e.__traceback__):
+        if Path(frame.filename).resolve() == script:
+            where = f" (at {script.name}:{frame.lineno} in {frame.name})"
+    return f"{type(e).__name__}: {text[:500]}{where}"

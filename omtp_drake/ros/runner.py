@@ -1,0 +1,139 @@
+"""``ros-run``: an unmodified ROS 1 course script on a cell, in simulated time.
+
+:func:`run_script` builds the scenario's cell and a ROS :class:`Session` on it,
+puts the ROS-named packages of ``omtp_drake/ros/shims`` (``rospy``,
+``moveit_commander``, ``tf2_ros``, ``geometry_msgs``, ``omtp_gazebo``...) first
+on ``sys.path`` for the script only, runs the script as ``__main__`` with its
+own arguments, and takes them off again (``sys.path``, ``sys.argv`` and the
+ROS module names are restored, so a real ROS installation is never shadowed
+outside the run). The run's outcome is a :class:`~omtp_drake.ros.report.RosReport`.
+
+The scenario's periodic spawner starts off, as the course's Gazebo world: parts
+come when the script asks (``/spawn_object_once``, ``/spawn_object_at_robot2``,
+``/start_spawn``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import logging
+import runpy
+import sys
+import time
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Optional
+
+from omtp_drake.errors import ConfigError
+from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.node import ROSInterruptException
+from omtp_drake.ros.report import RosReport, describe_script_exception
+from omtp_drake.ros.session import Session, active
+
+_log = logging.getLogger(__name__)
+
+#: The folder of the ROS-named packages (put first on sys.path during a run only).
+SHIM_DIR = Path(__file__).resolve().parent / "shims"
+#: The top-level names it provides.
+SHIM_PACKAGES = tuple(sorted(p.name for p in SHIM_DIR.iterdir() if (p / "__init__.py").is_file()))
+
+MOVEIT_VERSIONS = ("noetic", "melodic")
+
+
+@contextlib.contextmanager
+def script_environment(script: Path, args: Sequence[str]) -> Iterator[None]:
+    """sys.argv, sys.path (the shims, then the script's folder) and sys.modules set
+    for ``script``; all three restored afterwards."""
+    saved_argv, saved_path = sys.argv[:], sys.path[:]
+    hidden = {n: m for n, m in sys.modules.items() if n.split(".")[0] in SHIM_PACKAGES}
+    for name in hidden:
+        del sys.modules[name]  # e.g. a real rospy imported before: the script gets ours
+    before = set(sys.modules)
+    sys.argv = [str(script), *args]
+    sys.path[:0] = [str(SHIM_DIR), str(script.parent)]
+    try:
+        yield
+    finally:
+        sys.argv, sys.path[:] = saved_argv, saved_path
+        for name in set(sys.modules) - before:
+            module = sys.modules[name]
+            origin = str(getattr(module, "__file__", "") or "")
+            if name.split(".")[0] in SHIM_PACKAGES or origin.startswith(str(script.parent)):
+                del sys.modules[name]
+        sys.modules.update(hidden)
+
+
+def run_script(
+    script: str | Path,
+    args: Sequence[str] = (),
+    *,
+    scenario: str | Path,
+    seed: Optional[int] = None,
+    timeout: Optional[float] = 600.0,
+    moveit: str = "noetic",
+    meshcat: bool = False,
+    realtime: bool = False,
+    record: Optional[str | Path] = None,
+) -> RosReport:
+    """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
+
+    ``timeout``: simulated seconds after which the ROS session shuts down
+    (``rospy.is_shutdown()`` turns True, blocking calls raise
+    ROSInterruptException, ``spin`` returns). ``moveit``: ``noetic`` or ``melodic``
+    (the shape of ``plan()``).
+    """
+    path = Path(script).resolve()
+    if not path.is_file():
+        raise ConfigError(f"script {str(script)!r} does not exist")
+    if moveit not in MOVEIT_VERSIONS:
+        raise ConfigError(f"--moveit {moveit!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
+    if timeout is not None and not timeout > 0:
+        raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
+    loaded = load_scenario(str(scenario))
+    if seed is not None:
+        loaded = dataclasses.replace(loaded, seed=int(seed))
+    start = time.perf_counter()
+    cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
+    session = Session(cell, timeout=timeout, moveit=moveit)
+    exception: Optional[BaseException] = None
+    exit_code = 0
+    try:
+        with script_environment(path, args), active(session):
+            runpy.run_path(str(path), run_name="__main__")
+    except SystemExit as e:
+        exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+    except ROSInterruptException as e:
+        if session.shutdown_reason is None:
+            exception = e
+    except Exception as e:  # the script's own error: reported, not raised
+        exception = e
+    replay = cell.close()
+    return RosReport(
+        script=path.name,
+        scenario=loaded.name,
+        seed=loaded.seed,
+        sim_time_s=cell.time,
+        wall_time_s=time.perf_counter() - start,
+        ledger=cell.ledger().to_dict(),
+        collisions=list(session.collisions),
+        callback_errors=list(session.callback_errors),
+        exception=describe_script_exception(exception, path) if exception is not None else None,
+        traceback=_script_traceback(exception, path) if exception is not None else [],
+        shutdown=session.shutdown_reason,
+        exit_code=exit_code,
+        replay=str(replay) if replay else None,
+    )
+
+
+def _script_traceback(exception: BaseException, script: Path) -> list[str]:
+    """``file:line in function: code`` of the traceback's frames in the script's folder."""
+    import traceback
+
+    frames = traceback.extract_tb(exception.__traceback__)
+    folder = str(script.parent)
+    return [
+        f"{Path(f.filename).name}:{f.lineno} in {f.name}: {(f.line or '').strip()}"
+        for f in frames
+        if f.filename.startswith(folder)
+    ]

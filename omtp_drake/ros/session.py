@@ -1,0 +1,275 @@
+"""One ROS-style run on a cell: simulated time, topics, callbacks, shutdown.
+
+A :class:`Session` wraps a :class:`~omtp_drake.Cell` for the ROS names a script
+imports (``rospy``, ``moveit_commander``...). Those names find it with
+:func:`current` (ROS's client libraries are process-global too; the session is
+set for the duration of one script by :func:`active`).
+
+Time. Simulated time moves only inside blocking calls (``rospy.sleep``,
+``Rate.sleep``, ``spin``, ``wait_for_message``, MoveIt moves, gripper services).
+:meth:`Session.run_until` advances the cell in ticks and, between ticks,
+delivers the messages published so far to their subscribers' callbacks.
+
+Callbacks. The cell's sensor topics (logical cameras, break beam) publish into
+the subscribers' queues from the cell's tick (at the sensor's own rate: a camera
+message per new image, stamped with the image's time); a script's Publisher
+publishes at once. Delivery is in publish-time order across subscribers, one
+callback at a time, never re-entrant: while a subscriber's callback runs (and
+moves the arm, say) its own messages wait in its queue, the oldest dropped
+beyond ``queue_size`` as in rospy, and other subscribers' messages wait too.
+A callback that raises is logged with its traceback and recorded (rospy's
+"bad callback"), and delivery goes on.
+"""
+
+from __future__ import annotations
+
+import collections
+import contextlib
+import itertools
+import logging
+import math
+import traceback
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Optional
+
+from omtp_drake.errors import SimulationError
+
+if TYPE_CHECKING:
+    from omtp_drake import Cell
+    from omtp_drake.ros.services import Service
+    from omtp_drake.ros.topics import Source
+
+_log = logging.getLogger("rospy")
+
+#: Polls of ``is_shutdown`` without simulated time moving after which one tick
+#: passes: a busy-wait loop lets time flow, as wall time flows under ROS.
+BUSY_POLLS_PER_TICK = 100
+
+_CURRENT: list[Session] = []
+
+
+class ShutdownError(Exception):
+    """Raised inside the session when it shuts down during a blocking call
+    (rospy turns it into ROSInterruptException)."""
+
+
+def current() -> Session:
+    """The session of the running script (a clear error outside ``ros-run``)."""
+    if not _CURRENT:
+        raise SimulationError(
+            "no ROS session: the ROS names of omtp_drake work inside "
+            "`omtp-drake ros-run SCRIPT.py --scenario NAME` (or omtp_drake.ros.run_script)"
+        )
+    return _CURRENT[-1]
+
+
+@contextlib.contextmanager
+def active(session: Session) -> Iterator[Session]:
+    """Makes ``session`` the current one for the ``with`` block."""
+    _CURRENT.append(session)
+    try:
+        yield session
+    finally:
+        _CURRENT.remove(session)
+
+
+@dataclass(eq=False)
+class SubscriberQueue:
+    """One subscriber: its topic, callback and queue of (stamp, order, message)."""
+
+    topic: str
+    callback: Callable[..., Any]
+    callback_args: tuple
+    queue: collections.deque = field(default_factory=collections.deque)
+    busy: bool = False
+    active: bool = True
+
+
+class Session:
+    """The ROS graph of one script on ``cell`` (see the module doc).
+
+    Args:
+        cell: the cell the script runs on.
+        timeout: simulated seconds after which the session shuts down (None: never).
+        moveit: ``noetic`` or ``melodic`` (the shape of ``MoveGroupCommander.plan``).
+    """
+
+    def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
+        from omtp_drake.ros.services import cell_services
+        from omtp_drake.ros.topics import cell_sources
+
+        self.cell = cell
+        self.timeout = timeout
+        self.moveit = moveit
+        self.node_name: Optional[str] = None
+        self.shutdown_reason: Optional[str] = None
+        self.callback_errors: list[str] = []
+        self.collisions: list[str] = []
+        self._subscribers: dict[str, list[SubscriberQueue]] = collections.defaultdict(list)
+        self._order = itertools.count()
+        self._in_callback = 0
+        self._busy_polls = 0
+        self._last_poll_time = -1.0
+        self.sources: dict[str, Source] = cell_sources(cell)
+        self.services: dict[str, Service] = cell_services(cell)
+        self._on_shutdown: list[Callable[[], Any]] = []
+        #: The parameter server, topics scripts publish, latched messages, log throttles.
+        self.params: dict[str, Any] = {}
+        self.published_topics: set[str] = set()
+        self.latched: dict[str, Any] = {}
+        self.throttle: dict[tuple, float] = {}
+        #: id(RobotTrajectory) -> (it, its fingerprint, the plan): recent plans, run exactly.
+        self.plans: collections.OrderedDict[int, tuple] = collections.OrderedDict()
+        cell.runtime.on_tick(lambda _rt: self._poll_sources())
+
+    # ------------------------------------------------------------ time
+
+    @property
+    def time(self) -> float:
+        return self.cell.time
+
+    @property
+    def tick(self) -> float:
+        return self.cell.runtime.tick
+
+    def run_until(self, t_end: float, until: Optional[Callable[[], bool]] = None) -> bool:
+        """Advances to ``t_end`` (callbacks delivered between ticks), or until
+        ``until()`` holds (checked after each delivery); returns whether it held.
+        Raises ShutdownError if the session is or becomes shut down."""
+        self.check_running()
+        while True:
+            self.deliver()
+            if until is not None and until():
+                return True
+            if self.time >= t_end - 1e-9:
+                return False
+            step_end = min(t_end, self.time + self.tick)
+            if self.timeout is not None and step_end >= self.timeout - 1e-9:
+                self.cell.runtime.advance_to(max(self.time, min(step_end, self.timeout)))
+                self.shutdown(f"--timeout of {self.timeout:g} s simulated time reached")
+                self.check_running()
+            self.cell.runtime.advance_to(step_end)
+
+    def after_blocking_call(self) -> None:
+        """What every blocking call ends with: the timeout, then the callbacks due."""
+        if self.timeout is not None and self.time >= self.timeout - 1e-9:
+            self.shutdown(f"--timeout of {self.timeout:g} s simulated time reached")
+        if self.shutdown_reason is None:
+            self.deliver()
+
+    def check_running(self) -> None:
+        if self.shutdown_reason is not None:
+            raise ShutdownError(self.shutdown_reason)
+
+    def poll_shutdown(self) -> bool:
+        """``rospy.is_shutdown()``: delivers the callbacks due; after
+        BUSY_POLLS_PER_TICK polls without time moving, lets one tick pass."""
+        if self.shutdown_reason is None:
+            if self.time != self._last_poll_time:
+                self._last_poll_time, self._busy_polls = self.time, 0
+            self._busy_polls += 1
+            if self._busy_polls >= BUSY_POLLS_PER_TICK and not self._in_callback:
+                self._busy_polls = 0
+                with contextlib.suppress(ShutdownError):
+                    self.run_until(self.time + self.tick)
+            else:
+                self.deliver()
+        return self.shutdown_reason is not None
+
+    def shutdown(self, reason: str) -> None:
+        if self.shutdown_reason is None:
+            self.shutdown_reason = reason
+            _log.info("shutdown request: %s", reason)
+            for hook in self._on_shutdown:
+                hook()
+
+    def on_shutdown(self, hook: Callable[[], Any]) -> None:
+        self._on_shutdown.append(hook)
+
+    # ------------------------------------------------------------ topics
+
+    def subscribe(
+        self, topic: str, callback: Callable[..., Any], callback_args: tuple, queue_size
+    ) -> SubscriberQueue:
+        if queue_size is not None and (int(queue_size) != queue_size or queue_size < 0):
+            raise ValueError(f"queue_size must be None or an integer >= 0, got {queue_size!r}")
+        maxlen = None if queue_size in (None, 0) else int(queue_size)
+        subscriber = SubscriberQueue(topic, callback, callback_args, collections.deque(maxlen=maxlen))
+        self._subscribers[topic].append(subscriber)
+        return subscriber
+
+    def unsubscribe(self, subscriber: SubscriberQueue) -> None:
+        subscriber.active = False
+        subscriber.queue.clear()
+        if subscriber in self._subscribers[subscriber.topic]:
+            self._subscribers[subscriber.topic].remove(subscriber)
+
+    def num_subscribers(self, topic: str) -> int:
+        return len(self._subscribers.get(topic, []))
+
+    def publish(self, topic: str, message: Any, stamp: Optional[float] = None) -> None:
+        """Queues ``message`` for every subscriber of ``topic`` (delivered in time order)."""
+        stamp = self.time if stamp is None else stamp
+        order = next(self._order)
+        for subscriber in self._subscribers.get(topic, []):
+            subscriber.queue.append((stamp, order, message))
+
+    def _poll_sources(self) -> None:
+        for topic, source in self.sources.items():
+            if self._subscribers.get(topic):
+                for stamp, message in source.poll():
+                    self.publish(topic, message, stamp)
+
+    def deliver(self) -> None:
+        """Runs the callbacks of every queued message, earliest first, one at a time."""
+        if self._in_callback:
+            return  # never re-entrant: the running callback's caller delivers the rest
+        while self.shutdown_reason is None:
+            ready = [s for subs in self._subscribers.values() for s in subs if s.queue and not s.busy]
+            if not ready:
+                return
+            subscriber = min(ready, key=lambda s: s.queue[0][:2])
+            _stamp, _order, message = subscriber.queue.popleft()
+            self._run_callback(subscriber, message)
+
+    def _run_callback(self, subscriber: SubscriberQueue, message: Any) -> None:
+        subscriber.busy = True
+        self._in_callback += 1
+        try:
+            subscriber.callback(message, *subscriber.callback_args)
+        except ShutdownError:
+            pass
+        except Exception as e:
+            text = "".join(traceback.format_exception(e))
+            _log.error("bad callback: %s\n%s", subscriber.callback, text)
+            self.callback_errors.append(f"{subscriber.topic}: {type(e).__name__}: {e}")
+        finally:
+            self._in_callback -= 1
+            subscriber.busy = False
+
+    @property
+    def in_callback(self) -> bool:
+        return self._in_callback > 0
+
+    def topic_names(self) -> list[str]:
+        return sorted(set(self.sources) | {t for t, subs in self._subscribers.items() if subs})
+
+
+def resolve_name(name: str, node_name: Optional[str] = None) -> str:
+    """A graph name as ROS resolves it in the root namespace: ``a/b`` -> ``/a/b``,
+    ``~x`` -> ``/<node>/x``."""
+    name = str(name).strip()
+    if not name:
+        raise ValueError("a topic or service name cannot be empty")
+    if name.startswith("~"):
+        return f"/{node_name or 'unnamed'}/{name[1:].lstrip('/')}"
+    return name if name.startswith("/") else "/" + name
+
+
+def finite_seconds(value: Any, what: str) -> float:
+    """``value`` (seconds, a Duration) as finite seconds >= 0."""
+    seconds = value.to_sec() if hasattr(value, "to_sec") else float(value)
+    if not (math.isfinite(seconds) and seconds >= 0):
+        raise ValueError(f"{what} must be finite seconds >= 0, got {value!r}")
+    return seconds

@@ -1,0 +1,25 @@
+"""geometry_msgs.msg of omtp-drake ros-run."""
+
+from omtp_drake.ros.messages import (
+    Point,
+    Pose,
+    PoseArray,
+    PoseStamped,
+    Quaternion,
+    Transform,
+    TransformStamped,
+    Vector3,
+)
+from omtp_drake.ros.unsupported import module_getattr
+
+__all__ = [
+    "Point",
+    "Pose",
+    "PoseArray",
+    "PoseStamped",
+    "Quaternion",
+    "Transform",
+    "TransformStamped",
+    "Vector3",
+]
+__getattr__ = module_getattr(__name__, __all__)
