@@ -137,9 +137,10 @@ class Session:
         """Advances to ``t_end`` (callbacks delivered between ticks), or until
         ``until()`` holds (checked after each delivery); returns whether it held.
         Raises ShutdownError if the session is or becomes shut down."""
-        self.check_running()
         while True:
-            self.deliver()
+            self.check_running()
+            self.deliver(t_end)
+            self.check_running()
             if until is not None and until():
                 return True
             if self.time >= t_end - 1e-9:
@@ -156,7 +157,7 @@ class Session:
         if self.timeout is not None and self.time >= self.timeout - 1e-9:
             self.shutdown(f"--timeout of {self.timeout:g} s simulated time reached")
         if self.shutdown_reason is None:
-            self.deliver()
+            self.deliver(self.time)
 
     def check_running(self) -> None:
         if self.shutdown_reason is not None:
@@ -174,7 +175,7 @@ class Session:
                 with contextlib.suppress(ShutdownError):
                     self.run_until(self.time + self.tick)
             else:
-                self.deliver()
+                self.deliver(self.time)
         return self.shutdown_reason is not None
 
     def shutdown(self, reason: str) -> None:
@@ -221,11 +222,13 @@ class Session:
                 for stamp, message in source.poll():
                     self.publish(topic, message, stamp)
 
-    def deliver(self) -> None:
-        """Runs the callbacks of every queued message, earliest first, one at a time."""
+    def deliver(self, until: float = math.inf) -> None:
+        """Runs the callbacks of the queued messages, earliest first, one at a time,
+        while simulated time is at most ``until`` (the blocking call that delivers
+        returns when its time is up; the rest run at the next blocking call)."""
         if self._in_callback:
             return  # never re-entrant: the running callback's caller delivers the rest
-        while self.shutdown_reason is None:
+        while self.shutdown_reason is None and self.time <= until + 1e-9:
             ready = [s for subs in self._subscribers.values() for s in subs if s.queue and not s.busy]
             if not ready:
                 return

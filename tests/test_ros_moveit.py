@@ -1,0 +1,89 @@
+"""MoveIt commander through ros-run: targets, plans, execution, Cartesian paths, the action."""
+
+import json
+import textwrap
+
+import numpy as np
+import pytest
+
+from omtp_drake.ros import run_script
+
+A4 = "lecture6_assignment4"
+
+MOVES = """
+    import json, sys
+    import moveit_commander, moveit_msgs.msg, rospy
+    moveit_commander.roscpp_initialize(sys.argv)
+    rospy.init_node("moves")
+    group = moveit_commander.MoveGroupCommander("robot2")
+    out = {"eef": group.get_end_effector_link(), "frame": group.get_planning_frame(),
+           "named": group.get_named_targets()}
+    group.set_named_target("R2Place")
+    out["place_ok"] = group.go(wait=True)
+    group.stop()
+    out["place_q"] = group.get_current_joint_values()
+    try:
+        group.set_joint_value_target([0, 0, 0, 0, 0, 4.0])
+    except moveit_commander.MoveItCommanderException as e:
+        out["out_of_bounds"] = str(e)
+    group.set_named_target("R2Home")
+    planned = group.plan()
+    if isinstance(planned, tuple):
+        out["plan_shape"] = [type(x).__name__ for x in planned]
+    else:
+        out["plan_shape"] = type(planned).__name__
+    trajectory = planned[1] if isinstance(planned, tuple) else planned
+    out["executed"] = group.execute(trajectory, wait=True)
+    pose = group.get_current_pose().pose
+    out["home_cup"] = [pose.position.x, pose.position.y, pose.position.z]
+    start = [pose.position.x, pose.position.y, pose.position.z]
+    waypoint = group.get_current_pose().pose
+    waypoint.position.z -= 0.2
+    plan, fraction = group.compute_cartesian_path([waypoint], 0.01, 0.0)
+    out["fraction_noetic"] = fraction
+    import actionlib
+    client = actionlib.SimpleActionClient("execute_trajectory", moveit_msgs.msg.ExecuteTrajectoryAction)
+    client.wait_for_server()
+    client.send_goal(moveit_msgs.msg.ExecuteTrajectoryGoal(trajectory=plan))
+    client.wait_for_result()
+    out["action_code"] = client.get_result().error_code.val
+    p = group.get_current_pose().pose.position
+    out["after_descent"] = [p.x, p.y, p.z]
+    waypoint.position.z += 0.2
+    plan, fraction = group.compute_cartesian_path([waypoint], 0.01)  # MoveIt 1.1.15+
+    out["fraction_new"] = fraction
+    out["up_ok"] = group.execute(plan)
+    group.set_pose_target([-8.0, -1.5, 3.0, 0.0, 0.0, 0.0])  # x, y, z, roll, pitch, yaw: out of reach
+    out["unreachable_go"] = group.go()
+    planned = group.plan()
+    if isinstance(planned, tuple):
+        out["unreachable_plan"] = [planned[0], len(planned[1].joint_trajectory.points), planned[3].val]
+    json.dump(out, open(sys.argv[1], "w"))
+"""
+
+
+@pytest.mark.parametrize("moveit", ["noetic", "melodic"])
+def test_move_group_targets_plans_and_cartesian_paths(tmp_path, moveit):
+    script = tmp_path / "moves.py"
+    script.write_text(textwrap.dedent(MOVES))
+    out = tmp_path / "out.json"
+    report = run_script(script, [str(out)], scenario=A4, moveit=moveit)
+    assert report.exception is None and report.collisions == []
+    data = json.loads(out.read_text())
+    assert data["eef"] == "vacuum_gripper2_suction_cup" and data["frame"] == "world"
+    assert {"R2Home", "R2Place", "R2PreGrasp", "R2Up"} <= set(data["named"])
+    assert data["place_ok"] is True
+    np.testing.assert_allclose(data["place_q"], [2.5952, -1.161, 0.7512, -1.2293, -1.5708, 0.0], atol=1e-3)
+    assert "wrist_3_joint of robot2 at 4.0000 rad is outside" in data["out_of_bounds"]
+    if moveit == "noetic":
+        assert data["plan_shape"] == ["bool", "RobotTrajectory", "float", "MoveItErrorCodes"]
+    else:
+        assert data["plan_shape"] == "RobotTrajectory"
+    assert data["executed"] is True
+    np.testing.assert_allclose(data["home_cup"], [-8.287, -1.609, 1.122], atol=2e-3)  # the reference's
+    assert data["fraction_noetic"] == 1.0 and data["fraction_new"] == 1.0 and data["up_ok"] is True
+    assert data["action_code"] == 1  # SUCCESS
+    np.testing.assert_allclose(data["after_descent"], np.add(data["home_cup"], [0, 0, -0.2]), atol=2e-3)
+    assert data["unreachable_go"] is False  # MoveIt's way: False, the reason logged
+    if moveit == "noetic":
+        assert data["unreachable_plan"] == [False, 0, -31]  # an empty trajectory, NO_IK_SOLUTION
