@@ -14,12 +14,16 @@ import logging
 from typing import Any, Optional
 
 from omtp_drake.errors import OmtpError
-from omtp_drake.ros.convert import rigid
+from omtp_drake.ros._core import tool_frame_names
+from omtp_drake.ros.convert import pose_msg, rigid
 from omtp_drake.ros.interfaces import (
+    AttachedCollisionObject,
+    CollisionObject,
     ExecuteTrajectoryAction,
     ExecuteTrajectoryResult,
     MoveItErrorCodes,
     RobotState,
+    SolidPrimitive,
 )
 from omtp_drake.ros.messages import Header, JointState, PoseStamped, Time
 from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
@@ -80,6 +84,28 @@ def _scene() -> Any:
     return scene
 
 
+def _robot_of(link: Optional[str]) -> Optional[str]:
+    """The robot whose gripper or tool link ``link`` is (None for None or "")."""
+    if not link:
+        return None
+    cell = current().cell
+    for robot in cell.station.arms:
+        if link in tool_frame_names(cell.arm(robot).config).values():
+            return robot
+    links = [n for r in cell.station.arms for n in tool_frame_names(cell.arm(r).config).values()]
+    raise MoveItCommanderException(f"{link!r} is no end-effector link; links: {', '.join(links)}")
+
+
+def _object_msg(name: str, box: Any, frame: str) -> CollisionObject:
+    primitive = SolidPrimitive(type=SolidPrimitive.BOX, dimensions=list(box.size))
+    return CollisionObject(
+        header=Header(stamp=Time.now(), frame_id=frame),
+        id=name,
+        primitives=[primitive],
+        primitive_poses=[pose_msg(box.X)],
+    )
+
+
 def _world_pose(pose: Any, what: str) -> Any:
     if not isinstance(pose, PoseStamped):
         raise MoveItCommanderException(f"{what} takes a geometry_msgs PoseStamped, got {type(pose).__name__}")
@@ -103,7 +129,10 @@ class PlanningSceneInterface:
             raise MoveItCommanderException(str(e)) from None
 
     def remove_world_object(self, name: Optional[str] = None) -> None:
-        _scene().remove(name)
+        try:
+            _scene().remove(name)
+        except OmtpError as e:
+            _log.warning("remove_world_object: %s", e)
 
     def attach_box(
         self,
@@ -116,7 +145,7 @@ class PlanningSceneInterface:
         scene = _scene()
         try:
             scene.attach_box(
-                link,
+                _robot_of(link),
                 name,
                 None if pose is None else _world_pose(pose, "attach_box"),
                 [float(x) for x in size],
@@ -125,18 +154,29 @@ class PlanningSceneInterface:
             raise MoveItCommanderException(str(e)) from None
 
     def remove_attached_object(self, link: Optional[str] = None, name: Optional[str] = None) -> None:
-        _scene().detach(link, name)
+        try:
+            _scene().detach(_robot_of(link), name)
+        except OmtpError as e:
+            _log.warning("remove_attached_object: %s", e)
 
     def get_known_object_names(self, with_type: bool = False) -> list[str]:
         return _scene().names()
 
-    def get_attached_objects(self, object_ids: Any = ()) -> dict[str, Any]:
-        attached = _scene().attached()
-        return {k: v for k, v in attached.items() if not object_ids or k in object_ids}
+    def get_attached_objects(self, object_ids: Any = ()) -> dict[str, AttachedCollisionObject]:
+        cell = current().cell
+        out = {}
+        for name, box in _scene().attached().items():
+            if not object_ids or name in object_ids:
+                cup = f"{cell.arm(box.robot).config.gripper}_cup"
+                link = tool_frame_names(cell.arm(box.robot).config)["suction_cup"]
+                out[name] = AttachedCollisionObject(link_name=link, object=_object_msg(name, box, cup))
+        return out
 
-    def get_objects(self, object_ids: Any = ()) -> dict[str, Any]:
+    def get_objects(self, object_ids: Any = ()) -> dict[str, CollisionObject]:
         objects = _scene().objects()
-        return {k: v for k, v in objects.items() if not object_ids or k in object_ids}
+        return {
+            k: _object_msg(k, v, "world") for k, v in objects.items() if not object_ids or k in object_ids
+        }
 
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_"):

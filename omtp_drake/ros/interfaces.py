@@ -192,6 +192,28 @@ class RobotState(Message):
     _defaults = (JointState, bool)
 
 
+class SolidPrimitive(Message):
+    __slots__ = ("type", "dimensions")
+    _type = "shape_msgs/SolidPrimitive"
+    _defaults = (int, list)
+    BOX: ClassVar[int] = 1
+
+
+class CollisionObject(Message):
+    """A box of the planning scene (``primitives[0]``, at ``primitive_poses[0]`` in
+    ``header.frame_id``: ``world``, or the gripper's cup body when attached)."""
+
+    __slots__ = ("header", "id", "primitives", "primitive_poses")
+    _type = "moveit_msgs/CollisionObject"
+    _defaults = (Header, str, list, list)
+
+
+class AttachedCollisionObject(Message):
+    __slots__ = ("link_name", "object")
+    _type = "moveit_msgs/AttachedCollisionObject"
+    _defaults = (str, CollisionObject)
+
+
 class DisplayTrajectory(Message):
     __slots__ = ("model_id", "trajectory", "trajectory_start")
     _type = "moveit_msgs/DisplayTrajectory"

@@ -1,6 +1,8 @@
 """moveit_msgs.msg of omtp-drake ros-run."""
 
 from omtp_drake.ros.interfaces import (
+    AttachedCollisionObject,
+    CollisionObject,
     DisplayTrajectory,
     ExecuteTrajectoryAction,
     ExecuteTrajectoryFeedback,
@@ -13,6 +15,8 @@ from omtp_drake.ros.interfaces import (
 from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
+    "AttachedCollisionObject",
+    "CollisionObject",
     "DisplayTrajectory",
     "ExecuteTrajectoryAction",
     "ExecuteTrajectoryFeedback",

@@ -1,0 +1,8 @@
+"""shape_msgs of omtp-drake ros-run."""
+
+from omtp_drake.ros.unsupported import module_getattr
+
+from . import msg
+
+__all__ = ["msg"]
+__getattr__ = module_getattr(__name__, __all__)
