@@ -210,3 +210,25 @@ def test_two_runs_of_a_script_give_the_same_report(tmp_path):
     second = run(tmp_path, source)[0].to_dict()
     first.pop("wall_time_s"), second.pop("wall_time_s")
     assert first == second and first["exception"].startswith("RuntimeError: saw ")
+
+
+def test_a_callback_that_raises_is_logged_recorded_and_delivery_goes_on(tmp_path):
+    report, data = run(tmp_path, """
+        import json, sys
+        import rospy
+        from std_msgs.msg import String
+        rospy.init_node("bad_callback")
+        got = []
+        def on_chat(msg):
+            got.append(msg.data)
+            if msg.data == "two":
+                raise ValueError("cannot handle two")
+        rospy.Subscriber("chatter", String, on_chat)
+        chatter = rospy.Publisher("/chatter", String, queue_size=10)
+        for word in ("one", "two", "three"):
+            chatter.publish(word)
+            rospy.sleep(0.1)
+        json.dump(got, open(sys.argv[1], "w"))
+    """)
+    assert data == ["one", "two", "three"]
+    assert report.callback_errors == ["/chatter: ValueError: cannot handle two"] and not report.ok

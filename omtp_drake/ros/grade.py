@@ -90,8 +90,9 @@ def grade_one(script: str, scenario: str, seed: Optional[int], timeout: float, w
             return Grade(Path(script).name, CRASHED, 0, None, f"exit code {done.returncode}: {tail}")
         report = json.loads(out.read_text())
     in_bins = sum(report["ledger"]["in_bin"].values())
-    if report["exception"]:
-        status, message = EXCEPTION, report["exception"]
+    if report["exception"] or report["callback_errors"]:
+        status = EXCEPTION
+        message = report["exception"] or f"bad callback: {report['callback_errors'][0]}"
     elif report["collisions"]:
         status, message = COLLISION, report["collisions"][0]
     else:

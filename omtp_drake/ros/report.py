@@ -41,8 +41,14 @@ class RosReport:
 
     @property
     def ok(self) -> bool:
-        """The script ended without an exception, a collision or a failing exit code."""
-        return self.exception is None and not self.collisions and self.exit_code == 0
+        """The script ended without an exception, a failed callback, a collision or a
+        failing exit code."""
+        return (
+            self.exception is None
+            and not self.callback_errors
+            and not self.collisions
+            and self.exit_code == 0
+        )
 
     @property
     def in_bins(self) -> int:

@@ -244,6 +244,8 @@ class Session:
         except ShutdownError:
             pass
         except Exception as e:
+            if isinstance(e, KeyboardInterrupt) and self.shutdown_reason is not None:
+                return  # rospy's ROSInterruptException at shutdown: the callback's normal end
             text = "".join(traceback.format_exception(e))
             _log.error("bad callback: %s\n%s", subscriber.callback, text)
             self.callback_errors.append(f"{subscriber.topic}: {type(e).__name__}: {e}")
