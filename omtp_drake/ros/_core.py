@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any, Optional
+
 from omtp_drake import Cell, load_scenario, tool_down
 from omtp_drake.arms import JOINT_NAMES, check_joint_positions, named_pose, tool_frame_names
 from omtp_drake.frames import PoseStamped as CorePoseStamped
@@ -18,3 +20,10 @@ __all__ = [
     "tool_down",
     "tool_frame_names",
 ]
+
+
+def batch_connect(workers: Optional[int]) -> Any:
+    """The batch machinery's Dask client context (a local cluster of ``workers``)."""
+    from omtp_drake.batch import connect
+
+    return connect(workers)

@@ -122,14 +122,13 @@ def grade_folder(
 ) -> list[Grade]:
     """Every script of ``folder`` on ``scenario``, on ``workers`` local Dask workers;
     the grades in script order (also written to ``out``, see the module doc)."""
-    from omtp_drake.batch import connect
-    from omtp_drake.ros._core import load_scenario
+    from omtp_drake.ros._core import batch_connect, load_scenario
 
     scripts = find_scripts(folder)
     load_scenario(scenario)  # a bad name fails before any worker starts
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ConfigError(f"--workers must be an integer >= 1, got {workers!r}")
-    with connect(workers) as client:
+    with batch_connect(workers) as client:
         futures = [
             client.submit(grade_one, str(s.resolve()), str(scenario), seed, timeout, wall_timeout, pure=False)
             for s in scripts
