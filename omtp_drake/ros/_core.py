@@ -4,10 +4,12 @@ from __future__ import annotations
 
 from typing import Any, Optional
 
-from omtp_drake import Cell, load_scenario, tool_down
-from omtp_drake.arms import JOINT_NAMES, check_joint_positions, named_pose, tool_frame_names
-from omtp_drake.frames import PoseStamped as CorePoseStamped
-from omtp_drake.script import Plan
+from omtp_drake.cell.arms import JOINT_NAMES, check_joint_positions, named_pose, tool_frame_names
+from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
+from omtp_drake.control.tool_paths import tool_down
+from omtp_drake.scenario import load_scenario
+from omtp_drake.script import Cell
+from omtp_drake.script.arm import Plan
 
 __all__ = [
     "JOINT_NAMES",

@@ -25,9 +25,9 @@ from omtp_drake.ros.interfaces import (
     RobotState,
     SolidPrimitive,
 )
-from omtp_drake.ros.messages import Header, JointState, PoseStamped, Time
+from omtp_drake.ros.messages import Header, JointState, PoseStamped
 from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
-from omtp_drake.ros.node import _blocking
+from omtp_drake.ros.node import Time, _blocking
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import joint_names
 from omtp_drake.ros.unsupported import not_supported

@@ -7,7 +7,7 @@ compares by value and prints like ``rostopic echo``. A service type ``Foo`` has
 fields positionally (``proxy(True)``) or a request object.
 
 :class:`Time` and :class:`Duration` are rospy's: seconds and nanoseconds,
-``Time.now()`` is the cell's simulated time.
+``rospy.Time.now()`` (omtp_drake.ros.node) is the cell's simulated time.
 """
 
 from __future__ import annotations
@@ -61,11 +61,18 @@ class _TimeBase:
     def __ge__(self, other: _TimeBase) -> bool:
         return self.to_nsec() >= _same(self, other).to_nsec()
 
+    def _family(self) -> type[_TimeBase]:
+        return Time if isinstance(self, Time) else Duration
+
     def __eq__(self, other: object) -> bool:
-        return type(other) is type(self) and self.to_nsec() == other.to_nsec()
+        return (
+            isinstance(other, _TimeBase)
+            and isinstance(other, self._family())
+            and self.to_nsec() == other.to_nsec()
+        )
 
     def __hash__(self) -> int:
-        return hash((type(self).__name__, self.to_nsec()))
+        return hash((self._family().__name__, self.to_nsec()))
 
     def __repr__(self) -> str:
         return f"rospy.{type(self).__name__}[{self.to_nsec()}]"
@@ -75,7 +82,7 @@ class _TimeBase:
 
 
 def _same(a: _TimeBase, b: Any) -> _TimeBase:
-    if type(b) is not type(a):
+    if not isinstance(b, a._family()):
         raise TypeError(f"cannot compare {type(a).__name__} with {type(b).__name__}")
     return b
 
@@ -110,7 +117,7 @@ class Duration(_TimeBase):
 
 
 class Time(_TimeBase):
-    """rospy.Time: a point in (simulated) time."""
+    """genpy's Time: a point in time (``rospy.Time`` adds ``now()``)."""
 
     __slots__ = ()
 
@@ -118,13 +125,6 @@ class Time(_TimeBase):
         super().__init__(secs, nsecs)
         if self.to_nsec() < 0:
             raise ConfigError(f"Time cannot be negative, got {self.to_sec()} s")
-
-    @classmethod
-    def now(cls) -> Time:
-        """The cell's simulated time."""
-        from omtp_drake.ros.session import current
-
-        return cls(0, int(round(current().time * 1e9)))
 
     def __add__(self, other: Duration) -> Time:
         if not isinstance(other, Duration):

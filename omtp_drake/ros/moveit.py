@@ -32,8 +32,8 @@ from omtp_drake.errors import CollisionError, OmtpError, PlanningError
 from omtp_drake.ros._core import CorePoseStamped, Plan, check_joint_positions, named_pose, tool_frame_names
 from omtp_drake.ros.convert import pose_from_list, pose_msg, rigid
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotTrajectory
-from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped, Time
-from omtp_drake.ros.node import _blocking
+from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
+from omtp_drake.ros.node import Time, _blocking
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import from_msg, joint_names, to_msg
 from omtp_drake.ros.unsupported import not_supported

@@ -16,12 +16,23 @@ import math
 from collections.abc import Callable, Iterator
 from typing import Any, Optional
 
-from omtp_drake.ros.messages import Duration, Message, Time
+from omtp_drake.ros import messages
+from omtp_drake.ros.messages import Duration, Message
 from omtp_drake.ros.services import ServiceFailure
 from omtp_drake.ros.session import ShutdownError, current, finite_seconds, resolve_name
 from omtp_drake.ros.unsupported import not_supported
 
 _log = logging.getLogger("rospy")
+
+
+class Time(messages.Time):
+    """rospy.Time: genpy's Time and ``now()``, the cell's simulated time."""
+
+    __slots__ = ()
+
+    @classmethod
+    def now(cls) -> Time:
+        return cls(0, int(round(current().time * 1e9)))
 
 
 class ROSException(Exception):

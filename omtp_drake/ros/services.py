@@ -32,7 +32,7 @@ from omtp_drake.ros.interfaces import (
 )
 
 if TYPE_CHECKING:
-    from omtp_drake import Cell
+    from omtp_drake.script import Cell
 
 _log = logging.getLogger("rospy")
 

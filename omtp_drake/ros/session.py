@@ -36,9 +36,9 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.errors import SimulationError
 
 if TYPE_CHECKING:
-    from omtp_drake import Cell
     from omtp_drake.ros.services import Service
     from omtp_drake.ros.topics import Source
+    from omtp_drake.script import Cell
 
 _log = logging.getLogger("rospy")
 

@@ -19,7 +19,7 @@ from omtp_drake.ros.interfaces import LogicalCameraImage, Model, Proximity
 from omtp_drake.ros.messages import Header, Time
 
 if TYPE_CHECKING:
-    from omtp_drake import Cell
+    from omtp_drake.script import Cell
 
 #: The lecture's single-camera topic and frame.
 SINGLE_CAMERA_TOPIC = "/omtp/logical_camera"

@@ -1,6 +1,6 @@
 """rospy of omtp-drake ros-run: simulated time, topics, services, logging."""
 
-from omtp_drake.ros.messages import Duration, Time
+from omtp_drake.ros.messages import Duration
 from omtp_drake.ros.node import (
     Publisher,
     Rate,
@@ -13,6 +13,7 @@ from omtp_drake.ros.node import (
     ServiceException,
     ServiceProxy,
     Subscriber,
+    Time,
     delete_param,
     get_name,
     get_param,
