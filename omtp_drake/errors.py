@@ -59,6 +59,11 @@ class CollisionError(SimulationError):
     the arm stopped there."""
 
 
+class NotSupportedError(OmtpError, NotImplementedError):
+    """A ROS name (function, class, method, argument) that ``omtp-drake ros-run`` does
+    not provide; the message names it."""
+
+
 class BrowserError(OmtpError):
     """Headless chromium is missing, or did not render a replay in time."""
 

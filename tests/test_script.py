@@ -119,11 +119,12 @@ def test_joint_move_goes_around_the_bin_wall(cell):
     assert np.abs(arm.joint_values() - q_out).max() < 1e-3
 
 
-def test_a_part_in_the_way_refuses_the_line_and_one_put_there_later_stops_the_arm(cell):
+def test_a_part_in_the_planning_scene_refuses_the_line_and_one_put_there_later_stops_the_arm(cell):
     """Beside a part on the floor, the gripper's body (not its cup) would reach below the
-    part's top: with the part there, the line is refused before anything moves; planned
-    first and the part put there after, the arm stops on touching it with a
-    CollisionError naming both bodies, and stays there."""
+    part's top. Loose parts are no obstacles (MoveIt's planning scene): the line plans.
+    With the part added to the planning scene, the line is refused before anything
+    moves; planned first and the part put there (and added) after, the arm stops on
+    touching it with a CollisionError naming both bodies, and stays there."""
     arm = cell.arm("robot2")
     spot = [-8.3, -1.23, 0.3]  # under logical camera 2, where the course drops parts
     part = cell.spawn_part(xyz=spot, yaw=0.0)
@@ -132,14 +133,20 @@ def test_a_part_in_the_way_refuses_the_line_and_one_put_there_later_stops_the_ar
         p = cell.part_pose(part).translation()  # a 0.2 m cube: its top at p_z + 0.1
         above, down = tool_down(p + [0.125, 0.0, 0.3]), tool_down(p + [0.125, 0.0, -0.05])
         arm.move_to(above)
+        assert arm.compute_cartesian_path(down).fraction == 1.0  # not in the scene: no obstacle
+        cell.planning_scene.add_part(part)
         with pytest.raises(PlanningError, match=r"only \d+ % of the straight-line motion"):
             arm.move_linear(down)
+        plan, fraction = arm.compute_cartesian_path(down, 0.005, 0.5)  # MoveIt's call shape
+        assert 0.0 < fraction < 1.0 and plan.fraction == fraction
         assert np.linalg.norm(arm.tool_pose().translation() - above.translation()) < 2e-3
         cell.remove_part(part)
+        cell.planning_scene.remove(part)
         plan = arm.compute_cartesian_path(down)
         assert plan.fraction == 1.0
         part = cell.spawn_part(xyz=spot, yaw=0.0)
         cell.wait(1.0)
+        cell.planning_scene.add_part(part)
         with pytest.raises(CollisionError, match=f"touched something it should not: "
                                                  f"vacuum_gripper2_base_link - {part}; it stopped there"):
             arm.execute(plan)
@@ -150,6 +157,7 @@ def test_a_part_in_the_way_refuses_the_line_and_one_put_there_later_stops_the_ar
         assert arm.contacts() == [("vacuum_gripper2_base_link", part)]
     finally:
         cell.remove_part(part)
+        cell.planning_scene.remove()
     arm.go("Home")
 
 

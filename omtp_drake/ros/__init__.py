@@ -15,7 +15,7 @@ The ROS names a script imports (``rospy``, ``moveit_commander``, ``moveit_msgs``
 ``trajectory_msgs``, ``omtp_gazebo``) live in ``omtp_drake/ros/shims``, which
 only :func:`run_script` puts on ``sys.path``, for the script's run: importing
 omtp_drake never shadows a real ROS installation. What is not provided raises
-:class:`~omtp_drake.ros.unsupported.NotSupportedError` naming it.
+:class:`~omtp_drake.errors.NotSupportedError` naming it.
 """
 
 from __future__ import annotations

@@ -341,15 +341,12 @@ class MoveGroupCommander:
         step = float(eef_step)
         if not step > 0:
             raise MoveItCommanderException(f"eef_step must be > 0 m, got {eef_step}")
-        if not avoid:
-            not_supported("compute_cartesian_path with avoid_collisions=False")
         poses = [
             rigid(p, f"waypoint {i}") if not isinstance(p, RigidTransform) else p
             for i, p in enumerate(waypoints)
         ]
-        del jump_threshold  # the cell's planner always refuses joint jumps over 0.5 rad
         plan = self._arm.compute_cartesian_path(
-            poses, frame=self._links[self._eef], max_step=step, avoid_parts=False
+            poses, step, jump_threshold, avoid, frame=self._links[self._eef]
         )
         return to_msg(plan, self._name, self._session), float(plan.fraction)
 

@@ -5,11 +5,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, NoReturn
 
-from omtp_drake.errors import OmtpError
+from omtp_drake.errors import NotSupportedError
 
-
-class NotSupportedError(OmtpError, NotImplementedError):
-    """A ROS name (function, class, method, message) that ``ros-run`` does not provide."""
+__all__ = ["NotSupportedError", "module_getattr", "not_supported"]
 
 
 def not_supported(what: str, hint: str = "") -> NoReturn:

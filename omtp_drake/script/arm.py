@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Optional, Union
+from typing import Any, Optional, Union
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -35,8 +35,10 @@ from pydrake.trajectories import PiecewisePolynomial
 from omtp_drake.cell import arms
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.control.motion import ArmPlanner
+from omtp_drake.control.motion.scene import CupBox
 from omtp_drake.errors import CollisionError, ConfigError, PlanningError, UnknownNameError, check_duration
 from omtp_drake.scenario import RobotConfig
+from omtp_drake.script.scene import CellPlanningScene, world_pose
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.sim.tf import TfBuffer
 
@@ -140,6 +142,10 @@ class Plan:
     def duration(self) -> float:
         return self.trajectory.end_time() - self.trajectory.start_time()
 
+    def __iter__(self) -> Iterator[Any]:
+        """``plan, fraction = arm.compute_cartesian_path(...)`` unpacks like MoveIt's tuple."""
+        return iter((self, self.fraction))
+
 
 @dataclass(frozen=True)
 class MoveResult:
@@ -161,9 +167,10 @@ class _ArmMotion:
     """An arm's motions in the running cell: a plan handed to its commander, run
     with its guard and contact checks, and stopped when the guard fires."""
 
-    def __init__(self, runtime: FactoryRuntime, name: str, commander: ArmCommander):
+    def __init__(self, runtime: FactoryRuntime, name: str, commander: ArmCommander, scene: CellPlanningScene):
         self._runtime = runtime
         self._commander = commander
+        self._scene = scene
         self.name = name
 
     def _joint_values(self) -> np.ndarray:
@@ -171,8 +178,10 @@ class _ArmMotion:
 
     def contacts(self) -> list[tuple[str, str]]:
         """What the arm or its gripper touches now, as sorted (own body, other body)
-        name pairs; a part in contact with the suction cup is expected and left out.
-        The motion commands stop with ``CollisionError`` when this is not empty."""
+        name pairs: the static cell, the other arm, and parts added to the planning
+        scene. Other parts are left out: they are pressed and pushed by physics (the
+        cup's vacuum attaches one on contact). The motion commands stop with
+        ``CollisionError`` when this is not empty."""
         plant = self._runtime.station.plant
         plant_context = plant.GetMyContextFromRoot(self._runtime.context)
         # SceneGraph's penetration query: the pairs the plant's contact results would
@@ -182,30 +191,30 @@ class _ArmMotion:
         if not pairs:
             return []
         inspector = query.inspector()
-        own, cup, parts = self._contact_bodies
+        own, parts = self._contact_bodies
+        guarded = {parts[n] for n in self._scene.names() if n in parts}
+        ignored = set(parts.values()) - guarded
         touched = set()
         for pair in pairs:
             a, b = (plant.GetBodyFromFrameId(inspector.GetFrameId(g)) for g in (pair.id_A, pair.id_B))
             for mine, other in ((a, b), (b, a)):
                 i, j = int(mine.index()), int(other.index())
-                if i in own and j not in own and not (i == cup and j in parts):
+                if i in own and j not in own and j not in ignored:
                     touched.add((mine.name(), other.name()))
         return sorted(touched)
 
     @functools.cached_property
-    def _contact_bodies(self) -> tuple[set[int], int, set[int]]:
+    def _contact_bodies(self) -> tuple[set[int], dict[str, int]]:
         """Body indices (fixed once the station is built): the arm's and its
-        gripper's, the cup's (-1 without a gripper), the parts'."""
+        gripper's, and the parts' by name."""
         station = self._runtime.station
         plant = station.plant
         handles = station.arm(self.name)
         own = {int(b) for b in plant.GetBodyIndices(handles.arm)}
         if handles.gripper is not None:
             own |= {int(b) for b in plant.GetBodyIndices(handles.gripper)}
-        gripper = handles.config.gripper
-        cup = int(plant.GetBodyByName(f"{gripper}_cup").index()) if gripper else -1
-        parts = {int(plant.GetBodyByName(n, i).index()) for n, i in station.parts.items()}
-        return own, cup, parts
+        parts = {n: int(plant.GetBodyByName(n, i).index()) for n, i in station.parts.items()}
+        return own, parts
 
     def start(self, plan: Plan) -> float:
         """Hands ``plan`` to the arm's commander from now; returns the start time."""
@@ -266,8 +275,8 @@ class _ArmMotion:
         self._runtime.advance(_STOP_TIME)
 
     def _check_contacts(self) -> None:
-        """Raises CollisionError if the arm (or its gripper, but for its cup) touches
-        anything (a part under the cup and a held part are expected)."""
+        """Raises CollisionError if the arm or its gripper touches anything but a
+        loose part (see :meth:`contacts`)."""
         touched = self.contacts()
         if not touched:
             return
@@ -284,14 +293,22 @@ class Arm:
     """One arm of the cell, MoveIt-commander style. Get it from
     :meth:`~omtp_drake.script.cell.Cell.arm`."""
 
-    def __init__(self, runtime: FactoryRuntime, tf: TfBuffer, name: str, commander: ArmCommander):
+    def __init__(
+        self,
+        runtime: FactoryRuntime,
+        tf: TfBuffer,
+        name: str,
+        commander: ArmCommander,
+        scene: CellPlanningScene,
+    ):
         self._runtime = runtime
         self._tf = tf
+        self._scene = scene
         self.name = name
         self.config = runtime.station.arm(name).config
         self._planner: Optional[ArmPlanner] = None
         self._tool_frames = arms.tool_frame_names(self.config)
-        self._motion = _ArmMotion(runtime, name, commander)
+        self._motion = _ArmMotion(runtime, name, commander, scene)
 
     # ------------------------------------------------------------ state
 
@@ -308,8 +325,9 @@ class Arm:
 
     def contacts(self) -> list[tuple[str, str]]:
         """What the arm or its gripper touches now, as sorted (own body, other body)
-        name pairs; a part in contact with the suction cup is expected and left out.
-        The motion commands stop with ``CollisionError`` when this is not empty."""
+        name pairs: the static cell, the other arm, parts added to the planning scene
+        (other parts are pushed, not collided with). The motion commands stop with
+        ``CollisionError`` when this is not empty."""
         return self._motion.contacts()
 
     def tool_pose(self, frame: str = "tip") -> RigidTransform:
@@ -344,25 +362,41 @@ class Arm:
 
     def compute_cartesian_path(
         self,
-        waypoints: RigidTransform | Sequence[RigidTransform],
+        waypoints: RigidTransform | PoseStamped | Sequence[RigidTransform | PoseStamped],
+        max_step: float = 0.005,
+        jump_threshold: float = 0.5,
+        avoid_collisions: bool = True,
         *,
         frame: str = "tip",
         speed: float = 0.25,
-        max_step: float = 0.005,
-        avoid_parts: bool = True,
     ) -> Plan:
-        """Straight lines of tool frame ``frame`` through world poses ``waypoints``
-        (like MoveIt's ``compute_cartesian_path``): the plan covers the part of the
-        motion that is reachable without collisions or joint jumps; see
-        :attr:`Plan.fraction`. ``speed``: the tool's speed limit along the lines (m/s).
-        ``avoid_parts=False``: loose parts are no obstacles (a move meant to touch one)."""
-        if isinstance(waypoints, RigidTransform):
+        """Straight lines of tool frame ``frame`` through the poses ``waypoints`` (world,
+        or PoseStamped in any tf frame), in steps of ``max_step`` m, like MoveIt's
+        ``compute_cartesian_path(waypoints, eef_step, jump_threshold, avoid_collisions)``:
+        the plan covers the part of the motion reachable without a joint jump over
+        ``jump_threshold`` rad (0: no check, as in MoveIt) and, with
+        ``avoid_collisions``, without a collision with the planning scene (the static
+        cell, the other arm, added boxes, what the gripper holds; loose parts are no
+        obstacles). It unpacks as MoveIt's ``(plan, fraction)``; see
+        :attr:`Plan.fraction`. ``speed``: the tool's speed limit along the lines (m/s)."""
+        if isinstance(waypoints, (RigidTransform, PoseStamped)):
             waypoints = [waypoints]
         poses = [world_pose(self._tf, X) for X in waypoints]
         speed = check_duration("speed", speed)  # a positive finite number
-        planner = self._planning_scene(avoid_parts=avoid_parts)
+        max_step = check_duration("max_step", max_step)  # a positive finite length
+        if not (jump_threshold >= 0 and math.isfinite(jump_threshold)):
+            raise ConfigError(
+                f"jump_threshold must be a finite angle >= 0 rad (0: no check), got {jump_threshold}"
+            )
+        planner = self._planning_scene()
         path, fraction = planner.cartesian_path(
-            self.joint_values(), poses, frame=frame, max_step=max_step, other_q=self._other_arms()
+            self.joint_values(),
+            poses,
+            frame=frame,
+            max_step=max_step,
+            jump_threshold=float(jump_threshold) or None,
+            avoid_collisions=bool(avoid_collisions),
+            other_q=self._other_arms(),
         )
         trajectory = planner.time_parameterize(path, velocity_scale=1.0)
         trajectory = _limit_tool_speed(trajectory, planner, frame, speed)
@@ -400,8 +434,7 @@ class Arm:
             PlanningError: part of the motion is not reachable in a straight line
                 (the message gives the fraction that is); nothing moves then.
         """
-        # A guarded move is meant to touch something (e.g. the part to pick).
-        plan = self.compute_cartesian_path(waypoints, frame=frame, speed=speed, avoid_parts=until is None)
+        plan = self.compute_cartesian_path(waypoints, frame=frame, speed=speed)
         if plan.fraction < 1.0 - 1e-9:
             raise PlanningError(
                 f"{self.name}: only {100 * plan.fraction:.0f} % of the straight-line motion is "
@@ -447,7 +480,12 @@ class Arm:
         if isinstance(target, (RigidTransform, PoseStamped)):
             X_WE = world_pose(self._tf, target)
             return planner.ik(X_WE, frame=frame, q_seed=self.joint_values(), other_q=other_q)
-        q = arms.check_joint_positions(target, self.config)
+        try:
+            q = arms.check_joint_positions(target, self.config)
+        except ConfigError as e:
+            if "outside its limits" not in str(e):
+                raise
+            raise PlanningError(f"{self.name}: the goal is outside the joint limits: {e}") from None
         collisions = planner.collisions(q, other_q)
         if collisions:
             pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
@@ -461,37 +499,27 @@ class Arm:
             if name != self.name
         }
 
-    def _planning_scene(self, avoid_parts: bool = True) -> ArmPlanner:
-        """The planner with the cell's loose parts as obstacles (``avoid_parts``) and
-        the held part attached."""
+    def _planning_scene(self) -> ArmPlanner:
+        """The planner with the cell's planning scene (MoveIt's semantics): its boxes
+        as obstacles, named; on the gripper, the held part and the boxes attached to
+        this arm. Loose parts are not obstacles unless added to the scene."""
         planner = self.planner
         runtime = self._runtime
         held = runtime.gripper_state(self.name) if self.name in runtime.station.grippers else None
-        obstacles = []
-        for part in self._runtime.parts_in_world() if avoid_parts else []:
-            if held is not None and held.attached and part == held.part:
-                continue
-            size = self._runtime.scenario.part_size(part)
-            obstacles.append((self._runtime.part_pose(part), size))
-        planner.set_obstacles(obstacles)
-        if held is not None and held.attached and held.X_CP is not None:
+        held_part = held.part if held is not None and held.attached and held.X_CP is not None else ""
+        objects = {n: b for n, b in self._scene.objects().items() if n != held_part}
+        planner.set_obstacles([(b.X, b.size) for b in objects.values()], names=list(objects))
+        carried: list[CupBox] = [(b.X, b.size, n) for n, b in self._scene.attached(self.name).items()]
+        if held is not None and held_part and held.X_CP is not None:
             # Shrunk by the planner's margin (and 2 mm) on every side: a part held where it
             # rests (on the floor, on other parts) is not "in collision" with what it rests on.
-            size = self._runtime.scenario.part_size(held.part) - 2 * (planner.margin + 0.002)
-            planner.set_held_part(held.X_CP, max(size, 0.01))
+            size = runtime.scenario.part_size(held_part) - 2 * (planner.margin + 0.002)
+            carried.append((held.X_CP, max(size, 0.01), f"{held_part} (held)"))
+        if carried:
+            planner.set_cup_boxes(carried)
         else:
             planner.clear_held_part()
         return planner
-
-
-def world_pose(tf: TfBuffer, pose: RigidTransform | PoseStamped) -> RigidTransform:
-    """A pose in world: a RigidTransform is one already; a PoseStamped is transformed
-    with ``tf`` at its time."""
-    if isinstance(pose, PoseStamped):
-        return tf.transform_pose(pose, "world").pose
-    if isinstance(pose, RigidTransform):
-        return pose
-    raise ConfigError(f"a pose is a RigidTransform (world) or a PoseStamped, got {type(pose).__name__}")
 
 
 def _check_fraction(what: str, value: float) -> float:

@@ -14,7 +14,7 @@ the gripper service and a tf2 buffer; here it is a :class:`Cell`::
         part = cell.spawn_part()
         cell.wait(1.5)                                     # it falls and settles
         seen = cell.camera("logical_camera_2").image().pose_of(part)
-        p = cell.tf.transform(seen, "world").pose.translation()
+        p = cell.tf.transform_pose(seen, "world").pose.translation()
         arm.move_to(tool_down(p + [0, 0, 0.2]))            # cup face 0.1 above the top face
         vacuum.on()
         arm.move_linear(tool_down(p + [0, 0, 0.08]), speed=0.05, until=lambda: vacuum.attached)
@@ -27,7 +27,10 @@ and returns when its motion has finished; with ``meshcat`` or ``record`` every
 motion is shown, or recorded into a replay.
 
 The handles it gives out live beside it: arms in :mod:`omtp_drake.script.arm`,
-grippers and cameras in :mod:`omtp_drake.script.devices`.
+grippers and cameras in :mod:`omtp_drake.script.devices`, bins in
+:mod:`omtp_drake.script.bins`, the planning scene (what plans avoid: the static
+cell, the other arm, the held part and boxes you add; loose parts are pushed, not
+avoided, as in MoveIt) in :mod:`omtp_drake.script.scene`.
 """
 
 from __future__ import annotations
@@ -43,8 +46,10 @@ from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
 from omtp_drake.errors import UnknownNameError, check_duration
 from omtp_drake.scenario import Scenario, as_scenario
-from omtp_drake.script.arm import Arm, ArmCommander, world_pose
+from omtp_drake.script.arm import Arm, ArmCommander
+from omtp_drake.script.bins import Bin
 from omtp_drake.script.devices import Camera, Gripper, wait_until
+from omtp_drake.script.scene import CellPlanningScene, world_pose
 from omtp_drake.sim.faults import FaultReport
 from omtp_drake.sim.ledger import Ledger
 from omtp_drake.sim.runtime import FactoryRuntime
@@ -104,7 +109,12 @@ class Cell:
         self.tf = TfBuffer(self.station, cache_time=tf_cache)
         self.tf.record(self.runtime.context)
         self.runtime.on_tick(lambda rt: self.tf.record(rt.context))
-        self._arms = {name: Arm(self.runtime, self.tf, name, c) for name, c in commanders.items()}
+        #: What the arms' plans avoid besides the static cell and the other arm
+        #: (MoveIt's planning scene: loose parts are not in it unless added).
+        self.planning_scene = CellPlanningScene(self.runtime, self.tf)
+        self._arms = {
+            name: Arm(self.runtime, self.tf, name, c, self.planning_scene) for name, c in commanders.items()
+        }
         self._closed = False
 
     # ------------------------------------------------------------ handles
@@ -127,6 +137,13 @@ class Cell:
     def gripper(self, robot: str) -> Gripper:
         self.station.suction_name(robot)  # the error lists the robots with grippers
         return Gripper(self.runtime, robot)
+
+    def bin(self, name: str) -> Bin:
+        """Bin ``name``: its pose, inner size and a free drop point for a part."""
+        bins = {b.name: b for b in self.scenario.bins}
+        if name not in bins:
+            raise UnknownNameError("bin", name, bins)
+        return Bin(self.runtime, bins[name])
 
     def camera(self, name: str) -> Camera:
         self.runtime.camera_image(name)  # the error lists the cameras

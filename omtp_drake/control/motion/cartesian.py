@@ -1,7 +1,9 @@
 """Straight-line tool motions, like MoveIt's ``compute_cartesian_path``: the tool
 frame E moves in straight lines (rotation by slerp) through world poses, each small
 step solved by IK seeded by the step before, until a step is unreachable, jumps to
-another IK branch, or collides.
+another IK branch, or collides. A start in collision (a held part pressed into the
+floor) may move out of it: the pairs it starts in are allowed until they have ended,
+as long as no new one comes.
 """
 
 from __future__ import annotations
@@ -57,10 +59,11 @@ def cartesian_path(
     if not targets:
         return path, 1.0
     X_BW = kinematics.X_WB.inverse()
+    leaving = set() if collision is None or collision.config_free(base) else set(collision.pairs(base))
     for X_WE in targets:
         previous = path[-1]
         q = kinematics.solve(tool, X_BW @ X_WE, previous, previous, 1e-4, 1e-3)
-        reason = _why_stop(collision, base, X_WE, previous, q, jump_threshold)
+        reason, leaving = _why_stop(collision, base, X_WE, previous, q, jump_threshold, leaving)
         if reason is not None or q is None:
             _log.info(
                 "cartesian path of %s stops after %d of %d steps: %s",
@@ -81,20 +84,25 @@ def _why_stop(
     previous: np.ndarray,
     q: np.ndarray | None,
     jump_threshold: float | None,
-) -> str | None:
+    leaving: set[tuple[str, str]],
+) -> tuple[str | None, set[tuple[str, str]]]:
     """Why the step from ``previous`` to ``q`` (the IK solution at ``X_WE``, None if
-    unreachable) ends the path; None when it does not."""
+    unreachable) ends the path (None when it does not), and the start's pairs still
+    being left (``leaving``: allowed until the path is free of them)."""
     if q is None:
-        return f"unreachable at {fmt_pose(X_WE)}"
+        return f"unreachable at {fmt_pose(X_WE)}", leaving
     jump = float(np.max(np.abs(q - previous)))
     if jump_threshold is not None and jump > jump_threshold:
-        return f"joint jump of {jump:.3f} rad at {fmt_pose(X_WE)}"
+        return f"joint jump of {jump:.3f} rad at {fmt_pose(X_WE)}", leaving
     if collision is not None and not collision.edge_free(
         collision.with_arm(base, previous), collision.with_arm(base, q)
     ):
-        pairs = fmt_pairs(collision.pairs(collision.with_arm(base, q)))
-        return f"collision at {fmt_pose(X_WE)}: {pairs or 'on the way'}"
-    return None
+        pairs = collision.pairs(collision.with_arm(base, q))
+        if leaving and set(pairs) <= leaving:
+            # Moving out of the start's collision (free at q: out of it, after the step).
+            return None, leaving if pairs else set()
+        return f"collision at {fmt_pose(X_WE)}: {fmt_pairs(pairs) or 'on the way'}", leaving
+    return None, set()
 
 
 def _interpolate_poses(

@@ -53,8 +53,8 @@ from omtp_drake.control.motion.cartesian import cartesian_path
 from omtp_drake.control.motion.collision import CollisionModel, OtherPositions
 from omtp_drake.control.motion.ik import ArmKinematics, inverse_kinematics
 from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
-from omtp_drake.control.motion.scene import Obstacle
-from omtp_drake.control.motion.search import JointSearch
+from omtp_drake.control.motion.scene import CupBox, Obstacle
+from omtp_drake.control.motion.search import JointSearch, move_out
 from omtp_drake.control.motion.timing import ACCELERATION_LIMITS, scaled_limits, time_parameterize
 from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, Scenario, require_scenario
@@ -163,23 +163,31 @@ class ArmPlanner:
 
     # ----------------------------------------------------------- the scene
 
-    def set_obstacles(self, boxes: Sequence[Obstacle]) -> None:
+    def set_obstacles(self, boxes: Sequence[Obstacle], names: Sequence[str] | None = None) -> None:
         """Replaces the extra world obstacles by ``boxes``: each ``(X_WO, size)``, the
         box's centre pose in world and its edge (one number) or x, y, z edges (m).
 
-        Collisions with them are reported as ``obstacle_<i>`` (i: index in ``boxes``).
+        Collisions with them are reported by ``names`` (default ``obstacle_<i>``, i:
+        index in ``boxes``).
         """
-        self._collision.scene.set_obstacles(boxes)
+        self._collision.scene.set_obstacles(boxes, names)
 
-    def set_held_part(self, X_CP: RigidTransform, size: float | Sequence[float]) -> None:
+    def set_held_part(
+        self, X_CP: RigidTransform, size: float | Sequence[float], name: str = "held_part"
+    ) -> None:
         """A box-shaped part held by the gripper: P's centre at ``X_CP`` in the cup
         body C (``<gripper>_cup``, origin on the cup face, +z out of the tool).
 
         For a cube of edge a hanging from the cup face: ``X_CP = RigidTransform([0, 0, a/2])``.
-        Replaces any part held before. Collisions with it are reported as ``held_part``.
+        Replaces whatever the gripper carried. Collisions with it are reported as ``name``.
         The part itself may touch the cup face (same body); everything else is checked.
         """
-        self._collision.scene.set_held_part(X_CP, size)
+        self._collision.scene.set_held_part(X_CP, size, name)
+
+    def set_cup_boxes(self, boxes: Sequence[CupBox]) -> None:
+        """Replaces what the gripper carries by ``boxes``: each ``(X_CB, size, name)``
+        (a held part, attached objects; see :meth:`set_held_part`)."""
+        self._collision.scene.set_cup_boxes(boxes)
 
     def clear_held_part(self) -> None:
         """The gripper holds nothing."""
@@ -224,10 +232,15 @@ class ArmPlanner:
         is rare). The same query and ``seed`` give the same path (OMPL's global RNG is
         re-seeded from ``seed`` for each search: not thread safe).
 
+        A start in collision (a held part pressed into the floor) may move out of it:
+        the path goes first to a free configuration next to it (see :func:`move_out
+        <omtp_drake.control.motion.search.move_out>`).
+
         Raises:
-            PlanningError: start or goal outside the joint limits or in collision (the
-                message names the bodies), or no path found within ``timeout`` s (the
-                message names the bodies blocking the straight path).
+            PlanningError: the goal in collision, a start in collision with no free
+                configuration near it (the message names the bodies), or no path found
+                within ``timeout`` s (the message names the bodies blocking the
+                straight path).
         """
         if timeout <= 0:
             raise ConfigError(f"timeout must be > 0 s, got {timeout}")
@@ -236,8 +249,16 @@ class ArmPlanner:
         q_start, q_goal = self._q(q_start), self._q(q_goal)
         base = self._collision.full(q_start, other_q)
         goal_full = self._collision.with_arm(base, q_goal)
-        self._collision.require_free("start", q_start, base)
         self._collision.require_free("goal", q_goal, goal_full)
+        if not self._collision.config_free(base):
+            # A start in collision (a held part pressed into the floor) moves out of it:
+            # to a free configuration next to it (MoveIt's FixStartStateCollision), then on.
+            q_free = move_out(
+                self._collision, q_start, base, self._kinematics.lower, self._kinematics.upper, seed
+            )
+            return [q_start] + self.plan(
+                q_free, q_goal, other_q=other_q, timeout=timeout, seed=seed, simplify=simplify
+            )
         if self._collision.edge_free(base, goal_full):
             return [q_start, q_goal]
         path = self._search.find(q_start, q_goal, base, timeout, int(seed), simplify)

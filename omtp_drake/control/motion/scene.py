@@ -2,9 +2,10 @@
 
 The collision model (:mod:`omtp_drake.control.motion.collision`) holds the static
 cell; this module is the one place that edits what is added to it: extra boxes in
-the world (``obstacle_<i>``, e.g. parts lying around, as the caller gives them) and
-a part held by the gripper (``held_part``, on the cup body C). Collision reports
-name added geometry by these labels (:meth:`PlanningScene.label`).
+the world (named by the caller, e.g. a part by its name; ``obstacle_<i>`` by
+default) and boxes carried by the gripper on the cup body C (a held part,
+``held_part`` by default, and objects attached to it). Collision reports name
+added geometry by these names (:meth:`PlanningScene.label`).
 
 Notation: ``X_WO`` is an obstacle O's centre pose in world, ``X_CP`` a held part
 P's centre pose in the cup body C.
@@ -24,6 +25,8 @@ from omtp_drake.errors import ConfigError
 
 #: What one obstacle is: its pose in world and its size (edge or x, y, z edges).
 Obstacle = tuple[RigidTransform, float | Sequence[float]]
+#: What the gripper carries: a box's pose in the cup body, its size, its name.
+CupBox = tuple[RigidTransform, float | Sequence[float], str]
 
 _HELD_GROUP = "held_part"
 _OBSTACLE_GROUP = "obstacles"
@@ -42,52 +45,64 @@ class PlanningScene:
         self._checker = checker
         self._cup = cup
         self._robot = robot
-        self._obstacle_ids: list[GeometryId] = []
-        self._held_ids: list[GeometryId] = []
+        #: Added geometry -> the name collision reports give it.
+        self._obstacle_labels: dict[GeometryId, str] = {}
+        self._held_labels: dict[GeometryId, str] = {}
 
     @property
     def holds_part(self) -> bool:
-        """Whether a held part is in the scene."""
-        return bool(self._held_ids)
+        """Whether the gripper carries something (a held part, an attached box)."""
+        return bool(self._held_labels)
 
-    def set_obstacles(self, boxes: Sequence[Obstacle]) -> None:
+    def set_obstacles(self, boxes: Sequence[Obstacle], names: Sequence[str] | None = None) -> None:
         """Replaces the extra world obstacles by ``boxes``: each ``(X_WO, size)``, the
         box's centre pose in world and its edge (one number) or x, y, z edges (m).
 
-        Collisions with them are reported as ``obstacle_<i>`` (i: index in ``boxes``).
+        Collisions with them are reported by ``names`` (one per box; default
+        ``obstacle_<i>``, i: index in ``boxes``).
         """
+        labels = [f"obstacle_{i}" for i in range(len(boxes))] if names is None else [str(n) for n in names]
+        if len(labels) != len(boxes):
+            raise ConfigError(f"set_obstacles: {len(boxes)} boxes but {len(labels)} names")
         self._checker.RemoveAllAddedCollisionShapes(_OBSTACLE_GROUP)
-        self._obstacle_ids = []
+        self._obstacle_labels = {}
         world = self._checker.plant().world_body()
-        for i, (X_WO, size) in enumerate(boxes):
-            box = _box(size, f"obstacle {i}")
-            before = self.body_geometries(world)
-            self._checker.AddCollisionShapeToBody(_OBSTACLE_GROUP, world, box, RigidTransform(X_WO))
-            self._obstacle_ids += sorted(
-                set(self.body_geometries(world)) - set(before), key=lambda g: g.get_value()
+        for label, (X_WO, size) in zip(labels, boxes):
+            before = set(self.body_geometries(world))
+            self._checker.AddCollisionShapeToBody(
+                _OBSTACLE_GROUP, world, _box(size, label), RigidTransform(X_WO)
             )
+            self._obstacle_labels.update(dict.fromkeys(set(self.body_geometries(world)) - before, label))
 
-    def set_held_part(self, X_CP: RigidTransform, size: float | Sequence[float]) -> None:
+    def set_held_part(
+        self, X_CP: RigidTransform, size: float | Sequence[float], name: str = "held_part"
+    ) -> None:
         """A box-shaped part held by the gripper: P's centre at ``X_CP`` in the cup
         body C (``<gripper>_cup``, origin on the cup face, +z out of the tool).
 
-        Replaces any part held before. Collisions with it are reported as ``held_part``.
-        The part itself may touch the cup face (same body); everything else is checked.
+        Replaces whatever the gripper carried. Collisions with it are reported as
+        ``name``. The part itself may touch the cup face (same body); everything else
+        is checked.
         """
+        self.set_cup_boxes([(X_CP, size, name)])
+
+    def set_cup_boxes(self, boxes: Sequence[CupBox]) -> None:
+        """Replaces what the gripper carries by ``boxes``: each ``(X_CB, size, name)``,
+        a box B at ``X_CB`` in the cup body (see :meth:`set_held_part`), reported as ``name``."""
         if self._cup is None:
             raise ConfigError(f"{self._robot} has no gripper to hold a part")
         self.clear_held_part()
-        box = _box(size, "held part")
-        before = self.body_geometries(self._cup)
-        self._checker.AddCollisionShapeToBody(_HELD_GROUP, self._cup, box, RigidTransform(X_CP))
-        self._held_ids = sorted(
-            set(self.body_geometries(self._cup)) - set(before), key=lambda g: g.get_value()
-        )
+        for X_CB, size, name in boxes:
+            before = set(self.body_geometries(self._cup))
+            self._checker.AddCollisionShapeToBody(
+                _HELD_GROUP, self._cup, _box(size, name), RigidTransform(X_CB)
+            )
+            self._held_labels.update(dict.fromkeys(set(self.body_geometries(self._cup)) - before, name))
 
     def clear_held_part(self) -> None:
-        """The gripper holds nothing."""
+        """The gripper carries nothing."""
         self._checker.RemoveAllAddedCollisionShapes(_HELD_GROUP)
-        self._held_ids = []
+        self._held_labels = {}
 
     def body_geometries(self, body: RigidBody) -> list[GeometryId]:
         """The proximity geometries of ``body``, added boxes included."""
@@ -96,13 +111,11 @@ class PlanningScene:
         return list(inspector.GetGeometries(frame, Role.kProximity))
 
     def label(self, geometry: GeometryId, body: RigidBody) -> str:
-        """The name of ``geometry`` (of ``body``) in collision reports: ``obstacle_<i>``,
-        ``held_part``, or the body's name."""
-        if geometry in self._obstacle_ids:
-            return f"obstacle_{self._obstacle_ids.index(geometry)}"
-        if geometry in self._held_ids:
-            return "held_part"
-        return body.name()
+        """The name of ``geometry`` (of ``body``) in collision reports: an added box's
+        name, or the body's name."""
+        if geometry in self._obstacle_labels:
+            return self._obstacle_labels[geometry]
+        return self._held_labels.get(geometry, body.name())
 
 
 def _box(size: float | Sequence[float], what: str) -> Box:

@@ -21,7 +21,7 @@ from pydrake.common import Parallelism
 from pydrake.planning import SceneGraphCollisionChecker
 
 from omtp_drake.control.motion.collision import CollisionModel
-from omtp_drake.control.motion.messages import fmt_q
+from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
 from omtp_drake.errors import PlanningError
 
 _log = logging.getLogger(__name__)
@@ -178,3 +178,33 @@ class JointSearch:
         planner.setRange(self._planner_range)
         setup.setPlanner(planner)
         return setup, validator
+
+
+def move_out(
+    collision: CollisionModel,
+    q_start: np.ndarray,
+    base: np.ndarray,
+    lower: np.ndarray,
+    upper: np.ndarray,
+    seed: int,
+) -> np.ndarray:
+    """A collision-free configuration near ``q_start``, which is in collision (a held
+    part pressed into the floor, say; ``base``: the full configuration there): the
+    first free one of seeded random nudges of growing size, up to 0.3 rad a joint, as
+    MoveIt's FixStartStateCollision adapter does. The same query and seed give the
+    same configuration.
+
+    Raises:
+        PlanningError: no configuration within 0.3 rad a joint is free (naming the
+            pairs in collision at the start).
+    """
+    rng = np.random.default_rng(seed)
+    for radius in (0.01, 0.02, 0.05, 0.1, 0.2, 0.3):
+        for _ in range(20):
+            q = np.clip(q_start + rng.uniform(-radius, radius, len(q_start)), lower, upper)
+            if collision.config_free(collision.with_arm(base, q)):
+                return q
+    raise PlanningError(
+        f"the start configuration {fmt_q(q_start)} of {collision.config.name} is in collision "
+        f"({fmt_pairs(collision.pairs(base))}) and no configuration within 0.3 rad of it is free"
+    )
