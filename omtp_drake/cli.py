@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, NoReturn
 import numpy as np
 
 from omtp_drake.errors import ConfigError, OmtpError
+from omtp_drake.ros.cli import add_commands as add_ros_commands
 
 if TYPE_CHECKING:
     from pydrake.systems.framework import Context
@@ -548,6 +549,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_inspect_commands(sub)
     _add_bench_command(sub)
     _add_batch_command(sub)
+    add_ros_commands(sub)
     return parser
 
 

@@ -87,3 +87,42 @@ def test_move_group_targets_plans_and_cartesian_paths(tmp_path, moveit):
     assert data["unreachable_go"] is False  # MoveIt's way: False, the reason logged
     if moveit == "noetic":
         assert data["unreachable_plan"] == [False, 0, -31]  # an empty trajectory, NO_IK_SOLUTION
+
+
+SCENE = """
+    import json, sys
+    import moveit_commander, rospy
+    from geometry_msgs.msg import PoseStamped
+    rospy.init_node("scene")
+    scene = moveit_commander.PlanningSceneInterface()
+    group = moveit_commander.MoveGroupCommander("robot2")
+    box = PoseStamped()
+    box.header.frame_id = "bin_1_base_link"
+    box.pose.position.x, box.pose.position.y, box.pose.position.z = -0.035, 0.105, 1.25
+    box.pose.orientation.w = 1.0
+    scene.add_box("lid", box, size=(0.3, 0.3, 0.3))  # where R2Place puts the cup
+    out = {"known": scene.get_known_object_names()}
+    group.set_named_target("R2Place")
+    out["blocked"] = group.go()
+    scene.remove_world_object("lid")
+    out["free"] = group.go()
+    scene.attach_box("vacuum_gripper2_suction_cup", "tool", size=(0.05, 0.05, 0.3))
+    attached = scene.get_attached_objects()
+    out["attached"] = {k: [v.link_name, v.object.primitives[0].dimensions] for k, v in attached.items()}
+    scene.remove_attached_object("vacuum_gripper2_suction_cup", "tool")
+    out["after"] = [scene.get_known_object_names(), list(scene.get_attached_objects())]
+    json.dump(out, open(sys.argv[1], "w"))
+"""
+
+
+def test_planning_scene_interface_adds_named_obstacles(tmp_path, caplog):
+    script = tmp_path / "scene.py"
+    script.write_text(textwrap.dedent(SCENE))
+    out = tmp_path / "out.json"
+    report = run_script(script, [str(out)], scenario=A4)
+    assert report.ok
+    data = json.loads(out.read_text())
+    assert data["known"] == ["lid"] and data["blocked"] is False and data["free"] is True
+    assert "lid" in caplog.text  # the failed plan names the box by its name
+    assert data["attached"] == {"tool": ["vacuum_gripper2_suction_cup", [0.05, 0.05, 0.3]]}
+    assert data["after"] == [["tool"], []]  # detached: back in the world, as MoveIt does
