@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 from pydrake.math import RigidTransform
 
+import omtp_drake.script.bins
 import omtp_drake.script.cell
 import omtp_drake.script.scene
 from omtp_drake import Cell, tool_down
@@ -129,6 +130,8 @@ def test_the_docstring_examples_run():
         scope = {"cell": cell, "RigidTransform": RigidTransform}
         exec(compile(_docstring_example(omtp_drake.script.scene), "script/scene.py docstring", "exec"), scope)
         assert cell.planning_scene.names() == ["object_1"]
+        exec(compile(_docstring_example(omtp_drake.script.bins), "script/bins.py docstring", "exec"), scope)
+        assert scope["part"] == "object_2" and cell.ledger().parts["object_2"] == "in_bin:bin_1"
 
 
 def test_the_readme_pick_loop_puts_its_parts_in_the_bin(monkeypatch):

@@ -1,13 +1,12 @@
 """A bin of the cell, for a script: where it is, its inner size, where a part can still go.
 
-Example (three parts in bin 1 without stacking them on one spot)::
+Example (a part dropped at the free spot falls into bin 1)::
 
     bin_1 = cell.bin("bin_1")
-    for part in parts:
-        ...                                   # pick the part
-        p = bin_1.drop_point()                # free spot, above the rim
-        arm.move_to(tool_down(p + [0, 0, 0.1]))   # the cup face on the part's top
-        vacuum.off()
+    width_x, width_y, depth = bin_1.inner_size
+    part = cell.spawn_part(xyz=bin_1.drop_point())
+    cell.wait(1.0)
+    assert bin_1.parts() == [part]
 """
 
 from __future__ import annotations

@@ -1,6 +1,7 @@
 """geometry_msgs.msg of omtp-drake ros-run."""
 
 from omtp_drake.ros.messages import (
+    Header,
     Point,
     Pose,
     PoseArray,
@@ -13,6 +14,7 @@ from omtp_drake.ros.messages import (
 from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
+    "Header",
     "Point",
     "Pose",
     "PoseArray",
