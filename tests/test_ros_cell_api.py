@@ -130,6 +130,7 @@ def test_the_docstring_examples_run():
         scope = {"cell": cell, "RigidTransform": RigidTransform}
         exec(compile(_docstring_example(omtp_drake.script.scene), "script/scene.py docstring", "exec"), scope)
         assert cell.planning_scene.names() == ["object_1"]
+        cell.remove_part("object_1")  # one part at a time in this scenario
         exec(compile(_docstring_example(omtp_drake.script.bins), "script/bins.py docstring", "exec"), scope)
         assert scope["part"] == "object_2" and cell.ledger().parts["object_2"] == "in_bin:bin_1"
 
