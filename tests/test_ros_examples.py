@@ -52,3 +52,12 @@ def test_ros_run_command_writes_the_report(tmp_path, capsys):
     assert data["ledger"]["spawned"] == 1 and data["exception"] is None
     assert main(["ros-run", str(tmp_path / "missing.py"), "--scenario", "lecture6_assignment3"]) == 2
     assert "does not exist" in capsys.readouterr().err
+
+
+def test_two_runs_of_an_example_give_the_same_report():
+    """Same script, scenario and seed: the same report, but for the wall time."""
+    runs = [run_script(EXAMPLES / "cartesian_descent.py", scenario="lecture6_assignment4").to_dict()
+            for _ in range(2)]
+    for run in runs:
+        run.pop("wall_time_s")
+    assert runs[0] == runs[1] and runs[0]["ledger"]["in_bin"]["bin_1"] == 1
