@@ -114,18 +114,18 @@ def test_goal_in_collision_names_the_bodies(planner, over_the_wall):
 def test_obstacles_and_held_part(planner, over_the_wall):
     q_in = over_the_wall[0]
     try:
-        planner.set_obstacles([(RigidTransform([-8.0, -2.2, 0.35]), 0.1)])
+        planner.scene.set_obstacles([(RigidTransform([-8.0, -2.2, 0.35]), 0.1)])
         assert ("vacuum_gripper2_cup", "obstacle_0") in planner.collisions(q_in)
-        planner.set_obstacles([])
+        planner.scene.set_obstacles([])
         assert planner.collisions(q_in) == []
         # A 0.3 m box hanging from the cup reaches below the bin's floor (0.12).
-        planner.set_held_part(RigidTransform([0.0, 0.0, 0.15]), 0.3)
+        planner.scene.set_held_part(RigidTransform([0.0, 0.0, 0.15]), 0.3)
         assert ("held_part", "bin_1_base_link") in planner.collisions(q_in)
-        planner.set_held_part(RigidTransform([0.0, 0.0, 0.05]), 0.1)
+        planner.scene.set_held_part(RigidTransform([0.0, 0.0, 0.05]), 0.1)
         assert planner.collisions(q_in) == []
     finally:
-        planner.set_obstacles([])
-        planner.clear_held_part()
+        planner.scene.set_obstacles([])
+        planner.scene.clear_held_part()
     assert planner.collisions(q_in) == []
 
 

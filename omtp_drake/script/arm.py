@@ -508,7 +508,7 @@ class Arm:
         held = runtime.gripper_state(self.name) if self.name in runtime.station.grippers else None
         held_part = held.part if held is not None and held.attached and held.X_CP is not None else ""
         objects = {n: b for n, b in self._scene.objects().items() if n != held_part}
-        planner.set_obstacles([(b.X, b.size) for b in objects.values()], names=list(objects))
+        planner.scene.set_obstacles([(b.X, b.size) for b in objects.values()], names=list(objects))
         carried: list[CupBox] = [(b.X, b.size, n) for n, b in self._scene.attached(self.name).items()]
         if held is not None and held_part and held.X_CP is not None:
             # Shrunk by the planner's margin (and 2 mm) on every side: a part held where it
@@ -516,9 +516,9 @@ class Arm:
             size = runtime.scenario.part_size(held_part) - 2 * (planner.margin + 0.002)
             carried.append((held.X_CP, max(size, 0.01), f"{held_part} (held)"))
         if carried:
-            planner.set_cup_boxes(carried)
+            planner.scene.set_cup_boxes(carried)
         else:
-            planner.clear_held_part()
+            planner.scene.clear_held_part()
         return planner
 
 

@@ -53,7 +53,7 @@ from omtp_drake.control.motion.cartesian import cartesian_path
 from omtp_drake.control.motion.collision import CollisionModel, OtherPositions
 from omtp_drake.control.motion.ik import ArmKinematics, inverse_kinematics
 from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
-from omtp_drake.control.motion.scene import CupBox, Obstacle
+from omtp_drake.control.motion.scene import PlanningScene
 from omtp_drake.control.motion.search import JointSearch, move_out
 from omtp_drake.control.motion.timing import ACCELERATION_LIMITS, scaled_limits, time_parameterize
 from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
@@ -163,42 +163,17 @@ class ArmPlanner:
 
     # ----------------------------------------------------------- the scene
 
-    def set_obstacles(self, boxes: Sequence[Obstacle], names: Sequence[str] | None = None) -> None:
-        """Replaces the extra world obstacles by ``boxes``: each ``(X_WO, size)``, the
-        box's centre pose in world and its edge (one number) or x, y, z edges (m).
-
-        Collisions with them are reported by ``names`` (default ``obstacle_<i>``, i:
-        index in ``boxes``).
-        """
-        self._collision.scene.set_obstacles(boxes, names)
-
-    def set_held_part(
-        self, X_CP: RigidTransform, size: float | Sequence[float], name: str = "held_part"
-    ) -> None:
-        """A box-shaped part held by the gripper: P's centre at ``X_CP`` in the cup
-        body C (``<gripper>_cup``, origin on the cup face, +z out of the tool).
-
-        For a cube of edge a hanging from the cup face: ``X_CP = RigidTransform([0, 0, a/2])``.
-        Replaces whatever the gripper carried. Collisions with it are reported as ``name``.
-        The part itself may touch the cup face (same body); everything else is checked.
-        """
-        self._collision.scene.set_held_part(X_CP, size, name)
-
-    def set_cup_boxes(self, boxes: Sequence[CupBox]) -> None:
-        """Replaces what the gripper carries by ``boxes``: each ``(X_CB, size, name)``
-        (a held part, attached objects; see :meth:`set_held_part`)."""
-        self._collision.scene.set_cup_boxes(boxes)
-
-    def clear_held_part(self) -> None:
-        """The gripper holds nothing."""
-        self._collision.scene.clear_held_part()
+    @property
+    def scene(self) -> PlanningScene:
+        """What is added to the cell's collision model: world obstacles, what the gripper
+        carries (``set_obstacles``, ``set_held_part``, ``set_cup_boxes``, ``clear_held_part``)."""
+        return self._collision.scene
 
     # ----------------------------------------------------------- collisions
 
     def collisions(self, q, other_q: OtherPositions = None) -> list[tuple[str, str]]:
         """The body pairs (robot body, other body) closer than ``margin`` at ``q``;
-        empty when ``q`` is collision free. Added boxes are named ``obstacle_<i>``
-        and ``held_part``."""
+        empty when ``q`` is collision free. Added boxes go by their names in :attr:`scene`."""
         full = self._collision.full(self._q(q), other_q)
         if self._collision.config_free(full):
             return []
@@ -232,9 +207,8 @@ class ArmPlanner:
         is rare). The same query and ``seed`` give the same path (OMPL's global RNG is
         re-seeded from ``seed`` for each search: not thread safe).
 
-        A start in collision (a held part pressed into the floor) may move out of it:
-        the path goes first to a free configuration next to it (see :func:`move_out
-        <omtp_drake.control.motion.search.move_out>`).
+        A start in collision (a held part pressed into the floor) moves out of it first
+        (:func:`~omtp_drake.control.motion.search.move_out`).
 
         Raises:
             PlanningError: the goal in collision, a start in collision with no free
@@ -251,11 +225,7 @@ class ArmPlanner:
         goal_full = self._collision.with_arm(base, q_goal)
         self._collision.require_free("goal", q_goal, goal_full)
         if not self._collision.config_free(base):
-            # A start in collision (a held part pressed into the floor) moves out of it:
-            # to a free configuration next to it (MoveIt's FixStartStateCollision), then on.
-            q_free = move_out(
-                self._collision, q_start, base, self._kinematics.lower, self._kinematics.upper, seed
-            )
+            q_free = move_out(self._collision, q_start, base, self._kinematics, seed)
             return [q_start] + self.plan(
                 q_free, q_goal, other_q=other_q, timeout=timeout, seed=seed, simplify=simplify
             )

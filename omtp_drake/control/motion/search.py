@@ -21,6 +21,7 @@ from pydrake.common import Parallelism
 from pydrake.planning import SceneGraphCollisionChecker
 
 from omtp_drake.control.motion.collision import CollisionModel
+from omtp_drake.control.motion.ik import ArmKinematics
 from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
 from omtp_drake.errors import PlanningError
 
@@ -181,12 +182,7 @@ class JointSearch:
 
 
 def move_out(
-    collision: CollisionModel,
-    q_start: np.ndarray,
-    base: np.ndarray,
-    lower: np.ndarray,
-    upper: np.ndarray,
-    seed: int,
+    collision: CollisionModel, q_start: np.ndarray, base: np.ndarray, kinematics: ArmKinematics, seed: int
 ) -> np.ndarray:
     """A collision-free configuration near ``q_start``, which is in collision (a held
     part pressed into the floor, say; ``base``: the full configuration there): the
@@ -201,7 +197,8 @@ def move_out(
     rng = np.random.default_rng(seed)
     for radius in (0.01, 0.02, 0.05, 0.1, 0.2, 0.3):
         for _ in range(20):
-            q = np.clip(q_start + rng.uniform(-radius, radius, len(q_start)), lower, upper)
+            nudge = rng.uniform(-radius, radius, len(q_start))
+            q = np.clip(q_start + nudge, kinematics.lower, kinematics.upper)
             if collision.config_free(collision.with_arm(base, q)):
                 return q
     raise PlanningError(
