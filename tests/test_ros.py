@@ -232,3 +232,15 @@ def test_a_callback_that_raises_is_logged_recorded_and_delivery_goes_on(tmp_path
     """)
     assert data == ["one", "two", "three"]
     assert report.callback_errors == ["/chatter: ValueError: cannot handle two"] and not report.ok
+
+
+def test_the_scripts_own_modules_are_forgotten_after_the_run_and_the_projects_kept(tmp_path):
+    (tmp_path / "helpers.py").write_text("ANSWER = 42\n")
+    report, data = run(tmp_path, """
+        import json, sys
+        import helpers
+        import omtp_drake.ros.transformations
+        json.dump(helpers.ANSWER, open(sys.argv[1], "w"))
+    """)
+    assert report.ok and data == 42
+    assert "helpers" not in sys.modules and "omtp_drake.ros.transformations" in sys.modules

@@ -18,6 +18,7 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import logging
+import os
 import runpy
 import sys
 import time
@@ -56,10 +57,12 @@ def script_environment(script: Path, args: Sequence[str]) -> Iterator[None]:
         yield
     finally:
         sys.argv, sys.path[:] = saved_argv, saved_path
+        folder = str(script.parent) + os.sep
         for name in set(sys.modules) - before:
-            module = sys.modules[name]
-            origin = str(getattr(module, "__file__", "") or "")
-            if name.split(".")[0] in SHIM_PACKAGES or origin.startswith(str(script.parent)):
+            top = name.split(".")[0]
+            origin = str(getattr(sys.modules[name], "__file__", "") or "")
+            # The ROS names, and the script's own modules (not the project's, wherever it is).
+            if top in SHIM_PACKAGES or (top != "omtp_drake" and origin.startswith(folder)):
                 del sys.modules[name]
         sys.modules.update(hidden)
 
