@@ -185,10 +185,12 @@ def plot_grades(grades: list[Grade]) -> Figure:
     top, bottom = fig.subplots(2, 1, sharex=True)
     x = range(len(grades))
     top.bar(x, [g.in_bins for g in grades], color=[colours[g.status] for g in grades])
+    for xi, g in zip(x, grades):  # the status on every bar (a failed script may have none)
+        top.annotate(g.status, (xi, g.in_bins), ha="center", va="bottom", fontsize=8, color=colours[g.status])
+    top.set_ylim(0, max(g.in_bins for g in grades) + 1)
+    top.yaxis.get_major_locator().set_params(integer=True)
     top.set_ylabel("parts in bins")
-    top.set_title(
-        "Grades: parts in bins per script (green ok, red exception, orange collision, grey timeout)"
-    )
+    top.set_title("Parts in bins per script")
     bottom.bar(x, [(g.report or {}).get("sim_time_s", 0.0) for g in grades], color="tab:blue")
     bottom.set_ylabel("simulated time [s]")
     bottom.set_xticks(list(x), [g.script for g in grades], rotation=60, ha="right", fontsize=8)
