@@ -244,3 +244,21 @@ def test_the_scripts_own_modules_are_forgotten_after_the_run_and_the_projects_ke
     """)
     assert report.ok and data == 42
     assert "helpers" not in sys.modules and "omtp_drake.ros.transformations" in sys.modules
+
+
+def test_a_latched_topic_gives_a_late_subscriber_its_last_message_once(tmp_path):
+    report, data = run(tmp_path, """
+        import json, sys
+        import rospy
+        from std_msgs.msg import String
+        rospy.init_node("latch")
+        early, late = [], []
+        rospy.Subscriber("/status", String, lambda m: early.append(m.data))
+        status = rospy.Publisher("/status", String, queue_size=1, latch=True)
+        status.publish(String("ready"))
+        rospy.sleep(0.2)
+        rospy.Subscriber("/status", String, lambda m: late.append(m.data))
+        rospy.sleep(0.2)
+        json.dump([early, late], open(sys.argv[1], "w"))
+    """)
+    assert report.ok and data == [["ready"], ["ready"]]

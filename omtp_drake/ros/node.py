@@ -224,8 +224,8 @@ class Subscriber:
         self._queue = session.subscribe(self.name, callback, args, queue_size) if callback else None
         if self._queue is not None:
             latched = session.latched.get(self.name)
-            if latched is not None:
-                session.publish(self.name, latched)
+            if latched is not None:  # a latched topic's last message, to this subscriber only
+                self._queue.queue.append(latched)
 
     def get_num_connections(self) -> int:
         return 1 if self.name in current().sources or self.name in current().published_topics else 0
@@ -270,7 +270,7 @@ class Publisher:
         session = current()
         message = copy.deepcopy(message)
         if self.latch:
-            session.latched[self.name] = message
+            session.latched[self.name] = (session.time, -1, message)
         session.publish(self.name, message)
 
     def get_num_connections(self) -> int:
