@@ -150,3 +150,25 @@ def test_the_readme_pick_loop_puts_its_parts_in_the_bin(monkeypatch):
     exec(compile(code, "README.md", "exec"), {})
     ledger = captured["ledger"]
     assert ledger.in_bin["bin_1"] == 2 and ledger.on_floor == 0 and sum(ledger.held.values()) == 0
+
+
+def test_a_part_in_the_scene_can_still_be_picked(cell):
+    """A part added to the scene is an obstacle for moves, but the held part never is."""
+    arm, vacuum = cell.arm("robot2"), cell.gripper("robot2")
+    arm.go("Home")
+    part = cell.spawn_part(xyz=SPOT, yaw=0.0)
+    try:
+        p = rest(cell, part)
+        cell.planning_scene.add_part(part)
+        arm.move_to(tool_down(p + [0, 0, 0.2]))
+        vacuum.on()
+        cell.planning_scene.remove(part)  # the grasp touches it
+        arm.move_linear(tool_down(p + [0, 0, 0.08]), speed=0.05, until=lambda: vacuum.attached)
+        cell.planning_scene.add_part(part)  # held now: carried, not avoided
+        arm.go("Home")
+        assert cell.ledger().parts[part] == "held:robot2" and arm.contacts() == []
+    finally:
+        vacuum.off()
+        cell.wait(0.5)
+        cell.planning_scene.remove()
+        cell.remove_part(part)

@@ -192,7 +192,9 @@ class _ArmMotion:
             return []
         inspector = query.inspector()
         own, parts = self._contact_bodies
-        guarded = {parts[n] for n in self._scene.names() if n in parts}
+        names = self._scene.names()  # parts in it are obstacles, but for the one held
+        held = self._held_part() if names else ""
+        guarded = {parts[n] for n in names if n in parts and n != held}
         ignored = set(parts.values()) - guarded
         touched = set()
         for pair in pairs:
@@ -202,6 +204,11 @@ class _ArmMotion:
                 if i in own and j not in own and j not in ignored:
                     touched.add((mine.name(), other.name()))
         return sorted(touched)
+
+    def _held_part(self) -> str:
+        """The part this arm's gripper holds ("" when none, or no gripper)."""
+        runtime = self._runtime
+        return runtime.gripper_state(self.name).part if self.name in runtime.station.grippers else ""
 
     @functools.cached_property
     def _contact_bodies(self) -> tuple[set[int], dict[str, int]]:
