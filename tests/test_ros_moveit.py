@@ -126,3 +126,30 @@ def test_planning_scene_interface_adds_named_obstacles(tmp_path, caplog):
     assert "lid" in caplog.text  # the failed plan names the box by its name
     assert data["attached"] == {"tool": ["vacuum_gripper2_suction_cup", [0.05, 0.05, 0.3]]}
     assert data["after"] == [["tool"], []]  # detached: back in the world, as MoveIt does
+
+
+def test_callbacks_run_while_the_main_thread_waits_for_a_move(tmp_path):
+    """As rospy's callback threads do while ``go()`` blocks: the camera's callbacks run
+    at their times during the move, in order, not all after it."""
+    script = tmp_path / "during.py"
+    script.write_text(textwrap.dedent("""
+        import json, sys
+        import moveit_commander, rospy
+        from omtp_gazebo.msg import LogicalCameraImage
+        rospy.init_node("during")
+        group = moveit_commander.MoveGroupCommander("robot2")
+        times = []
+        on_image = lambda m: times.append(rospy.get_time())
+        rospy.Subscriber("/omtp/logical_camera_2", LogicalCameraImage, on_image)
+        start = rospy.get_time()
+        group.set_named_target("R2Place")
+        group.go(wait=True)
+        json.dump({"start": start, "end": rospy.get_time(), "times": times}, open(sys.argv[1], "w"))
+    """))
+    out = tmp_path / "out.json"
+    assert run_script(script, [str(out)], scenario=A4).ok
+    data = json.loads(out.read_text())
+    times = np.array(data["times"])
+    inside = times[(times > data["start"]) & (times < data["end"] - 0.2)]
+    assert data["end"] - data["start"] > 1.0 and len(inside) >= 5
+    assert np.all(np.diff(times) >= 0)

@@ -10,8 +10,9 @@ As in MoveIt, planning and execution failures are not exceptions: ``go`` and
 ``execute`` return False and ``plan`` an empty trajectory (logged with the
 reason); a bad argument raises MoveItCommanderException. A motion that touches
 something it should not stops there (the arm's collision guard) and is recorded
-in the run's report. Blocking calls advance simulated time; the callbacks that
-became due run when they return.
+in the run's report. Blocking calls advance simulated time; topic callbacks run
+meanwhile, between the move's steps, in time order (one at a time: a callback's
+own moves run to their end before the next callback).
 
 Plans are timed within the arm's joint limits scaled by the velocity and
 acceleration scaling factors (1.0 by default); Cartesian paths also keep the

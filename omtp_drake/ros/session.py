@@ -6,9 +6,11 @@ imports (``rospy``, ``moveit_commander``...). Those names find it with
 set for the duration of one script by :func:`active`).
 
 Time. Simulated time moves only inside blocking calls (``rospy.sleep``,
-``Rate.sleep``, ``spin``, ``wait_for_message``, MoveIt moves, gripper services).
+``Rate.sleep``, ``spin``, ``wait_for_message``, MoveIt moves).
 :meth:`Session.run_until` advances the cell in ticks and, between ticks,
-delivers the messages published so far to their subscribers' callbacks.
+delivers the messages published so far to their subscribers' callbacks; a
+blocking MoveIt move delivers them between its steps (``Cell.on_move_step``),
+as rospy's callback threads run while the main thread waits for MoveIt.
 
 Callbacks. The cell's sensor topics (logical cameras, break beam) publish into
 the subscribers' queues from the cell's tick (at the sensor's own rate: a camera
@@ -122,6 +124,7 @@ class Session:
         #: id(RobotTrajectory) -> (it, its fingerprint, the plan): recent plans, run exactly.
         self.plans: collections.OrderedDict[int, tuple] = collections.OrderedDict()
         cell.runtime.on_tick(lambda _rt: self._poll_sources())
+        cell.on_move_step(lambda: self.deliver(self.time))  # callbacks while an arm moves, too
 
     # ------------------------------------------------------------ time
 

@@ -167,10 +167,18 @@ class _ArmMotion:
     """An arm's motions in the running cell: a plan handed to its commander, run
     with its guard and contact checks, and stopped when the guard fires."""
 
-    def __init__(self, runtime: FactoryRuntime, name: str, commander: ArmCommander, scene: CellPlanningScene):
+    def __init__(
+        self,
+        runtime: FactoryRuntime,
+        name: str,
+        commander: ArmCommander,
+        scene: CellPlanningScene,
+        step_hooks: list[Callable[[], None]],
+    ):
         self._runtime = runtime
         self._commander = commander
         self._scene = scene
+        self._step_hooks = step_hooks
         self.name = name
 
     def _joint_values(self) -> np.ndarray:
@@ -250,6 +258,7 @@ class _ArmMotion:
             if runtime.time >= next_contact_check - 1e-9 or runtime.time >= end - 1e-9:
                 self._check_contacts()
                 next_contact_check = runtime.time + CONTACT_CHECK_PERIOD
+            self._between_steps()
             if until is not None and until():
                 stopped = True
                 self._stop(context)
@@ -263,7 +272,14 @@ class _ArmMotion:
         ):
             runtime.advance_to(min(settle_end, runtime.time + GUARD_PERIOD))
             self._check_contacts()
+            self._between_steps()
         return MoveResult(start, runtime.time, stopped, self._joint_values())
+
+    def _between_steps(self) -> None:
+        """The cell's move-step hooks (see :meth:`Cell.on_move_step
+        <omtp_drake.script.cell.Cell.on_move_step>`)."""
+        for hook in self._step_hooks:
+            hook()
 
     def _stop(self, context: Context) -> None:
         """Decelerates from the commanded motion to rest over about 0.1 s."""
@@ -307,6 +323,7 @@ class Arm:
         name: str,
         commander: ArmCommander,
         scene: CellPlanningScene,
+        step_hooks: list[Callable[[], None]],
     ):
         self._runtime = runtime
         self._tf = tf
@@ -315,7 +332,7 @@ class Arm:
         self.config = runtime.station.arm(name).config
         self._planner: Optional[ArmPlanner] = None
         self._tool_frames = arms.tool_frame_names(self.config)
-        self._motion = _ArmMotion(runtime, name, commander, scene)
+        self._motion = _ArmMotion(runtime, name, commander, scene, step_hooks)
 
     # ------------------------------------------------------------ state
 

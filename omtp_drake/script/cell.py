@@ -112,8 +112,10 @@ class Cell:
         #: What the arms' plans avoid besides the static cell and the other arm
         #: (MoveIt's planning scene: loose parts are not in it unless added).
         self.planning_scene = CellPlanningScene(self.runtime, self.tf)
+        self._move_hooks: list[Callable[[], None]] = []
         self._arms = {
-            name: Arm(self.runtime, self.tf, name, c, self.planning_scene) for name, c in commanders.items()
+            name: Arm(self.runtime, self.tf, name, c, self.planning_scene, self._move_hooks)
+            for name, c in commanders.items()
         }
         self._closed = False
 
@@ -150,6 +152,13 @@ class Cell:
         return Camera(self.runtime, name)
 
     # ------------------------------------------------------------ time
+
+    def on_move_step(self, hook: Callable[[], None]) -> None:
+        """Calls ``hook()`` between the steps of every blocking move (every 10-50 ms of
+        simulated time, after the contact check), e.g. to run other work while an
+        arm moves (the ROS layer delivers topic callbacks there). The hook may make
+        blocking calls itself; the move goes on from wherever they leave the cell."""
+        self._move_hooks.append(hook)
 
     def wait(self, seconds: float) -> None:
         """Lets the cell run for ``seconds`` of simulated time."""
