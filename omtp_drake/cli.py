@@ -531,7 +531,9 @@ def _values_that_look_like_options(argv: Sequence[str]) -> list[str]:
     a digit is the option's value (argparse would take it for an option and print its
     usage), so the option's own check can say what is wrong with it."""
     out: list[str] = []
-    for token in argv:
+    for i, token in enumerate(argv):
+        if token == "--" or token.endswith(".py"):  # a script's own arguments stay as they are
+            return out + list(argv[i:])
         previous = out[-1] if out else ""
         if re.match(r"-[0-9.]", token) and previous.startswith("--") and "=" not in previous:
             out[-1] = f"{previous}={token}"

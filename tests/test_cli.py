@@ -129,3 +129,14 @@ def test_scenario_files_that_are_refused_in_one_line(tmp_path, text, message):
     assert result.returncode == 2
     assert message in result.stderr
     assert result.stderr.count("\n") == 1
+
+
+def test_a_scripts_own_arguments_reach_it_as_given(tmp_path):
+    """Only omtp-drake's options are read for values like -1 (--seeds -1:3 is the option's
+    value); what follows the script is the script's, untouched."""
+    script = tmp_path / "args.py"
+    out = tmp_path / "argv.json"
+    script.write_text(f"import json, sys\njson.dump(sys.argv[1:], open({str(out)!r}, 'w'))\n")
+    result = run("ros-run", "--scenario", "omtp_factory", str(script), "--", "--offset", "-0.5", "-3")
+    assert result.returncode == 0, result.stderr
+    assert json.loads(out.read_text()) == ["--offset", "-0.5", "-3"]
