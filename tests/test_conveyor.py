@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from omtp_drake.cell.conveyor import ConveyorBelt
 from omtp_drake.errors import ConfigError, SimulationError
 from omtp_drake.scenario import load_scenario
 from omtp_drake.sim.runtime import FactoryRuntime
@@ -140,3 +141,11 @@ def test_runs_are_deterministic():
         return np.concatenate([rt.part_pose(n).GetAsMatrix4().ravel() for n in rt.station.parts])
 
     np.testing.assert_allclose(run(), run(), atol=1e-9, rtol=0)
+
+
+def test_the_belts_typed_ports_carry_its_power_and_the_servos_desired_state():
+    belt = ConveyorBelt(50.0)
+    context = belt.CreateDefaultContext()
+    assert belt.power_output_port().Eval(context)[0] == 50.0
+    np.testing.assert_allclose(belt.desired_state_output_port().Eval(context), [0.0, -0.1])
+    assert belt.beam_input_port().size() == 2

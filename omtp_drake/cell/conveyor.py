@@ -20,7 +20,7 @@ import numpy as np
 from pydrake.math import RigidTransform
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import RigidBody
-from pydrake.systems.framework import BasicVector, Context, DiscreteValues, LeafSystem
+from pydrake.systems.framework import BasicVector, Context, DiscreteValues, InputPort, LeafSystem, OutputPort
 
 from omtp_drake.assets import model_dimensions
 from omtp_drake.errors import ConfigError
@@ -108,10 +108,10 @@ class ConveyorBelt(LeafSystem):
             raise ConfigError(f"beam_check_rate_hz must be > 0, got {beam_check_rate_hz}")
         self._state = self.DeclareDiscreteState(np.array([initial_power, 0.0]))
         self._beam = self.DeclareVectorInputPort("beam", 2)
-        self.DeclareVectorOutputPort(
+        self._desired_state_port = self.DeclareVectorOutputPort(
             "desired_state", 2, self._calc_desired_state, prerequisites_of_calc={self.xd_ticket()}
         )
-        self.DeclareVectorOutputPort(
+        self._power_port = self.DeclareVectorOutputPort(
             "power",
             1,
             lambda c, out: out.SetAtIndex(0, c.get_discrete_state(self._state)[0]),
@@ -120,6 +120,15 @@ class ConveyorBelt(LeafSystem):
         self._stop_on_beam = stop_on_beam
         if stop_on_beam:
             self.DeclarePeriodicDiscreteUpdateEvent(1.0 / beam_check_rate_hz, 0.0, self._check_beam)
+
+    def beam_input_port(self) -> InputPort:
+        return self._beam
+
+    def desired_state_output_port(self) -> OutputPort:
+        return self._desired_state_port
+
+    def power_output_port(self) -> OutputPort:
+        return self._power_port
 
     def _calc_desired_state(self, context: Context, output: BasicVector) -> None:
         output.SetFromVector(belt_desired_state(context.get_discrete_state(self._state)[0]))
@@ -203,7 +212,14 @@ class BreakBeam(LeafSystem):
         self._state = self.DeclareDiscreteState(np.array([0.0, np.inf]))
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / rate_hz, 0.0, self._update)
         self.DeclareInitializationDiscreteUpdateEvent(self._update)
-        self.DeclareStateOutputPort("state", self._state)
+        self._state_port = self.DeclareStateOutputPort("state", self._state)
+
+    def plant_state_input_port(self) -> InputPort:
+        return self._plant_state
+
+    def state_output_port(self) -> OutputPort:
+        """[detected, range], as last sampled."""
+        return self._state_port
 
     def read(self, context: Context) -> np.ndarray:
         """[detected, range] at the state in ``context``."""

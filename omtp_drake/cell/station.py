@@ -547,8 +547,8 @@ def _add_conveyor(
     if models.conveyor is None or config is None:
         return None
     belt = builder.AddNamedSystem("conveyor", ConveyorBelt(config.power, stop_on_beam=config.stop_on_beam))
-    builder.Connect(belt.GetOutputPort("desired_state"), plant.get_desired_state_input_port(models.conveyor))
-    builder.ExportOutput(belt.GetOutputPort("power"), "conveyor.power")
+    builder.Connect(belt.desired_state_output_port(), plant.get_desired_state_input_port(models.conveyor))
+    builder.ExportOutput(belt.power_output_port(), "conveyor.power")
     return belt
 
 
@@ -566,10 +566,10 @@ def _add_break_beam(
     beam = builder.AddNamedSystem(
         "break_beam", BreakBeam(plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes)
     )
-    builder.Connect(plant.get_state_output_port(), beam.GetInputPort("plant_state"))
-    builder.ExportOutput(beam.GetOutputPort("state"), "break_beam.state")
+    builder.Connect(plant.get_state_output_port(), beam.plant_state_input_port())
+    builder.ExportOutput(beam.state_output_port(), "break_beam.state")
     if belt is not None:
-        builder.Connect(beam.GetOutputPort("state"), belt.GetInputPort("beam"))
+        builder.Connect(beam.state_output_port(), belt.beam_input_port())
     return beam
 
 
