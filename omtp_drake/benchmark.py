@@ -20,7 +20,8 @@ The fair reference (issue 20): ``fill_bin``'s full run against its bare plant
 *replaying the same arm motion*: each arm's position commands, as its servo sampled
 them (``command_rate_hz``) in a recorded run of the task, fed through the same C++
 sampler and servo, with the same one part on the floor and the same parked pool; no
-suction, so no part is carried. Both in CPU seconds of this process per simulated
+suction, so no part is carried. An arm whose command was held in the run is locked,
+as the station locks it. Both in CPU seconds of this process per simulated
 second (the machine is shared; CPU time is less noisy than wall time), the best of
 ``repeats``, interleaved.
 
@@ -96,6 +97,11 @@ def _bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> t
     for name in models.pool:
         (index,) = plant.GetJointIndices(models.parts[name])
         plant.get_joint(index).Lock(plant_context)
+    if motion is not None:  # as the station locks an arm whose command is held
+        for name in set(models.arms) - set(motion.moving):
+            for index in plant.GetJointIndices(models.arms[name].arm):
+                if plant.get_joint(index).num_velocities() > 0:
+                    plant.get_joint(index).Lock(plant_context)
     simulator = Simulator(diagram, context)
     simulator.Initialize()
     return simulator, models
@@ -118,6 +124,9 @@ class ArmMotion:
 
     commands: dict[str, PiecewisePolynomial]
     duration: float
+    #: The arms whose command changed in the run (a task's controller drives them);
+    #: the others' commands were held, and the station locked them.
+    moving: frozenset[str] = frozenset()
 
 
 def record_arm_motion(name: str) -> tuple[ArmMotion, TaskResult]:
@@ -156,7 +165,8 @@ def record_arm_motion(name: str) -> tuple[ArmMotion, TaskResult]:
         breaks = [(k - 0.5) * h for k in ks] + [(ks[-1] + 0.5) * h]
         values = np.column_stack([by_k[k] for k in ks] + [by_k[ks[-1]]])
         commands[robot] = PiecewisePolynomial.ZeroOrderHold(breaks, values)
-    return ArmMotion(commands, result.sim_time_s), result
+    moving = frozenset(robot for robot, by_k in samples.items() if np.ptp(np.stack(list(by_k.values()))) > 0)
+    return ArmMotion(commands, result.sim_time_s, moving), result
 
 
 def replay_cpu_seconds(scenario: Scenario, motion: ArmMotion) -> float:

@@ -75,5 +75,5 @@ def test_replay_drives_the_bare_plant_with_recorded_commands():
     q0 = np.array(arms.named_pose("Home", scenario.robot("robot2")))
     q1 = q0 + np.array([0.2, 0.0, 0.0, 0.0, 0.0, 0.0])
     hold = PiecewisePolynomial.ZeroOrderHold([-0.005, 0.095, 0.205], np.column_stack([q0, q1, q1]))
-    seconds = replay_cpu_seconds(scenario, ArmMotion({"robot2": hold}, 0.2))
+    seconds = replay_cpu_seconds(scenario, ArmMotion({"robot2": hold}, 0.2, frozenset({"robot2"})))
     assert 0 < seconds < 10 and math.isfinite(seconds)
