@@ -1,4 +1,4 @@
-"""Issue 13's speed table: full runs against the bare plant, build time, pick cycles.
+"""The speed table: full runs against the bare plant (held still; same motion replayed), build, cycles.
 
     python bench/bench_speed.py [--repeats 2] [--bare-seconds 10]
 

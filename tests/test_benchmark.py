@@ -2,9 +2,21 @@
 
 import math
 
+import numpy as np
 import pytest
+from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake.benchmark import CaseTiming, SpeedReport, bare_plant_seconds, measure, with_parts
+from omtp_drake.benchmark import (
+    ArmMotion,
+    CaseTiming,
+    ReplayTiming,
+    SpeedReport,
+    bare_plant_seconds,
+    measure,
+    replay_cpu_seconds,
+    with_parts,
+)
+from omtp_drake.cell import arms
 from omtp_drake.errors import ConfigError
 from omtp_drake.tasks.run import prepare
 
@@ -47,3 +59,21 @@ def test_cli_bench_refuses_bad_repeats_in_one_line(capsys):
     assert main(["bench", "--repeats", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["omtp-drake: error: repeats must be >= 1, got 0"]
+
+
+def test_table_reports_the_full_run_over_the_same_motion_replayed():
+    report = SpeedReport(cases=(), station_build_s=0.2, task_build_s=0.3, cycles=(5.0,), repeats=3,
+                         replays=(ReplayTiming("fill_bin", replay=0.050, full=0.150),))
+    rows = {line.split("  ")[0].strip(): line for line in report.table().splitlines()}
+    row = rows["fill_bin: CPU ms/s, full / same motion replayed"]
+    assert "150 / 50 = 3.00x" in row and row.rstrip().endswith("NO")
+    assert "the same run's arm commands replayed" in report.table()
+
+
+def test_replay_drives_the_bare_plant_with_recorded_commands():
+    scenario = with_parts(prepare("fill_bin"), [[-8.3, -1.23, 0.051]], 0.1)
+    q0 = np.array(arms.named_pose("Home", scenario.robot("robot2")))
+    q1 = q0 + np.array([0.2, 0.0, 0.0, 0.0, 0.0, 0.0])
+    hold = PiecewisePolynomial.ZeroOrderHold([-0.005, 0.095, 0.205], np.column_stack([q0, q1, q1]))
+    seconds = replay_cpu_seconds(scenario, ArmMotion({"robot2": hold}, 0.2, frozenset({"robot2"})))
+    assert 0 < seconds < 10 and math.isfinite(seconds)

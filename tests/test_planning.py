@@ -21,6 +21,7 @@ from omtp_drake.control.tool_paths import (
     PickPlanner,
     Segment,
     SegmentKind,
+    hold,
     progress,
     timing,
     tool_down,
@@ -97,6 +98,26 @@ def test_path_pose_and_done():
     assert path.pose_at(10.0).IsNearlyEqualTo(X0, 1e-12)
     assert not path.done(2.9) and path.done(3.0) and path.end_time == 3.0
     assert Path().pose_at(0.0) is None and Path().done(0.0)
+
+
+def test_poses_at_many_times_are_pose_at_each_of_them():
+    planner = PickPlanner(X_WR, 1.0)
+    X0 = tool_down(np.array([-7.3, -1.2, 1.0]), 0.3)
+    X1 = tool_down(np.array([-8.0, -2.2, 0.9]), -1.0)
+    X2 = tool_down(np.array([-8.0, -2.2, 0.7]), -1.2)
+    paths = [
+        planner.travel(0.3, X0, X1),  # blended: line, arc, line
+        hold(0.2, X1),
+        Path((planner.move(SegmentKind.LINE, 0.1, X1, X2), planner.move(SegmentKind.LINE, 0.9, X2, X1, 0.2))),
+        Path((planner.move(SegmentKind.ARC, 0.1, X0, X1),)),
+    ]
+    for path in paths:
+        t = np.arange(0.0, path.end_time + 0.3, 0.01)
+        p, R = path.poses(t)
+        for k in range(len(t)):
+            X = path.pose_at(t[k])
+            assert np.allclose(p[k], X.translation(), atol=1e-12, rtol=0)
+            assert np.allclose(R[k], X.rotation().matrix(), atol=1e-12, rtol=0)
 
 
 @pytest.mark.parametrize("size, per_layer", [(0.05, 36), (0.1, 9), (0.2, 1)])

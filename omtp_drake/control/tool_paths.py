@@ -77,6 +77,20 @@ def progress(tau: float, ramp: float = 0.25) -> float:
     return distance / (1 - a)
 
 
+def progress_array(tau: np.ndarray, ramp: float = 0.25) -> np.ndarray:
+    """:func:`progress` at each of ``tau`` (numpy, the same formula)."""
+    a = ramp
+    tau = np.asarray(tau, dtype=float)
+
+    def covered(u: np.ndarray) -> np.ndarray:
+        return u / 2 - a / (2 * math.pi) * np.sin(math.pi * u / a)
+
+    distance = np.where(
+        tau < a, covered(tau), np.where(tau <= 1 - a, a / 2 + (tau - a), (1 - a) - covered(1 - tau))
+    )
+    return distance / (1 - a)
+
+
 def wrap(angle: float) -> float:
     """``angle`` in [-pi, pi)."""
     return (angle + math.pi) % (2 * math.pi) - math.pi
@@ -174,6 +188,36 @@ class Segment:
         R = np.array([[c, sn, 0.0], [sn, -c, 0.0], [0.0, 0.0, -1.0]])  # tool down, Ex at that yaw
         return np.array([cx + r * math.cos(a), cy + r * math.sin(a), z0 + s * dz]), R0.T @ R
 
+    def motions(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`motion` at each of the times ``t`` (N): positions (N, 3) and
+        rotations ``R_SE`` (N, 3, 3), by the same formulas in numpy."""
+        p0, p1, R0, shape = self._cache
+        n = len(t)
+        if self.kind is SegmentKind.HOLD or self.duration <= 0:
+            p, R = np.tile(p0, (n, 1)), np.tile(np.eye(3), (n, 1, 1))
+        else:
+            tau = np.clip((t - self.t0) / self.duration, 0.0, 1.0)
+            s = progress_array(tau, self.ramp)[:, None]
+            if self.kind is SegmentKind.LINE:
+                theta, k, k2 = shape
+                phi = s[:, :, None] * theta
+                p = (1 - s) * p0 + s * p1
+                R = np.eye(3) + np.sin(phi) * k + (1 - np.cos(phi)) * k2
+            else:
+                r0, a0, z0, y0, dr, da, dz, dy = shape
+                s1 = s[:, 0]
+                r, a = r0 + s1 * dr, a0 + s1 * da
+                cx, cy = self.centre
+                c, sn = np.cos(a + y0 + s1 * dy), np.sin(a + y0 + s1 * dy)
+                R_WE = np.zeros((n, 3, 3))
+                R_WE[:, 0, 0], R_WE[:, 0, 1], R_WE[:, 1, 0], R_WE[:, 1, 1] = c, sn, sn, -c
+                R_WE[:, 2, 2] = -1.0
+                p = np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a), z0 + s1 * dz])
+                R = R0.T @ R_WE
+        done = t >= self.t1
+        p[done], R[done] = p1, self._R_SG
+        return p, R
+
     def pose(self, t: float) -> RigidTransform:
         """``X_WE`` at time ``t`` (clamped to the segment's ends)."""
         if self.kind is SegmentKind.HOLD or self.duration <= 0:
@@ -214,6 +258,42 @@ class Path:
             p += p_WE - segment.X_start.translation()
             R = R @ R_SE
         return RigidTransform(RotationMatrix(R), p)
+
+    def poses(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`pose_at` at each of the times ``t`` (N, a non-empty path): ``p_WE``
+        (N, 3) and ``R_WE`` (N, 3, 3), in numpy: one call for a whole path instead of
+        one per DiffIK step."""
+        t = np.asarray(t, dtype=float)
+        if not self.blended:
+            p, R = np.empty((len(t), 3)), np.empty((len(t), 3, 3))
+            todo = np.ones(len(t), dtype=bool)
+            for index, segment in enumerate(self.segments):
+                mine = todo.copy() if index == len(self.segments) - 1 else todo & (t <= segment.t1)
+                if not mine.any():
+                    continue
+                todo &= ~mine
+                if segment.kind is SegmentKind.HOLD or segment.duration <= 0:
+                    after = t[mine] >= segment.t1
+                    X_goal, X_start = segment.X_goal, segment.X_start
+                    p[mine] = np.where(after[:, None], X_goal.translation(), X_start.translation())
+                    R[mine] = np.where(
+                        after[:, None, None], X_goal.rotation().matrix(), X_start.rotation().matrix()
+                    )
+                else:
+                    p[mine], R_SE = segment.motions(t[mine])
+                    R[mine] = segment._cache[2] @ R_SE
+            return p, R
+        first = self.segments[0]
+        p = np.tile(first.X_start.translation(), (len(t), 1))
+        R = np.tile(first.X_start.rotation().matrix(), (len(t), 1, 1))
+        for segment in self.segments:
+            moving = t > segment.t0
+            if not moving.any():
+                continue
+            p_WE, R_SE = segment.motions(t[moving])
+            p[moving] += p_WE - segment.X_start.translation()
+            R[moving] = R[moving] @ R_SE
+        return p, R
 
     def done(self, t: float) -> bool:
         return not self.segments or t >= self.end_time

@@ -15,10 +15,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.multibody.inverse_kinematics import (
     DifferentialInverseKinematicsIntegrator,
     DifferentialInverseKinematicsParameters,
@@ -39,6 +40,7 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.suction import GripperState
 from omtp_drake.control.pick_and_place.machine import NO_IMAGE, MachineInput, PickMachine
 from omtp_drake.control.pick_and_place.records import ControlState, PickHistory
+from omtp_drake.control.tool_paths import Path
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import BinConfig, RobotConfig, TaskConfig
 
@@ -83,7 +85,10 @@ class PickAndPlaceController(LeafSystem):
     machine for its decision and writes it into the state. State (abstract): the
     control state and the history. A scratch Context of the arm's model, for forward
     kinematics of the measured joints, is a cache entry (it depends on
-    ``robot_state`` only).
+    ``robot_state`` only). So is the path's pose table (:class:`PoseTable`): the
+    desired pose at each of DiffIK's sample times (``diffik_rate_hz``), computed in
+    one numpy call when the path changes, so that DiffIK's request every step is a
+    lookup.
 
     Frames: W world, B the arm's base_link, E ``<gripper>_tip`` (the cup face,
     +z out of the tool), C a camera, P a part's origin (its centre).
@@ -119,6 +124,14 @@ class PickAndPlaceController(LeafSystem):
             prerequisites_of_calc={self.input_port_ticket(self._robot_state.get_index())},
         )
         self._control = self.DeclareAbstractState(AbstractValue.Make(ControlState()))
+        self._diffik_period = 1.0 / config.diffik_rate_hz
+        self._table = self.DeclareCacheEntry(
+            description="desired tool poses at DiffIK's sample times",
+            value_producer=ValueProducer(
+                allocate=AbstractValue.Make(PoseTable()).Clone, calc=self._calc_table
+            ),
+            prerequisites_of_calc={self.abstract_state_ticket(self._control)},
+        )
         self._history = self.DeclareAbstractState(AbstractValue.Make(PickHistory()))
         self._declare_output_ports()
         self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.update_rate_hz, 0.0, self._update)
@@ -218,11 +231,21 @@ class PickAndPlaceController(LeafSystem):
         """``X_WE`` at the measured joints."""
         return self._X_WB @ self._tip.CalcPoseInWorld(self._scratch.Eval(context))
 
+    def _calc_table(self, context: Context, value: AbstractValue) -> None:
+        table: PoseTable = value.get_mutable_value()
+        path = self._control_state(context).path
+        if table.path is not path:  # the control state changed, and with it the path
+            table.fill(path, context.get_time(), self._diffik_period, self._X_BW)
+
     def _calc_pose(self, context: Context, output: AbstractValue) -> None:
-        X_WE = self._control_state(context).pose_at(context.get_time())
-        if X_WE is None:
-            X_WE = self._fk(context)
-        output.set_value(self._X_BW @ X_WE)
+        t = context.get_time()
+        X_BE = self._table.Eval(context).pose(t)
+        if X_BE is None:  # not a sample time of the table
+            X_WE = self._control_state(context).pose_at(t)
+            if X_WE is None:
+                X_WE = self._fk(context)
+            X_BE = self._X_BW @ X_WE
+        output.set_value(X_BE)
 
     def _update(self, context: Context, state: State) -> None:
         """Reads every input port once, asks the machine, writes its decision."""
@@ -244,6 +267,44 @@ class PickAndPlaceController(LeafSystem):
         updated = history.with_step(decision.record, decision.tracking_error)
         if updated is not history:
             state.get_mutable_abstract_state(self._history).set_value(updated)
+
+
+class PoseTable:
+    """A path's desired tool poses ``X_BE`` at the sample times ``k h`` from the
+    first at or after ``t`` (when the path was first asked for) to the path's end:
+    positions (N, 3) and rotations (N, 3, 3) from one
+    :meth:`~omtp_drake.control.tool_paths.Path.poses` call. Mutable: the value of
+    the controller's cache entry, refilled when the path changes."""
+
+    def __init__(self) -> None:
+        self.path: Optional[Path] = None
+        self._k0, self._h = 0, 1.0
+        self._p_BE, self._R_BE = np.zeros((0, 3)), np.zeros((0, 3, 3))
+
+    def fill(self, path: Path, t: float, h: float, X_BW: RigidTransform) -> None:
+        """The table of ``path`` (sample period ``h``) from ``t`` on."""
+        self.path, self._h = path, h
+        self._k0 = math.ceil(t / h - 1e-6)
+        if not path.segments:
+            self._p_BE, self._R_BE = np.zeros((0, 3)), np.zeros((0, 3, 3))
+            return
+        k1 = max(self._k0, math.ceil(path.end_time / h)) + 1
+        p_WE, R_WE = path.poses(np.arange(self._k0, k1 + 1) * h)
+        R_BW = X_BW.rotation().matrix()
+        self._p_BE = p_WE @ R_BW.T + X_BW.translation()
+        self._R_BE = R_BW @ R_WE
+
+    def pose(self, t: float) -> Optional[RigidTransform]:
+        """``X_BE`` at ``t`` if ``t`` is one of the table's sample times (after its
+        last, the path's end pose), else None."""
+        k = round(t / self._h)
+        if k < self._k0 or not len(self._p_BE) or abs(t - k * self._h) > 1e-9:
+            return None
+        i = min(k - self._k0, len(self._p_BE) - 1)
+        return RigidTransform(RotationMatrix(self._R_BE[i]), self._p_BE[i])
+
+    def __deepcopy__(self, memo: dict) -> PoseTable:
+        return PoseTable()  # a cache: a cloned Context refills its own
 
 
 def add_pick_and_place(
