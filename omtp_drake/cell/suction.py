@@ -319,9 +319,14 @@ class SuctionGripper(LeafSystem):
 
     def _touching_part(self, context: Context) -> int:
         """Body index of the candidate part touching the cup well (deepest), or -1."""
+        # The cup's axis first, as a copy, and no other Eval while the contact results
+        # are read: ``contacts`` is a view of the plant's cache. With the pose Eval in
+        # the loop (after the first cup contact), sync_weld dropped a good attach in 6
+        # of 300 runs of a test (the normal read as if the part were not under the
+        # cup); in this order, in none of 600.
+        z_WC = np.array(self._poses.Eval(context)[self._cup].rotation().col(2))
         contacts: ContactResults = self._contacts.Eval(context)
         best, best_depth = -1, -math.inf
-        z_WC = None
         for i in range(contacts.num_point_pair_contacts()):
             info = contacts.point_pair_contact_info(i)
             a, b = int(info.bodyA_index()), int(info.bodyB_index())
@@ -331,8 +336,6 @@ class SuctionGripper(LeafSystem):
                 part, sign = a, -1.0
             else:
                 continue
-            if z_WC is None:
-                z_WC = self._poses.Eval(context)[self._cup].rotation().col(2)
             pair = info.point_pair()
             n_PC_W = sign * pair.nhat_BA_W  # from the part into the cup
             if -float(np.dot(n_PC_W, z_WC)) >= self._cos_max and pair.depth > best_depth:
