@@ -7,7 +7,7 @@ or from Python::
 
     from omtp_drake.ros import run_script
     report = run_script("my_pick.py", scenario="lecture6_assignment4")
-    print(report.summary())
+    text = report.summary()          # what ros-run prints
 
 The ROS names a script imports (``rospy``, ``moveit_commander``, ``moveit_msgs``,
 ``actionlib``, ``tf2_ros``, ``tf2_geometry_msgs``, ``tf.transformations``,

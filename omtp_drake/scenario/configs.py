@@ -295,8 +295,7 @@ class SpawnerConfig:
     max_parts: int = 0
 
     def validate(self) -> None:
-        if len(self.xyz) != 3:
-            raise ConfigError(f"spawner.xyz needs 3 numbers, got {list(self.xyz)}")
+        check_len("spawner.xyz", self.xyz, 3)
         for key in ("lateral_variance", "yaw_variance", "period", "start_time"):
             value = getattr(self, key)
             if not (value >= 0 and math.isfinite(value)):

@@ -111,14 +111,19 @@ class FaultInjector:
     def __call__(self) -> None:
         rt = self._rt
         t = rt.time
-        held = held_parts(rt.station, rt.context)
-        beam = rt.break_beam()[0] if rt.station.break_beam is not None else False
-        for watch in self._watches:
-            if not watch.done and self._due(watch, t, held, beam):
-                watch.done = True
-                self.reports.append(self._strike(watch.fault, t, held))
-        self._hold_belts(t)
-        self._read_landings(t)
+        waiting = [w for w in self._watches if not w.done]
+        if waiting:  # the cell is read only while a fault still waits for its trigger
+            held = held_parts(rt.station, rt.context)
+            watch_beam = any(w.fault.event == "beam" for w in waiting)
+            beam = bool(rt.break_beam()[0]) if watch_beam else False
+            for watch in waiting:
+                if self._due(watch, t, held, beam):
+                    watch.done = True
+                    self.reports.append(self._strike(watch.fault, t, held))
+        if self._belt_holds:
+            self._hold_belts(t)
+        if self._landings:
+            self._read_landings(t)
 
     def _due(self, watch: _Watch, t: float, held: dict[str, str], beam: bool) -> bool:
         """Has ``watch``'s trigger fired? ``holding``: a hold (the n-th or a later
