@@ -10,7 +10,6 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
 from pydrake.systems.framework import DiagramBuilder
-from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell.suction import GripperState
@@ -34,6 +33,7 @@ from omtp_drake.cell.suction_rig import (
     build_rig,
     hold,
     logged_at,
+    pick_motion,
     plant_config,
     pose_change,
     tool_q,
@@ -175,6 +175,23 @@ def test_unknown_part_name_is_reported():
     assert rig.gripper.part_names() == ["part_0"]
 
 
+def test_rig_steps_at_a_given_time_step_and_refuses_one_out_of_range():
+    rig = build_rig("weld", hold(tool_q(0, 0, TOP - PRESS)), time_step=0.01)
+    assert rig.time_step == 0.01 and build_rig("weld", hold(tool_q(0, 0, 0.5))).time_step == H
+    rig.command(True)
+    rig.advance_to(0.3)
+    # One entry per step (a chunk's end may add a second one a rounding error away).
+    times = [t for t, _, _ in rig.log]
+    steps = [t for t, before in zip(times[1:], times) if t - before > 1e-9]
+    assert np.allclose(np.diff([0.0] + steps), 0.01, rtol=0, atol=1e-9)
+    assert len(steps) == 30 and steps[-1] == pytest.approx(0.3)
+    assert rig.state().attached  # suction still works at that step
+    for bad in (0.02, 5e-5):
+        with pytest.raises(ConfigError) as info:
+            build_rig("weld", hold(tool_q(0, 0, 0.5)), time_step=bad)
+        assert str(bad) in str(info.value) and "0.01" in str(info.value)
+
+
 # ----------------------------------------------------------------------------
 # No attach
 
@@ -263,26 +280,11 @@ def test_attach_does_not_snap_an_offset_yawed_part(backend):
                        RigidTransform(rig.X_WP().rotation(), [0, 0, 0]))[1] < 0.1
 
 
-def _pick_motion(accel: float) -> tuple[PiecewisePolynomial, float, float]:
-    """Press on a part, lift 0.3 m, carry 0.6 m and back, at 1 m/s; returns (motion, t_moving, t_stop)."""
-    down = tool_q(0.02, 0.01, TOP - PRESS)
-    up = down + [0, 0, 0.3, 0, 0]
-    far = up + [0.6, 0, 0, 0, 0]
-    side = far + [0, -0.4, 0, math.radians(20), 0]
-    ramp = 1.0 / accel
-    lift, carry, turn = 0.3 + ramp, 0.6 + ramp, 0.4 + ramp
-    t0 = 0.3
-    waypoints = [(0.0, down), (t0, down), (t0 + lift, up), (t0 + lift + carry, far),
-                 (t0 + lift + carry + turn, side), (t0 + lift + 2 * carry + turn, side - [0.6, 0, 0, 0, 0]),
-                 (t0 + lift + 2 * carry + turn + 0.3, side - [0.6, 0, 0, 0, 0])]
-    return trajectory(waypoints, accel=accel), t0, waypoints[-2][0]
-
-
 @pytest.mark.parametrize("backend, reaction", [("weld", False), ("force", False), ("force", True)])
 def test_holds_a_1kg_part_through_a_fast_move_then_releases(backend, reaction):
     """At 1 m/s, 20 m/s^2 ramps. (The rig's tool is SAP-PD driven, so the force
     backend's reaction on the cup is stable here.)"""
-    motion, t_moving, t_stop = _pick_motion(accel=20.0)
+    motion, t_moving, t_stop = pick_motion(accel=20.0)
     rig = build_rig(backend, motion, mass=1.0,
                     config=SuctionConfig(backend=backend, apply_reaction=reaction))
     rig.command(True)
@@ -297,7 +299,7 @@ def test_holds_a_1kg_part_through_a_fast_move_then_releases(backend, reaction):
 
     rig.advance_to(t_stop + 0.2, after=measure)
     # Peak speed reached 1 m/s.
-    speeds = [np.linalg.norm(b[2].translation() - a[2].translation()) / H
+    speeds = [np.linalg.norm(b[2].translation() - a[2].translation()) / rig.time_step
               for a, b in zip(rig.log, rig.log[1:])]
     assert max(speeds) == pytest.approx(1.0, rel=0.05)
     # Every step, not only at chunk ends.

@@ -81,12 +81,18 @@ class Rig:
     parts: list[RigidBody]
     simulator: Simulator
     context: Context
-    #: (time, X_WP of parts[0], X_WC) after every plant step.
+    #: (time, X_WP of parts[0], X_WC) after every simulator step: every plant
+    #: step, plus a chunk's end when it falls between two steps.
     log: list = field(default_factory=list)
 
     @property
     def plant_context(self) -> Context:
         return self.plant.GetMyContextFromRoot(self.context)
+
+    @property
+    def time_step(self) -> float:
+        """The plant's step [s] (:data:`H` unless the rig was built with another)."""
+        return self.plant.time_step()
 
     @property
     def time(self) -> float:
@@ -179,9 +185,17 @@ def _trapezoid(t: float, T: float, D: float, a: float) -> float:
     return 0.5 * a * tr * tr + v * (t - tr)
 
 
-def plant_config() -> MultibodyPlantConfig:
-    """The station's plant settings (5 ms SAP point contact, unsampled output ports)."""
-    return Scenario().plant_config
+def plant_config(time_step: Optional[float] = None) -> MultibodyPlantConfig:
+    """The station's plant settings (5 ms SAP point contact, unsampled output ports),
+    with ``time_step`` [s] instead of the station's step when given.
+
+    Raises ConfigError for a step the scenario would refuse (its range check).
+    """
+    config = Scenario().plant_config
+    if time_step is not None:
+        config.time_step = time_step
+        Scenario(plant_config=config).validate()
+    return config
 
 
 def build_rig(
@@ -192,11 +206,16 @@ def build_rig(
     mass: float = 0.2,
     config: Optional[SuctionConfig] = None,
     log: bool = True,
+    time_step: Optional[float] = None,
 ) -> Rig:
     """The rig with parts at (x, y, yaw) on the floor, the tool following ``motion``
-    (a trajectory of :func:`tool_q` positions); the gripper's command is off."""
+    (a trajectory of :func:`tool_q` positions); the gripper's command is off.
+
+    ``time_step`` [s] replaces the station's plant step (None keeps it); it must be
+    in the scenario's range (ConfigError otherwise, see :func:`plant_config`).
+    """
     builder = DiagramBuilder()
-    plant, scene_graph = AddMultibodyPlant(plant_config(), builder)
+    plant, scene_graph = AddMultibodyPlant(plant_config(time_step), builder)
     plant.RegisterCollisionGeometry(
         plant.world_body(), RigidTransform(), HalfSpace(), "floor", CoulombFriction(1.0, 1.0)
     )
@@ -281,7 +300,7 @@ def _add_parts(
 
 
 def _log_poses(rig: Rig, cup: RigidBody) -> None:
-    """Appends (time, X_WP of the first part, X_WC) to ``rig.log`` after every plant step."""
+    """Appends (time, X_WP of the first part, X_WC) to ``rig.log`` after every simulator step."""
     plant, part = rig.plant, rig.parts[0]
 
     def monitor(root: Context):
@@ -300,6 +319,30 @@ def _log_poses(rig: Rig, cup: RigidBody) -> None:
 def hold(q: np.ndarray, until: float = 5.0) -> PiecewisePolynomial:
     """The tool at ``q`` until ``until``."""
     return trajectory([(0.0, q), (until, q)])
+
+
+def pick_motion(accel: float) -> tuple[PiecewisePolynomial, float, float]:
+    """Press on a part, lift 0.3 m, carry 0.6 m and back, at 1 m/s with ``accel``
+    [m/s^2] ramps; returns (motion, t_moving, t_stop): the lift starts at
+    t_moving, the tool is at rest again from t_stop."""
+    down = tool_q(0.02, 0.01, TOP - PRESS)
+    up = down + [0, 0, 0.3, 0, 0]
+    far = up + [0.6, 0, 0, 0, 0]
+    side = far + [0, -0.4, 0, math.radians(20), 0]
+    back = side - [0.6, 0, 0, 0, 0]
+    ramp = 1.0 / accel
+    lift, carry, turn = 0.3 + ramp, 0.6 + ramp, 0.4 + ramp
+    t0 = 0.3
+    waypoints = [
+        (0.0, down),
+        (t0, down),
+        (t0 + lift, up),
+        (t0 + lift + carry, far),
+        (t0 + lift + carry + turn, side),
+        (t0 + lift + 2 * carry + turn, back),
+        (t0 + lift + 2 * carry + turn + 0.3, back),
+    ]
+    return trajectory(waypoints, accel=accel), t0, waypoints[-2][0]
 
 
 def pose_change(X_a: RigidTransform, X_b: RigidTransform) -> tuple[float, float]:
