@@ -1,0 +1,176 @@
+"""The plant's time step against suction outcomes (issue 20: 5, 8 or 10 ms?).
+
+Scene (omtp_drake.cell.suction_rig, the rig the suction tests use): a world floor,
+0.2 m cube parts, a tool on stiff SAP-PD joints carrying the course's vacuum
+gripper, SAP point contact; only the plant's step changes between rows. A driver
+loop advances in 50 ms ticks and calls ``sync_weld`` after each, as the runtime does.
+Per step and suction backend (weld, force):
+
+- carry: the 1 kg part of ``test_holds_a_1kg_part_through_a_fast_move_then_releases``
+  (``pick_motion``: lift 0.3 m, carry 0.6 m, turn, carry back, at 1 m/s with
+  20 m/s^2 ramps). Drift = the part's pose in the cup frame against the X_CP
+  captured at attach, worst over every logged step from the lift's start to 0.2 s
+  after the tool stops: position [mm] and angle [deg]. "held" = still attached at
+  the end. v peak = the cup's fastest step (displacement / step) [m/s].
+- contact: the cup pressed PRESS (2 mm) into the centre of a 0.2 kg part, suction
+  off for 0.3 s, then on (as ``test_attach_does_not_snap_an_offset_yawed_part``,
+  centred, no yaw). t attach = from the command to the attach (the check for
+  force, the tick's sync for weld) [s]; pts = cup-part contact points per plant
+  step while pressing before the attach (min-max); pen. = the cup face's depth
+  below the part's nominal top, TOP - z of the cup face (the cup body's origin is
+  its face: tool0 + CUP_OFFSET), worst while pressing before the attach [mm];
+  into part = the same against the part's actual top (its centre + SIZE / 2: the
+  part also sinks into the floor under the press) [mm];
+  snap = the part's displacement across the first step after the attach [mm];
+  jump = its worst per-step displacement within +-0.1 s of the attach [mm].
+- cpu: CPU time (time.process_time) per simulated second over both runs'
+  simulation (not the builds) [s/s].
+
+Numbers only, no pass/fail:
+
+    python bench/bench_step.py [--steps 0.005,0.008,0.01]
+"""
+
+import argparse
+import logging
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from pydrake.systems.framework import Context
+
+from omtp_drake.cell.suction_rig import (
+    PRESS,
+    SIZE,
+    TOP,
+    build_rig,
+    hold,
+    logged_at,
+    pick_motion,
+    pose_change,
+    tool_q,
+)
+from omtp_drake.scenario import SuctionConfig
+
+logging.getLogger("drake").setLevel(logging.ERROR)
+logging.getLogger("omtp_drake").setLevel(logging.WARNING)
+
+BACKENDS = ("weld", "force")
+T_ON = 0.3  # contact run: suction on after the press has settled [s]
+WINDOW = 0.1  # +- around the attach for the per-step jump [s]
+
+
+@dataclass
+class Carry:
+    drift_mm: float
+    drift_deg: float
+    held: bool
+    v_peak: float
+    sim: float  # simulated [s]
+    cpu: float  # process time [s]
+
+
+@dataclass
+class Press:
+    t_attach: float
+    points: tuple[int, int]
+    pen_mm: float
+    into_mm: float
+    snap_mm: float
+    jump_mm: float
+    sim: float
+    cpu: float
+
+
+def carry(backend: str, dt: float) -> Carry:
+    motion, t_moving, t_stop = pick_motion(accel=20.0)
+    rig = build_rig(backend, motion, mass=1.0, config=SuctionConfig(backend=backend), time_step=dt)
+    cpu = time.process_time()
+    rig.command(True)
+    rig.advance_to(t_moving)
+    X_CP = rig.state().X_CP
+    rig.advance_to(t_stop + 0.2)
+    cpu = time.process_time() - cpu
+    held = rig.state().attached
+    if X_CP is None:  # never attached: no drift to speak of
+        drift_mm = drift_deg = math.nan
+    else:
+        steps = [pose_change(X_CP, X_WC.InvertAndCompose(X_WP)) for t, X_WP, X_WC in rig.log if t >= t_moving]
+        drift_mm = 1e3 * max(d for d, _ in steps)
+        drift_deg = max(a for _, a in steps)
+    v_peak = max(
+        float(np.linalg.norm(b[2].translation() - a[2].translation())) / rig.time_step
+        for a, b in zip(rig.log, rig.log[1:])
+    )
+    return Carry(drift_mm, drift_deg, held, v_peak, rig.time, cpu)
+
+
+def press(backend: str, dt: float) -> Press:
+    rig = build_rig(backend, hold(tool_q(0.0, 0.0, TOP - PRESS)), time_step=dt)
+    contacts: list[tuple[float, int]] = []  # (time, cup-part contact points) per step
+    log_poses = rig.simulator.get_monitor()
+
+    def monitor(root: Context):
+        contacts.append((root.get_time(), rig.cup_part_contacts()))
+        return log_poses(root)
+
+    rig.simulator.set_monitor(monitor)
+    cpu = time.process_time()
+    rig.advance_to(T_ON)
+    rig.command(True)
+    rig.advance_to(T_ON + 0.3)
+    while not rig.state().attached and rig.time < T_ON + 1.0:
+        rig.advance_to(rig.time + 0.05)
+    rig.advance_to(rig.time + WINDOW + 0.05)  # the window after the attach
+    cpu = time.process_time() - cpu
+    if not rig.state().attached:
+        nan = math.nan
+        return Press(nan, (0, 0), nan, nan, nan, nan, rig.time, cpu)
+    t_attach = rig.state().since
+    pressing = [n for t, n in contacts if 0 < t <= t_attach + 1e-9]
+    pressed = [(X_WP, X_WC) for t, X_WP, X_WC in rig.log if 0 < t <= t_attach + 1e-9]
+    pen = max(TOP - X_WC.translation()[2] for _, X_WC in pressed)
+    into = max(X_WP.translation()[2] + SIZE / 2 - X_WC.translation()[2] for X_WP, X_WC in pressed)
+    before, _ = logged_at(rig, t_attach)
+    after = next(X_WP for t, X_WP, _ in rig.log if t > t_attach + 1e-9)
+    window = [X_WP for t, X_WP, _ in rig.log if abs(t - t_attach) <= WINDOW + 1e-9]
+    jump = max(pose_change(a, b)[0] for a, b in zip(window, window[1:]))
+    return Press(
+        t_attach - T_ON,
+        (min(pressing), max(pressing)),
+        1e3 * pen,
+        1e3 * into,
+        1e3 * pose_change(before, after)[0],
+        1e3 * jump,
+        rig.time,
+        cpu,
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument(
+        "--steps", default="0.005,0.008,0.01", help="plant steps [s], comma separated (default 5, 8, 10 ms)"
+    )
+    args = parser.parse_args()
+    steps = [float(s) for s in args.steps.split(",")]
+    print(
+        "| step [ms] | backend | drift [mm] | drift [deg] | held | v peak [m/s] "
+        "| t attach [s] | pts | pen. [mm] | into part [mm] | snap [mm] | jump [mm] | cpu [s/s] |"
+    )
+    print("|" + "---|" * 13)
+    for dt in steps:
+        for backend in BACKENDS:
+            c, p = carry(backend, dt), press(backend, dt)
+            cpu = (c.cpu + p.cpu) / (c.sim + p.sim)
+            print(
+                f"| {1e3 * dt:g} | {backend} | {c.drift_mm:.3f} | {c.drift_deg:.3f} "
+                f"| {'yes' if c.held else 'NO'} | {c.v_peak:.3f} | {p.t_attach:.3f} "
+                f"| {p.points[0]}-{p.points[1]} | {p.pen_mm:.2f} | {p.into_mm:.2f} "
+                f"| {p.snap_mm:.4f} | {p.jump_mm:.4f} | {cpu:.3f} |"
+            )
+
+
+if __name__ == "__main__":
+    main()
