@@ -24,14 +24,16 @@ from omtp_drake.tasks.run import prepare
 def test_table_says_which_targets_are_met():
     report = SpeedReport(
         cases=(
-            CaseTiming("fast case", bare=0.080, full=0.095),
-            CaseTiming("slow case", bare=0.060, full=0.150),
+            CaseTiming("fast case", bare=0.080, full=0.095, target=0.1),
+            CaseTiming("slow case", bare=0.060, full=0.150, target=0.12),
         ),
         station_build_s=0.21, task_build_s=0.62, cycles=(5.5, 6.2, 7.3), repeats=2)
     rows = {line.split("  ")[0].strip(): line for line in report.table().splitlines()}
     assert rows["fast case: wall ms per simulated s (RTF)"].rstrip().endswith("yes")
     assert "95 (10.5)" in rows["fast case: wall ms per simulated s (RTF)"]
+    assert "<= 100 (>= 10)" in rows["fast case: wall ms per simulated s (RTF)"]
     assert rows["slow case: wall ms per simulated s (RTF)"].rstrip().endswith("NO")
+    assert "<= 120 (>= 8)" in rows["slow case: wall ms per simulated s (RTF)"]
     assert "150 %" in rows["slow case: bare plant ms/s, our overhead"]  # (150 - 60) / 60
     assert rows["fast case: bare plant ms/s, our overhead"].rstrip().endswith("yes")  # 19 %
     assert "0.21 / 0.62" in rows["diagram build, fill_bin station / with task (s)"]
@@ -77,3 +79,4 @@ def test_replay_drives_the_bare_plant_with_recorded_commands():
     hold = PiecewisePolynomial.ZeroOrderHold([-0.005, 0.095, 0.205], np.column_stack([q0, q1, q1]))
     seconds = replay_cpu_seconds(scenario, ArmMotion({"robot2": hold}, 0.2, frozenset({"robot2"})))
     assert 0 < seconds < 10 and math.isfinite(seconds)
+

@@ -160,3 +160,14 @@ def test_inner_builders_take_a_scenario_and_say_how_to_load_one():
     assert as_scenario(scenario) is scenario
     loaded = as_scenario("omtp_factory")
     assert isinstance(loaded, Scenario) and loaded.name == "omtp_factory"
+
+
+def test_with_time_step_changes_only_the_step_and_refuses_a_bad_one():
+    scenario = load_scenario("fill_bin")
+    stepped = scenario.with_time_step(0.002)
+    assert stepped.plant_config.time_step == 0.002
+    assert scenario.plant_config.time_step != 0.002  # the original is untouched
+    before, after = scenario.plant_config, stepped.plant_config
+    assert after.discrete_contact_approximation == before.discrete_contact_approximation
+    with pytest.raises(ConfigError, match=r"time_step must be in .*got 0.05"):
+        scenario.with_time_step(0.05)

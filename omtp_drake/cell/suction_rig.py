@@ -186,16 +186,13 @@ def _trapezoid(t: float, T: float, D: float, a: float) -> float:
 
 
 def plant_config(time_step: Optional[float] = None) -> MultibodyPlantConfig:
-    """The station's plant settings (5 ms SAP point contact, unsampled output ports),
+    """The station's plant settings (SAP point contact, unsampled output ports),
     with ``time_step`` [s] instead of the station's step when given.
 
     Raises ConfigError for a step the scenario would refuse (its range check).
     """
-    config = Scenario().plant_config
-    if time_step is not None:
-        config.time_step = time_step
-        Scenario(plant_config=config).validate()
-    return config
+    scenario = Scenario()
+    return (scenario if time_step is None else scenario.with_time_step(time_step)).plant_config
 
 
 def build_rig(

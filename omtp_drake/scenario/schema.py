@@ -11,6 +11,7 @@ values; :meth:`Scenario.validate` checks those and what ties them together
 
 # No `from __future__ import annotations`: Drake's typed YAML loader reads
 # the dataclass field types at run time.
+import copy
 import dataclasses
 import math
 import re
@@ -123,6 +124,15 @@ class Scenario:
             if b.name == name:
                 return b
         raise UnknownNameError("bin", name, [b.name for b in self.bins])
+
+    def with_time_step(self, time_step: float) -> "Scenario":
+        """This scenario with the plant stepping every ``time_step`` seconds (a copy;
+        ConfigError for a step outside the valid range)."""
+        config = copy.copy(self.plant_config)
+        config.time_step = time_step
+        stepped = dataclasses.replace(self, plant_config=config)
+        stepped._validate_plant_config()
+        return stepped
 
     def validate(self) -> None:
         """Raises :class:`ConfigError` for values no world can be built from, and
