@@ -28,7 +28,7 @@ Per step and suction backend (weld, force):
 
 Numbers only, no pass/fail:
 
-    python bench/bench_step.py [--steps 0.005,0.008,0.01]
+    python bench/bench_step.py [--configs 5:1.0,5:0.5,8:0.5,10:0.5,10:1.0]
 """
 
 import argparse
@@ -38,6 +38,7 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
+from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.systems.framework import Context
 
 from omtp_drake.cell.suction_rig import (
@@ -51,7 +52,8 @@ from omtp_drake.cell.suction_rig import (
     pose_change,
     tool_q,
 )
-from omtp_drake.scenario import SuctionConfig
+from omtp_drake.scenario import SuctionConfig, load_scenario
+from omtp_drake.script import Cell
 
 logging.getLogger("drake").setLevel(logging.ERROR)
 logging.getLogger("omtp_drake").setLevel(logging.WARNING)
@@ -83,9 +85,16 @@ class Press:
     cpu: float
 
 
-def carry(backend: str, dt: float) -> Carry:
+def carry(backend: str, dt: float, beta: float) -> Carry:
     motion, t_moving, t_stop = pick_motion(accel=20.0)
-    rig = build_rig(backend, motion, mass=1.0, config=SuctionConfig(backend=backend), time_step=dt)
+    rig = build_rig(
+        backend,
+        motion,
+        mass=1.0,
+        config=SuctionConfig(backend=backend),
+        time_step=dt,
+        near_rigid_threshold=beta,
+    )
     cpu = time.process_time()
     rig.command(True)
     rig.advance_to(t_moving)
@@ -106,8 +115,8 @@ def carry(backend: str, dt: float) -> Carry:
     return Carry(drift_mm, drift_deg, held, v_peak, rig.time, cpu)
 
 
-def press(backend: str, dt: float) -> Press:
-    rig = build_rig(backend, hold(tool_q(0.0, 0.0, TOP - PRESS)), time_step=dt)
+def press(backend: str, dt: float, beta: float) -> Press:
+    rig = build_rig(backend, hold(tool_q(0.0, 0.0, TOP - PRESS)), time_step=dt, near_rigid_threshold=beta)
     contacts: list[tuple[float, int]] = []  # (time, cup-part contact points) per step
     log_poses = rig.simulator.get_monitor()
 
@@ -148,28 +157,84 @@ def press(backend: str, dt: float) -> Press:
     )
 
 
+@dataclass
+class Descent:
+    travel_mm: float
+    sink_mm: float
+    into_mm: float
+
+
+def descent(dt: float, beta: float) -> Descent:
+    """The cell's own arm (lecture6_assignment4, weld suction) lowering the cup onto a
+    0.2 m part at 0.05 m/s until it attaches, as ``tests/test_script.py`` does."""
+    scenario = load_scenario("lecture6_assignment4").with_time_step(dt)
+    scenario.plant_config.sap_near_rigid_threshold = beta
+    cell = Cell(scenario, auto_spawn=False)
+    arm, vacuum = cell.arm("robot2"), cell.gripper("robot2")
+    arm.go("Home")
+    part = cell.spawn_part()
+    cell.wait(1.5)
+    p = cell.part_pose(part).translation()
+    down = RotationMatrix.MakeXRotation(math.pi)
+    arm.move_to(RigidTransform(down, p + [0, 0, 0.2]))
+    vacuum.on()
+    first: list[np.ndarray] = []
+
+    def attached() -> bool:
+        if not first and cup_touches(cell, part):
+            first.append(arm.tool_pose().translation())
+        return vacuum.attached
+
+    arm.move_linear(RigidTransform(down, p), speed=0.05, until=attached)
+    travel = float(np.linalg.norm(arm.tool_pose().translation() - first[0])) if first else math.nan
+    cell.wait(0.5)
+    p_part, p_cup = cell.part_pose(part).translation(), arm.tool_pose().translation()
+    return Descent(1e3 * travel, 1e3 * (p[2] - p_part[2]), 1e3 * (p_part[2] + SIZE / 2 - p_cup[2]))
+
+
+def cup_touches(cell: Cell, part: str) -> bool:
+    """Robot 2's cup and ``part`` are in contact (the plant's contact results)."""
+    plant = cell.station.plant
+    results = plant.get_contact_results_output_port().Eval(plant.GetMyContextFromRoot(cell.runtime.context))
+    cup = int(plant.GetBodyByName(f"{cell.scenario.robot('robot2').gripper}_cup").index())
+    body = int(plant.GetBodyByName(part).index())
+    pairs = (results.point_pair_contact_info(i) for i in range(results.num_point_pair_contacts()))
+    return any({int(c.bodyA_index()), int(c.bodyB_index())} == {cup, body} for c in pairs)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
-        "--steps", default="0.005,0.008,0.01", help="plant steps [s], comma separated (default 5, 8, 10 ms)"
+        "--configs",
+        default="5:1.0,5:0.5,8:0.5,10:0.5,10:1.0",
+        help="step [ms]:SAP near-rigid threshold pairs, comma separated",
     )
     args = parser.parse_args()
-    steps = [float(s) for s in args.steps.split(",")]
+    configs = [(1e-3 * float(a), float(b)) for a, b in (c.split(":") for c in args.configs.split(","))]
     print(
-        "| step [ms] | backend | drift [mm] | drift [deg] | held | v peak [m/s] "
+        "| step [ms] | near-rigid | backend | drift [mm] | drift [deg] | held | v peak [m/s] "
         "| t attach [s] | pts | pen. [mm] | into part [mm] | snap [mm] | jump [mm] | cpu [s/s] |"
     )
-    print("|" + "---|" * 13)
-    for dt in steps:
+    print("|" + "---|" * 14)
+    for dt, beta in configs:
         for backend in BACKENDS:
-            c, p = carry(backend, dt), press(backend, dt)
+            c, p = carry(backend, dt, beta), press(backend, dt, beta)
             cpu = (c.cpu + p.cpu) / (c.sim + p.sim)
             print(
-                f"| {1e3 * dt:g} | {backend} | {c.drift_mm:.3f} | {c.drift_deg:.3f} "
+                f"| {1e3 * dt:g} | {beta:g} | {backend} | {c.drift_mm:.3f} | {c.drift_deg:.3f} "
                 f"| {'yes' if c.held else 'NO'} | {c.v_peak:.3f} | {p.t_attach:.3f} "
                 f"| {p.points[0]}-{p.points[1]} | {p.pen_mm:.2f} | {p.into_mm:.2f} "
                 f"| {p.snap_mm:.4f} | {p.jump_mm:.4f} | {cpu:.3f} |"
             )
+    print("\nThe cell's arm lowering the cup onto a part until it attaches (weld):\n")
+    print(
+        "| step [ms] | near-rigid | travel after first touch [mm] | part pushed into the floor [mm] "
+        "| cup face into the part, 0.5 s later [mm] |"
+    )
+    print("|---|---|---|---|---|")
+    for dt, beta in configs:
+        d = descent(dt, beta)
+        print(f"| {1e3 * dt:g} | {beta:g} | {d.travel_mm:.2f} | {d.sink_mm:.2f} | {d.into_mm:.2f} |")
 
 
 if __name__ == "__main__":

@@ -57,6 +57,9 @@ from omtp_drake.scenario import Scenario, SuctionConfig
 
 H = Scenario().plant_config.time_step  # plant step [s]: the station's
 CHUNK = 0.05  # driver chunk = the runtime's tick [s]
+#: The tool's motions are sampled this often [s], whatever the plant's step, so that
+#: rigs at different steps follow the same motion.
+MOTION_DT = 0.005
 SIZE = 0.2  # part edge [m]
 PART_Z = SIZE / 2 + 0.001  # a part's centre resting on its 1 mm corner spheres
 TOP = SIZE + 0.001  # its top face
@@ -150,7 +153,7 @@ def tool_q(x: float, y: float, cup_z: float, yaw: float = 0.0, tilt: float = 0.0
 
 
 def trajectory(
-    waypoints: Sequence[tuple[float, np.ndarray]], accel: float = 20.0, dt: float = H
+    waypoints: Sequence[tuple[float, np.ndarray]], accel: float = 20.0, dt: float = MOTION_DT
 ) -> PiecewisePolynomial:
     """Straight segments between (time, q) waypoints, each with a trapezoidal speed.
 
@@ -185,14 +188,22 @@ def _trapezoid(t: float, T: float, D: float, a: float) -> float:
     return 0.5 * a * tr * tr + v * (t - tr)
 
 
-def plant_config(time_step: Optional[float] = None) -> MultibodyPlantConfig:
+def plant_config(
+    time_step: Optional[float] = None, near_rigid_threshold: Optional[float] = None
+) -> MultibodyPlantConfig:
     """The station's plant settings (SAP point contact, unsampled output ports),
-    with ``time_step`` [s] instead of the station's step when given.
+    with ``time_step`` [s] and SAP's ``sap_near_rigid_threshold`` instead of the
+    station's when given.
 
     Raises ConfigError for a step the scenario would refuse (its range check).
     """
     scenario = Scenario()
-    return (scenario if time_step is None else scenario.with_time_step(time_step)).plant_config
+    config = (scenario if time_step is None else scenario.with_time_step(time_step)).plant_config
+    if near_rigid_threshold is not None:
+        if not near_rigid_threshold >= 0:
+            raise ConfigError(f"near_rigid_threshold must be >= 0, got {near_rigid_threshold}")
+        config.sap_near_rigid_threshold = near_rigid_threshold
+    return config
 
 
 def build_rig(
@@ -204,15 +215,16 @@ def build_rig(
     config: Optional[SuctionConfig] = None,
     log: bool = True,
     time_step: Optional[float] = None,
+    near_rigid_threshold: Optional[float] = None,
 ) -> Rig:
     """The rig with parts at (x, y, yaw) on the floor, the tool following ``motion``
     (a trajectory of :func:`tool_q` positions); the gripper's command is off.
 
-    ``time_step`` [s] replaces the station's plant step (None keeps it); it must be
-    in the scenario's range (ConfigError otherwise, see :func:`plant_config`).
+    ``time_step`` [s] and ``near_rigid_threshold`` replace the station's plant step
+    and SAP near-rigid threshold (None keeps them); see :func:`plant_config`.
     """
     builder = DiagramBuilder()
-    plant, scene_graph = AddMultibodyPlant(plant_config(time_step), builder)
+    plant, scene_graph = AddMultibodyPlant(plant_config(time_step, near_rigid_threshold), builder)
     plant.RegisterCollisionGeometry(
         plant.world_body(), RigidTransform(), HalfSpace(), "floor", CoulombFriction(1.0, 1.0)
     )
