@@ -2,7 +2,7 @@
 
 Scene (omtp_drake.cell.suction_rig, the rig the suction tests use): a world floor, 10 parts of 1 kg
 (0.2 m cubes) on it, a tool on stiff SAP-PD joints carrying the course's vacuum
-gripper, SAP point contact at the station's plant settings (5 ms steps). The tool presses
+gripper, SAP point contact at the station's plant settings (10 ms steps). The tool presses
 on one part, the gripper attaches it, and the tool then carries it back and
 forth at 1 m/s (20 m/s^2 ramps) over the other parts for the rest of the run.
 A driver loop advances in 50 ms ticks and calls ``sync_weld`` after each, as

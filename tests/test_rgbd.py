@@ -101,7 +101,7 @@ def test_defaults_leave_the_logical_camera_as_it_was(view):
     assert not image.occlusion and [(m.name, m.visible_fraction) for m in image.models] == [
         ("object_1", 1.0)]
     text = str(image)
-    assert "visible_fraction" not in text and "    x: 0.9791530" in text  # as in README.md
+    assert "visible_fraction" not in text and "    x: 0.9790782" in text  # as in README.md
     assert text == str(view.camera_image(CAMERA))
 
 

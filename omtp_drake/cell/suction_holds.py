@@ -23,9 +23,9 @@ Two ways of holding the part (``SuctionConfig.backend``):
 * ``"force"``: a stiff 6-DOF spring-damper pulling the part toward
   ``X_WC * X_CP``, applied through the plant's ``applied_spatial_force``
   input. It lives entirely inside the diagram (no runtime help) and the hold
-  starts at the attaching check itself, but it is compliant (0.8 mm drift
-  carrying 0.2-1 kg at 1 m/s with 20 m/s^2 ramps at the default 5 ms step,
-  0.3-0.8 mm at 2 ms: the limit of any explicit spring at that step),
+  starts at the attaching check itself, but it is compliant (2.9 mm drift
+  carrying 1 kg at 1 m/s with 20 m/s^2 ramps at the default 10 ms step, 0.8 mm at
+  5 ms, 0.3-0.8 mm at 2 ms: the limit of any explicit spring at that step),
   and it costs a Python evaluation (about 40 us) every plant step while a
   part is held.
 

@@ -55,19 +55,21 @@ class SuctionConfig:
     rotational ones, I the smallest principal moment about the centre of
     mass), where the discrete error dies out in two steps. The defaults are
     chosen for parts of 0.2 to 1 kg (0.2 m cubes) at h = 2 ms; at the default
-    h = 5 ms every part of the course runs at its caps:
+    h = 10 ms every part of the course runs at its caps:
 
     ======  ==============================  ==============================
     mass    k [N/m], c [N s/m] used         kr [N m/rad], cr [N m s/rad]
     ======  ==============================  ==============================
-    0.2 kg  8e3, 40 (both capped)           53, 0.27 (both capped)
-    0.5 kg  2e4, 100 (both capped)          133, 0.67 (both capped)
-    1 kg    4e4, 200 (both capped)          267, 1.33 (both capped)
+    0.2 kg  2e3, 20 (both capped)           13, 0.13 (both capped)
+    0.5 kg  5e3, 50 (both capped)           33, 0.33 (both capped)
+    1 kg    1e4, 100 (both capped)          67, 0.67 (both capped)
     ======  ==============================  ==============================
 
-    Static sag is about m g / k (0.25 mm at the caps) and m a / k under an
-    acceleration a (0.5 mm at 20 m/s^2); measured at 5 ms: 0.8 mm worst
-    drift carrying 0.2 or 1 kg at 1 m/s with 20 m/s^2 ramps (weld: 4 um).
+    Static sag is about m g / k = g h^2 (1 mm at the caps) and a h^2 under an
+    acceleration a (2 mm at 20 m/s^2). Measured carrying 1 kg at 1 m/s with
+    20 m/s^2 ramps (``bench/bench_step.py``): 2.9 mm worst drift at 10 ms, 0.8 mm
+    at 5 ms (weld: 14 and 4 um). For a force-held part that must stay within
+    1 mm, run the plant at 5 ms (``plant_config: {time_step: 0.005}``).
     """
 
     backend: str = "weld"
