@@ -271,7 +271,7 @@ class SpeedReport:
                 (
                     f"{c.case}: wall ms per simulated s (RTF)",
                     f"{1e3 * c.full:.0f} ({1 / c.full:.1f})",
-                    f"<= {1e3 * c.target:.0f} (>= {1 / c.target:.0f})",
+                    f"<= {1e3 * c.target:.0f} (>= {1 / c.target:.1f})",
                     c.full <= c.target,
                 )
             )
