@@ -149,3 +149,39 @@ def test_the_belts_typed_ports_carry_its_power_and_the_servos_desired_state():
     assert belt.power_output_port().Eval(context)[0] == 50.0
     np.testing.assert_allclose(belt.desired_state_output_port().Eval(context), [0.0, -0.1])
     assert belt.beam_input_port().size() == 2
+
+
+def test_break_beam_range_is_the_first_point_of_the_segment_inside_a_part():
+    """The beam's slab test against a brute force: points every 0.5 mm along the
+    segment [min_range, max_range], the first one inside any part's box (parts put
+    at random poses around the beam, seeded)."""
+    from pydrake.math import RigidTransform, RollPitchYaw
+
+    rt = FactoryRuntime(belt_world(pool=3))
+    names = [rt.spawn_part(xyz=[1.2 + 0.3 * k, -1.0, 0.5]) for k in range(3)]
+    beam, plant = rt.station.break_beam, rt.station.plant
+    context = beam.GetMyContextFromRoot(rt.context)
+    plant_context = plant.GetMyMutableContextFromRoot(rt.context)
+    lo, hi = 0.1, 0.6  # the beam's default range
+    ts = np.arange(lo, hi + 1e-9, 5e-4)
+    rng = np.random.default_rng(7)
+    hits = 0
+    for _ in range(150):
+        poses = {}
+        for n in names:
+            p = beam.p_WE + beam.u_W * rng.uniform(0.0, 0.7) + rng.uniform(-0.15, 0.15, 3)
+            poses[n] = RigidTransform(RollPitchYaw(rng.uniform(-np.pi, np.pi, 3)), p)
+            plant.SetFreeBodyPose(plant_context, plant.GetBodyByName(n, rt.station.parts[n]), poses[n])
+        points = beam.p_WE + ts[:, None] * beam.u_W
+        inside = np.zeros(len(ts), bool)
+        for X_WP in poses.values():
+            p_P = (points - X_WP.translation()) @ X_WP.rotation().matrix()  # rows: points in P
+            inside |= np.all(np.abs(p_P) <= 0.1, axis=1)  # 0.2 m cubes, centred frames
+        detected, distance = beam.read(context)
+        assert bool(detected) == inside.any()
+        if inside.any():
+            hits += 1
+            assert distance == pytest.approx(ts[np.argmax(inside)], abs=6e-4)
+        else:
+            assert distance == np.inf
+    assert 20 < hits < 140  # both outcomes were tried

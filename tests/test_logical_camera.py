@@ -629,3 +629,27 @@ def test_image_lives_in_the_state_it_declared() -> None:
     assert context.get_abstract_state(0).get_value() == "untouched"
     image = camera.get_output_port().Eval(context)
     assert image.time == pytest.approx(0.1) and [m.name for m in image.models] == ["object_1"]
+
+
+def test_image_shows_the_world_at_its_sample_time_whenever_it_is_read() -> None:
+    """The camera stores the body poses of each sample and computes the image only when
+    it is read (issue 20): read after the part moved, the image still shows where the
+    part was at the sample; the next sample shows the move."""
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    rt = FactoryRuntime("lecture6_assignment1")  # a part on the belt under camera 1
+    rt.advance_to(0.25)  # samples at 0, 0.1 and 0.2 (none read yet)
+    (name,) = rt.parts_in_world()
+    X_WP = rt.part_pose(name)
+    plant = rt.station.plant
+    moved = RigidTransform(X_WP.rotation(), X_WP.translation() + [0.1, 0.0, 0.0])
+    plant.SetFreeBodyPose(plant.GetMyMutableContextFromRoot(rt.context), plant.GetBodyByName(name), moved)
+    image = rt.camera_image("logical_camera_1")
+    assert image.time == pytest.approx(0.2)
+    X_WM = image.X_WC @ next(m.X_CM for m in image.models if m.name == name)
+    np.testing.assert_allclose(X_WM.translation(), X_WP.translation(), atol=1e-4)  # not 0.1 m on
+    rt.advance_to(0.35)
+    later = rt.camera_image("logical_camera_1")
+    X_WM = later.X_WC @ next(m.X_CM for m in later.models if m.name == name)
+    assert later.time == pytest.approx(0.3)
+    assert X_WM.translation()[0] == pytest.approx(moved.translation()[0], abs=0.01)

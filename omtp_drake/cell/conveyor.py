@@ -221,6 +221,16 @@ class BreakBeam(LeafSystem):
         """[detected, range], as last sampled."""
         return self._state_port
 
+    @property
+    def p_WE(self) -> np.ndarray:
+        """Where the beam starts (its frame E's origin) in the world."""
+        return self._p_WE.copy()
+
+    @property
+    def u_W(self) -> np.ndarray:
+        """The beam's direction (E's +x axis) in the world; ranges are measured along it."""
+        return self._u_W.copy()
+
     def read(self, context: Context) -> np.ndarray:
         """[detected, range] at the state in ``context``."""
         x = self._plant_state.Eval(context)
@@ -229,35 +239,39 @@ class BreakBeam(LeafSystem):
         # Distance of each body origin to the segment: only those within reach are tested.
         t = np.clip((p_WB - self._p_WE) @ self._u_W, lo, hi)
         gap = np.linalg.norm(p_WB - (self._p_WE + t[:, None] * self._u_W), axis=1)
-        nearest = np.inf
-        for k in np.flatnonzero(gap <= self._reach):
-            R_WB = _rotation(x[self._quaternion_index[k]])
-            # Slab test of the beam segment against the body's box, in the box frame.
-            origin = R_WB.T @ (self._p_WE - p_WB[k]) - self._centres[k]
-            direction = R_WB.T @ self._u_W
-            half = self._halves[k]
-            parallel = np.abs(direction) < 1e-12
-            if np.any(parallel & (np.abs(origin) > half)):
-                continue  # parallel to a slab and outside it
-            d = np.where(parallel, 1.0, direction)
-            t1, t2 = (-half - origin) / d, (half - origin) / d
-            t_near = np.max(np.where(parallel, -np.inf, np.minimum(t1, t2)))
-            t_far = np.min(np.where(parallel, np.inf, np.maximum(t1, t2)))
-            if t_near <= t_far and t_far >= lo and t_near <= hi:
-                nearest = min(nearest, max(t_near, lo))
-        return np.array([float(np.isfinite(nearest)), nearest])
+        near = np.flatnonzero(gap <= self._reach)
+        if not len(near):
+            return np.array([0.0, np.inf])
+        R_WB = _rotations(x[self._quaternion_index[near]])  # (n, 3, 3)
+        # Slab test of the beam segment against each body's box, in the box's frame.
+        R_BW = R_WB.transpose(0, 2, 1)
+        origin = (R_BW @ (self._p_WE - p_WB[near])[:, :, None])[:, :, 0] - self._centres[near]
+        direction = R_BW @ self._u_W  # (n, 3)
+        half = self._halves[near]
+        parallel = np.abs(direction) < 1e-12
+        outside = np.any(parallel & (np.abs(origin) > half), axis=1)  # parallel to a slab, outside it
+        d = np.where(parallel, 1.0, direction)
+        t1, t2 = (-half - origin) / d, (half - origin) / d
+        t_near = np.max(np.where(parallel, -np.inf, np.minimum(t1, t2)), axis=1)
+        t_far = np.min(np.where(parallel, np.inf, np.maximum(t1, t2)), axis=1)
+        hit = ~outside & (t_near <= t_far) & (t_far >= lo) & (t_near <= hi)
+        if not hit.any():
+            return np.array([0.0, np.inf])
+        return np.array([1.0, float(np.max([np.min(t_near[hit]), lo]))])
 
     def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
         discrete_state.set_value(self._state, self.read(context))
 
 
-def _rotation(q: np.ndarray) -> np.ndarray:
-    """The rotation matrix of the quaternion ``q`` = (w, x, y, z), normalised first."""
-    w, x, y, z = q / np.linalg.norm(q)
-    return np.array(
+def _rotations(q: np.ndarray) -> np.ndarray:
+    """(n, 3, 3) rotation matrices of the quaternions ``q`` (n, 4) = (w, x, y, z),
+    normalised first."""
+    w, x, y, z = (q / np.linalg.norm(q, axis=1, keepdims=True)).T
+    return np.stack(
         [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
+        ],
+        axis=1,
     )

@@ -199,6 +199,19 @@ class LogicalCameraImage:
 
 
 @dataclass(frozen=True)
+class CameraSample:
+    """A logical camera's state: when it last sampled and where every body was then
+    (``X_WB`` by body index; None before the first sample)."""
+
+    time: float = math.nan
+    X_WB: Optional[tuple[RigidTransform, ...]] = None
+
+    def __deepcopy__(self, memo: dict[int, Any]) -> "CameraSample":
+        # Drake clones abstract state values on every update; a sample is immutable.
+        return self
+
+
+@dataclass(frozen=True)
 class _Candidate:
     """A model the camera may report, as it reports it."""
 
@@ -229,6 +242,12 @@ class LogicalCamera(LeafSystem):
       10 Hz the image's time is 0.2. Before the context is initialized the
       image is empty with time NaN. A forced event (``ExecuteForcedEvents``)
       captures an image at the context's time on demand.
+
+    State: the last sample, i.e. its time and the body poses then
+    (:class:`CameraSample`; a sample only copies the poses). The image is
+    computed from the sample when the ``image`` port is read, and cached until
+    the next sample: a camera nobody reads costs no frustum, occlusion or noise
+    work (issue 20), and one read several times per sample computes it once.
 
     Frames: the camera frame C is the plant frame ``frame``; it looks along +Cx,
     +Cz up, the width along Cy (Gazebo's logical camera; see the module
@@ -309,17 +328,21 @@ class LogicalCamera(LeafSystem):
             "body_poses", plant.get_body_poses_output_port().Allocate()
         )
         period = 1.0 / config.update_rate_hz
-        self._image = self.DeclareAbstractState(
-            AbstractValue.Make(
-                LogicalCameraImage(time=math.nan, camera_name=config.name, X_WC=RigidTransform(), models=())
-            )
-        )
+        self._sample = self.DeclareAbstractState(AbstractValue.Make(CameraSample()))
         # Fault injection: no new images before this time (see black_out()).
         self._blackout = self.DeclareDiscreteState(np.array([-math.inf]))
         self.DeclareInitializationUnrestrictedUpdateEvent(self._update)
         self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
         self.DeclareForcedUnrestrictedUpdateEvent(self._update)
-        self._image_port = self.DeclareStateOutputPort("image", self._image)
+        self._no_image = LogicalCameraImage(
+            time=math.nan, camera_name=config.name, X_WC=RigidTransform(), models=()
+        )
+        self._image_port = self.DeclareAbstractOutputPort(
+            "image",
+            lambda: AbstractValue.Make(self._no_image),
+            self._calc_image,
+            prerequisites_of_calc={self.abstract_state_ticket(self._sample)},
+        )
 
     @staticmethod
     def AddToDiagram(
@@ -403,19 +426,23 @@ class LogicalCamera(LeafSystem):
         return copy.deepcopy(self._config)
 
     def _update(self, context: Context, state: State) -> None:
-        if context.get_time() < context.get_discrete_state(self._blackout)[0]:
-            return  # blacked out: the last image is held (it goes stale)
-        state.get_mutable_abstract_state(self._image).set_value(self._capture(context))
+        time = context.get_time()
+        if time < context.get_discrete_state(self._blackout)[0]:
+            return  # blacked out: the last sample is held (its image goes stale)
+        sample = CameraSample(time, tuple(self._body_poses_port.Eval(context)))
+        state.get_mutable_abstract_state(self._sample).set_value(sample)
+
+    def _calc_image(self, context: Context, output: AbstractValue) -> None:
+        sample: CameraSample = context.get_abstract_state(self._sample).get_value()
+        output.set_value(self._no_image if sample.X_WB is None else self._capture(sample.time, sample.X_WB))
 
     def black_out(self, context: Context, until: float) -> None:
         """Fault injection: the camera publishes no new image before ``until``
         (its output keeps the last image, whose time shows it is stale)."""
         context.SetDiscreteState(self._blackout, np.array([float(until)]))
 
-    def _capture(self, context: Context) -> "LogicalCameraImage":
-        """The image at the context's time."""
-        time = context.get_time()
-        X_WB = self._body_poses_port.Eval(context)
+    def _capture(self, time: float, X_WB: Sequence[RigidTransform]) -> "LogicalCameraImage":
+        """The image at ``time``, when the bodies were at ``X_WB`` (by body index)."""
         X_WC = X_WB[self._camera_body] @ self._X_BC
         occlusion = self._visibility.occlusion
         if not self._candidates:
