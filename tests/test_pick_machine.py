@@ -47,7 +47,7 @@ def image(t, *parts):
 
 def seen(t, gripper=FREE, X_WE=X_ABOVE, *parts):
     q = tuple(arms.named_pose("R2Home"))
-    return MachineInput(t=t, X_WE=X_WE, gripper=gripper, q=q, pick_image=image(t, *parts))
+    return MachineInput.seeing(t=t, X_WE=X_WE, gripper=gripper, q=q, pick_image=image(t, *parts))
 
 
 def holding(part):
@@ -59,7 +59,7 @@ def test_no_part_seen_waits_then_records_it(machine, task):
     assert started.mode is Mode.WAIT_PART and started.record is None and not started.vacuum
     waiting = machine.step(seen(task.detect_timeout - 1.0), started.control)
     assert waiting.mode is Mode.WAIT_PART and waiting.record is None
-    stale = MachineInput(task.detect_timeout + 1.0, X_ABOVE, FREE, tuple(arms.named_pose("R2Home")),
+    stale = MachineInput.seeing(task.detect_timeout + 1.0, X_ABOVE, FREE, tuple(arms.named_pose("R2Home")),
                          pick_image=image(0.0))
     assert machine.step(stale, waiting.control).record is None  # no fresh image: no verdict
     late = machine.step(seen(task.detect_timeout + 1.0), waiting.control)
@@ -156,7 +156,7 @@ def test_a_part_dropped_into_the_bin_is_that_drop_record_not_a_new_attempt(machi
             DetectedModel("object_1", "object", RigidTransform(in_bin)),
         )
         bin_view = LogicalCameraImage(t, task.bin_camera, RigidTransform(), models)
-        step = machine.step(MachineInput(t, s.pose_at(t), FREE, tuple(arms.named_pose("R2Home")),
+        step = machine.step(MachineInput.seeing(t, s.pose_at(t), FREE, tuple(arms.named_pose("R2Home")),
                                          pick_image=image(t), bin_image=bin_view), s)
         s = step.control
         records += [step.record] if step.record is not None else []
@@ -172,6 +172,32 @@ def test_a_part_only_a_search_camera_sees_is_found(machine):
     q = tuple(arms.named_pose("R2Home"))
     for t in (0.05, 0.10):
         search = image(t, ("object_3", P_PART))
-        d = machine.step(MachineInput(t, X_ABOVE, FREE, q, pick_image=image(t), search_images=(search,)), s)
+        inputs = MachineInput.seeing(t, X_ABOVE, FREE, q, pick_image=image(t), search_images=(search,))
+        d = machine.step(inputs, s)
         s = d.control
     assert d.mode is Mode.APPROACH and s.part == "object_3"
+
+
+def test_images_are_read_only_when_the_machine_looks(machine):
+    """A moving arm follows its path without looking (no camera image is read, so no
+    camera computes one); waiting for a part, it reads the pick camera's image."""
+    reads = []
+
+    def reading(name):
+        def read():
+            reads.append(name)
+            return () if name == "search" else image(0.30, ("object_1", P_PART))
+        return read
+
+    def inputs(t, X_WE):
+        return MachineInput(t, X_WE, FREE, tuple(arms.named_pose("R2Home")), reading("pick"),
+                            reading("bin"), reading("search"))
+
+    s = machine.step(seen(0.0), ControlState()).control
+    s = machine.step(seen(0.05, FREE, X_ABOVE, ("object_1", P_PART)), s).control
+    approach = machine.step(seen(0.10, FREE, X_ABOVE, ("object_1", P_PART)), s)
+    assert approach.mode is Mode.APPROACH and approach.path.end_time > 0.3
+    moving = machine.step(inputs(0.15, approach.path.pose_at(0.15)), approach.control)
+    assert moving.mode is Mode.APPROACH and reads == []
+    waiting = machine.step(inputs(0.30, X_ABOVE), ControlState(mode=Mode.WAIT_PART, path=hold(0.0, X_ABOVE)))
+    assert waiting.record is None and "pick" in reads

@@ -297,7 +297,7 @@ def tool_down_reach(robot: RobotConfig, z_W: float) -> float:
     face can be at world height ``z_W`` pointing straight down, with the elbow bent
     enough to stay clear of its singularity (-inf: that height is out of reach)."""
     heights, radii = _tool_down_envelope(robot.model, robot.gripper)
-    z_B = z_W - base_pose(robot).translation()[2]
+    z_B = z_W - robot.pedestal_height  # the base's height (base_pose)
     k = int(round((z_B - heights[0]) / 0.02))
     if not 0 <= k < len(heights):
         return -math.inf

@@ -41,7 +41,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
+from functools import cached_property
 from typing import Optional
 
 import numpy as np
@@ -59,9 +60,17 @@ from omtp_drake.scenario import BinConfig, RobotConfig, Scenario, TaskConfig
 NO_IMAGE = LogicalCameraImage(math.nan, "", RigidTransform(), ())
 
 
+def _no_image() -> LogicalCameraImage:
+    return NO_IMAGE
+
+
 @dataclass(frozen=True)
 class MachineInput:
-    """What one update sees (plain values).
+    """What one update sees.
+
+    The camera images are read when the machine first asks for one (most modes
+    never look: a moving arm follows its path), through the ``read_*`` functions,
+    once per update; :meth:`seeing` makes an input of images in hand.
 
     Attributes:
         t: the time (s).
@@ -77,9 +86,35 @@ class MachineInput:
     X_WE: RigidTransform
     gripper: GripperState
     q: tuple[float, ...]
-    pick_image: LogicalCameraImage = NO_IMAGE
-    bin_image: LogicalCameraImage = NO_IMAGE
-    search_images: tuple[LogicalCameraImage, ...] = ()
+    read_pick_image: Callable[[], LogicalCameraImage] = field(default=_no_image, repr=False)
+    read_bin_image: Callable[[], LogicalCameraImage] = field(default=_no_image, repr=False)
+    read_search_images: Callable[[], tuple[LogicalCameraImage, ...]] = field(default=tuple, repr=False)
+
+    @classmethod
+    def seeing(
+        cls,
+        t: float,
+        X_WE: RigidTransform,
+        gripper: GripperState,
+        q: tuple[float, ...],
+        pick_image: LogicalCameraImage = NO_IMAGE,
+        bin_image: LogicalCameraImage = NO_IMAGE,
+        search_images: tuple[LogicalCameraImage, ...] = (),
+    ) -> MachineInput:
+        """An input with these images."""
+        return cls(t, X_WE, gripper, q, lambda: pick_image, lambda: bin_image, lambda: search_images)
+
+    @cached_property
+    def pick_image(self) -> LogicalCameraImage:
+        return self.read_pick_image()
+
+    @cached_property
+    def bin_image(self) -> LogicalCameraImage:
+        return self.read_bin_image()
+
+    @cached_property
+    def search_images(self) -> tuple[LogicalCameraImage, ...]:
+        return self.read_search_images()
 
 
 @dataclass(frozen=True)

@@ -80,8 +80,9 @@ class PickAndPlaceController(LeafSystem):
       - ``suction_command`` (vector [0 or 1]).
       - ``control`` (:class:`ControlState`), ``history`` (:class:`PickHistory`).
 
-    Each periodic update (at ``update_rate_hz``) reads every input port once into a
-    plain :class:`~omtp_drake.control.pick_and_place.machine.MachineInput`, asks the
+    Each periodic update (at ``update_rate_hz``) reads the input ports into a
+    :class:`~omtp_drake.control.pick_and_place.machine.MachineInput` (the cameras'
+    only when the machine asks for an image), asks the
     machine for its decision and writes it into the state. State (abstract): the
     control state and the history. A scratch Context of the arm's model, for forward
     kinematics of the measured joints, is a cache entry (it depends on
@@ -248,7 +249,9 @@ class PickAndPlaceController(LeafSystem):
         output.set_value(X_BE)
 
     def _update(self, context: Context, state: State) -> None:
-        """Reads every input port once, asks the machine, writes its decision."""
+        """Reads the arm's and the gripper's ports, and a camera's only if the machine
+        asks for its image (a camera computes an image when it is read); asks the
+        machine; writes its decision."""
         s = self._control_state(context)
         q = self._robot_state.Eval(context)[: self._plant.num_positions()]
         inputs = MachineInput(
@@ -256,9 +259,9 @@ class PickAndPlaceController(LeafSystem):
             X_WE=self._fk(context),
             gripper=self._gripper.Eval(context),
             q=tuple(float(v) for v in q),
-            pick_image=self._image.Eval(context),
-            bin_image=self._bin_image.Eval(context),
-            search_images=tuple(port.Eval(context) for port in self._search_images),
+            read_pick_image=lambda: self._image.Eval(context),
+            read_bin_image=lambda: self._bin_image.Eval(context),
+            read_search_images=lambda: tuple(port.Eval(context) for port in self._search_images),
         )
         decision = self._machine.step(inputs, s)
         if decision.control is not s:
@@ -279,6 +282,7 @@ class PoseTable:
     def __init__(self) -> None:
         self.path: Optional[Path] = None
         self._k0, self._h = 0, 1.0
+        self._X_end = RigidTransform()
         self._p_BE, self._R_BE = np.zeros((0, 3)), np.zeros((0, 3, 3))
 
     def fill(self, path: Path, t: float, h: float, X_BW: RigidTransform) -> None:
@@ -293,6 +297,9 @@ class PoseTable:
         R_BW = X_BW.rotation().matrix()
         self._p_BE = p_WE @ R_BW.T + X_BW.translation()
         self._R_BE = R_BW @ R_WE
+        # The end pose, asked for at every sample once the path is done (an arm that
+        # waits holds it), is built once.
+        self._X_end = RigidTransform(RotationMatrix(self._R_BE[-1]), self._p_BE[-1])
 
     def pose(self, t: float) -> Optional[RigidTransform]:
         """``X_BE`` at ``t`` if ``t`` is one of the table's sample times (after its
@@ -300,7 +307,9 @@ class PoseTable:
         k = round(t / self._h)
         if k < self._k0 or not len(self._p_BE) or abs(t - k * self._h) > 1e-9:
             return None
-        i = min(k - self._k0, len(self._p_BE) - 1)
+        i = k - self._k0
+        if i >= len(self._p_BE) - 1:
+            return self._X_end
         return RigidTransform(RotationMatrix(self._R_BE[i]), self._p_BE[i])
 
     def __deepcopy__(self, memo: dict) -> PoseTable:
