@@ -41,6 +41,7 @@ import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.systems.framework import Context
 
+from omtp_drake.cell.suction import contact_points
 from omtp_drake.cell.suction_rig import (
     PRESS,
     SIZE,
@@ -195,11 +196,9 @@ def descent(dt: float, beta: float) -> Descent:
 def cup_touches(cell: Cell, part: str) -> bool:
     """Robot 2's cup and ``part`` are in contact (the plant's contact results)."""
     plant = cell.station.plant
-    results = plant.get_contact_results_output_port().Eval(plant.GetMyContextFromRoot(cell.runtime.context))
-    cup = int(plant.GetBodyByName(f"{cell.scenario.robot('robot2').gripper}_cup").index())
-    body = int(plant.GetBodyByName(part).index())
-    pairs = (results.point_pair_contact_info(i) for i in range(results.num_point_pair_contacts()))
-    return any({int(c.bodyA_index()), int(c.bodyB_index())} == {cup, body} for c in pairs)
+    cup = plant.GetBodyByName(f"{cell.scenario.robot('robot2').gripper}_cup").index()
+    plant_context = plant.GetMyContextFromRoot(cell.runtime.context)
+    return contact_points(plant, plant_context, cup, plant.GetBodyByName(part).index()) > 0
 
 
 def main() -> None:

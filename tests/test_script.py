@@ -6,6 +6,7 @@ from pydrake.math import RigidTransform
 
 from omtp_drake import Cell, tool_down
 from omtp_drake.cell import arms
+from omtp_drake.cell.suction import contact_points
 from omtp_drake.errors import CollisionError, ConfigError, FrameError, PlanningError, UnknownNameError
 
 #: Cup face inside bin 1 (rim at 0.475 m), and just outside its wall toward robot 2.
@@ -89,12 +90,8 @@ def test_guarded_descent_stops_at_the_part_with_it_attached(cell):
 
 def _cup_touches(cell, part) -> bool:
     plant = cell.station.plant
-    results = plant.get_contact_results_output_port().Eval(plant.GetMyContextFromRoot(cell.runtime.context))
-    cup = int(plant.GetBodyByName("vacuum_gripper2_cup").index())
-    body = int(plant.GetBodyByName(part).index())
-    return any({int(results.point_pair_contact_info(i).bodyA_index()),
-                int(results.point_pair_contact_info(i).bodyB_index())} == {cup, body}
-               for i in range(results.num_point_pair_contacts()))
+    cup, body = plant.GetBodyByName("vacuum_gripper2_cup").index(), plant.GetBodyByName(part).index()
+    return contact_points(plant, plant.GetMyContextFromRoot(cell.runtime.context), cup, body) > 0
 
 
 def test_joint_move_goes_around_the_bin_wall(cell):

@@ -100,6 +100,17 @@ class GripperMemory:
 _IDLE = GripperState(enabled=False, attached=False, part="", X_CP=None, since=math.nan)
 
 
+def contact_points(plant: MultibodyPlant, plant_context: Context, body_a: int, body_b: int) -> int:
+    """How many point contacts the plant's contact results have between the bodies with
+    indices ``body_a`` and ``body_b`` (in either order) in ``plant_context``."""
+    results = plant.get_contact_results_output_port().Eval(plant_context)
+    pair = {int(body_a), int(body_b)}
+    return sum(
+        {int(info.bodyA_index()), int(info.bodyB_index())} == pair
+        for info in (results.point_pair_contact_info(i) for i in range(results.num_point_pair_contacts()))
+    )
+
+
 class SuctionGripper(LeafSystem):
     """A vacuum gripper on a cup body: the course's attach rule, checked at a fixed rate.
 

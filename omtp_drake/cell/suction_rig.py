@@ -44,7 +44,7 @@ from pydrake.systems.primitives import TrajectorySource
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.cell.suction import GripperState, SuctionGripper
+from omtp_drake.cell.suction import GripperState, SuctionGripper, contact_points
 from omtp_drake.cell.suction_holds import (
     WeldSuctionGripper,
     add_suction_gripper,
@@ -135,15 +135,9 @@ class Rig:
         return None if held is None else int(held)
 
     def cup_part_contacts(self) -> int:
-        results = self.plant.get_contact_results_output_port().Eval(self.plant_context)
-        cup, part = int(self.gripper.cup_body_index), int(self.parts[0].index())
-        return sum(
-            {
-                int(results.point_pair_contact_info(i).bodyA_index()),
-                int(results.point_pair_contact_info(i).bodyB_index()),
-            }
-            == {cup, part}
-            for i in range(results.num_point_pair_contacts())
+        """Point contacts between the cup and the first part now."""
+        return contact_points(
+            self.plant, self.plant_context, self.gripper.cup_body_index, self.parts[0].index()
         )
 
 
