@@ -70,6 +70,7 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import X_W_CONVEYOR, BeltGeometry, BreakBeam, ConveyorBelt
 from omtp_drake.cell.logical_camera import LogicalCamera
 from omtp_drake.cell.parts import parking_pose
+from omtp_drake.cell.sleep import RestClock
 from omtp_drake.cell.suction import SuctionGripper
 from omtp_drake.cell.suction_holds import (
     SuctionConstraints,
@@ -78,7 +79,7 @@ from omtp_drake.cell.suction_holds import (
     connect_spatial_forces,
     declare_suction_constraints,
 )
-from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, Scenario, require_scenario
 
 _log = logging.getLogger(__name__)
@@ -127,6 +128,29 @@ class CellModels:
     pool: list[str]
 
 
+@dataclass(frozen=True)
+class _CollisionGeometries:
+    """The station's collision geometries that sleeping parts are filtered against."""
+
+    #: part -> its collision geometries.
+    parts: dict[str, list]
+    #: Geometries of bodies welded to the world (they never move).
+    anchored: list
+
+
+@dataclass(frozen=True)
+class _PartSlots:
+    """Each part's free joint, where its position is in q, and its parking slot
+    (parking sets the position exactly; nothing else puts a part there)."""
+
+    names: list[str]
+    joints: list
+    #: (n, 3) indices of each part's position in q.
+    index: np.ndarray
+    #: (n, 3) each part's parking position.
+    p_slot: np.ndarray
+
+
 @dataclass
 class Station:
     """A built factory diagram and handles into it."""
@@ -148,6 +172,8 @@ class Station:
     #: robot -> its vacuum gripper system (absent without parts to grip).
     grippers: dict[str, SuctionGripper] = field(default_factory=dict)
     bin_anchors: dict[str, FixedOffsetFrame] = field(default_factory=dict)
+    #: Since when each part has been still (None when the scenario's parts never sleep).
+    rest_clock: Optional[RestClock] = None
 
     def arm(self, name: str) -> ArmHandles:
         """Handles of the arm ``name`` (``robot1``...)."""
@@ -279,13 +305,112 @@ class Station:
         self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
 
     def is_parked(self, plant_context: Context, name: str) -> bool:
-        return self._free_joint(name).is_locked(plant_context)
+        """Part ``name`` is out of the world: its joint locked at its parking slot."""
+        return self._free_joint(name).is_locked(plant_context) and self._at_parking_slot(plant_context, name)
+
+    def is_asleep(self, plant_context: Context, name: str) -> bool:
+        """Part ``name`` sleeps: in the world, its joint locked (see :mod:`omtp_drake.cell.sleep`)."""
+        return self._free_joint(name).is_locked(plant_context) and not self._at_parking_slot(
+            plant_context, name
+        )
+
+    def parts_locked(self, plant_context: Context) -> tuple[list[str], list[str]]:
+        """(parked, asleep): the parts whose joints are locked, split by where they are,
+        in the order of ``parts`` (one read of the plant's positions)."""
+        slots = self._part_slots
+        p_WP = self.plant.GetPositions(plant_context)[slots.index]
+        at_slot = np.max(np.abs(p_WP - slots.p_slot), axis=1) < 1e-9
+        parked: list[str] = []
+        asleep: list[str] = []
+        for name, joint, parked_there in zip(slots.names, slots.joints, at_slot):
+            if joint.is_locked(plant_context):
+                (parked if parked_there else asleep).append(name)
+        return parked, asleep
+
+    def sleep(self, root_context: Context, name: str) -> None:
+        """Part ``name`` (in the world) falls asleep where it is: at rest, its joint
+        locked, and its contacts with what never moves (bodies welded to the world,
+        other sleeping parts) filtered out of SceneGraph's queries: the contact
+        solver and the geometry queries both drop them. Its contacts with anything
+        that may move stay, so what touches it is seen (and wakes it)."""
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        if self.is_parked(plant_context, name):
+            raise SimulationError(f"part {name!r} is parked (out of the world): it cannot sleep")
+        if self.is_asleep(plant_context, name):
+            return
+        body = self.plant.GetBodyByName(name, self.parts[name])
+        self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
+        static = list(self._geometries.anchored)
+        for other in self.parts_locked(plant_context)[1]:
+            static += self._geometries.parts[other]
+        self._free_joint(name).Lock(plant_context)
+        self._filters(root_context).Apply(
+            CollisionFilterDeclaration().ExcludeBetween(
+                GeometrySet(self._geometries.parts[name]), GeometrySet(static)
+            )
+        )
+
+    def wake(self, root_context: Context, name: str) -> None:
+        """Part ``name`` wakes (joint unlocked, every contact back) if it sleeps; a
+        parked or awake part is left as it is."""
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        if not self.is_asleep(plant_context, name):
+            return
+        self._free_joint(name).Unlock(plant_context)
+        others = list(self._geometries.anchored)
+        for other in self.parts:
+            if other != name:
+                others += self._geometries.parts[other]
+        self._filters(root_context).Apply(
+            CollisionFilterDeclaration().AllowBetween(
+                GeometrySet(self._geometries.parts[name]), GeometrySet(others)
+            )
+        )
+
+    def _filters(self, root_context: Context):
+        return self.scene_graph.collision_filter_manager(
+            self.scene_graph.GetMyMutableContextFromRoot(root_context)
+        )
+
+    @functools.cached_property
+    def _geometries(self) -> _CollisionGeometries:
+        inspector = self.scene_graph.model_inspector()
+        part_of = {self.plant.GetBodyByName(n, i).index(): n for n, i in self.parts.items()}
+        parts: dict[str, list] = {n: [] for n in self.parts}
+        anchored = []
+        for geometry in inspector.GetAllGeometryIds(Role.kProximity):
+            body = self.plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
+            if body.index() in part_of:
+                parts[part_of[body.index()]].append(geometry)
+            elif self.plant.IsAnchored(body):
+                anchored.append(geometry)
+        return _CollisionGeometries(parts, anchored)
+
+    def _at_parking_slot(self, plant_context: Context, name: str) -> bool:
+        slots = self._part_slots
+        k = slots.names.index(name)
+        p_WP = self.plant.GetPositions(plant_context)[slots.index[k]]
+        return float(np.max(np.abs(p_WP - slots.p_slot[k]))) < 1e-9
+
+    @functools.cached_property
+    def _part_slots(self) -> _PartSlots:
+        names, joints, index, p_slot = [], [], [], []
+        for k, (name, instance) in enumerate(self.parts.items()):
+            (joint_index,) = self.plant.GetJointIndices(instance)
+            body = self.plant.GetBodyByName(name, instance)
+            names.append(name)
+            joints.append(self.plant.get_joint(joint_index))
+            # q of a free body: its quaternion (4), then its position (3).
+            index.append(body.floating_positions_start() + 4 + np.arange(3))
+            p_slot.append(parking_pose(k).translation())
+        return _PartSlots(
+            names, joints, np.array(index, dtype=np.intp).reshape(-1, 3), np.array(p_slot).reshape(-1, 3)
+        )
 
     def _free_joint(self, name: str):
         if name not in self.parts:
             raise UnknownNameError("part", name, self.parts)
-        (index,) = self.plant.GetJointIndices(self.parts[name])
-        return self.plant.get_joint(index)
+        return self._part_slots.joints[self._part_slots.names.index(name)]
 
     # ------------------------------------------------------------------ bins
 
@@ -475,6 +600,10 @@ def build_station(
         if cam.rgbd:
             _add_rgbd_view(builder, plant, scene_graph, cameras[cam.name])
 
+    rest_clock = None
+    if scenario.sleep.enabled and models.parts:
+        rest_clock = RestClock.AddToDiagram(builder, plant, models.parts, scenario.sleep)
+
     builder.ExportOutput(plant.get_body_poses_output_port(), "body_poses")
     builder.ExportOutput(plant.get_contact_results_output_port(), "contact_results")
     builder.ExportOutput(plant.get_state_output_port(), "plant_state")
@@ -502,6 +631,7 @@ def build_station(
         break_beam=beam,
         grippers=grippers,
         bin_anchors=models.bin_anchors,
+        rest_clock=rest_clock,
     )
 
 

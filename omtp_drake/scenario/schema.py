@@ -29,6 +29,7 @@ from omtp_drake.scenario.configs import (
     ConveyorConfig,
     PartConfig,
     RobotConfig,
+    SleepConfig,
     SpawnerConfig,
     TaskConfig,
     check_in_cell,
@@ -100,6 +101,8 @@ class Scenario:
     deletion_wall: bool = False
     #: What goes wrong in a run, and when (see :mod:`omtp_drake.scenario.faults`).
     faults: list[FaultConfig] = field(default_factory=list)
+    #: Parts at rest fall asleep (leave the contact solver) until touched.
+    sleep: SleepConfig = field(default_factory=SleepConfig)
 
     def part_size(self, name: str) -> float:
         """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
@@ -159,6 +162,7 @@ class Scenario:
             part.validate()
             names.append(part.name)
         self.suction.validate()
+        self.sleep.validate()
         if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
             raise ConfigError(
                 f"pool parts need size > 0 and mass > 0, got {self.pool_part_size}, {self.pool_part_mass}"

@@ -38,6 +38,7 @@ from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
 from omtp_drake.sim.ledger import held_parts, locate
 from omtp_drake.sim.pool import PartPool
+from omtp_drake.sim.sleep import PartSleep
 
 if TYPE_CHECKING:
     from omtp_drake.cell.station import Station
@@ -235,8 +236,12 @@ def spawn(
 
 
 def world_edits(station: Station, pool: PartPool) -> list[WorldEdit]:
-    """The edits the station needs: weld sync, belt wrap, deletion wall, spawner."""
+    """The edits the station needs: sleep, weld sync, belt wrap, deletion wall, spawner.
+
+    Sleep comes first: a part a cup touches wakes before its weld is made."""
     edits: list[WorldEdit] = []
+    if station.rest_clock is not None:
+        edits.append(PartSleep(station))
     if any(isinstance(g, WeldSuctionGripper) for g in station.grippers.values()):
         edits.append(WeldSync(station))
     if station.conveyor is not None:

@@ -1,9 +1,10 @@
 """The part pool while the cell runs: which parts are parked, spawning and disposal.
 
-Whether a part is parked is the lock of its joint in the plant's Context, so it
-is never restated elsewhere. :class:`PartPool` makes the world edits (lock,
-move) between advances and logs what it did; the driver owns it. Poses of
-parked and spawned parts are in :mod:`omtp_drake.cell.parts`.
+Whether a part is parked is in the plant's Context (its joint locked at its
+parking slot, :meth:`Station.is_parked`), so it is never restated elsewhere.
+:class:`PartPool` makes the world edits (lock, move) between advances and logs
+what it did; the driver owns it. Poses of parked and spawned parts are in
+:mod:`omtp_drake.cell.parts`.
 """
 
 import logging
@@ -34,18 +35,13 @@ class PartPool:
     Every part of the station (placed and pool) has a parking slot; the pool's
     parts start parked (:meth:`Station.initialize_context`). The log of spawns and
     disposals (:attr:`events`) is a record of what happened, for the ledger and
-    reports; the state of each part is its joint's lock in the Context.
+    reports; whether each part is parked is in the Context (:meth:`Station.is_parked`).
     """
 
     def __init__(self, station: "Station"):
         self._station = station
-        plant = station.plant
         self._names = list(station.parts)
         self._pool = list(station.pool)
-        self._joints = {}
-        for name in self._names:
-            (index,) = plant.GetJointIndices(station.parts[name])
-            self._joints[name] = plant.get_joint(index)
         self.events: list[PartEvent] = []
         #: Parts given up on (lost where nobody can pick them): they stay where they
         #: are, in the ledger, but no longer hold the spawner back.
@@ -67,13 +63,15 @@ class PartPool:
     def in_world(self, root_context: Context) -> list[str]:
         """The parts in the world (placed and spawned, not disposed of), in name order."""
         plant_context = self._plant_context(root_context)
-        return [n for n in self._names if not self._joints[n].is_locked(plant_context)]
+        parked = set(self._station.parts_locked(plant_context)[0])
+        return [n for n in self._names if n not in parked]
 
     def queue(self, root_context: Context) -> list[str]:
         """The parked pool parts in the order they will be spawned: never spawned
         ones in name order, then the disposed ones in the order they were disposed."""
         plant_context = self._plant_context(root_context)
-        parked = [n for n in self._pool if self._joints[n].is_locked(plant_context)]
+        locked = set(self._station.parts_locked(plant_context)[0])
+        parked = [n for n in self._pool if n in locked]
         disposed_at = {e.part: e.time for e in self.events if e.event == "dispose"}
         return sorted(parked, key=lambda n: (disposed_at.get(n, -math.inf), self._pool.index(n)))
 
@@ -106,6 +104,7 @@ class PartPool:
     def dispose(self, root_context: Context, name: str) -> None:
         """Takes part ``name`` out of the world (parks it)."""
         self.check_in_world(root_context, name)
+        self._station.wake(root_context, name)  # its collision filters back before it is parked
         self._station.park(self._plant_context(root_context), name)
         self.written_off.discard(name)
         self.events.append(PartEvent(root_context.get_time(), "dispose", name))

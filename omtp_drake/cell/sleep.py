@@ -1,0 +1,116 @@
+"""How long each part has been still: what lets a resting part fall asleep.
+
+A part at rest costs the contact solver as much as a moving one: ten parts
+resting in a bin cost ``fill_bin`` more than the arm carrying the eleventh. A
+sleeping part has its floating joint locked, so the solver drops its degrees of
+freedom (physics engines do the same: Bullet's deactivation). Locking is a
+world edit, made between advances by
+:class:`omtp_drake.sim.sleep.PartSleep`; this module holds what it decides
+with: :class:`RestClock`, the system whose state says since when each part has
+been still, and the station's record of which parts sleep (a locked joint away
+from the part's parking slot, :meth:`omtp_drake.cell.station.Station.is_asleep`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.systems.framework import (
+    Context,
+    DiagramBuilder,
+    DiscreteValues,
+    InputPort,
+    LeafSystem,
+    OutputPort,
+)
+
+from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.scenario import SleepConfig
+
+
+class RestClock(LeafSystem):
+    """For each part, the time since which it has been still.
+
+    .. pydrake_system::
+
+        name: RestClock
+        input_ports:
+        - plant_state
+        output_ports:
+        - still_since
+
+    ``still_since[k]`` (s) is the first sample time of the unbroken run of
+    samples, up to the latest, at which part ``k`` (in the order of ``parts``)
+    moved slower than ``config.linear_speed`` and ``config.angular_speed``; inf
+    while it moves. Sampled every ``1 / config.check_rate_hz`` s. A locked part
+    (parked or asleep) has zero velocity, so it counts as still.
+    """
+
+    def __init__(self, plant: MultibodyPlant, parts: dict[str, ModelInstanceIndex], config: SleepConfig):
+        super().__init__()
+        config.validate()
+        self._names = list(parts)
+        starts = []
+        for name in self._names:
+            body = plant.GetBodyByName(name, parts[name])
+            if not body.is_floating_base_body():
+                raise ConfigError(f"rest clock: part {name!r} must be a free body")
+            starts.append(plant.num_positions() + body.floating_velocities_start_in_v())
+        # A free body's velocities are [w; v] (angular, then translational).
+        first = np.array(starts, dtype=np.intp).reshape(-1, 1)
+        self._angular = first + np.arange(3)
+        self._linear = first + 3 + np.arange(3)
+        self._limits = (config.linear_speed, config.angular_speed)
+        self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
+        self._state = self.DeclareDiscreteState(np.full(len(self._names), math.inf))
+        self.DeclarePeriodicDiscreteUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._update)
+        self._still_since = self.DeclareStateOutputPort("still_since", self._state)
+
+    @staticmethod
+    def AddToDiagram(
+        builder: DiagramBuilder,
+        plant: MultibodyPlant,
+        parts: dict[str, ModelInstanceIndex],
+        config: SleepConfig,
+    ) -> RestClock:
+        """Adds a RestClock of ``parts`` to ``builder`` and connects it to ``plant``."""
+        clock = builder.AddSystem(RestClock(plant, parts, config))
+        clock.set_name("rest_clock")
+        builder.Connect(plant.get_state_output_port(), clock.plant_state_input_port())
+        return clock
+
+    def plant_state_input_port(self) -> InputPort:
+        return self._plant_state
+
+    def still_since_output_port(self) -> OutputPort:
+        return self._still_since
+
+    @property
+    def names(self) -> list[str]:
+        """The parts, in the order of ``still_since``."""
+        return list(self._names)
+
+    def still_since(self, context: Context) -> dict[str, float]:
+        """part -> the time since which it has been still (inf: moving)."""
+        return dict(zip(self._names, context.get_discrete_state(self._state).value()))
+
+    def restart(self, context: Context, name: str, t: float) -> None:
+        """Part ``name`` counts as still only from ``t`` on (a part just woken)."""
+        if name not in self._names:
+            raise UnknownNameError("part", name, self._names)
+        state = context.get_mutable_discrete_state(self._state)
+        state.SetAtIndex(self._names.index(name), t)
+
+    def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
+        x = self._plant_state.Eval(context)
+        v_max, w_max = self._limits
+        still = (np.linalg.norm(x[self._linear], axis=1) < v_max) & (
+            np.linalg.norm(x[self._angular], axis=1) < w_max
+        )
+        since = context.get_discrete_state(self._state).value()
+        discrete_state.set_value(
+            self._state, np.where(still, np.minimum(since, context.get_time()), math.inf)
+        )

@@ -1,0 +1,96 @@
+"""Parts at rest fall asleep and wake when touched: a world edit of the driver.
+
+A sleeping part has its joint locked (the contact solver drops it) where it lies;
+see :mod:`omtp_drake.cell.sleep` and the scenario's :class:`SleepConfig`. At each
+check (``sleep.check_rate_hz``), :class:`PartSleep`:
+
+1. wakes every sleeping part that something that may move touches (an arm, a
+   cup, the belt, a held part, a part that moved at the latest sample of the
+   :class:`~omtp_drake.cell.sleep.RestClock`) or that a gripper holds;
+2. puts to sleep every awake part that has been still for ``sleep.rest_time``,
+   that no gripper holds, and that lies on something (the floor, a bin, a
+   still part) and touches nothing that may move.
+
+Touching is geometric (SceneGraph's penetration query between collision
+geometries), as for the deletion wall. Between checks a sleeping part is as
+fixed as the floor: a part dropped onto it rests on it until the next check
+wakes it (at most one check period, 50 ms by default).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from pydrake.geometry import Role
+from pydrake.systems.framework import Context
+
+from omtp_drake.errors import ConfigError
+from omtp_drake.sim.ledger import held_parts
+
+if TYPE_CHECKING:
+    from omtp_drake.cell.station import Station
+
+#: Times closer than this (s) are the same time.
+_EPS = 1e-9
+
+
+class PartSleep:
+    """The world edit that puts resting parts to sleep and wakes them (module doc)."""
+
+    def __init__(self, station: Station):
+        if station.rest_clock is None:
+            raise ConfigError(
+                "parts sleep only in a station built with sleep.enabled: true (it has no rest clock)"
+            )
+        self._station = station
+        self._clock = station.rest_clock
+        config = station.scenario.sleep
+        self.period = 1.0 / config.check_rate_hz
+        self._rest_time = config.rest_time
+        plant, inspector = station.plant, station.scene_graph.model_inspector()
+        part_bodies = {plant.GetBodyByName(n, station.parts[n]).index(): n for n in station.parts}
+        #: collision geometry -> its part's name, or "" (a body welded to the world),
+        #: or None (any other body: arms, cups, the belt, all of which may move).
+        self._owner: dict = {}
+        for geometry in inspector.GetAllGeometryIds(Role.kProximity):
+            body = plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
+            if body.index() in part_bodies:
+                self._owner[geometry] = part_bodies[body.index()]
+            else:
+                self._owner[geometry] = "" if plant.IsAnchored(body) else None
+
+    def __call__(self, root_context: Context) -> None:
+        station, plant = self._station, self._station.plant
+        plant_context = plant.GetMyMutableContextFromRoot(root_context)
+        t = root_context.get_time()
+        parked, sleeping = station.parts_locked(plant_context)
+        asleep = set(sleeping)
+        awake = [n for n in station.parts if n not in asleep and n not in parked]
+        clock_context = self._clock.GetMyMutableContextFromRoot(root_context)
+        since = self._clock.still_since(clock_context)
+        resting = {n for n in awake if since[n] <= t - self._rest_time + _EPS}
+        if not asleep and not resting:
+            return  # nothing may sleep or wake: no query
+        held = set(held_parts(station, root_context).values())
+        resting -= held
+        # What moves: arms, cups, the belt, held parts, and awake parts that moved
+        # at the clock's latest sample. Whatever is welded to the world does not.
+        moving = held | {n for n in awake if since[n] == math.inf}
+        touches: dict[str, set] = {}  # part -> owners of what it touches
+        query = plant.get_geometry_query_input_port().Eval(plant_context)
+        for pair in query.ComputePointPairPenetration():
+            a, b = self._owner.get(pair.id_A), self._owner.get(pair.id_B)
+            if a:
+                touches.setdefault(a, set()).add(b)
+            if b:
+                touches.setdefault(b, set()).add(a)
+        for name in sorted(asleep):
+            contacts = touches.get(name, set())
+            if name in held or None in contacts or contacts & moving:
+                station.wake(root_context, name)
+                self._clock.restart(clock_context, name, t)
+        for name in sorted(resting):
+            contacts = touches.get(name, set())
+            if contacts and None not in contacts and not contacts & moving:
+                station.sleep(root_context, name)

@@ -1,0 +1,150 @@
+"""Parts at rest fall asleep (their joints locked, their contacts with what never
+moves filtered out) and wake when something that moves touches them
+(omtp_drake.cell.sleep, omtp_drake.sim.sleep)."""
+
+from dataclasses import replace
+
+import pytest
+from pydrake.geometry import Role
+
+from omtp_drake.errors import ConfigError
+from omtp_drake.scenario import load_scenario
+from omtp_drake.sim.driver import world_edits
+from omtp_drake.sim.runtime import FactoryRuntime
+from omtp_drake.sim.sleep import PartSleep
+from omtp_drake.tasks.run import TaskRun, prepare
+
+SIZE = 0.1  # fill_bin's parts
+
+
+def _runtime(**changes) -> FactoryRuntime:
+    return FactoryRuntime(replace(load_scenario("fill_bin"), **changes), auto_spawn=False)
+
+
+def _asleep(rt: FactoryRuntime, name: str) -> bool:
+    return rt.station.is_asleep(rt.station.plant.GetMyContextFromRoot(rt.context), name)
+
+
+def _over_bin(rt: FactoryRuntime, height: float) -> list[float]:
+    p = rt.bin_pose("bin_1").translation()
+    return [p[0], p[1], p[2] + height]
+
+
+def _filtered_against_bin(rt: FactoryRuntime, name: str) -> bool:
+    """Whether SceneGraph (in the run's Context) filters every pair of the part's
+    collision geometry with bin_1's."""
+    station, plant = rt.station, rt.station.plant
+    query = plant.get_geometry_query_input_port().Eval(plant.GetMyContextFromRoot(rt.context))
+    inspector = query.inspector()
+
+    def geometries(body):
+        return inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(body.index()), Role.kProximity)
+
+    part = geometries(plant.GetBodyByName(name, station.parts[name]))
+    bin_ = [
+        g
+        for b in plant.GetBodyIndices(plant.GetModelInstanceByName("bin_1"))
+        for g in geometries(plant.get_body(b))
+    ]
+    assert part and bin_
+    return all(inspector.CollisionFiltered(a, b) for a in part for b in bin_)
+
+
+def test_a_part_at_rest_in_a_bin_falls_asleep_where_it_lies():
+    rt = _runtime()
+    part = rt.spawn_part(xyz=_over_bin(rt, 0.4))
+    rt.advance_to(0.2)
+    assert not _asleep(rt, part)  # falling
+    rt.advance_to(2.0)
+    assert _asleep(rt, part)
+    X_before = rt.part_pose(part)
+    rt.advance_to(4.0)
+    assert rt.part_pose(part).IsExactlyEqualTo(X_before)  # locked: not a micrometre of drift
+    assert rt.parts_in_world() == [part]  # asleep is in the world, not parked
+    assert rt.ledger().parts == {part: "in_bin:bin_1"}
+    assert _filtered_against_bin(rt, part)  # its contact with the bin costs nothing
+
+
+def test_a_part_dropped_onto_a_sleeping_part_wakes_it_and_both_fall_asleep_again():
+    scenario = load_scenario("fill_bin")
+    rt = _runtime(spawner=replace(scenario.spawner, one_at_a_time=False))
+    bottom = rt.spawn_part(xyz=[-7.0, 0.0, 0.2], yaw=0.0)
+    rt.advance_to(2.0)
+    assert _asleep(rt, bottom)
+    # Onto the bottom part's edge: it hits it and bounces off onto the floor.
+    top = rt.spawn_part(xyz=list(rt.part_pose(bottom).translation() + [SIZE, 0.0, 0.3]), yaw=0.0)
+    states = []
+    while rt.time < 5.0:
+        rt.advance(0.05)
+        states.append(_asleep(rt, bottom))
+    assert not all(states), "the falling part never woke the one it hit"
+    assert _asleep(rt, bottom) and _asleep(rt, top)
+    for part in (bottom, top):
+        assert rt.part_pose(part).translation()[2] == pytest.approx(SIZE / 2 + 0.001, abs=0.002)
+    assert set(rt.ledger().parts.values()) == {"on_floor"}
+
+
+def test_a_knocked_sleeping_part_wakes_and_moves():
+    rt = _runtime()
+    part = rt.spawn_part(xyz=_over_bin(rt, 0.2))
+    rt.advance_to(2.0)
+    assert _asleep(rt, part)
+    p0 = rt.part_pose(part).translation()
+    rt.knock_part(part, [0.0, 0.0, 2.0])  # straight up
+    assert not _asleep(rt, part) and not _filtered_against_bin(rt, part)
+    rt.advance(0.1)
+    assert rt.part_pose(part).translation()[2] > p0[2] + 0.1
+
+
+def test_a_sleeping_part_disposed_of_and_spawned_again_rests_on_the_floor():
+    """Disposal restores its contacts: spawned again, it lands on the floor, not through it."""
+    rt = _runtime(part_pool=1)
+    part = rt.spawn_part(xyz=_over_bin(rt, 0.2))
+    rt.advance_to(2.0)
+    assert _asleep(rt, part)
+    rt.remove_part(part)
+    assert rt.parts_in_world() == []
+    assert rt.spawn_part(xyz=[-7.0, 0.0, 0.3]) == part
+    rt.advance_to(4.0)
+    assert rt.part_pose(part).translation()[2] == pytest.approx(SIZE / 2, abs=0.004)
+
+
+def test_the_arm_picks_a_part_that_fell_asleep_on_the_floor():
+    """The cup touching a sleeping part wakes it: the pick goes on as if it never slept."""
+    run = TaskRun(prepare("fill_bin", parts=1))
+    rt = run.runtime
+    slept = False
+    while not run.done() and rt.time < 20.0:
+        rt.advance(0.1)
+        slept = slept or any(
+            _asleep(rt, n) and rt.ledger().parts[n] == "on_floor" for n in rt.parts_in_world()
+        )
+    assert slept
+    assert run.done() and [p.success for p in run.history().picks] == [True]
+    assert list(rt.ledger().parts.values()) == ["in_bin:bin_1"]
+
+
+def test_with_sleep_disabled_no_part_is_ever_locked():
+    scenario = load_scenario("fill_bin")
+    rt = _runtime(sleep=replace(scenario.sleep, enabled=False))
+    assert rt.station.rest_clock is None
+    assert not any(isinstance(e, PartSleep) for e in world_edits(rt.station, rt.pool))
+    part = rt.spawn_part(xyz=_over_bin(rt, 0.2))
+    rt.advance_to(3.0)
+    assert not _asleep(rt, part) and not _filtered_against_bin(rt, part)
+
+
+@pytest.mark.parametrize(
+    "field, value, words",
+    [
+        ("rest_time", 0.0, "sleep.rest_time must be a finite number > 0, got 0.0"),
+        ("linear_speed", -1.0, "sleep.linear_speed must be a finite number > 0, got -1.0"),
+        ("angular_speed", float("nan"), "sleep.angular_speed = nan is not a finite number"),
+        ("check_rate_hz", 0.0, r"sleep.check_rate_hz must be in \(0, 1000\] Hz, got 0.0"),
+    ],
+)
+def test_a_bad_sleep_setting_is_refused_with_its_name(field, value, words):
+    scenario = load_scenario("fill_bin")
+    bad = replace(scenario, sleep=replace(scenario.sleep, **{field: value}))
+    with pytest.raises(ConfigError, match=words):
+        bad.validate()
