@@ -130,3 +130,31 @@ def test_services_refuse_a_position_or_velocity_that_is_not_three_finite_numbers
     with pytest.raises(ConfigError, match=re.escape(words)):
         call(rt)
     assert rt.ledger().parts == before  # nothing half done
+
+
+def test_a_parked_part_has_no_contact_geometry_until_it_is_spawned():
+    """Parked parts leave SceneGraph's proximity engine (no pose updates, no queries)."""
+    from pydrake.geometry import Role
+
+    rt = FactoryRuntime("fill_bin", auto_spawn=False)
+    plant = rt.station.plant
+
+    def proximity(name: str) -> list:
+        query = plant.get_geometry_query_input_port().Eval(plant.GetMyContextFromRoot(rt.context))
+        frame = plant.GetBodyFrameIdOrThrow(plant.GetBodyByName(name, rt.station.parts[name]).index())
+        model = rt.station.scene_graph.model_inspector()
+        return [
+            query.inspector().GetProximityProperties(g) is not None
+            for g in model.GetGeometries(frame, Role.kProximity)
+        ]
+
+    assert proximity("object_1") == [False] * 9  # the box and its eight corner spheres
+    part = rt.spawn_part(xyz=[-7.0, 0.0, 0.3])
+    assert part == "object_1" and proximity(part) == [True] * 9
+    rt.advance_to(1.0)
+    assert rt.part_pose(part).translation()[2] == pytest.approx(0.051, abs=0.002)  # on the floor
+    rt.remove_part(part)
+    assert proximity(part) == [False] * 9
+    assert rt.spawn_part(xyz=[-7.0, 0.0, 0.3]) == "object_2"
+    with pytest.raises(SimulationError, match="part 'object_2' is not parked: it is in the world already"):
+        rt.station.unpark(rt.context, "object_2", rt.part_pose("object_2"))

@@ -218,7 +218,7 @@ class Station:
                 q = arms.named_pose(handles.config.initial_pose, handles.config)
             self.set_arm_positions(root_context, name, q)
         for name in self.pool:
-            self.park(plant_context, name)
+            self.park(root_context, name)
         for gripper in self.grippers.values():
             if isinstance(gripper, WeldSuctionGripper):
                 gripper.constraints.deactivate_all(self.plant, plant_context)
@@ -285,20 +285,36 @@ class Station:
 
     # ------------------------------------------------------------------ parts
 
-    def park(self, plant_context: Context, name: str) -> None:
-        """Parks part ``name``: at rest at its parking pose, its joint locked.
+    def park(self, root_context: Context, name: str) -> None:
+        """Parks part ``name``: at rest at its parking pose, its joint locked and its
+        collision geometry out of SceneGraph's proximity engine.
 
-        A locked joint leaves the contact solver's problem: parked parts cost nothing.
+        A locked joint leaves the contact solver's problem, and geometry without a
+        proximity role leaves the geometry queries (whose pose updates otherwise
+        touch every parked part's nine geometries at every step): parked parts
+        cost nothing.
         """
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
         joint = self._free_joint(name)
+        was_parked = self.is_parked(plant_context, name)
         joint.Unlock(plant_context)
         body = self.plant.GetBodyByName(name, self.parts[name])
         self.plant.SetFreeBodyPose(plant_context, body, parking_pose(list(self.parts).index(name)))
         self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
         joint.Lock(plant_context)
+        if not was_parked:
+            set_contact_geometry(
+                self.scene_graph, self.plant, root_context, self._geometries.parts[name], present=False
+            )
 
-    def unpark(self, plant_context: Context, name: str, X_WP: RigidTransform) -> None:
-        """Frees part ``name`` and puts it at rest at ``X_WP``."""
+    def unpark(self, root_context: Context, name: str, X_WP: RigidTransform) -> None:
+        """Frees part ``name`` (parked) and puts it at rest at ``X_WP``, its collision
+        geometry back."""
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        if not self.is_parked(plant_context, name):
+            raise SimulationError(f"part {name!r} is not parked: it is in the world already")
+        geometries = self._geometries.parts[name]
+        set_contact_geometry(self.scene_graph, self.plant, root_context, geometries, present=True)
         self._free_joint(name).Unlock(plant_context)
         body = self.plant.GetBodyByName(name, self.parts[name])
         self.plant.SetFreeBodyPose(plant_context, body, X_WP)
@@ -427,6 +443,30 @@ class Station:
         self.bin_anchors[name].SetPoseInParentFrame(
             self.plant.GetMyMutableContextFromRoot(root_context), X_WB
         )
+
+
+def set_contact_geometry(
+    scene_graph: SceneGraph,
+    plant: MultibodyPlant,
+    root_context: Context,
+    geometries: list,
+    present: bool,
+) -> None:
+    """Puts ``geometries`` (the plant's collision geometries) into SceneGraph's
+    proximity engine in ``root_context`` (``present``), with the properties they were
+    registered with, or takes them out (a parked part: no pose updates, no queries).
+    Geometry already where it is asked to be is left alone."""
+    context = scene_graph.GetMyMutableContextFromRoot(root_context)
+    model = scene_graph.model_inspector()
+    now = scene_graph.get_query_output_port().Eval(context).inspector()
+    for geometry in geometries:
+        if (now.GetProximityProperties(geometry) is not None) == present:
+            continue
+        if present:
+            properties = model.GetProximityProperties(geometry)
+            scene_graph.AssignRole(context, plant.get_source_id(), geometry, properties)
+        else:
+            scene_graph.RemoveRole(context, plant.get_source_id(), geometry, Role.kProximity)
 
 
 def suction_name(robot: RobotConfig) -> str:

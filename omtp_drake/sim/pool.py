@@ -84,7 +84,7 @@ class PartPool:
                 "raise the scenario's part_pool or dispose of parts first"
             )
         name = queue[0]
-        self._station.unpark(self._plant_context(root_context), name, X_WP)
+        self._station.unpark(root_context, name, X_WP)
         self.events.append(PartEvent(root_context.get_time(), "spawn", name))
         _log.info("t=%.2f spawned %s at %s", root_context.get_time(), name, X_WP.translation())
         return name
@@ -105,7 +105,7 @@ class PartPool:
         """Takes part ``name`` out of the world (parks it)."""
         self.check_in_world(root_context, name)
         self._station.wake(root_context, name)  # its collision filters back before it is parked
-        self._station.park(self._plant_context(root_context), name)
+        self._station.park(root_context, name)
         self.written_off.discard(name)
         self.events.append(PartEvent(root_context.get_time(), "dispose", name))
         _log.info("t=%.2f disposed of %s", root_context.get_time(), name)
