@@ -50,6 +50,20 @@ def _filtered_against_bin(rt: FactoryRuntime, name: str) -> bool:
     return all(inspector.CollisionFiltered(a, b) for a in part for b in bin_)
 
 
+def _in_proximity_engine(rt: FactoryRuntime, name: str) -> dict[str, int]:
+    """How many of the part's box and corner spheres SceneGraph has in its proximity
+    engine now (in the run's Context)."""
+    plant = rt.station.plant
+    query = plant.get_geometry_query_input_port().Eval(plant.GetMyContextFromRoot(rt.context))
+    model = rt.station.scene_graph.model_inspector()
+    frame = plant.GetBodyFrameIdOrThrow(plant.GetBodyByName(name, rt.station.parts[name]).index())
+    counts = {"Box": 0, "Sphere": 0}
+    for g in model.GetGeometries(frame, Role.kProximity):
+        if query.inspector().GetProximityProperties(g) is not None:
+            counts[type(model.GetShape(g)).__name__] += 1
+    return counts
+
+
 def test_a_part_at_rest_in_a_bin_falls_asleep_where_it_lies():
     rt = _runtime()
     part = rt.spawn_part(xyz=_over_bin(rt, 0.4))
@@ -63,6 +77,7 @@ def test_a_part_at_rest_in_a_bin_falls_asleep_where_it_lies():
     assert rt.parts_in_world() == [part]  # asleep is in the world, not parked
     assert rt.ledger().parts == {part: "in_bin:bin_1"}
     assert _filtered_against_bin(rt, part)  # its contact with the bin costs nothing
+    assert _in_proximity_engine(rt, part) == {"Box": 1, "Sphere": 0}  # its box alone is touchable
 
 
 def test_a_part_dropped_onto_a_sleeping_part_wakes_it_and_both_fall_asleep_again():
@@ -92,6 +107,7 @@ def test_a_knocked_sleeping_part_wakes_and_moves():
     p0 = rt.part_pose(part).translation()
     rt.knock_part(part, [0.0, 0.0, 2.0])  # straight up
     assert not _asleep(rt, part) and not _filtered_against_bin(rt, part)
+    assert _in_proximity_engine(rt, part) == {"Box": 1, "Sphere": 8}
     rt.advance(0.1)
     assert rt.part_pose(part).translation()[2] > p0[2] + 0.1
 

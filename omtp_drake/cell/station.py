@@ -56,6 +56,7 @@ from pydrake.geometry import (
     MeshcatVisualizerParams,
     Role,
     SceneGraph,
+    Sphere,
 )
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
@@ -134,6 +135,8 @@ class _CollisionGeometries:
 
     #: part -> its collision geometries.
     parts: dict[str, list]
+    #: part -> its corner spheres (its points of contact on a flat surface).
+    corners: dict[str, list]
     #: Geometries of bodies welded to the world (they never move).
     anchored: list
 
@@ -345,10 +348,12 @@ class Station:
 
     def sleep(self, root_context: Context, name: str) -> None:
         """Part ``name`` (in the world) falls asleep where it is: at rest, its joint
-        locked, and its contacts with what never moves (bodies welded to the world,
-        other sleeping parts) filtered out of SceneGraph's queries: the contact
-        solver and the geometry queries both drop them. Its contacts with anything
-        that may move stay, so what touches it is seen (and wakes it)."""
+        locked, its contacts with what never moves (bodies welded to the world,
+        other sleeping parts) filtered out of SceneGraph's queries, and its corner
+        spheres out of the proximity engine: the contact solver and the geometry
+        queries drop all of that. Its box keeps its contacts with anything that
+        may move, so what touches it is seen (and wakes it) and a part dropped on
+        it rests on it (on its own corner spheres)."""
         plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
         if self.is_parked(plant_context, name):
             raise SimulationError(f"part {name!r} is parked (out of the world): it cannot sleep")
@@ -365,14 +370,18 @@ class Station:
                 GeometrySet(self._geometries.parts[name]), GeometrySet(static)
             )
         )
+        corners = self._geometries.corners[name]
+        set_contact_geometry(self.scene_graph, self.plant, root_context, corners, present=False)
 
     def wake(self, root_context: Context, name: str) -> None:
-        """Part ``name`` wakes (joint unlocked, every contact back) if it sleeps; a
-        parked or awake part is left as it is."""
+        """Part ``name`` wakes (joint unlocked, its corner spheres and every contact
+        back) if it sleeps; a parked or awake part is left as it is."""
         plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
         if not self.is_asleep(plant_context, name):
             return
         self._free_joint(name).Unlock(plant_context)
+        corners = self._geometries.corners[name]
+        set_contact_geometry(self.scene_graph, self.plant, root_context, corners, present=True)
         others = list(self._geometries.anchored)
         for other in self.parts:
             if other != name:
@@ -400,7 +409,8 @@ class Station:
                 parts[part_of[body.index()]].append(geometry)
             elif self.plant.IsAnchored(body):
                 anchored.append(geometry)
-        return _CollisionGeometries(parts, anchored)
+        corners = {n: [g for g in parts[n] if isinstance(inspector.GetShape(g), Sphere)] for n in parts}
+        return _CollisionGeometries(parts, corners, anchored)
 
     def _at_parking_slot(self, plant_context: Context, name: str) -> bool:
         slots = self._part_slots
