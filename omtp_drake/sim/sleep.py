@@ -64,11 +64,13 @@ class PartSleep:
         station, plant = self._station, self._station.plant
         plant_context = plant.GetMyMutableContextFromRoot(root_context)
         t = root_context.get_time()
+        clock_context = self._clock.GetMyMutableContextFromRoot(root_context)
+        since = self._clock.still_since(clock_context)
+        if all(v > t - self._rest_time + _EPS for v in since.values()):
+            return  # every part moved within rest_time (a locked part is still): nothing to do
         parked, sleeping = station.parts_locked(plant_context)
         asleep = set(sleeping)
         awake = [n for n in station.parts if n not in asleep and n not in parked]
-        clock_context = self._clock.GetMyMutableContextFromRoot(root_context)
-        since = self._clock.still_since(clock_context)
         resting = {n for n in awake if since[n] <= t - self._rest_time + _EPS}
         if not asleep and not resting:
             return  # nothing may sleep or wake: no query
