@@ -319,14 +319,11 @@ class SpeedReport:
         lines = [f"{'what':<{width}}  {'measured':>16}  {'target':>14}  met", "-" * (width + 40)]
         lines += [f"{w:<{width}}  {m:>16}  {t:>14}  {'yes' if ok else 'NO'}" for w, m, t, ok in rows]
         lines.append(
-            f"(best of {self.repeats} runs each. Wall-time rows: bare plant = each arm held still;"
+            f"(medians of {self.repeats} interleaved rounds: each round runs every case once."
+            "\n Wall-time rows: bare plant = each arm held still;"
             "\n CPU rows (this process): bare plant = the same run's arm commands replayed by the same servo)"
         )
         return "\n".join(lines)
-
-
-def _best(measure: Callable[[], float], repeats: int) -> float:
-    return min(measure() for _ in range(repeats))
 
 
 def _build_seconds(build: Callable[[], object], repeats: int) -> float:
@@ -341,7 +338,9 @@ def _build_seconds(build: Callable[[], object], repeats: int) -> float:
 def measure(
     repeats: int = 2, bare_seconds: float = 10.0, progress: Optional[Callable[[str], None]] = None
 ) -> SpeedReport:
-    """Runs every case ``repeats`` times (a few minutes at 2) and returns the report."""
+    """Runs every case ``repeats`` times, in rounds that run each case (bare plant, then
+    full run) once, so a busy minute on a shared machine touches every case alike; reports
+    the medians (issue 20's targets are medians of interleaved runs). A few minutes at 2."""
     if repeats < 1:
         raise ConfigError(f"repeats must be >= 1, got {repeats}")
     if not bare_seconds > 0:
@@ -361,7 +360,6 @@ def measure(
             results.append(result)
         return seconds
 
-    cases = []
     fill_floor = with_parts(fill, [[-8.3, -1.23, 0.051]], fill.pool_part_size)
     fine = SMALL_STEP
     plan = (  # (label, bare scenario, full run, target: wall s per simulated s)
@@ -385,10 +383,17 @@ def measure(
             0.120,
         ),
     )
-    for label, bare_scenario, full, target in plan:
-        say(label)
-        bare = min(bare_plant_seconds(bare_scenario, bare_seconds) for _ in range(repeats))
-        cases.append(CaseTiming(label, bare, _best(full, repeats), target))
+    bares: list[list[float]] = [[] for _ in plan]
+    fulls: list[list[float]] = [[] for _ in plan]
+    for round_ in range(repeats):
+        for k, (label, bare_scenario, full, _target) in enumerate(plan):
+            say(f"{label} (round {round_ + 1} of {repeats})")
+            bares[k].append(bare_plant_seconds(bare_scenario, bare_seconds))
+            fulls[k].append(full())
+    cases = [
+        CaseTiming(label, statistics.median(bares[k]), statistics.median(fulls[k]), target)
+        for k, (label, _bare, _full, target) in enumerate(plan)
+    ]
     say("fill_bin against the same arm motion replayed")
     replays = (replay_timing("fill_bin", fill_floor, repeats),)
     fill_runs = [r for r in results if r.scenario == "fill_bin"]
@@ -397,7 +402,7 @@ def measure(
 
 
 def replay_timing(name: str, bare: Scenario, repeats: int) -> ReplayTiming:
-    """``name``'s task (CPU per simulated second, the best of ``repeats``) against
+    """``name``'s task (CPU per simulated second, the median of ``repeats``) against
     ``bare`` replaying the arm commands recorded in one more run of it; interleaved."""
     motion, _ = record_arm_motion(name)
     full, replay = [], []
@@ -406,4 +411,4 @@ def replay_timing(name: str, bare: Scenario, repeats: int) -> ReplayTiming:
         result = run_task(name)
         full.append((time.process_time() - start) / result.sim_time_s)
         replay.append(replay_cpu_seconds(bare, motion))
-    return ReplayTiming(name, min(replay), min(full))
+    return ReplayTiming(name, statistics.median(replay), statistics.median(full))

@@ -476,7 +476,9 @@ def _add_bench_command(sub: argparse._SubParsersAction) -> None:
         description="Runs fill_bin, lecture7_conveyor_pick and lecture7_conveyor (10 parts on the "
         "belt) as users run them and as a bare plant, and prints the speed table (a few minutes).",
     )
-    p.add_argument("--repeats", type=int, default=2, help="runs per case; the best counts (default 2)")
+    p.add_argument(
+        "--repeats", type=int, default=2, help="interleaved rounds of all cases; medians count (default 2)"
+    )
     p.add_argument(
         "--bare-seconds", type=float, default=10.0, help="simulated seconds of a bare-plant run (default 10)"
     )
