@@ -112,6 +112,20 @@ def test_a_knocked_sleeping_part_wakes_and_moves():
     assert rt.part_pose(part).translation()[2] > p0[2] + 0.1
 
 
+def test_a_bin_moved_with_sleeping_parts_carries_them():
+    rt = _runtime()
+    part = rt.spawn_part(xyz=_over_bin(rt, 0.2))
+    rt.advance_to(2.0)
+    assert _asleep(rt, part)
+    X_BP = rt.bin_pose("bin_1").inverse() @ rt.part_pose(part)
+    p = rt.bin_pose("bin_1").translation()
+    rt.move_bin("bin_1", [p[0] + 0.5, p[1] - 0.3, p[2]], yaw=0.3)
+    rt.advance_to(4.0)
+    X_BP_now = rt.bin_pose("bin_1").inverse() @ rt.part_pose(part)
+    assert X_BP_now.IsNearlyEqualTo(X_BP, 1e-9)
+    assert rt.ledger().parts == {part: "in_bin:bin_1"}
+
+
 def test_a_sleeping_part_disposed_of_and_spawned_again_rests_on_the_floor():
     """Disposal restores its contacts: spawned again, it lands on the floor, not through it."""
     rt = _runtime(part_pool=1)
