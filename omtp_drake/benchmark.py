@@ -51,7 +51,8 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import BeltGeometry, belt_desired_state
-from omtp_drake.cell.station import add_cell_models, build_station, set_contact_geometry
+from omtp_drake.cell.parts import set_contact_geometry
+from omtp_drake.cell.station import add_cell_models, build_station
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario
 from omtp_drake.sim.runtime import FactoryRuntime

@@ -49,7 +49,7 @@ def test_every_context_is_initialised_by_one_function():
     states = []
     for station, context in ((alone, alone.create_context()), (rt.station, rt.context)):
         plant_context = station.plant.GetMyContextFromRoot(context)
-        assert all(station.is_parked(plant_context, name) for name in station.pool)
+        assert all(station.part_states.is_parked(plant_context, name) for name in station.pool)
         for gripper in station.grippers.values():
             assert gripper.constraints.held_body(station.plant, plant_context) is None
         states.append(station.plant.GetPositionsAndVelocities(plant_context))
@@ -157,4 +157,4 @@ def test_a_parked_part_has_no_contact_geometry_until_it_is_spawned():
     assert proximity(part) == [False] * 9
     assert rt.spawn_part(xyz=[-7.0, 0.0, 0.3]) == "object_2"
     with pytest.raises(SimulationError, match="part 'object_2' is not parked: it is in the world already"):
-        rt.station.unpark(rt.context, "object_2", rt.part_pose("object_2"))
+        rt.station.part_states.unpark(rt.context, "object_2", rt.part_pose("object_2"))

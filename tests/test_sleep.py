@@ -22,7 +22,7 @@ def _runtime(**changes) -> FactoryRuntime:
 
 
 def _asleep(rt: FactoryRuntime, name: str) -> bool:
-    return rt.station.is_asleep(rt.station.plant.GetMyContextFromRoot(rt.context), name)
+    return rt.station.part_states.is_asleep(rt.station.plant.GetMyContextFromRoot(rt.context), name)
 
 
 def _over_bin(rt: FactoryRuntime, height: float) -> list[float]:

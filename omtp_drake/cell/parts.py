@@ -5,18 +5,28 @@ is in the plant from the start: the scenario's placed parts and a pool of
 ``object_1 ... object_N``. A part out of the world is *parked*: far from the
 cell (a row at x = 50 m) with its floating joint locked (no motion, no contact,
 no cost in the contact solver). Spawning unlocks the next parked pool part and
-puts it at the spawn pose; disposal parks a part again. The pool's bookkeeping
-while the cell runs is :class:`omtp_drake.sim.pool.PartPool`.
+puts it at the spawn pose; disposal parks a part again. A part at rest may
+fall asleep (its joint locked where it lies). :class:`PartStates` says which parts are parked, asleep or
+awake in a Context and makes the edits between those states; the pool's
+bookkeeping while the cell runs is :class:`omtp_drake.sim.pool.PartPool`.
 """
 
 # No `from __future__ import annotations`: SpawnerConfig is a YAML schema.
 
+import functools
 import logging
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Optional
 
 import numpy as np
+from pydrake.geometry import CollisionFilterDeclaration, GeometrySet, Role, SceneGraph, Sphere
 from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.math import SpatialVelocity
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.systems.framework import Context
 
+from omtp_drake.errors import SimulationError, UnknownNameError
 from omtp_drake.scenario.configs import SpawnerConfig
 
 if TYPE_CHECKING:
@@ -52,3 +62,223 @@ def spawn_pose(
         p[0] += dx * spawner.lateral_variance
     angle = (yaw if yaw is not None else spawner.yaw) + (dyaw * spawner.yaw_variance if yaw is None else 0.0)
     return RigidTransform(RollPitchYaw(0.0, 0.0, angle), p)
+
+
+def set_contact_geometry(
+    scene_graph: SceneGraph,
+    plant: MultibodyPlant,
+    root_context: Context,
+    geometries: list,
+    present: bool,
+) -> None:
+    """Puts ``geometries`` (the plant's collision geometries) into SceneGraph's
+    proximity engine in ``root_context`` (``present``), with the properties they were
+    registered with, or takes them out (a parked part: no pose updates, no queries).
+    Geometry already where it is asked to be is left alone."""
+    context = scene_graph.GetMyMutableContextFromRoot(root_context)
+    model = scene_graph.model_inspector()
+    now = scene_graph.get_query_output_port().Eval(context).inspector()
+    for geometry in geometries:
+        if (now.GetProximityProperties(geometry) is not None) == present:
+            continue
+        if present:
+            properties = model.GetProximityProperties(geometry)
+            scene_graph.AssignRole(context, plant.get_source_id(), geometry, properties)
+        else:
+            scene_graph.RemoveRole(context, plant.get_source_id(), geometry, Role.kProximity)
+
+
+@dataclass(frozen=True)
+class CollisionGeometries:
+    """The collision geometries of the parts, and of what never moves."""
+
+    #: part -> its collision geometries.
+    parts: dict[str, list]
+    #: part -> its corner spheres (its points of contact on a flat surface).
+    corners: dict[str, list]
+    #: Geometries of bodies welded to the world (they never move).
+    anchored: list
+
+
+@dataclass(frozen=True)
+class _PartSlots:
+    """Each part's free joint, where its position is in q, and its parking slot
+    (parking sets the position exactly; nothing else puts a part there)."""
+
+    names: list[str]
+    joints: list
+    #: (n, 3) indices of each part's position in q.
+    index: np.ndarray
+    #: (n, 3) each part's parking position.
+    p_slot: np.ndarray
+
+
+class PartStates:
+    """Which parts are parked, asleep or awake in a Context, and the edits between
+    those states (made between advances: they write the plant's and SceneGraph's
+    Contexts).
+
+    Each state is a fact of the Context, never restated elsewhere:
+
+    * *parked*: the part's free joint locked at its parking slot, its collision
+      geometry out of SceneGraph's proximity engine (out of the world, at no cost);
+    * *asleep*: its joint locked anywhere else, its pairs with what never moves
+      filtered and its corner spheres out of the proximity engine (see
+      :mod:`omtp_drake.cell.sleep`);
+    * *awake*: its joint free.
+    """
+
+    def __init__(self, plant: MultibodyPlant, scene_graph: SceneGraph, parts: dict[str, ModelInstanceIndex]):
+        self.plant = plant
+        self.scene_graph = scene_graph
+        self.parts = dict(parts)
+
+    def park(self, root_context: Context, name: str) -> None:
+        """Parks part ``name``: at rest at its parking pose, its joint locked and its
+        collision geometry out of SceneGraph's proximity engine.
+
+        A locked joint leaves the contact solver's problem, and geometry without a
+        proximity role leaves the geometry queries (whose pose updates otherwise
+        touch every parked part's nine geometries at every step): parked parts
+        cost nothing.
+        """
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        joint = self._free_joint(name)
+        was_parked = self.is_parked(plant_context, name)
+        joint.Unlock(plant_context)
+        body = self.plant.GetBodyByName(name, self.parts[name])
+        self.plant.SetFreeBodyPose(plant_context, body, parking_pose(list(self.parts).index(name)))
+        self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
+        joint.Lock(plant_context)
+        if not was_parked:
+            set_contact_geometry(
+                self.scene_graph, self.plant, root_context, self.geometries.parts[name], present=False
+            )
+
+    def unpark(self, root_context: Context, name: str, X_WP: RigidTransform) -> None:
+        """Frees part ``name`` (parked) and puts it at rest at ``X_WP``, its collision
+        geometry back."""
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        if not self.is_parked(plant_context, name):
+            raise SimulationError(f"part {name!r} is not parked: it is in the world already")
+        geometries = self.geometries.parts[name]
+        set_contact_geometry(self.scene_graph, self.plant, root_context, geometries, present=True)
+        self._free_joint(name).Unlock(plant_context)
+        body = self.plant.GetBodyByName(name, self.parts[name])
+        self.plant.SetFreeBodyPose(plant_context, body, X_WP)
+        self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
+
+    def is_parked(self, plant_context: Context, name: str) -> bool:
+        """Part ``name`` is out of the world: its joint locked at its parking slot."""
+        return self._free_joint(name).is_locked(plant_context) and self._at_parking_slot(plant_context, name)
+
+    def is_asleep(self, plant_context: Context, name: str) -> bool:
+        """Part ``name`` sleeps: in the world, its joint locked (see :mod:`omtp_drake.cell.sleep`)."""
+        return self._free_joint(name).is_locked(plant_context) and not self._at_parking_slot(
+            plant_context, name
+        )
+
+    def locked(self, plant_context: Context) -> tuple[list[str], list[str]]:
+        """(parked, asleep): the parts whose joints are locked, split by where they are,
+        in the order of ``parts`` (one read of the plant's positions)."""
+        slots = self._part_slots
+        p_WP = self.plant.GetPositions(plant_context)[slots.index]
+        at_slot = np.max(np.abs(p_WP - slots.p_slot), axis=1) < 1e-9
+        parked: list[str] = []
+        asleep: list[str] = []
+        for name, joint, parked_there in zip(slots.names, slots.joints, at_slot):
+            if joint.is_locked(plant_context):
+                (parked if parked_there else asleep).append(name)
+        return parked, asleep
+
+    def sleep(self, root_context: Context, name: str) -> None:
+        """Part ``name`` (in the world) falls asleep where it is: at rest, its joint
+        locked, its contacts with what never moves (bodies welded to the world,
+        other sleeping parts) filtered out of SceneGraph's queries, and its corner
+        spheres out of the proximity engine: the contact solver and the geometry
+        queries drop all of that. Its box keeps its contacts with anything that
+        may move, so what touches it is seen (and wakes it) and a part dropped on
+        it rests on it (on its own corner spheres)."""
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        if self.is_parked(plant_context, name):
+            raise SimulationError(f"part {name!r} is parked (out of the world): it cannot sleep")
+        if self.is_asleep(plant_context, name):
+            return
+        body = self.plant.GetBodyByName(name, self.parts[name])
+        self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
+        static = list(self.geometries.anchored)
+        for other in self.locked(plant_context)[1]:
+            static += self.geometries.parts[other]
+        self._free_joint(name).Lock(plant_context)
+        self._filters(root_context).Apply(
+            CollisionFilterDeclaration().ExcludeBetween(
+                GeometrySet(self.geometries.parts[name]), GeometrySet(static)
+            )
+        )
+        corners = self.geometries.corners[name]
+        set_contact_geometry(self.scene_graph, self.plant, root_context, corners, present=False)
+
+    def wake(self, root_context: Context, name: str) -> None:
+        """Part ``name`` wakes (joint unlocked, its corner spheres and every contact
+        back) if it sleeps; a parked or awake part is left as it is."""
+        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
+        if not self.is_asleep(plant_context, name):
+            return
+        self._free_joint(name).Unlock(plant_context)
+        corners = self.geometries.corners[name]
+        set_contact_geometry(self.scene_graph, self.plant, root_context, corners, present=True)
+        others = list(self.geometries.anchored)
+        for other in self.parts:
+            if other != name:
+                others += self.geometries.parts[other]
+        self._filters(root_context).Apply(
+            CollisionFilterDeclaration().AllowBetween(
+                GeometrySet(self.geometries.parts[name]), GeometrySet(others)
+            )
+        )
+
+    def _filters(self, root_context: Context):
+        return self.scene_graph.collision_filter_manager(
+            self.scene_graph.GetMyMutableContextFromRoot(root_context)
+        )
+
+    @functools.cached_property
+    def geometries(self) -> CollisionGeometries:
+        inspector = self.scene_graph.model_inspector()
+        part_of = {self.plant.GetBodyByName(n, i).index(): n for n, i in self.parts.items()}
+        parts: dict[str, list] = {n: [] for n in self.parts}
+        anchored = []
+        for geometry in inspector.GetAllGeometryIds(Role.kProximity):
+            body = self.plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
+            if body.index() in part_of:
+                parts[part_of[body.index()]].append(geometry)
+            elif self.plant.IsAnchored(body):
+                anchored.append(geometry)
+        corners = {n: [g for g in parts[n] if isinstance(inspector.GetShape(g), Sphere)] for n in parts}
+        return CollisionGeometries(parts, corners, anchored)
+
+    def _at_parking_slot(self, plant_context: Context, name: str) -> bool:
+        slots = self._part_slots
+        k = slots.names.index(name)
+        p_WP = self.plant.GetPositions(plant_context)[slots.index[k]]
+        return float(np.max(np.abs(p_WP - slots.p_slot[k]))) < 1e-9
+
+    @functools.cached_property
+    def _part_slots(self) -> _PartSlots:
+        names, joints, index, p_slot = [], [], [], []
+        for k, (name, instance) in enumerate(self.parts.items()):
+            (joint_index,) = self.plant.GetJointIndices(instance)
+            body = self.plant.GetBodyByName(name, instance)
+            names.append(name)
+            joints.append(self.plant.get_joint(joint_index))
+            # q of a free body: its quaternion (4), then its position (3).
+            index.append(body.floating_positions_start() + 4 + np.arange(3))
+            p_slot.append(parking_pose(k).translation())
+        return _PartSlots(
+            names, joints, np.array(index, dtype=np.intp).reshape(-1, 3), np.array(p_slot).reshape(-1, 3)
+        )
+
+    def _free_joint(self, name: str):
+        if name not in self.parts:
+            raise UnknownNameError("part", name, self.parts)
+        return self._part_slots.joints[self._part_slots.names.index(name)]

@@ -1,7 +1,7 @@
 """The part pool while the cell runs: which parts are parked, spawning and disposal.
 
 Whether a part is parked is in the plant's Context (its joint locked at its
-parking slot, :meth:`Station.is_parked`), so it is never restated elsewhere.
+parking slot, :class:`omtp_drake.cell.parts.PartStates`), so it is never restated elsewhere.
 :class:`PartPool` makes the world edits (lock, move) between advances and logs
 what it did; the driver owns it. Poses of parked and spawned parts are in
 :mod:`omtp_drake.cell.parts`.
@@ -35,7 +35,7 @@ class PartPool:
     Every part of the station (placed and pool) has a parking slot; the pool's
     parts start parked (:meth:`Station.initialize_context`). The log of spawns and
     disposals (:attr:`events`) is a record of what happened, for the ledger and
-    reports; whether each part is parked is in the Context (:meth:`Station.is_parked`).
+    reports; whether each part is parked is in the Context (``station.part_states``).
     """
 
     def __init__(self, station: "Station"):
@@ -63,14 +63,14 @@ class PartPool:
     def in_world(self, root_context: Context) -> list[str]:
         """The parts in the world (placed and spawned, not disposed of), in name order."""
         plant_context = self._plant_context(root_context)
-        parked = set(self._station.parts_locked(plant_context)[0])
+        parked = set(self._station.part_states.locked(plant_context)[0])
         return [n for n in self._names if n not in parked]
 
     def queue(self, root_context: Context) -> list[str]:
         """The parked pool parts in the order they will be spawned: never spawned
         ones in name order, then the disposed ones in the order they were disposed."""
         plant_context = self._plant_context(root_context)
-        locked = set(self._station.parts_locked(plant_context)[0])
+        locked = set(self._station.part_states.locked(plant_context)[0])
         parked = [n for n in self._pool if n in locked]
         disposed_at = {e.part: e.time for e in self.events if e.event == "dispose"}
         return sorted(parked, key=lambda n: (disposed_at.get(n, -math.inf), self._pool.index(n)))
@@ -84,7 +84,7 @@ class PartPool:
                 "raise the scenario's part_pool or dispose of parts first"
             )
         name = queue[0]
-        self._station.unpark(root_context, name, X_WP)
+        self._station.part_states.unpark(root_context, name, X_WP)
         self.events.append(PartEvent(root_context.get_time(), "spawn", name))
         _log.info("t=%.2f spawned %s at %s", root_context.get_time(), name, X_WP.translation())
         return name
@@ -104,8 +104,8 @@ class PartPool:
     def dispose(self, root_context: Context, name: str) -> None:
         """Takes part ``name`` out of the world (parks it)."""
         self.check_in_world(root_context, name)
-        self._station.wake(root_context, name)  # its collision filters back before it is parked
-        self._station.park(root_context, name)
+        self._station.part_states.wake(root_context, name)  # its collision filters back before it is parked
+        self._station.part_states.park(root_context, name)
         self.written_off.discard(name)
         self.events.append(PartEvent(root_context.get_time(), "dispose", name))
         _log.info("t=%.2f disposed of %s", root_context.get_time(), name)

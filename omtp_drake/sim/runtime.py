@@ -330,7 +330,7 @@ class FactoryRuntime:
         self.pool.check_in_world(self.context, name)
         v = np.array(check_vector("knock_part velocity (m/s)", velocity, max_norm=20.0))
         plant = self.station.plant
-        self.station.wake(self.context, name)
+        self.station.part_states.wake(self.context, name)
         body = plant.GetBodyByName(name, self.station.parts[name])
         plant.SetFreeBodySpatialVelocity(self._plant_context, body, SpatialVelocity(np.zeros(3), v))
 

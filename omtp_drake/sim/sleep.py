@@ -22,7 +22,6 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from pydrake.geometry import Role
 from pydrake.systems.framework import Context
 
 from omtp_drake.errors import ConfigError
@@ -48,17 +47,12 @@ class PartSleep:
         config = station.scenario.sleep
         self.period = 1.0 / config.check_rate_hz
         self._rest_time = config.rest_time
-        plant, inspector = station.plant, station.scene_graph.model_inspector()
-        part_bodies = {plant.GetBodyByName(n, station.parts[n]).index(): n for n in station.parts}
-        #: collision geometry -> its part's name, or "" (a body welded to the world),
-        #: or None (any other body: arms, cups, the belt, all of which may move).
-        self._owner: dict = {}
-        for geometry in inspector.GetAllGeometryIds(Role.kProximity):
-            body = plant.GetBodyFromFrameId(inspector.GetFrameId(geometry))
-            if body.index() in part_bodies:
-                self._owner[geometry] = part_bodies[body.index()]
-            else:
-                self._owner[geometry] = "" if plant.IsAnchored(body) else None
+        geometries = station.part_states.geometries
+        #: collision geometry -> its part's name, or "" (a body welded to the world);
+        #: any other (arms, cups, the belt, all of which may move) is absent: None.
+        self._owner: dict = dict.fromkeys(geometries.anchored, "")
+        for name, ids in geometries.parts.items():
+            self._owner.update(dict.fromkeys(ids, name))
 
     def __call__(self, root_context: Context) -> None:
         station, plant = self._station, self._station.plant
@@ -68,7 +62,7 @@ class PartSleep:
         since = self._clock.still_since(clock_context)
         if all(v > t - self._rest_time + _EPS for v in since.values()):
             return  # every part moved within rest_time (a locked part is still): nothing to do
-        parked, sleeping = station.parts_locked(plant_context)
+        parked, sleeping = station.part_states.locked(plant_context)
         asleep = set(sleeping)
         awake = [n for n in station.parts if n not in asleep and n not in parked]
         resting = {n for n in awake if since[n] <= t - self._rest_time + _EPS}
@@ -90,9 +84,9 @@ class PartSleep:
         for name in sorted(asleep):
             contacts = touches.get(name, set())
             if name in held or None in contacts or contacts & moving:
-                station.wake(root_context, name)
+                station.part_states.wake(root_context, name)
                 self._clock.restart(clock_context, name, t)
         for name in sorted(resting):
             contacts = touches.get(name, set())
             if contacts and None not in contacts and not contacts & moving:
-                station.sleep(root_context, name)
+                station.part_states.sleep(root_context, name)
