@@ -6,9 +6,10 @@ is in the plant from the start: the scenario's placed parts and a pool of
 cell (a row at x = 50 m) with its floating joint locked (no motion, no contact,
 no cost in the contact solver). Spawning unlocks the next parked pool part and
 puts it at the spawn pose; disposal parks a part again. A part at rest may
-fall asleep (its joint locked where it lies). :class:`PartStates` says which parts are parked, asleep or
-awake in a Context and makes the edits between those states; the pool's
-bookkeeping while the cell runs is :class:`omtp_drake.sim.pool.PartPool`.
+fall asleep (its joint locked where it lies). :class:`PartStates` says which
+parts are parked, asleep or awake in a Context and makes the edits between
+those states; the pool's bookkeeping while the cell runs is
+:class:`omtp_drake.sim.pool.PartPool`.
 """
 
 # No `from __future__ import annotations`: SpawnerConfig is a YAML schema.
