@@ -42,7 +42,6 @@ from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
-from pydrake.geometry import Role
 from pydrake.multibody.plant import AddMultibodyPlant
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, DiagramBuilder, EventStatus
@@ -51,7 +50,7 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import BeltGeometry, belt_desired_state
-from omtp_drake.cell.parts import set_contact_geometry
+from omtp_drake.cell.parts import PartStates
 from omtp_drake.cell.station import add_cell_models, build_station
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario
@@ -103,13 +102,9 @@ def _bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> t
     for name, (sampler, q) in samplers.items():
         plant.SetPositions(plant_context, models.arms[name].arm, q)
         sampler.set_initial_position(context, q)
-    inspector = scene_graph.model_inspector()
-    for name in models.pool:  # parked as the station parks them: locked, no contact geometry
-        (index,) = plant.GetJointIndices(models.parts[name])
-        plant.get_joint(index).Lock(plant_context)
-        frame = plant.GetBodyFrameIdOrThrow(plant.GetBodyByName(name, models.parts[name]).index())
-        geometries = list(inspector.GetGeometries(frame, Role.kProximity))
-        set_contact_geometry(scene_graph, plant, context, geometries, present=False)
+    part_states = PartStates(plant, scene_graph, models.parts)
+    for name in models.pool:  # parked as the station parks them
+        part_states.park(context, name)
     if motion is not None:  # as the station locks an arm whose command is held
         for name in set(models.arms) - set(motion.moving):
             for index in plant.GetJointIndices(models.arms[name].arm):
