@@ -141,11 +141,12 @@ class PartStates:
         A locked joint leaves the contact solver's problem, and geometry without a
         proximity role leaves the geometry queries (whose pose updates otherwise
         touch every parked part's nine geometries at every step): parked parts
-        cost nothing.
+        cost nothing. A sleeping part is woken first (its collision filters undone).
         """
         plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
         joint = self._free_joint(name)
         was_parked = self.is_parked(plant_context, name)
+        self.wake(root_context, name)
         joint.Unlock(plant_context)
         body = self.plant.GetBodyByName(name, self.parts[name])
         self.plant.SetFreeBodyPose(plant_context, body, parking_pose(list(self.parts).index(name)))
@@ -171,13 +172,13 @@ class PartStates:
 
     def is_parked(self, plant_context: Context, name: str) -> bool:
         """Part ``name`` is out of the world: its joint locked at its parking slot."""
-        return self._free_joint(name).is_locked(plant_context) and self._at_parking_slot(plant_context, name)
+        self._free_joint(name)  # UnknownNameError for a name that is no part
+        return name in self.locked(plant_context)[0]
 
     def is_asleep(self, plant_context: Context, name: str) -> bool:
         """Part ``name`` sleeps: in the world, its joint locked (see :mod:`omtp_drake.cell.sleep`)."""
-        return self._free_joint(name).is_locked(plant_context) and not self._at_parking_slot(
-            plant_context, name
-        )
+        self._free_joint(name)
+        return name in self.locked(plant_context)[1]
 
     def locked(self, plant_context: Context) -> tuple[list[str], list[str]]:
         """(parked, asleep): the parts whose joints are locked, split by where they are,
@@ -201,14 +202,16 @@ class PartStates:
         may move, so what touches it is seen (and wakes it) and a part dropped on
         it rests on it (on its own corner spheres)."""
         plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
-        if self.is_parked(plant_context, name):
+        self._free_joint(name)
+        parked, asleep = self.locked(plant_context)
+        if name in parked:
             raise SimulationError(f"part {name!r} is parked (out of the world): it cannot sleep")
-        if self.is_asleep(plant_context, name):
+        if name in asleep:
             return
         body = self.plant.GetBodyByName(name, self.parts[name])
         self.plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity.Zero())
         static = list(self.geometries.anchored)
-        for other in self.locked(plant_context)[1]:
+        for other in asleep:
             static += self.geometries.parts[other]
         self._free_joint(name).Lock(plant_context)
         self._filters(root_context).Apply(
@@ -257,12 +260,6 @@ class PartStates:
                 anchored.append(geometry)
         corners = {n: [g for g in parts[n] if isinstance(inspector.GetShape(g), Sphere)] for n in parts}
         return CollisionGeometries(parts, corners, anchored)
-
-    def _at_parking_slot(self, plant_context: Context, name: str) -> bool:
-        slots = self._part_slots
-        k = slots.names.index(name)
-        p_WP = self.plant.GetPositions(plant_context)[slots.index[k]]
-        return float(np.max(np.abs(p_WP - slots.p_slot[k]))) < 1e-9
 
     @functools.cached_property
     def _part_slots(self) -> _PartSlots:

@@ -89,11 +89,6 @@ class RestClock(LeafSystem):
     def still_since_output_port(self) -> OutputPort:
         return self._still_since
 
-    @property
-    def names(self) -> list[str]:
-        """The parts, in the order of ``still_since``."""
-        return list(self._names)
-
     def still_since(self, context: Context) -> dict[str, float]:
         """part -> the time since which it has been still (inf: moving)."""
         return dict(zip(self._names, context.get_discrete_state(self._state).value()))

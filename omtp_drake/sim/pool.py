@@ -104,7 +104,6 @@ class PartPool:
     def dispose(self, root_context: Context, name: str) -> None:
         """Takes part ``name`` out of the world (parks it)."""
         self.check_in_world(root_context, name)
-        self._station.part_states.wake(root_context, name)  # its collision filters back before it is parked
         self._station.part_states.park(root_context, name)
         self.written_off.discard(name)
         self.events.append(PartEvent(root_context.get_time(), "dispose", name))
