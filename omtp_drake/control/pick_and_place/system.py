@@ -19,7 +19,7 @@ from typing import Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.math import RigidTransform, RotationMatrix
+from pydrake.math import RigidTransform
 from pydrake.multibody.inverse_kinematics import (
     DifferentialInverseKinematicsIntegrator,
     DifferentialInverseKinematicsParameters,
@@ -274,43 +274,42 @@ class PickAndPlaceController(LeafSystem):
 
 class PoseTable:
     """A path's desired tool poses ``X_BE`` at the sample times ``k h`` from the
-    first at or after ``t`` (when the path was first asked for) to the path's end:
-    positions (N, 3) and rotations (N, 3, 3) from one
-    :meth:`~omtp_drake.control.tool_paths.Path.poses` call. Mutable: the value of
-    the controller's cache entry, refilled when the path changes."""
+    first at or after ``t`` (when the path was first asked for) to the path's end,
+    from one :meth:`~omtp_drake.control.tool_paths.Path.poses` call. Mutable: the
+    value of the controller's cache entry, refilled when the path changes.
+
+    The transforms are built in one loop when the table is filled: a lookup at
+    DiffIK's rate then only indexes a list (built one at a time between plant
+    steps, the same transform cost 10-15 us a sample, against about 2 us in the
+    loop; bench/README.md)."""
 
     def __init__(self) -> None:
         self.path: Optional[Path] = None
         self._k0, self._h = 0, 1.0
-        self._X_end = RigidTransform()
-        self._p_BE, self._R_BE = np.zeros((0, 3)), np.zeros((0, 3, 3))
+        self._X_BE: list[RigidTransform] = []
 
     def fill(self, path: Path, t: float, h: float, X_BW: RigidTransform) -> None:
         """The table of ``path`` (sample period ``h``) from ``t`` on."""
         self.path, self._h = path, h
         self._k0 = math.ceil(t / h - 1e-6)
         if not path.segments:
-            self._p_BE, self._R_BE = np.zeros((0, 3)), np.zeros((0, 3, 3))
+            self._X_BE = []
             return
         k1 = max(self._k0, math.ceil(path.end_time / h)) + 1
         p_WE, R_WE = path.poses(np.arange(self._k0, k1 + 1) * h)
         R_BW = X_BW.rotation().matrix()
-        self._p_BE = p_WE @ R_BW.T + X_BW.translation()
-        self._R_BE = R_BW @ R_WE
-        # The end pose, asked for at every sample once the path is done (an arm that
-        # waits holds it), is built once.
-        self._X_end = RigidTransform(RotationMatrix(self._R_BE[-1]), self._p_BE[-1])
+        # [R_BE | p_BE] (N, 3, 4); the last is the end pose, asked for at every
+        # sample once the path is done (an arm that waits holds it).
+        M_BE = np.concatenate([R_BW @ R_WE, (p_WE @ R_BW.T + X_BW.translation())[:, :, None]], axis=2)
+        self._X_BE = [RigidTransform(M) for M in M_BE]
 
     def pose(self, t: float) -> Optional[RigidTransform]:
         """``X_BE`` at ``t`` if ``t`` is one of the table's sample times (after its
         last, the path's end pose), else None."""
         k = round(t / self._h)
-        if k < self._k0 or not len(self._p_BE) or abs(t - k * self._h) > 1e-9:
+        if k < self._k0 or not self._X_BE or abs(t - k * self._h) > 1e-9:
             return None
-        i = k - self._k0
-        if i >= len(self._p_BE) - 1:
-            return self._X_end
-        return RigidTransform(RotationMatrix(self._R_BE[i]), self._p_BE[i])
+        return self._X_BE[min(k - self._k0, len(self._X_BE) - 1)]
 
     def __deepcopy__(self, memo: dict) -> PoseTable:
         return PoseTable()  # a cache: a cloned Context refills its own
