@@ -201,10 +201,15 @@ class LogicalCameraImage:
 @dataclass(frozen=True)
 class CameraSample:
     """A logical camera's state: when it last sampled and where every body was then
-    (``X_WB`` by body index; None before the first sample)."""
+    (``X_WB``: the plant's body poses as the abstract value of its port, a list of
+    ``RigidTransform`` by body index; None before the first sample).
+
+    The poses stay a C++ copy until an image is computed: turning them into Python
+    objects cost 36 us a sample, most of a camera's cost at 10 Hz (bench/README.md),
+    and most samples are never looked at."""
 
     time: float = math.nan
-    X_WB: Optional[tuple[RigidTransform, ...]] = None
+    X_WB: Optional[AbstractValue] = None
 
     def __deepcopy__(self, memo: dict[int, Any]) -> "CameraSample":
         # Drake clones abstract state values on every update; a sample is immutable.
@@ -429,12 +434,15 @@ class LogicalCamera(LeafSystem):
         time = context.get_time()
         if time < context.get_discrete_state(self._blackout)[0]:
             return  # blacked out: the last sample is held (its image goes stale)
-        sample = CameraSample(time, tuple(self._body_poses_port.Eval(context)))
+        sample = CameraSample(time, self._body_poses_port.EvalAbstract(context).Clone())
         state.get_mutable_abstract_state(self._sample).set_value(sample)
 
     def _calc_image(self, context: Context, output: AbstractValue) -> None:
         sample: CameraSample = context.get_abstract_state(self._sample).get_value()
-        output.set_value(self._no_image if sample.X_WB is None else self._capture(sample.time, sample.X_WB))
+        if sample.X_WB is None:
+            output.set_value(self._no_image)
+        else:
+            output.set_value(self._capture(sample.time, sample.X_WB.get_value()))
 
     def black_out(self, context: Context, until: float) -> None:
         """Fault injection: the camera publishes no new image before ``until``
