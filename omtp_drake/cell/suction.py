@@ -275,7 +275,9 @@ class SuctionGripper(LeafSystem):
 
     def _check(self, context: Context, state: State) -> None:
         memory = self._get_memory(context)
-        state.get_mutable_abstract_state(self._memory).set_value(self._next(context, memory))
+        new = self._next(context, memory)
+        if new is not memory:  # an idle gripper's check changes nothing: no write
+            state.get_mutable_abstract_state(self._memory).set_value(new)
 
     def _next(self, context: Context, memory: GripperMemory) -> GripperMemory:
         """The attach / release rule: the memory after one check."""
@@ -292,6 +294,8 @@ class SuctionGripper(LeafSystem):
             if old.attached:
                 _log.info("%s: released %s at t = %.3f s (disabled)", self.get_name(), old.part, t)
                 return GripperMemory(replace(_IDLE, last_release="disabled"))
+            if not old.enabled and memory.streak_body < 0 and memory.pending_body < 0:
+                return memory  # idle already (an unused arm's gripper, most checks)
             return GripperMemory(replace(_IDLE, last_release=old.last_release))
         if old.attached and old.X_CP is not None:
             X_WB = self._poses.Eval(context)
