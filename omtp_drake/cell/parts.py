@@ -173,7 +173,7 @@ class PartStates:
     def is_parked(self, plant_context: Context, name: str) -> bool:
         """Part ``name`` is out of the world: its joint locked at its parking slot."""
         self._free_joint(name)  # UnknownNameError for a name that is no part
-        return name in self.locked(plant_context)[0]
+        return name in self.parked(plant_context)
 
     def is_asleep(self, plant_context: Context, name: str) -> bool:
         """Part ``name`` sleeps: in the world, its joint locked (see :mod:`omtp_drake.cell.sleep`)."""
@@ -184,14 +184,29 @@ class PartStates:
         """(parked, asleep): the parts whose joints are locked, split by where they are,
         in the order of ``parts`` (one read of the plant's positions)."""
         slots = self._part_slots
-        p_WP = self.plant.GetPositions(plant_context)[slots.index]
-        at_slot = np.max(np.abs(p_WP - slots.p_slot), axis=1) < 1e-9
         parked: list[str] = []
         asleep: list[str] = []
-        for name, joint, parked_there in zip(slots.names, slots.joints, at_slot):
+        for name, joint, parked_there in zip(slots.names, slots.joints, self._at_slot(plant_context)):
             if joint.is_locked(plant_context):
                 (parked if parked_there else asleep).append(name)
         return parked, asleep
+
+    def parked(self, plant_context: Context) -> list[str]:
+        """The parked parts, in the order of ``parts``: ``locked()[0]``, asking only the
+        parts at their slots whether they are locked (the pool's and the spawner's
+        question, at 20 Hz)."""
+        slots = self._part_slots
+        return [
+            slots.names[k]
+            for k in np.flatnonzero(self._at_slot(plant_context))
+            if slots.joints[k].is_locked(plant_context)
+        ]
+
+    def _at_slot(self, plant_context: Context) -> np.ndarray:
+        """(n,) whether each part (in the order of ``parts``) is at its parking slot."""
+        slots = self._part_slots
+        p_WP = self.plant.GetPositions(plant_context)[slots.index]
+        return np.max(np.abs(p_WP - slots.p_slot), axis=1) < 1e-9
 
     def sleep(self, root_context: Context, name: str) -> None:
         """Part ``name`` (in the world) falls asleep where it is: at rest, its joint

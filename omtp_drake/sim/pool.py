@@ -63,15 +63,15 @@ class PartPool:
     def in_world(self, root_context: Context) -> list[str]:
         """The parts in the world (placed and spawned, not disposed of), in name order."""
         plant_context = self._plant_context(root_context)
-        parked = set(self._station.part_states.locked(plant_context)[0])
+        parked = set(self._station.part_states.parked(plant_context))
         return [n for n in self._names if n not in parked]
 
     def queue(self, root_context: Context) -> list[str]:
         """The parked pool parts in the order they will be spawned: never spawned
         ones in name order, then the disposed ones in the order they were disposed."""
         plant_context = self._plant_context(root_context)
-        locked = set(self._station.part_states.locked(plant_context)[0])
-        parked = [n for n in self._pool if n in locked]
+        parked_now = set(self._station.part_states.parked(plant_context))
+        parked = [n for n in self._pool if n in parked_now]
         disposed_at = {e.part: e.time for e in self.events if e.event == "dispose"}
         return sorted(parked, key=lambda n: (disposed_at.get(n, -math.inf), self._pool.index(n)))
 
