@@ -75,6 +75,10 @@ def test_a_part_at_rest_in_a_bin_falls_asleep_where_it_lies():
     rt.advance_to(4.0)
     assert rt.part_pose(part).IsExactlyEqualTo(X_before)  # locked: not a micrometre of drift
     assert rt.parts_in_world() == [part]  # asleep is in the world, not parked
+    states, plant_context = rt.station.part_states, rt.station.plant.GetMyContextFromRoot(rt.context)
+    parked, asleep = states.locked(plant_context)
+    assert asleep == [part] and part not in parked and len(parked) == len(rt.station.pool) - 1
+    assert states.parked(plant_context) == parked  # the pool's quicker question, the same answer
     assert rt.ledger().parts == {part: "in_bin:bin_1"}
     assert _filtered_against_bin(rt, part)  # its contact with the bin costs nothing
     assert _in_proximity_engine(rt, part) == {"Box": 1, "Sphere": 0}  # its box alone is touchable
@@ -178,3 +182,43 @@ def test_a_bad_sleep_setting_is_refused_with_its_name(field, value, words):
     bad = replace(scenario, sleep=replace(scenario.sleep, **{field: value}))
     with pytest.raises(ConfigError, match=words):
         bad.validate()
+
+
+def test_rest_clock_counts_a_part_still_only_below_both_speeds():
+    """Free cubes in zero gravity keep their velocities: the clock (20 Hz from t = 0)
+    says still since 0 for those below 0.01 m/s and 0.1 rad/s, moving (inf) otherwise."""
+    import math
+
+    from pydrake.multibody.math import SpatialVelocity
+    from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
+    from pydrake.multibody.tree import SpatialInertia
+    from pydrake.systems.analysis import Simulator
+    from pydrake.systems.framework import DiagramBuilder
+
+    from omtp_drake.cell.sleep import RestClock
+    from omtp_drake.scenario import SleepConfig
+
+    velocities = {  # name: (w, v), the defaults' limits 0.1 rad/s and 0.01 m/s
+        "slow": ([0, 0, 0], [0.0095, 0, 0]),
+        "fast": ([0, 0, 0], [0, 0.0105, 0]),
+        "spinning": ([0, 0, 0.105], [0, 0, 0]),
+        "turning_slowly": ([0.095, 0, 0], [0, 0, 0.0095]),
+    }
+    builder = DiagramBuilder()
+    plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=0.01)
+    plant.mutable_gravity_field().set_gravity_vector([0, 0, 0])
+    parts = {}
+    for name in velocities:
+        parts[name] = plant.AddModelInstance(name)
+        plant.AddRigidBody(name, parts[name], SpatialInertia.SolidCubeWithDensity(1000.0, 0.1))
+    plant.Finalize()
+    clock = RestClock.AddToDiagram(builder, plant, parts, SleepConfig())
+    diagram = builder.Build()
+    context = diagram.CreateDefaultContext()
+    plant_context = plant.GetMyMutableContextFromRoot(context)
+    for name, (w, v) in velocities.items():
+        body = plant.GetBodyByName(name, parts[name])
+        plant.SetFreeBodySpatialVelocity(plant_context, body, SpatialVelocity(w, v))
+    Simulator(diagram, context).AdvanceTo(0.12)
+    since = clock.still_since(clock.GetMyContextFromRoot(context))
+    assert since == {"slow": 0.0, "fast": math.inf, "spinning": math.inf, "turning_slowly": 0.0}

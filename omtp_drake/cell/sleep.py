@@ -61,10 +61,9 @@ class RestClock(LeafSystem):
                 raise ConfigError(f"rest clock: part {name!r} must be a free body")
             starts.append(plant.num_positions() + body.floating_velocities_start_in_v())
         # A free body's velocities are [w; v] (angular, then translational).
-        first = np.array(starts, dtype=np.intp).reshape(-1, 1)
-        self._angular = first + np.arange(3)
-        self._linear = first + 3 + np.arange(3)
-        self._limits = (config.linear_speed, config.angular_speed)
+        # (n, 2, 3): each part's [w; v] in the plant's state [q; v].
+        self._velocity = np.array(starts, dtype=np.intp).reshape(-1, 1, 1) + np.arange(6).reshape(2, 3)
+        self._limits_squared = np.array([config.angular_speed, config.linear_speed]) ** 2
         self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self._state = self.DeclareDiscreteState(np.full(len(self._names), math.inf))
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._update)
@@ -89,9 +88,19 @@ class RestClock(LeafSystem):
     def still_since_output_port(self) -> OutputPort:
         return self._still_since
 
+    @property
+    def part_names(self) -> list[str]:
+        """The parts, in the order of :meth:`still_since_values`."""
+        return list(self._names)
+
     def still_since(self, context: Context) -> dict[str, float]:
         """part -> the time since which it has been still (inf: moving)."""
-        return dict(zip(self._names, context.get_discrete_state(self._state).value()))
+        return dict(zip(self._names, self.still_since_values(context)))
+
+    def still_since_values(self, context: Context) -> np.ndarray:
+        """The times since which the parts have been still (inf: moving), in the order
+        of :attr:`part_names` (a copy)."""
+        return context.get_discrete_state(self._state).CopyToVector()
 
     def restart(self, context: Context, name: str, t: float) -> None:
         """Part ``name`` counts as still only from ``t`` on (a part just woken)."""
@@ -101,11 +110,8 @@ class RestClock(LeafSystem):
         state.SetAtIndex(self._names.index(name), t)
 
     def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
-        x = self._plant_state.Eval(context)
-        v_max, w_max = self._limits
-        still = (np.linalg.norm(x[self._linear], axis=1) < v_max) & (
-            np.linalg.norm(x[self._angular], axis=1) < w_max
-        )
+        V = self._plant_state.Eval(context)[self._velocity]  # (n, 2, 3)
+        still = np.all((V * V).sum(axis=2) < self._limits_squared, axis=1)
         since = context.get_discrete_state(self._state).value()
         discrete_state.set_value(
             self._state, np.where(still, np.minimum(since, context.get_time()), math.inf)

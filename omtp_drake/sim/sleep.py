@@ -47,6 +47,7 @@ class PartSleep:
         config = station.scenario.sleep
         self.period = 1.0 / config.check_rate_hz
         self._rest_time = config.rest_time
+        self._names = self._clock.part_names
         geometries = station.part_states.geometries
         #: collision geometry -> its part's name, or "" (a body welded to the world);
         #: any other (arms, cups, the belt, all of which may move) is absent: None.
@@ -59,20 +60,21 @@ class PartSleep:
         plant_context = plant.GetMyMutableContextFromRoot(root_context)
         t = root_context.get_time()
         clock_context = self._clock.GetMyMutableContextFromRoot(root_context)
-        since = self._clock.still_since(clock_context)
-        if all(v > t - self._rest_time + _EPS for v in since.values()):
+        since = self._clock.still_since_values(clock_context)
+        rested = since <= t - self._rest_time + _EPS
+        if not rested.any():
             return  # every part moved within rest_time (a locked part is still): nothing to do
         parked, sleeping = station.part_states.locked(plant_context)
         asleep = set(sleeping)
-        awake = [n for n in station.parts if n not in asleep and n not in parked]
-        resting = {n for n in awake if since[n] <= t - self._rest_time + _EPS}
+        out = asleep.union(parked)
+        resting = {n for n, r in zip(self._names, rested.tolist()) if r and n not in out}
         if not asleep and not resting:
             return  # nothing may sleep or wake: no query
         held = set(held_parts(station, root_context).values())
         resting -= held
         # What moves: arms, cups, the belt, held parts, and awake parts that moved
         # at the clock's latest sample. Whatever is welded to the world does not.
-        moving = held | {n for n in awake if since[n] == math.inf}
+        moving = held | {n for n, v in zip(self._names, since.tolist()) if v == math.inf and n not in out}
         touches: dict[str, set] = {}  # part -> owners of what it touches
         query = plant.get_geometry_query_input_port().Eval(plant_context)
         for pair in query.ComputePointPairPenetration():
