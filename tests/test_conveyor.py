@@ -107,6 +107,36 @@ def test_deletion_wall_disposes_and_ledger_balances():
     assert rt.spawn_part(xyz=[1.2, 1.0, REST_Z]) == name
 
 
+def test_the_deletion_walls_quick_test_never_misses_a_touch():
+    """The wall's check queries SceneGraph only when a part's bounding sphere reaches
+    the wall's box: at random poses around the wall (seeded), every touch the query
+    finds is flagged, and parts well clear of the wall skip the query."""
+    from pydrake.math import RigidTransform, RollPitchYaw
+
+    from omtp_drake.sim.driver import DeletionWall
+
+    rt = FactoryRuntime(belt_world(pool=1))
+    wall = next(e for e in rt.driver.edits if isinstance(e, DeletionWall))
+    assert wall._near is not None
+    name = rt.spawn_part(xyz=[1.2, 0.0, REST_Z])
+    plant = rt.station.plant
+    plant_context = plant.GetMyMutableContextFromRoot(rt.context)
+    body = plant.GetBodyByName(name, rt.station.parts[name])
+    p_WWall = plant.GetBodyByName("deletion_wall").EvalPoseInWorld(plant_context).translation()
+    rng = np.random.default_rng(3)
+    outcomes = {"touch": 0, "near": 0, "far": 0}
+    for _ in range(400):
+        p = p_WWall + rng.uniform([-0.25, -0.7, -0.7], [0.25, 0.7, 0.7])
+        X_WP = RigidTransform(RollPitchYaw(rng.uniform(-np.pi, np.pi, 3)), p)
+        plant.SetFreeBodyPose(plant_context, body, X_WP)
+        query = plant.get_geometry_query_input_port().Eval(plant_context)
+        touch = any({pair.id_A, pair.id_B} & wall._wall for pair in query.ComputePointPairPenetration())
+        near = wall._near.any(plant.GetPositions(plant_context))
+        assert near or not touch
+        outcomes["touch" if touch else "near" if near else "far"] += 1
+    assert min(outcomes.values()) >= 20, outcomes  # all three were tried
+
+
 def test_empty_pool_is_an_error():
     rt = FactoryRuntime(belt_world(pool=1))
     rt.spawn_part(xyz=[3, 0, 0.101])

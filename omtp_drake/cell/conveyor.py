@@ -191,22 +191,19 @@ class BreakBeam(LeafSystem):
         X_WE = frame.CalcPoseInWorld(plant.CreateDefaultContext())
         self._p_WE = X_WE.translation()
         self._u_W = X_WE.rotation().col(0)
-        starts = []
-        for body in bodies:
+        #: Per candidate: the indices in q of its quaternion (w, x, y, z) and position,
+        #: its box (centre, half extents, in its frame) and its reach from its origin.
+        self._candidates: list[tuple[tuple[int, ...], tuple[int, ...], list[float], list[float], float]] = []
+        for body, (centre, half) in zip(bodies, boxes):
             if not body.is_floating_base_body() or not body.has_quaternion_dofs():
                 raise ConfigError(f"break beam: candidate {body.name()!r} must be a free body")
-            starts.append(body.floating_positions_start())
-        # q[start: start + 4] is the quaternion (w, x, y, z), q[start + 4: start + 7] the position.
-        self._quaternion_index = np.array([[k + i for i in range(4)] for k in starts], dtype=np.intp).reshape(
-            -1, 4
-        )
-        self._position_index = np.array(
-            [[k + 4 + i for i in range(3)] for k in starts], dtype=np.intp
-        ).reshape(-1, 3)
-        self._centres = np.array([c for c, _ in boxes], dtype=float).reshape(-1, 3)
-        self._halves = np.array([h for _, h in boxes], dtype=float).reshape(-1, 3)
-        # A body farther than this from the segment cannot touch it.
-        self._reach = np.linalg.norm(self._centres, axis=1) + np.linalg.norm(self._halves, axis=1)
+            k = body.floating_positions_start()
+            c = np.asarray(centre, dtype=float).reshape(3)
+            h = np.asarray(half, dtype=float).reshape(3)
+            reach = float(np.linalg.norm(c) + np.linalg.norm(h))  # farther: cannot touch the beam
+            self._candidates.append(
+                (tuple(range(k, k + 4)), tuple(range(k + 4, k + 7)), c.tolist(), h.tolist(), reach)
+            )
         self._range = (min_range, max_range)
         self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self._state = self.DeclareDiscreteState(np.array([0.0, np.inf]))
@@ -232,46 +229,62 @@ class BreakBeam(LeafSystem):
         return self._u_W.copy()
 
     def read(self, context: Context) -> np.ndarray:
-        """[detected, range] at the state in ``context``."""
-        x = self._plant_state.Eval(context)
-        p_WB = x[self._position_index]  # (n, 3)
+        """[detected, range] at the state in ``context``.
+
+        In plain floats: a dozen candidates cost less than numpy's small-array calls
+        between plant steps (bench/README.md)."""
+        x = self._plant_state.Eval(context).tolist()
         lo, hi = self._range
-        # Distance of each body origin to the segment: only those within reach are tested.
-        t = np.clip((p_WB - self._p_WE) @ self._u_W, lo, hi)
-        gap = np.linalg.norm(p_WB - (self._p_WE + t[:, None] * self._u_W), axis=1)
-        near = np.flatnonzero(gap <= self._reach)
-        if not len(near):
-            return np.array([0.0, np.inf])
-        R_WB = _rotations(x[self._quaternion_index[near]])  # (n, 3, 3)
-        # Slab test of the beam segment against each body's box, in the box's frame.
-        R_BW = R_WB.transpose(0, 2, 1)
-        origin = (R_BW @ (self._p_WE - p_WB[near])[:, :, None])[:, :, 0] - self._centres[near]
-        direction = R_BW @ self._u_W  # (n, 3)
-        half = self._halves[near]
-        parallel = np.abs(direction) < 1e-12
-        outside = np.any(parallel & (np.abs(origin) > half), axis=1)  # parallel to a slab, outside it
-        d = np.where(parallel, 1.0, direction)
-        t1, t2 = (-half - origin) / d, (half - origin) / d
-        t_near = np.max(np.where(parallel, -np.inf, np.minimum(t1, t2)), axis=1)
-        t_far = np.min(np.where(parallel, np.inf, np.maximum(t1, t2)), axis=1)
-        hit = ~outside & (t_near <= t_far) & (t_far >= lo) & (t_near <= hi)
-        if not hit.any():
-            return np.array([0.0, np.inf])
-        return np.array([1.0, float(np.max([np.min(t_near[hit]), lo]))])
+        p_WE, u_W = self._p_WE.tolist(), self._u_W.tolist()
+        first = math.inf
+        for q_index, (i, j, k), centre, half, reach in self._candidates:
+            # The body origin's distance to the segment: only those within reach get
+            # the exact test.
+            d = (x[i] - p_WE[0], x[j] - p_WE[1], x[k] - p_WE[2])
+            t = min(max(d[0] * u_W[0] + d[1] * u_W[1] + d[2] * u_W[2], lo), hi)
+            g = (d[0] - t * u_W[0], d[1] - t * u_W[1], d[2] - t * u_W[2])
+            if g[0] * g[0] + g[1] * g[1] + g[2] * g[2] > reach * reach:
+                continue
+            q = [x[a] for a in q_index]
+            first = min(first, _slab_entry(q, [x[i], x[j], x[k]], centre, half, p_WE, u_W, lo, hi))
+        return np.array([0.0, np.inf]) if first == math.inf else np.array([1.0, first])
 
     def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
         discrete_state.set_value(self._state, self.read(context))
 
 
-def _rotations(q: np.ndarray) -> np.ndarray:
-    """(n, 3, 3) rotation matrices of the quaternions ``q`` (n, 4) = (w, x, y, z),
-    normalised first."""
-    w, x, y, z = (q / np.linalg.norm(q, axis=1, keepdims=True)).T
-    return np.stack(
-        [
-            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], axis=-1),
-            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], axis=-1),
-            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], axis=-1),
-        ],
-        axis=1,
+def _slab_entry(
+    q: list[float],
+    p_WB: list[float],
+    centre: list[float],
+    half: list[float],
+    p_WE: list[float],
+    u_W: list[float],
+    lo: float,
+    hi: float,
+) -> float:
+    """Where the beam segment [lo, hi] from ``p_WE`` along ``u_W`` first is inside the
+    box (``centre``, ``half`` extents, in frame B) of a body at ``p_WB`` with the
+    quaternion ``q`` = (w, x, y, z) (normalised here): the range along the beam, at
+    least ``lo``; inf when the segment misses the box (the slab test, in B)."""
+    n = math.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3])
+    w, x, y, z = q[0] / n, q[1] / n, q[2] / n, q[3] / n
+    R_WB = (
+        (1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)),
+        (2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)),
+        (2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)),
     )
+    d = (p_WE[0] - p_WB[0], p_WE[1] - p_WB[1], p_WE[2] - p_WB[2])
+    t_near, t_far = -math.inf, math.inf
+    for i in range(3):  # B's axis i: column i of R_WB
+        origin = R_WB[0][i] * d[0] + R_WB[1][i] * d[1] + R_WB[2][i] * d[2] - centre[i]
+        direction = R_WB[0][i] * u_W[0] + R_WB[1][i] * u_W[1] + R_WB[2][i] * u_W[2]
+        if abs(direction) < 1e-12:  # parallel to the slab: inside it or a miss
+            if abs(origin) > half[i]:
+                return math.inf
+            continue
+        t1, t2 = (-half[i] - origin) / direction, (half[i] - origin) / direction
+        t_near, t_far = max(t_near, min(t1, t2)), min(t_far, max(t1, t2))
+    if t_near <= t_far and t_far >= lo and t_near <= hi:
+        return max(t_near, lo)
+    return math.inf
