@@ -108,10 +108,8 @@ class _PartSlots:
 
     names: list[str]
     joints: list
-    #: (n, 3) indices of each part's position in q.
-    index: np.ndarray
-    #: (n, 3) each part's parking position.
-    p_slot: np.ndarray
+    #: Each part's position's indices in q and its parking position.
+    slots: list[tuple[tuple[int, int, int], tuple[float, float, float]]]
 
 
 class PartStates:
@@ -197,16 +195,20 @@ class PartStates:
         question, at 20 Hz)."""
         slots = self._part_slots
         return [
-            slots.names[k]
-            for k in np.flatnonzero(self._at_slot(plant_context))
-            if slots.joints[k].is_locked(plant_context)
+            name
+            for name, joint, at_slot in zip(slots.names, slots.joints, self._at_slot(plant_context))
+            if at_slot and joint.is_locked(plant_context)
         ]
 
-    def _at_slot(self, plant_context: Context) -> np.ndarray:
-        """(n,) whether each part (in the order of ``parts``) is at its parking slot."""
-        slots = self._part_slots
-        p_WP = self.plant.GetPositions(plant_context)[slots.index]
-        return np.max(np.abs(p_WP - slots.p_slot), axis=1) < 1e-9
+    def _at_slot(self, plant_context: Context) -> list[bool]:
+        """Whether each part (in the order of ``parts``) is at its parking slot (in plain
+        floats: a dozen parts cost less than numpy's small-array calls between plant
+        steps, bench/README.md)."""
+        q = self.plant.GetPositions(plant_context).tolist()
+        return [
+            abs(q[i] - x) < 1e-9 and abs(q[j] - y) < 1e-9 and abs(q[k] - z) < 1e-9
+            for (i, j, k), (x, y, z) in self._part_slots.slots
+        ]
 
     def sleep(self, root_context: Context, name: str) -> None:
         """Part ``name`` (in the world) falls asleep where it is: at rest, its joint
@@ -278,18 +280,17 @@ class PartStates:
 
     @functools.cached_property
     def _part_slots(self) -> _PartSlots:
-        names, joints, index, p_slot = [], [], [], []
+        names, joints, slots = [], [], []
         for k, (name, instance) in enumerate(self.parts.items()):
             (joint_index,) = self.plant.GetJointIndices(instance)
             body = self.plant.GetBodyByName(name, instance)
             names.append(name)
             joints.append(self.plant.get_joint(joint_index))
             # q of a free body: its quaternion (4), then its position (3).
-            index.append(body.floating_positions_start() + 4 + np.arange(3))
-            p_slot.append(parking_pose(k).translation())
-        return _PartSlots(
-            names, joints, np.array(index, dtype=np.intp).reshape(-1, 3), np.array(p_slot).reshape(-1, 3)
-        )
+            start = body.floating_positions_start() + 4
+            x, y, z = parking_pose(k).translation().tolist()
+            slots.append(((start, start + 1, start + 2), (x, y, z)))
+        return _PartSlots(names, joints, slots)
 
     def _free_joint(self, name: str):
         if name not in self.parts:

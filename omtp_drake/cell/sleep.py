@@ -61,9 +61,9 @@ class RestClock(LeafSystem):
                 raise ConfigError(f"rest clock: part {name!r} must be a free body")
             starts.append(plant.num_positions() + body.floating_velocities_start_in_v())
         # A free body's velocities are [w; v] (angular, then translational).
-        # (n, 2, 3): each part's [w; v] in the plant's state [q; v].
-        self._velocity = np.array(starts, dtype=np.intp).reshape(-1, 1, 1) + np.arange(6).reshape(2, 3)
-        self._limits_squared = np.array([config.angular_speed, config.linear_speed]) ** 2
+        # Each part's [w; v] (indices in the plant's state [q; v]).
+        self._velocity = [tuple(range(k, k + 6)) for k in starts]
+        self._limits_squared = (config.angular_speed**2, config.linear_speed**2)
         self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self._state = self.DeclareDiscreteState(np.full(len(self._names), math.inf))
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._update)
@@ -110,9 +110,16 @@ class RestClock(LeafSystem):
         state.SetAtIndex(self._names.index(name), t)
 
     def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
-        V = self._plant_state.Eval(context)[self._velocity]  # (n, 2, 3)
-        still = np.all((V * V).sum(axis=2) < self._limits_squared, axis=1)
-        since = context.get_discrete_state(self._state).value()
-        discrete_state.set_value(
-            self._state, np.where(still, np.minimum(since, context.get_time()), math.inf)
-        )
+        # In plain floats: a dozen parts cost less than numpy's small-array calls
+        # between plant steps (bench/README.md).
+        x = self._plant_state.Eval(context).tolist()
+        t = context.get_time()
+        w2, v2 = self._limits_squared
+        since = context.get_discrete_state(self._state).value().tolist()
+        now = []
+        for (a, b, c, d, e, f), s in zip(self._velocity, since):
+            still = (
+                x[a] * x[a] + x[b] * x[b] + x[c] * x[c] < w2 and x[d] * x[d] + x[e] * x[e] + x[f] * x[f] < v2
+            )
+            now.append(min(s, t) if still else math.inf)
+        discrete_state.set_value(self._state, np.array(now))

@@ -56,25 +56,25 @@ class PartSleep:
             self._owner.update(dict.fromkeys(ids, name))
 
     def __call__(self, root_context: Context) -> None:
-        station, plant = self._station, self._station.plant
-        plant_context = plant.GetMyMutableContextFromRoot(root_context)
         t = root_context.get_time()
         clock_context = self._clock.GetMyMutableContextFromRoot(root_context)
-        since = self._clock.still_since_values(clock_context)
-        rested = since <= t - self._rest_time + _EPS
-        if not rested.any():
+        since = self._clock.still_since_values(clock_context).tolist()
+        latest = t - self._rest_time + _EPS  # still since then or earlier: at rest
+        if not any(v <= latest for v in since):
             return  # every part moved within rest_time (a locked part is still): nothing to do
+        station, plant = self._station, self._station.plant
+        plant_context = plant.GetMyMutableContextFromRoot(root_context)
         parked, sleeping = station.part_states.locked(plant_context)
         asleep = set(sleeping)
         out = asleep.union(parked)
-        resting = {n for n, r in zip(self._names, rested.tolist()) if r and n not in out}
+        resting = {n for n, v in zip(self._names, since) if v <= latest and n not in out}
         if not asleep and not resting:
             return  # nothing may sleep or wake: no query
         held = set(held_parts(station, root_context).values())
         resting -= held
         # What moves: arms, cups, the belt, held parts, and awake parts that moved
         # at the clock's latest sample. Whatever is welded to the world does not.
-        moving = held | {n for n, v in zip(self._names, since.tolist()) if v == math.inf and n not in out}
+        moving = held | {n for n, v in zip(self._names, since) if v == math.inf and n not in out}
         touches: dict[str, set] = {}  # part -> owners of what it touches
         query = plant.get_geometry_query_input_port().Eval(plant_context)
         for pair in query.ComputePointPairPenetration():
