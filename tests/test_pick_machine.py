@@ -178,6 +178,22 @@ def test_a_part_only_a_search_camera_sees_is_found(machine):
     assert d.mode is Mode.APPROACH and s.part == "object_3"
 
 
+def test_tracking_error_is_measured_from_the_desired_pose_the_caller_gives(machine):
+    """The controller hands the machine its path's pose at t from DiffIK's table;
+    without one the machine evaluates the path itself: the same error either way."""
+    from dataclasses import replace
+
+    s = ControlState(mode=Mode.WAIT_PART, path=hold(0.0, X_ABOVE), last_seen=0.0)
+    X_off = RigidTransform(X_ABOVE.rotation(), X_ABOVE.translation() + [0.003, 0.0, 0.004])
+    own = machine.step(seen(0.05, FREE, X_off), s)
+    assert own.tracking_error == pytest.approx(0.005, abs=1e-12)
+    given = machine.step(replace(seen(0.05, FREE, X_off), X_WE_desired=X_ABOVE), s)
+    assert given.tracking_error == own.tracking_error
+    X_elsewhere = RigidTransform(X_ABOVE.translation() + [0.0, 0.002, 0.0])
+    other = machine.step(replace(seen(0.05, FREE, X_off), X_WE_desired=X_elsewhere), s)
+    assert other.tracking_error == pytest.approx(math.hypot(0.003, 0.002, 0.004), abs=1e-12)
+
+
 def test_images_are_read_only_when_the_machine_looks(machine):
     """A moving arm follows its path without looking (no camera image is read, so no
     camera computes one); waiting for a part, it reads the pick camera's image."""

@@ -80,6 +80,9 @@ class MachineInput:
         pick_image: the pick camera's latest image.
         bin_image: the bin camera's latest image (:data:`NO_IMAGE` without one).
         search_images: the other cameras' latest images.
+        X_WE_desired: the control state's path at ``t``, when the caller has it at
+            hand (the controller's pose table for DiffIK); None: the machine
+            evaluates the path itself.
     """
 
     t: float
@@ -89,6 +92,7 @@ class MachineInput:
     read_pick_image: Callable[[], LogicalCameraImage] = field(default=_no_image, repr=False)
     read_bin_image: Callable[[], LogicalCameraImage] = field(default=_no_image, repr=False)
     read_search_images: Callable[[], tuple[LogicalCameraImage, ...]] = field(default=tuple, repr=False)
+    X_WE_desired: Optional[RigidTransform] = None
 
     @classmethod
     def seeing(
@@ -411,7 +415,7 @@ class PickMachine:
         Returns the state, a failure record if one ended the attempt, and the
         tracking error (m)."""
         t, X_now = inputs.t, inputs.X_WE
-        desired = s.pose_at(t)
+        desired = inputs.X_WE_desired if inputs.X_WE_desired is not None else s.pose_at(t)
         error = 0.0
         if desired is not None and s.mode not in (Mode.DESCEND, Mode.ATTACH):
             error = float(np.linalg.norm(desired.translation() - X_now.translation()))

@@ -253,15 +253,18 @@ class PickAndPlaceController(LeafSystem):
         asks for its image (a camera computes an image when it is read); asks the
         machine; writes its decision."""
         s = self._control_state(context)
+        t = context.get_time()
         q = self._robot_state.Eval(context)[: self._plant.num_positions()]
+        X_BE = self._table.Eval(context).pose(t)  # the path at t, as DiffIK gets it
         inputs = MachineInput(
-            t=context.get_time(),
+            t=t,
             X_WE=self._fk(context),
             gripper=self._gripper.Eval(context),
-            q=tuple(float(v) for v in q),
+            q=tuple(q.tolist()),
             read_pick_image=lambda: self._image.Eval(context),
             read_bin_image=lambda: self._bin_image.Eval(context),
             read_search_images=lambda: tuple(port.Eval(context) for port in self._search_images),
+            X_WE_desired=None if X_BE is None else self._X_WB @ X_BE,
         )
         decision = self._machine.step(inputs, s)
         if decision.control is not s:
