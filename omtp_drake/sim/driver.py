@@ -282,15 +282,17 @@ def loose_parts(station: Station, root_context: Context, pool: PartPool) -> list
 
 
 def _any_loose(station: Station, root_context: Context, pool: PartPool) -> bool:
-    """Whether :func:`loose_parts` has any: a part out of the bins (the newest
-    first: the older ones are mostly in a bin, the newest usually loose), else a held
-    one (a held part over a bin counts as loose; reading the grippers costs more, so
-    it comes last)."""
+    """Whether :func:`loose_parts` has any: a held part (a held part over a bin counts
+    as loose; the grippers' states are read first, the cheapest test), else a part out
+    of the bins (the newest first: the older ones are mostly in a bin, the newest
+    usually loose)."""
+    if held_parts(station, root_context):
+        return True
     unheld: dict[str, str] = {}
     return any(
         n not in pool.written_off and locate(station, root_context, n, unheld)[0] != "in_bin"
         for n in reversed(pool.in_world(root_context))
-    ) or bool(held_parts(station, root_context))
+    )
 
 
 def spawn(
