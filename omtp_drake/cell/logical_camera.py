@@ -204,9 +204,9 @@ class CameraSample:
     (``X_WB``: the plant's body poses as the abstract value of its port, a list of
     ``RigidTransform`` by body index; None before the first sample).
 
-    The poses stay a C++ copy until an image is computed: turning them into Python
-    objects cost 36 us a sample, most of a camera's cost at 10 Hz (bench/README.md),
-    and most samples are never looked at."""
+    The poses stay a C++ copy until an image is computed: a sample that turned them
+    into Python objects cost 34-42 us in a run, 12-19 us now (bench/README.md), and
+    most samples are never looked at."""
 
     time: float = math.nan
     X_WB: Optional[AbstractValue] = None

@@ -19,7 +19,7 @@ from typing import Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.multibody.inverse_kinematics import (
     DifferentialInverseKinematicsIntegrator,
     DifferentialInverseKinematicsParameters,
@@ -281,10 +281,9 @@ class PoseTable:
     from one :meth:`~omtp_drake.control.tool_paths.Path.poses` call. Mutable: the
     value of the controller's cache entry, refilled when the path changes.
 
-    The transforms are built in one loop when the table is filled: a lookup at
-    DiffIK's rate then only indexes a list (built one at a time between plant
-    steps, the same transform cost 10-15 us a sample, against about 2 us in the
-    loop; bench/README.md)."""
+    The transforms are built in one loop when the table is filled (about 3 us each):
+    a lookup at DiffIK's rate then only indexes a list. A lookup that built its
+    transform cost 15 us a call in a run, between plant steps (bench/README.md)."""
 
     def __init__(self) -> None:
         self.path: Optional[Path] = None
@@ -301,10 +300,10 @@ class PoseTable:
         k1 = max(self._k0, math.ceil(path.end_time / h)) + 1
         p_WE, R_WE = path.poses(np.arange(self._k0, k1 + 1) * h)
         R_BW = X_BW.rotation().matrix()
-        # [R_BE | p_BE] (N, 3, 4); the last is the end pose, asked for at every
-        # sample once the path is done (an arm that waits holds it).
-        M_BE = np.concatenate([R_BW @ R_WE, (p_WE @ R_BW.T + X_BW.translation())[:, :, None]], axis=2)
-        self._X_BE = [RigidTransform(M) for M in M_BE]
+        # The last is the end pose, asked for at every sample once the path is done
+        # (an arm that waits holds it).
+        R_BE, p_BE = R_BW @ R_WE, p_WE @ R_BW.T + X_BW.translation()
+        self._X_BE = [RigidTransform(RotationMatrix(R), p) for R, p in zip(R_BE, p_BE)]
 
     def pose(self, t: float) -> Optional[RigidTransform]:
         """``X_BE`` at ``t`` if ``t`` is one of the table's sample times (after its
