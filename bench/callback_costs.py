@@ -1,0 +1,102 @@
+"""What each of our Python callbacks costs in a run (issue 20, bench/README.md item 9).
+
+    python bench/callback_costs.py [fill_bin | lecture7_conveyor_pick | belt] [--seed 0]
+
+Wraps each system callback and world edit of ``omtp_drake`` with ``perf_counter`` (no
+profiler: a sampling profiler's own cost blurs calls of 10-200 us), runs the case once,
+and prints for each: calls per simulated second, us per call, ms per simulated second.
+A call costs several times what it costs timed alone, because the plant's step between
+two calls leaves the CPU caches cold; this measures it where it happens.
+
+Nested rows (marked ``in``) are also inside another row: the machine's step and the
+camera images inside the controller's update, the pose table inside the update and
+DiffIK's pose. The total adds the top-level rows only. The wrappers add about 1 us a
+call.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import importlib
+import time
+
+#: (module, class, methods, nested): the callbacks to time.
+CALLBACKS = [
+    ("omtp_drake.control.pick_and_place.system", "PickAndPlaceController", ["_update", "_calc_pose"], False),
+    ("omtp_drake.control.pick_and_place.system", "PickAndPlaceController", ["_calc_table"], True),
+    ("omtp_drake.control.pick_and_place.machine", "PickMachine", ["step"], True),
+    ("omtp_drake.cell.suction", "SuctionGripper", ["_check", "_calc_state"], False),
+    ("omtp_drake.cell.suction_holds", "ForceSuctionGripper", ["_calc_forces"], False),
+    ("omtp_drake.cell.conveyor", "BreakBeam", ["_update"], False),
+    ("omtp_drake.cell.conveyor", "ConveyorBelt", ["_calc_desired_state", "_check_beam"], False),
+    ("omtp_drake.cell.logical_camera", "LogicalCamera", ["_update"], False),
+    ("omtp_drake.cell.logical_camera", "LogicalCamera", ["_calc_image"], True),
+    ("omtp_drake.cell.sleep", "RestClock", ["_update"], False),
+    ("omtp_drake.sim.sleep", "PartSleep", ["__call__"], False),
+    ("omtp_drake.sim.driver", "WeldSync", ["__call__"], False),
+    ("omtp_drake.sim.driver", "AutoSpawner", ["__call__"], False),
+    ("omtp_drake.sim.driver", "DeletionWall", ["__call__"], False),
+    ("omtp_drake.sim.driver", "BeltWrap", ["__call__"], False),
+]
+
+
+def instrument() -> tuple[dict[str, float], collections.Counter, set[str]]:
+    """Wraps the callbacks (before any system is built); returns the seconds and the
+    calls per callback as they accumulate, and the nested ones' names."""
+    seconds: dict[str, float] = collections.defaultdict(float)
+    calls: collections.Counter = collections.Counter()
+    nested: set[str] = set()
+    for module, name, methods, inside in CALLBACKS:
+        cls = getattr(importlib.import_module(module), name)
+        for method in methods:
+            function = cls.__dict__[method]
+            key = f"{name}.{method}"
+            if inside:
+                nested.add(key)
+
+            def timed(*args, _function=function, _key=key, **kwargs):
+                start = time.perf_counter()
+                try:
+                    return _function(*args, **kwargs)
+                finally:
+                    seconds[_key] += time.perf_counter() - start
+                    calls[_key] += 1
+
+            setattr(cls, method, timed)
+    return seconds, calls, nested
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("case", nargs="?", default="fill_bin",
+                        choices=["fill_bin", "lecture7_conveyor_pick", "belt"])
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    seconds, calls, nested = instrument()
+    from omtp_drake.benchmark import belt_scenario
+    from omtp_drake.sim.runtime import FactoryRuntime
+    from omtp_drake.tasks.run import run_task
+
+    if args.case == "belt":  # as `omtp-drake bench` runs it: 10 parts riding, 10 s
+        runtime = FactoryRuntime(belt_scenario(10))
+        start = time.perf_counter()
+        runtime.advance_to(10.0)
+        simulated, wall = 10.0, time.perf_counter() - start
+    else:
+        result = run_task(args.case, seed=args.seed)
+        simulated, wall = result.sim_time_s, result.wall_time_s
+    per_second = 1e3 * wall / simulated
+    print(f"{args.case}: {simulated:.1f} s simulated, run loop {per_second:.1f} ms per simulated s", end="")
+    print(" (with the wrappers)")
+    print("| callback | calls per simulated s | us per call | ms per simulated s |\n|---|---:|---:|---:|")
+    for key in sorted(seconds, key=lambda k: -seconds[k]):
+        label = f"{key} (in)" if key in nested else key
+        print(f"| {label} | {calls[key] / simulated:.1f} | {1e6 * seconds[key] / calls[key]:.1f} | "
+              f"{1e3 * seconds[key] / simulated:.2f} |")
+    total = sum(v for k, v in seconds.items() if k not in nested)
+    print(f"| **all top-level callbacks** | | | **{1e3 * total / simulated:.2f}** |")
+
+
+if __name__ == "__main__":
+    main()
