@@ -60,8 +60,8 @@ class RestClock(LeafSystem):
             if not body.is_floating_base_body():
                 raise ConfigError(f"rest clock: part {name!r} must be a free body")
             starts.append(plant.num_positions() + body.floating_velocities_start_in_v())
-        # A free body's velocities are [w; v] (angular, then translational).
-        # Each part's [w; v] (indices in the plant's state [q; v]).
+        # Each part's velocities [w; v] (angular, then translational): their indices in
+        # the plant's state [q; v].
         self._velocity = [tuple(range(k, k + 6)) for k in starts]
         self._limits_squared = (config.angular_speed**2, config.linear_speed**2)
         self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())

@@ -118,18 +118,10 @@ class DeletionWall:
         self._station = station
         self._pool = pool
         plant, inspector = station.plant, station.scene_graph.model_inspector()
-
-        def collision_geometries(body) -> list:
-            frame = plant.GetBodyFrameIdOrThrow(body.index())
-            return list(inspector.GetGeometries(frame, Role.kProximity))
-
         wall = plant.GetBodyByName("deletion_wall")
-        self._wall = set(collision_geometries(wall))
-        self._part_of = {
-            g: n
-            for n in station.parts
-            for g in collision_geometries(plant.GetBodyByName(n, station.parts[n]))
-        }
+        self._wall = set(inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(wall.index()), Role.kProximity))
+        parts = station.part_states.geometries.parts
+        self._part_of = {g: n for n, geometries in parts.items() for g in geometries}
         self._near = _NearWall.of(station, wall, self._wall) if plant.IsAnchored(wall) else None
 
     def __call__(self, root_context: Context) -> None:
@@ -187,7 +179,7 @@ class _NearWall:
             start = body.floating_positions_start() + 4
             index.append((start, start + 1, start + 2))
             reach = 0.0
-            for g in inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(body.index()), Role.kProximity):
+            for g in station.part_states.geometries.parts[name]:
                 shape = inspector.GetShape(g)
                 if isinstance(shape, Box):
                     size = float(np.linalg.norm(shape.size())) / 2
