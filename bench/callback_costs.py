@@ -1,6 +1,6 @@
 """What each of our Python callbacks costs in a run (issue 20, bench/README.md item 9).
 
-    python bench/callback_costs.py [fill_bin | lecture7_conveyor_pick | belt] [--seed 0]
+    python bench/callback_costs.py [fill_bin | lecture7_conveyor_pick | belt] [--seed 0] [--time-step 0.002]
 
 Wraps each system callback and world edit of ``omtp_drake`` with ``perf_counter`` (no
 profiler: a sampling profiler's own cost blurs calls of 10-200 us), runs the case once,
@@ -72,22 +72,32 @@ def main() -> None:
     parser.add_argument("case", nargs="?", default="fill_bin",
                         choices=["fill_bin", "lecture7_conveyor_pick", "belt"])
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--time-step", type=float, default=None,
+                        help="the plant's step (default: the scenario's)")
     args = parser.parse_args()
     seconds, calls, nested = instrument()
     from omtp_drake.benchmark import belt_scenario
     from omtp_drake.sim.runtime import FactoryRuntime
-    from omtp_drake.tasks.run import run_task
+    from omtp_drake.tasks.run import prepare, run_task
 
     if args.case == "belt":  # as `omtp-drake bench` runs it: 10 parts riding, 10 s
-        runtime = FactoryRuntime(belt_scenario(10))
+        scenario = belt_scenario(10)
+        if args.time_step is not None:
+            scenario = scenario.with_time_step(args.time_step)
+        runtime = FactoryRuntime(scenario)
         start = time.perf_counter()
         runtime.advance_to(10.0)
         simulated, wall = 10.0, time.perf_counter() - start
     else:
-        result = run_task(args.case, seed=args.seed)
+        scenario = prepare(args.case, seed=args.seed)
+        if args.time_step is not None:
+            scenario = scenario.with_time_step(args.time_step)
+        result = run_task(scenario)
         simulated, wall = result.sim_time_s, result.wall_time_s
     per_second = 1e3 * wall / simulated
-    print(f"{args.case}: {simulated:.1f} s simulated, run loop {per_second:.1f} ms per simulated s", end="")
+    step = "" if args.time_step is None else f" at a {1e3 * args.time_step:g} ms step"
+    print(f"{args.case}{step}: {simulated:.1f} s simulated, run loop {per_second:.1f} ms per simulated s",
+          end="")
     print(" (with the wrappers)")
     print("| callback | calls per simulated s | us per call | ms per simulated s |\n|---|---:|---:|---:|")
     for key in sorted(seconds, key=lambda k: -seconds[k]):

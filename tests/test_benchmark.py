@@ -80,3 +80,41 @@ def test_replay_drives_the_bare_plant_with_recorded_commands():
     seconds = replay_cpu_seconds(scenario, ArmMotion({"robot2": hold}, 0.2, frozenset({"robot2"})))
     assert 0 < seconds < 10 and math.isfinite(seconds)
 
+
+
+def test_replay_follows_the_recorded_run_and_locks_the_arm_that_stood_still():
+    """One part of fill_bin at a 2 ms step: the recorded motion names only robot 2 (robot 1's
+    command never changed, so the replay locks it as the station does), and the bare plant
+    replaying it puts robot 2 where the full run had it (the full run also carries the part)."""
+    from pydrake.multibody.plant import MultibodyPlant
+
+    from omtp_drake.benchmark import _bare_simulator, record_arm_motion
+    from omtp_drake.tasks.run import run_task
+
+    scenario = prepare("fill_bin", parts=1).with_time_step(0.002)
+    motion, result = record_arm_motion(scenario)
+    assert result.success and motion.moving == frozenset({"robot2"})
+    assert motion.duration == pytest.approx(result.sim_time_s)
+    q_full = {}
+
+    def sample(run):
+        station = run.runtime.station
+        q_full[round(run.runtime.time, 6)] = station.plant.GetPositions(
+            station.plant.GetMyContextFromRoot(run.runtime.context), station.arms["robot2"].arm)
+
+    run_task(scenario, on_chunk=sample)  # the same seed: the same run again
+    bare = with_parts(prepare("fill_bin"), [[-8.3, -1.23, 0.051]], 0.1).with_time_step(0.002)
+    simulator, models = _bare_simulator(bare, motion)
+    plant = next(s for s in simulator.get_system().GetSystems() if isinstance(s, MultibodyPlant))
+    plant_context = plant.GetMyContextFromRoot(simulator.get_context())
+    q1 = plant.GetPositions(plant_context, models.arms["robot1"].arm)
+    travelled = 0.0
+    for t, q in sorted(q_full.items()):
+        simulator.AdvanceTo(t)
+        q_replay = plant.GetPositions(plant_context, models.arms["robot2"].arm)
+        assert np.abs(q_replay - q).max() < 5e-3, t  # 0.0016 rad at most, measured
+        travelled = max(travelled, float(np.abs(q - q_full[0.5]).max()))
+    assert travelled > 0.5  # the arm went somewhere
+    assert np.array_equal(plant.GetPositions(plant_context, models.arms["robot1"].arm), q1)
+    joints = [plant.get_joint(i) for i in plant.GetJointIndices(models.arms["robot1"].arm)]
+    assert all(joint.is_locked(plant_context) for joint in joints if joint.num_velocities())
