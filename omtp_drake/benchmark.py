@@ -21,9 +21,9 @@ Targets (issue 20): ``fill_bin`` and ``lecture7_conveyor_pick`` <= 60 ms per sim
 second, the belt <= 50 (RTF >= 20), ``fill_bin`` at 2 ms <= 120.
 
 The fair reference (issue 20): ``fill_bin``'s full run, at its step and at 2 ms,
-against its bare plant *replaying the same arm motion*: each arm's position commands, as its servo sampled
-them (``command_rate_hz``) in a recorded run of the task, fed through the same C++
-sampler and servo, with the same one part on the floor and the same parked pool; no
+against its bare plant *replaying the same arm motion*: each arm's position commands,
+as its servo sampled them (``command_rate_hz``) in a recorded run of the task, fed
+through the same C++ sampler and servo, with the same one part on the floor and the same parked pool; no
 suction, so no part is carried. An arm whose command was held in the run is locked,
 as the station locks it. Both in CPU seconds of this process per simulated
 second (the machine is shared; CPU time is less noisy than wall time), the median of
@@ -139,8 +139,9 @@ class ArmMotion:
 
 
 def record_arm_motion(name: Scenario | str) -> tuple[ArmMotion, TaskResult]:
-    """Runs ``name``'s task (a scenario or its name) and records each arm's position command as its servo
-    samples it (at ``command_rate_hz``, the value at each sample instant)."""
+    """Runs ``name``'s task (a scenario or its name) and records each arm's position
+    command as its servo samples it (at ``command_rate_hz``, the value at each sample
+    instant)."""
     samples: dict[str, dict[int, np.ndarray]] = {}
     periods: dict[str, float] = {}
 
@@ -361,6 +362,7 @@ def measure(
 
     fill_floor = with_parts(fill, [[-8.3, -1.23, 0.051]], fill.pool_part_size)
     fine = SMALL_STEP
+    fine_label = f"fill_bin (10 parts) at a {1e3 * fine:g} ms step"
     plan = (  # (label, bare scenario, full run, target: wall s per simulated s)
         ("fill_bin (10 parts)", fill_floor, lambda: full_task("fill_bin"), 0.060),
         (
@@ -376,7 +378,7 @@ def measure(
             0.050,
         ),
         (
-            f"fill_bin (10 parts) at a {1e3 * fine:g} ms step",
+            fine_label,
             fill_floor.with_time_step(fine),
             lambda: full_task("fill_bin", fine),
             0.120,
@@ -396,7 +398,7 @@ def measure(
     say("fill_bin, at its step and at 2 ms, against the same arm motion replayed")
     replays = (
         replay_timing("fill_bin", fill, fill_floor, repeats),
-        replay_timing(plan[3][0], fill.with_time_step(fine), fill_floor.with_time_step(fine), repeats),
+        replay_timing(fine_label, fill.with_time_step(fine), fill_floor.with_time_step(fine), repeats),
     )
     fill_runs = [r for r in results if r.scenario == "fill_bin"]
     cycles = tuple(p.cycle_time for p in fill_runs[0].picks if p.success)

@@ -81,7 +81,6 @@ def test_replay_drives_the_bare_plant_with_recorded_commands():
     assert 0 < seconds < 10 and math.isfinite(seconds)
 
 
-
 def test_replay_follows_the_recorded_run_and_locks_the_arm_that_stood_still():
     """One part of fill_bin at a 2 ms step: the recorded motion names only robot 2 (robot 1's
     command never changed, so the replay locks it as the station does), and the bare plant
