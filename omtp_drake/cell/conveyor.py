@@ -23,6 +23,7 @@ from pydrake.multibody.tree import RigidBody
 from pydrake.systems.framework import BasicVector, Context, DiscreteValues, InputPort, LeafSystem, OutputPort
 
 from omtp_drake.assets import model_dimensions
+from omtp_drake.cell.parts import free_body_q_indices
 from omtp_drake.errors import ConfigError
 
 #: Belt speed at power 100 (m/s), toward world -y.
@@ -197,13 +198,11 @@ class BreakBeam(LeafSystem):
         for body, (centre, half) in zip(bodies, boxes):
             if not body.is_floating_base_body() or not body.has_quaternion_dofs():
                 raise ConfigError(f"break beam: candidate {body.name()!r} must be a free body")
-            k = body.floating_positions_start()
+            q_index, p_index = free_body_q_indices(body)
             c = np.asarray(centre, dtype=float).reshape(3)
             h = np.asarray(half, dtype=float).reshape(3)
             reach = float(np.linalg.norm(c) + np.linalg.norm(h))  # farther: cannot touch the beam
-            self._candidates.append(
-                (tuple(range(k, k + 4)), tuple(range(k + 4, k + 7)), c.tolist(), h.tolist(), reach)
-            )
+            self._candidates.append((q_index, p_index, c.tolist(), h.tolist(), reach))
         self._range = (min_range, max_range)
         self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self._state = self.DeclareDiscreteState(np.array([0.0, np.inf]))

@@ -17,26 +17,30 @@ those states; the pool's bookkeeping while the cell runs is
 import functools
 import logging
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Optional
+from typing import Optional
 
 import numpy as np
 from pydrake.geometry import CollisionFilterDeclaration, GeometrySet, Role, SceneGraph, Sphere
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 from pydrake.multibody.plant import MultibodyPlant
-from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.multibody.tree import ModelInstanceIndex, RigidBody
 from pydrake.systems.framework import Context
 
 from omtp_drake.errors import SimulationError, UnknownNameError
 from omtp_drake.scenario.configs import SpawnerConfig
 
-if TYPE_CHECKING:
-    pass
-
 _log = logging.getLogger(__name__)
 
 #: Where parked part k waits (x = PARK_X0 + k * PARK_DX, on a line far from the cell).
 PARK_X0, PARK_DX, PARK_Y, PARK_Z = 50.0, 0.5, 50.0, 1.0
+
+
+def free_body_q_indices(body: RigidBody) -> tuple[tuple[int, int, int, int], tuple[int, int, int]]:
+    """The indices in the plant's positions ``q`` of free ``body``'s quaternion (w, x, y,
+    z) and of its position (a free body's q: the quaternion, then the position)."""
+    k = body.floating_positions_start()
+    return (k, k + 1, k + 2, k + 3), (k + 4, k + 5, k + 6)
 
 
 def parking_pose(slot: int) -> RigidTransform:
@@ -286,10 +290,8 @@ class PartStates:
             body = self.plant.GetBodyByName(name, instance)
             names.append(name)
             joints.append(self.plant.get_joint(joint_index))
-            # q of a free body: its quaternion (4), then its position (3).
-            start = body.floating_positions_start() + 4
             x, y, z = parking_pose(k).translation().tolist()
-            slots.append(((start, start + 1, start + 2), (x, y, z)))
+            slots.append((free_body_q_indices(body)[1], (x, y, z)))
         return _PartSlots(names, joints, slots)
 
     def _free_joint(self, name: str):

@@ -33,7 +33,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram
 
 from omtp_drake.cell.conveyor import WRAP_TRAVEL
-from omtp_drake.cell.parts import spawn_pose
+from omtp_drake.cell.parts import free_body_q_indices, spawn_pose
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
@@ -176,8 +176,7 @@ class _NearWall:
             body = plant.GetBodyByName(name, instance)
             if not body.is_floating_base_body() or not body.has_quaternion_dofs():
                 return None
-            start = body.floating_positions_start() + 4
-            index.append((start, start + 1, start + 2))
+            index.append(free_body_q_indices(body)[1])
             reach = 0.0
             for g in station.part_states.geometries.parts[name]:
                 shape = inspector.GetShape(g)
