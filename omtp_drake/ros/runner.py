@@ -19,7 +19,6 @@ import contextlib
 import dataclasses
 import logging
 import os
-import runpy
 import sys
 import time
 from collections.abc import Iterator, Sequence
@@ -29,6 +28,7 @@ from typing import Optional
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import Cell, load_scenario
 from omtp_drake.ros.node import ROSInterruptException
+from omtp_drake.ros.py2 import run_as_main, script_code
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
 
@@ -101,9 +101,12 @@ def run_script(
     session = Session(cell, timeout=timeout, moveit=moveit)
     exception: Optional[BaseException] = None
     exit_code = 0
+    python2 = False
     try:
+        code = script_code(path)
+        python2 = code.python2
         with script_environment(path, args), active(session):
-            runpy.run_path(str(path), run_name="__main__")
+            run_as_main(code, path)
     except SystemExit as e:
         exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
     except ROSInterruptException as e:
@@ -125,6 +128,7 @@ def run_script(
         traceback=_script_traceback(exception, path) if exception is not None else [],
         shutdown=session.shutdown_reason,
         exit_code=exit_code,
+        python2=python2,
         replay=str(replay) if replay else None,
     )
 
