@@ -125,7 +125,8 @@ def load_joint_limits(text: str, tree: CellTree, source: str) -> JointLimits:
         if limits.get("has_velocity_limits"):
             velocity[joint] = _positive(limits.get("max_velocity"), f"{source}: {joint}.max_velocity")
         if limits.get("has_acceleration_limits"):
-            acceleration[joint] = _positive(limits.get("max_acceleration"), f"{source}: {joint}.max_acceleration")
+            what = f"{source}: {joint}.max_acceleration"
+            acceleration[joint] = _positive(limits.get("max_acceleration"), what)
     scales = {}
     for key in ("default_velocity_scaling_factor", "default_acceleration_scaling_factor"):
         if key in data:
@@ -151,14 +152,18 @@ def _positive(value: Any, what: str) -> float:
     return number
 
 
-def config_files(srdf: Optional[str | Path], package: Optional[str | Path]) -> tuple[Optional[Path], Optional[Path]]:
+def config_files(
+    srdf: Optional[str | Path], package: Optional[str | Path]
+) -> tuple[Optional[Path], Optional[Path]]:
     """(the SRDF, the joint_limits.yaml) of ``--srdf FILE`` and ``--moveit-config DIR``
     (``DIR/config/*.srdf``, ``DIR/config/joint_limits.yaml``); ``--srdf`` wins."""
     limits = None
     if package is not None:
         config = Path(package) / "config"
         if not config.is_dir():
-            raise ConfigError(f"--moveit-config {str(package)!r} has no config/ folder (a MoveIt config package)")
+            raise ConfigError(
+                f"--moveit-config {str(package)!r} has no config/ folder (a MoveIt config package has)"
+            )
         found = sorted(config.glob("*.srdf"))
         if srdf is None:
             if len(found) != 1:
@@ -178,10 +183,10 @@ def install(
     session: Session,
     srdf: Optional[str | Path] = None,
     package: Optional[str | Path] = None,
-) -> None:
-    """Gives ``session`` its semantics and joint limits and sets ``/robot_description``,
-    ``/robot_description_semantic`` and ``/robot_description_planning/...`` (see the
-    module doc)."""
+) -> SemanticModel:
+    """Gives ``session`` its semantics (returned) and joint limits and sets
+    ``/robot_description``, ``/robot_description_semantic`` and
+    ``/robot_description_planning/...`` (see the module doc)."""
     from omtp_drake.cell.arms import NAMED_POSES
     from omtp_drake.ros.description import robot_description
 
@@ -204,6 +209,12 @@ def install(
     if limits is not None:
         for key, value in _flatten(limits.values, "/robot_description_planning"):
             session.params[key] = value
+    return semantic
+
+
+def semantics(session: Session) -> SemanticModel:
+    """The session's semantics (the cell's own ones installed first if it has none)."""
+    return session.semantic if session.semantic is not None else install(session)
 
 
 def _flatten(data: Mapping[str, Any], prefix: str) -> list[tuple[str, Any]]:

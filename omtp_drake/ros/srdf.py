@@ -120,6 +120,10 @@ class SemanticModel:
         """The groups that move an arm, in the SRDF's order."""
         return [g for g, group in self.groups.items() if group.robot is not None]
 
+    def group_of(self, robot: str) -> Optional[str]:
+        """The first move group on arm ``robot`` (None: none moves it)."""
+        return next((g for g in self.move_groups() if self.groups[g].robot == robot), None)
+
     def named_states(self, group: str) -> dict[str, dict[str, float]]:
         """The named states of ``group``: name -> {joint: value}, in the SRDF's order."""
         self.group(group)
@@ -183,7 +187,8 @@ def _resolve_group(
     for child in elements[name]:
         what = child.get("name", "")
         if child.tag == "chain":
-            base, tip = _link(child.get("base_link", ""), name, tree), _link(child.get("tip_link", ""), name, tree)
+            base = _link(child.get("base_link", ""), name, tree)
+            tip = _link(child.get("tip_link", ""), name, tree)
             joints += tree.chain_joints(base, tip, name)
             links.append(tip)
         elif child.tag == "joint":
@@ -277,7 +282,8 @@ def _disabled_pairs(root: ET.Element, tree: CellTree) -> tuple[tuple[str, str, s
         pairs.append((a, b, element.get("reason", "")))
     if unknown:
         _log.warning(
-            "SRDF: disable_collisions skipped for links the cell does not have: %s", ", ".join(sorted(unknown))
+            "SRDF: disable_collisions skipped for links the cell does not have: %s",
+            ", ".join(sorted(unknown)),
         )
     return tuple(pairs)
 
@@ -310,9 +316,9 @@ def to_srdf(model: SemanticModel, tree: CellTree) -> str:
         else:
             for link in group.links:
                 ET.SubElement(element, "link", name=link)
-    for group, states in model.states.items():
+    for group_name, states in model.states.items():
         for name, values in states.items():
-            element = ET.SubElement(root, "group_state", name=name, group=group)
+            element = ET.SubElement(root, "group_state", name=name, group=group_name)
             for joint, value in values.items():
                 ET.SubElement(element, "joint", name=joint, value=repr(value))
     for a, b, reason in model.disabled_collisions:
