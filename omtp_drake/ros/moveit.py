@@ -81,6 +81,8 @@ class MoveGroupCommander:
         self._arm = session.cell.arm(robot)
         self._links = {full: short for short, full in tool_frame_names(self._arm.config).items()}
         self._eef = self._default_eef()
+        if semantic.disabled_collisions:
+            self._arm.planner.filter_collisions((p[0], p[1]) for p in semantic.disabled_collisions)
         self._target: Optional[tuple[str, Any]] = None
         self._remembered: dict[str, np.ndarray] = {}
         limits = session.joint_limits

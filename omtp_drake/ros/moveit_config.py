@@ -31,9 +31,9 @@ from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 
-from omtp_drake.errors import ConfigError, NotSupportedError, UnknownNameError
+from omtp_drake.errors import ConfigError, NotSupportedError
 from omtp_drake.ros._core import JOINT_NAMES, tool_frame_names
-from omtp_drake.ros.srdf import CellTree, SemanticModel, default_semantic, parse_srdf
+from omtp_drake.ros.srdf import CellTree, SemanticModel, bad_name, default_semantic, parse_srdf
 
 if TYPE_CHECKING:
     from omtp_drake.ros.session import Session
@@ -111,12 +111,12 @@ def load_joint_limits(text: str, tree: CellTree, source: str) -> JointLimits:
     velocity, acceleration = {}, {}
     for joint, limits in (data.get("joint_limits") or {}).items():
         if joint not in joints:
-            raise UnknownNameError(f"joint ({source})", joint, joints, closest=True)
+            raise bad_name(f"joint ({source})", joint, joints, closest=True)
         if not isinstance(limits, dict):
             raise ConfigError(f"{source}: joint_limits.{joint} must be a mapping, got {limits!r}")
         unknown = sorted(set(limits) - set(_LIMIT_KEYS))
         if unknown:
-            raise UnknownNameError(f"key of joint_limits.{joint} ({source})", unknown[0], _LIMIT_KEYS)
+            raise bad_name(f"key of joint_limits.{joint} ({source})", unknown[0], _LIMIT_KEYS)
         if limits.get("has_position_limits"):
             raise NotSupportedError(
                 f"{source}: joint_limits.{joint}.has_position_limits: true is not supported by omtp-drake "

@@ -172,6 +172,12 @@ def parse_srdf(text: str, tree: CellTree, source: str = "SRDF") -> SemanticModel
     )
 
 
+def bad_name(kind: str, name: str, valid: Any, *, closest: bool = False) -> ConfigError:
+    """A ConfigError for a name in a config file that is not one of ``valid`` (the
+    message of :class:`UnknownNameError`: the closest names, the valid ones)."""
+    return ConfigError(str(UnknownNameError(kind, name, valid, closest=closest)))
+
+
 def _resolve_group(
     name: str, elements: Mapping[str, ET.Element], tree: CellTree, done: dict[str, Group], seen: tuple
 ) -> Group:
@@ -198,7 +204,7 @@ def _resolve_group(
             joints += tree.link_joint(what)
         elif child.tag == "group":
             if what not in elements:
-                raise UnknownNameError(f"subgroup of SRDF group {name!r}", what, elements)
+                raise bad_name(f"subgroup of SRDF group {name!r}", what, elements)
             sub = _resolve_group(what, elements, tree, done, (*seen, name))
             joints += sub.joints
             links += sub.links
@@ -209,14 +215,15 @@ def _resolve_group(
 
 def _link(link: str, group: str, tree: CellTree) -> str:
     if link not in tree.links:
-        raise UnknownNameError(f"link (SRDF group {group!r})", link, tree.links, closest=True)
+        raise bad_name(f"link (SRDF group {group!r})", link, tree.links, closest=True)
     return link
 
 
 def _group_joint(joint: str, group: str, tree: CellTree) -> list[str]:
     joints = tree.joints
     if joint not in joints:
-        raise UnknownNameError(f"joint (SRDF group {group!r})", joint, joints, closest=True)
+        arm_joints = [j for arm in tree.arms.values() for j in arm]
+        raise bad_name(f"joint (SRDF group {group!r})", joint, arm_joints, closest=True)
     return tree.link_joint(joints[joint])
 
 
@@ -239,13 +246,13 @@ def _states(root: ET.Element, groups: Mapping[str, Group], tree: CellTree) -> di
     for element in root.findall("group_state"):
         name, group = element.get("name", ""), element.get("group", "")
         if group not in groups:
-            raise UnknownNameError(f"group (SRDF group_state {name!r})", group, groups)
+            raise bad_name(f"group (SRDF group_state {name!r})", group, groups)
         valid = groups[group].joints
         values: dict[str, float] = {}
         for joint in element.findall("joint"):
             jname = joint.get("name", "")
             if jname not in valid:
-                raise UnknownNameError(f"joint of group {group!r} (SRDF group_state {name!r})", jname, valid)
+                raise bad_name(f"joint of group {group!r} (SRDF group_state {name!r})", jname, valid)
             values[jname] = _number(joint.get("value"), f"SRDF group_state {name!r}, joint {jname!r}")
         states.setdefault(group, {})[name] = values
     return states
@@ -263,10 +270,10 @@ def _end_effector(element: ET.Element, groups: Mapping[str, Group], tree: CellTr
     group, parent_group = element.get("group", ""), element.get("parent_group")
     for g in (group, parent_group):
         if g is not None and g not in groups:
-            raise UnknownNameError(f"group (SRDF end_effector {name!r})", g, groups)
+            raise bad_name(f"group (SRDF end_effector {name!r})", g, groups)
     link = element.get("parent_link", "")
     if link not in tree.links:
-        raise UnknownNameError(f"parent_link (SRDF end_effector {name!r})", link, tree.links, closest=True)
+        raise bad_name(f"parent_link (SRDF end_effector {name!r})", link, tree.links, closest=True)
     return EndEffector(name, group, link, parent_group)
 
 

@@ -42,7 +42,7 @@ Example::
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -185,6 +185,11 @@ class ArmPlanner:
         a = self._collision.full(self._q(q_start), other_q)
         b = self._collision.full(self._q(q_goal), other_q)
         return self._collision.path_pairs(a, b)
+
+    def filter_collisions(self, pairs: Iterable[tuple[str, str]]) -> list[tuple[str, str]]:
+        """Never checks the body pairs ``pairs`` (names) again, as an SRDF's
+        ``disable_collisions``; returns those involving this arm (the others are skipped)."""
+        return self._collision.filter_pairs(pairs)
 
     # ------------------------------------------------------------- planning
 
