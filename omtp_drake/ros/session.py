@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.errors import SimulationError
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.moveit_config import JointLimits
+    from omtp_drake.ros.joint_limits import JointLimits
     from omtp_drake.ros.services import Service
     from omtp_drake.ros.srdf import SemanticModel
     from omtp_drake.ros.topics import Source
