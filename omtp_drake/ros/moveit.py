@@ -308,19 +308,24 @@ class MoveGroupCommander:
             return None, _error_code(e), wall.perf_counter() - start
         return plan, MoveItErrorCodes.SUCCESS, wall.perf_counter() - start
 
+    def _limits(self) -> Optional[tuple[np.ndarray, np.ndarray]]:
+        """The (velocity, acceleration) joint limits joint_limits.yaml gives the arm
+        (None: it sets none of its joints)."""
+        limits = self._session.joint_limits
+        joints = tuple(joint_names(self._robot))
+        if limits is None or not any(j in limits.velocity or j in limits.acceleration for j in joints):
+            return None
+        planner = self._arm.planner
+        return limits.arm_limits(joints, planner.velocity_limits, planner.acceleration_limits)
+
     def _retime(self, plan: Plan) -> Plan:
         """``plan`` timed again with the acceleration scaling factor and joint_limits.yaml's
         limits (unchanged when neither applies)."""
-        limits = self._session.joint_limits
-        joints = tuple(joint_names(self._robot))
-        own = limits is not None and any(j in limits.velocity or j in limits.acceleration for j in joints)
-        if self._acceleration_scale >= 1.0 and not own:
+        limits = self._limits()
+        if self._acceleration_scale >= 1.0 and limits is None:
             return plan
-        planner = self._arm.planner
-        velocity, acceleration = planner.velocity_limits, planner.acceleration_limits
-        if limits is not None:
-            velocity, acceleration = limits.arm_limits(joints, velocity, acceleration)
-        trajectory = planner.time_parameterize(
+        velocity, acceleration = limits if limits is not None else (None, None)
+        trajectory = self._arm.planner.time_parameterize(
             list(plan.path),
             velocity_scale=self._velocity_scale,
             acceleration_scale=self._acceleration_scale,
@@ -391,7 +396,7 @@ class MoveGroupCommander:
             for i, p in enumerate(waypoints)
         ]
         plan = self._arm.compute_cartesian_path(
-            poses, step, jump_threshold, avoid, frame=self._links[self._eef]
+            poses, step, jump_threshold, avoid, frame=self._links[self._eef], joint_limits=self._limits()
         )
         return to_msg(plan, self._robot, self._session), float(plan.fraction)
 

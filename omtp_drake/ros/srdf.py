@@ -8,7 +8,8 @@ cell's kinematic tree (:class:`CellTree`) into a :class:`SemanticModel`;
 run is given no SRDF.
 
 Groups are defined, as in srdfdom, by ``chain`` (``base_link`` .. ``tip_link``),
-``joint``, ``link`` or ``group`` (a subgroup) elements. A group that moves joints
+``joint``, ``link`` or ``group`` (a subgroup) elements; a ``joint`` naming one of the
+SRDF's virtual joints is no joint of the cell and is left out. A group that moves joints
 must move the six joints of one arm: it is a move group on that arm (its name is
 the student's, ``robot1`` in the course). A group without joints (a gripper's
 links) is an end-effector group. A joint, link or group the cell lacks is a
@@ -156,7 +157,12 @@ def parse_srdf(text: str, tree: CellTree, source: str = "SRDF") -> SemanticModel
         raise ConfigError(f"{source} is not valid XML: {e}") from None
     if root.tag != "robot":
         raise ConfigError(f"{source}: the root element is <{root.tag}>, an SRDF's is <robot>")
-    elements = {g.get("name", ""): g for g in root.findall("group")}
+    # A group may list the virtual joint (the robot's root in the world): no joint of the cell.
+    virtual = {v.get("name") for v in root.findall("virtual_joint")}
+    elements = {
+        g.get("name", ""): [c for c in g if not (c.tag == "joint" and c.get("name") in virtual)]
+        for g in root.findall("group")
+    }
     groups: dict[str, Group] = {}
     for name in elements:
         _resolve_group(name, elements, tree, groups, ())
@@ -179,7 +185,7 @@ def bad_name(kind: str, name: str, valid: Any, *, closest: bool = False) -> Conf
 
 
 def _resolve_group(
-    name: str, elements: Mapping[str, ET.Element], tree: CellTree, done: dict[str, Group], seen: tuple
+    name: str, elements: Mapping[str, list[ET.Element]], tree: CellTree, done: dict[str, Group], seen: tuple
 ) -> Group:
     if name in done:
         return done[name]

@@ -30,15 +30,17 @@ def _state(name, group, values, robot):
 
 
 def student_srdf(
-    extra="", robot2_group='<chain base_link="robot2_base_link" tip_link="vacuum_gripper2_suction_cup" />'
+    extra="",
+    robot2_group='<chain base_link="robot2_base_link" tip_link="vacuum_gripper2_suction_cup" />',
+    robot2_name="robot2",
 ):
     """An SRDF shaped like the course's omtp.srdf (groups as chains, named states,
     virtual joints, disabled pairs, some naming links the cell has no body for)."""
     states = "\n".join(
         [
             _state("R1Home", "robot1", NAMED_POSES["R1Home"], "robot1"),
-            _state("R2Home", "robot2", STUDENT_HOME, "robot2"),
-            _state("high", "robot2", HIGH, "robot2"),
+            _state("R2Home", robot2_name, STUDENT_HOME, "robot2"),
+            _state("high", robot2_name, HIGH, "robot2"),
         ]
     )
     return f"""<?xml version="1.0" ?>
@@ -46,7 +48,7 @@ def student_srdf(
     <group name="robot1">
         <chain base_link="robot1_base_link" tip_link="vacuum_gripper1_suction_cup" />
     </group>
-    <group name="robot2">
+    <group name="{robot2_name}">
         {robot2_group}
     </group>
 {states}
@@ -243,3 +245,27 @@ def test_the_cells_own_description_parameters(course_run):
     # Every link hangs from the world, once.
     children = [j.find("child").get("link") for j in joints.values()]
     assert sorted(children) == sorted(links - {"world"})
+
+
+def test_moveit_config_joint_limits_time_cartesian_paths(course_run, tmp_path):
+    course = _package(tmp_path / "course", _limits((3.15, 3.15, 3.15, 3.2, 3.2, 3.2)))
+    slow = _package(tmp_path / "slow", _limits((0.05,) * 6))
+    _, fast_out = course_run("srdf_cartesian_descent.py", scenario=A4, out_arg=True, moveit_config=course)
+    report, slow_out = course_run("srdf_cartesian_descent.py", scenario=A4, out_arg=True, moveit_config=slow)
+    assert report.ok, report.summary()
+    assert fast_out["fraction"] == slow_out["fraction"] == 1.0
+    travel = max(abs(a - b) for a, b in zip(slow_out["first"], slow_out["last"]))
+    assert slow_out["duration"] >= travel / 0.05
+    assert fast_out["duration"] < 0.5 * travel / 0.05
+
+
+def test_a_group_of_the_students_own_name(course_run, srdf_file):
+    """A group may have any name: ``manipulator`` moves robot2, whose six joints it has
+    (a list of joints here, with the virtual joint as the Setup Assistant may add it)."""
+    joints = '<joint name="robot2" />\n' + "\n".join(f'<joint name="robot2_{j}" />' for j in JOINTS)
+    path = srdf_file(student_srdf(robot2_group=joints, robot2_name="manipulator"))
+    report, out = course_run("srdf_own_group_name.py", scenario=A4, out_arg=True, srdf=path)
+    assert report.ok, report.summary()
+    assert out["ok"] and out["groups"] == ["robot1", "manipulator"]
+    np.testing.assert_allclose(out["q"], HIGH, atol=1e-3)
+    assert "'robot2' was not found; groups: robot1, manipulator" in out["robot2"]
