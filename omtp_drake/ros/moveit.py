@@ -37,7 +37,7 @@ from omtp_drake.ros._core import CorePoseStamped, Plan, check_joint_positions, t
 from omtp_drake.ros.convert import pose_from_list, pose_msg, rigid
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotTrajectory
 from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
-from omtp_drake.ros.moveit_config import semantics
+from omtp_drake.ros.moveit_config import arm_joint_limits, end_effector_link, semantics
 from omtp_drake.ros.node import Time, _blocking
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import from_msg, joint_names, to_msg
@@ -80,7 +80,7 @@ class MoveGroupCommander:
         self._robot = robot = str(semantic.group(name).robot)
         self._arm = session.cell.arm(robot)
         self._links = {full: short for short, full in tool_frame_names(self._arm.config).items()}
-        self._eef = self._default_eef()
+        self._eef = end_effector_link(semantic, name, self._links)
         if semantic.disabled_collisions:
             self._arm.planner.filter_collisions((p[0], p[1]) for p in semantic.disabled_collisions)
         self._target: Optional[tuple[str, Any]] = None
@@ -89,22 +89,6 @@ class MoveGroupCommander:
         self._velocity_scale = (limits and limits.default_velocity_scaling) or 1.0
         self._acceleration_scale = (limits and limits.default_acceleration_scaling) or 1.0
         self._motion_end = -1.0
-
-    def _default_eef(self) -> str:
-        """The SRDF's end-effector link of the group, if the cell has it as a tool frame;
-        else the course's suction cup."""
-        cup = next((f for f, s in self._links.items() if s == "suction_cup"), next(iter(self._links)))
-        link = self._semantic.end_effector_link(self._name)
-        if link is None or link in self._links:
-            return link or cup
-        _log.warning(
-            "%s: end-effector link %s is no tool frame of the cell (%s); using %s",
-            self._name,
-            link,
-            ", ".join(self._links),
-            cup,
-        )
-        return cup
 
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_"):
@@ -308,20 +292,10 @@ class MoveGroupCommander:
             return None, _error_code(e), wall.perf_counter() - start
         return plan, MoveItErrorCodes.SUCCESS, wall.perf_counter() - start
 
-    def _limits(self) -> Optional[tuple[np.ndarray, np.ndarray]]:
-        """The (velocity, acceleration) joint limits joint_limits.yaml gives the arm
-        (None: it sets none of its joints)."""
-        limits = self._session.joint_limits
-        joints = tuple(joint_names(self._robot))
-        if limits is None or not any(j in limits.velocity or j in limits.acceleration for j in joints):
-            return None
-        planner = self._arm.planner
-        return limits.arm_limits(joints, planner.velocity_limits, planner.acceleration_limits)
-
     def _retime(self, plan: Plan) -> Plan:
         """``plan`` timed again with the acceleration scaling factor and joint_limits.yaml's
         limits (unchanged when neither applies)."""
-        limits = self._limits()
+        limits = arm_joint_limits(self._session, self._robot, self._arm.planner)
         if self._acceleration_scale >= 1.0 and limits is None:
             return plan
         velocity, acceleration = limits if limits is not None else (None, None)
@@ -396,7 +370,12 @@ class MoveGroupCommander:
             for i, p in enumerate(waypoints)
         ]
         plan = self._arm.compute_cartesian_path(
-            poses, step, jump_threshold, avoid, frame=self._links[self._eef], joint_limits=self._limits()
+            poses,
+            step,
+            jump_threshold,
+            avoid,
+            frame=self._links[self._eef],
+            joint_limits=arm_joint_limits(self._session, self._robot, self._arm.planner),
         )
         return to_msg(plan, self._robot, self._session), float(plan.fraction)
 

@@ -16,9 +16,12 @@ cell's own semantics are used (the course's named poses).
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional
+
+import numpy as np
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import JOINT_NAMES, tool_frame_names
@@ -28,6 +31,8 @@ from omtp_drake.ros.srdf import CellTree, SemanticModel, default_semantic, parse
 if TYPE_CHECKING:
     from omtp_drake.ros.session import Session
     from omtp_drake.script import Cell
+
+_log = logging.getLogger("moveit_commander")
 
 
 def cell_tree(cell: Cell) -> CellTree:
@@ -116,6 +121,33 @@ def install(
 def semantics(session: Session) -> SemanticModel:
     """The session's semantics (the cell's own ones installed first if it has none)."""
     return session.semantic if session.semantic is not None else install(session)
+
+
+def end_effector_link(semantic: SemanticModel, group: str, links: Mapping[str, str]) -> str:
+    """The SRDF's end-effector link of ``group`` if it is one of the arm's tool frames
+    ``links`` (full name -> short name); else the course's suction cup (logged)."""
+    cup = next((f for f, s in links.items() if s == "suction_cup"), next(iter(links)))
+    link = semantic.end_effector_link(group)
+    if link is None or link in links:
+        return link or cup
+    _log.warning(
+        "%s: end-effector link %s is no tool frame of the cell (%s); using %s",
+        group,
+        link,
+        ", ".join(links),
+        cup,
+    )
+    return cup
+
+
+def arm_joint_limits(session: Session, robot: str, planner: Any) -> Optional[tuple[np.ndarray, np.ndarray]]:
+    """The (velocity, acceleration) limits the run's joint_limits.yaml gives ``robot``
+    (the arm's own, ``planner``'s, where it sets none); None when it sets none of them."""
+    limits = session.joint_limits
+    joints = tuple(f"{robot}_{j}" for j in JOINT_NAMES)
+    if limits is None or not any(j in limits.velocity or j in limits.acceleration for j in joints):
+        return None
+    return limits.arm_limits(joints, planner.velocity_limits, planner.acceleration_limits)
 
 
 def _flatten(data: Mapping[str, Any], prefix: str) -> list[tuple[str, Any]]:
