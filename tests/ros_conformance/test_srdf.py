@@ -198,11 +198,21 @@ EEF = """
 """
 
 
-def test_end_effector_of_the_srdf(course_run, srdf_file):
-    script = "srdf_end_effector.py"
-    report, out = course_run(script, scenario=A4, out_arg=True, srdf=srdf_file(student_srdf(EEF)))
+@pytest.mark.parametrize(
+    "parent_link, eef",
+    [
+        ("vacuum_gripper2_tip", "vacuum_gripper2_tip"),
+        # A link that is no tool frame of the cell: a warning, and the suction cup.
+        ("robot2_wrist_3_link", "vacuum_gripper2_suction_cup"),
+    ],
+)
+def test_end_effector_of_the_srdf(course_run, srdf_file, caplog, parent_link, eef):
+    text = student_srdf(EEF.replace('parent_link="vacuum_gripper2_tip"', f'parent_link="{parent_link}"'))
+    report, out = course_run("srdf_end_effector.py", scenario=A4, out_arg=True, srdf=srdf_file(text))
     assert report.ok, report.summary()
-    assert out == {"eef": "vacuum_gripper2_tip", "groups": ["robot1", "robot2", "gripper2"]}
+    assert out == {"eef": eef, "groups": ["robot1", "robot2", "gripper2"]}
+    warned = f"end-effector link {parent_link} is no tool frame of the cell" in caplog.text
+    assert warned is (parent_link != eef)
 
 
 #: The pairs in collision at the script's goal (robot2's gripper against its own pedestal).
