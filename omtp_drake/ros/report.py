@@ -37,6 +37,8 @@ class RosReport:
     shutdown: Optional[str] = None
     #: The script's ``sys.exit`` code (0 when it ended normally).
     exit_code: int = 0
+    #: Spawner calls that spawned nothing (the course's spawner stays silent; each was logged).
+    empty_spawn_calls: list[str] = field(default_factory=list)
     replay: Optional[str] = None
 
     @property
@@ -74,6 +76,7 @@ class RosReport:
         ]
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
+        lines += [f"spawn call: {c}" for c in self.empty_spawn_calls]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")
         if self.exception:

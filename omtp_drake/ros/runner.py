@@ -125,6 +125,7 @@ def run_script(
         traceback=_script_traceback(exception, path) if exception is not None else [],
         shutdown=session.shutdown_reason,
         exit_code=exit_code,
+        empty_spawn_calls=list(session.empty_spawn_calls),
         replay=str(replay) if replay else None,
     )
 

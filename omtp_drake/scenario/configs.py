@@ -293,6 +293,13 @@ class SpawnerConfig:
     one_at_a_time: bool = True
     #: Stop after this many automatic spawns; 0 = no limit.
     max_parts: int = 0
+    #: ros-run: the name the course's launch file gives the spawner node's
+    #: ``start_spawn`` service (its remap: ``/spawn_object_once``,
+    #: ``/spawn_object_at_robot2``); "" keeps ros-run's spawn-at-once services.
+    start_service: str = ""
+    #: ros-run: the launch file also runs the course's ``spawn_object_once.py`` node,
+    #: which stops the spawner while a model named like "object" is in the world.
+    stop_node: bool = False
 
     def validate(self) -> None:
         check_len("spawner.xyz", self.xyz, 3)
