@@ -31,6 +31,8 @@ from omtp_drake.ros._core import Cell, load_scenario
 from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
+from omtp_drake.ros.setup_steps import call_services
+from omtp_drake.ros.setup_steps import settle as settle_cell
 
 _log = logging.getLogger(__name__)
 
@@ -78,13 +80,17 @@ def run_script(
     meshcat: bool = False,
     realtime: bool = False,
     record: Optional[str | Path] = None,
+    calls: Sequence[str] = (),
+    settle: float = 0.0,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
     ``timeout``: simulated seconds after which the ROS session shuts down
     (``rospy.is_shutdown()`` turns True, blocking calls raise
     ROSInterruptException, ``spin`` returns). ``moveit``: ``noetic`` or ``melodic``
-    (the shape of ``plan()``).
+    (the shape of ``plan()``). ``calls``, ``settle``: the set-up steps before the
+    script (``rosservice call`` of each, then ``settle`` simulated seconds; see
+    :mod:`omtp_drake.ros.setup_steps`).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -99,6 +105,9 @@ def run_script(
     start = time.perf_counter()
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
     session = Session(cell, timeout=timeout, moveit=moveit)
+    with active(session):
+        call_services(session, calls)
+        settle_cell(session, float(settle))
     exception: Optional[BaseException] = None
     exit_code = 0
     try:
