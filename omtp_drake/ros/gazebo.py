@@ -149,7 +149,7 @@ class GazeboWorld:
         return body is not None, body
 
     def get_model_state(self, request: Any) -> Any:
-        response = GetModelState._response_class()
+        response: Any = GetModelState._response_class()
         body = self.models.body(request.model_name) if "::" not in request.model_name else None
         if body is None:
             _log.error("GetModelState: model [%s] does not exist", request.model_name)
@@ -170,7 +170,7 @@ class GazeboWorld:
         return response
 
     def get_link_state(self, request: Any) -> Any:
-        response = GetLinkState._response_class()
+        response: Any = GetLinkState._response_class()
         body = self.models.body(request.link_name) if "::" in request.link_name else None
         if body is None:
             response.status_message = (
@@ -196,7 +196,7 @@ class GazeboWorld:
 
     def set_model_state(self, request: Any) -> Any:
         state = request.model_state
-        response = SetModelState._response_class()
+        response: Any = SetModelState._response_class()
         if state.model_name not in self.models.names():
             _log.error("Updating ModelState: model [%s] does not exist", state.model_name)
             response.status_message = "SetModelState: model does not exist"
@@ -223,7 +223,7 @@ class GazeboWorld:
         return response
 
     def delete_model(self, request: Any) -> Any:
-        response = DeleteModel._response_class()
+        response: Any = DeleteModel._response_class()
         if request.model_name not in self.models.names():
             _log.error("DeleteModel: model [%s] does not exist", request.model_name)
             response.status_message = "DeleteModel: model does not exist"
@@ -279,7 +279,8 @@ def attach_gazebo(session: Session) -> GazeboWorld:
     services = world.services() + spawner_services(session, world)
     session.services.update({s.name: s for s in services})
     session.sources.update(world.sources())
-    if any(s.name == "/stop_spawn" for s in services) and session.cell.scenario.spawner.start_service:
+    spawner = session.cell.scenario.spawner
+    if spawner is not None and spawner.start_service:
         session.sources[SPAWNED_PART] = PushedSource(Header)
 
     def hold_while_paused() -> None:

@@ -61,7 +61,9 @@ class GazeboModels:
         #: name by /gazebo/spawn_*_model keeps that name while it is in the world).
         self.part_of: dict[str, str] = {p: p for p in cell.station.parts}
         grippers = {
-            cfg.gripper: robot for robot in cell.station.arms if (cfg := cell.station.arm(robot).config).gripper
+            cfg.gripper: robot
+            for robot in cell.station.arms
+            if (cfg := cell.station.arm(robot).config).gripper
         }
         bins = {b.name for b in cell.scenario.bins}
         #: Gazebo model name -> its bodies (the first is the model's frame), in plant order.

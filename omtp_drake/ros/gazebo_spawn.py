@@ -17,11 +17,11 @@ from __future__ import annotations
 
 import logging
 import xml.etree.ElementTree as ET
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
-from pydrake.math import RigidTransform
-from pydrake.math import RollPitchYaw
+from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 
 from omtp_drake.cell.parts import spawn_pose
@@ -30,7 +30,7 @@ from omtp_drake.ros.convert import rigid
 from omtp_drake.ros.gazebo_interfaces import SpawnModel
 from omtp_drake.ros.interfaces import EmptyService
 from omtp_drake.ros.services import Service, ServiceFailure
-from omtp_drake.scenario import check_in_cell
+from omtp_drake.scenario import SpawnerConfig, check_in_cell
 
 if TYPE_CHECKING:
     from omtp_drake.ros.gazebo import GazeboWorld
@@ -86,7 +86,7 @@ class PartSpawner:
         self._given: dict[int, RigidTransform] = {}
 
     def spawn(self, request: Any, service: str) -> Any:
-        response = SpawnModel._response_class()
+        response: Any = SpawnModel._response_class()
         if service.endswith("urdf_model") and "<robot" not in request.model_xml:
             raise ServiceFailure("SpawnModel: Failure - entity format is invalid.")
         problem = model_xml_problem(request.model_xml)
@@ -134,7 +134,9 @@ class PartSpawner:
             return RigidTransform(RollPitchYaw(placed.rpy), placed.xyz)
         if index in self._given:
             return self._given[index]
-        return spawn_pose(self.cell.scenario.spawner, self.cell.scenario.seed, index)
+        # A pool part spawned without a pose came from the scenario's spawner.
+        spawner = self.cell.scenario.spawner or SpawnerConfig()
+        return spawn_pose(spawner, self.cell.scenario.seed, index)
 
     def reset_world(self, _request: Any) -> Any:
         for part in self.cell.runtime.parts_in_world():
@@ -142,7 +144,8 @@ class PartSpawner:
         return EmptyService._response_class()
 
     def services(self) -> list[Service]:
-        return [
-            Service(name, SpawnModel, lambda r, name=name: self.spawn(r, name))
-            for name in ("/gazebo/spawn_urdf_model", "/gazebo/spawn_sdf_model")
-        ]
+        def handler(name: str) -> Callable[[Any], Any]:
+            return lambda request: self.spawn(request, name)
+
+        names = ("/gazebo/spawn_urdf_model", "/gazebo/spawn_sdf_model")
+        return [Service(name, SpawnModel, handler(name)) for name in names]

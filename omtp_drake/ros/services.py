@@ -19,7 +19,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
-
 from omtp_drake.errors import OmtpError
 from omtp_drake.ros.interfaces import (
     ConveyorBeltControl,

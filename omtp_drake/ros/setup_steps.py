@@ -80,7 +80,9 @@ def call_services(session: Session, calls: Sequence[str]) -> None:
         try:
             response = service.handler(request)
         except ServiceFailure as e:
-            raise ConfigError(f"--call {text!r}: ERROR: service [{name}] responded with an error: {e}") from None
+            raise ConfigError(
+                f"--call {text!r}: ERROR: service [{name}] responded with an error: {e}"
+            ) from None
         _log.info("--call %s -> %s", name, " ".join(str(response).split()) or "{}")
 
 

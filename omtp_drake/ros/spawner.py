@@ -29,7 +29,8 @@ services raise nothing) and logs one warning; the run's report lists it
 from __future__ import annotations
 
 import logging
-from typing import TYPE_CHECKING, Any, Callable
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -42,6 +43,7 @@ from omtp_drake.sim.driver import spawn
 if TYPE_CHECKING:
     from omtp_drake.ros.gazebo import GazeboWorld
     from omtp_drake.ros.session import Session
+    from omtp_drake.scenario import SpawnerConfig
 
 _log = logging.getLogger("rospy")
 
@@ -58,9 +60,9 @@ def empty_response() -> Any:
 class CourseSpawner:
     """The course's spawner node (and its stop node) on ``world``'s cell."""
 
-    def __init__(self, session: Session, world: GazeboWorld):
+    def __init__(self, session: Session, world: GazeboWorld, config: SpawnerConfig):
         self.session, self.world, self.cell = session, world, session.cell
-        self.config = self.cell.scenario.spawner
+        self.config = config
         self.running = False
         self.count = 0
         self._next = 0.0
@@ -126,10 +128,9 @@ class CourseSpawner:
         ]
 
 
-def _at_once_services(session: Session) -> list[Service]:
+def _at_once_services(session: Session, spawner: SpawnerConfig) -> list[Service]:
     """ros-run's own spawn services (see the module doc)."""
     cell = session.cell
-    spawner = cell.scenario.spawner
     robots = {r.name: np.asarray(r.xy, dtype=float) for r in cell.scenario.robots}
     xy = np.asarray(spawner.xyz[:2], dtype=float)
     nearest = min(robots, key=lambda name: float(np.linalg.norm(robots[name] - xy))) if robots else ""
@@ -170,5 +171,5 @@ def spawner_services(session: Session, world: GazeboWorld) -> list[Service]:
     if config is None:
         return []
     if not config.start_service:
-        return _at_once_services(session)
-    return CourseSpawner(session, world).services()
+        return _at_once_services(session, config)
+    return CourseSpawner(session, world, config).services()

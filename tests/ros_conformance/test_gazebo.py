@@ -47,7 +47,9 @@ def test_spawn_urdf_model_spawns_the_course_part_under_its_name(course_run):
 
 def test_spawn_sdf_model_of_another_model_is_one_clear_error(course_run):
     report, _ = course_run("spawn_course_part.py", scenario="lecture6_assignment4", out_arg=True, args=["x"])
-    assert report.exception.startswith("NotSupportedError: /gazebo/spawn_sdf_model: this cell spawns the course's")
+    assert report.exception.startswith(
+        "NotSupportedError: /gazebo/spawn_sdf_model: this cell spawns the course's"
+    )
     assert "package://omtp_gazebo/meshes/conveyor_objects/box.stl" in report.exception
     assert "shapes sphere" in report.exception
 
@@ -108,4 +110,3 @@ def test_reset_world_puts_the_part_back_where_it_was_dropped(course_run):
     report, data = course_run(script, scenario=A3, out_arg=True)
     assert data["z"] == pytest.approx(0.55, abs=1e-6)
     assert report.exception.startswith("NotSupportedError: /gazebo/reset_simulation")
-

@@ -6,7 +6,7 @@ import sys
 import rospy
 from gazebo_msgs.srv import GetModelState
 
-rospy.init_node('belt_check')
-state = rospy.ServiceProxy('/gazebo/get_model_state', GetModelState)('object_1', 'world')
-with open(sys.argv[1], 'w') as f:
-    json.dump({'t': rospy.get_time(), 'y': state.pose.position.y}, f)
+rospy.init_node("belt_check")
+state = rospy.ServiceProxy("/gazebo/get_model_state", GetModelState)("object_1", "world")
+with open(sys.argv[1], "w") as f:
+    json.dump({"t": rospy.get_time(), "y": state.pose.position.y}, f)

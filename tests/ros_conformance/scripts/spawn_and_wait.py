@@ -3,8 +3,8 @@
 import rospy
 from std_srvs.srv import Empty
 
-rospy.init_node('spawn_and_wait')
-spawn = rospy.ServiceProxy('/spawn_object_at_robot2', Empty)
+rospy.init_node("spawn_and_wait")
+spawn = rospy.ServiceProxy("/spawn_object_at_robot2", Empty)
 spawn()
 rospy.sleep(1.5)
 spawn()

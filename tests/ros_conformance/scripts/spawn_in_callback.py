@@ -23,12 +23,12 @@ def spawned_cb(msg):
     spawned.append([msg.seq, msg.stamp.to_sec(), msg.frame_id])
 
 
-if __name__ == '__main__':
-    rospy.init_node('spawn_from_callback')
-    spawn_object = rospy.ServiceProxy('/spawn_object_at_robot2', Empty)
-    rospy.Subscriber('/omtp/logical_camera_2', LogicalCameraImage, camera_cb)
+if __name__ == "__main__":
+    rospy.init_node("spawn_from_callback")
+    spawn_object = rospy.ServiceProxy("/spawn_object_at_robot2", Empty)
+    rospy.Subscriber("/omtp/logical_camera_2", LogicalCameraImage, camera_cb)
     rospy.sleep(2.0)
-    rospy.Subscriber('/spawned_part', Header, spawned_cb)
+    rospy.Subscriber("/spawned_part", Header, spawned_cb)
     rospy.sleep(0.5)
-    with open(sys.argv[1], 'w') as f:
-        json.dump({'calls': calls, 'spawned': spawned}, f)
+    with open(sys.argv[1], "w") as f:
+        json.dump({"calls": calls, "spawned": spawned}, f)

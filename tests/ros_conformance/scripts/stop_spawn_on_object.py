@@ -11,17 +11,17 @@ from std_srvs.srv import Empty
 
 def model_states_cb(data):
     if any("object" in idx for idx in data.name):
-        stop_spawn = rospy.ServiceProxy('stop_spawn', Empty)
+        stop_spawn = rospy.ServiceProxy("stop_spawn", Empty)
         stop_spawn()
 
 
 if __name__ == "__main__":
-    rospy.init_node('stop_spawning_object', anonymous=False)
-    rospy.Subscriber('gazebo/model_states', ModelStates, model_states_cb)
-    rospy.wait_for_service('/spawn_object_at_robot2')
-    spawn = rospy.ServiceProxy('/spawn_object_at_robot2', Empty)
+    rospy.init_node("stop_spawning_object", anonymous=False)
+    rospy.Subscriber("gazebo/model_states", ModelStates, model_states_cb)
+    rospy.wait_for_service("/spawn_object_at_robot2")
+    spawn = rospy.ServiceProxy("/spawn_object_at_robot2", Empty)
     spawn()
     rospy.sleep(3.5)
-    states = rospy.wait_for_message('/gazebo/model_states', ModelStates)
-    with open(sys.argv[1], 'w') as f:
-        json.dump({'models': list(states.name)}, f)
+    states = rospy.wait_for_message("/gazebo/model_states", ModelStates)
+    with open(sys.argv[1], "w") as f:
+        json.dump({"models": list(states.name)}, f)
