@@ -9,8 +9,7 @@ ROS module names are restored, so a real ROS installation is never shadowed
 outside the run). The run's outcome is a :class:`~omtp_drake.ros.report.RosReport`.
 
 The scenario's periodic spawner starts off, as the course's Gazebo world: parts
-come when the script asks (``/spawn_object_once``, ``/spawn_object_at_robot2``,
-``/start_spawn``).
+come when the script (or a ``--call`` before it) asks; see :mod:`omtp_drake.ros.spawner`.
 """
 
 from __future__ import annotations
