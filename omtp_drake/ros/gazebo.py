@@ -42,6 +42,7 @@ from omtp_drake.ros.gazebo_interfaces import (
     SetModelState,
 )
 from omtp_drake.ros.gazebo_models import WORLD_NAMES, GazeboModels
+from omtp_drake.ros.gazebo_spawn import PartSpawner, place_part
 from omtp_drake.ros.interfaces import EmptyService
 from omtp_drake.ros.messages import Header, Time, Twist, Vector3
 from omtp_drake.ros.services import Service
@@ -122,18 +123,15 @@ class GazeboWorld:
     # ------------------------------------------------------------ topics
 
     def model_states(self) -> ModelStates:
-        msg = ModelStates()
-        for name in self.models.names():
-            X, v, w = self.models.relative(self.models.body(name), None)
-            msg.name.append(name)
-            msg.pose.append(pose_msg(X))
-            msg.twist.append(twist_msg(v, w))
-        return msg
+        return self._states(ModelStates(), self.models.models())
 
     def link_states(self) -> LinkStates:
-        msg = LinkStates()
-        for name in self.models.link_names():
-            X, v, w = self.models.relative(self.models.body(name), None)
+        return self._states(LinkStates(), self.models.links())
+
+    def _states(self, msg: Any, entities: list[tuple[str, Any]]) -> Any:
+        """``msg`` (ModelStates or LinkStates) filled with the entities' world states."""
+        for name, body in entities:
+            X, v, w = self.models.relative(body, None)
             msg.name.append(name)
             msg.pose.append(pose_msg(X))
             msg.twist.append(twist_msg(v, w))
@@ -141,7 +139,7 @@ class GazeboWorld:
 
     # ------------------------------------------------------------ services
 
-    def _frame(self, name: str) -> tuple[bool, Any]:
+    def frame(self, name: str) -> tuple[bool, Any]:
         """(found, body or None for the world) of a reference entity."""
         if name in WORLD_NAMES:
             return True, None
@@ -157,7 +155,7 @@ class GazeboWorld:
             return response
         count = self._get_count[request.model_name] = self._get_count.get(request.model_name, 0) + 1
         response.header = Header(seq=count, stamp=Time(self.cell.time), frame_id=request.relative_entity_name)
-        found, frame = self._frame(request.relative_entity_name)
+        found, frame = self.frame(request.relative_entity_name)
         if not found:
             response.status_message = (
                 "GetModelState: reference relative_entity_name not found, did you forget to scope the "
@@ -177,7 +175,7 @@ class GazeboWorld:
                 "GetLinkState: link not found, did you forget to scope the link by model name?"
             )
             return response
-        found, frame = self._frame(request.reference_frame)
+        found, frame = self.frame(request.reference_frame)
         if not found:
             response.status_message = (
                 "GetLinkState: reference reference_frame not found, did you forget to scope the link by "
@@ -206,7 +204,7 @@ class GazeboWorld:
                 f"/gazebo/set_model_state of {state.model_name!r}: here it moves parts only; the parts "
                 f"in the world: {', '.join(sorted(self.models.parts & set(self.models.names()))) or 'none'}"
             )
-        found, frame = self._frame(state.reference_frame)
+        found, frame = self.frame(state.reference_frame)
         if not found:
             response.status_message = "SetModelState: specified reference frame entity does not exist"
             return response
@@ -216,8 +214,6 @@ class GazeboWorld:
         if frame is not None:
             X_WF = self.models.pose(frame)
             X, v, w = X_WF @ X, X_WF.rotation() @ v, X_WF.rotation() @ w
-        from omtp_drake.ros.gazebo_spawn import place_part
-
         place_part(self.cell, self.models.part_of[state.model_name], X, v, w)
         response.success, response.status_message = True, "SetModelState: set model state done"
         return response
@@ -252,8 +248,6 @@ class GazeboWorld:
         )
 
     def services(self) -> list[Service]:
-        from omtp_drake.ros.gazebo_spawn import PartSpawner
-
         spawner = PartSpawner(self)
         return [
             Service("/gazebo/get_model_state", GetModelState, self.get_model_state),

@@ -96,9 +96,13 @@ class GazeboModels:
         del self.part_of[old]
         self.part_of[name] = part
 
-    def link_names(self) -> list[str]:
-        """``model::link`` of every link of the models in the world."""
-        return [f"{m}::{self._link_name(m, b)}" for m in self.names() for b in self._bodies[m]]
+    def models(self) -> list[tuple[str, Body]]:
+        """(name, the body of its frame) of every model in the world."""
+        return [(m, self._bodies[m][0]) for m in self.names()]
+
+    def links(self) -> list[tuple[str, Body]]:
+        """(``model::link``, its body) of every link of the models in the world."""
+        return [(f"{m}::{self._link_name(m, b)}", b) for m in self.names() for b in self._bodies[m]]
 
     def _link_name(self, model: str, body: Body) -> str:
         return PART_LINK if model in self.parts else body.name()

@@ -101,7 +101,7 @@ class PartSpawner:
             _log.error("SpawnModel: Failure - model name %s already exist.", request.model_name)
             response.status_message = "SpawnModel: Failure - model already exists."
             return response
-        found, frame = self.world._frame(request.reference_frame)
+        found, frame = self.world.frame(request.reference_frame)
         if not found:
             response.status_message = (
                 "SpawnModel: reference reference_frame not found, did you forget to scope the link by model "
