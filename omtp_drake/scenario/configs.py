@@ -314,6 +314,13 @@ class SpawnerConfig:
             )
         if self.max_parts < 0:
             raise ConfigError(f"spawner.max_parts must be >= 0, got {self.max_parts}")
+        if self.start_service and (not self.start_service.startswith("/") or self.period <= 0):
+            raise ConfigError(
+                f"spawner.start_service {self.start_service!r} needs a global name (/...) and a period > 0 "
+                f"(the spawner's timer), got period {self.period}"
+            )
+        if self.stop_node and not self.start_service:
+            raise ConfigError("spawner.stop_node needs spawner.start_service (the spawner it stops)")
 
 
 @dataclass

@@ -66,3 +66,19 @@ def test_ros_runs_own_spawn_service_refusing_a_second_part_warns(course_run):
     assert report.ledger["spawned"] == 1
     (warning,) = report.empty_spawn_calls
     assert "one part at a time: object_1 is still in the world" in warning
+
+
+@pytest.mark.parametrize(
+    ("fields", "message"),
+    [
+        ({"start_service": "spawn_object_at_robot2", "period": 1.0}, "needs a global name"),
+        ({"start_service": "/spawn_object_at_robot2", "period": 0.0}, "got period 0.0"),
+        ({"stop_node": True}, "stop_node needs spawner.start_service"),
+    ],
+)
+def test_the_launch_wiring_in_a_scenario_is_checked(fields, message):
+    from omtp_drake.errors import ConfigError
+    from omtp_drake.scenario import SpawnerConfig
+
+    with pytest.raises(ConfigError, match=message):
+        SpawnerConfig(**fields).validate()
