@@ -6,6 +6,9 @@ physics update as ``gazebo_ros`` publishes them (it connects to the world's
 update event once a subscriber is there): here one per plant step
 (``plant_config.time_step``), from the first subscription on.
 
+A ``gazebo_msgs/ModelState`` published on ``/gazebo/set_model_state`` moves the
+model as the service does (Gazebo subscribes to that topic too).
+
 Services: ``get_model_state``, ``set_model_state``, ``get_link_state`` (an entity
 is a model, ``model::link``, or the world: ``""``, ``world``, ``map``; an unknown
 one answers ``success: False`` with Gazebo's status message), ``spawn_urdf_model``
@@ -55,6 +58,7 @@ _log = logging.getLogger("rospy")
 
 MODEL_STATES = "/gazebo/model_states"
 LINK_STATES = "/gazebo/link_states"
+SET_MODEL_STATE = "/gazebo/set_model_state"
 
 
 class PushedSource(Source):
@@ -284,4 +288,11 @@ def attach_gazebo(session: Session) -> GazeboWorld:
             session.check_running()
 
     session.cell.on_move_step(hold_while_paused)
+    session.gazebo = world
+
+    def teleport(state: Any) -> None:
+        world.set_model_state(SetModelState._request_class(model_state=state))
+
+    # gazebo_ros subscribes to set_model_state too (queue 10): a ModelState published there moves the model.
+    session.subscribe(SET_MODEL_STATE, teleport, (), 10)
     return world

@@ -110,3 +110,9 @@ def test_reset_world_puts_the_part_back_where_it_was_dropped(course_run):
     report, data = course_run(script, scenario=A3, out_arg=True)
     assert data["z"] == pytest.approx(0.55, abs=1e-6)
     assert report.exception.startswith("NotSupportedError: /gazebo/reset_simulation")
+
+
+def test_a_model_state_published_to_gazebo_moves_the_part(course_run):
+    report, _ = course_run("teleport_by_topic.py", scenario=A3)
+    assert report.ok, report.summary()
+    assert report.ledger["in_bin"]["bin_1"] == 1 and report.ledger["on_floor"] == 0
