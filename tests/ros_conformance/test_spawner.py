@@ -82,3 +82,12 @@ def test_the_launch_wiring_in_a_scenario_is_checked(fields, message):
 
     with pytest.raises(ConfigError, match=message):
         SpawnerConfig(**fields).validate()
+
+
+def test_lecture7_feeder_spawns_every_3_s_until_stopped(course_run):
+    report, data = course_run("feeder_on_off.py", scenario="lecture7_conveyor", out_arg=True)
+    assert report.ok, report.summary()
+    # omtp_pick_demo.launch: /start_spawn not remapped, a part every 3 s, whatever is loose.
+    assert data["remapped"] is False
+    assert data["seen"] == [[1, 3.0, "box"], [2, 6.0, "box"]]
+    assert report.ledger["spawned"] == 2
