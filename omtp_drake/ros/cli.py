@@ -39,6 +39,8 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         record=args.record,
         srdf=args.srdf,
         moveit_config=args.moveit_config,
+        calls=args.call or (),
+        settle=args.settle,
     )
     _out(report.summary())
     if args.json:
@@ -103,6 +105,20 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         "--moveit-config",
         metavar="DIR",
         help="a MoveIt config package: its config/*.srdf and config/joint_limits.yaml",
+    )
+    p.add_argument(
+        "--call",
+        action="append",
+        metavar="'SERVICE [ARGS]'",
+        help="call SERVICE before the script, as `rosservice call SERVICE ARGS` (ARGS: its YAML, e.g. "
+        "'/gripper2/control {enable: true}'); repeat for several, in order",
+    )
+    p.add_argument(
+        "--settle",
+        type=float,
+        default=0.0,
+        metavar="S",
+        help="let the cell run S simulated seconds after the calls, before the script (default 0)",
     )
     p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
     p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")

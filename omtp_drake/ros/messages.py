@@ -285,6 +285,12 @@ class PoseStamped(Message):
     _defaults = (Header, Pose)
 
 
+class Twist(Message):
+    __slots__ = ("linear", "angular")
+    _type = "geometry_msgs/Twist"
+    _defaults = (Vector3, Vector3)
+
+
 class Transform(Message):
     __slots__ = ("translation", "rotation")
     _type = "geometry_msgs/Transform"

@@ -39,6 +39,8 @@ class RosReport:
     exit_code: int = 0
     #: The script is Python 2 (ROS Melodic) and ran as its 2to3 translation.
     python2: bool = False
+    #: Spawner calls that spawned nothing (the course's spawner stays silent; each was logged).
+    empty_spawn_calls: list[str] = field(default_factory=list)
     replay: Optional[str] = None
 
     @property
@@ -78,6 +80,7 @@ class RosReport:
             lines.append("python 2: the script ran as its 2to3 translation (Melodic)")
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
+        lines += [f"spawn call: {c}" for c in self.empty_spawn_calls]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")
         if self.exception:

@@ -9,8 +9,7 @@ ROS module names are restored, so a real ROS installation is never shadowed
 outside the run). The run's outcome is a :class:`~omtp_drake.ros.report.RosReport`.
 
 The scenario's periodic spawner starts off, as the course's Gazebo world: parts
-come when the script asks (``/spawn_object_once``, ``/spawn_object_at_robot2``,
-``/start_spawn``).
+come when the script (or a ``--call`` before it) asks; see :mod:`omtp_drake.ros.spawner`.
 """
 
 from __future__ import annotations
@@ -32,6 +31,8 @@ from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.py2 import run_as_main, script_code
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
+from omtp_drake.ros.setup_steps import call_services
+from omtp_drake.ros.setup_steps import settle as settle_cell
 
 _log = logging.getLogger(__name__)
 
@@ -81,6 +82,8 @@ def run_script(
     record: Optional[str | Path] = None,
     srdf: Optional[str | Path] = None,
     moveit_config: Optional[str | Path] = None,
+    calls: Sequence[str] = (),
+    settle: float = 0.0,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
@@ -89,6 +92,8 @@ def run_script(
     ROSInterruptException, ``spin`` returns). ``moveit``: ``noetic`` or ``melodic``
     (the shape of ``plan()``). ``srdf``, ``moveit_config``: a student's SRDF file and
     MoveIt config package (:mod:`omtp_drake.ros.moveit_config`; default: the cell's own).
+    ``calls``, ``settle``: the set-up steps before the script (``rosservice call`` of
+    each, then ``settle`` simulated seconds; see :mod:`omtp_drake.ros.setup_steps`).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -105,6 +110,9 @@ def run_script(
     session = Session(cell, timeout=timeout, moveit=moveit)
     try:
         install_moveit_config(session, srdf, moveit_config)
+        with active(session):
+            call_services(session, calls)
+            settle_cell(session, float(settle))
     except Exception:
         cell.close()
         raise
@@ -138,6 +146,7 @@ def run_script(
         shutdown=session.shutdown_reason,
         exit_code=exit_code,
         python2=python2,
+        empty_spawn_calls=list(session.empty_spawn_calls),
         replay=str(replay) if replay else None,
     )
 

@@ -100,6 +100,7 @@ class Session:
     """
 
     def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
+        from omtp_drake.ros.gazebo import attach_gazebo
         from omtp_drake.ros.services import cell_services
         from omtp_drake.ros.topics import cell_sources
 
@@ -117,6 +118,9 @@ class Session:
         self._last_poll_time = -1.0
         self.sources: dict[str, Source] = cell_sources(cell)
         self.services: dict[str, Service] = cell_services(cell)
+        #: Spawner calls that spawned nothing (their warnings).
+        self.empty_spawn_calls: list[str] = []
+        self.gazebo = attach_gazebo(self)  # Gazebo's own topics and services, and the spawner
         self._on_shutdown: list[Callable[[], Any]] = []
         #: The parameter server, topics scripts publish, latched messages, log throttles.
         self.params: dict[str, Any] = {}
@@ -154,6 +158,10 @@ class Session:
                 return True
             if self.time >= t_end - 1e-9:
                 return False
+            paused = self.gazebo.clock_stopped()
+            if paused is not None:
+                self.shutdown(paused)
+                self.check_running()
             step_end = min(t_end, self.time + self.tick)
             if self.timeout is not None and step_end >= self.timeout - 1e-9:
                 self.cell.runtime.advance_to(max(self.time, min(step_end, self.timeout)))
@@ -207,6 +215,7 @@ class Session:
         maxlen = None if queue_size in (None, 0) else int(queue_size)
         subscriber = SubscriberQueue(topic, callback, callback_args, collections.deque(maxlen=maxlen))
         self._subscribers[topic].append(subscriber)
+        self.gazebo.on_subscribe(topic)
         return subscriber
 
     def unsubscribe(self, subscriber: SubscriberQueue) -> None:

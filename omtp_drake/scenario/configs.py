@@ -293,6 +293,13 @@ class SpawnerConfig:
     one_at_a_time: bool = True
     #: Stop after this many automatic spawns; 0 = no limit.
     max_parts: int = 0
+    #: ros-run: the name the course's launch file gives the spawner node's
+    #: ``start_spawn`` service (its remap: ``/spawn_object_once``,
+    #: ``/spawn_object_at_robot2``); "" keeps ros-run's spawn-at-once services.
+    start_service: str = ""
+    #: ros-run: the launch file also runs the course's ``spawn_object_once.py`` node,
+    #: which stops the spawner while a model named like "object" is in the world.
+    stop_node: bool = False
 
     def validate(self) -> None:
         check_len("spawner.xyz", self.xyz, 3)
@@ -307,6 +314,13 @@ class SpawnerConfig:
             )
         if self.max_parts < 0:
             raise ConfigError(f"spawner.max_parts must be >= 0, got {self.max_parts}")
+        if self.start_service and (not self.start_service.startswith("/") or self.period <= 0):
+            raise ConfigError(
+                f"spawner.start_service {self.start_service!r} needs a global name (/...) and a period > 0 "
+                f"(the spawner's timer), got period {self.period}"
+            )
+        if self.stop_node and not self.start_service:
+            raise ConfigError("spawner.stop_node needs spawner.start_service (the spawner it stops)")
 
 
 @dataclass

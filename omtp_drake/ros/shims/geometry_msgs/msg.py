@@ -9,6 +9,7 @@ from omtp_drake.ros.messages import (
     Quaternion,
     Transform,
     TransformStamped,
+    Twist,
     Vector3,
 )
 from omtp_drake.ros.unsupported import module_getattr
@@ -22,6 +23,7 @@ __all__ = [
     "Quaternion",
     "Transform",
     "TransformStamped",
+    "Twist",
     "Vector3",
 ]
 __getattr__ = module_getattr(__name__, __all__)

@@ -1,0 +1,8 @@
+"""gazebo_msgs of omtp-drake ros-run: Gazebo's ROS API messages and services."""
+
+from omtp_drake.ros.unsupported import module_getattr
+
+from . import msg, srv
+
+__all__ = ["msg", "srv"]
+__getattr__ = module_getattr(__name__, __all__)
