@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.errors import SimulationError
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.names import NodeNames
     from omtp_drake.ros.services import Service
     from omtp_drake.ros.topics import Source
     from omtp_drake.script import Cell
@@ -105,6 +106,8 @@ class Session:
         self.timeout = timeout
         self.moveit = moveit
         self.node_name: Optional[str] = None
+        #: How the script's node resolves names (set by ``init_node``; see omtp_drake.ros.names).
+        self.names: Optional[NodeNames] = None
         self.shutdown_reason: Optional[str] = None
         self.callback_errors: list[str] = []
         self.collisions: list[str] = []
@@ -262,17 +265,6 @@ class Session:
 
     def topic_names(self) -> list[str]:
         return sorted(set(self.sources) | {t for t, subs in self._subscribers.items() if subs})
-
-
-def resolve_name(name: str, node_name: Optional[str] = None) -> str:
-    """A graph name as ROS resolves it in the root namespace: ``a/b`` -> ``/a/b``,
-    ``~x`` -> ``/<node>/x``."""
-    name = str(name).strip()
-    if not name:
-        raise ValueError("a topic or service name cannot be empty")
-    if name.startswith("~"):
-        return f"/{node_name or 'unnamed'}/{name[1:].lstrip('/')}"
-    return name if name.startswith("/") else "/" + name
 
 
 def finite_seconds(value: Any, what: str) -> float:
