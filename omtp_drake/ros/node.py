@@ -324,6 +324,8 @@ def wait_for_message(topic: str, topic_type: Any, timeout: Optional[float] = Non
     _check_type(name, topic_type)
     queue = session.subscribe(name, _read_here, (), 1)
     queue.busy = True  # read below, never delivered as a callback
+    if name in session.latched:  # a latched topic's last message answers at once
+        queue.queue.append(session.latched[name])
     limit = math.inf if timeout is None else finite_seconds(timeout, "wait_for_message timeout")
     try:
         with _blocking():

@@ -224,9 +224,11 @@ class Session:
 
     def _poll_sources(self) -> None:
         for topic, source in self.sources.items():
-            if self._subscribers.get(topic):
+            if self._subscribers.get(topic) or source.latch:
                 for stamp, message in source.poll():
                     self.publish(topic, message, stamp)
+                    if source.latch:
+                        self.latched[topic] = (stamp, -1, message)
 
     def deliver(self, until: float = math.inf) -> None:
         """Runs the callbacks of the queued messages, earliest first, one at a time,

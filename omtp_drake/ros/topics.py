@@ -5,8 +5,19 @@
   image, published at the image's time); ``/omtp/logical_camera`` is the
   lecture's single camera: the scenario task's camera (else ``logical_camera_1``),
   whose frame tf also knows as ``logical_camera_frame``.
-- ``/omtp/break_beam`` and ``/omtp/break_beam_change`` (``omtp_gazebo/Proximity``):
-  the beam's state whenever it changes (sampled at the beam's rate).
+- ``/break_beam_sensor`` and ``/break_beam_sensor_change`` (``omtp_gazebo/Proximity``),
+  named after the beam's sensor as its plugin names them: the first at every sample
+  of the beam (its rate, 10 Hz), the second only when ``object_detected`` changes
+  (the plugin starts at "not detected", so the first message is the first
+  detection). Both are latched: a late subscriber gets the last message at once.
+  Stamped with the sample's time; ``frame_id`` is the plugin's ``<sensor>_frame``;
+  ``min_range`` and ``max_range`` are the beam's range.
+- ``/gripperN/state`` (``omtp_gazebo/VacuumGripperState``) for the gripper whose
+  plugin is ``gripperN``: ``enabled`` and ``attached``, once per tick of the cell
+  (the course's plugin publishes at every physics step, 1 kHz).
+
+The cell's sources are polled between ticks; a latched one is polled even with no
+subscriber, so that its last message is there for the next one.
 """
 
 from __future__ import annotations
@@ -15,8 +26,9 @@ import math
 from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.ros.convert import pose_msg
-from omtp_drake.ros.interfaces import LogicalCameraImage, Model, Proximity
+from omtp_drake.ros.interfaces import LogicalCameraImage, Model, Proximity, VacuumGripperState
 from omtp_drake.ros.messages import Header, Time
+from omtp_drake.ros.services import gripper_plugins
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -26,11 +38,17 @@ SINGLE_CAMERA_TOPIC = "/omtp/logical_camera"
 SINGLE_CAMERA_FRAME = "logical_camera_frame"
 
 
+#: The break beam's sensor, after which its plugin names its topics and frame.
+BREAK_BEAM_SENSOR = "break_beam_sensor"
+
+
 class Source:
     """A topic the cell publishes: ``poll()`` returns the (stamp, message) pairs
-    that are new since the last poll; ``msg_class`` is its type."""
+    that are new since the last poll; ``msg_class`` is its type; ``latch``: the
+    last message goes to every new subscriber."""
 
     msg_class: Any
+    latch: bool = False
 
     def poll(self) -> list[tuple[float, Any]]:
         raise NotImplementedError
@@ -59,20 +77,51 @@ def camera_message(image: Any) -> LogicalCameraImage:
 
 
 class BreakBeamSource(Source):
-    msg_class = Proximity
+    """One of the beam's two topics: every sample, or (``changes_only``) the changes."""
 
-    def __init__(self, cell: Cell):
+    msg_class = Proximity
+    latch = True
+
+    def __init__(self, cell: Cell, changes_only: bool):
+        beam = cell.station.break_beam
+        if beam is None:
+            raise ValueError("the cell has no break beam")
         self._cell = cell
-        self._last: Optional[bool] = None
+        self._rate = beam.rate_hz
+        self._range = beam.range
+        self._changes_only = changes_only
+        self._sample = -1
+        self._detected = False
 
     def poll(self) -> list[tuple[float, Any]]:
-        detected = self._cell.break_beam()
-        if detected == self._last:
+        sample = math.floor(self._cell.time * self._rate + 1e-6)
+        if sample <= self._sample:
             return []
-        self._last = detected
-        stamp = self._cell.time
-        header = Header(stamp=Time(stamp), frame_id="break_beam_optical_link")
-        return [(stamp, Proximity(header=header, object_detected=detected))]
+        self._sample = sample
+        detected = bool(self._cell.break_beam())
+        changed, self._detected = detected != self._detected, detected
+        if self._changes_only and not changed:
+            return []
+        stamp = sample / self._rate
+        header = Header(stamp=Time(stamp), frame_id=f"{BREAK_BEAM_SENSOR}_frame")
+        message = Proximity(
+            header=header, object_detected=detected, min_range=self._range[0], max_range=self._range[1]
+        )
+        return [(stamp, message)]
+
+
+class GripperStateSource(Source):
+    """A gripper's ``enabled`` and ``attached``, once per poll."""
+
+    msg_class = VacuumGripperState
+
+    def __init__(self, cell: Cell, robot: str):
+        self._gripper = cell.gripper(robot)
+        self._cell = cell
+
+    def poll(self) -> list[tuple[float, Any]]:
+        state = self._gripper.state()
+        return [(self._cell.time, VacuumGripperState(enabled=state.enabled, attached=state.attached))]
 
 
 def single_camera(cell: Cell) -> Optional[str]:
@@ -92,6 +141,8 @@ def cell_sources(cell: Cell) -> dict[str, Source]:
     if single is not None:
         sources[SINGLE_CAMERA_TOPIC] = CameraSource(cell, single)
     if cell.station.break_beam is not None:
-        sources["/omtp/break_beam"] = BreakBeamSource(cell)
-        sources["/omtp/break_beam_change"] = BreakBeamSource(cell)
+        sources[f"/{BREAK_BEAM_SENSOR}"] = BreakBeamSource(cell, changes_only=False)
+        sources[f"/{BREAK_BEAM_SENSOR}_change"] = BreakBeamSource(cell, changes_only=True)
+    for robot, plugin in gripper_plugins(cell).items():
+        sources[f"/{plugin}/state"] = GripperStateSource(cell, robot)
     return sources
