@@ -1,8 +1,11 @@
 """The cell's sensor topics, as the course's Gazebo plugins publish them.
 
-- ``/omtp/<camera>`` for every logical camera (``/omtp/logical_camera_1``...):
+- ``/omtp/<camera>`` for every logical camera (``/omtp/logical_camera_1``...: the
+  plugin's ``robotNamespace`` ``omtp`` and the camera model's name):
   ``omtp_gazebo/LogicalCameraImage`` at the camera's rate (one message per new
-  image, published at the image's time); ``/omtp/logical_camera`` is the
+  image, published at the image's time), listing every Gazebo model in view as the
+  course's plugin does (robots, pedestals, bins, the workcell, the belt, parts; see
+  :mod:`omtp_drake.cell.gazebo_camera`); ``/omtp/logical_camera`` is the
   lecture's single camera: the scenario task's camera (else ``logical_camera_1``),
   whose frame tf also knows as ``logical_camera_frame``.
 - ``/break_beam_sensor`` and ``/break_beam_sensor_change`` (``omtp_gazebo/Proximity``),
@@ -25,6 +28,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, Optional
 
+from omtp_drake.cell.gazebo_camera import GazeboCameraView
 from omtp_drake.ros.convert import pose_msg
 from omtp_drake.ros.interfaces import LogicalCameraImage, Model, Proximity, VacuumGripperState
 from omtp_drake.ros.messages import Header, Time
@@ -55,14 +59,18 @@ class Source:
 
 
 class CameraSource(Source):
+    """A logical camera's topic: the course plugin's model list
+    (:class:`~omtp_drake.cell.gazebo_camera.GazeboCameraView`), one message per new image."""
+
     msg_class = LogicalCameraImage
 
     def __init__(self, cell: Cell, camera: str):
-        self._camera = cell.camera(camera)
+        self._cell = cell
+        self._view = GazeboCameraView(cell.station, camera)
         self._last = -math.inf
 
     def poll(self) -> list[tuple[float, Any]]:
-        image = self._camera.image()
+        image = self._view.image(self._cell.runtime.context)
         if not math.isfinite(image.time) or image.time <= self._last:
             return []
         self._last = image.time

@@ -1,0 +1,115 @@
+"""What the course's logical camera plugin publishes: every Gazebo model whose bounding box
+meets the camera's frustum.
+
+Gazebo's ``LogicalCameraSensor`` lists each model of the world (not the camera's own)
+whose axis-aligned bounding box in the world (the union of its links' collision boxes)
+meets the view frustum, with the model origin's pose in the camera frame; the course's
+``ROSLogicalCameraPlugin`` has no ``known_model_types`` filter, so it publishes them
+all, each followed by its nested models (at their poses, without a visibility test of
+their own). Models are named and ordered as in :mod:`omtp_drake.cell.gazebo_models`,
+typed by :func:`~omtp_drake.cell.gazebo_models.model_type`.
+
+Here a body's box is the world-aligned box of its geometry's bounding box (the same
+boxes :class:`~omtp_drake.cell.logical_camera.LogicalCamera` tests), and the test of
+the model's box against the frustum is exact (Gazebo's is the six face planes only,
+which may also admit a box just off a frustum corner). The camera's own sample (its
+time and the body poses then) is the moment of the list, so it is as stale as the
+camera's image; a part the camera's image shows is reported at the pose the image has
+for it (the camera's noise included).
+
+This is the ROS image's list (``/omtp/logical_camera_N``); the Python layer's
+:class:`~omtp_drake.cell.logical_camera.LogicalCameraImage` keeps its own models.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+from pydrake.math import RigidTransform
+from pydrake.systems.framework import Context
+
+from omtp_drake.cell.camera_geometry import FrustumOverlap, body_geometries, bounding_box
+from omtp_drake.cell.gazebo_models import GazeboModel, gazebo_models, model_type
+from omtp_drake.cell.logical_camera import DetectedModel, LogicalCameraImage
+
+if TYPE_CHECKING:
+    from omtp_drake.cell.station import Station
+
+
+class GazeboCameraView:
+    """The course plugin's model list for camera ``camera`` of ``station``."""
+
+    def __init__(self, station: Station, camera: str):
+        plant = station.plant
+        inspector = station.scene_graph.model_inspector()
+        self._camera = station.cameras[camera]
+        self._name = camera
+        self._frustum = FrustumOverlap(self._camera.config)
+        self._models = tuple(m for m in gazebo_models(plant, station.scenario) if m.name != camera)
+        #: Per model: its bodies with geometry (body index, box centre in B, half extents).
+        self._boxes: list[list[tuple[int, np.ndarray, np.ndarray]]] = []
+        self._origins: list[int] = []
+        for model in self._models:
+            boxes = []
+            for instance in model.instances:
+                for body in plant.GetBodyIndices(instance):
+                    geometries = body_geometries(plant, inspector, body)
+                    box = bounding_box(inspector, geometries) if geometries else None
+                    if box is not None:
+                        boxes.append((int(body), box[0], box[1]))
+            self._boxes.append(boxes)
+            self._origins.append(int(plant.GetBodyIndices(model.instances[0])[0]))
+
+    @property
+    def models(self) -> tuple[GazeboModel, ...]:
+        """The models the camera may list (all but its own), in the world's order."""
+        return self._models
+
+    def _box_W(self, k: int, X_WB: list[RigidTransform]) -> tuple[np.ndarray, np.ndarray] | None:
+        """Model k's world-aligned bounding box (lo, hi) with the bodies at X_WB."""
+        model = self._models[k]
+        if model.box_W is not None:
+            return model.box_W
+        if not self._boxes[k]:
+            return None
+        los, his = [], []
+        for body, centre, half in self._boxes[k]:
+            X = X_WB[body]
+            c = X.multiply(centre)
+            h = np.abs(X.rotation().matrix()) @ half
+            los.append(c - h)
+            his.append(c + h)
+        return np.min(los, axis=0), np.max(his, axis=0)
+
+    def image(self, root_context: Context) -> LogicalCameraImage:
+        """The list for the camera's last sample in ``root_context`` (empty before its first)."""
+        context = self._camera.GetMyContextFromRoot(root_context)
+        own = self._camera.image_output_port().Eval(context)
+        sample = self._camera.sample(context)
+        if sample.X_WB is None:
+            return LogicalCameraImage(own.time, self._name, own.X_WC, ())
+        X_WB = sample.X_WB.get_value()
+        X_CW = own.X_WC.inverse()
+        R_CW = X_CW.rotation().matrix()
+        boxes: list[tuple[int, tuple[np.ndarray, np.ndarray]]] = []
+        for k in range(len(self._models)):
+            box = self._box_W(k, X_WB)
+            if box is not None:
+                boxes.append((k, box))
+        if not boxes:
+            return LogicalCameraImage(own.time, self._name, own.X_WC, ())
+        centres = np.array([X_CW.multiply((lo + hi) / 2) for _, (lo, hi) in boxes])
+        halves = np.array([(hi - lo) / 2 for _, (lo, hi) in boxes])
+        seen = self._frustum.overlaps(centres, np.repeat(R_CW[None], len(boxes), axis=0), halves)
+        reported = {m.name: m.X_CM for m in own.models if m.name}
+        listed: list[DetectedModel] = []
+        for (k, _box), in_view in zip(boxes, seen):
+            if not in_view:
+                continue
+            model = self._models[k]
+            X_WM = model.X_WM if model.X_WM is not None else X_WB[self._origins[k]]
+            X_CM = reported.get(model.name, X_CW @ X_WM)
+            listed.append(DetectedModel(model.name, model.type, X_CM))
+            listed += [DetectedModel(name, model_type(name), X_CM @ X_MN) for name, X_MN in model.nested]
+        return LogicalCameraImage(own.time, self._name, own.X_WC, tuple(listed))
