@@ -23,7 +23,7 @@ This is the ROS image's list (``/omtp/logical_camera_N``); the Python layer's
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Optional
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -31,7 +31,7 @@ from pydrake.systems.framework import Context
 
 from omtp_drake.cell.camera_geometry import FrustumOverlap, body_geometries, bounding_box
 from omtp_drake.cell.gazebo_models import GazeboModel, gazebo_models, model_type
-from omtp_drake.cell.logical_camera import DetectedModel, LogicalCameraImage
+from omtp_drake.cell.logical_camera import CameraSample, DetectedModel, LogicalCameraImage
 
 if TYPE_CHECKING:
     from omtp_drake.cell.station import Station
@@ -50,6 +50,8 @@ class GazeboCameraView:
         #: Per model: its bodies with geometry (body index, box centre in B, half extents).
         self._boxes: list[list[tuple[int, np.ndarray, np.ndarray]]] = []
         self._origins: list[int] = []
+        #: The last sample and its list: a sample is an immutable value, replaced at the next.
+        self._last: Optional[tuple[CameraSample, LogicalCameraImage]] = None
         for model in self._models:
             boxes = []
             for instance in model.instances:
@@ -85,8 +87,15 @@ class GazeboCameraView:
     def image(self, root_context: Context) -> LogicalCameraImage:
         """The list for the camera's last sample in ``root_context`` (empty before its first)."""
         context = self._camera.GetMyContextFromRoot(root_context)
-        own = self._camera.image_output_port().Eval(context)
         sample = self._camera.sample(context)
+        if self._last is not None and self._last[0] is sample:
+            return self._last[1]
+        image = self._list(sample, self._camera.image_output_port().Eval(context))
+        self._last = (sample, image)
+        return image
+
+    def _list(self, sample: CameraSample, own: LogicalCameraImage) -> LogicalCameraImage:
+        """The list for ``sample``, whose image (of the camera's own) is ``own``."""
         if sample.X_WB is None:
             return LogicalCameraImage(own.time, self._name, own.X_WC, ())
         X_WB = sample.X_WB.get_value()
@@ -111,5 +120,6 @@ class GazeboCameraView:
             X_WM = model.X_WM if model.X_WM is not None else X_WB[self._origins[k]]
             X_CM = reported.get(model.name, X_CW @ X_WM)
             listed.append(DetectedModel(model.name, model.type, X_CM))
-            listed += [DetectedModel(name, model_type(name), X_CM @ X_MN) for name, X_MN in model.nested]
+            # Nested models carry no name: the plugin broadcasts no frame for them.
+            listed += [DetectedModel("", model_type(name), X_CM @ X_MN) for name, X_MN in model.nested]
         return LogicalCameraImage(own.time, self._name, own.X_WC, tuple(listed))

@@ -100,7 +100,7 @@ class Session:
 
     def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
         from omtp_drake.ros.services import cell_services
-        from omtp_drake.ros.topics import cell_sources
+        from omtp_drake.ros.topics import camera_views, cell_sources
 
         self.cell = cell
         self.timeout = timeout
@@ -116,7 +116,10 @@ class Session:
         self._in_callback = 0
         self._busy_polls = 0
         self._last_poll_time = -1.0
-        self.sources: dict[str, Source] = cell_sources(cell)
+        views = camera_views(cell)
+        # tf's camera frames follow the models the camera topics list.
+        cell.tf.use_images(lambda camera, context: views[camera].image(context))
+        self.sources: dict[str, Source] = cell_sources(cell, views)
         self.services: dict[str, Service] = cell_services(cell)
         self._on_shutdown: list[Callable[[], Any]] = []
         #: The parameter server, topics scripts publish, latched messages, log throttles.

@@ -64,9 +64,9 @@ class CameraSource(Source):
 
     msg_class = LogicalCameraImage
 
-    def __init__(self, cell: Cell, camera: str):
+    def __init__(self, cell: Cell, view: GazeboCameraView):
         self._cell = cell
-        self._view = GazeboCameraView(cell.station, camera)
+        self._view = view
         self._last = -math.inf
 
     def poll(self) -> list[tuple[float, Any]]:
@@ -142,12 +142,17 @@ def single_camera(cell: Cell) -> Optional[str]:
     return "logical_camera_1" if "logical_camera_1" in cameras else None
 
 
-def cell_sources(cell: Cell) -> dict[str, Source]:
-    """Topic name -> source of every sensor topic of ``cell``."""
-    sources: dict[str, Source] = {f"/omtp/{name}": CameraSource(cell, name) for name in cell.station.cameras}
+def camera_views(cell: Cell) -> dict[str, GazeboCameraView]:
+    """Camera -> the course plugin's view of it (what its topic and its tf frames list)."""
+    return {name: GazeboCameraView(cell.station, name) for name in cell.station.cameras}
+
+
+def cell_sources(cell: Cell, views: dict[str, GazeboCameraView]) -> dict[str, Source]:
+    """Topic name -> source of every sensor topic of ``cell`` (``views``: :func:`camera_views`)."""
+    sources: dict[str, Source] = {f"/omtp/{name}": CameraSource(cell, view) for name, view in views.items()}
     single = single_camera(cell)
     if single is not None:
-        sources[SINGLE_CAMERA_TOPIC] = CameraSource(cell, single)
+        sources[SINGLE_CAMERA_TOPIC] = CameraSource(cell, views[single])
     if cell.station.break_beam is not None:
         sources[f"/{BREAK_BEAM_SENSOR}"] = BreakBeamSource(cell, changes_only=False)
         sources[f"/{BREAK_BEAM_SENSOR}_change"] = BreakBeamSource(cell, changes_only=True)
