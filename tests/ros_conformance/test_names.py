@@ -139,3 +139,16 @@ def test_without_the_remap_a_namespaced_relative_name_has_no_publisher(course_ru
     assert "timeout exceeded while waiting for message on topic /cell/omtp/logical_camera" in str(
         report.exception
     )
+
+
+def test_services_topics_and_actions_resolve_alike(course_run):
+    report, data = course_run(
+        "relative_service_and_action_names.py", scenario="lecture6_assignment4", out_arg=True, timeout=10
+    )
+    assert report.exception is None
+    assert data["service"] == "/gripper2/control" and data["success"] is True
+    # The gripper plugin's state topic (gripper2/state) answers with the suction on, nothing held.
+    assert (data["enabled"], data["attached"]) == (True, False)
+    assert data["server"] is True
+    # ~execute_trajectory is /gripper_check/execute_trajectory: no such server.
+    assert "/gripper_check/execute_trajectory" in data["private_action"]
