@@ -17,7 +17,7 @@ import sys
 from collections.abc import Callable, Iterator
 from typing import Any, Optional
 
-from omtp_drake.ros import messages, names
+from omtp_drake.ros import messages, names, params
 from omtp_drake.ros.messages import Duration, Message
 from omtp_drake.ros.services import ServiceFailure
 from omtp_drake.ros.session import ShutdownError, current, finite_seconds
@@ -96,7 +96,7 @@ def init_node(
     session.names = names.NodeNames.from_argv(sys.argv[1:], name)
     if first:
         for key, value in names.private_params(sys.argv[1:]).items():
-            session.params[session.names.resolve(names.PRIVATE + key)] = value
+            params.put(session.params, session.names.resolve(names.PRIVATE + key), value)
     _log.info("node %s up at t = %.3f s (simulated time)", session.names.caller_id, session.time)
 
 
@@ -197,28 +197,27 @@ def spin() -> None:
 
 
 def get_param(name: str, default: Any = KeyError) -> Any:
-    params = current().params
+    """The parameter (or namespace, as a dictionary) at ``name``, a copy as from the
+    parameter server; ``default`` when nothing is set there (else KeyError)."""
     key = resolve_name(name)
-    if key in params:
-        return params[key]
-    if default is KeyError:
-        raise KeyError(f"parameter {key} is not set; set ones: {', '.join(sorted(params)) or 'none'}")
-    return default
+    try:
+        return copy.deepcopy(params.get(current().params, key))
+    except KeyError:
+        if default is KeyError:
+            raise
+        return default
 
 
 def set_param(name: str, value: Any) -> None:
-    current().params[resolve_name(name)] = value
+    params.put(current().params, resolve_name(name), copy.deepcopy(value))
 
 
 def has_param(name: str) -> bool:
-    return resolve_name(name) in current().params
+    return params.has(current().params, resolve_name(name))
 
 
 def delete_param(name: str) -> None:
-    key = resolve_name(name)
-    if key not in current().params:
-        raise KeyError(f"parameter {key} is not set")
-    del current().params[key]
+    params.delete(current().params, resolve_name(name))
 
 
 # ----------------------------------------------------------------------------- topics

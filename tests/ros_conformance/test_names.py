@@ -152,3 +152,16 @@ def test_services_topics_and_actions_resolve_alike(course_run):
     assert data["server"] is True
     # ~execute_trajectory is /gripper_check/execute_trajectory: no such server.
     assert "/gripper_check/execute_trajectory" in data["private_action"]
+
+
+def test_params_resolve_like_topics_and_form_a_tree(course_run):
+    report, data = course_run("param_tree.py", scenario="omtp_factory", out_arg=True, timeout=10)
+    assert report.exception is None
+    assert data["leaf"] == 1.0
+    assert data["namespace"] == {"bin_1": {"x": -8.0, "y": -2.2, "drop": {"z": 1.0}}}
+    assert data["private"] == 0.5
+    assert data["all_keys"] == ["param_user", "place"]
+    assert data["has"] == [True, False]
+    assert data["default"] == "none"
+    assert data["after_delete"] is False
+    assert "/place" in data["error"]
