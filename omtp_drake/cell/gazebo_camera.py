@@ -47,42 +47,59 @@ class GazeboCameraView:
         self._name = camera
         self._frustum = FrustumOverlap(self._camera.config)
         self._models = tuple(m for m in gazebo_models(plant, station.scenario) if m.name != camera)
-        #: Per model: its bodies with geometry (body index, box centre in B, half extents).
-        self._boxes: list[list[tuple[int, np.ndarray, np.ndarray]]] = []
-        self._origins: list[int] = []
         #: The last sample and its list: a sample is an immutable value, replaced at the next.
         self._last: Optional[tuple[CameraSample, LogicalCameraImage]] = None
-        for model in self._models:
-            boxes = []
+        self._origins = [int(plant.GetBodyIndices(m.instances[0])[0]) for m in self._models]
+        #: The bodies with geometry of the models without a fixed box, one row each (body
+        #: index, box centre in B, half extents); model self._bodied[j] owns the rows from
+        #: self._starts[j] on. self._fixed: the models with a fixed box.
+        bodies: list[int] = []
+        centres: list[np.ndarray] = []
+        halves: list[np.ndarray] = []
+        self._bodied: list[int] = []
+        self._starts: list[int] = []
+        self._fixed = [k for k, m in enumerate(self._models) if m.box_W is not None]
+        self._fixed_boxes = [m.box_W for m in self._models if m.box_W is not None]
+        for k, model in enumerate(self._models):
+            if model.box_W is not None:
+                continue
+            start = len(bodies)
             for instance in model.instances:
                 for body in plant.GetBodyIndices(instance):
                     geometries = body_geometries(plant, inspector, body)
                     box = bounding_box(inspector, geometries) if geometries else None
                     if box is not None:
-                        boxes.append((int(body), box[0], box[1]))
-            self._boxes.append(boxes)
-            self._origins.append(int(plant.GetBodyIndices(model.instances[0])[0]))
+                        bodies.append(int(body))
+                        centres.append(box[0])
+                        halves.append(box[1])
+            if len(bodies) > start:
+                self._bodied.append(k)
+                self._starts.append(start)
+        self._rows_body = bodies
+        self._rows_centre = np.array(centres).reshape(-1, 3, 1)
+        self._rows_half = np.array(halves).reshape(-1, 3, 1)
 
     @property
     def models(self) -> tuple[GazeboModel, ...]:
         """The models the camera may list (all but its own), in the world's order."""
         return self._models
 
-    def _box_W(self, k: int, X_WB: list[RigidTransform]) -> tuple[np.ndarray, np.ndarray] | None:
-        """Model k's world-aligned bounding box (lo, hi) with the bodies at X_WB."""
-        model = self._models[k]
-        if model.box_W is not None:
-            return model.box_W
-        if not self._boxes[k]:
-            return None
-        los, his = [], []
-        for body, centre, half in self._boxes[k]:
-            X = X_WB[body]
-            c = X.multiply(centre)
-            h = np.abs(X.rotation().matrix()) @ half
-            los.append(c - h)
-            his.append(c + h)
-        return np.min(los, axis=0), np.max(his, axis=0)
+    def _boxes_W(self, X_WB: list[RigidTransform]) -> tuple[list[int], np.ndarray, np.ndarray]:
+        """The models with a box, in the world's order, and their world-aligned
+        bounding boxes (lo, hi rows) with the bodies at X_WB."""
+        ks = list(self._fixed)
+        lo = [self._fixed_boxes[j][0] for j in range(len(ks))]
+        hi = [self._fixed_boxes[j][1] for j in range(len(ks))]
+        if self._bodied:
+            T = np.array([X_WB[b].GetAsMatrix34() for b in self._rows_body])
+            R = T[:, :, :3]
+            c = (R @ self._rows_centre)[:, :, 0] + T[:, :, 3]
+            h = (np.abs(R) @ self._rows_half)[:, :, 0]
+            ks += self._bodied
+            lo += list(np.minimum.reduceat(c - h, self._starts, axis=0))
+            hi += list(np.maximum.reduceat(c + h, self._starts, axis=0))
+        order = sorted(range(len(ks)), key=ks.__getitem__)
+        return [ks[i] for i in order], np.array([lo[i] for i in order]), np.array([hi[i] for i in order])
 
     def image(self, root_context: Context) -> LogicalCameraImage:
         """The list for the camera's last sample in ``root_context`` (empty before its first)."""
@@ -101,19 +118,14 @@ class GazeboCameraView:
         X_WB = sample.X_WB.get_value()
         X_CW = own.X_WC.inverse()
         R_CW = X_CW.rotation().matrix()
-        boxes: list[tuple[int, tuple[np.ndarray, np.ndarray]]] = []
-        for k in range(len(self._models)):
-            box = self._box_W(k, X_WB)
-            if box is not None:
-                boxes.append((k, box))
-        if not boxes:
+        ks, lo, hi = self._boxes_W(X_WB)
+        if not ks:
             return LogicalCameraImage(own.time, self._name, own.X_WC, ())
-        centres = np.array([X_CW.multiply((lo + hi) / 2) for _, (lo, hi) in boxes])
-        halves = np.array([(hi - lo) / 2 for _, (lo, hi) in boxes])
-        seen = self._frustum.overlaps(centres, np.repeat(R_CW[None], len(boxes), axis=0), halves)
+        centres = (R_CW @ ((lo + hi) / 2).T).T + X_CW.translation()
+        seen = self._frustum.overlaps(centres, np.repeat(R_CW[None], len(ks), axis=0), (hi - lo) / 2)
         reported = {m.name: m.X_CM for m in own.models if m.name}
         listed: list[DetectedModel] = []
-        for (k, _box), in_view in zip(boxes, seen):
+        for k, in_view in zip(ks, seen):
             if not in_view:
                 continue
             model = self._models[k]
