@@ -76,3 +76,15 @@ def test_a_spawned_part_is_the_last_model_and_the_cell_api_still_lists_parts_onl
         part = cell.spawn_part()
         cell.wait(2.0)
         assert list(cell.camera("logical_camera_2").parts()) == [part]
+
+
+def test_the_lectures_single_camera_has_the_plugins_frame_for_the_part_it_lists(course_run):
+    report, data = course_run(
+        "single_camera_part_frame.py", scenario="lecture7_conveyor", out_arg=True, timeout=30
+    )
+    assert report.exception is None
+    assert data["types"] == ["workcell", "object"]
+    # logical_camera_object_1_frame: the part's origin where the message puts it, in tf.
+    assert data["in_camera"] == pytest.approx(data["message"], abs=1e-6)
+    # The part waits at the beam (y = 1.9) on the belt (top 0.92, part centre 0.1 above).
+    assert data["world"] == pytest.approx([1.2, 1.96, 1.021], abs=0.02)
