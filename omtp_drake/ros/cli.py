@@ -37,6 +37,8 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         meshcat=args.meshcat,
         realtime=args.realtime,
         record=args.record,
+        srdf=args.srdf,
+        moveit_config=args.moveit_config,
     )
     _out(report.summary())
     if args.json:
@@ -91,6 +93,16 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         choices=["noetic", "melodic"],
         default="noetic",
         help="MoveIt's Python API version: the shape of plan() (default noetic)",
+    )
+    p.add_argument(
+        "--srdf",
+        metavar="FILE",
+        help="the move groups, named states and end effectors of this SRDF (a student's omtp.srdf)",
+    )
+    p.add_argument(
+        "--moveit-config",
+        metavar="DIR",
+        help="a MoveIt config package: its config/*.srdf and config/joint_limits.yaml",
     )
     p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
     p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")

@@ -27,6 +27,7 @@ from omtp_drake.ros.interfaces import (
 )
 from omtp_drake.ros.messages import Header, JointState, PoseStamped
 from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
+from omtp_drake.ros.moveit_config import semantics
 from omtp_drake.ros.node import Time, _blocking, resolve_name
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import joint_names
@@ -52,7 +53,8 @@ class RobotCommander:
         self._groups: dict[str, MoveGroupCommander] = {}
 
     def get_group_names(self) -> list[str]:
-        return list(self._session.cell.station.arms)
+        """The SRDF's groups (move groups and end-effector groups)."""
+        return list(semantics(self._session).groups)
 
     def get_group(self, name: str) -> MoveGroupCommander:
         if name not in self._groups:
@@ -232,7 +234,10 @@ class SimpleActionClient:
         robot = next((r for r in self._session.cell.station.arms if joint_names(r)[0] in names), None)
         if robot is None:
             raise MoveItCommanderException(f"the goal's joints {names} belong to no arm of the cell")
-        self._group = MoveGroupCommander(robot)
+        group = semantics(self._session).group_of(robot)
+        if group is None:
+            raise MoveItCommanderException(f"the goal's joints {names} belong to no move group of the SRDF")
+        self._group = MoveGroupCommander(group)
         ok = self._group.execute(goal.trajectory, wait=False)
         code = MoveItErrorCodes.SUCCESS if ok else MoveItErrorCodes.CONTROL_FAILED
         self._result = ExecuteTrajectoryResult(error_code=MoveItErrorCodes(code))

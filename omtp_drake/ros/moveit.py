@@ -1,10 +1,12 @@
 """moveit_commander's MoveGroupCommander on a cell's arm.
 
-Move groups are the scenario's robots (``robot1``, ``robot2``); the planning
-frame is ``world``; the end-effector link is the course's
-``vacuum_gripperN_suction_cup`` (``set_end_effector_link`` takes the gripper's
-``vacuum_gripperN_tip``, the cup face, or ``robotN_tool0``). Named targets are
-the SRDF's (``R2Home``...) and the remembered joint values.
+Move groups are the SRDF's (:mod:`omtp_drake.ros.moveit_config`: a student's
+``--srdf``/``--moveit-config``, else the cell's own: ``robot1``, ``robot2``), each on
+the arm whose six joints it moves; the planning frame is ``world``; the end-effector
+link is the SRDF's (its end effector's parent link, or its chain's tip: the course's
+``vacuum_gripperN_suction_cup``; ``set_end_effector_link`` takes the gripper's
+``vacuum_gripperN_tip``, the cup face, or ``robotN_tool0``). Named targets are the
+group's SRDF states (``R2Home``...) and the remembered joint values.
 
 As in MoveIt, planning and execution failures are not exceptions: ``go`` and
 ``execute`` return False and ``plan`` an empty trajectory (logged with the
@@ -14,8 +16,9 @@ in the run's report. Blocking calls advance simulated time; topic callbacks run
 meanwhile, between the move's steps, in time order (one at a time: a callback's
 own moves run to their end before the next callback).
 
-Plans are timed within the arm's joint limits scaled by the velocity and
-acceleration scaling factors (1.0 by default); Cartesian paths also keep the
+Plans are timed within the arm's joint limits (or ``joint_limits.yaml``'s) scaled by
+the velocity and acceleration scaling factors (1.0 by default, or the file's
+``default_*_scaling_factor``); Cartesian paths also keep the
 tool at or below the cell's tool-speed limit for straight moves.
 """
 
@@ -30,10 +33,11 @@ from pydrake.math import RigidTransform
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.errors import CollisionError, OmtpError, PlanningError
-from omtp_drake.ros._core import CorePoseStamped, Plan, check_joint_positions, named_pose, tool_frame_names
+from omtp_drake.ros._core import CorePoseStamped, Plan, check_joint_positions, tool_frame_names
 from omtp_drake.ros.convert import pose_from_list, pose_msg, rigid
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotTrajectory
 from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
+from omtp_drake.ros.moveit_config import arm_joint_limits, end_effector_link, semantics
 from omtp_drake.ros.node import Time, _blocking
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import from_msg, joint_names, to_msg
@@ -68,17 +72,22 @@ class MoveGroupCommander:
         wait_for_servers: float = 5.0,
     ):
         self._session = session = current()
-        arms = list(session.cell.station.arms)
-        if name not in arms:
-            raise MoveItCommanderException(f"group {name!r} was not found; groups: {', '.join(arms)}")
+        self._semantic = semantic = semantics(session)
+        groups = semantic.move_groups()
+        if name not in groups:
+            raise MoveItCommanderException(f"group {name!r} was not found; groups: {', '.join(groups)}")
         self._name = name
-        self._arm = session.cell.arm(name)
+        self._robot = robot = str(semantic.group(name).robot)
+        self._arm = session.cell.arm(robot)
         self._links = {full: short for short, full in tool_frame_names(self._arm.config).items()}
-        self._eef = next((f for f, s in self._links.items() if s == "suction_cup"), next(iter(self._links)))
+        self._eef = end_effector_link(semantic, name, self._links)
+        if semantic.disabled_collisions:
+            self._arm.planner.filter_collisions((p[0], p[1]) for p in semantic.disabled_collisions)
         self._target: Optional[tuple[str, Any]] = None
         self._remembered: dict[str, np.ndarray] = {}
-        self._velocity_scale = 1.0
-        self._acceleration_scale = 1.0
+        limits = session.joint_limits
+        self._velocity_scale = (limits and limits.default_velocity_scaling) or 1.0
+        self._acceleration_scale = (limits and limits.default_acceleration_scaling) or 1.0
         self._motion_end = -1.0
 
     def __getattr__(self, name: str) -> Any:
@@ -111,7 +120,7 @@ class MoveGroupCommander:
         return True
 
     def get_active_joints(self) -> list[str]:
-        return joint_names(self._name)
+        return joint_names(self._robot)
 
     get_joints = get_active_joints
 
@@ -139,21 +148,27 @@ class MoveGroupCommander:
     # ------------------------------------------------------------ targets
 
     def get_named_targets(self) -> list[str]:
-        return self._arm.named_poses() + sorted(self._remembered)
+        return list(self._semantic.named_states(self._name)) + sorted(self._remembered)
 
     def get_named_target_values(self, target: str) -> dict[str, float]:
-        q = self._named(target)
-        return dict(zip(joint_names(self._name), map(float, q)))
+        """The named state's joint values (the joints its SRDF entry sets)."""
+        if target in self._remembered:
+            return dict(zip(joint_names(self._robot), map(float, self._remembered[target])))
+        states = self._semantic.named_states(self._name)
+        if target not in states:
+            return {}  # as MoveIt
+        return dict(states[target])
 
     def _named(self, name: str) -> np.ndarray:
         if name in self._remembered:
             return self._remembered[name]
-        if name not in self._arm.named_poses():
+        states = self._semantic.named_states(self._name)
+        if name not in states:
             raise MoveItCommanderException(
                 f"unable to set target {name!r}: named targets of {self._name}: "
                 + ", ".join(self.get_named_targets())
             )
-        return named_pose(name, self._arm.config)
+        return self._joints(states[name])
 
     def set_named_target(self, name: str) -> None:
         self._target = ("joints", self._named(name))
@@ -172,7 +187,7 @@ class MoveGroupCommander:
         if isinstance(values, JointState):
             values = dict(zip(values.name, values.position)) if values.name else list(values.position)
         if isinstance(values, dict):
-            names = joint_names(self._name)
+            names = joint_names(self._robot)
             unknown = sorted(set(values) - set(names))
             if unknown:
                 raise MoveItCommanderException(
@@ -278,10 +293,18 @@ class MoveGroupCommander:
         return plan, MoveItErrorCodes.SUCCESS, wall.perf_counter() - start
 
     def _retime(self, plan: Plan) -> Plan:
-        if self._acceleration_scale >= 1.0:
+        """``plan`` timed again with the acceleration scaling factor and joint_limits.yaml's
+        limits (unchanged when neither applies)."""
+        limits = arm_joint_limits(self._session, self._robot, self._arm.planner)
+        if self._acceleration_scale >= 1.0 and limits is None:
             return plan
+        velocity, acceleration = limits if limits is not None else (None, None)
         trajectory = self._arm.planner.time_parameterize(
-            list(plan.path), velocity_scale=self._velocity_scale, acceleration_scale=self._acceleration_scale
+            list(plan.path),
+            velocity_scale=self._velocity_scale,
+            acceleration_scale=self._acceleration_scale,
+            velocity_limits=velocity,
+            acceleration_limits=acceleration,
         )
         return Plan(trajectory, plan.path, plan.kind, plan.fraction)
 
@@ -289,7 +312,7 @@ class MoveGroupCommander:
         """Noetic: ``(success, RobotTrajectory, planning_time, MoveItErrorCodes)``; with
         ``--moveit melodic``: the RobotTrajectory (empty when planning failed)."""
         plan, code, seconds = self._plan(joints)
-        trajectory = to_msg(plan, self._name, self._session) if plan is not None else RobotTrajectory()
+        trajectory = to_msg(plan, self._robot, self._session) if plan is not None else RobotTrajectory()
         if self._session.moveit == "melodic":
             return trajectory
         return plan is not None, trajectory, seconds, MoveItErrorCodes(code)
@@ -302,7 +325,7 @@ class MoveGroupCommander:
 
     def execute(self, plan_msg: Any, wait: bool = True) -> bool:
         try:
-            plan = from_msg(plan_msg, self._name, self._session)
+            plan = from_msg(plan_msg, self._robot, self._session)
         except OmtpError as e:
             raise MoveItCommanderException(str(e)) from None
         return self._run(plan, wait)
@@ -347,9 +370,14 @@ class MoveGroupCommander:
             for i, p in enumerate(waypoints)
         ]
         plan = self._arm.compute_cartesian_path(
-            poses, step, jump_threshold, avoid, frame=self._links[self._eef]
+            poses,
+            step,
+            jump_threshold,
+            avoid,
+            frame=self._links[self._eef],
+            joint_limits=arm_joint_limits(self._session, self._robot, self._arm.planner),
         )
-        return to_msg(plan, self._name, self._session), float(plan.fraction)
+        return to_msg(plan, self._robot, self._session), float(plan.fraction)
 
 
 def _cartesian_args(args: tuple, kwargs: dict) -> tuple[float, bool]:

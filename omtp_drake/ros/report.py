@@ -37,6 +37,8 @@ class RosReport:
     shutdown: Optional[str] = None
     #: The script's ``sys.exit`` code (0 when it ended normally).
     exit_code: int = 0
+    #: The script is Python 2 (ROS Melodic) and ran as its 2to3 translation.
+    python2: bool = False
     replay: Optional[str] = None
 
     @property
@@ -72,6 +74,8 @@ class RosReport:
             f"on belt {ledger['on_belt']}, elsewhere {ledger['elsewhere']}, held {held}, "
             f"disposed {ledger['disposed']}",
         ]
+        if self.python2:
+            lines.append("python 2: the script ran as its 2to3 translation (Melodic)")
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
         if self.shutdown:

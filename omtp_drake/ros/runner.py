@@ -19,7 +19,6 @@ import contextlib
 import dataclasses
 import logging
 import os
-import runpy
 import sys
 import time
 from collections.abc import Iterator, Sequence
@@ -28,7 +27,9 @@ from typing import Optional
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.moveit_config import install as install_moveit_config
 from omtp_drake.ros.node import ROSInterruptException
+from omtp_drake.ros.py2 import run_as_main, script_code
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
 
@@ -78,13 +79,16 @@ def run_script(
     meshcat: bool = False,
     realtime: bool = False,
     record: Optional[str | Path] = None,
+    srdf: Optional[str | Path] = None,
+    moveit_config: Optional[str | Path] = None,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
     ``timeout``: simulated seconds after which the ROS session shuts down
     (``rospy.is_shutdown()`` turns True, blocking calls raise
     ROSInterruptException, ``spin`` returns). ``moveit``: ``noetic`` or ``melodic``
-    (the shape of ``plan()``).
+    (the shape of ``plan()``). ``srdf``, ``moveit_config``: a student's SRDF file and
+    MoveIt config package (:mod:`omtp_drake.ros.moveit_config`; default: the cell's own).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -99,11 +103,19 @@ def run_script(
     start = time.perf_counter()
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
     session = Session(cell, timeout=timeout, moveit=moveit)
+    try:
+        install_moveit_config(session, srdf, moveit_config)
+    except Exception:
+        cell.close()
+        raise
     exception: Optional[BaseException] = None
     exit_code = 0
+    python2 = False
     try:
+        code = script_code(path)
+        python2 = code.python2
         with script_environment(path, args), active(session):
-            runpy.run_path(str(path), run_name="__main__")
+            run_as_main(code, path)
     except SystemExit as e:
         exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
     except ROSInterruptException as e:
@@ -125,6 +137,7 @@ def run_script(
         traceback=_script_traceback(exception, path) if exception is not None else [],
         shutdown=session.shutdown_reason,
         exit_code=exit_code,
+        python2=python2,
         replay=str(replay) if replay else None,
     )
 

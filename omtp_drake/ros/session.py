@@ -38,8 +38,10 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.errors import SimulationError
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.joint_limits import JointLimits
     from omtp_drake.ros.names import NodeNames
     from omtp_drake.ros.services import Service
+    from omtp_drake.ros.srdf import SemanticModel
     from omtp_drake.ros.topics import Source
     from omtp_drake.script import Cell
 
@@ -127,6 +129,10 @@ class Session:
         self.published_topics: set[str] = set()
         self.latched: dict[str, Any] = {}
         self.throttle: dict[tuple, float] = {}
+        #: MoveIt's config of the run (omtp_drake.ros.moveit_config.install): the SRDF's
+        #: semantics and the joint_limits.yaml limits (None: the arms' own).
+        self.semantic: Optional[SemanticModel] = None
+        self.joint_limits: Optional[JointLimits] = None
         #: id(RobotTrajectory) -> (it, its fingerprint, the plan): recent plans, run exactly.
         self.plans: collections.OrderedDict[int, tuple] = collections.OrderedDict()
         cell.runtime.on_tick(lambda _rt: self._poll_sources())

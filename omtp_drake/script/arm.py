@@ -393,6 +393,7 @@ class Arm:
         *,
         frame: str = "tip",
         speed: float = 0.25,
+        joint_limits: Optional[tuple[Sequence[float], Sequence[float]]] = None,
     ) -> Plan:
         """Straight lines of tool frame ``frame`` through the poses ``waypoints`` (world,
         or PoseStamped in any tf frame), in steps of ``max_step`` m, like MoveIt's
@@ -402,7 +403,9 @@ class Arm:
         ``avoid_collisions``, without a collision with the planning scene (the static
         cell, the other arm, added boxes, what the gripper holds; loose parts are no
         obstacles). It unpacks as MoveIt's ``(plan, fraction)``; see
-        :attr:`Plan.fraction`. ``speed``: the tool's speed limit along the lines (m/s)."""
+        :attr:`Plan.fraction`. ``speed``: the tool's speed limit along the lines (m/s);
+        ``joint_limits``: (velocity, acceleration) limits of the six joints to time the
+        motion with (default: the arm's own)."""
         if isinstance(waypoints, (RigidTransform, PoseStamped)):
             waypoints = [waypoints]
         poses = [world_pose(self._tf, X) for X in waypoints]
@@ -422,7 +425,10 @@ class Arm:
             avoid_collisions=bool(avoid_collisions),
             other_q=self._other_arms(),
         )
-        trajectory = planner.time_parameterize(path, velocity_scale=1.0)
+        velocity, acceleration = joint_limits if joint_limits is not None else (None, None)
+        trajectory = planner.time_parameterize(
+            path, velocity_scale=1.0, velocity_limits=velocity, acceleration_limits=acceleration
+        )
         trajectory = _limit_tool_speed(trajectory, planner, frame, speed)
         return Plan(trajectory, tuple(path), "cartesian", fraction)
 

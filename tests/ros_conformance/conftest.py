@@ -24,7 +24,7 @@ def run_course_script(tmp_path, script, *, scenario, args=(), out_arg=False, **o
     ``out_arg``: pass a JSON path as the script's first argument and read it back.
     Returns ``(report, data)``; ``data`` is None when the script wrote nothing.
     """
-    if (SCRIPTS / script).is_file():
+    if "\n" not in script and (SCRIPTS / script).is_file():
         path = SCRIPTS / script
     else:
         path = tmp_path / "script.py"

@@ -23,7 +23,7 @@ configuration is the checker plant's (every arm's joints).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import TypeAlias
 
 import numpy as np
@@ -142,6 +142,21 @@ class CollisionModel:
         out = full.copy()
         out[self.q_index] = q
         return out
+
+    def filter_pairs(self, pairs: Iterable[tuple[str, str]]) -> list[tuple[str, str]]:
+        """Stops checking the named body pairs (MoveIt's disabled collisions); returns
+        the pairs it filtered. Pairs with a body the checker lacks, of a body with
+        itself, or of two environment bodies (never checked) are skipped."""
+        plant = self.checker.plant()
+        filtered = []
+        for a, b in pairs:
+            if a == b or not (plant.HasBodyNamed(a) and plant.HasBodyNamed(b)):
+                continue
+            body_a, body_b = plant.GetBodyByName(a), plant.GetBodyByName(b)
+            if self.checker.IsPartOfRobot(body_a) or self.checker.IsPartOfRobot(body_b):
+                self.checker.SetCollisionFilteredBetween(body_a, body_b, True)
+                filtered.append((a, b))
+        return filtered
 
     # -------------------------------------------------------------- queries
 

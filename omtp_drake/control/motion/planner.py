@@ -42,7 +42,7 @@ Example::
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -185,6 +185,11 @@ class ArmPlanner:
         a = self._collision.full(self._q(q_start), other_q)
         b = self._collision.full(self._q(q_goal), other_q)
         return self._collision.path_pairs(a, b)
+
+    def filter_collisions(self, pairs: Iterable[tuple[str, str]]) -> list[tuple[str, str]]:
+        """Never checks the body pairs ``pairs`` (names) again, as an SRDF's
+        ``disable_collisions``; returns those involving this arm (the others are skipped)."""
+        return self._collision.filter_pairs(pairs)
 
     # ------------------------------------------------------------- planning
 
@@ -335,6 +340,7 @@ class ArmPlanner:
         velocity_scale: float = 1.0,
         acceleration_scale: float = 1.0,
         acceleration_limits: Sequence[float] | None = None,
+        velocity_limits: Sequence[float] | None = None,
         start_time: float = 0.0,
         turn_tolerance: float = 0.002,
     ) -> PiecewisePolynomial:
@@ -342,7 +348,8 @@ class ArmPlanner:
 
         Joint velocities stay within ``velocity_scale`` times the arm's velocity limits
         and accelerations within ``acceleration_scale`` times ``acceleration_limits``
-        (default :data:`~omtp_drake.control.motion.timing.ACCELERATION_LIMITS`), exactly
+        (default :data:`~omtp_drake.control.motion.timing.ACCELERATION_LIMITS`; the
+        velocity limits default to :attr:`velocity_limits`), exactly
         (the returned cubic pieces are checked and, if needed, slowed). The arm stops at
         every waypoint where its path turns so that a smooth curve through it would leave
         the straight segments by more than ``turn_tolerance`` (rad, about the shorter
@@ -355,7 +362,7 @@ class ArmPlanner:
             rest at both ends; ``value(end_time())`` is the last waypoint.
         """
         vlim, alim = scaled_limits(
-            self.velocity_limits,
+            self.velocity_limits if velocity_limits is None else np.asarray(velocity_limits, dtype=float),
             self.acceleration_limits if acceleration_limits is None else acceleration_limits,
             velocity_scale,
             acceleration_scale,
