@@ -2,8 +2,11 @@
 meets the camera's frustum.
 
 Gazebo's ``LogicalCameraSensor`` lists each model of the world (not the camera's own)
-whose axis-aligned bounding box in the world (the union of its links' collision boxes)
-meets the view frustum, with the model origin's pose in the camera frame; the course's
+whose axis-aligned bounding box in the world (the union of its own links' collision
+boxes) meets the view frustum, with the model origin's pose in the camera frame. A
+model with no links of its own (the conveyor, whose links are in nested models) has an
+empty box, which Gazebo 9's test never rejects, so every camera lists it (see
+:attr:`~omtp_drake.cell.gazebo_models.GazeboModel.own_links`). The course's
 ``ROSLogicalCameraPlugin`` has no ``known_model_types`` filter, so it publishes them
 all, each followed by its nested models (at their poses, without a visibility test of
 their own). Models are named and ordered as in :mod:`omtp_drake.cell.gazebo_models`,
@@ -58,10 +61,12 @@ class GazeboCameraView:
         halves: list[np.ndarray] = []
         self._bodied: list[int] = []
         self._starts: list[int] = []
-        self._fixed = [k for k, m in enumerate(self._models) if m.box_W is not None]
-        self._fixed_boxes = [m.box_W for m in self._models if m.box_W is not None]
+        self._fixed = [k for k, m in enumerate(self._models) if m.box_W is not None and m.own_links]
+        self._fixed_boxes = [box for m in self._models if (box := m.box_W) is not None and m.own_links]
+        #: The models every image lists (no links of their own: see GazeboModel.own_links).
+        self._always = {k for k, m in enumerate(self._models) if not m.own_links}
         for k, model in enumerate(self._models):
-            if model.box_W is not None:
+            if model.box_W is not None or not model.own_links:
                 continue
             start = len(bodies)
             for instance in model.instances:
@@ -118,16 +123,15 @@ class GazeboCameraView:
         X_WB = sample.X_WB.get_value()
         X_CW = own.X_WC.inverse()
         R_CW = X_CW.rotation().matrix()
+        in_view = set(self._always)
         ks, lo, hi = self._boxes_W(X_WB)
-        if not ks:
-            return LogicalCameraImage(own.time, self._name, own.X_WC, ())
-        centres = (R_CW @ ((lo + hi) / 2).T).T + X_CW.translation()
-        seen = self._frustum.overlaps(centres, np.repeat(R_CW[None], len(ks), axis=0), (hi - lo) / 2)
+        if ks:
+            centres = (R_CW @ ((lo + hi) / 2).T).T + X_CW.translation()
+            seen = self._frustum.overlaps(centres, np.repeat(R_CW[None], len(ks), axis=0), (hi - lo) / 2)
+            in_view.update(k for k, s in zip(ks, seen.tolist()) if s)
         reported = {m.name: m.X_CM for m in own.models if m.name}
         listed: list[DetectedModel] = []
-        for k, in_view in zip(ks, seen):
-            if not in_view:
-                continue
+        for k in sorted(in_view):
             model = self._models[k]
             X_WM = model.X_WM if model.X_WM is not None else X_WB[self._origins[k]]
             X_CM = reported.get(model.name, X_CW @ X_WM)

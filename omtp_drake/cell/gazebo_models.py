@@ -73,6 +73,10 @@ class GazeboModel:
         nested: its nested models: (name, pose in the model).
         box_W: a fixed world bounding box (lo, hi) standing in for its geometry
             (None: the bounding box of its bodies' geometry).
+        own_links: whether it has links of its own. Gazebo's box of a model is its
+            own links' (``Model::BoundingBox``), so one with nested models only (the
+            conveyor) has an empty box, which Gazebo 9's frustum test (ign-math 4,
+            face planes only) never rejects: every logical camera lists it.
     """
 
     name: str
@@ -80,6 +84,7 @@ class GazeboModel:
     X_WM: Optional[RigidTransform] = None
     nested: tuple[tuple[str, RigidTransform], ...] = ()
     box_W: Optional[tuple[np.ndarray, np.ndarray]] = None
+    own_links: bool = True
 
     @property
     def type(self) -> str:
@@ -130,7 +135,7 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
             )
         elif name == "conveyor":
             by_name["conveyor_belt"] = GazeboModel(
-                "conveyor_belt", (instance,), X_W_CONVEYOR_BELT_MODEL, CONVEYOR_NESTED
+                "conveyor_belt", (instance,), X_W_CONVEYOR_BELT_MODEL, CONVEYOR_NESTED, own_links=False
             )
         else:
             by_name[name] = GazeboModel(name, (instance,))

@@ -49,6 +49,8 @@ if __name__ == "__main__":
             "robot2_frame": frame_in_world(tf_buffer, "logical_camera_2_robot2_frame"),
             "gripper_frame": frame_in_world(tf_buffer, "logical_camera_2_vacuum_gripper2_frame"),
             "workcell_frame": frame_in_world(tf_buffer, "logical_camera_2_workcell__frame"),
+            "conveyor_frame": frame_in_world(tf_buffer, "logical_camera_2_conveyor_belt_frame"),
+            "nested_frame": frame_in_world(tf_buffer, "logical_camera_2_conveyor_belt_fixed_frame"),
         }
     result["callbacks"] = callbacks
     result["object_found"] = object_found
