@@ -253,7 +253,7 @@ class Subscriber:
         tcp_nodelay: bool = False,
     ):
         session = current()
-        self.name = resolve_name(name)
+        self.name = self.resolved_name = resolve_name(name)
         self.data_class = data_class
         _check_type(self.name, data_class)
         args = () if callback_args is None else (callback_args,)
@@ -286,7 +286,7 @@ class Publisher:
         queue_size: Optional[int] = None,
     ):
         session = current()
-        self.name = resolve_name(name)
+        self.name = self.resolved_name = resolve_name(name)
         if self.name in session.sources:
             raise ROSException(
                 f"{self.name} is published by the cell's {self.name.rsplit('/', 1)[-1]}; "
