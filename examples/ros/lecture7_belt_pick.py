@@ -39,7 +39,7 @@ class BeltPicker:
         self.group.set_named_target("R1Home")
         self.group.go(wait=True)
         self.tool_down = self.group.get_current_pose().pose.orientation
-        rospy.Subscriber("/omtp/break_beam_change", Proximity, self.on_beam)
+        rospy.Subscriber("/break_beam_sensor_change", Proximity, self.on_beam)
         rospy.Subscriber("/omtp/logical_camera_1", LogicalCameraImage, self.on_image, queue_size=1)
 
     def on_beam(self, msg):

@@ -204,6 +204,7 @@ class BreakBeam(LeafSystem):
             reach = float(np.linalg.norm(c) + np.linalg.norm(h))  # farther: cannot touch the beam
             self._candidates.append((q_index, p_index, c.tolist(), h.tolist(), reach))
         self._range = (min_range, max_range)
+        self._rate_hz = float(rate_hz)
         self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self._state = self.DeclareDiscreteState(np.array([0.0, np.inf]))
         self.DeclarePeriodicDiscreteUpdateEvent(1.0 / rate_hz, 0.0, self._update)
@@ -216,6 +217,16 @@ class BreakBeam(LeafSystem):
     def state_output_port(self) -> OutputPort:
         """[detected, range], as last sampled."""
         return self._state_port
+
+    @property
+    def rate_hz(self) -> float:
+        """How often the beam samples (Hz); samples are at k / rate_hz."""
+        return self._rate_hz
+
+    @property
+    def range(self) -> tuple[float, float]:
+        """The beam's sensing range (min, max) in m along its axis."""
+        return self._range
 
     @property
     def p_WE(self) -> np.ndarray:

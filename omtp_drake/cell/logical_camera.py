@@ -444,6 +444,10 @@ class LogicalCamera(LeafSystem):
         else:
             output.set_value(self._capture(sample.time, sample.X_WB.get_value()))
 
+    def sample(self, context: Context) -> CameraSample:
+        """The camera's last sample: its time and the body poses then."""
+        return context.get_abstract_state(self._sample).get_value()
+
     def black_out(self, context: Context, until: float) -> None:
         """Fault injection: the camera publishes no new image before ``until``
         (its output keeps the last image, whose time shows it is stale)."""

@@ -28,7 +28,7 @@ from omtp_drake.ros.interfaces import (
 from omtp_drake.ros.messages import Header, JointState, PoseStamped
 from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
 from omtp_drake.ros.moveit_config import semantics
-from omtp_drake.ros.node import Time, _blocking
+from omtp_drake.ros.node import Time, _blocking, resolve_name
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import joint_names
 from omtp_drake.ros.unsupported import not_supported
@@ -194,6 +194,10 @@ class GoalStatus:
     LOST = 9
 
 
+#: The action servers of the cell (MoveIt's move_group serves execute_trajectory).
+ACTION_SERVERS = ("/execute_trajectory", "/move_group/execute_trajectory")
+
+
 class SimpleActionClient:
     """actionlib.SimpleActionClient for MoveIt's ``execute_trajectory`` action.
 
@@ -203,8 +207,11 @@ class SimpleActionClient:
     """
 
     def __init__(self, ns: str, ActionSpec: Any):  # noqa: N803 (actionlib's name)
-        if ns.strip("/") not in ("execute_trajectory", "move_group/execute_trajectory"):
-            not_supported(f"the action server {ns!r}", "the cell serves execute_trajectory")
+        if resolve_name(ns) not in ACTION_SERVERS:
+            not_supported(
+                f"the action server {ns!r} (resolved: {resolve_name(ns)})",
+                "the cell serves " + ", ".join(ACTION_SERVERS),
+            )
         if ActionSpec is not ExecuteTrajectoryAction:
             not_supported(
                 f"action type {getattr(ActionSpec, '_type', ActionSpec)}", "use ExecuteTrajectoryAction"

@@ -60,12 +60,12 @@ class VacuumGripperState(Message):
 
 
 class Proximity(Message):
-    """The break beam's state (the ARIAC proximity-ray plugin's message, without its
-    range limits: this cell's beam does not publish them)."""
+    """The break beam's state (the proximity-ray plugin's message): whether something
+    is in the beam's range, and that range's limits (m)."""
 
-    __slots__ = ("header", "object_detected")
+    __slots__ = ("header", "object_detected", "min_range", "max_range")
     _type = "omtp_gazebo/Proximity"
-    _defaults = (Header, bool)
+    _defaults = (Header, bool, float, float)
 
 
 class VacuumGripperControlRequest(Message):

@@ -13,13 +13,14 @@ import contextlib
 import copy
 import logging
 import math
+import sys
 from collections.abc import Callable, Iterator
 from typing import Any, Optional
 
-from omtp_drake.ros import messages
+from omtp_drake.ros import messages, names, params
 from omtp_drake.ros.messages import Duration, Message
 from omtp_drake.ros.services import ServiceFailure
-from omtp_drake.ros.session import ShutdownError, current, finite_seconds, resolve_name
+from omtp_drake.ros.session import ShutdownError, current, finite_seconds
 from omtp_drake.ros.unsupported import not_supported
 
 _log = logging.getLogger("rospy")
@@ -77,7 +78,11 @@ def _blocking() -> Iterator[None]:
 def init_node(
     name: str, anonymous: bool = False, log_level: Any = None, disable_signals: bool = False, **_: Any
 ) -> None:
-    """Names the node (once per script: a second call with another name raises ROSException)."""
+    """Names the node (once per script: a second call with another name raises ROSException).
+
+    The command line (``sys.argv``) may rename it (``__name:=``), put it in a namespace
+    (``__ns:=``), remap names (``from:=to``) and set its private parameters (``_x:=v``).
+    An anonymous node keeps its name (rospy would append a unique suffix)."""
     session = current()
     name = str(name).strip("/")
     if not name or "/" in name:
@@ -86,12 +91,44 @@ def init_node(
         raise ROSException(
             "rospy.init_node() has already been called with different arguments: " + session.node_name
         )
+    first = session.node_name is None
     session.node_name = name
-    _log.info("node /%s up at t = %.3f s (simulated time)", name, session.time)
+    session.names = names.NodeNames.from_argv(sys.argv[1:], name)
+    if first:
+        for key, value in names.private_params(sys.argv[1:]).items():
+            params.put(session.params, session.names.resolve(names.PRIVATE + key), value)
+    _log.info("node %s up at t = %.3f s (simulated time)", session.names.caller_id, session.time)
+
+
+def _node_names() -> names.NodeNames:
+    """The running node's names (before ``init_node``: rospy's unnamed node's)."""
+    session = current()
+    return session.names if session.names is not None else names.NodeNames.from_argv(sys.argv[1:])
+
+
+def resolve_name(name: str, caller_id: Optional[str] = None) -> str:
+    """``name`` resolved for this node (or for ``caller_id``) with the command line's remappings."""
+    node = _node_names()
+    if caller_id is None:
+        return node.resolve(name)
+    return names.resolve(name, caller_id, node.remappings)
 
 
 def get_name() -> str:
-    return "/" + (current().node_name or "unnamed")
+    return _node_names().caller_id
+
+
+def get_caller_id() -> str:
+    return get_name()
+
+
+def get_namespace() -> str:
+    return _node_names().namespace
+
+
+def myargv(argv: Optional[list[str]] = None) -> list[str]:
+    """``argv`` (default ``sys.argv``) without the remapping arguments."""
+    return names.strip_remaps(sys.argv if argv is None else argv)
 
 
 def get_time() -> float:
@@ -160,28 +197,27 @@ def spin() -> None:
 
 
 def get_param(name: str, default: Any = KeyError) -> Any:
-    params = current().params
-    key = resolve_name(name, current().node_name)
-    if key in params:
-        return params[key]
-    if default is KeyError:
-        raise KeyError(f"parameter {key} is not set; set ones: {', '.join(sorted(params)) or 'none'}")
-    return default
+    """The parameter (or namespace, as a dictionary) at ``name``, a copy as from the
+    parameter server; ``default`` when nothing is set there (else KeyError)."""
+    key = resolve_name(name)
+    try:
+        return copy.deepcopy(params.get(current().params, key))
+    except KeyError:
+        if default is KeyError:
+            raise
+        return default
 
 
 def set_param(name: str, value: Any) -> None:
-    current().params[resolve_name(name, current().node_name)] = value
+    params.put(current().params, resolve_name(name), copy.deepcopy(value))
 
 
 def has_param(name: str) -> bool:
-    return resolve_name(name, current().node_name) in current().params
+    return params.has(current().params, resolve_name(name))
 
 
 def delete_param(name: str) -> None:
-    key = resolve_name(name, current().node_name)
-    if key not in current().params:
-        raise KeyError(f"parameter {key} is not set")
-    del current().params[key]
+    params.delete(current().params, resolve_name(name))
 
 
 # ----------------------------------------------------------------------------- topics
@@ -217,7 +253,7 @@ class Subscriber:
         tcp_nodelay: bool = False,
     ):
         session = current()
-        self.name = resolve_name(name, session.node_name)
+        self.name = self.resolved_name = resolve_name(name)
         self.data_class = data_class
         _check_type(self.name, data_class)
         args = () if callback_args is None else (callback_args,)
@@ -250,7 +286,7 @@ class Publisher:
         queue_size: Optional[int] = None,
     ):
         session = current()
-        self.name = resolve_name(name, session.node_name)
+        self.name = self.resolved_name = resolve_name(name)
         if self.name in session.sources:
             raise ROSException(
                 f"{self.name} is published by the cell's {self.name.rsplit('/', 1)[-1]}; "
@@ -283,10 +319,12 @@ class Publisher:
 def wait_for_message(topic: str, topic_type: Any, timeout: Optional[float] = None) -> Any:
     """The next message on ``topic``; ROSException after ``timeout`` s (simulated)."""
     session = current()
-    name = resolve_name(topic, session.node_name)
+    name = resolve_name(topic)
     _check_type(name, topic_type)
     queue = session.subscribe(name, _read_here, (), 1)
     queue.busy = True  # read below, never delivered as a callback
+    if name in session.latched:  # a latched topic's last message answers at once
+        queue.queue.append(session.latched[name])
     limit = math.inf if timeout is None else finite_seconds(timeout, "wait_for_message timeout")
     try:
         with _blocking():
@@ -307,7 +345,7 @@ def _read_here(message: Any) -> None:
 
 def _service(name: str) -> Any:
     session = current()
-    key = resolve_name(name, session.node_name)
+    key = resolve_name(name)
     if key not in session.services:
         raise ServiceException(
             f"service [{key}] unavailable: this cell has "
@@ -329,7 +367,7 @@ class ServiceProxy:
     """rospy.ServiceProxy: call it with the request's fields or a request object."""
 
     def __init__(self, name: str, service_class: Any, persistent: bool = False, headers: Any = None):
-        self.resolved_name = resolve_name(name, current().node_name)
+        self.resolved_name = resolve_name(name)
         self.service_class = service_class
 
     def wait_for_service(self, timeout: Optional[float] = None) -> None:

@@ -45,20 +45,27 @@ class Service:
     handler: Callable[[Any], Any]
 
 
+def gripper_plugins(cell: Cell) -> dict[str, str]:
+    """Robot -> the name of its gripper's plugin (``gripperN`` for ``vacuum_gripperN``),
+    the namespace of the gripper's ``control`` service and ``state`` topic."""
+    plugins = {}
+    for robot in cell.station.grippers:
+        match = re.fullmatch(r"vacuum_gripper(\d+)", cell.station.arm(robot).config.gripper or "")
+        if match is not None:
+            plugins[robot] = f"gripper{match.group(1)}"
+    return plugins
+
+
 def _gripper_services(cell: Cell) -> list[Service]:
     services = []
-    for robot in cell.station.grippers:
-        gripper_name = cell.station.arm(robot).config.gripper
-        match = re.fullmatch(r"vacuum_gripper(\d+)", gripper_name or "")
-        if match is None:
-            continue
+    for robot, plugin in gripper_plugins(cell).items():
         gripper = cell.gripper(robot)
 
         def control(request: Any, gripper: Any = gripper) -> Any:
             (gripper.on if request.enable else gripper.off)()
             return VacuumGripperControl._response_class(success=True)
 
-        services.append(Service(f"/gripper{match.group(1)}/control", VacuumGripperControl, control))
+        services.append(Service(f"/{plugin}/control", VacuumGripperControl, control))
     return services
 
 

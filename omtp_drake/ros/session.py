@@ -39,6 +39,7 @@ from omtp_drake.errors import SimulationError
 
 if TYPE_CHECKING:
     from omtp_drake.ros.joint_limits import JointLimits
+    from omtp_drake.ros.names import NodeNames
     from omtp_drake.ros.services import Service
     from omtp_drake.ros.srdf import SemanticModel
     from omtp_drake.ros.topics import Source
@@ -102,12 +103,14 @@ class Session:
     def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
         from omtp_drake.ros.gazebo import attach_gazebo
         from omtp_drake.ros.services import cell_services
-        from omtp_drake.ros.topics import cell_sources
+        from omtp_drake.ros.topics import camera_views, cell_sources
 
         self.cell = cell
         self.timeout = timeout
         self.moveit = moveit
         self.node_name: Optional[str] = None
+        #: How the script's node resolves names (set by ``init_node``; see omtp_drake.ros.names).
+        self.names: Optional[NodeNames] = None
         self.shutdown_reason: Optional[str] = None
         self.callback_errors: list[str] = []
         self.collisions: list[str] = []
@@ -116,7 +119,10 @@ class Session:
         self._in_callback = 0
         self._busy_polls = 0
         self._last_poll_time = -1.0
-        self.sources: dict[str, Source] = cell_sources(cell)
+        views = camera_views(cell)
+        # tf's camera frames follow the models the camera topics list.
+        cell.tf.use_images(lambda camera, context: views[camera].image(context))
+        self.sources: dict[str, Source] = cell_sources(cell, views)
         self.services: dict[str, Service] = cell_services(cell)
         #: Spawner calls that spawned nothing (their warnings).
         self.empty_spawn_calls: list[str] = []
@@ -236,9 +242,11 @@ class Session:
 
     def _poll_sources(self) -> None:
         for topic, source in self.sources.items():
-            if self._subscribers.get(topic):
+            if self._subscribers.get(topic) or source.latch:
                 for stamp, message in source.poll():
                     self.publish(topic, message, stamp)
+                    if source.latch:
+                        self.latched[topic] = (stamp, -1, message)
 
     def deliver(self, until: float = math.inf) -> None:
         """Runs the callbacks of the queued messages, earliest first, one at a time,
@@ -277,17 +285,6 @@ class Session:
 
     def topic_names(self) -> list[str]:
         return sorted(set(self.sources) | {t for t, subs in self._subscribers.items() if subs})
-
-
-def resolve_name(name: str, node_name: Optional[str] = None) -> str:
-    """A graph name as ROS resolves it in the root namespace: ``a/b`` -> ``/a/b``,
-    ``~x`` -> ``/<node>/x``."""
-    name = str(name).strip()
-    if not name:
-        raise ValueError("a topic or service name cannot be empty")
-    if name.startswith("~"):
-        return f"/{node_name or 'unnamed'}/{name[1:].lstrip('/')}"
-    return name if name.startswith("/") else "/" + name
 
 
 def finite_seconds(value: Any, what: str) -> float:

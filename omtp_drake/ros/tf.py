@@ -47,14 +47,23 @@ class TimeoutException(TransformException):
 
 
 def _frame(name: str) -> str:
-    """A frame name as the cell's buffer knows it (no leading slash; the lecture's
-    single camera frame is that camera's frame)."""
+    """A frame name as the cell's buffer knows it (no leading slash). The lecture's
+    single camera's frames are its camera's: ``logical_camera_frame`` and, for a frame
+    the buffer does not have, ``logical_camera_<model>_frame`` (the plugin's frame of a
+    model that camera lists)."""
     name = str(name).lstrip("/")
+    prefix = SINGLE_CAMERA_FRAME.removesuffix("frame")
+    if not name.startswith(prefix) or not name.endswith("_frame"):
+        return name
+    cell = current().cell
+    camera = single_camera(cell)
+    if camera is None:
+        return name
     if name == SINGLE_CAMERA_FRAME:
-        camera = single_camera(current().cell)
-        if camera is not None:
-            return f"{camera}_frame"
-    return name
+        return f"{camera}_frame"
+    frames = cell.tf.all_frame_names()
+    mapped = f"{camera}_{name.removeprefix(prefix)}"
+    return mapped if name not in frames and mapped in frames else name
 
 
 def _seconds(time: Any) -> Optional[float]:

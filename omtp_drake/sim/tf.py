@@ -233,6 +233,7 @@ class TfBuffer:
         self._snapshots: list[_Snapshot] = []
         self._times: list[float] = []
         self._detected = _DetectedFrames(self._cameras, self._static.keys())
+        self._images: Optional[Callable[[str, Context], LogicalCameraImage]] = None
 
     @classmethod
     def from_context(cls, station: Station, root_context: Context, cache_time: float = 10.0) -> TfBuffer:
@@ -270,9 +271,20 @@ class TfBuffer:
             self._snapshots.insert(i, _Snapshot(time, X_WB))
             self._times.insert(i, time)
         for camera in self._cameras:
-            image = self._station.diagram.GetOutputPort(f"{camera}.image").Eval(station_context)
+            if self._images is not None:
+                image = self._images(camera, root_context)
+            else:
+                image = self._station.diagram.GetOutputPort(f"{camera}.image").Eval(station_context)
             self._detected.add(camera, image)
         self._trim()
+
+    def use_images(self, images: Callable[[str, Context], LogicalCameraImage]) -> None:
+        """Reads each camera's image from ``images(camera, root_context)`` from now on
+        instead of the station's ``<camera>.image`` port (the ROS layer gives the
+        course plugin's model list, whose models get the detected frames); the
+        detected frames recorded so far are forgotten."""
+        self._images = images
+        self._detected.clear()
 
     def _trim(self) -> None:
         """Drops snapshots older than cache_time, and images older than the one
