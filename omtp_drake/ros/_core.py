@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import Any, Optional
 
 from omtp_drake.cell.arms import JOINT_NAMES, check_joint_positions, named_pose, tool_frame_names
+from omtp_drake.cell.gazebo_models import gazebo_models
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.scenario import load_scenario
@@ -17,6 +18,7 @@ __all__ = [
     "CorePoseStamped",
     "Plan",
     "check_joint_positions",
+    "gazebo_models",
     "load_scenario",
     "named_pose",
     "tool_down",

@@ -52,7 +52,7 @@ from omtp_drake.ros.services import Service
 from omtp_drake.ros.topics import Source
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.session import Session
+    from omtp_drake.ros.graph import Graph
 
 _log = logging.getLogger("rospy")
 
@@ -79,7 +79,7 @@ def twist_msg(v: np.ndarray, w: np.ndarray) -> Twist:
 class GazeboWorld:
     """Gazebo's ROS API on ``session``'s cell (see the module doc)."""
 
-    def __init__(self, session: Session):
+    def __init__(self, session: Graph):
         self.session = session
         self.cell = session.cell
         self.models = GazeboModels(session.cell)
@@ -252,7 +252,7 @@ class GazeboWorld:
         )
 
     def services(self) -> list[Service]:
-        spawner = PartSpawner(self)
+        spawner = PartSpawner(self.cell, self.models, self.frame)
         return [
             Service("/gazebo/get_model_state", GetModelState, self.get_model_state),
             Service("/gazebo/set_model_state", SetModelState, self.set_model_state),
@@ -267,32 +267,3 @@ class GazeboWorld:
 
     def sources(self) -> dict[str, Source]:
         return {MODEL_STATES: PushedSource(ModelStates), LINK_STATES: PushedSource(LinkStates)}
-
-
-def attach_gazebo(session: Session) -> GazeboWorld:
-    """Gazebo's API and the spawner on ``session``: their services and topics added."""
-    from omtp_drake.ros.spawner import SPAWNED_PART, spawner_services
-
-    world = GazeboWorld(session)
-    services = world.services() + spawner_services(session, world)
-    session.services.update({s.name: s for s in services})
-    session.sources.update(world.sources())
-    spawner = session.cell.scenario.spawner
-    if spawner is not None and spawner.start_service:
-        session.sources[SPAWNED_PART] = PushedSource(Header)
-
-    def hold_while_paused() -> None:
-        reason = world.clock_stopped()
-        if reason is not None:
-            session.shutdown(reason)
-            session.check_running()
-
-    session.cell.on_move_step(hold_while_paused)
-    session.gazebo = world
-
-    def teleport(state: Any) -> None:
-        world.set_model_state(SetModelState._request_class(model_state=state))
-
-    # gazebo_ros subscribes to set_model_state too (queue 10): a ModelState published there moves the model.
-    session.subscribe(SET_MODEL_STATE, teleport, (), 10)
-    return world

@@ -1,14 +1,10 @@
-"""The cell's Gazebo models: their names as the course's world has them, poses and twists.
+"""The cell's Gazebo models as Gazebo's ROS API sees them: names, links, poses and twists.
 
-:func:`model_name` is the one place a model instance of the plant gets its Gazebo
-name: the robots ``robot1``, ``robot2`` (their vacuum grippers are links of the
-robot's model, as ``robot_system.xacro`` builds them), the launch files' URDF
-models with their prefixes (``bin_1_``, ``robot1_pedestal_``, ``break_beam_``,
-the floor as ``workcell_``), the world file's models (``conveyor_belt``,
-``deletion_wall``, ``logical_camera_1``...) and the parts by their names
-(``object_1``...), while they are in the world. A link is ``model::link`` (a
-part's one link is ``object_N::box_base_link``, as the course's spawner's URDF
-names it).
+The models and their names are the course world's
+(:func:`omtp_drake.cell.gazebo_models.gazebo_models`, the one home of that naming:
+``robot1`` with its gripper, ``bin_1_``, ``workcell_``, ``conveyor_belt``, parts
+``object_N``...). A link is ``model::link`` (a part's one link is
+``object_N::box_base_link``, as the course's spawner's URDF names it).
 
 :class:`GazeboModels` answers Gazebo's questions on a cell: the models in the
 world, an entity's pose and twist (a model, a ``model::link``, or ``world``).
@@ -21,7 +17,8 @@ from typing import TYPE_CHECKING, Optional
 import numpy as np
 from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialVelocity
-from pydrake.multibody.tree import ModelInstanceIndex
+
+from omtp_drake.ros._core import gazebo_models
 
 if TYPE_CHECKING:
     from pydrake.multibody.tree import Body
@@ -32,22 +29,6 @@ if TYPE_CHECKING:
 PART_LINK = "box_base_link"
 #: The names Gazebo takes for the world frame in a reference frame or relative entity.
 WORLD_NAMES = ("", "world", "map", "/map")
-#: Plant model instances with another Gazebo model name.
-_RENAMED = {"floor": "workcell_", "conveyor": "conveyor_belt", "break_beam": "break_beam_"}
-_NOT_MODELS = ("WorldModelInstance", "DefaultModelInstance")
-
-
-def model_name(instance: str, bins: set[str], grippers: dict[str, str]) -> Optional[str]:
-    """The Gazebo model holding the plant's model instance ``instance`` (None: not a
-    model of Gazebo's world): a gripper belongs to its robot (``grippers``: gripper ->
-    robot), bins and pedestals carry the launch files' trailing ``_``."""
-    if instance in _NOT_MODELS:
-        return None
-    if instance in grippers:
-        return grippers[instance]
-    if instance in bins or instance.endswith("_pedestal"):
-        return instance + "_"
-    return _RENAMED.get(instance, instance)
 
 
 class GazeboModels:
@@ -60,20 +41,12 @@ class GazeboModels:
         #: Gazebo model name -> part name, for the parts (a part spawned under another
         #: name by /gazebo/spawn_*_model keeps that name while it is in the world).
         self.part_of: dict[str, str] = {p: p for p in cell.station.parts}
-        grippers = {
-            cfg.gripper: robot
-            for robot in cell.station.arms
-            if (cfg := cell.station.arm(robot).config).gripper
-        }
-        bins = {b.name for b in cell.scenario.bins}
-        #: Gazebo model name -> its bodies (the first is the model's frame), in plant order.
+        #: Gazebo model name -> its bodies (the first is the model's frame), in the world's order.
         self._bodies: dict[str, list[Body]] = {}
-        for i in range(plant.num_model_instances()):
-            instance = ModelInstanceIndex(i)
-            name = model_name(plant.GetModelInstanceName(instance), bins, grippers)
-            bodies = [plant.get_body(b) for b in plant.GetBodyIndices(instance)]
-            if name is not None and bodies:
-                self._bodies.setdefault(name, []).extend(bodies)
+        for model in gazebo_models(plant, cell.scenario):
+            bodies = [plant.get_body(b) for i in model.instances for b in plant.GetBodyIndices(i)]
+            if bodies:
+                self._bodies[model.name] = bodies
 
     @property
     def _context(self):

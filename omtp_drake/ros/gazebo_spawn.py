@@ -33,7 +33,7 @@ from omtp_drake.ros.services import Service, ServiceFailure
 from omtp_drake.scenario import SpawnerConfig, check_in_cell
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.gazebo import GazeboWorld
+    from omtp_drake.ros.gazebo_models import GazeboModels
     from omtp_drake.script import Cell
 
 _log = logging.getLogger("rospy")
@@ -77,11 +77,13 @@ def model_xml_problem(xml: str) -> Optional[str]:
 
 
 class PartSpawner:
-    """Gazebo's spawn services and reset_world on ``world``'s cell."""
+    """Gazebo's spawn services and reset_world on ``cell``: ``models`` are its Gazebo
+    models, ``frame(name)`` answers (found, its body) for a reference frame."""
 
-    def __init__(self, world: GazeboWorld):
-        self.world = world
-        self.cell = world.cell
+    def __init__(self, cell: Cell, models: GazeboModels, frame: Callable[[str], tuple[bool, Any]]):
+        self.cell = cell
+        self.models = models
+        self.frame = frame
         #: index of a spawn among the pool's spawns -> the pose given (spawns of these services).
         self._given: dict[int, RigidTransform] = {}
 
@@ -96,12 +98,12 @@ class PartSpawner:
                 f"with one link whose meshes are {COURSE_PART_MESH}, as the course's conveyor spawner "
                 f"sends; got {problem}"
             )
-        models = self.world.models
+        models = self.models
         if request.model_name in models.names():
             _log.error("SpawnModel: Failure - model name %s already exist.", request.model_name)
             response.status_message = "SpawnModel: Failure - model already exists."
             return response
-        found, frame = self.world.frame(request.reference_frame)
+        found, frame = self.frame(request.reference_frame)
         if not found:
             response.status_message = (
                 "SpawnModel: reference reference_frame not found, did you forget to scope the link by model "

@@ -101,9 +101,9 @@ class Session:
     """
 
     def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
-        from omtp_drake.ros.gazebo import attach_gazebo
         from omtp_drake.ros.services import cell_services
         from omtp_drake.ros.topics import camera_views, cell_sources
+        from omtp_drake.ros.world_plugins import attach_gazebo
 
         self.cell = cell
         self.timeout = timeout

@@ -22,8 +22,8 @@ import yaml
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros.messages import Message
+from omtp_drake.ros.names import resolve
 from omtp_drake.ros.services import ServiceFailure
-from omtp_drake.ros.session import resolve_name
 
 if TYPE_CHECKING:
     from omtp_drake.ros.session import Session
@@ -40,7 +40,7 @@ def parse_call(text: str) -> tuple[str, Any]:
         values = yaml.safe_load(args) if args.strip() else None
     except yaml.YAMLError as e:
         raise ConfigError(f"--call {text!r}: its arguments are no YAML: {e}") from None
-    return resolve_name(name), values
+    return resolve(name, "/rosservice"), values  # a terminal resolves in the global namespace
 
 
 def fill(msg_class: type[Message], values: Any, what: str) -> Message:

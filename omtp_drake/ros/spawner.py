@@ -42,7 +42,7 @@ from omtp_drake.sim.driver import spawn
 
 if TYPE_CHECKING:
     from omtp_drake.ros.gazebo import GazeboWorld
-    from omtp_drake.ros.session import Session
+    from omtp_drake.ros.graph import Graph
     from omtp_drake.scenario import SpawnerConfig
 
 _log = logging.getLogger("rospy")
@@ -60,7 +60,7 @@ def empty_response() -> Any:
 class CourseSpawner:
     """The course's spawner node (and its stop node) on ``world``'s cell."""
 
-    def __init__(self, session: Session, world: GazeboWorld, config: SpawnerConfig):
+    def __init__(self, session: Graph, world: GazeboWorld, config: SpawnerConfig):
         self.session, self.world, self.cell = session, world, session.cell
         self.config = config
         self.running = False
@@ -128,7 +128,7 @@ class CourseSpawner:
         ]
 
 
-def _at_once_services(session: Session, spawner: SpawnerConfig) -> list[Service]:
+def _at_once_services(session: Graph, spawner: SpawnerConfig) -> list[Service]:
     """ros-run's own spawn services (see the module doc)."""
     cell = session.cell
     robots = {r.name: np.asarray(r.xy, dtype=float) for r in cell.scenario.robots}
@@ -165,7 +165,7 @@ def _at_once_services(session: Session, spawner: SpawnerConfig) -> list[Service]
     return services
 
 
-def spawner_services(session: Session, world: GazeboWorld) -> list[Service]:
+def spawner_services(session: Graph, world: GazeboWorld) -> list[Service]:
     """The spawner's services of ``session``'s scenario (none without a spawner)."""
     config = session.cell.scenario.spawner
     if config is None:

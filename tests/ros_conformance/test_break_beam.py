@@ -27,8 +27,9 @@ def test_a_change_subscriber_stops_the_belt_with_the_part_at_the_beam(course_run
     report, data = course_run("breakbeam_conveyor_stop.py", scenario=belt_scenario, out_arg=True, timeout=30)
     assert report.exception is None and report.callback_errors == []
     assert len(data["stops"]) == 1
-    # Spawned at y = 2.5 on a belt at 0.2 m/s: the leading face reaches the beam after 2.5 s.
-    assert data["stops"][0] == pytest.approx(2.5, abs=0.25)
+    # /start_spawn's timer spawns one period (3 s) after the call, at y = 2.5 on a belt
+    # at 0.2 m/s: the leading face reaches the beam 2.5 s later.
+    assert data["stops"][0] == pytest.approx(3.0 + 2.5, abs=0.25)
     x, y, _z = data["part_world_xyz"]
     # Stopped with its leading face just past the beam (without the stop: y < 1.6 by the end).
     assert BEAM_Y < y <= BEAM_Y + PART_HALF + 0.005
@@ -60,8 +61,8 @@ try:
     change_before_part = True
 except rospy.ROSException:
     change_before_part = False
-rospy.ServiceProxy('/spawn_object_once', Empty)()
-rospy.sleep(5.0)
+rospy.ServiceProxy('/start_spawn', Empty)()  # the first part one period (3 s) later
+rospy.sleep(8.0)
 late = []
 rospy.Subscriber('/break_beam_sensor_change', Proximity, lambda m: late.append(m.header.stamp.to_sec()))
 rospy.sleep(0.01)

@@ -38,10 +38,11 @@ if __name__ == "__main__":
 
     tf_buffer = tf2_ros.Buffer()
     listener = tf2_ros.TransformListener(tf_buffer)
-    rospy.ServiceProxy("/spawn_object_once", Empty)()
+    rospy.ServiceProxy("/start_spawn", Empty)()
     svc_conveyor_control(ConveyorBeltState(power=100.0))
     while not stops and not rospy.is_shutdown():
         rospy.sleep(0.1)
+    rospy.ServiceProxy("/stop_spawn", Empty)()
     rospy.sleep(2.0)
 
     state = rospy.wait_for_message("/break_beam_sensor", Proximity, timeout=1.0)

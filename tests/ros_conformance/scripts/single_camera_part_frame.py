@@ -13,8 +13,9 @@ if __name__ == "__main__":
     rospy.init_node("part_frame")
     tf_buffer = tf2_ros.Buffer()
     listener = tf2_ros.TransformListener(tf_buffer)
-    rospy.ServiceProxy("/spawn_object_once", Empty)()
+    rospy.ServiceProxy("/start_spawn", Empty)()  # the first part one period (3 s) later
     rospy.wait_for_message("/break_beam_sensor_change", Proximity, timeout=20.0)
+    rospy.ServiceProxy("/stop_spawn", Empty)()  # one part (the next would come 0.5 s later)
     rospy.sleep(1.0)
     image = rospy.wait_for_message("/omtp/logical_camera", LogicalCameraImage)
     part = [m for m in image.models if m.type == "object"][-1]
