@@ -202,7 +202,7 @@ class SimpleActionClient:
 
     def __init__(self, ns: str, ActionSpec: Any):  # noqa: N803 (actionlib's name)
         if ns.strip("/") not in ("execute_trajectory", "move_group/execute_trajectory"):
-            not_supported(f"the action server {ns!r}", "the cell serves execute_trajectory")
+            not_supported(f"the action server {ns!r}", "the cell serves execute_trajectory and move_group")
         if ActionSpec is not ExecuteTrajectoryAction:
             not_supported(
                 f"action type {getattr(ActionSpec, '_type', ActionSpec)}", "use ExecuteTrajectoryAction"

@@ -118,5 +118,7 @@ def _conveyor_services(cell: Cell) -> list[Service]:
 
 def cell_services(cell: Cell) -> dict[str, Service]:
     """Service name -> service, for everything ``cell``'s scenario has."""
-    services = _gripper_services(cell) + _spawn_services(cell) + _conveyor_services(cell)
+    from omtp_drake.ros.move_group import moveit_services
+
+    services = _gripper_services(cell) + _spawn_services(cell) + _conveyor_services(cell) + moveit_services(cell)
     return {s.name: s for s in services}
