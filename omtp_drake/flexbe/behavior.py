@@ -65,9 +65,8 @@ class Behavior:
         if self._state_machine is None:
             machine = self.create()
             if not isinstance(machine, OperatableStateMachine):
-                raise TypeError(
-                    f"{type(self).__name__}.create() must return its state machine, got {type(machine).__name__}"
-                )
+                got = type(machine).__name__
+                raise TypeError(f"{type(self).__name__}.create() must return its state machine, got {got}")
             self._state_machine = machine
         return self._state_machine
 

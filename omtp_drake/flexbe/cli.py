@@ -59,7 +59,9 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--scenario", required=True, metavar="NAME|FILE")
     p.add_argument("--srdf", metavar="FILE", help="/robot_description_semantic (default: the cell's)")
-    p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds (default 600)")
+    p.add_argument(
+        "--timeout", type=float, default=600.0, metavar="S", help="simulated seconds (default 600)"
+    )
     p.add_argument("--autonomy", choices=list(AUTONOMY_LEVELS), default="full", help="default full")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="a behaviour parameter")
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")

@@ -136,7 +136,9 @@ class FlexbeRun:
     def log(self, text: str, severity: int) -> None:
         name = SEVERITY_NAMES.get(severity, f"level {severity}")
         self.logs.append(LogLine(self.time, name, text))
-        level = {"warn": logging.WARNING, "error": logging.ERROR, "debug": logging.DEBUG}.get(name, logging.INFO)
+        level = {"warn": logging.WARNING, "error": logging.ERROR, "debug": logging.DEBUG}.get(
+            name, logging.INFO
+        )
         _log.log(level, "[t=%.3f] %s%s", self.time, "Behavior Hint: " if name == "hint" else "", text)
 
     def enter(self, path: str) -> TraceEntry:

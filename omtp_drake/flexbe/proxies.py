@@ -137,7 +137,9 @@ class ProxyPublisher:
 class ProxyServiceCaller:
     """Service clients by name; ``call(topic, request)``."""
 
-    def __init__(self, topics: Optional[dict[str, Any]] = None, persistent: bool = False, wait_duration: float = 10):
+    def __init__(
+        self, topics: Optional[dict[str, Any]] = None, persistent: bool = False, wait_duration: float = 10
+    ):
         for topic, msg_type in (topics or {}).items():
             self.setupService(topic, msg_type, persistent, wait_duration)
 
@@ -188,7 +190,9 @@ class ProxyActionClient:
             return
         try:
             actions[topic] = (
-                MoveGroupClient(topic) if is_move_group(topic, msg_type) else SimpleActionClient(topic, msg_type)
+                MoveGroupClient(topic)
+                if is_move_group(topic, msg_type)
+                else SimpleActionClient(topic, msg_type)
             )
         except NotSupportedError as e:
             actions[topic] = None

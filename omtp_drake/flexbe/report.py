@@ -62,7 +62,8 @@ class FlexbeReport:
         bins = ", ".join(f"{k} {v}" for k, v in ledger["in_bin"].items()) or "no bins"
         lines = [
             f"behaviour {self.behavior!r} on {self.scenario} (seed {self.seed}, autonomy {self.autonomy}): "
-            f"outcome {self.outcome or 'none'}; {self.sim_time_s:.1f} s simulated in {self.wall_time_s:.1f} s",
+            f"outcome {self.outcome or 'none'}; "
+            f"{self.sim_time_s:.1f} s simulated in {self.wall_time_s:.1f} s",
             f"parts: spawned {ledger['spawned']}; in bins: {bins}; on floor {ledger['on_floor']}, "
             f"on belt {ledger['on_belt']}, held {sum(ledger['held'].values())}",
             "states:",
@@ -70,13 +71,19 @@ class FlexbeReport:
         for entry in self.trace:
             left = f"-> {entry['outcome']} at {entry['left']:.2f} s" if entry["outcome"] else "(no outcome)"
             lines.append(f"  {entry['entered']:8.2f} s  {entry['state']}  {left}")
-        lines += [f"  [{x['time']:.2f} s] {x['severity']}: {x['text']}" for x in self.logs if x["severity"] != "debug"]
+        lines += [
+            f"  [{x['time']:.2f} s] {x['severity']}: {x['text']}"
+            for x in self.logs
+            if x["severity"] != "debug"
+        ]
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")
         if self.exception:
-            lines += ["traceback (workspace frames, most recent call last):"] + [f"  {t}" for t in self.traceback]
+            lines += ["traceback (workspace frames, most recent call last):"] + [
+                f"  {t}" for t in self.traceback
+            ]
             where = f" in state {self.failed_state}" if self.failed_state else ""
             lines.append(f"error{where}: {self.exception}")
         return "\n".join(lines)

@@ -26,7 +26,14 @@ from pathlib import Path
 from typing import Any, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.flexbe.context import AUTONOMY_LEVELS, FlexbeRun, OperatorRequired, SessionClock, StateFailed, active_run
+from omtp_drake.flexbe.context import (
+    AUTONOMY_LEVELS,
+    FlexbeRun,
+    OperatorRequired,
+    SessionClock,
+    StateFailed,
+    active_run,
+)
 from omtp_drake.flexbe.report import FlexbeReport
 from omtp_drake.flexbe.workspace import BehaviorEntry, Workspaces
 from omtp_drake.ros._core import Cell, load_scenario

@@ -8,7 +8,8 @@ run with :class:`~omtp_drake.flexbe.context.OperatorRequired` when it has none;
 
 from __future__ import annotations
 
-from typing import Any, Callable, Optional
+from collections.abc import Callable
+from typing import Any, Optional
 
 from omtp_drake.flexbe.context import OperatorRequired, current_run
 from omtp_drake.flexbe.engine import EventState, Logger
@@ -285,7 +286,9 @@ class InputState(EventState):
     """An operator's input (FlexBE's input GUI): not available headless."""
 
     def __init__(self, request: int, message: str):
-        super().__init__(outcomes=["received", "aborted", "no_connection", "data_error"], output_keys=["data"])
+        super().__init__(
+            outcomes=["received", "aborted", "no_connection", "data_error"], output_keys=["data"]
+        )
         self._request, self._message = request, message
 
     def on_enter(self, userdata: Any) -> None:

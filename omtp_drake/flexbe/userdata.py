@@ -68,7 +68,9 @@ class UserData:
             return self._data[key]
         if key not in self:
             if self._input_keys is not None and key not in self._input_keys:
-                raise UserDataError(f"Key '{key}' cannot be accessed, declare it as input key for read access.")
+                raise UserDataError(
+                    f"Key '{key}' cannot be accessed, declare it as input key for read access."
+                )
             raise UserDataError(f"No data found for key '{key}'")
         value = self._reference[self._target(key)]
         if self._output_keys is not None and key not in self._output_keys:

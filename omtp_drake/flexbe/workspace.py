@@ -60,7 +60,9 @@ def find_packages(roots: Sequence[Path]) -> dict[str, Path]:
                 packages.setdefault(_package_name(folder / "package.xml"), folder)
                 continue  # catkin does not look for packages inside a package
             stack.extend(
-                sorted((p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")), reverse=True)
+                sorted(
+                    (p for p in folder.iterdir() if p.is_dir() and not p.name.startswith(".")), reverse=True
+                )
             )
     return packages
 

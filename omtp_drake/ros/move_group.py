@@ -77,7 +77,7 @@ def _pose_target(constraints: Any) -> tuple[PoseStamped, str]:
     region = position.constraint_region
     if not region.primitive_poses:
         raise MoveItCommanderException("the position constraint's constraint_region has no primitive pose")
-    pose = Pose(position=region.primitive_poses[0].position)
+    pose: Any = Pose(position=region.primitive_poses[0].position)
     if constraints.orientation_constraints:
         pose.orientation = constraints.orientation_constraints[0].orientation
     else:
@@ -107,7 +107,7 @@ class MoveGroupClient:
     def __init__(self, ns: str = "move_group"):
         self._session = current()
         self._state = GoalState.LOST
-        self._result: Optional[MoveGroupResult] = None
+        self._result: Any = None
         self._end = 0.0
         self._group: Optional[MoveGroupCommander] = None
         self._done_cb: Any = None
@@ -115,13 +115,17 @@ class MoveGroupClient:
     def wait_for_server(self, timeout: Any = None) -> bool:
         return True
 
-    def send_goal(self, goal: Any, done_cb: Any = None, active_cb: Any = None, feedback_cb: Any = None) -> None:
+    def send_goal(
+        self, goal: Any, done_cb: Any = None, active_cb: Any = None, feedback_cb: Any = None
+    ) -> None:
         request = goal.request
         cell = self._session.cell
-        result = MoveGroupResult()
+        result: Any = MoveGroupResult()
         self._done_cb, self._end = done_cb, self._session.time
         if request.group_name not in cell.station.arms:
-            _log.error("move_group: group %r was not found; groups: %s", request.group_name, list(cell.station.arms))
+            _log.error(
+                "move_group: group %r was not found; groups: %s", request.group_name, list(cell.station.arms)
+            )
             self._finish(result, MoveItErrorCodes.INVALID_GROUP_NAME, GoalState.ABORTED)
             return
         self._group = group = MoveGroupCommander(request.group_name)
@@ -152,7 +156,7 @@ class MoveGroupClient:
         if active_cb is not None:
             active_cb()
 
-    def _finish(self, result: MoveGroupResult, code: int, state: int) -> None:
+    def _finish(self, result: Any, code: int, state: int) -> None:
         result.error_code = MoveItErrorCodes(code)
         self._result, self._state = result, state
         if self._done_cb is not None:
@@ -229,7 +233,7 @@ def _ik_target(cell: Cell, pose: PoseStamped) -> Any:
 def compute_ik(cell: Cell, request: Any) -> GetPositionIKResponse:
     """The ``/compute_ik`` handler (see the module doc)."""
     ik = request.ik_request
-    response = GetPositionIKResponse()
+    response: Any = GetPositionIKResponse()
     if ik.group_name not in cell.station.arms:
         _log.error("compute_ik: group %r was not found; groups: %s", ik.group_name, list(cell.station.arms))
         response.error_code = MoveItErrorCodes(MoveItErrorCodes.INVALID_GROUP_NAME)
@@ -238,7 +242,9 @@ def compute_ik(cell: Cell, request: Any) -> GetPositionIKResponse:
     links = {full: short for short, full in tool_frame_names(arm.config).items()}
     link = ik.ik_link_name or next(f for f, s in links.items() if s == "suction_cup")
     if link not in links:
-        _log.error("compute_ik: %r is no end-effector link of %s; links: %s", link, ik.group_name, list(links))
+        _log.error(
+            "compute_ik: %r is no end-effector link of %s; links: %s", link, ik.group_name, list(links)
+        )
         response.error_code = MoveItErrorCodes(INVALID_GOAL_CONSTRAINTS)
         return response
     try:
@@ -254,8 +260,11 @@ def compute_ik(cell: Cell, request: Any) -> GetPositionIKResponse:
         _log.warning("compute_ik: %s", e)
         response.error_code = MoveItErrorCodes(_error_code(e))
         return response
-    state = JointState(header=Header(stamp=Time.now(), frame_id="world"), name=joint_names(ik.group_name))
-    state.position = [float(x) for x in q]
+    state = JointState(
+        header=Header(stamp=Time.now(), frame_id="world"),
+        name=joint_names(ik.group_name),
+        position=[float(x) for x in q],
+    )
     response.solution = RobotState(joint_state=state)
     response.error_code = MoveItErrorCodes(MoveItErrorCodes.SUCCESS)
     return response

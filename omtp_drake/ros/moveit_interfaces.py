@@ -143,7 +143,13 @@ class MoveGroupGoal(Message):
 
 
 class MoveGroupResult(Message):
-    __slots__ = ("error_code", "trajectory_start", "planned_trajectory", "executed_trajectory", "planning_time")
+    __slots__ = (
+        "error_code",
+        "trajectory_start",
+        "planned_trajectory",
+        "executed_trajectory",
+        "planning_time",
+    )
     _type = "moveit_msgs/MoveGroupResult"
     _defaults = (MoveItErrorCodes, RobotState, RobotTrajectory, RobotTrajectory, float)
 

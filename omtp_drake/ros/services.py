@@ -120,5 +120,7 @@ def cell_services(cell: Cell) -> dict[str, Service]:
     """Service name -> service, for everything ``cell``'s scenario has."""
     from omtp_drake.ros.move_group import moveit_services
 
-    services = _gripper_services(cell) + _spawn_services(cell) + _conveyor_services(cell) + moveit_services(cell)
+    services = (
+        _gripper_services(cell) + _spawn_services(cell) + _conveyor_services(cell) + moveit_services(cell)
+    )
     return {s.name: s for s in services}
