@@ -68,6 +68,27 @@ def workspace_environment(paths: Sequence[Path]) -> Iterator[None]:
         sys.modules.update(hidden)
 
 
+@contextlib.contextmanager
+def genpy_module_names() -> Iterator[None]:
+    """For the run, each shim message class's ``__module__`` is genpy's ``pkg.msg._Type``
+    (FlexBE's states find a message class by a topic's type that way); restored after."""
+    renamed: dict[type, str] = {}
+    for package in SHIM_PACKAGES:
+        if not (SHIM_DIR / package / "msg.py").is_file():
+            continue
+        module = importlib.import_module(f"{package}.msg")
+        for name in getattr(module, "__all__", []):
+            cls = getattr(module, name)
+            if isinstance(cls, type) and getattr(cls, "_type", "") == f"{package}/{name}":
+                renamed.setdefault(cls, cls.__module__)
+                cls.__module__ = f"{package}.msg._{name}"
+    try:
+        yield
+    finally:
+        for cls, module_name in renamed.items():
+            cls.__module__ = module_name
+
+
 def parse_params(items: Sequence[str]) -> dict[str, str]:
     """``NAME=VALUE`` pairs (``--param``) as a dict."""
     params = {}
@@ -157,7 +178,7 @@ def run_behavior(
     session.params["/robot_description_semantic"] = semantic or semantic_description(cell)
     session.node_name = ONBOARD_NODE
     run = FlexbeRun(SessionClock(session), autonomy=AUTONOMY_LEVELS[autonomy], packages=dict(spaces.packages))
-    with workspace_environment(spaces.python_paths()), active(session), active_run(run):
+    with workspace_environment(spaces.python_paths()), genpy_module_names(), active(session), active_run(run):
         result = _spin(entry, params or {}, session)
     replay = cell.close()
     error = result.error
@@ -200,9 +221,9 @@ def describe_error(error: BaseException, roots: Sequence[Path]) -> str:
     for a syntax error, the file and line that do not compile)."""
     text = " ".join(str(error).split())
     where = ""
-    if isinstance(error, SyntaxError) and error.filename:
-        where = f" (at {Path(error.filename).name}:{error.lineno})"
     for frame in traceback.extract_tb(error.__traceback__):
         if _in_roots(frame.filename, roots):
             where = f" (at {Path(frame.filename).name}:{frame.lineno} in {frame.name})"
+    if isinstance(error, SyntaxError) and error.filename:
+        where = f" (at {Path(error.filename).name}:{error.lineno}, imported from{where.removeprefix(' (at')}"
     return f"{type(error).__name__}: {text[:500]}{where}"
