@@ -62,7 +62,8 @@ class ConcurrencyContainer(OperatableStateMachine):
             self._returned[label] = outcome
             if outcome is not None:
                 self._entries[label].outcome, self._entries[label].left = outcome, run.time
-            state._flexbe_count_tick()  # due again one period from now
+            if state.sleep_duration <= 0:
+                state._flexbe_count_tick()  # its period is up: the next one starts
         outcome = self._matching_condition()
         if outcome is None:
             return None
