@@ -37,7 +37,6 @@ from omtp_drake.flexbe.context import (
 from omtp_drake.flexbe.report import FlexbeReport
 from omtp_drake.flexbe.workspace import BehaviorEntry, Workspaces
 from omtp_drake.ros._core import Cell, load_scenario
-from omtp_drake.ros.course_topics import course_sources
 from omtp_drake.ros.description import load_srdf, robot_description, semantic_description
 from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.runner import SHIM_DIR, SHIM_PACKAGES
@@ -172,8 +171,6 @@ def run_behavior(
     start = time.perf_counter()
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record)
     session = Session(cell, timeout=timeout)
-    for topic, source in course_sources(cell).items():
-        session.sources.setdefault(topic, source)
     session.params["/robot_description"] = robot_description(cell)
     session.params["/robot_description_semantic"] = semantic or semantic_description(cell)
     session.node_name = ONBOARD_NODE
