@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING, NoReturn
 import numpy as np
 
 from omtp_drake.errors import ConfigError, OmtpError
-from omtp_drake.flexbe.cli import add_commands as add_flexbe_commands
 from omtp_drake.ros.cli import add_commands as add_ros_commands
+from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
 
 if TYPE_CHECKING:
     from pydrake.systems.framework import Context

@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import pytest
 
-from omtp_drake.flexbe.behavior import Behavior
-from omtp_drake.flexbe.containers import ConcurrencyContainer, PriorityContainer
-from omtp_drake.flexbe.context import (
+from omtp_drake.ros.flexbe.behavior import Behavior
+from omtp_drake.ros.flexbe.containers import ConcurrencyContainer, PriorityContainer
+from omtp_drake.ros.flexbe.context import (
     AUTONOMY_LEVELS,
     FlexbeRun,
     ManualClock,
@@ -18,8 +18,8 @@ from omtp_drake.flexbe.context import (
     StateFailed,
     active_run,
 )
-from omtp_drake.flexbe.engine import Autonomy, EventState, Logger, OperatableStateMachine
-from omtp_drake.flexbe.states import (
+from omtp_drake.ros.flexbe.engine import Autonomy, EventState, Logger, OperatableStateMachine
+from omtp_drake.ros.flexbe.states import (
     CalculationState,
     CheckConditionState,
     DecisionState,
@@ -30,7 +30,7 @@ from omtp_drake.flexbe.states import (
     OperatorDecisionState,
     WaitState,
 )
-from omtp_drake.flexbe.userdata import StateMachineError, UserDataError
+from omtp_drake.ros.flexbe.userdata import StateMachineError, UserDataError
 
 
 @pytest.fixture

@@ -14,9 +14,9 @@ import pytest
 
 from omtp_drake.cli import main
 from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.flexbe import run_behavior
-from omtp_drake.flexbe.workspace import Workspaces
 from omtp_drake.ros import run_script
+from omtp_drake.ros.flexbe import run_behavior
+from omtp_drake.ros.flexbe.workspace import Workspaces
 
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "flexbe"

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any
 
+from omtp_drake.ros._core import JOINT_NAMES
 from omtp_drake.ros.messages import Header, JointState, Time
 from omtp_drake.ros.topics import BreakBeamSource, Source
-from omtp_drake.ros.trajectories import joint_names
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -68,7 +68,7 @@ class JointStateSource(PeriodicSource):
         names: list[str] = []
         positions: list[float] = []
         for robot in self._robots:
-            names += joint_names(robot)
+            names += [f"{robot}_{name}" for name in JOINT_NAMES]
             positions += [float(x) for x in self._cell.arm(robot).joint_values()]
         header = Header(stamp=Time(self._cell.time))
         return JointState(header=header, name=names, position=positions)

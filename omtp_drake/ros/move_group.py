@@ -1,4 +1,4 @@
-"""MoveIt's ``/move_group`` action and ``/compute_ik`` service on the cell's planner.
+"""MoveIt's ``/move_group`` action on the cell's planner (``/compute_ik``: :mod:`omtp_drake.ros.ik_service`).
 
 ``/move_group`` (``moveit_msgs/MoveGroupAction``): the goal's ``request`` names
 the group (``robot1``, ``robot2``) and one set of goal constraints: joint
@@ -15,13 +15,6 @@ error codes, as in MoveIt: PLANNING_FAILED, NO_IK_SOLUTION, GOAL_IN_COLLISION,
 START_STATE_IN_COLLISION, INVALID_GROUP_NAME, INVALID_GOAL_CONSTRAINTS (no or
 several constraint sets, a link that is no end effector), PREEMPTED (cancelled).
 Planning takes no simulated time.
-
-``/compute_ik`` (``moveit_msgs/GetPositionIK``): the joint values putting
-``ik_link_name`` (default: the group's ``vacuum_gripperN_suction_cup``) at
-``pose_stamped`` (any tf frame), nearest the request's robot state, collision
-free with ``avoid_collisions`` (the planning scene: static cell, other arm, added
-objects). The solution's joint state lists the group's joints; failures answer
-NO_IK_SOLUTION (or GOAL_IN_COLLISION, INVALID_GROUP_NAME).
 """
 
 from __future__ import annotations
@@ -29,32 +22,21 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Any, Optional
 
-import numpy as np
-
-from omtp_drake.errors import OmtpError, PlanningError
-from omtp_drake.ros._core import CorePoseStamped, tool_frame_names
-from omtp_drake.ros.convert import rigid
+from omtp_drake.errors import OmtpError
+from omtp_drake.ros.ik_service import INVALID_GOAL_CONSTRAINTS
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotState
 from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
-from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException, _error_code
-from omtp_drake.ros.moveit_interfaces import (
-    GetPositionIK,
-    GetPositionIKResponse,
-    MoveGroupAction,
-    MoveGroupResult,
-)
+from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
+from omtp_drake.ros.moveit_interfaces import MoveGroupAction, MoveGroupResult
 from omtp_drake.ros.node import Time
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import joint_names, to_msg
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.services import Service
     from omtp_drake.script import Cell
 
 _log = logging.getLogger("moveit_commander")
 
-#: MoveIt's code for a goal it cannot use.
-INVALID_GOAL_CONSTRAINTS = -23
 #: The action servers by name (MoveIt's default namespace and the absolute name).
 MOVE_GROUP_NAMES = ("move_group", "/move_group")
 
@@ -207,73 +189,3 @@ class MoveGroupClient:
 
 def is_move_group(ns: str, spec: Any) -> bool:
     return spec is MoveGroupAction and ns.strip("/") == "move_group"
-
-
-# ----------------------------------------------------------------------------- /compute_ik
-
-
-def _ik_seed(cell: Cell, robot: str, joint_state: JointState) -> np.ndarray:
-    q = np.array(cell.arm(robot).joint_values(), dtype=float)
-    given = dict(zip(joint_state.name, joint_state.position))
-    for i, name in enumerate(joint_names(robot)):
-        if name in given:
-            q[i] = float(given[name])
-    return q
-
-
-def _ik_target(cell: Cell, pose: PoseStamped) -> Any:
-    X = rigid(pose.pose, "compute_ik pose_stamped")
-    frame = pose.header.frame_id.lstrip("/") or "world"
-    if frame == "world":
-        return X
-    stamp = pose.header.stamp.to_sec()
-    return cell.world_pose(CorePoseStamped(frame, stamp or None, X))
-
-
-def compute_ik(cell: Cell, request: Any) -> GetPositionIKResponse:
-    """The ``/compute_ik`` handler (see the module doc)."""
-    ik = request.ik_request
-    response: Any = GetPositionIKResponse()
-    if ik.group_name not in cell.station.arms:
-        _log.error("compute_ik: group %r was not found; groups: %s", ik.group_name, list(cell.station.arms))
-        response.error_code = MoveItErrorCodes(MoveItErrorCodes.INVALID_GROUP_NAME)
-        return response
-    arm = cell.arm(ik.group_name)
-    links = {full: short for short, full in tool_frame_names(arm.config).items()}
-    link = ik.ik_link_name or next(f for f, s in links.items() if s == "suction_cup")
-    if link not in links:
-        _log.error(
-            "compute_ik: %r is no end-effector link of %s; links: %s", link, ik.group_name, list(links)
-        )
-        response.error_code = MoveItErrorCodes(INVALID_GOAL_CONSTRAINTS)
-        return response
-    try:
-        X_WE = _ik_target(cell, ik.pose_stamped)
-        q = arm._planning_scene().ik(
-            X_WE,
-            frame=links[link],
-            q_seed=_ik_seed(cell, ik.group_name, ik.robot_state.joint_state),
-            other_q=arm._other_arms(),
-            check_collisions=bool(ik.avoid_collisions),
-        )
-    except PlanningError as e:
-        _log.warning("compute_ik: %s", e)
-        response.error_code = MoveItErrorCodes(_error_code(e))
-        return response
-    state = JointState(
-        header=Header(stamp=Time.now(), frame_id="world"),
-        name=joint_names(ik.group_name),
-        position=[float(x) for x in q],
-    )
-    response.solution = RobotState(joint_state=state)
-    response.error_code = MoveItErrorCodes(MoveItErrorCodes.SUCCESS)
-    return response
-
-
-def moveit_services(cell: Cell) -> list[Service]:
-    """MoveIt's services on ``cell``: ``/compute_ik``."""
-    from omtp_drake.ros.services import Service
-
-    if not cell.station.arms:
-        return []
-    return [Service("/compute_ik", GetPositionIK, lambda request: compute_ik(cell, request))]

@@ -98,6 +98,7 @@ class Session:
     """
 
     def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
+        from omtp_drake.ros.course_topics import course_sources
         from omtp_drake.ros.services import cell_services
         from omtp_drake.ros.topics import cell_sources
 
@@ -113,7 +114,7 @@ class Session:
         self._in_callback = 0
         self._busy_polls = 0
         self._last_poll_time = -1.0
-        self.sources: dict[str, Source] = cell_sources(cell)
+        self.sources: dict[str, Source] = {**course_sources(cell), **cell_sources(cell)}
         self.services: dict[str, Service] = cell_services(cell)
         self._on_shutdown: list[Callable[[], Any]] = []
         #: The parameter server, topics scripts publish, latched messages, log throttles.

@@ -7,8 +7,6 @@
   whose frame tf also knows as ``logical_camera_frame``.
 - ``/omtp/break_beam`` and ``/omtp/break_beam_change`` (``omtp_gazebo/Proximity``):
   the beam's state whenever it changes (sampled at the beam's rate).
-- the Gazebo world's and controllers' names of :mod:`omtp_drake.ros.course_topics`
-  (``/break_beam_sensor``, ``/robotN/joint_states``...).
 """
 
 from __future__ import annotations
@@ -96,6 +94,4 @@ def cell_sources(cell: Cell) -> dict[str, Source]:
     if cell.station.break_beam is not None:
         sources["/omtp/break_beam"] = BreakBeamSource(cell)
         sources["/omtp/break_beam_change"] = BreakBeamSource(cell)
-    from omtp_drake.ros.course_topics import course_sources
-
-    return {**course_sources(cell), **sources}
+    return sources

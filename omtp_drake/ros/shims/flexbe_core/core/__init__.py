@@ -1,8 +1,8 @@
 """flexbe_core.core of omtp-drake flexbe-run."""
 
-from omtp_drake.flexbe.containers import ConcurrencyContainer, PriorityContainer
-from omtp_drake.flexbe.engine import EventState, OperatableStateMachine, State
-from omtp_drake.flexbe.userdata import StateError, StateMachineError, UserData, UserDataError
+from omtp_drake.ros.flexbe.containers import ConcurrencyContainer, PriorityContainer
+from omtp_drake.ros.flexbe.engine import EventState, OperatableStateMachine, State
+from omtp_drake.ros.flexbe.userdata import StateError, StateMachineError, UserData, UserDataError
 from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [

@@ -1,6 +1,6 @@
 """flexbe_core.proxy of omtp-drake flexbe-run: the proxies on the cell's topics, services and actions."""
 
-from omtp_drake.flexbe.proxies import (
+from omtp_drake.ros.flexbe.proxies import (
     ProxyActionClient,
     ProxyPublisher,
     ProxyServiceCaller,

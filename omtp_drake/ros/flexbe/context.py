@@ -155,7 +155,8 @@ def current_run() -> FlexbeRun:
     if not _RUNS:
         raise SimulationError(
             "no FlexBE run: flexbe_core works inside `omtp-drake flexbe-run BEHAVIOR --workspace DIR "
-            "--scenario NAME` (or omtp_drake.flexbe.run_behavior / omtp_drake.flexbe.context.active_run)"
+            "--scenario NAME` (or omtp_drake.ros.flexbe.run_behavior, or "
+            "omtp_drake.ros.flexbe.context.active_run)"
         )
     return _RUNS[-1]
 

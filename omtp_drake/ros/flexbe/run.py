@@ -26,7 +26,9 @@ from pathlib import Path
 from typing import Any, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.flexbe.context import (
+from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.description import load_srdf, robot_description, semantic_description
+from omtp_drake.ros.flexbe.context import (
     AUTONOMY_LEVELS,
     FlexbeRun,
     OperatorRequired,
@@ -34,10 +36,8 @@ from omtp_drake.flexbe.context import (
     StateFailed,
     active_run,
 )
-from omtp_drake.flexbe.report import FlexbeReport
-from omtp_drake.flexbe.workspace import BehaviorEntry, Workspaces
-from omtp_drake.ros._core import Cell, load_scenario
-from omtp_drake.ros.description import load_srdf, robot_description, semantic_description
+from omtp_drake.ros.flexbe.report import FlexbeReport
+from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
 from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.runner import SHIM_DIR, SHIM_PACKAGES
 from omtp_drake.ros.session import Session, ShutdownError, active

@@ -14,9 +14,9 @@ from __future__ import annotations
 
 from typing import Any, Optional
 
-from omtp_drake.flexbe.context import current_run
-from omtp_drake.flexbe.engine import OperatableStateMachine, State
-from omtp_drake.flexbe.userdata import UserData
+from omtp_drake.ros.flexbe.context import current_run
+from omtp_drake.ros.flexbe.engine import OperatableStateMachine, State
+from omtp_drake.ros.flexbe.userdata import UserData
 
 
 def _on_path(path: str, active: Optional[str]) -> bool:

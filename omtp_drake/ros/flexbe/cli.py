@@ -8,7 +8,7 @@ import logging
 import sys
 from pathlib import Path
 
-from omtp_drake.flexbe.context import AUTONOMY_LEVELS
+from omtp_drake.ros.flexbe.context import AUTONOMY_LEVELS
 
 
 def _out(text: str) -> None:
@@ -18,7 +18,7 @@ def _out(text: str) -> None:
 
 def cmd_flexbe_run(args: argparse.Namespace) -> int:
     """``flexbe-run``: exit 0 when the behaviour reached an outcome cleanly."""
-    from omtp_drake.flexbe.run import parse_params, run_behavior
+    from omtp_drake.ros.flexbe.run import parse_params, run_behavior
 
     if not args.quiet:
         for name in ("flexbe", "rospy", "moveit_commander"):

@@ -11,7 +11,7 @@ from __future__ import annotations
 from typing import Any, Optional
 
 from omtp_drake.errors import SimulationError
-from omtp_drake.flexbe.context import current_run
+from omtp_drake.ros.flexbe.context import current_run
 from omtp_drake.ros.session import current, resolve_name
 
 

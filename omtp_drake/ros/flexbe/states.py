@@ -2,7 +2,7 @@
 
 Headless runs have no operator: :class:`OperatorDecisionState` returns its
 suggested outcome (the transition's autonomy level still applies) and stops the
-run with :class:`~omtp_drake.flexbe.context.OperatorRequired` when it has none;
+run with :class:`~omtp_drake.ros.flexbe.context.OperatorRequired` when it has none;
 :class:`InputState` always needs an operator and stops the run the same way.
 """
 
@@ -11,10 +11,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Optional
 
-from omtp_drake.flexbe.context import OperatorRequired, current_run
-from omtp_drake.flexbe.engine import EventState, Logger
-from omtp_drake.flexbe.proxies import ProxyPublisher, ProxySubscriberCached
-from omtp_drake.flexbe.topics import get_topic_class
+from omtp_drake.ros.flexbe.context import OperatorRequired, current_run
+from omtp_drake.ros.flexbe.engine import EventState, Logger
+from omtp_drake.ros.flexbe.proxies import ProxyPublisher, ProxySubscriberCached
+from omtp_drake.ros.flexbe.topics import get_topic_class
 from omtp_drake.ros.messages import Bool, Empty, String
 from omtp_drake.ros.session import resolve_name
 

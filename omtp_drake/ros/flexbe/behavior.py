@@ -15,8 +15,8 @@ from typing import Any, Optional
 
 import yaml
 
-from omtp_drake.flexbe.engine import Logger, OperatableStateMachine
-from omtp_drake.flexbe.userdata import UserData
+from omtp_drake.ros.flexbe.engine import Logger, OperatableStateMachine
+from omtp_drake.ros.flexbe.userdata import UserData
 
 
 class Behavior:

@@ -4,7 +4,7 @@
 
 or from Python::
 
-    from omtp_drake.flexbe import run_behavior
+    from omtp_drake.ros.flexbe import run_behavior
     report = run_behavior("Conveyor Pick", ["examples/flexbe"], scenario="lecture7_flexbe")
 
 The engine (``flexbe_core``: Behavior, OperatableStateMachine, EventState,
@@ -18,19 +18,19 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from omtp_drake.flexbe.report import FlexbeReport
-    from omtp_drake.flexbe.run import run_behavior
+    from omtp_drake.ros.flexbe.report import FlexbeReport
+    from omtp_drake.ros.flexbe.run import run_behavior
 
 __all__ = ["FlexbeReport", "run_behavior"]
 
 
 def __getattr__(name: str) -> Any:
     if name == "run_behavior":
-        from omtp_drake.flexbe.run import run_behavior
+        from omtp_drake.ros.flexbe.run import run_behavior
 
         return run_behavior
     if name == "FlexbeReport":
-        from omtp_drake.flexbe.report import FlexbeReport
+        from omtp_drake.ros.flexbe.report import FlexbeReport
 
         return FlexbeReport
     raise AttributeError(name)

@@ -168,7 +168,7 @@ def _known_packages() -> dict[str, Path]:
     import os
 
     from omtp_drake.errors import SimulationError
-    from omtp_drake.flexbe.context import current_run
+    from omtp_drake.ros.flexbe.context import current_run
 
     try:
         return dict(current_run().packages)

@@ -17,7 +17,7 @@ The semantics are FlexBE's (``flexbe_core`` of ROS 1 Noetic):
   operator: it stops with :class:`OperatorRequired` naming the state and outcome.
 - A state that raises: FlexBE logs "Failed to execute state" and waits for an
   operator; a headless run logs the same and stops with :class:`StateFailed`.
-- Userdata: see :mod:`omtp_drake.flexbe.userdata`.
+- Userdata: see :mod:`omtp_drake.ros.flexbe.userdata`.
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ from __future__ import annotations
 from typing import Any, ClassVar, Optional
 
 from omtp_drake.errors import SimulationError
-from omtp_drake.flexbe.context import DEFAULT_RATE_HZ, OperatorRequired, StateFailed, current_run
-from omtp_drake.flexbe.userdata import StateError, StateMachineError, UserData
+from omtp_drake.ros.flexbe.context import DEFAULT_RATE_HZ, OperatorRequired, StateFailed, current_run
+from omtp_drake.ros.flexbe.userdata import StateError, StateMachineError, UserData
 
 #: FlexBE's name of the outcome every state machine may take when preempted.
 PREEMPTED = "preempted"

@@ -2,7 +2,7 @@
 
 As in FlexBE, every proxy of a run shares one subscriber, publisher, service
 client and action client per topic (the caches live in the
-:class:`~omtp_drake.flexbe.context.FlexbeRun`). Subscribers keep the last
+:class:`~omtp_drake.ros.flexbe.context.FlexbeRun`). Subscribers keep the last
 message (and, buffered, all messages in order); messages arrive as simulated
 time passes between the behaviour's ticks. Services and actions are the cell's
 (``/gripperN/control``, ``/omtp/conveyor/control``, ``/start_spawn``...,
@@ -15,9 +15,9 @@ from __future__ import annotations
 
 from typing import Any, Optional
 
-from omtp_drake.flexbe.context import current_run
-from omtp_drake.flexbe.engine import Logger
 from omtp_drake.ros import node
+from omtp_drake.ros.flexbe.context import current_run
+from omtp_drake.ros.flexbe.engine import Logger
 from omtp_drake.ros.session import current
 
 
