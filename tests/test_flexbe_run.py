@@ -336,6 +336,15 @@ def test_a_state_that_raises_is_reported_at_its_line(tmp_path):
     )
 
 
+def test_a_missing_package_names_what_provides_nothing(tmp_path):
+    code = "from flexbe_manipulation_states.moveit_to_joints_dyn_state import MoveitToJointsDynState\n"
+    _behavior_package(tmp_path, "pick_behaviors", "Pick", "pick_sm", "PickSM", code)
+    report = run_behavior("Pick", [tmp_path], scenario=SCENARIO, timeout=1.0)
+    assert report.exception.startswith("ModuleNotFoundError: No module named 'flexbe_manipulation_states'; ")
+    assert "provide 'flexbe_manipulation_states': add the catkin src folder" in report.exception
+    assert report.exception.endswith("(at pick_sm.py:1 in <module>)")
+
+
 @pytest.mark.skipif(not COURSE_MIRROR.is_dir(), reason="the course's sources are not on this machine")
 def test_the_course_lecture7_behaviour_stops_with_one_error(tmp_path):
     """The course's lecture-7 states are Python 2 (mixed tabs and spaces); the run names the

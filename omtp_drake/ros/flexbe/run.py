@@ -223,4 +223,10 @@ def describe_error(error: BaseException, roots: Sequence[Path]) -> str:
             where = f" (at {Path(frame.filename).name}:{frame.lineno} in {frame.name})"
     if isinstance(error, SyntaxError) and error.filename:
         where = f" (at {Path(error.filename).name}:{error.lineno}, imported from{where.removeprefix(' (at')}"
-    return f"{type(error).__name__}: {text[:500]}{where}"
+    if isinstance(error, ModuleNotFoundError) and error.name:
+        text += (
+            f"; neither the workspaces' packages nor omtp-drake's ROS packages "
+            f"({', '.join(SHIM_PACKAGES)}) provide {error.name.split('.')[0]!r}: add the catkin src "
+            "folder that holds it with --workspace"
+        )
+    return f"{type(error).__name__}: {text[:800]}{where}"
