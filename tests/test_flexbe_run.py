@@ -98,7 +98,9 @@ PROBE_STATE = """
     import rospkg
     import rostopic
     from flexbe_core import EventState, Logger
+    import rospy
     from flexbe_core.proxy import ProxyPublisher, ProxyServiceCaller, ProxySubscriberCached
+    from flexbe_core.proxy.proxy_transform_listener import ProxyTransformListener
     from omtp_gazebo.msg import ConveyorBeltState, Proximity
     from omtp_gazebo.srv import ConveyorBeltControl, ConveyorBeltControlRequest
     from sensor_msgs.msg import JointState
@@ -124,6 +126,9 @@ PROBE_STATE = """
                 self._srv.call('/no/such', request)
             except ValueError as e:
                 self._report['missing'] = str(e)
+            tf = ProxyTransformListener().listener()
+            tf.waitForTransform('world', 'bin_2_base_link', rospy.Time(0), rospy.Duration(1.0))
+            self._report['bin'], _rotation = tf.lookupTransform('world', 'bin_2_base_link', rospy.Time(0))
             self._pub.publish('/probe', String(data='one'))
             self._pub.publish('/probe', String(data='two'))
 
@@ -183,6 +188,7 @@ def test_proxies_against_the_cells_topics_and_services(tmp_path):
     assert probe["belt"] is True
     assert probe["missing"] == "Cannot call service client /no/such: Topic not available."
     assert probe["buffer"] == ["one", "two"]
+    assert probe["bin"] == pytest.approx([-0.1, 2.5, 0.0], abs=1e-9)  # the scenario's bin 2
     assert probe["states_path"] == str(src / "probe_states")
     assert any(x["severity"] == "error" and "/no/such timed out" in x["text"] for x in report.logs)
     assert report.ledger["on_belt"] == 0 and report.sim_time_s < 1.0
