@@ -80,6 +80,20 @@ def test_example_conveyor_pick_end_to_end(tmp_path):
     assert 0 < report["sim_time_s"] < 60 and report["shutdown"] is None
 
 
+def test_timeout_and_autonomy_stop_the_run_with_the_reason():
+    report = run_behavior("Conveyor Pick", [EXAMPLE], scenario=SCENARIO, timeout=2.0)
+    assert report.outcome is None and report.exception is None and not report.ok
+    assert report.shutdown == "--timeout of 2 s simulated time reached"
+    assert report.sim_time_s == pytest.approx(2.0) and report.trace[-1]["outcome"] is None
+    report = run_behavior("Conveyor Pick", [EXAMPLE], scenario=SCENARIO, timeout=30.0, autonomy="off")
+    assert report.outcome is None and report.failed_state is None
+    assert report.exception.startswith(
+        "OperatorRequired: state /go home returned 'reached', which needs autonomy Off (0) to pass "
+        "without an operator; this run's autonomy is 0"
+    )
+    assert [(t["state"], t["outcome"]) for t in report.trace] == [("/go home", None)]
+
+
 def test_behaviour_lookup(tmp_path):
     code = "from flexbe_core import Behavior\nclass A(Behavior):\n    pass\n"
     _behavior_package(tmp_path / "ws1", "pkg_a", "Pick ", "pick_sm", "A", code)
