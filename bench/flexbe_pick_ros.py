@@ -69,7 +69,7 @@ class Picker:
             )
         )
         self.move_group.send_goal(goal)
-        while not self.move_group.wait_for_result(rospy.Duration(1e-9)):
+        while self.move_group.get_state() in (actionlib.GoalStatus.PENDING, actionlib.GoalStatus.ACTIVE):
             self.rate.sleep()
         return self.move_group.get_result().error_code.val == 1
 
