@@ -405,3 +405,19 @@ def test_behavior_parameters_and_sub_behaviours(run):
     sm.confirm(top.name)
     assert sm.spin() == "finished"
     assert sm._userdata["y"] == 12.0  # the parent's x (4), not the sub-behaviour's default (100)
+
+
+def test_python2_indentation_reads_tabs_as_python_2():
+    from omtp_drake.ros.flexbe.python2 import python2_indentation
+
+    # Line 6 is the course's habit: tab, tab, space, tab (column 24 in Python 2, as line 5).
+    source = (
+        'def f(y):\n\tif y:\n\t\tif y:\n\t\t\ty += 1\n\t\t\ty += 1\n\t\t \ty += 1\n\treturn y, """a\n\tb"""\n'
+    )
+    with pytest.raises(TabError):
+        compile(source, "f.py", "exec")
+    converted = python2_indentation(source)
+    namespace: dict = {}
+    exec(compile(converted, "f.py", "exec"), namespace)
+    assert namespace["f"](1) == (4, "a\n\tb")  # all three in the inner block; the string keeps its tab
+    assert converted.splitlines()[5] == " " * 24 + "y += 1"

@@ -22,6 +22,8 @@ ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "flexbe"
 SCENARIO = "lecture7_flexbe"
 COURSE_MIRROR = Path("/work/.mirror/aaurm867+omtp_assignments/repo")
+#: The course's submodule generic_flexbe_states (flexbe_manipulation_states).
+GENERIC_MIRROR = Path("/work/.mirror/FlexBE+generic_flexbe_states/repo")
 
 PACKAGE_XML = """<?xml version="1.0"?>
 <package format="2"><name>{name}</name><version>0.0.1</version><description>test</description>
@@ -365,19 +367,55 @@ def test_a_missing_package_names_what_provides_nothing(tmp_path):
     assert report.exception.endswith("(at pick_sm.py:1 in <module>)")
 
 
+def _checkout(mirror: Path, folder: str, into: Path) -> Path:
+    """``folder`` of a git mirror's HEAD, extracted under ``into`` (at test time only)."""
+    into.mkdir(parents=True)
+    archive = subprocess.run(
+        ["git", "--git-dir", str(mirror), "archive", "HEAD", folder], capture_output=True, check=False
+    )
+    subprocess.run(["tar", "-x", "-C", str(into)], input=archive.stdout, check=True)
+    return into
+
+
 @pytest.mark.skipif(not COURSE_MIRROR.is_dir(), reason="the course's sources are not on this machine")
 def test_the_course_lecture7_behaviour_stops_with_one_error(tmp_path):
     """The course's lecture-7 states are Python 2 (mixed tabs and spaces); the run names the
     file and line Python 3 cannot compile. (Checked out at test time; nothing is kept.)"""
-    archive = subprocess.run(
-        ["git", "--git-dir", str(COURSE_MIRROR), "archive", "HEAD", "omtp_factory_behaviors"],
-        capture_output=True,
-        check=True,
-    )
-    subprocess.run(["tar", "-x", "-C", str(tmp_path)], input=archive.stdout, check=True)
-    report = run_behavior("lecture7 pick and place", [tmp_path], scenario=SCENARIO, timeout=5.0)
+    src = _checkout(COURSE_MIRROR, "omtp_factory_behaviors", tmp_path / "src")
+    report = run_behavior("lecture7 pick and place", [src], scenario=SCENARIO, timeout=5.0)
     assert report.behavior == "lecture7 pick and place "
     assert report.outcome is None and report.trace == []
     assert report.exception.startswith("TabError: inconsistent use of tabs and spaces in indentation")
     where = "(at detect_part_camera_state.py:136, imported from lecture7_pick_and_place__sm.py:16"
     assert where in report.exception
+    assert "if the workspace is Python 2 code (ROS Melodic), run with --python2" in report.exception
+
+
+@pytest.mark.skipif(
+    not (COURSE_MIRROR.is_dir() and GENERIC_MIRROR.is_dir()),
+    reason="the course's sources are not on this machine",
+)
+def test_the_course_lecture7_behaviour_runs_as_python2(tmp_path):
+    """With --python2 the course's behaviour runs as in Gazebo: it picks the part the beam
+    stopped, goes home, to R1Place (no bin there in the course's cell) and releases it; its
+    graph then alternates 'go to bin' and 'deactivate gripper' for ever, so it ends at the
+    timeout, as it does in Gazebo."""
+    src = _checkout(COURSE_MIRROR, "omtp_factory_behaviors", tmp_path / "src")
+    generic = _checkout(GENERIC_MIRROR, "flexbe_manipulation_states", tmp_path / "generic")
+    report = run_behavior(
+        "lecture7 pick and place", [src, generic], scenario=SCENARIO, timeout=12.0, python2=True
+    )
+    assert report.exception is None, report.exception
+    assert report.outcome is None and report.shutdown == "--timeout of 12 s simulated time reached"
+    done = [(t["state"], t["outcome"]) for t in report.trace if t["outcome"]]
+    for step in [
+        ("/decision", "True"),
+        ("/pregrasp position/move to pregrasp", "reached"),
+        ("/grasp/move to grasp", "reached"),
+        ("/go to home", "reached"),
+        ("/go to bin", "reached"),
+        ("/deactivate gripper", "continue"),
+    ]:
+        assert step in done, step
+    assert report.ledger["spawned"] == 1 and report.ledger["parts"] == {"object_1": "on_floor"}
+    assert done.count(("/go to bin", "reached")) >= 3  # the behaviour's own loop

@@ -34,6 +34,7 @@ def cmd_flexbe_run(args: argparse.Namespace) -> int:
         seed=args.seed,
         meshcat=args.meshcat,
         record=args.record,
+        python2=args.python2,
     )
     _out(report.summary())
     if args.json:
@@ -68,5 +69,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
     p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
+    p.add_argument(
+        "--python2",
+        action="store_true",
+        help="convert the workspaces' modules from Python 2 (2to3, tabs as Python 2 reads them) as they load",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="no log lines while it runs")
     p.set_defaults(func=cmd_flexbe_run)

@@ -36,6 +36,7 @@ from omtp_drake.ros.flexbe.context import (
     StateFailed,
     active_run,
 )
+from omtp_drake.ros.flexbe.python2 import python2_imports
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
 from omtp_drake.ros.node import ROSInterruptException
@@ -155,9 +156,12 @@ def run_behavior(
     seed: Optional[int] = None,
     meshcat: bool = False,
     record: Optional[str | Path] = None,
+    python2: bool = False,
 ) -> FlexbeReport:
     """Runs ``behavior`` (a manifest name or a ``*_sm.py`` path) of ``workspaces`` on
-    ``scenario``'s cell; the run's report (see the module doc)."""
+    ``scenario``'s cell; the run's report (see the module doc). ``python2``: the
+    workspaces' modules are converted from Python 2 as they load
+    (:mod:`omtp_drake.ros.flexbe.python2`)."""
     if autonomy not in AUTONOMY_LEVELS:
         raise ConfigError(f"--autonomy {autonomy!r} is unknown; valid: {', '.join(AUTONOMY_LEVELS)}")
     if timeout is not None and not timeout > 0:
@@ -175,7 +179,13 @@ def run_behavior(
     session.params["/robot_description_semantic"] = semantic or semantic_description(cell)
     session.node_name = ONBOARD_NODE
     run = FlexbeRun(SessionClock(session), autonomy=AUTONOMY_LEVELS[autonomy], packages=dict(spaces.packages))
-    with workspace_environment(spaces.python_paths()), genpy_module_names(), active(session), active_run(run):
+    with (
+        workspace_environment(spaces.python_paths()),
+        python2_imports(spaces.roots, python2),
+        genpy_module_names(),
+        active(session),
+        active_run(run),
+    ):
         result = _spin(entry, params or {}, session)
     replay = cell.close()
     error = result.error
@@ -223,6 +233,8 @@ def describe_error(error: BaseException, roots: Sequence[Path]) -> str:
             where = f" (at {Path(frame.filename).name}:{frame.lineno} in {frame.name})"
     if isinstance(error, SyntaxError) and error.filename:
         where = f" (at {Path(error.filename).name}:{error.lineno}, imported from{where.removeprefix(' (at')}"
+        if _in_roots(error.filename, roots):
+            text += "; if the workspace is Python 2 code (ROS Melodic), run with --python2"
     if isinstance(error, ModuleNotFoundError) and error.name:
         text += (
             f"; neither the workspaces' packages nor omtp-drake's ROS packages "
