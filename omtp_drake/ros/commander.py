@@ -210,7 +210,7 @@ class SimpleActionClient:
         if resolve_name(ns) not in ACTION_SERVERS:
             not_supported(
                 f"the action server {ns!r} (resolved: {resolve_name(ns)})",
-                "the cell serves " + ", ".join(ACTION_SERVERS),
+                "the cell serves " + ", ".join(ACTION_SERVERS) + " and /move_group",
             )
         if ActionSpec is not ExecuteTrajectoryAction:
             not_supported(

@@ -1,30 +1,45 @@
-"""Course scripts written for ROS Melodic, which ran Python 2.7.
+"""Course code written for ROS Melodic, which ran Python 2.7.
 
-A Melodic script often has Python 2 syntax (``print "..."``,
-``except rospy.ServiceException, e:``) that Python 3 cannot compile, so it would
-fail before its first line runs. :func:`script_code` compiles a script as it is
-and, only when that is a ``SyntaxError``, compiles its 2to3 translation instead
+Melodic scripts and FlexBE states often have Python 2 syntax (``print "..."``,
+``except rospy.ServiceException, e:``, tabs mixed with spaces) or meaning
+(``map(...)[0]``). :func:`translate` turns such code into Python 3 with 2to3
 (``fissix``, the maintained fork of the standard library's deprecated
-``lib2to3``); the translation keeps the script's lines where they were, so a
-traceback still points at the student's line. What 2to3 does not change stays
-Python 3: ``/`` on two integers is true division, as in Python 3.
+``lib2to3``), after reading its indentation as Python 2 reads it (a tab advances
+to the next multiple of 8 columns). Lines stay where they were, so a traceback
+still points at the student's line. What 2to3 does not change stays Python 3:
+``/`` on two integers is true division.
 
-Only the script itself is translated, not modules it imports from its folder.
+- ``ros-run``: :func:`script_code` compiles a script as it is and, only when that is
+  a ``SyntaxError``, its translation (then the modules of the script's folder load
+  translated too, :func:`python2_imports`).
+- ``flexbe-run --python2``: every module of the workspaces loads translated
+  (:func:`python2_imports`), since a Python 2 state may compile as Python 3 and
+  fail only when it runs.
 """
 
 from __future__ import annotations
 
+import contextlib
+import importlib.abc
+import importlib.machinery
+import importlib.util
+import io
 import logging
 import sys
+import tokenize
 import types
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, Optional
 
 _log = logging.getLogger(__name__)
 
-#: 2to3's fixers that would change what a script means when run as ``__main__``:
-#: ``fix_import`` turns ``import helper`` into ``from . import helper``.
-_SKIPPED_FIXERS = frozenset({"fissix.fixes.fix_import"})
+#: Python 2's tab stops.
+TAB_STOP = 8
+#: The 2to3 fixer for Python 2's implicit relative imports (``import helper`` in a
+#: package -> ``from . import helper``): right in a package, wrong in a script.
+_RELATIVE_IMPORTS = "fissix.fixes.fix_import"
 
 
 @dataclass(frozen=True)
@@ -44,7 +59,7 @@ def script_code(path: Path) -> ScriptCode:
     try:
         return ScriptCode(compile(source, str(path), "exec", dont_inherit=True), python2=False)
     except SyntaxError as error:
-        translated = _translate(source, path)
+        translated = translate(source, path, in_package=False)
         if translated is None:
             raise error from None
         try:
@@ -55,13 +70,43 @@ def script_code(path: Path) -> ScriptCode:
     return ScriptCode(code, python2=True)
 
 
-def _translate(source: str, path: Path) -> str | None:
+def _string_continuation_lines(source: str) -> set[int]:
+    """Line numbers (1-based) that continue a multi-line string token."""
+    inside: set[int] = set()
+    try:
+        for token in tokenize.generate_tokens(io.StringIO(source).readline):
+            if token.type == tokenize.STRING and token.end[0] > token.start[0]:
+                inside.update(range(token.start[0] + 1, token.end[0] + 1))
+    except (tokenize.TokenError, SyntaxError):
+        pass  # compile() reports what is wrong with the file
+    return inside
+
+
+def python2_indentation(source: str) -> str:
+    """``source`` with tabs in indentation replaced as Python 2 reads them."""
+    inside = _string_continuation_lines(source)
+    out = []
+    for number, line in enumerate(source.splitlines(keepends=True), start=1):
+        body = line.lstrip(" \t")
+        indent = line[: len(line) - len(body)]
+        if number in inside or "\t" not in indent:
+            out.append(line)
+            continue
+        column = 0
+        for char in indent:
+            column = (column // TAB_STOP + 1) * TAB_STOP if char == "\t" else column + 1
+        out.append(" " * column + body)
+    return "".join(out)
+
+
+def translate(source: str, path: str | Path, *, in_package: bool) -> Optional[str]:
+    """``source`` (Python 2) as Python 3; None when 2to3 cannot parse it.
+    ``in_package``: a package's module (implicit relative imports are relative)."""
     from fissix.pgen2.parse import ParseError
     from fissix.refactor import RefactoringTool, get_fixers_from_package
 
-    fixers = [f for f in get_fixers_from_package("fissix.fixes") if f not in _SKIPPED_FIXERS]
-    if not source.endswith("\n"):
-        source += "\n"
+    fixers = [f for f in get_fixers_from_package("fissix.fixes") if in_package or f != _RELATIVE_IMPORTS]
+    source = python2_indentation(source if source.endswith("\n") else source + "\n")
     try:
         return str(RefactoringTool(fixers).refactor_string(source, str(path)))
     except ParseError:
@@ -83,3 +128,41 @@ def run_as_main(script: ScriptCode, path: Path) -> None:
             sys.modules["__main__"] = saved
         else:
             del sys.modules["__main__"]
+
+
+class _Python2Loader(importlib.machinery.SourceFileLoader):
+    """Loads a module from its 2to3 translation (nothing is cached on disk)."""
+
+    def get_code(self, fullname: str) -> Any:
+        path = self.get_filename(fullname)
+        source = importlib.util.decode_source(self.get_data(path))
+        translated = translate(source, path, in_package="." in fullname)
+        return compile(source if translated is None else translated, path, "exec", dont_inherit=True)
+
+
+class _Python2Finder(importlib.abc.MetaPathFinder):
+    def __init__(self, roots: Sequence[Path]):
+        self._roots = tuple(str(r) for r in roots)
+
+    def find_spec(self, fullname: str, path: Any, target: Any = None) -> Optional[Any]:
+        spec = importlib.machinery.PathFinder.find_spec(fullname, path)
+        if spec is None or not spec.origin or not spec.origin.endswith(".py"):
+            return None
+        if not spec.origin.startswith(self._roots):
+            return None
+        spec.loader = _Python2Loader(fullname, spec.origin)
+        return spec
+
+
+@contextlib.contextmanager
+def python2_imports(roots: Sequence[Path], enabled: bool) -> Iterator[None]:
+    """While active (and ``enabled``), modules under ``roots`` load converted from Python 2."""
+    if not enabled:
+        yield
+        return
+    finder = _Python2Finder(roots)
+    sys.meta_path.insert(0, finder)
+    try:
+        yield
+    finally:
+        sys.meta_path.remove(finder)

@@ -28,7 +28,7 @@ from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import Cell, load_scenario
 from omtp_drake.ros.moveit_config import install as install_moveit_config
 from omtp_drake.ros.node import ROSInterruptException
-from omtp_drake.ros.py2 import run_as_main, script_code
+from omtp_drake.ros.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
 from omtp_drake.ros.setup_steps import call_services
@@ -122,7 +122,8 @@ def run_script(
     try:
         code = script_code(path)
         python2 = code.python2
-        with script_environment(path, args), active(session):
+        # A Python 2 script's own modules (its folder's) load translated too.
+        with script_environment(path, args), python2_imports([path.parent], code.python2), active(session):
             run_as_main(code, path)
     except SystemExit as e:
         exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)

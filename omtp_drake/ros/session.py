@@ -101,6 +101,7 @@ class Session:
     """
 
     def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
+        from omtp_drake.ros.joint_state_topics import joint_state_sources
         from omtp_drake.ros.services import cell_services
         from omtp_drake.ros.topics import camera_views, cell_sources
         from omtp_drake.ros.world_plugins import attach_gazebo
@@ -122,7 +123,7 @@ class Session:
         views = camera_views(cell)
         # tf's camera frames follow the models the camera topics list.
         cell.tf.use_images(lambda camera, context: views[camera].image(context))
-        self.sources: dict[str, Source] = cell_sources(cell, views)
+        self.sources: dict[str, Source] = {**joint_state_sources(cell), **cell_sources(cell, views)}
         self.services: dict[str, Service] = cell_services(cell)
         #: Spawner calls that spawned nothing (their warnings).
         self.empty_spawn_calls: list[str] = []

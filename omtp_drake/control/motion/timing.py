@@ -85,12 +85,17 @@ def time_parameterize(
     return trajectory
 
 
+#: Waypoints closer than this (rad) are one: TOPP-RA cannot grid a shorter path (it fails
+#: below about 1e-7 rad), and the arm's arrival tolerance is 0.5 mrad.
+SAME_WAYPOINT_RAD = 1e-6
+
+
 def _distinct_waypoints(path: Sequence[np.ndarray]) -> list[np.ndarray]:
-    """``path``'s waypoints as float arrays, without repeats (within 1e-9 rad)."""
+    """``path``'s waypoints as float arrays, without repeats (within SAME_WAYPOINT_RAD)."""
     points = [np.asarray(path[0], dtype=float)]
     for q in path[1:]:
         q = np.asarray(q, dtype=float)
-        if np.linalg.norm(q - points[-1]) > 1e-9:
+        if np.linalg.norm(q - points[-1]) > SAME_WAYPOINT_RAD:
             points.append(q)
     return points
 

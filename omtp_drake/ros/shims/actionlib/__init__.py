@@ -1,7 +1,23 @@
-"""actionlib of omtp-drake ros-run: the client of MoveIt's execute_trajectory action."""
+"""actionlib of omtp-drake ros-run: clients of MoveIt's execute_trajectory and move_group actions."""
 
-from omtp_drake.ros.commander import GoalStatus, SimpleActionClient
+from typing import Any
+
+from omtp_drake.ros import commander
+from omtp_drake.ros.commander import GoalStatus
+from omtp_drake.ros.move_group import MoveGroupClient, is_move_group
 from omtp_drake.ros.unsupported import module_getattr
 
-__all__ = ["GoalStatus", "SimpleActionClient"]
+
+def SimpleActionClient(ns: str, ActionSpec: Any) -> Any:  # noqa: N802, N803 (actionlib's names)
+    """The client of the cell's action server ``ns`` (``move_group``, ``execute_trajectory``)."""
+    if is_move_group(ns, ActionSpec):
+        return MoveGroupClient(ns)
+    return commander.SimpleActionClient(ns, ActionSpec)
+
+
+class SimpleGoalState:
+    PENDING, ACTIVE, DONE = 0, 1, 2
+
+
+__all__ = ["GoalStatus", "SimpleActionClient", "SimpleGoalState"]
 __getattr__ = module_getattr(__name__, __all__)

@@ -2,7 +2,7 @@
 
 from omtp_drake.ros.unsupported import module_getattr
 
-from . import msg
+from . import msg, srv
 
-__all__ = ["msg"]
+__all__ = ["msg", "srv"]
 __getattr__ = module_getattr(__name__, __all__)

@@ -1,0 +1,89 @@
+"""The report of one ``flexbe-run``: outcome, trace of states, log lines, ledger, times.
+
+``to_dict()`` is the ``--json`` file. Everything but ``wall_time_s`` (and
+``replay``) depends only on the behaviour, its parameters, the scenario and its seed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any, Optional
+
+
+@dataclass
+class FlexbeReport:
+    """What one behaviour run did."""
+
+    behavior: str
+    scenario: str
+    seed: int
+    autonomy: str
+    #: The behaviour's outcome (``finished``, ``failed``...); None when it did not reach one.
+    outcome: Optional[str]
+    sim_time_s: float
+    wall_time_s: float
+    #: ``Ledger.to_dict()``: parts per bin, on the floor, held...
+    ledger: dict[str, Any]
+    #: One entry per state entered: ``{"state": path, "entered", "outcome", "left"}``.
+    trace: list[dict[str, Any]] = field(default_factory=list)
+    #: FlexBE's Logger lines: ``{"time", "severity", "text"}``.
+    logs: list[dict[str, Any]] = field(default_factory=list)
+    collisions: list[str] = field(default_factory=list)
+    callback_errors: list[str] = field(default_factory=list)
+    #: The error that stopped the run, ``Type: message (at file.py:LINE in f)``.
+    exception: Optional[str] = None
+    #: The state that raised it (its path), if a state did.
+    failed_state: Optional[str] = None
+    #: The workspace's frames of that exception's traceback.
+    traceback: list[str] = field(default_factory=list)
+    #: Why the ROS session shut down (``--timeout``), if it did.
+    shutdown: Optional[str] = None
+    replay: Optional[str] = None
+
+    @property
+    def ok(self) -> bool:
+        """The behaviour reached an outcome, without an error, failed callback or collision."""
+        return (
+            self.outcome is not None
+            and self.exception is None
+            and not self.callback_errors
+            and not self.collisions
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    @classmethod
+    def from_dict(cls, data: dict[str, Any]) -> FlexbeReport:
+        return cls(**data)
+
+    def summary(self) -> str:
+        ledger = self.ledger
+        bins = ", ".join(f"{k} {v}" for k, v in ledger["in_bin"].items()) or "no bins"
+        lines = [
+            f"behaviour {self.behavior!r} on {self.scenario} (seed {self.seed}, autonomy {self.autonomy}): "
+            f"outcome {self.outcome or 'none'}; "
+            f"{self.sim_time_s:.1f} s simulated in {self.wall_time_s:.1f} s",
+            f"parts: spawned {ledger['spawned']}; in bins: {bins}; on floor {ledger['on_floor']}, "
+            f"on belt {ledger['on_belt']}, held {sum(ledger['held'].values())}",
+            "states:",
+        ]
+        for entry in self.trace:
+            left = f"-> {entry['outcome']} at {entry['left']:.2f} s" if entry["outcome"] else "(no outcome)"
+            lines.append(f"  {entry['entered']:8.2f} s  {entry['state']}  {left}")
+        lines += [
+            f"  [{x['time']:.2f} s] {x['severity']}: {x['text']}"
+            for x in self.logs
+            if x["severity"] != "debug"
+        ]
+        lines += [f"collision: {c}" for c in self.collisions]
+        lines += [f"bad callback: {c}" for c in self.callback_errors]
+        if self.shutdown:
+            lines.append(f"shutdown: {self.shutdown}")
+        if self.exception:
+            lines += ["traceback (workspace frames, most recent call last):"] + [
+                f"  {t}" for t in self.traceback
+            ]
+            where = f" in state {self.failed_state}" if self.failed_state else ""
+            lines.append(f"error{where}: {self.exception}")
+        return "\n".join(lines)

@@ -1,0 +1,248 @@
+"""``flexbe-run``: a FlexBE behaviour of catkin workspaces on a cell, in simulated time.
+
+:func:`run_behavior` builds the scenario's cell and a ROS session on it (with the
+course cell's extra topics, ``/robot_description`` and
+``/robot_description_semantic``), puts the ROS-named shims (``rospy``,
+``flexbe_core``, ``flexbe_states``, ``rospkg``...) and the workspaces' package
+``src`` folders first on ``sys.path`` for the run only, builds the behaviour as
+FlexBE's onboard engine does (its class, ``--param`` values, ``create()``), and
+spins its state machine in simulated time until it returns an outcome.
+
+A headless run stops, and the report says why, when a state raises, when an
+outcome needs an operator (autonomy), or at ``--timeout`` simulated seconds.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import importlib
+import os
+import sys
+import time
+import traceback
+from collections.abc import Iterator, Sequence
+from pathlib import Path
+from typing import Any, Optional
+
+from omtp_drake.errors import ConfigError
+from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.flexbe.context import (
+    AUTONOMY_LEVELS,
+    FlexbeRun,
+    OperatorRequired,
+    SessionClock,
+    StateFailed,
+    active_run,
+)
+from omtp_drake.ros.flexbe.report import FlexbeReport
+from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
+from omtp_drake.ros.moveit_config import install as install_moveit_config
+from omtp_drake.ros.node import ROSInterruptException
+from omtp_drake.ros.py2 import python2_imports
+from omtp_drake.ros.runner import SHIM_DIR, SHIM_PACKAGES
+from omtp_drake.ros.session import Session, ShutdownError, active
+
+#: The node FlexBE's onboard engine runs behaviours in.
+ONBOARD_NODE = "behavior_onboard"
+
+
+@contextlib.contextmanager
+def workspace_environment(paths: Sequence[Path]) -> Iterator[None]:
+    """sys.path (the shims, then ``paths``) and sys.modules set for a run; both restored."""
+    saved_path = sys.path[:]
+    hidden = {n: m for n, m in sys.modules.items() if n.split(".")[0] in SHIM_PACKAGES}
+    for name in hidden:
+        del sys.modules[name]
+    before = set(sys.modules)
+    sys.path[:0] = [str(SHIM_DIR), *(str(p) for p in paths)]
+    folders = tuple(str(p) + os.sep for p in paths)
+    try:
+        yield
+    finally:
+        sys.path[:] = saved_path
+        for name in set(sys.modules) - before:
+            origin = str(getattr(sys.modules[name], "__file__", "") or "")
+            if name.split(".")[0] in SHIM_PACKAGES or origin.startswith(folders):
+                del sys.modules[name]
+        sys.modules.update(hidden)
+
+
+@contextlib.contextmanager
+def genpy_module_names() -> Iterator[None]:
+    """For the run, each shim message class's ``__module__`` is genpy's ``pkg.msg._Type``
+    (FlexBE's states find a message class by a topic's type that way); restored after."""
+    renamed: dict[type, str] = {}
+    for package in SHIM_PACKAGES:
+        if not (SHIM_DIR / package / "msg.py").is_file():
+            continue
+        module = importlib.import_module(f"{package}.msg")
+        for name in getattr(module, "__all__", []):
+            cls = getattr(module, name)
+            if isinstance(cls, type) and getattr(cls, "_type", "") == f"{package}/{name}":
+                renamed.setdefault(cls, cls.__module__)
+                cls.__module__ = f"{package}.msg._{name}"
+    try:
+        yield
+    finally:
+        for cls, module_name in renamed.items():
+            cls.__module__ = module_name
+
+
+def parse_params(items: Sequence[str]) -> dict[str, str]:
+    """``NAME=VALUE`` pairs (``--param``) as a dict."""
+    params = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise ConfigError(f"--param takes NAME=VALUE, got {item!r}")
+        params[name.strip()] = value
+    return params
+
+
+def _build(entry: BehaviorEntry, params: dict[str, str]) -> Any:
+    """The behaviour's top-level state machine, built as FlexBE's onboard engine does."""
+    module = importlib.import_module(entry.module)
+    cls = getattr(module, entry.class_name, None)
+    if cls is None:
+        raise ConfigError(f"{entry.module} has no class {entry.class_name!r} (named in {entry.manifest})")
+    behavior = cls()
+    for name, value in params.items():
+        if not behavior.set_parameter(name, value):
+            known = ", ".join(behavior.parameter_names()) or "none"
+            raise ConfigError(f"--param {name}: the behaviour has no such parameter; its parameters: {known}")
+    machine = behavior.prepare_for_execution()
+    machine.confirm(behavior.name)
+    return machine
+
+
+@dataclasses.dataclass
+class _Outcome:
+    outcome: Optional[str] = None
+    error: Optional[BaseException] = None
+    failed_state: Optional[str] = None
+
+
+def _spin(entry: BehaviorEntry, params: dict[str, str], session: Session) -> _Outcome:
+    result = _Outcome()
+    machine = None
+    try:
+        machine = _build(entry, params)
+        result.outcome = machine.spin()
+    except StateFailed as e:
+        if not isinstance(e.error, ShutdownError):
+            result.error, result.failed_state = e.error, e.path
+    except (ShutdownError, ROSInterruptException):
+        if session.shutdown_reason is None:
+            result.error = RuntimeError("the ROS session was interrupted")
+    except (OperatorRequired, Exception) as e:
+        result.error = e
+    finally:
+        if machine is not None:
+            with contextlib.suppress(Exception):
+                machine.destroy()
+    return result
+
+
+def run_behavior(
+    behavior: str,
+    workspaces: Sequence[str | Path],
+    *,
+    scenario: str | Path,
+    srdf: Optional[str | Path] = None,
+    moveit_config: Optional[str | Path] = None,
+    timeout: Optional[float] = 600.0,
+    autonomy: str = "full",
+    params: Optional[dict[str, str]] = None,
+    seed: Optional[int] = None,
+    meshcat: bool = False,
+    record: Optional[str | Path] = None,
+    python2: bool = False,
+) -> FlexbeReport:
+    """Runs ``behavior`` (a manifest name or a ``*_sm.py`` path) of ``workspaces`` on
+    ``scenario``'s cell; the run's report (see the module doc). ``srdf``,
+    ``moveit_config``: the student's MoveIt config, as ``ros-run`` takes it. ``python2``: the
+    workspaces' modules are converted from Python 2 as they load
+    (:mod:`omtp_drake.ros.py2`)."""
+    if autonomy not in AUTONOMY_LEVELS:
+        raise ConfigError(f"--autonomy {autonomy!r} is unknown; valid: {', '.join(AUTONOMY_LEVELS)}")
+    if timeout is not None and not timeout > 0:
+        raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
+    spaces = Workspaces(workspaces)
+    entry = spaces.find(behavior)
+    loaded = load_scenario(str(scenario))
+    if seed is not None:
+        loaded = dataclasses.replace(loaded, seed=int(seed))
+    start = time.perf_counter()
+    cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record)
+    session = Session(cell, timeout=timeout)
+    try:
+        install_moveit_config(session, srdf, moveit_config)  # the params and the named states
+    except Exception:
+        cell.close()
+        raise
+    session.node_name = ONBOARD_NODE
+    run = FlexbeRun(SessionClock(session), autonomy=AUTONOMY_LEVELS[autonomy], packages=dict(spaces.packages))
+    with (
+        workspace_environment(spaces.python_paths()),
+        python2_imports(spaces.roots, python2),
+        genpy_module_names(),
+        active(session),
+        active_run(run),
+    ):
+        result = _spin(entry, params or {}, session)
+    replay = cell.close()
+    error = result.error
+    return FlexbeReport(
+        behavior=entry.name,
+        scenario=loaded.name,
+        seed=loaded.seed,
+        autonomy=autonomy,
+        outcome=result.outcome,
+        sim_time_s=cell.time,
+        wall_time_s=time.perf_counter() - start,
+        ledger=cell.ledger().to_dict(),
+        trace=[t.to_dict() for t in run.trace],
+        logs=[line.to_dict() for line in run.logs],
+        collisions=list(session.collisions),
+        callback_errors=list(session.callback_errors),
+        exception=describe_error(error, spaces.roots) if error is not None else None,
+        failed_state=result.failed_state,
+        traceback=_frames(error, spaces.roots) if error is not None else [],
+        shutdown=session.shutdown_reason,
+        replay=str(replay) if replay else None,
+    )
+
+
+def _in_roots(filename: str, roots: Sequence[Path]) -> bool:
+    return any(filename.startswith(str(r) + os.sep) for r in roots)
+
+
+def _frames(error: BaseException, roots: Sequence[Path]) -> list[str]:
+    frames = traceback.extract_tb(error.__traceback__)
+    return [
+        f"{Path(f.filename).name}:{f.lineno} in {f.name}: {(f.line or '').strip()}"
+        for f in frames
+        if _in_roots(f.filename, roots)
+    ]
+
+
+def describe_error(error: BaseException, roots: Sequence[Path]) -> str:
+    """``Type: message (at file.py:LINE in function)``: the deepest workspace frame (or,
+    for a syntax error, the file and line that do not compile)."""
+    text = " ".join(str(error).split())
+    where = ""
+    for frame in traceback.extract_tb(error.__traceback__):
+        if _in_roots(frame.filename, roots):
+            where = f" (at {Path(frame.filename).name}:{frame.lineno} in {frame.name})"
+    if isinstance(error, SyntaxError) and error.filename:
+        where = f" (at {Path(error.filename).name}:{error.lineno}, imported from{where.removeprefix(' (at')}"
+        if _in_roots(error.filename, roots):
+            text += "; if the workspace is Python 2 code (ROS Melodic), run with --python2"
+    if isinstance(error, ModuleNotFoundError) and error.name:
+        text += (
+            f"; neither the workspaces' packages nor omtp-drake's ROS packages "
+            f"({', '.join(SHIM_PACKAGES)}) provide {error.name.split('.')[0]!r}: add the catkin src "
+            "folder that holds it with --workspace"
+        )
+    return f"{type(error).__name__}: {text[:800]}{where}"
