@@ -72,13 +72,14 @@ class WorldEdit(Protocol):
 
 class WeldSync:
     """Weld grippers: makes the plant's constraints follow each gripper's state
-    (:func:`omtp_drake.cell.suction_holds.sync_weld`), right after every gripper check."""
+    (:func:`omtp_drake.cell.suction_holds.sync_weld`) at every gripper poll (plant step), so
+    an attach a check decides is made one step later and a disable releases at once."""
 
     def __init__(self, station: Station):
         self._plant = station.plant
         self._grippers = [g for g in station.grippers.values() if isinstance(g, WeldSuctionGripper)]
-        rates = {g.config.check_rate_hz for g in self._grippers}
-        self.period = 1.0 / max(rates) if rates else math.inf
+        periods = [g.poll_period for g in self._grippers]
+        self.period = min(periods) if periods else math.inf
 
     def __call__(self, root_context: Context) -> None:
         for gripper in self._grippers:
