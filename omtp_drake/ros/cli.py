@@ -37,6 +37,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         meshcat=args.meshcat,
         realtime=args.realtime,
         record=args.record,
+        latency=args.latency,
     )
     _out(report.summary())
     if args.json:
@@ -91,6 +92,14 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         choices=["noetic", "melodic"],
         default="noetic",
         help="MoveIt's Python API version: the shape of plan() (default noetic)",
+    )
+    p.add_argument(
+        "--latency",
+        default=None,
+        metavar="SPEC",
+        help="simulated time planning, trajectory starts and service calls take: a factor on the "
+        "scenario's ros_latency (0: none, as a cell that stands still while a script thinks) or "
+        "NAME=SECONDS,... with names plan, execute, cartesian, service (default: the scenario's)",
     )
     p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
     p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")

@@ -28,6 +28,7 @@ from typing import Optional
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.latency import resolve_latency
 from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
@@ -78,13 +79,16 @@ def run_script(
     meshcat: bool = False,
     realtime: bool = False,
     record: Optional[str | Path] = None,
+    latency: Optional[str | float] = None,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
     ``timeout``: simulated seconds after which the ROS session shuts down
     (``rospy.is_shutdown()`` turns True, blocking calls raise
     ROSInterruptException, ``spin`` returns). ``moveit``: ``noetic`` or ``melodic``
-    (the shape of ``plan()``).
+    (the shape of ``plan()``). ``latency``: the simulated time planning, execution
+    starts and service calls take (:func:`~omtp_drake.ros.latency.resolve_latency`: None
+    for the scenario's ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -96,9 +100,10 @@ def run_script(
     loaded = load_scenario(str(scenario))
     if seed is not None:
         loaded = dataclasses.replace(loaded, seed=int(seed))
+    delays = resolve_latency(loaded.ros_latency, latency)
     start = time.perf_counter()
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
-    session = Session(cell, timeout=timeout, moveit=moveit)
+    session = Session(cell, timeout=timeout, moveit=moveit, latency=delays)
     exception: Optional[BaseException] = None
     exit_code = 0
     try:

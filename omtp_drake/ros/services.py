@@ -9,8 +9,8 @@
 - ``/omtp/conveyor/control`` (``omtp_gazebo/ConveyorBeltControl``): belt power in
   [0, 100]; a power outside answers ``success: False`` and logs why.
 
-A service exists only when the scenario has what it drives. Calls take no
-simulated time.
+A service exists only when the scenario has what it drives. A call takes the
+session's ``service`` latency before its handler runs (:mod:`omtp_drake.ros.latency`).
 """
 
 from __future__ import annotations
