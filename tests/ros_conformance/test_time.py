@@ -35,7 +35,9 @@ def test_gripper_on_then_move_at_once_puts_the_part_in_the_bin(course_run, scrip
     assert report.ledger["on_floor"] == 0 and sum(report.ledger["held"].values()) == 0
 
 
-@pytest.mark.parametrize("script, moveit", [("grip_then_go.py", "noetic"), ("grip_then_plan_melodic.py", "melodic")])
+@pytest.mark.parametrize(
+    "script, moveit", [("grip_then_go.py", "noetic"), ("grip_then_plan_melodic.py", "melodic")]
+)
 def test_without_latency_the_arm_leaves_before_the_second_check(course_run, script, moveit):
     """A cell that stands still while the script plans: the arm is gone before the
     plugin's second check (0.1 s after the enable), the part stays on the floor."""
@@ -66,7 +68,9 @@ def test_latency_is_set_in_the_scenario_and_on_the_command_line(course_run, tmp_
     assert report.exception is None, report.exception
     assert took["plan"] == pytest.approx(0.5, abs=1e-9) and took["cartesian"] == pytest.approx(0.25, abs=1e-9)
     assert took["service"] == pytest.approx(DEFAULT.service, abs=1e-9)
-    _, took = course_run("call_times.py", scenario=str(scenario), out_arg=True, latency="plan=0.2,service=0.05")
+    _, took = course_run(
+        "call_times.py", scenario=str(scenario), out_arg=True, latency="plan=0.2,service=0.05"
+    )
     assert took["plan"] == pytest.approx(0.2, abs=1e-9) and took["service"] == pytest.approx(0.05, abs=1e-9)
     assert took["cartesian"] == pytest.approx(0.25, abs=1e-9)
     _, took = course_run("call_times.py", scenario=str(scenario), out_arg=True, latency="2")
