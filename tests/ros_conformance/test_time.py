@@ -5,6 +5,9 @@ away at once) picks the part as in the course's Gazebo cell, through ``go()``, t
 ``plan()`` + ``execute``. Without the latency (``--latency 0``) the arm leaves before the
 plugin's second check and the part stays on the floor."""
 
+import json
+from pathlib import Path
+
 import pytest
 
 from omtp_drake.errors import ConfigError
@@ -99,3 +102,17 @@ def test_a_bad_latency_in_the_scenario_is_refused(course_run, tmp_path):
     scenario.write_text(f"base: {SCENARIO}\nros_latency: {{service: -0.1}}\n")
     with pytest.raises(ConfigError, match=r"ros_latency.service must be in \[0, 10\] s, got -0.1"):
         course_run("call_times.py", scenario=str(scenario), out_arg=True)
+
+
+def test_ros_run_latency_flag(tmp_path):
+    """``omtp-drake ros-run SCRIPT --latency ...``: the command line reaches the run."""
+    from omtp_drake.ros.cli import main
+
+    script = Path(__file__).parent / "scripts" / "grip_then_go.py"
+    out = tmp_path / "report.json"
+    argv = ["ros-run", str(script), "--scenario", SCENARIO, "-q", "--json", str(out)]
+    assert main([*argv, "--latency", "0"]) == 0
+    assert json.loads(out.read_text())["ledger"]["in_bin"]["bin_1"] == 0
+    assert main([*argv, "--latency", "plan=0.1,execute=0.03"]) == 0
+    assert json.loads(out.read_text())["ledger"]["in_bin"]["bin_1"] == 1
+    assert main([*argv, "--latency", "soon"]) == 2
