@@ -47,7 +47,7 @@ from pydrake.multibody.plant import (
     MultibodyPlant,
 )
 from pydrake.multibody.tree import BodyIndex, RigidBody
-from pydrake.systems.framework import Context, InputPort, LeafSystem, OutputPort, State
+from pydrake.systems.framework import Context, EventStatus, InputPort, LeafSystem, OutputPort, State
 
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario.suction import SuctionConfig
@@ -292,11 +292,13 @@ class SuctionGripper(LeafSystem):
     def _calc_state(self, context: Context, output: AbstractValue) -> None:
         output.set_value(self._get_memory(context).state)
 
-    def _check(self, context: Context, state: State) -> None:
+    def _check(self, context: Context, state: State) -> EventStatus:
         memory = self._get_memory(context)
         new = self._next(context, memory)
-        if new is not memory:  # an idle gripper's check changes nothing: no write
-            state.get_mutable_abstract_state(self._memory).set_value(new)
+        if new is memory:  # most polls (an idle gripper, between checks) change nothing
+            return EventStatus.DidNothing()
+        state.get_mutable_abstract_state(self._memory).set_value(new)
+        return EventStatus.Succeeded()
 
     def _next(self, context: Context, memory: GripperMemory) -> GripperMemory:
         """The attach / release rule: the memory after one poll."""
