@@ -64,6 +64,20 @@ def test_calls_take_the_scenarios_latency(course_run):
     assert took["go"] - none["go"] == pytest.approx(DEFAULT.plan + DEFAULT.execute, abs=0.011)
 
 
+def test_go_without_waiting_returns_at_once_and_moves_after_planning(course_run):
+    """``go(wait=False)`` returns at once; move_group plans and starts the motion
+    ``plan + execute`` (0.105 s) later, while the script goes on."""
+    report, data = course_run("go_no_wait.py", scenario=SCENARIO, out_arg=True)
+    assert report.exception is None, report.exception
+    assert data["returned"] == 0.0
+    # Sampled at 0.05, 0.10, 0.15... s: still at 0.05 and 0.10, moving from 0.15 (rad).
+    assert max(data["moved"][:2]) < 1e-6
+    assert 1e-3 < data["moved"][2] < data["moved"][3] < data["moved"][5]
+    # With no latency it has moved by the first sample.
+    _, data = course_run("go_no_wait.py", scenario=SCENARIO, out_arg=True, latency=0)
+    assert data["moved"][0] > 5e-4
+
+
 def test_latency_is_set_in_the_scenario_and_on_the_command_line(course_run, tmp_path):
     scenario = tmp_path / "slow_planner.yaml"
     scenario.write_text(f"base: {SCENARIO}\nros_latency: {{plan: 0.5, cartesian: 0.25}}\n")
