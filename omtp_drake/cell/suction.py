@@ -119,7 +119,7 @@ def contact_points(plant: MultibodyPlant, plant_context: Context, body_a: int, b
 
 
 class SuctionGripper(LeafSystem):
-    """A vacuum gripper on a cup body: the course's attach rule, checked at a fixed rate.
+    """A vacuum gripper on a cup body: the course's attach rule, at the course plugin's check times.
 
     This base class decides *when* a part is attached or released; its two
     subclasses decide *how* it is held: :class:`~omtp_drake.cell.suction_holds.WeldSuctionGripper` (rigid
