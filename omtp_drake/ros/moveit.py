@@ -291,13 +291,14 @@ class MoveGroupCommander:
     def plan(self, joints: Any = None) -> Any:
         """Noetic: ``(success, RobotTrajectory, planning_time, MoveItErrorCodes)``; with
         ``--moveit melodic``: the RobotTrajectory (empty when planning failed). Takes the
-        session's ``plan`` latency of simulated time."""
-        plan, code, seconds = self._plan(joints)
+        session's ``plan`` latency of simulated time, which is the ``planning_time`` it
+        reports (the same every run)."""
+        plan, code, _seconds = self._plan(joints)
         think("plan")
         trajectory = to_msg(plan, self._name, self._session) if plan is not None else RobotTrajectory()
         if self._session.moveit == "melodic":
             return trajectory
-        return plan is not None, trajectory, seconds, MoveItErrorCodes(code)
+        return plan is not None, trajectory, delay_of("plan"), MoveItErrorCodes(code)
 
     def go(self, joints: Any = None, wait: bool = True) -> bool:
         """Plans and runs; the motion starts after the session's ``plan`` and ``execute``

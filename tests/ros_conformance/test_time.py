@@ -54,6 +54,7 @@ def test_calls_take_the_scenarios_latency(course_run):
     assert report.exception is None, report.exception
     assert took["service"] == pytest.approx(DEFAULT.service, abs=1e-9)
     assert took["plan"] == pytest.approx(DEFAULT.plan, abs=1e-9)
+    assert took["planning_time"] == pytest.approx(DEFAULT.plan, abs=1e-9)  # what plan() reports
     assert took["cartesian"] == pytest.approx(DEFAULT.cartesian, abs=1e-9)
     _, none = course_run("call_times.py", scenario=SCENARIO, out_arg=True, latency=0)
     assert none["service"] == none["plan"] == none["cartesian"] == 0.0

@@ -20,6 +20,7 @@ group.set_named_target("R2Place")
 start = rospy.get_time()
 success, plan, planning_time, error_code = group.plan()
 took["plan"] = rospy.get_time() - start
+took["planning_time"] = planning_time
 
 start = rospy.get_time()
 group.execute(plan, wait=True)
