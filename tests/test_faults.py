@@ -57,7 +57,7 @@ def test_a_vacuum_failure_after_holding_drops_the_part_near_its_trigger_and_says
     dropped = [p for p in result.picks if p.reason == "dropped"]
     assert len(dropped) == 1
     # The part was held from its attach on; the drop is recorded within 0.2 s of the
-    # fault (the gripper checks at 20 Hz, the controller looks at 20 Hz).
+    # fault (the gripper drops it at its next plant step, the controller looks at 20 Hz).
     assert dropped[0].end == pytest.approx(fault["time"], abs=0.2)
     # The landing recorded is where the part lay then (it was picked again later).
     assert fault["effect"]["landed"]["position"][2] < 0.2

@@ -1,13 +1,17 @@
 """The vacuum (suction) gripper: enable / disable, attach on contact, release on disable.
 
-Behaviour (the course's gripper, on simulated time): while enabled, a movable
-part touching the suction cup with the contact normal within
-``max_angle_deg`` (18 deg) of the tool axis on ``consecutive_checks`` (2)
-consecutive checks at ``check_rate_hz`` (20 Hz) is attached **at its current
-pose relative to the cup** (no snapping). It is released only when the gripper
-is disabled (it then falls freely from where it was) or, unlike the course,
-when the hold is physically lost (the part was pulled more than
-``max_hold_distance`` away from its captured pose).
+Behaviour (the course's gripper plugin, ``VacuumGripperPlugin``, on simulated
+time): the gripper looks at its command at every plant step (the plugin at every
+physics update). While enabled it checks for contact at once (the first step
+after it is enabled) and then every ``1 / check_rate_hz`` (0.1 s) after its last
+check, the plugin's update rate. A movable part touching the suction cup with
+the contact normal within ``max_angle_deg`` (18 deg) of the tool axis on
+``consecutive_checks`` (2) consecutive checks is attached **at its current pose
+relative to the cup** (no snapping): 0.1 s after enabling a gripper pressed
+onto a part. A disable releases at the next step (it then falls freely from
+where it was); unlike the course, a hold is also lost when it is physically
+lost (the part was pulled more than ``max_hold_distance`` away from its
+captured pose).
 
 Frames (monogram notation, ``X_AB`` is the pose of frame B in frame A):
 
@@ -43,7 +47,7 @@ from pydrake.multibody.plant import (
     MultibodyPlant,
 )
 from pydrake.multibody.tree import BodyIndex, RigidBody
-from pydrake.systems.framework import Context, InputPort, LeafSystem, OutputPort, State
+from pydrake.systems.framework import Context, EventStatus, InputPort, LeafSystem, OutputPort, State
 
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario.suction import SuctionConfig
@@ -92,6 +96,9 @@ class GripperMemory:
     #: :func:`~omtp_drake.cell.suction_holds.sync_weld` (-1: none), and when that was decided.
     pending_body: int = -1
     pending_since: float = math.nan
+    #: Simulated time of the last contact check (-inf: none yet). The next one is
+    #: due ``1 / check_rate_hz`` later, or at once after a disable of that long.
+    last_check: float = -math.inf
 
     def __deepcopy__(self, memo: dict) -> "GripperMemory":
         return self  # immutable: Drake clones abstract state at every check
@@ -112,7 +119,7 @@ def contact_points(plant: MultibodyPlant, plant_context: Context, body_a: int, b
 
 
 class SuctionGripper(LeafSystem):
-    """A vacuum gripper on a cup body: the course's attach rule, checked at a fixed rate.
+    """A vacuum gripper on a cup body: the course's attach rule, at the course plugin's check times.
 
     This base class decides *when* a part is attached or released; its two
     subclasses decide *how* it is held: :class:`~omtp_drake.cell.suction_holds.WeldSuctionGripper` (rigid
@@ -144,10 +151,12 @@ class SuctionGripper(LeafSystem):
       - ``state`` (:class:`GripperState`, :meth:`state_output_port`): depends
         on the state only.
 
-    State (abstract, updated by a periodic unrestricted event at
-    ``check_rate_hz``, first check at t = 0): the reported
-    :class:`GripperState` and the count of consecutive good checks; discrete:
-    the end of an injected vacuum failure (:meth:`fail_vacuum`).
+    State (abstract, updated by a periodic unrestricted event every plant step,
+    :attr:`poll_period`): the reported :class:`GripperState`, the count of
+    consecutive good checks and the time of the last check (a contact check runs
+    at a poll when the gripper is enabled and ``1 / check_rate_hz`` has passed
+    since the last one); discrete: the end of an injected vacuum failure
+    (:meth:`fail_vacuum`).
 
     Frames: C is the cup body ``<gripper>_cup`` (origin at the cup face,
     like the frame ``<gripper>_tip``, tool0 + 0.0775 m; +Cz out of the tool;
@@ -193,6 +202,11 @@ class SuctionGripper(LeafSystem):
             self._bodies[body.name()] = int(body.index())
         self._names = {index: n for n, index in self._bodies.items()}
         self._cos_max = math.cos(math.radians(config.max_angle_deg))
+        self._check_period = 1.0 / config.check_rate_hz
+        # The plugin looks at every physics update; here at every plant step (a
+        # continuous plant: every millisecond, Gazebo's default physics step).
+        step = plant.time_step()
+        self._poll_period = min(step if step > 0 else 1e-3, self._check_period)
 
         self._command = self.DeclareVectorInputPort("command", 1)
         self._poses = self.DeclareAbstractInputPort("body_poses", AbstractValue.Make([RigidTransform()]))
@@ -203,7 +217,7 @@ class SuctionGripper(LeafSystem):
         # Fault injection: the vacuum fails (commands are ignored, nothing is held)
         # until this time; see fail_vacuum().
         self._fault = self.DeclareDiscreteState(np.array([-math.inf]))
-        self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._check)
+        self.DeclarePeriodicUnrestrictedUpdateEvent(self._poll_period, 0.0, self._check)
         self._state_port = self.DeclareAbstractOutputPort(
             "state",
             lambda: AbstractValue.Make(_IDLE),
@@ -236,6 +250,11 @@ class SuctionGripper(LeafSystem):
         return self._config
 
     @property
+    def poll_period(self) -> float:
+        """How often the gripper looks at its command [s]: the plant's step."""
+        return self._poll_period
+
+    @property
     def cup_body_index(self) -> BodyIndex:
         return BodyIndex(self._cup)
 
@@ -261,7 +280,7 @@ class SuctionGripper(LeafSystem):
 
     def fail_vacuum(self, context: Context, until: float) -> None:
         """Fault injection: the vacuum fails until ``until`` (simulated time): a held
-        part is dropped at the next check and nothing attaches, whatever the command."""
+        part is dropped at the next poll (plant step) and nothing attaches, whatever the command."""
         context.SetDiscreteState(self._fault, np.array([float(until)]))
 
     def fault_until(self, context: Context) -> float:
@@ -273,30 +292,39 @@ class SuctionGripper(LeafSystem):
     def _calc_state(self, context: Context, output: AbstractValue) -> None:
         output.set_value(self._get_memory(context).state)
 
-    def _check(self, context: Context, state: State) -> None:
+    def _check(self, context: Context, state: State) -> EventStatus:
         memory = self._get_memory(context)
         new = self._next(context, memory)
-        if new is not memory:  # an idle gripper's check changes nothing: no write
-            state.get_mutable_abstract_state(self._memory).set_value(new)
+        if new is memory:  # most polls (an idle gripper, between checks) change nothing
+            return EventStatus.DidNothing()
+        state.get_mutable_abstract_state(self._memory).set_value(new)
+        return EventStatus.Succeeded()
 
     def _next(self, context: Context, memory: GripperMemory) -> GripperMemory:
-        """The attach / release rule: the memory after one check."""
+        """The attach / release rule: the memory after one poll."""
         old = memory.state
         t = context.get_time()
         enabled = bool(self._command.Eval(context)[0] > 0.5)
         if t < self.fault_until(context):
             if old.attached:
                 _log.warning("%s: vacuum failure: dropped %s at t = %.3f s", self.get_name(), old.part, t)
-            return GripperMemory(
-                replace(_IDLE, enabled=enabled, last_release="fault" if old.attached else old.last_release)
-            )
+            last_release = "fault" if old.attached else old.last_release
+            idle = replace(_IDLE, enabled=enabled, last_release=last_release)
+            return GripperMemory(idle, last_check=memory.last_check)
         if not enabled:
             if old.attached:
                 _log.info("%s: released %s at t = %.3f s (disabled)", self.get_name(), old.part, t)
-                return GripperMemory(replace(_IDLE, last_release="disabled"))
+                return GripperMemory(replace(_IDLE, last_release="disabled"), last_check=memory.last_check)
             if not old.enabled and memory.streak_body < 0 and memory.pending_body < 0:
-                return memory  # idle already (an unused arm's gripper, most checks)
-            return GripperMemory(replace(_IDLE, last_release=old.last_release))
+                return memory  # idle already (an unused arm's gripper, most polls)
+            return GripperMemory(replace(_IDLE, last_release=old.last_release), last_check=memory.last_check)
+        if t - memory.last_check < self._check_period - 1e-9:
+            return memory  # enabled, between two checks
+        return replace(self._check_contact(context, memory, t), last_check=t)
+
+    def _check_contact(self, context: Context, memory: GripperMemory, t: float) -> GripperMemory:
+        """One contact check of an enabled gripper (the hold, or the count toward an attach)."""
+        old = memory.state
         if old.attached and old.X_CP is not None:
             X_WB = self._poses.Eval(context)
             X_CP_now = X_WB[self._cup].InvertAndCompose(X_WB[self._bodies[old.part]])

@@ -135,9 +135,8 @@ class WeldSuctionGripper(SuctionGripper):
         name = self._names[memory.pending_body]
         t = context.get_time()
         _log.info("%s: attached %s at t = %.3f s", self.get_name(), name, t)
-        self._set_memory(
-            context, GripperMemory(GripperState(enabled=True, attached=True, part=name, X_CP=X_CP, since=t))
-        )
+        held = GripperState(enabled=True, attached=True, part=name, X_CP=X_CP, since=t)
+        self._set_memory(context, GripperMemory(held, last_check=memory.last_check))
 
     def cancel_attach(self, context: Context) -> None:
         """The pending attach is dropped; the count of good checks starts again."""
@@ -149,7 +148,7 @@ class WeldSuctionGripper(SuctionGripper):
                 self._names[memory.pending_body],
                 context.get_time(),
             )
-        self._set_memory(context, GripperMemory(memory.state))
+        self._set_memory(context, GripperMemory(memory.state, last_check=memory.last_check))
 
     def remake_hold(self, context: Context, X_CP: RigidTransform) -> None:
         """The held part's captured pose after its constraints were re-made."""

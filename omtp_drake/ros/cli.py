@@ -41,6 +41,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         moveit_config=args.moveit_config,
         calls=args.call or (),
         settle=args.settle,
+        latency=args.latency,
     )
     _out(report.summary())
     if args.json:
@@ -119,6 +120,14 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         default=0.0,
         metavar="S",
         help="let the cell run S simulated seconds after the calls, before the script (default 0)",
+    )
+    p.add_argument(
+        "--latency",
+        default=None,
+        metavar="SPEC",
+        help="simulated time planning, trajectory starts and service calls take: a factor on the "
+        "scenario's ros_latency (0: none, as a cell that stands still while a script thinks) or "
+        "NAME=SECONDS,... with names plan, execute, cartesian, service (default: the scenario's)",
     )
     p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
     p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")

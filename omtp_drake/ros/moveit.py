@@ -12,7 +12,9 @@ As in MoveIt, planning and execution failures are not exceptions: ``go`` and
 ``execute`` return False and ``plan`` an empty trajectory (logged with the
 reason); a bad argument raises MoveItCommanderException. A motion that touches
 something it should not stops there (the arm's collision guard) and is recorded
-in the run's report. Blocking calls advance simulated time; topic callbacks run
+in the run's report. Blocking calls advance simulated time (planning, a
+trajectory's start and a Cartesian path take the session's latencies, see
+:mod:`omtp_drake.ros.latency`); topic callbacks run
 meanwhile, between the move's steps, in time order (one at a time: a callback's
 own moves run to their end before the next callback).
 
@@ -36,6 +38,7 @@ from omtp_drake.errors import CollisionError, OmtpError, PlanningError
 from omtp_drake.ros._core import CorePoseStamped, Plan, check_joint_positions, tool_frame_names
 from omtp_drake.ros.convert import pose_from_list, pose_msg, rigid
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotTrajectory
+from omtp_drake.ros.latency import delay_of, delayed, pass_time, think
 from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
 from omtp_drake.ros.moveit_config import arm_joint_limits, end_effector_link, semantics
 from omtp_drake.ros.node import Time, _blocking
@@ -310,28 +313,43 @@ class MoveGroupCommander:
 
     def plan(self, joints: Any = None) -> Any:
         """Noetic: ``(success, RobotTrajectory, planning_time, MoveItErrorCodes)``; with
-        ``--moveit melodic``: the RobotTrajectory (empty when planning failed)."""
-        plan, code, seconds = self._plan(joints)
+        ``--moveit melodic``: the RobotTrajectory (empty when planning failed). Takes the
+        session's ``plan`` latency of simulated time, which is the ``planning_time`` it
+        reports (the same every run)."""
+        plan, code, _seconds = self._plan(joints)
+        think("plan")
         trajectory = to_msg(plan, self._robot, self._session) if plan is not None else RobotTrajectory()
         if self._session.moveit == "melodic":
             return trajectory
-        return plan is not None, trajectory, seconds, MoveItErrorCodes(code)
+        return plan is not None, trajectory, delay_of("plan"), MoveItErrorCodes(code)
 
     def go(self, joints: Any = None, wait: bool = True) -> bool:
+        """Plans and runs; the motion starts after the session's ``plan`` and ``execute``
+        latencies (``wait=False`` returns at once, as MoveIt's asynchronous move)."""
         if isinstance(joints, bool):
             joints, wait = None, joints
         plan, _code, _seconds = self._plan(joints)
+        if not wait:
+            return plan is not None and self._run(plan, False, delay_of("plan") + delay_of("execute"))
+        think("plan")
         return plan is not None and self._run(plan, wait)
 
     def execute(self, plan_msg: Any, wait: bool = True) -> bool:
+        """Runs a plan; it starts after the session's ``execute`` latency."""
         try:
             plan = from_msg(plan_msg, self._robot, self._session)
         except OmtpError as e:
             raise MoveItCommanderException(str(e)) from None
         return self._run(plan, wait)
 
-    def _run(self, plan: Plan, wait: bool) -> bool:
+    def _run(self, plan: Plan, wait: bool, start: Optional[float] = None) -> bool:
+        """Runs ``plan`` after ``start`` seconds (None: the ``execute`` latency)."""
         session = self._session
+        start = delay_of("execute") if start is None else start
+        if wait:
+            pass_time(start)
+        else:
+            plan = delayed(plan, start)
         with _blocking():
             try:
                 result = self._arm.execute(plan, wait=wait)
@@ -377,6 +395,7 @@ class MoveGroupCommander:
             frame=self._links[self._eef],
             joint_limits=arm_joint_limits(self._session, self._robot, self._arm.planner),
         )
+        think("cartesian")
         return to_msg(plan, self._robot, self._session), float(plan.fraction)
 
 

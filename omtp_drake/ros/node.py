@@ -392,6 +392,8 @@ class ServiceProxy:
             except TypeError as e:
                 raise ServiceException(f"service [{self.resolved_name}]: {e}") from None
         with _blocking():
+            session = current()
+            session.run_until(session.time + session.latency.service)  # the call's way there
             try:
                 return service.handler(request)
             except ServiceFailure as e:

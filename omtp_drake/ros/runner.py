@@ -26,6 +26,7 @@ from typing import Optional
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.latency import resolve_latency
 from omtp_drake.ros.moveit_config import install as install_moveit_config
 from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.py2 import python2_imports, run_as_main, script_code
@@ -84,6 +85,7 @@ def run_script(
     moveit_config: Optional[str | Path] = None,
     calls: Sequence[str] = (),
     settle: float = 0.0,
+    latency: Optional[str | float] = None,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
@@ -94,6 +96,9 @@ def run_script(
     MoveIt config package (:mod:`omtp_drake.ros.moveit_config`; default: the cell's own).
     ``calls``, ``settle``: the set-up steps before the script (``rosservice call`` of
     each, then ``settle`` simulated seconds; see :mod:`omtp_drake.ros.setup_steps`).
+    ``latency``: the simulated time planning, execution starts and service calls take
+    (:func:`~omtp_drake.ros.latency.resolve_latency`: None for the scenario's
+    ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -105,9 +110,10 @@ def run_script(
     loaded = load_scenario(str(scenario))
     if seed is not None:
         loaded = dataclasses.replace(loaded, seed=int(seed))
+    delays = resolve_latency(loaded.ros_latency, latency)
     start = time.perf_counter()
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
-    session = Session(cell, timeout=timeout, moveit=moveit)
+    session = Session(cell, timeout=timeout, moveit=moveit, latency=delays)
     try:
         install_moveit_config(session, srdf, moveit_config)
         with active(session):

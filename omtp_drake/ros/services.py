@@ -8,8 +8,8 @@
   [0, 100]; a power outside answers ``success: False`` and logs why.
 - ``/compute_ik`` (``moveit_msgs/GetPositionIK``): MoveIt's IK on the cell's planner.
 
-A service exists only when the scenario has what it drives. Calls take no
-simulated time.
+A service exists only when the scenario has what it drives. A call takes the
+session's ``service`` latency before its handler runs (:mod:`omtp_drake.ros.latency`).
 """
 
 from __future__ import annotations

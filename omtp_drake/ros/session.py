@@ -6,7 +6,8 @@ imports (``rospy``, ``moveit_commander``...). Those names find it with
 set for the duration of one script by :func:`active`).
 
 Time. Simulated time moves only inside blocking calls (``rospy.sleep``,
-``Rate.sleep``, ``spin``, ``wait_for_message``, MoveIt moves).
+``Rate.sleep``, ``spin``, ``wait_for_message``, MoveIt moves, and the time planning
+and service calls take: :attr:`Session.latency`, :mod:`omtp_drake.ros.latency`).
 :meth:`Session.run_until` advances the cell in ticks and, between ticks,
 delivers the messages published so far to their subscribers' callbacks; a
 blocking MoveIt move delivers them between its steps (``Cell.on_move_step``),
@@ -43,6 +44,7 @@ if TYPE_CHECKING:
     from omtp_drake.ros.services import Service
     from omtp_drake.ros.srdf import SemanticModel
     from omtp_drake.ros.topics import Source
+    from omtp_drake.scenario.latency import RosLatencyConfig
     from omtp_drake.script import Cell
 
 _log = logging.getLogger("rospy")
@@ -98,9 +100,17 @@ class Session:
         cell: the cell the script runs on.
         timeout: simulated seconds after which the session shuts down (None: never).
         moveit: ``noetic`` or ``melodic`` (the shape of ``MoveGroupCommander.plan``).
+        latency: the simulated time calls take (None: the scenario's ``ros_latency``).
     """
 
-    def __init__(self, cell: Cell, *, timeout: Optional[float] = None, moveit: str = "noetic"):
+    def __init__(
+        self,
+        cell: Cell,
+        *,
+        timeout: Optional[float] = None,
+        moveit: str = "noetic",
+        latency: Optional[RosLatencyConfig] = None,
+    ):
         from omtp_drake.ros.joint_state_topics import joint_state_sources
         from omtp_drake.ros.services import cell_services
         from omtp_drake.ros.topics import camera_views, cell_sources
@@ -109,6 +119,7 @@ class Session:
         self.cell = cell
         self.timeout = timeout
         self.moveit = moveit
+        self.latency = cell.scenario.ros_latency if latency is None else latency
         self.node_name: Optional[str] = None
         #: How the script's node resolves names (set by ``init_node``; see omtp_drake.ros.names).
         self.names: Optional[NodeNames] = None

@@ -20,6 +20,7 @@ from omtp_drake.scenario.configs import (
     check_in_cell,
 )
 from omtp_drake.scenario.faults import FaultConfig
+from omtp_drake.scenario.latency import RosLatencyConfig
 from omtp_drake.scenario.loader import (
     as_scenario,
     closest_name,
@@ -42,6 +43,7 @@ __all__ = [
     "FaultConfig",
     "LogicalCameraConfig",
     "PartConfig",
+    "RosLatencyConfig",
     "RobotConfig",
     "Scenario",
     "SleepConfig",

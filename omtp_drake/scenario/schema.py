@@ -36,6 +36,7 @@ from omtp_drake.scenario.configs import (
     check_len,
 )
 from omtp_drake.scenario.faults import FaultConfig
+from omtp_drake.scenario.latency import RosLatencyConfig
 from omtp_drake.scenario.suction import SuctionConfig
 
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
@@ -103,6 +104,8 @@ class Scenario:
     faults: list[FaultConfig] = field(default_factory=list)
     #: Parts at rest fall asleep (leave the contact solver) until touched.
     sleep: SleepConfig = field(default_factory=SleepConfig)
+    #: Simulated time a ROS script's calls take under ``ros-run`` (planning, services...).
+    ros_latency: RosLatencyConfig = field(default_factory=RosLatencyConfig)
 
     def part_size(self, name: str) -> float:
         """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
@@ -163,6 +166,7 @@ class Scenario:
             names.append(part.name)
         self.suction.validate()
         self.sleep.validate()
+        self.ros_latency.validate()
         if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
             raise ConfigError(
                 f"pool parts need size > 0 and mass > 0, got {self.pool_part_size}, {self.pool_part_mass}"

@@ -22,8 +22,13 @@ class SuctionConfig:
         backend: ``"weld"`` (rigid distance constraints synced by the runtime,
             see :func:`sync_weld`) or ``"force"`` (a spring-damper force inside
             the diagram).
-        check_rate_hz: rate of the attach / release checks, on simulated time
-            [Hz]; at least 10 (the course's rate). Checks run at t = k / rate.
+        check_rate_hz: rate of the contact checks of an enabled gripper, on
+            simulated time [Hz]; in [10, 1000]. The first check runs at the
+            first plant step after the gripper is enabled, the next ones every
+            ``1 / rate`` after it: the course's plugin checks at the first
+            physics update after it is enabled and then every 0.1 s (its
+            ``updateRate``), so 10 by default. A disable is seen at the next
+            plant step, as the plugin detaches at its next physics update.
         max_angle_deg: largest angle between the contact normal and the tool
             axis (+Cz) for a touch to count [deg]; in (0, 90).
         consecutive_checks: number of consecutive good checks (same part
@@ -73,7 +78,7 @@ class SuctionConfig:
     """
 
     backend: str = "weld"
-    check_rate_hz: float = 20.0
+    check_rate_hz: float = 10.0
     max_angle_deg: float = 18.0
     consecutive_checks: int = 2
     stiffness: float = 1e5

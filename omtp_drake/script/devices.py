@@ -41,11 +41,12 @@ class Gripper:
         self.robot = robot
 
     def on(self) -> None:
-        """Vacuum on: a part touching the cup is attached at the next checks (20 Hz)."""
+        """Vacuum on: a part touching the cup is attached on the second check (the first at
+        once, the next 0.1 s later), as the course's gripper plugin."""
         self._runtime.enable_gripper(self.robot)
 
     def off(self) -> None:
-        """Vacuum off: a held part is released at the next check and falls."""
+        """Vacuum off: a held part is released at the next plant step and falls."""
         self._runtime.disable_gripper(self.robot)
 
     def state(self) -> GripperState:

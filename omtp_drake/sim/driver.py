@@ -70,17 +70,48 @@ class WorldEdit(Protocol):
     def __call__(self, root_context: Context) -> None: ...
 
 
+#: How often weld constraints are synced while no gripper is about to attach or release.
+IDLE_SYNC_PERIOD = 0.05
+
+
 class WeldSync:
     """Weld grippers: makes the plant's constraints follow each gripper's state
-    (:func:`omtp_drake.cell.suction_holds.sync_weld`), right after every gripper check."""
+    (:func:`omtp_drake.cell.suction_holds.sync_weld`).
+
+    At every gripper poll (plant step) while a gripper may attach or release soon
+    (enabled and not holding, an attach decided, disabled while holding, or
+    constraints left from a release), so an attach a check decides is made one step
+    later and a disable releases at once; every ``IDLE_SYNC_PERIOD`` otherwise (a
+    gripper idle or carrying: a release its controller commands inside a long
+    advance is made within that time)."""
 
     def __init__(self, station: Station):
         self._plant = station.plant
         self._grippers = [g for g in station.grippers.values() if isinstance(g, WeldSuctionGripper)]
-        rates = {g.config.check_rate_hz for g in self._grippers}
-        self.period = 1.0 / max(rates) if rates else math.inf
+        polls = [g.poll_period for g in self._grippers]
+        self._poll = min(polls) if polls else math.inf
+        self._context: Optional[Context] = None
+
+    @property
+    def period(self) -> float:
+        if not self._grippers:
+            return math.inf
+        if self._context is None or any(self._busy(g, self._context) for g in self._grippers):
+            return self._poll
+        return max(self._poll, IDLE_SYNC_PERIOD)
+
+    def _busy(self, gripper: WeldSuctionGripper, root_context: Context) -> bool:
+        context = gripper.GetMyContextFromRoot(root_context)
+        enabled = bool(gripper.command_input_port().Eval(context)[0] > 0.5)
+        if gripper.get_state(context).attached:
+            return not enabled
+        if enabled or gripper.pending_part(context):
+            return True
+        plant_context = self._plant.GetMyContextFromRoot(root_context)
+        return gripper.constraints.held_body(self._plant, plant_context) is not None
 
     def __call__(self, root_context: Context) -> None:
+        self._context = root_context
         for gripper in self._grippers:
             sync_weld(gripper, self._plant, root_context)
 

@@ -210,7 +210,7 @@ class FactoryRuntime:
         self._command_gripper(robot, 1.0)
 
     def disable_gripper(self, robot: str) -> None:
-        """Vacuum off: a held part is released at the next check (20 Hz) and falls."""
+        """Vacuum off: a held part is released at the next plant step and falls."""
         self._command_gripper(robot, 0.0)
 
     def _command_gripper(self, robot: str, value: float) -> None:
@@ -226,7 +226,7 @@ class FactoryRuntime:
 
     def fail_vacuum(self, robot: str, duration: float) -> None:
         """Fault injection: ``robot``'s vacuum fails now for ``duration`` s (a held
-        part drops at the next check, ~50 ms), whatever its controller commands."""
+        part drops at the next plant step), whatever its controller commands."""
         gripper = self._gripper(robot)
         duration = check_duration("fail_vacuum duration", duration)
         gripper.fail_vacuum(gripper.GetMyMutableContextFromRoot(self.context), self.time + duration)
