@@ -53,7 +53,8 @@ from omtp_drake.cell.logical_camera import LogicalCameraImage
 from omtp_drake.cell.suction import GripperState
 from omtp_drake.control.pick_and_place.perception import Perception, Sighting
 from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickRecord, position_of
-from omtp_drake.control.tool_paths import Path, PickPlanner, SegmentKind, hold, yaw_of
+from omtp_drake.control.pick_policy import PickPlanner
+from omtp_drake.control.tool_paths import Path, SegmentKind, hold, yaw_of
 from omtp_drake.scenario import BinConfig, RobotConfig, Scenario, TaskConfig
 
 #: The image of a camera that has taken none (time NaN, nothing in view).
