@@ -181,7 +181,7 @@ def cmd_screenshot(args: argparse.Namespace) -> int:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    from omtp_drake.benchmark import measure
+    from omtp_drake.bench_command import measure
 
     report = measure(
         args.repeats,
