@@ -1,6 +1,6 @@
-"""Honest results (issue 12): a task succeeds only when each part got into the bin by a
-successful place and nothing was lost; counts equal the records; faults end in an
-accounted-for cell."""
+"""A task's verdict: it succeeds only when each part got into the bin by a successful
+place and nothing was lost; counts equal the records; faults end in an accounted-for
+cell."""
 
 from dataclasses import replace
 
