@@ -33,8 +33,9 @@ def unit_quaternion(q: Any, what: str) -> DrakeQuaternion:
     wxyz = np.array([q.w, q.x, q.y, q.z], dtype=float)
     norm = float(np.linalg.norm(wxyz))
     if not np.all(np.isfinite(wxyz)) or norm < 1e-6:
+        xyzw = tuple(wxyz[[1, 2, 3, 0]].tolist())
         raise ConfigError(
-            f"{what}: the orientation quaternion (x, y, z, w) = {tuple(wxyz[[1, 2, 3, 0]].tolist())} is not a "
+            f"{what}: the orientation quaternion (x, y, z, w) = {xyzw} is not a "
             "rotation; a ROS Quaternion is all zeros by default: set w = 1 for no rotation"
         )
     return DrakeQuaternion(wxyz / norm)
