@@ -7,7 +7,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from omtp_drake.control.pick_and_place import Mode
+from omtp_drake.control.pick_and_place import Mode, PickFailure, PickRecord
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import load_scenario
 from omtp_drake.tasks.run import TaskResult, TaskRun, judge, prepare, run_task
@@ -62,7 +62,7 @@ def test_a_part_that_falls_into_the_bin_is_not_a_success():
     # One record for the drop, saying where the part ended (issue 22: no second
     # "attempt" that was never a pick), then two successful picks.
     reasons = [p.reason for p in picks]
-    assert reasons == ["dropped_into_bin", "", ""] and picks[0].given_up and picks[0].position is not None
+    assert reasons == ["dropped_into_bin", None, None] and picks[0].given_up and picks[0].position is not None
     assert picks[0].attempt == 1 and picks[1].start >= picks[0].end
     assert sum(p.success for p in picks) == 2 and ledger.in_bin["bin_1"] == 3 and ledger.balanced
     assert not success
@@ -107,3 +107,16 @@ def test_the_bin_check_waits_for_an_image_taken_after_the_release():
     picks, ledger, success = finish(run, 20)
     assert success and picks[-1].success
     assert picks[-1].end >= released + 1.0 - 0.06
+
+
+def test_a_pick_record_writes_its_failure_as_the_same_string_and_reads_it_back():
+    """PickFailure's values are the JSON output's ``failure_reason`` strings; a success
+    has none ("" in JSON)."""
+    failed = PickRecord("object_1", 1.0, 4.0, False, PickFailure.DROPPED_INTO_BIN, 2, (1.0, 2.0, 0.5), True)
+    ok = PickRecord("object_2", 4.0, 9.0, True)
+    assert failed.to_dict()["failure_reason"] == "dropped_into_bin"
+    assert ok.to_dict()["failure_reason"] == "" and ok.reason is None
+    assert PickRecord.from_dict(failed.to_dict()) == failed
+    assert PickRecord.from_dict(ok.to_dict()) == ok
+    assert {f.value for f in PickFailure} == {"attach_timeout", "dropped", "dropped_into_bin", "no_part",
+                                              "tracking", "missed_bin", "lost", "bin_full"}

@@ -66,7 +66,7 @@ class TaskResult:
             "attempted": len(self.picks),
             "succeeded": len(succeeded),
             "failed": len(failed),
-            "failure_reasons": dict(collections.Counter(p.reason for p in failed)),
+            "failure_reasons": dict(collections.Counter(p.reason.value for p in failed if p.reason)),
             "mean_cycle_time_s": sum(cycles) / len(cycles) if cycles else math.nan,
             "max_cycle_time_s": max(cycles) if cycles else math.nan,
             "sim_time_s": self.sim_time_s,
