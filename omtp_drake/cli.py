@@ -69,7 +69,7 @@ def _print_result(result) -> None:
     print(result.ledger.summary_line())
     for fault in result.faults:
         print(f"fault: {_fault_line(fault)}")
-    print("SUCCESS" if result.success else "FAILED")
+    print(result.verdict)
 
 
 def _fault_line(fault: dict) -> str:
