@@ -342,6 +342,14 @@ def _add_view_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
 
 
+def _add_progress_options(p: argparse.ArgumentParser) -> None:
+    """``-q/--quiet`` and ``--progress`` (read by :func:`_progress`)."""
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
+    )
+
+
 def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     """Registers the commands that list scenarios and run their tasks: scenarios, demo, run."""
     p = sub.add_parser("scenarios", help="list the scenario names")
@@ -351,10 +359,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--parts", type=int, default=None, help="parts to place (default 10)")
     p.add_argument("--seed", type=int, default=None)
     _add_view_options(p)
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
-    )
+    _add_progress_options(p)
     p.set_defaults(func=cmd_demo)
 
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
@@ -366,10 +371,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--parts", type=int, default=None, help="parts to place")
     _add_view_options(p)
     p.add_argument("--json", metavar="FILE", help="write the result as JSON")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
-    )
+    _add_progress_options(p)
     p.set_defaults(func=cmd_run)
 
 
@@ -514,10 +516,7 @@ def _add_batch_command(sub: argparse._SubParsersAction) -> None:
         "--timeout", type=float, default=None, metavar="S", help="wall seconds per run (default: none)"
     )
     p.add_argument("--out", default=None, metavar="DIR", help="results folder (default: batch_<scenario>)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
-    )
+    _add_progress_options(p)
     p.set_defaults(func=cmd_batch)
 
 
