@@ -2,7 +2,7 @@
 
     python bench/bench_speed.py [--repeats 2] [--bare-seconds 10]
 
-The same as ``omtp-drake bench`` (the measurements live in omtp_drake.benchmark,
+The same as ``omtp-drake bench`` (the measurements live in bench/speed.py,
 which documents the cases). For the CPU profile split, see bench/profile_split.py.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import logging
 
-from omtp_drake.benchmark import measure
+from speed import measure  # bench/speed.py (this directory is on the path)
 
 
 def main() -> None:
@@ -21,7 +21,9 @@ def main() -> None:
     args = parser.parse_args()
     logging.getLogger("drake").setLevel(logging.ERROR)
     logging.getLogger("omtp_drake").setLevel(logging.WARNING)
-    print(measure(args.repeats, args.bare_seconds, progress=lambda text: print(f"measuring {text} ...")).table())
+    print(
+        measure(args.repeats, args.bare_seconds, progress=lambda text: print(f"measuring {text} ...")).table()
+    )
 
 
 if __name__ == "__main__":

@@ -69,14 +69,17 @@ def instrument() -> tuple[dict[str, float], collections.Counter, set[str]]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("case", nargs="?", default="fill_bin",
-                        choices=["fill_bin", "lecture7_conveyor_pick", "belt"])
+    parser.add_argument(
+        "case", nargs="?", default="fill_bin", choices=["fill_bin", "lecture7_conveyor_pick", "belt"]
+    )
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--time-step", type=float, default=None,
-                        help="the plant's step (default: the scenario's)")
+    parser.add_argument(
+        "--time-step", type=float, default=None, help="the plant's step (default: the scenario's)"
+    )
     args = parser.parse_args()
     seconds, calls, nested = instrument()
-    from omtp_drake.benchmark import belt_scenario
+    from speed import belt_scenario  # bench/speed.py
+
     from omtp_drake.sim.runtime import FactoryRuntime
     from omtp_drake.tasks.run import prepare, run_task
 
@@ -96,14 +99,18 @@ def main() -> None:
         simulated, wall = result.sim_time_s, result.wall_time_s
     per_second = 1e3 * wall / simulated
     step = "" if args.time_step is None else f" at a {1e3 * args.time_step:g} ms step"
-    print(f"{args.case}{step}: {simulated:.1f} s simulated, run loop {per_second:.1f} ms per simulated s",
-          end="")
+    print(
+        f"{args.case}{step}: {simulated:.1f} s simulated, run loop {per_second:.1f} ms per simulated s",
+        end="",
+    )
     print(" (with the wrappers)")
     print("| callback | calls per simulated s | us per call | ms per simulated s |\n|---|---:|---:|---:|")
     for key in sorted(seconds, key=lambda k: -seconds[k]):
         label = f"{key} (in)" if key in nested else key
-        print(f"| {label} | {calls[key] / simulated:.1f} | {1e6 * seconds[key] / calls[key]:.1f} | "
-              f"{1e3 * seconds[key] / simulated:.2f} |")
+        print(
+            f"| {label} | {calls[key] / simulated:.1f} | {1e6 * seconds[key] / calls[key]:.1f} | "
+            f"{1e3 * seconds[key] / simulated:.2f} |"
+        )
     total = sum(v for k, v in seconds.items() if k not in nested)
     print(f"| **all top-level callbacks** | | | **{1e3 * total / simulated:.2f}** |")
 

@@ -70,7 +70,7 @@ def _print_result(result) -> None:
     print(result.ledger.summary_line())
     for fault in result.faults:
         print(f"fault: {_fault_line(fault)}")
-    print("SUCCESS" if result.success else "FAILED")
+    print(result.verdict)
 
 
 def _fault_line(fault: dict) -> str:
@@ -182,7 +182,7 @@ def cmd_screenshot(args: argparse.Namespace) -> int:
 
 
 def cmd_bench(args: argparse.Namespace) -> int:
-    from omtp_drake.benchmark import measure
+    from omtp_drake.bench_command import measure
 
     report = measure(
         args.repeats,
@@ -343,6 +343,14 @@ def _add_view_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
 
 
+def _add_progress_options(p: argparse.ArgumentParser) -> None:
+    """``-q/--quiet`` and ``--progress`` (read by :func:`_progress`)."""
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    p.add_argument(
+        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
+    )
+
+
 def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     """Registers the commands that list scenarios and run their tasks: scenarios, demo, run."""
     p = sub.add_parser("scenarios", help="list the scenario names")
@@ -352,10 +360,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--parts", type=int, default=None, help="parts to place (default 10)")
     p.add_argument("--seed", type=int, default=None)
     _add_view_options(p)
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
-    )
+    _add_progress_options(p)
     p.set_defaults(func=cmd_demo)
 
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
@@ -367,10 +372,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--parts", type=int, default=None, help="parts to place")
     _add_view_options(p)
     p.add_argument("--json", metavar="FILE", help="write the result as JSON")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
-    )
+    _add_progress_options(p)
     p.set_defaults(func=cmd_run)
 
 
@@ -515,10 +517,7 @@ def _add_batch_command(sub: argparse._SubParsersAction) -> None:
         "--timeout", type=float, default=None, metavar="S", help="wall seconds per run (default: none)"
     )
     p.add_argument("--out", default=None, metavar="DIR", help="results folder (default: batch_<scenario>)")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
-    )
+    _add_progress_options(p)
     p.set_defaults(func=cmd_batch)
 
 

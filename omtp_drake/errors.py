@@ -64,6 +64,11 @@ class NotSupportedError(OmtpError, NotImplementedError):
     not provide; the message names it."""
 
 
+class BenchmarkError(OmtpError):
+    """A benchmark cannot measure what it was asked to: a measured run that did not
+    succeed, or no ``bench/`` next to the package (it runs from a source checkout)."""
+
+
 class BrowserError(OmtpError):
     """Headless chromium is missing, or did not render a replay in time."""
 

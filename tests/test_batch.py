@@ -243,7 +243,7 @@ def test_wilson_interval():
 
 
 def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_json():
-    from omtp_drake.control.pick_and_place import PickRecord
+    from omtp_drake.control.pick_and_place import PickFailure, PickRecord
     from omtp_drake.sim.ledger import Ledger
     from omtp_drake.tasks.run import TaskResult
 
@@ -251,7 +251,8 @@ def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_
                     in_bin={"bin_1": 1}, disposed=0,
                     parts={"object_1": "in_bin:bin_1", "object_2": "on_floor"})
     picks = [PickRecord("object_1", 0.5, 6.0, True),
-             PickRecord("object_2", 6.5, 12.0, False, "lost", 1, position=(-7.0, 1.5, 0.05), given_up=True)]
+             PickRecord("object_2", 6.5, 12.0, False, PickFailure.LOST, 1, position=(-7.0, 1.5, 0.05),
+                        given_up=True)]
     result = TaskResult(SCENARIO, 3, picks, ledger, False, 30.0, 3.0, "bin_1", 2)
     record = batch.RunRecord(SCENARIO, 3, {}, "finished", result=result)
     assert not record.ledger_anomaly

@@ -1,24 +1,28 @@
-"""omtp_drake.benchmark: the speed table reports what it measured against the targets."""
+"""The speed benchmark (bench/speed.py, behind ``omtp-drake bench``): the table reports
+what it measured against the targets; the bare plant and the replay are what they claim."""
 
-import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import BodyIndex
 from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake.benchmark import (
-    ArmMotion,
-    CaseTiming,
-    ReplayTiming,
-    SpeedReport,
-    bare_plant_seconds,
-    measure,
-    replay_cpu_seconds,
-    with_parts,
-)
+from omtp_drake.bench_command import speed_module
 from omtp_drake.cell import arms
-from omtp_drake.errors import ConfigError
+from omtp_drake.cell.station import build_station
+from omtp_drake.errors import BenchmarkError, ConfigError
 from omtp_drake.tasks.run import prepare
+
+speed = speed_module()
+ArmMotion, CaseTiming, ReplayTiming, SpeedReport = (
+    speed.ArmMotion, speed.CaseTiming, speed.ReplayTiming, speed.SpeedReport)
+measure, with_parts = speed.measure, speed.with_parts
+
+
+def rows(report):
+    return {row.what: row for row in report.rows()}
 
 
 def test_table_says_which_targets_are_met():
@@ -28,24 +32,44 @@ def test_table_says_which_targets_are_met():
             CaseTiming("slow case", bare=0.060, full=0.150, target=0.12),
         ),
         station_build_s=0.21, task_build_s=0.62, cycles=(5.5, 6.2, 7.3), repeats=2)
-    rows = {line.split("  ")[0].strip(): line for line in report.table().splitlines()}
-    assert rows["fast case: wall ms per simulated s (RTF)"].rstrip().endswith("yes")
-    assert "95 (10.5)" in rows["fast case: wall ms per simulated s (RTF)"]
-    assert "<= 100 (>= 10.0)" in rows["fast case: wall ms per simulated s (RTF)"]
-    assert rows["slow case: wall ms per simulated s (RTF)"].rstrip().endswith("NO")
-    assert "<= 120 (>= 8.3)" in rows["slow case: wall ms per simulated s (RTF)"]
-    assert "150 %" in rows["slow case: bare plant ms/s, our overhead"]  # (150 - 60) / 60
-    assert rows["fast case: bare plant ms/s, our overhead"].rstrip().endswith("yes")  # 19 %
-    assert "0.21 / 0.62" in rows["diagram build, fill_bin station / with task (s)"]
-    assert rows["diagram build, fill_bin station / with task (s)"].rstrip().endswith("NO")
-    cycle = rows["pick cycle, fill_bin, 3 picks: mean / worst (s)"]
-    assert "6.33 / 7.30" in cycle and cycle.rstrip().endswith("NO")
+    by_what = rows(report)
+    fast = by_what["fast case: wall ms per simulated s (RTF)"]
+    slow = by_what["slow case: wall ms per simulated s (RTF)"]
+    assert (fast.measured, fast.target, fast.met) == ("95 (10.5)", "<= 100 (>= 10.0)", True)
+    assert (slow.target, slow.met) == ("<= 120 (>= 8.3)", False)
+    assert report.cases[1].overhead == pytest.approx(1.5)  # (150 - 60) / 60
+    slow_overhead = by_what["slow case: bare plant ms/s, our overhead"]
+    assert (slow_overhead.measured, slow_overhead.met) == ("60, 150 %", False)
+    assert by_what["fast case: bare plant ms/s, our overhead"].met  # 19 %
+    build = by_what["diagram build, fill_bin station / with task (s)"]
+    assert (build.measured, build.met) == ("0.21 / 0.62", False)
+    cycle = by_what["pick cycle, fill_bin, 3 picks: mean / worst (s)"]
+    assert (cycle.measured, cycle.met) == ("6.33 / 7.30", False)
+    assert [line.split()[0] for line in report.table().splitlines()[2:4]] == ["fast", "slow"]
 
 
 def test_bare_plant_steps_the_scenario_without_our_systems():
-    scenario = prepare("fill_bin")
-    seconds = bare_plant_seconds(with_parts(scenario, [[-8.3, -1.23, 0.051]], 0.1), 0.2)
-    assert 0 < seconds < 10 and math.isfinite(seconds)
+    """The bare plant has the full station's bodies, none of our Python systems (only
+    pydrake's C++ ones), reaches the time asked, and holds the arms and the part still."""
+    scenario = with_parts(prepare("fill_bin"), [[-8.3, -1.23, 0.051]], 0.1)
+    simulator, models = speed.bare_simulator(scenario)
+    systems = simulator.get_system().GetSystems()
+    assert [s for s in systems if not type(s).__module__.startswith("pydrake")] == []
+    plant = next(s for s in systems if isinstance(s, MultibodyPlant))
+    station = build_station(scenario)
+
+    def bodies(p):
+        return sorted(p.get_body(BodyIndex(i)).scoped_name().to_string() for i in range(p.num_bodies()))
+
+    assert bodies(plant) == bodies(station.plant)
+    context = plant.GetMyContextFromRoot(simulator.get_context())
+    q_arms = {name: plant.GetPositions(context, h.arm) for name, h in models.arms.items()}
+    simulator.AdvanceTo(0.2)
+    assert simulator.get_context().get_time() == pytest.approx(0.2)
+    for name, handles in models.arms.items():
+        assert np.abs(plant.GetPositions(context, handles.arm) - q_arms[name]).max() < 1e-3, name
+    p_part = plant.EvalBodyPoseInWorld(context, plant.GetBodyByName("bench_0")).translation()
+    assert p_part == pytest.approx([-8.3, -1.23, 0.05], abs=2e-3)
 
 
 @pytest.mark.parametrize("repeats, bare, message", [(0, 10.0, "repeats must be >= 1, got 0"),
@@ -66,32 +90,51 @@ def test_cli_bench_refuses_bad_repeats_in_one_line(capsys):
 def test_table_reports_the_full_run_over_the_same_motion_replayed():
     report = SpeedReport(cases=(), station_build_s=0.2, task_build_s=0.3, cycles=(5.0,), repeats=3,
                          replays=(ReplayTiming("fill_bin", replay=0.050, full=0.150),))
-    rows = {line.split("  ")[0].strip(): line for line in report.table().splitlines()}
-    row = rows["fill_bin: CPU ms/s, full / same motion replayed"]
-    assert "150 / 50 = 3.00x" in row and row.rstrip().endswith("NO")
+    row = rows(report)["fill_bin: CPU ms/s, full / same motion replayed"]
+    assert report.replays[0].ratio == pytest.approx(3.0)
+    assert (row.measured, row.target, row.met) == ("150 / 50 = 3.00x", "<= 1.25x", False)
     assert "the same run's arm commands replayed" in report.table()
 
 
 def test_replay_drives_the_bare_plant_with_recorded_commands():
+    """Robot 2 commanded from Home to Home + 0.2 rad on its pan joint at 0.1 s: the bare
+    plant replaying that starts at Home and settles on the new command; robot 1, whose
+    command the motion does not name as moving, is locked where it stood."""
     scenario = with_parts(prepare("fill_bin"), [[-8.3, -1.23, 0.051]], 0.1)
     q0 = np.array(arms.named_pose("Home", scenario.robot("robot2")))
     q1 = q0 + np.array([0.2, 0.0, 0.0, 0.0, 0.0, 0.0])
-    hold = PiecewisePolynomial.ZeroOrderHold([-0.005, 0.095, 0.205], np.column_stack([q0, q1, q1]))
-    seconds = replay_cpu_seconds(scenario, ArmMotion({"robot2": hold}, 0.2, frozenset({"robot2"})))
-    assert 0 < seconds < 10 and math.isfinite(seconds)
+    hold = PiecewisePolynomial.ZeroOrderHold([-0.005, 0.095, 1.005], np.column_stack([q0, q1, q1]))
+    motion = ArmMotion({"robot2": hold}, 1.0, frozenset({"robot2"}))
+    simulator, models = speed.bare_simulator(scenario, motion)
+    plant = next(s for s in simulator.get_system().GetSystems() if isinstance(s, MultibodyPlant))
+    context = plant.GetMyContextFromRoot(simulator.get_context())
+    robot1, robot2 = models.arms["robot1"].arm, models.arms["robot2"].arm
+    q_robot1 = plant.GetPositions(context, robot1)
+    assert np.abs(plant.GetPositions(context, robot2) - q0).max() < 1e-9
+    simulator.AdvanceTo(0.09)
+    assert np.abs(plant.GetPositions(context, robot2) - q0).max() < 1e-3  # before the step
+    simulator.AdvanceTo(motion.duration)
+    assert np.abs(plant.GetPositions(context, robot2) - q1).max() < 2e-3  # the new command
+    assert np.array_equal(plant.GetPositions(context, robot1), q_robot1)
+
+
+def test_a_measured_run_that_fails_is_a_benchmark_error(monkeypatch):
+    """A full run that does not succeed times nothing: BenchmarkError, which the CLI
+    reports in one line, not a traceback."""
+    failed = SimpleNamespace(success=False, summary="0/10 parts in bin_1")
+    monkeypatch.setattr(speed, "run_task", lambda scenario: failed)
+    with pytest.raises(BenchmarkError, match=r"fill_bin did not succeed in the benchmark: 0/10 parts"):
+        speed.task_seconds("fill_bin")
 
 
 def test_replay_follows_the_recorded_run_and_locks_the_arm_that_stood_still():
     """One part of fill_bin at a 2 ms step: the recorded motion names only robot 2 (robot 1's
     command never changed, so the replay locks it as the station does), and the bare plant
     replaying it puts robot 2 where the full run had it (the full run also carries the part)."""
-    from pydrake.multibody.plant import MultibodyPlant
-
-    from omtp_drake.benchmark import _bare_simulator, record_arm_motion
     from omtp_drake.tasks.run import run_task
 
     scenario = prepare("fill_bin", parts=1).with_time_step(0.002)
-    motion, result = record_arm_motion(scenario)
+    motion, result = speed.record_arm_motion(scenario)
     assert result.success and motion.moving == frozenset({"robot2"})
     assert motion.duration == pytest.approx(result.sim_time_s)
     q_full = {}
@@ -103,7 +146,7 @@ def test_replay_follows_the_recorded_run_and_locks_the_arm_that_stood_still():
 
     run_task(scenario, on_chunk=sample)  # the same seed: the same run again
     bare = with_parts(prepare("fill_bin"), [[-8.3, -1.23, 0.051]], 0.1).with_time_step(0.002)
-    simulator, models = _bare_simulator(bare, motion)
+    simulator, models = speed.bare_simulator(bare, motion)
     plant = next(s for s in simulator.get_system().GetSystems() if isinstance(s, MultibodyPlant))
     plant_context = plant.GetMyContextFromRoot(simulator.get_context())
     q1 = plant.GetPositions(plant_context, models.arms["robot1"].arm)

@@ -170,7 +170,12 @@ def test_faults_are_reported_in_the_run_json_and_printed(tmp_path):
         (
             {"name": "x", "kind": "part_knocked", "at": 1.0, "velocity": [30, 0, 0]},
             ConfigError,
-            "faults[x].velocity must be 3 numbers of speed in (0, 20] m/s",
+            "faults[x].velocity must be 3 numbers of speed in (0, 20] m/s, got [30.0, 0.0, 0.0]",
+        ),
+        (
+            {"name": "x", "kind": "part_knocked", "at": 1.0},
+            ConfigError,
+            "faults[x].velocity must be 3 numbers of speed in (0, 20] m/s, required for part_knocked",
         ),
         (
             {"name": "x", "kind": "belt_stop", "event": "holding", "duration": 1.0},

@@ -30,7 +30,7 @@ LAYERS = {
     "batch": 7,
     "ros": 8,
     "demos": 8,
-    "benchmark": 8,
+    "bench_command": 8,
     "cli": 9,
 }
 

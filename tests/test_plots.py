@@ -6,7 +6,7 @@ import pytest
 from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 
-from omtp_drake.control.pick_and_place import PickRecord
+from omtp_drake.control.pick_and_place import PickFailure, PickRecord
 from omtp_drake.errors import ConfigError
 from omtp_drake.tasks.plots import (
     FAIL_COLOUR,
@@ -104,7 +104,7 @@ def test_cycle_time_bars_colour_failures(one_pick):
     assert [p.get_height() for p in ax.patches] == pytest.approx(
         [p.cycle_time for p in result.picks if p.part])
     assert all(p.get_facecolor() == to_rgba(OK_COLOUR) for p in ax.patches)
-    failed = PickRecord("object_2", 1.0, 3.0, False, "attach_timeout", 1)
+    failed = PickRecord("object_2", 1.0, 3.0, False, PickFailure.ATTACH_TIMEOUT, 1)
     result.picks.append(failed)
     try:
         ax, = plot_cycle_times(result).get_axes()

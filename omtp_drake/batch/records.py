@@ -74,7 +74,7 @@ class RunRecord:
             return ""
         if self.status != FINISHED or self.result is None:
             return self.status
-        failed = [p.reason for p in self.result.picks if not p.success]
+        failed = [p.reason.value for p in self.result.picks if p.reason]
         return failed[-1] if failed else "incomplete"
 
     def to_dict(self) -> dict[str, Any]:

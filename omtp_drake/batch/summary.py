@@ -119,7 +119,7 @@ def summarize(records: Sequence[RunRecord]) -> list[SettingSummary]:
                 cycle_times=[p.cycle_time for res in finished for p in res.picks if p.success and p.part],
                 failure_reasons=dict(collections.Counter(r.failure_reason for r in group if not r.success)),
                 failed_picks=dict(
-                    collections.Counter(p.reason for res in finished for p in res.picks if not p.success)
+                    collections.Counter(p.reason.value for res in finished for p in res.picks if p.reason)
                 ),
                 ledger_anomalies=[r.seed for r in group if r.ledger_anomaly],
                 real_time_factor=float(np.mean(rtfs)) if rtfs else math.nan,

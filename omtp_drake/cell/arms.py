@@ -115,6 +115,18 @@ def add_arm_models(
     return arm, gripper
 
 
+def lock_arm(plant: MultibodyPlant, plant_context: Context, arm: ModelInstanceIndex, locked: bool) -> None:
+    """Locks (or unlocks) the moving joints of the model instance ``arm`` where they
+    are: a locked arm does not move whatever its servo commands."""
+    for index in plant.GetJointIndices(arm):
+        joint = plant.get_joint(index)
+        if joint.num_velocities() > 0:
+            if locked:
+                joint.Lock(plant_context)
+            else:
+                joint.Unlock(plant_context)
+
+
 def make_control_plant(robot: RobotConfig, gravity: Sequence[float]) -> MultibodyPlant:
     """A continuous plant of the arm alone (plus its gripper), base welded at the origin.
 

@@ -238,14 +238,9 @@ class Station:
     def set_arm_locked(self, root_context: Context, name: str, locked: bool) -> None:
         """Locks (or unlocks) arm ``name``'s joints where they are: a locked arm
         does not move whatever its servo commands."""
-        plant_context = self.plant.GetMyMutableContextFromRoot(root_context)
-        for index in self.plant.GetJointIndices(self.arm(name).arm):
-            joint = self.plant.get_joint(index)
-            if joint.num_velocities() > 0:
-                if locked:
-                    joint.Lock(plant_context)
-                else:
-                    joint.Unlock(plant_context)
+        arms.lock_arm(
+            self.plant, self.plant.GetMyMutableContextFromRoot(root_context), self.arm(name).arm, locked
+        )
 
     def clear_servo_integral(self, root_context: Context, name: str) -> None:
         """Zeroes arm ``name``'s servo integral, if it has one (after a blocked arm is

@@ -1,6 +1,7 @@
 """Deciding how the arms move.
 
-Lives here: tool paths for pick and place (``tool_paths``), the pick-and-place
+Lives here: tool paths (``tool_paths``: timed segments and the poses along them),
+where the tool goes for a pick (``pick_policy``: grasps, bin slots, travels), the pick-and-place
 controller (``pick_and_place``: a pure state machine and the LeafSystem around
 it), and collision-aware joint motion planning (``motion``: ``ArmPlanner`` over
 one module per concept).

@@ -27,12 +27,15 @@ def transform_msg(X: RigidTransform) -> Transform:
     return Transform(Vector3(p.x, p.y, p.z), Quaternion(q.x, q.y, q.z, q.w))
 
 
-def _quaternion(q: Any, what: str) -> DrakeQuaternion:
+def unit_quaternion(q: Any, what: str) -> DrakeQuaternion:
+    """The rotation of a quaternion ``q`` (with ``x, y, z, w``), normalized; ConfigError
+    naming ``what`` when it is not finite or near zero."""
     wxyz = np.array([q.w, q.x, q.y, q.z], dtype=float)
     norm = float(np.linalg.norm(wxyz))
     if not np.all(np.isfinite(wxyz)) or norm < 1e-6:
+        xyzw = tuple(wxyz[[1, 2, 3, 0]].tolist())
         raise ConfigError(
-            f"{what}: the orientation quaternion (x, y, z, w) = {tuple(wxyz[[1, 2, 3, 0]])} is not a "
+            f"{what}: the orientation quaternion (x, y, z, w) = {xyzw} is not a "
             "rotation; a ROS Quaternion is all zeros by default: set w = 1 for no rotation"
         )
     return DrakeQuaternion(wxyz / norm)
@@ -49,7 +52,7 @@ def rigid(msg: Any, what: str = "pose") -> RigidTransform:
     xyz = np.array([p.x, p.y, p.z], dtype=float)
     if not np.all(np.isfinite(xyz)):
         raise ConfigError(f"{what}: the position {xyz.tolist()} is not finite")
-    return RigidTransform(_quaternion(q, what), xyz)
+    return RigidTransform(unit_quaternion(q, what), xyz)
 
 
 def pose_from_list(values: Sequence[float], what: str = "pose") -> RigidTransform:
@@ -59,7 +62,7 @@ def pose_from_list(values: Sequence[float], what: str = "pose") -> RigidTransfor
         return RigidTransform(RollPitchYaw(v[3:]), v[:3])
     if v.shape == (7,):
         q = Quaternion(*v[3:])
-        return RigidTransform(_quaternion(q, what), v[:3])
+        return RigidTransform(unit_quaternion(q, what), v[:3])
     raise ConfigError(
         f"{what} as a list takes 6 numbers (x, y, z, roll, pitch, yaw) or 7 (x, y, z, qx, qy, qz, qw), "
         f"got {len(v)}"

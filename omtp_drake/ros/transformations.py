@@ -13,6 +13,8 @@ import numpy as np
 from pydrake.common.eigen_geometry import Quaternion as DrakeQuaternion
 from pydrake.math import RollPitchYaw, RotationMatrix
 
+from omtp_drake.ros.convert import unit_quaternion
+from omtp_drake.ros.messages import Quaternion
 from omtp_drake.ros.unsupported import not_supported
 
 
@@ -23,10 +25,7 @@ def _axes(axes: str) -> None:
 
 def _drake(q: Sequence[float]) -> DrakeQuaternion:
     x, y, z, w = (float(v) for v in q)
-    norm = float(np.linalg.norm([w, x, y, z]))
-    if norm < 1e-12:
-        raise ValueError(f"quaternion {list(q)} has zero length")
-    return DrakeQuaternion(np.array([w, x, y, z]) / norm)
+    return unit_quaternion(Quaternion(x, y, z, w), "tf.transformations")
 
 
 def _xyzw(q: DrakeQuaternion) -> list[float]:

@@ -139,10 +139,6 @@ class BinConfig:
         check_len(f"bins[{self.name}].xyz", self.xyz, 3)
         check_in_cell(f"bins[{self.name}].xyz", self.xyz)
 
-    def rim_height(self) -> float:
-        """World height of the bin's rim."""
-        return self.xyz[2] + _BIN_GEOMETRY.height
-
 
 _BIN_GEOMETRY = BinGeometry.from_model()
 

@@ -105,7 +105,7 @@ class FaultConfig:
             if not 0 < speed <= MAX_KNOCK_SPEED:
                 raise ConfigError(
                     f"{where}.velocity must be 3 numbers of speed in (0, {MAX_KNOCK_SPEED:g}] m/s, "
-                    f"got {self.velocity!r}"
+                    + (f"got {self.velocity!r}" if any(self.velocity) else "required for part_knocked")
                 )
         if self.kind == "bin_moved" and (len(self.xyz) != 3 or not math.isfinite(self.yaw)):
             raise ConfigError(f"{where}.xyz must be 3 numbers (the bin's new base), got {self.xyz!r}")

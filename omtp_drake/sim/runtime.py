@@ -65,26 +65,15 @@ class ArmBlock:
         return 0.01 if self.until else math.inf
 
     def block(self, root_context: Context, robot: str, until: float) -> None:
-        self._set_locked(root_context, robot, True)
+        self._station.set_arm_locked(root_context, robot, True)
         self.until[robot] = until
 
     def __call__(self, root_context: Context) -> None:
         for robot, until in list(self.until.items()):
             if root_context.get_time() >= until - 1e-9:
-                self._set_locked(root_context, robot, False)
+                self._station.set_arm_locked(root_context, robot, False)
                 self._station.clear_servo_integral(root_context, robot)
                 del self.until[robot]
-
-    def _set_locked(self, root_context: Context, robot: str, locked: bool) -> None:
-        plant = self._station.plant
-        plant_context = plant.GetMyMutableContextFromRoot(root_context)
-        for index in plant.GetJointIndices(self._station.arm(robot).arm):
-            joint = plant.get_joint(index)
-            if joint.num_velocities() > 0:
-                if locked:
-                    joint.Lock(plant_context)
-                else:
-                    joint.Unlock(plant_context)
 
 
 class FactoryRuntime:

@@ -4,9 +4,10 @@ A task (``Scenario.task``) says which robot puts how many parts into which
 bin; the scenario's spawner says where parts appear; the planner
 (:mod:`omtp_drake.control.pick_and_place`) and the gripper do the work.
 
-Success is judged from what happened, not from what was hoped: ``parts``
-parts in the bin, each put there by a successful place, and nothing lost (no
-part disposed of, left loose or still held).
+Success is judged from what happened, not from what was hoped, in two parts
+reported apart: the goal (``parts`` parts in the bin and nothing lost: no part
+disposed of, left loose or still held) and the picks (each part in the bin put
+there by a successful place, not dropped into it). A run succeeds when both hold.
 """
 
 from __future__ import annotations
@@ -66,7 +67,7 @@ class TaskResult:
             "attempted": len(self.picks),
             "succeeded": len(succeeded),
             "failed": len(failed),
-            "failure_reasons": dict(collections.Counter(p.reason for p in failed)),
+            "failure_reasons": dict(collections.Counter(p.reason.value for p in failed if p.reason)),
             "mean_cycle_time_s": sum(cycles) / len(cycles) if cycles else math.nan,
             "max_cycle_time_s": max(cycles) if cycles else math.nan,
             "sim_time_s": self.sim_time_s,
@@ -74,8 +75,36 @@ class TaskResult:
             "real_time_factor": self.sim_time_s / self.wall_time_s if self.wall_time_s else math.inf,
             "in_bin": self.ledger.in_bin.get(self.bin, 0),
             "parts": self.parts,
+            "goal_met": self.goal_met,
+            "placed_by_picks": self.placed_by_picks,
             "success": self.success,
         }
+
+    @property
+    def goal_met(self) -> bool:
+        """The task's goal: its parts in the bin and nothing lost (see :func:`goal_met`)."""
+        return goal_met(self.ledger, self.bin, self.parts)
+
+    @property
+    def placed_by_picks(self) -> bool:
+        """Each part in the bin got there by a successful place (see :func:`placed_by_picks`)."""
+        return placed_by_picks(self.picks, self.ledger, self.bin)
+
+    @property
+    def verdict(self) -> str:
+        """One line: SUCCESS, or FAILED saying whether the goal was met and, if it was,
+        which parts in the bin no pick placed."""
+        if self.success:
+            return "SUCCESS"
+        count = f"{self.ledger.in_bin.get(self.bin, 0)}/{self.parts} parts in {self.bin}"
+        if not self.goal_met:
+            lost = self.ledger.disposed + self.ledger.loose + sum(self.ledger.held.values())
+            return f"FAILED: goal not met ({count}" + (f", {lost} lost or held)" if lost else ")")
+        placed = {p.part for p in self.picks if p.success}
+        unplaced = sorted(n for n in _in_bin(self.ledger, self.bin) if n not in placed)
+        how = {p.part: p.reason for p in self.picks if p.reason is not None}
+        names = ", ".join(f"{n} ({how[n]})" if n in how else n for n in unplaced)
+        return f"FAILED: goal met ({count}), but not all by a pick: {names}"
 
     @property
     def unaccounted_parts(self) -> list[str]:
@@ -120,18 +149,30 @@ class TaskResult:
         )
 
 
-def judge(picks: list[PickRecord], ledger: Ledger, bin_name: str, parts: int) -> bool:
-    """Did the task succeed: ``parts`` parts in the bin, each by a successful
-    place, and nothing lost?"""
-    placed = {p.part for p in picks if p.success}
-    in_bin = {n for n, where in ledger.parts.items() if where == f"in_bin:{bin_name}"}
+def _in_bin(ledger: Ledger, bin_name: str) -> set[str]:
+    return {n for n, where in ledger.parts.items() if where == f"in_bin:{bin_name}"}
+
+
+def goal_met(ledger: Ledger, bin_name: str, parts: int) -> bool:
+    """The task's goal: at least ``parts`` parts in the bin, and nothing lost (no part
+    disposed of, left loose or still held), however they got there."""
     return (
-        len(in_bin) == parts
-        and in_bin <= placed
+        len(_in_bin(ledger, bin_name)) >= parts
         and ledger.disposed == 0
         and ledger.loose == 0
         and sum(ledger.held.values()) == 0
     )
+
+
+def placed_by_picks(picks: list[PickRecord], ledger: Ledger, bin_name: str) -> bool:
+    """Each part in the bin was put there by a successful place (none fell in)."""
+    return _in_bin(ledger, bin_name) <= {p.part for p in picks if p.success}
+
+
+def judge(picks: list[PickRecord], ledger: Ledger, bin_name: str, parts: int) -> bool:
+    """Did the task succeed: its goal met (:func:`goal_met`) and every part in the bin
+    placed by a pick (:func:`placed_by_picks`)?"""
+    return goal_met(ledger, bin_name, parts) and placed_by_picks(picks, ledger, bin_name)
 
 
 def prepare(scenario: Scenario | str, *, seed: Optional[int] = None, parts: Optional[int] = None) -> Scenario:

@@ -2,7 +2,7 @@
 
 - :mod:`~omtp_drake.control.pick_and_place.records`: what the controller is doing
   and has done (:class:`Mode`, :class:`ControlState`, :class:`PickRecord`,
-  :class:`PickHistory`), plain values;
+  :class:`PickFailure`, :class:`PickHistory`), plain values;
 - :mod:`~omtp_drake.control.pick_and_place.perception`: parts and the bin as the
   logical cameras show them;
 - :mod:`~omtp_drake.control.pick_and_place.machine`: the pure state machine
@@ -21,7 +21,7 @@ from omtp_drake.control.pick_and_place.machine import (
     bin_capacity,
     task_planner,
 )
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickHistory, PickRecord
+from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickHistory, PickRecord
 from omtp_drake.control.pick_and_place.system import (
     PickAndPlaceController,
     add_pick_and_place,
@@ -36,6 +36,7 @@ __all__ = [
     "MachineInput",
     "Mode",
     "PickAndPlaceController",
+    "PickFailure",
     "PickHistory",
     "PickMachine",
     "PickRecord",

@@ -52,8 +52,9 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.logical_camera import LogicalCameraImage
 from omtp_drake.cell.suction import GripperState
 from omtp_drake.control.pick_and_place.perception import Perception, Sighting
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickRecord, position_of
-from omtp_drake.control.tool_paths import Path, PickPlanner, SegmentKind, hold, yaw_of
+from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickRecord, position_of
+from omtp_drake.control.pick_policy import PickPlanner
+from omtp_drake.control.tool_paths import Path, SegmentKind, hold, yaw_of
 from omtp_drake.scenario import BinConfig, RobotConfig, Scenario, TaskConfig
 
 #: The image of a camera that has taken none (time NaN, nothing in view).
@@ -250,11 +251,13 @@ class _Recovery:
         self._moves = moves
         self._size = part_size
 
-    def fail(self, inputs: MachineInput, s: ControlState, reason: str, *, reset_ik: bool = False) -> _Step:
+    def fail(
+        self, inputs: MachineInput, s: ControlState, reason: PickFailure, *, reset_ik: bool = False
+    ) -> _Step:
         """Records a failed attempt and sends the arm Home (suction off); with
         ``reset_ik`` DiffIK restarts from the measured joints first."""
         t = inputs.t
-        if reason == "dropped" and s.part:  # last known: under the cup when it fell
+        if reason is PickFailure.DROPPED and s.part:  # last known: under the cup when it fell
             size = self._size(s.part)
             s = replace(s, X_WP=RigidTransform(inputs.X_WE.translation() - [0.0, 0.0, size / 2]))
         attempt = s.attempt + 1 if s.part else 1
@@ -267,7 +270,7 @@ class _Recovery:
         record = PickRecord(s.part, s.pick_start, t, False, reason, s.attempt, position, given_up)
         path = self._moves.home(inputs, self._size(s.part) if s.part else 0.0)
         # A drop is recorded once where the part came to rest is known (see landed()).
-        pending = record if reason == "dropped" and not given_up else None
+        pending = record if reason is PickFailure.DROPPED and not given_up else None
         return _go(
             s,
             Mode.HOME,
@@ -301,22 +304,24 @@ class _Recovery:
         last = s.X_WP if s.part else s.candidate_X
         in_bin = self._see.seen_in_bin(t, inputs.bin_image, name)
         if in_bin is not None:
-            why, X_WP, placed = "dropped_into_bin", in_bin, s.placed + 1
+            why, X_WP, placed = PickFailure.DROPPED_INTO_BIN, in_bin, s.placed + 1
         elif mine:
             at_rest = bool(s.part) or s.candidate_at_rest  # (a part seen for the first time may still roll)
             if self._see.reachable(mine[0][1], self._size(name)) or not at_rest:
                 return None
-            why, X_WP, placed = "lost", mine[0][1], s.placed
+            why, X_WP, placed = PickFailure.LOST, mine[0][1], s.placed
         elif math.isnan(s.missing_since) or t - s.missing_since < self._config.lost_timeout:
             return None
         else:
-            why, X_WP, placed = "lost", last, s.placed
+            why, X_WP, placed = PickFailure.LOST, last, s.placed
         start = s.pick_start if s.part else s.candidate_time
         attempt = s.attempt if s.part else 1
         record = PickRecord(name, start, t, False, why, attempt, position=position_of(X_WP), given_up=True)
         if s.pending_drop is not None and s.pending_drop.part == name:
             # Not a new attempt: where the drop ended (in the bin, or out of reach / unseen).
-            reason = "dropped_into_bin" if why == "dropped_into_bin" else "dropped"
+            reason = (
+                PickFailure.DROPPED_INTO_BIN if why is PickFailure.DROPPED_INTO_BIN else PickFailure.DROPPED
+            )
             record = replace(s.pending_drop, reason=reason, position=position_of(X_WP), given_up=True)
         return _go(
             s,
@@ -342,7 +347,9 @@ class _Recovery:
         held), the arm goes Home and the machine stops (Mode.BIN_FULL)."""
         t = inputs.t
         start = s.pick_start if s.part == name else t
-        record = PickRecord(name, start, t, False, "bin_full", s.attempt, position_of(X_WP), given_up=True)
+        record = PickRecord(
+            name, start, t, False, PickFailure.BIN_FULL, s.attempt, position_of(X_WP), given_up=True
+        )
         path = self._moves.home(inputs, self._size(name))
         state = _go(
             s, Mode.BIN_FULL, t, part="", attempt=1, ignored=s.ignored + (name,), suction=False, path=path
@@ -424,11 +431,11 @@ class PickMachine:
                     s = replace(s, bad_tracking_since=t)
                 elif t - s.bad_tracking_since > self._config.tracking_time:
                     s = replace(s, bad_tracking_since=math.nan)
-                    return (*self._recovery.fail(inputs, s, "tracking", reset_ik=True), error)
+                    return (*self._recovery.fail(inputs, s, PickFailure.TRACKING, reset_ik=True), error)
             elif not math.isnan(s.bad_tracking_since):
                 s = replace(s, bad_tracking_since=math.nan)
         if s.mode is Mode.TRANSFER and not inputs.gripper.attached:
-            return (*self._recovery.fail(inputs, s, "dropped"), error)
+            return (*self._recovery.fail(inputs, s, PickFailure.DROPPED), error)
         return s, None, error
 
     # ------------------------------------------------------------- handlers
@@ -464,7 +471,9 @@ class PickMachine:
             return _note_candidate(s, *seen[0]), None
         if not reachable:
             if t - s.last_seen > self._config.detect_timeout:
-                return _go(s, Mode.WAIT_PART, t, last_seen=t), PickRecord("", t, t, False, "no_part", 1)
+                return _go(s, Mode.WAIT_PART, t, last_seen=t), PickRecord(
+                    "", t, t, False, PickFailure.NO_PART, 1
+                )
             return s, None
         name, X_WP, stamp = reachable[0]
         if stamp != s.candidate_time:
@@ -536,7 +545,7 @@ class PickMachine:
             path = self._moves.travel(inputs, X_drop, size, min_height=lift, clear_start=c.approach_height)
             return _go(s, Mode.TRANSFER, t, path=path), None
         if t - s.mode_start > c.attach_timeout:
-            return self._recovery.fail(inputs, s, "attach_timeout")
+            return self._recovery.fail(inputs, s, PickFailure.ATTACH_TIMEOUT)
         return s, None
 
     def _transfer(self, inputs: MachineInput, s: ControlState) -> _Step:
@@ -554,9 +563,11 @@ class PickMachine:
         if verdict is None and self._config.bin_camera:
             return s, None  # no bin image taken after the release yet: wait
         success = verdict is not False
-        record = PickRecord(s.part, s.pick_start, t, success, "" if success else "missed_bin", s.attempt)
+        record = PickRecord(
+            s.part, s.pick_start, t, success, None if success else PickFailure.MISSED_BIN, s.attempt
+        )
         if not success:
-            return self._recovery.fail(inputs, s, "missed_bin")[0], record
+            return self._recovery.fail(inputs, s, PickFailure.MISSED_BIN)[0], record
         # Straight on to the next part (Home only after a failure).
         return _go(
             s,

@@ -8,7 +8,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
-from enum import Enum
+from enum import Enum, StrEnum
 from typing import Any, Optional
 
 from pydrake.math import RigidTransform
@@ -32,6 +32,27 @@ class Mode(Enum):
     BIN_FULL = "BIN_FULL"
 
 
+class PickFailure(StrEnum):
+    """Why a pick attempt failed (its value is the JSON output's ``failure_reason``)."""
+
+    #: Suction did not attach in time.
+    ATTACH_TIMEOUT = "attach_timeout"
+    #: The part fell off the cup in transit.
+    DROPPED = "dropped"
+    #: It fell off in transit and came to rest in the bin (there, but not by a place).
+    DROPPED_INTO_BIN = "dropped_into_bin"
+    #: No part was seen to pick.
+    NO_PART = "no_part"
+    #: DiffIK could not follow the path.
+    TRACKING = "tracking"
+    #: The part was not in the bin after its release.
+    MISSED_BIN = "missed_bin"
+    #: The part is out of reach or was not seen again.
+    LOST = "lost"
+    #: The bin holds no more parts the arm can reach.
+    BIN_FULL = "bin_full"
+
+
 @dataclass(frozen=True)
 class PickRecord:
     """One pick attempt, as it ended."""
@@ -40,7 +61,8 @@ class PickRecord:
     start: float
     end: float
     success: bool
-    reason: str = ""
+    #: Why it failed (None for a success).
+    reason: Optional[PickFailure] = None
     attempt: int = 1
     #: Where the part was when the attempt ended, for a part given up on.
     position: Optional[tuple[float, float, float]] = None
@@ -58,7 +80,7 @@ class PickRecord:
             "start": self.start,
             "end": self.end,
             "success": self.success,
-            "failure_reason": self.reason,
+            "failure_reason": "" if self.reason is None else self.reason.value,
             "attempt": self.attempt,
             "cycle_time": self.cycle_time,
             "position": list(self.position) if self.position is not None else None,
@@ -74,7 +96,7 @@ class PickRecord:
             start=data["start"],
             end=data["end"],
             success=data["success"],
-            reason=data["failure_reason"],
+            reason=PickFailure(data["failure_reason"]) if data["failure_reason"] else None,
             attempt=data["attempt"],
             position=tuple(position) if position is not None else None,
             given_up=data.get("given_up", False),

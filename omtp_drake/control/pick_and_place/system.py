@@ -5,7 +5,7 @@
 
 The controller perceives parts **only through logical cameras** (the part's pose is
 the camera's ``X_WC`` times the reported ``X_CM``) and its own arm's joint
-encoders; it never reads ground truth. It asks :mod:`omtp_drake.control.tool_paths`
+encoders; it never reads ground truth. It asks :mod:`omtp_drake.control.pick_policy`
 for tool paths of the suction-cup face (``<gripper>_tip``) and feeds them, as desired
 poses, to Drake's ``DifferentialInverseKinematicsIntegrator``, whose joint positions
 drive the arm's position servo.

@@ -1,4 +1,4 @@
-"""The pick-and-place planner's maths (omtp_drake.control.tool_paths): paths, timing, slots, grasps."""
+"""Tool paths and the pick policy (control.tool_paths, control.pick_policy): paths, timing, slots, grasps."""
 
 import math
 
@@ -9,16 +9,13 @@ from hypothesis import strategies as st
 from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.cell import arms
+from omtp_drake.control.pick_policy import BLEND_DROP, WRIST_PER_YAW, WRIST_WIND_LIMIT, PickPlanner
 from omtp_drake.control.tool_paths import (
-    BLEND_DROP,
     MAX_TOOL_ACCELERATION,
     MAX_TOOL_ROTATION_ACCELERATION,
     MAX_TOOL_ROTATION_SPEED,
     MIN_DURATION,
-    WRIST_PER_YAW,
-    WRIST_WIND_LIMIT,
     Path,
-    PickPlanner,
     Segment,
     SegmentKind,
     hold,

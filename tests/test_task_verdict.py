@@ -1,15 +1,16 @@
-"""Honest results (issue 12): a task succeeds only when each part got into the bin by a
-successful place and nothing was lost; counts equal the records; faults end in an
-accounted-for cell."""
+"""A task's verdict: it succeeds only when each part got into the bin by a successful
+place and nothing was lost; counts equal the records; faults end in an accounted-for
+cell."""
 
 from dataclasses import replace
 
 import numpy as np
 import pytest
 
-from omtp_drake.control.pick_and_place import Mode
+from omtp_drake.control.pick_and_place import Mode, PickFailure, PickRecord
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import load_scenario
+from omtp_drake.sim.ledger import Ledger
 from omtp_drake.tasks.run import TaskResult, TaskRun, judge, prepare, run_task
 
 
@@ -62,7 +63,7 @@ def test_a_part_that_falls_into_the_bin_is_not_a_success():
     # One record for the drop, saying where the part ended (issue 22: no second
     # "attempt" that was never a pick), then two successful picks.
     reasons = [p.reason for p in picks]
-    assert reasons == ["dropped_into_bin", "", ""] and picks[0].given_up and picks[0].position is not None
+    assert reasons == ["dropped_into_bin", None, None] and picks[0].given_up and picks[0].position is not None
     assert picks[0].attempt == 1 and picks[1].start >= picks[0].end
     assert sum(p.success for p in picks) == 2 and ledger.in_bin["bin_1"] == 3 and ledger.balanced
     assert not success
@@ -107,3 +108,51 @@ def test_the_bin_check_waits_for_an_image_taken_after_the_release():
     picks, ledger, success = finish(run, 20)
     assert success and picks[-1].success
     assert picks[-1].end >= released + 1.0 - 0.06
+
+
+def test_a_pick_record_writes_its_failure_as_the_same_string_and_reads_it_back():
+    """PickFailure's values are the JSON output's ``failure_reason`` strings; a success
+    has none ("" in JSON)."""
+    failed = PickRecord("object_1", 1.0, 4.0, False, PickFailure.DROPPED_INTO_BIN, 2, (1.0, 2.0, 0.5), True)
+    ok = PickRecord("object_2", 4.0, 9.0, True)
+    assert failed.to_dict()["failure_reason"] == "dropped_into_bin"
+    assert ok.to_dict()["failure_reason"] == "" and ok.reason is None
+    assert PickRecord.from_dict(failed.to_dict()) == failed
+    assert PickRecord.from_dict(ok.to_dict()) == ok
+    assert {f.value for f in PickFailure} == {"attach_timeout", "dropped", "dropped_into_bin", "no_part",
+                                              "tracking", "missed_bin", "lost", "bin_full"}
+
+
+def _ledger(parts, spawned=None):
+    """A ledger of ``parts`` (name -> place) after the run."""
+    in_bin = sum(1 for where in parts.values() if where.startswith("in_bin:"))
+    on_floor = sum(1 for where in parts.values() if where == "on_floor")
+    return Ledger(time=30.0, spawned=spawned or len(parts), parked=0, on_belt=0, on_floor=on_floor,
+                  elsewhere=0, held={}, in_bin={"bin_1": in_bin} if in_bin else {}, disposed=0, parts=parts)
+
+
+def test_a_goal_met_with_a_part_dropped_into_the_bin_says_so_apart_from_the_picks():
+    """2 of 2 parts in the bin, one of them dropped there by a fault: the goal is met, the
+    picks are not all good; the run fails and its last line says which, naming the part."""
+    dropped = PickRecord("object_1", 0.5, 4.0, False, PickFailure.DROPPED_INTO_BIN, 1, (-8, -2.2, 0.3), True)
+    picks = [dropped, PickRecord("object_2", 4.5, 10.0, True)]
+    ledger = _ledger({"object_1": "in_bin:bin_1", "object_2": "in_bin:bin_1"})
+    result = TaskResult("fill_bin", 0, picks, ledger, judge(picks, ledger, "bin_1", 2), 10.0, 1.0, "bin_1", 2)
+    assert (result.goal_met, result.placed_by_picks, result.success) == (True, False, False)
+    summary = result.to_dict()["summary"]
+    assert (summary["goal_met"], summary["placed_by_picks"], summary["success"]) == (True, False, False)
+    assert result.verdict == (
+        "FAILED: goal met (2/2 parts in bin_1), but not all by a pick: object_1 (dropped_into_bin)")
+
+
+def test_a_goal_not_met_says_how_many_parts_are_in_the_bin_and_lost():
+    picks = [PickRecord("object_1", 0.5, 4.0, True),
+             PickRecord("object_2", 4.5, 8.0, False, PickFailure.LOST, 1, (-7.0, 1.5, 0.05), True)]
+    ledger = _ledger({"object_1": "in_bin:bin_1", "object_2": "on_floor"})
+    result = TaskResult("fill_bin", 0, picks, ledger, judge(picks, ledger, "bin_1", 2), 10.0, 1.0, "bin_1", 2)
+    assert (result.goal_met, result.placed_by_picks, result.success) == (False, True, False)
+    assert result.verdict == "FAILED: goal not met (1/2 parts in bin_1, 1 lost or held)"
+    placed = [PickRecord("object_1", 0.5, 4.0, True), PickRecord("object_2", 4.5, 8.0, True)]
+    both = _ledger({"object_1": "in_bin:bin_1", "object_2": "in_bin:bin_1"})
+    ok = TaskResult("fill_bin", 0, placed, both, judge(placed, both, "bin_1", 2), 10.0, 1.0, "bin_1", 2)
+    assert (ok.goal_met, ok.placed_by_picks, ok.success, ok.verdict) == (True, True, True, "SUCCESS")

@@ -1,4 +1,4 @@
-"""How fast the cell runs: the measurements behind ``omtp-drake bench``.
+"""How fast the cell runs: the measurements of ``bench_speed.py`` and ``omtp-drake bench``.
 
 Each case runs the scenario as users run it (*full*: every system of ours on) and
 its *bare* plant: the same MultibodyPlant and SceneGraph (bodies, geometries,
@@ -17,10 +17,10 @@ Cases (wall milliseconds per simulated second, the median of ``repeats``):
   :class:`FactoryRuntime`; bare = the same parts on the same belt.
 - ``fill_bin`` at a 2 ms step (``SMALL_STEP``), for users who ask for a finer step.
 
-Targets (issue 20): ``fill_bin`` and ``lecture7_conveyor_pick`` <= 60 ms per simulated
+Targets: ``fill_bin`` and ``lecture7_conveyor_pick`` <= 60 ms per simulated
 second, the belt <= 50 (RTF >= 20), ``fill_bin`` at 2 ms <= 120.
 
-The fair reference (issue 20): ``fill_bin``'s full run, at its step and at 2 ms,
+The fair reference: ``fill_bin``'s full run, at its step and at 2 ms,
 against its bare plant *replaying the same arm motion*: each arm's position commands,
 as its servo sampled them (``command_rate_hz``) in a recorded run of the task, fed
 through the same C++ sampler and servo, with the same one part on the floor and the same parked pool; no
@@ -53,14 +53,14 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import BeltGeometry, belt_desired_state
 from omtp_drake.cell.parts import PartStates
 from omtp_drake.cell.station import add_cell_models, build_station
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import BenchmarkError, ConfigError
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.tasks.run import TaskResult, TaskRun, prepare, run_task
 
 log = logging.getLogger(__name__)
 
-#: The finer step a user may ask for, measured as its own case (issue 20: <= 120 ms/s).
+#: The finer step a user may ask for, measured as its own case (target: <= 120 ms/s).
 SMALL_STEP = 0.002
 
 _BELT = BeltGeometry.from_model()
@@ -71,7 +71,7 @@ def _on_belt(y: float, size: float = 0.2) -> list[float]:
     return [_BELT.x, y, _BELT.top + size / 2 + 0.001]
 
 
-def _bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> tuple[Simulator, object]:
+def bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> tuple[Simulator, object]:
     """The bare plant of ``scenario`` (see the module doc), initialized: each arm held
     at its initial pose, or replaying its commands from ``motion``. Also returns what
     the simulator needs kept alive (the servos' arm models)."""
@@ -108,9 +108,7 @@ def _bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> t
         part_states.park(context, name)
     if motion is not None:  # as the station locks an arm whose command is held
         for name in set(models.arms) - set(motion.moving):
-            for index in plant.GetJointIndices(models.arms[name].arm):
-                if plant.get_joint(index).num_velocities() > 0:
-                    plant.get_joint(index).Lock(plant_context)
+            arms.lock_arm(plant, plant_context, models.arms[name].arm, True)
     simulator = Simulator(diagram, context)
     simulator.Initialize()
     return simulator, models
@@ -119,7 +117,7 @@ def _bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> t
 def bare_plant_seconds(scenario: Scenario, seconds: float) -> float:
     """Wall seconds per simulated second of ``scenario``'s bare plant, arms held still
     (see the module doc)."""
-    simulator, _models = _bare_simulator(scenario)
+    simulator, _models = bare_simulator(scenario)
     start = time.perf_counter()
     simulator.AdvanceTo(seconds)
     return (time.perf_counter() - start) / seconds
@@ -184,7 +182,7 @@ def record_arm_motion(name: Scenario | str) -> tuple[ArmMotion, TaskResult]:
 def replay_cpu_seconds(scenario: Scenario, motion: ArmMotion) -> float:
     """CPU seconds (this process) per simulated second of ``scenario``'s bare plant
     replaying ``motion`` (the same servo, none of our Python systems)."""
-    simulator, _models = _bare_simulator(scenario, motion)
+    simulator, _models = bare_simulator(scenario, motion)
     start = time.process_time()
     simulator.AdvanceTo(motion.duration)
     return (time.process_time() - start) / motion.duration
@@ -214,7 +212,7 @@ def task_seconds(name: str, time_step: Optional[float] = None) -> tuple[float, T
         scenario = scenario.with_time_step(time_step)
     result = run_task(scenario)
     if not result.success:
-        raise RuntimeError(f"{name} did not succeed in the benchmark: {result.summary}")
+        raise BenchmarkError(f"{name} did not succeed in the benchmark: {result.summary}")
     return result.wall_time_s / result.sim_time_s, result
 
 
@@ -229,7 +227,7 @@ def belt_seconds(parts: int, seconds: float) -> float:
 @dataclass(frozen=True)
 class CaseTiming:
     """One case: wall seconds per simulated second, bare and full, and the target for
-    the full run (issue 20's)."""
+    the full run."""
 
     case: str
     bare: float
@@ -258,6 +256,17 @@ class ReplayTiming:
 
 
 @dataclass(frozen=True)
+class SpeedRow:
+    """One row of the speed table: what was measured, the value and the target as
+    shown, and whether the target is met."""
+
+    what: str
+    measured: str
+    target: str
+    met: bool
+
+
+@dataclass(frozen=True)
 class SpeedReport:
     """What :func:`measure` measured."""
 
@@ -268,38 +277,37 @@ class SpeedReport:
     repeats: int
     replays: tuple[ReplayTiming, ...] = ()
 
-    def table(self) -> str:
-        """The issue-13 table: what, measured, target, met."""
-        rows: list[tuple[str, str, str, bool]] = []
-        for c in self.cases:
-            rows.append(
-                (
-                    f"{c.case}: wall ms per simulated s (RTF)",
-                    f"{1e3 * c.full:.0f} ({1 / c.full:.1f})",
-                    f"<= {1e3 * c.target:.0f} (>= {1 / c.target:.1f})",
-                    c.full <= c.target,
-                )
+    def rows(self) -> list[SpeedRow]:
+        """The speed table's rows: what, measured, target, met."""
+        rows = [
+            SpeedRow(
+                f"{c.case}: wall ms per simulated s (RTF)",
+                f"{1e3 * c.full:.0f} ({1 / c.full:.1f})",
+                f"<= {1e3 * c.target:.0f} (>= {1 / c.target:.1f})",
+                c.full <= c.target,
             )
-        for c in self.cases:
-            rows.append(
-                (
-                    f"{c.case}: bare plant ms/s, our overhead",
-                    f"{1e3 * c.bare:.0f}, {100 * c.overhead:.0f} %",
-                    "<= 25 %",
-                    c.overhead <= 0.25,
-                )
+            for c in self.cases
+        ]
+        rows += [
+            SpeedRow(
+                f"{c.case}: bare plant ms/s, our overhead",
+                f"{1e3 * c.bare:.0f}, {100 * c.overhead:.0f} %",
+                "<= 25 %",
+                c.overhead <= 0.25,
             )
-        for r in self.replays:
-            rows.append(
-                (
-                    f"{r.case}: CPU ms/s, full / same motion replayed",
-                    f"{1e3 * r.full:.0f} / {1e3 * r.replay:.0f} = {r.ratio:.2f}x",
-                    "<= 1.25x",
-                    r.ratio <= 1.25,
-                )
+            for c in self.cases
+        ]
+        rows += [
+            SpeedRow(
+                f"{r.case}: CPU ms/s, full / same motion replayed",
+                f"{1e3 * r.full:.0f} / {1e3 * r.replay:.0f} = {r.ratio:.2f}x",
+                "<= 1.25x",
+                r.ratio <= 1.25,
             )
+            for r in self.replays
+        ]
         rows.append(
-            (
+            SpeedRow(
                 "diagram build, fill_bin station / with task (s)",
                 f"{self.station_build_s:.2f} / {self.task_build_s:.2f}",
                 "<= 0.5",
@@ -308,16 +316,23 @@ class SpeedReport:
         )
         mean, worst = statistics.mean(self.cycles), max(self.cycles)
         rows.append(
-            (
+            SpeedRow(
                 f"pick cycle, fill_bin, {len(self.cycles)} picks: mean / worst (s)",
                 f"{mean:.2f} / {worst:.2f}",
                 "<= 6.0 / 7.0",
                 mean <= 6.0 and worst <= 7.0,
             )
         )
-        width = max(len(r[0]) for r in rows)
+        return rows
+
+    def table(self) -> str:
+        """:meth:`rows` as a text table, and how they were measured."""
+        rows = self.rows()
+        width = max(len(r.what) for r in rows)
         lines = [f"{'what':<{width}}  {'measured':>16}  {'target':>14}  met", "-" * (width + 40)]
-        lines += [f"{w:<{width}}  {m:>16}  {t:>14}  {'yes' if ok else 'NO'}" for w, m, t, ok in rows]
+        lines += [
+            f"{r.what:<{width}}  {r.measured:>16}  {r.target:>14}  {'yes' if r.met else 'NO'}" for r in rows
+        ]
         lines.append(
             f"(medians of {self.repeats} interleaved rounds: each round runs every case once."
             "\n Wall-time rows: bare plant = each arm held still;"
@@ -340,7 +355,7 @@ def measure(
 ) -> SpeedReport:
     """Runs every case ``repeats`` times, in rounds that run each case (bare plant, then
     full run) once, so a busy minute on a shared machine touches every case alike; reports
-    the medians (issue 20's targets are medians of interleaved runs). A few minutes at 2."""
+    the medians (the targets are medians of interleaved runs). A few minutes at 2."""
     if repeats < 1:
         raise ConfigError(f"repeats must be >= 1, got {repeats}")
     if not bare_seconds > 0:
