@@ -65,14 +65,12 @@ def think(what: str) -> None:
 
 def pass_time(seconds: float) -> None:
     """Lets ``seconds`` of simulated time pass in a blocking call (the cell runs,
-    callbacks are delivered, the arms hold their commands)."""
+    callbacks are delivered, the arms hold their commands; see ``Session.think``)."""
     from omtp_drake.ros.node import _blocking
     from omtp_drake.ros.session import current
 
-    session = current()
-    if seconds > 0:
-        with _blocking():
-            session.run_until(session.time + seconds)
+    with _blocking():
+        current().think(seconds)
 
 
 def delay_of(what: str) -> float:

@@ -393,7 +393,7 @@ class ServiceProxy:
                 raise ServiceException(f"service [{self.resolved_name}]: {e}") from None
         with _blocking():
             session = current()
-            session.run_until(session.time + session.latency.service)  # the call's way there
+            session.think(session.latency.service)  # the call's way there
             try:
                 return service.handler(request)
             except ServiceFailure as e:

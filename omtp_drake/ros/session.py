@@ -164,6 +164,13 @@ class Session:
     def tick(self) -> float:
         return self.cell.runtime.tick
 
+    def think(self, seconds: float) -> None:
+        """A blocking call's own time (planning, a service round trip): ``seconds`` of
+        simulated time pass, unless Gazebo's physics is paused, when the call takes wall
+        time only and the simulated clock stands still."""
+        if seconds > 0 and self.gazebo.clock_stopped() is None:
+            self.run_until(self.time + seconds)
+
     def run_until(self, t_end: float, until: Optional[Callable[[], bool]] = None) -> bool:
         """Advances to ``t_end`` (callbacks delivered between ticks), or until
         ``until()`` holds (checked after each delivery); returns whether it held.

@@ -25,13 +25,14 @@ rospy.init_node("listener")
 rospy.Subscriber("/gazebo/model_states", ModelStates, on_models)
 rospy.Subscriber("/gazebo/link_states", LinkStates, on_links)
 rospy.sleep(1.0)
+counts = {k: len(v) for k, v in stamps.items()}
 link = rospy.ServiceProxy("/gazebo/get_link_state", GetLinkState)
 cup = link("robot2::vacuum_gripper2_suction_cup", "world").link_state.pose.position
 part = link("object_1::box_base_link", "").link_state.pose.position
 with open(sys.argv[1], "w") as f:
     json.dump(
         {
-            "n": {k: len(v) for k, v in stamps.items()},
+            "n": counts,
             "last": last,
             "cup": [cup.x, cup.y, cup.z],
             "part": [part.x, part.y, part.z],
