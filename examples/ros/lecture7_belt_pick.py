@@ -2,7 +2,9 @@
 """Lecture 7: robot 1 picks each part the break beam stopped on the belt and drops it into
 bin 2 - all of it inside the logical camera's callback, the main thread in rospy.spin().
 Course style: rospy subscribers, MoveIt commander, tf2, the gripper, conveyor and spawner
-services. Shuts down after PARTS parts.
+services. As in the course's lecture 7 behaviour, the spawner (a part every 3 s after
+/start_spawn) is stopped while a part waits at the beam and started again after the
+pick. Shuts down after PARTS parts.
 
     omtp-drake ros-run examples/ros/lecture7_belt_pick.py [PARTS] --scenario lecture7_conveyor_pick
 """
@@ -32,6 +34,8 @@ class BeltPicker:
         rospy.wait_for_service("/gripper1/control")
         self.gripper = rospy.ServiceProxy("/gripper1/control", VacuumGripperControl)
         self.conveyor = rospy.ServiceProxy("/omtp/conveyor/control", ConveyorBeltControl)
+        self.start_spawn = rospy.ServiceProxy("/start_spawn", Empty)
+        self.stop_spawn = rospy.ServiceProxy("/stop_spawn", Empty)
         bin_2 = self.tf_buffer.lookup_transform(
             "world", "bin_2_base_link", rospy.Time(0), rospy.Duration(1.0)
         )
@@ -44,6 +48,8 @@ class BeltPicker:
 
     def on_beam(self, msg):
         self.beam_time = msg.header.stamp if msg.object_detected else None
+        if msg.object_detected:
+            self.stop_spawn()
 
     def move_cup(self, x, y, z):
         target = self.group.get_current_pose().pose
@@ -81,6 +87,7 @@ class BeltPicker:
             rospy.signal_shutdown("all parts picked")
         else:
             self.conveyor(ConveyorBeltState(power=100.0))
+            self.start_spawn()
 
 
 def main():
