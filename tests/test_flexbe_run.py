@@ -69,10 +69,9 @@ def test_example_conveyor_pick_end_to_end(tmp_path):
     assert code == 0, report["exception"]
     assert report["outcome"] == "finished"
     assert report["ledger"]["in_bin"]["bin_2"] == 1
-    # The course's spawner (every 3 s from /start_spawn) has a second part out before the
-    # beam stops the feeder (spawned at 6.1 s, feeder stopped at 6.4 s): it waits on the belt.
-    assert report["ledger"]["spawned"] == 2 and report["ledger"]["on_floor"] == 0
-    assert report["ledger"]["on_belt"] == 1
+    # The course's spawner makes a part every 3 s from /start_spawn: the behaviour stops it
+    # 3.5 s after starting it, as the course's behaviour does, so one part comes.
+    assert report["ledger"]["spawned"] == 1 and report["ledger"]["on_floor"] == 0
     states = [t["state"] for t in report["trace"]]
     assert states[:3] == ["/go home", "/start conveyor", "/start feeder"]
     assert ["/gripper on", "/above part", "/above part/ik", "/above part/move"] == states[
@@ -305,7 +304,9 @@ def test_move_group_action_and_compute_ik_against_the_planner(tmp_path):
     code, planned, executed, elapsed = r["plan_only"]
     assert code == 1 and planned >= 2 and executed == 0 and elapsed == 0.0  # planned, nothing moved
     code, elapsed, duration = r["executed"]
-    assert code == 1 and elapsed == pytest.approx(duration, abs=0.05)
+    # The motion starts after the planning and execution latencies (ros_latency: 0.08 + 0.025 s);
+    # the result comes once the arm has stopped at the goal (MoveIt's waitForRobotToStop).
+    assert code == 1 and duration + 0.105 - 1e-6 <= elapsed <= duration + 0.105 + 0.3
     assert np.allclose(r["at"], list(r["ik"].values()), atol=2e-3)
     assert r["pose_code"] == 1
     assert r["bad_group"] == -15  # INVALID_GROUP_NAME
@@ -434,14 +435,14 @@ def test_the_course_lecture7_behaviour_runs_as_python2(tmp_path):
     stopped, goes home, to R1Place (no bin there in the course's cell) and releases it; its
     graph then alternates 'go to bin' and 'deactivate gripper' for ever, so it ends at the
     timeout, as it does in Gazebo. Its 3 s wait after /start_spawn lets the spawner's timer
-    fire once (at 3.1 s), as the course's 3 s spawn period does."""
+    fire once (at 3.2 s), as the course's 3 s spawn period does."""
     src = _checkout(COURSE_MIRROR, "omtp_factory_behaviors", tmp_path / "src")
     generic = _checkout(GENERIC_MIRROR, "flexbe_manipulation_states", tmp_path / "generic")
     report = run_behavior(
-        "lecture7 pick and place", [src, generic], scenario=SCENARIO, timeout=20.0, python2=True
+        "lecture7 pick and place", [src, generic], scenario=SCENARIO, timeout=25.0, python2=True
     )
     assert report.exception is None, report.exception
-    assert report.outcome is None and report.shutdown == "--timeout of 20 s simulated time reached"
+    assert report.outcome is None and report.shutdown == "--timeout of 25 s simulated time reached"
     done = [(t["state"], t["outcome"]) for t in report.trace if t["outcome"]]
     for step in [
         ("/decision", "True"),

@@ -22,11 +22,16 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Any, Optional
 
+import numpy as np
+
 from omtp_drake.errors import OmtpError
+from omtp_drake.ros._core import SETTLE_TIMEOUT, SETTLE_TOLERANCE
 from omtp_drake.ros.ik_service import INVALID_GOAL_CONSTRAINTS
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotState
+from omtp_drake.ros.latency import delay_of
 from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
 from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
+from omtp_drake.ros.moveit_config import semantics
 from omtp_drake.ros.moveit_interfaces import MoveGroupAction, MoveGroupResult
 from omtp_drake.ros.node import Time
 from omtp_drake.ros.session import current
@@ -92,6 +97,8 @@ class MoveGroupClient:
         self._result: Any = None
         self._end = 0.0
         self._group: Optional[MoveGroupCommander] = None
+        #: The joints the running goal's plan ends at (None: no motion running).
+        self._goal: Optional[np.ndarray] = None
         self._done_cb: Any = None
 
     def wait_for_server(self, timeout: Any = None) -> bool:
@@ -104,14 +111,13 @@ class MoveGroupClient:
         cell = self._session.cell
         result: Any = MoveGroupResult()
         self._done_cb, self._end = done_cb, self._session.time
-        if request.group_name not in cell.station.arms:
-            _log.error(
-                "move_group: group %r was not found; groups: %s", request.group_name, list(cell.station.arms)
-            )
+        groups = semantics(self._session).move_groups()
+        if request.group_name not in groups:
+            _log.error("move_group: group %r was not found; groups: %s", request.group_name, groups)
             self._finish(result, MoveItErrorCodes.INVALID_GROUP_NAME, GoalState.ABORTED)
             return
         self._group = group = MoveGroupCommander(request.group_name)
-        result.trajectory_start = _robot_state(cell, request.group_name)
+        result.trajectory_start = _robot_state(cell, group._robot)
         try:
             group.set_max_velocity_scaling_factor(request.max_velocity_scaling_factor or 1.0)
             group.set_max_acceleration_scaling_factor(request.max_acceleration_scaling_factor or 1.0)
@@ -120,18 +126,19 @@ class MoveGroupClient:
             _log.error("move_group: invalid goal: %s", e)
             self._finish(result, INVALID_GOAL_CONSTRAINTS, GoalState.ABORTED)
             return
-        plan, code, seconds = group._plan(None)
-        result.planning_time = seconds
+        plan, code, _seconds = group._plan(None)
+        result.planning_time = delay_of("plan")  # the session's planning latency, as go() takes it
         if plan is None:
             self._finish(result, code, GoalState.ABORTED)
             return
-        result.planned_trajectory = to_msg(plan, request.group_name, self._session)
+        result.planned_trajectory = to_msg(plan, group._robot, self._session)
         if goal.planning_options.plan_only:
             self._finish(result, MoveItErrorCodes.SUCCESS, GoalState.SUCCEEDED)
             return
-        if not group._run(plan, wait=False):
+        if not group._run(plan, wait=False, start=delay_of("plan") + delay_of("execute")):
             self._finish(result, MoveItErrorCodes.CONTROL_FAILED, GoalState.ABORTED)
             return
+        self._goal = plan.trajectory.value(plan.trajectory.end_time()).ravel()
         result.executed_trajectory = result.planned_trajectory
         result.error_code = MoveItErrorCodes(MoveItErrorCodes.SUCCESS)
         self._result, self._state, self._end = result, GoalState.ACTIVE, group._motion_end
@@ -144,8 +151,17 @@ class MoveGroupClient:
         if self._done_cb is not None:
             self._done_cb(state, result)
 
+    def _settled(self) -> bool:
+        """MoveIt's execution ends when the robot has stopped (``waitForRobotToStop``): here
+        when the arm is at the plan's goal, or ``SETTLE_TIMEOUT`` after the plan's end."""
+        time = self._session.time
+        if time < self._end - 1e-9 or self._group is None or self._goal is None:
+            return time >= self._end - 1e-9
+        off = np.max(np.abs(self._group._arm.joint_values() - self._goal))
+        return bool(off <= SETTLE_TOLERANCE or time >= self._end + SETTLE_TIMEOUT - 1e-9)
+
     def _poll(self) -> None:
-        if self._state == GoalState.ACTIVE and self._session.time >= self._end - 1e-9:
+        if self._state == GoalState.ACTIVE and self._settled():
             self._state = GoalState.SUCCEEDED
             if self._done_cb is not None and self._result is not None:
                 self._done_cb(self._state, self._result)
@@ -159,9 +175,11 @@ class MoveGroupClient:
 
         seconds = timeout.to_sec() if hasattr(timeout, "to_sec") else float(timeout or 0.0)
         if self._state == GoalState.ACTIVE:
-            limit = self._end if seconds <= 0 else min(self._end, self._session.time + seconds)
+            limit = self._end + SETTLE_TIMEOUT
+            if seconds > 0:
+                limit = min(limit, self._session.time + seconds)
             with _blocking():
-                self._session.run_until(limit)
+                self._session.run_until(limit, until=self._settled)
         return self.is_done()
 
     def get_state(self) -> int:

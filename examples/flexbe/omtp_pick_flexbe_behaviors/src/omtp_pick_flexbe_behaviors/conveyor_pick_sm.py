@@ -86,8 +86,14 @@ class ConveyorPickSM(Behavior):
 			# x:430 y:40
 			OperatableStateMachine.add('start feeder',
 										FeederState(start=True),
-										transitions={'succeeded': 'wait for beam', 'failed': 'failed'},
+										transitions={'succeeded': 'feed one part', 'failed': 'failed'},
 										autonomy={'succeeded': Autonomy.Off, 'failed': Autonomy.Off})
+
+			# x:530 y:40
+			OperatableStateMachine.add('feed one part',
+										WaitState(wait_time=3.5),
+										transitions={'done': 'stop feeder'},
+										autonomy={'done': Autonomy.Off})
 
 			# x:630 y:40
 			OperatableStateMachine.add('wait for beam',
@@ -99,14 +105,14 @@ class ConveyorPickSM(Behavior):
 			# x:830 y:40
 			OperatableStateMachine.add('beam broken?',
 										DecisionState(outcomes=["yes", "no"], conditions=lambda m: "yes" if m.object_detected else "no"),
-										transitions={'yes': 'stop feeder', 'no': 'wait for beam'},
+										transitions={'yes': 'settle', 'no': 'wait for beam'},
 										autonomy={'yes': Autonomy.Off, 'no': Autonomy.Off},
 										remapping={'input_value': 'beam'})
 
 			# x:1030 y:40
 			OperatableStateMachine.add('stop feeder',
 										FeederState(start=False),
-										transitions={'succeeded': 'settle', 'failed': 'failed'},
+										transitions={'succeeded': 'wait for beam', 'failed': 'failed'},
 										autonomy={'succeeded': Autonomy.Off, 'failed': Autonomy.Off})
 
 			# x:1030 y:140
