@@ -304,31 +304,36 @@ def _warm_cache(scenario: str) -> None:
 def _grade_all(
     scripts: Sequence[Path],
     settings: GradeSettings,
-    per_script: Mapping[str, Mapping[str, str]],
+    per_script: Mapping[str, Mapping[str, Any]],
     workers: Optional[int],
     logs: Path,
 ) -> list[Grade]:
-    """The runs on the cluster; a task whose worker died (or that failed) is its script's row."""
+    """The runs on the cluster, never more at once than the workers' threads (a worker
+    holds only the task it runs); a task whose worker died (or that failed) is its row."""
     import dask
+    import distributed  # noqa: F401  (its config defaults first: dask.config.set would drop them on exit)
+    from distributed import as_completed
 
     from omtp_drake.ros._core import batch_connect
 
-    # One task per worker at a time, never retried: a worker's death is its task's verdict.
-    config = {"distributed.scheduler.allowed-failures": 0, "distributed.scheduler.worker-saturation": 1.0}
-    with dask.config.set(config), batch_connect(workers) as client:
-        futures = [
-            client.submit(
-                grade_one,
-                str(s.resolve()),
-                settings,
-                dict(per_script[s.name]),
-                str(logs),
-                key=f"grade-{s.stem}-{uuid.uuid4().hex[:8]}",
-                pure=False,
-            )
-            for s in scripts
-        ]
-        return [_grade_of(future, s, settings, logs) for future, s in zip(futures, scripts)]
+    grades: dict[str, Grade] = {}
+    todo = list(scripts)
+    # Never retried: a worker's death is its task's verdict.
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), batch_connect(workers) as client:
+        running = as_completed()
+        names: dict[str, Path] = {}
+        while todo or running.count():
+            while todo and running.count() < max(1, sum(client.nthreads().values())):
+                s = todo.pop(0)
+                key = f"grade-{s.stem}-{uuid.uuid4().hex[:8]}"
+                args = (str(s.resolve()), settings, dict(per_script[s.name]), str(logs))
+                running.add(client.submit(grade_one, *args, key=key, pure=False))
+                names[key] = s
+            future = next(running)
+            script = names.pop(future.key)
+            grades[script.name] = _grade_of(future, script, settings, logs)
+            future.release()
+    return [grades[s.name] for s in scripts]
 
 
 def _grade_of(future: Any, script: Path, settings: GradeSettings, logs: Path) -> Grade:

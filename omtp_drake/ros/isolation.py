@@ -224,11 +224,13 @@ def run_isolated(
     outcome = Outcome(None, None, 0.0, stdout=streams[0], stderr=streams[1])
     own = _BWRAP_PROCESSES if sandbox == "bwrap" else 0
     seen = {p: t for p, (_, _, t) in _process_table().items() if p == proc.pid}
+    last = 0
     try:
         while proc.poll() is None:
             tree = _run_processes(proc.pid, seen)
             seen.update(tree)
-            outcome.peak_processes = max(outcome.peak_processes, len(tree) - own)
+            last = len(tree)
+            outcome.peak_processes = max(outcome.peak_processes, last - own)
             if len(tree) - own > limits.processes:
                 outcome.process_limit = True
                 break
@@ -238,6 +240,9 @@ def run_isolated(
             time.sleep(_POLL_S)
     finally:
         outcome.left_running = _kill_all(proc, seen)
+        if sandbox == "bwrap" and not (outcome.timed_out or outcome.process_limit):
+            # The namespace's processes die with the run's own: count them at the last look.
+            outcome.left_running = max(outcome.left_running, last - own - 1)
         outcome.wall_s = time.monotonic() - start
         reader.join(timeout=5.0)
         for pipe in (proc.stdout, proc.stderr):

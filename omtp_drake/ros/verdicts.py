@@ -51,8 +51,11 @@ def classify(
     outcome: Outcome, report: Optional[dict[str, Any]], stderr_tail: str, limits: Limits, wall_timeout: float
 ) -> tuple[str, str]:
     """(verdict, message) of one run."""
+    exception = (report or {}).get("exception") or ""
     if outcome.process_limit:
         status, message = PROCESS_LIMIT, f"more than {limits.processes} processes (all killed)"
+    elif any(m in exception for m in _MEMORY):  # however long its process then took to exit
+        status, message = _from_report(report or {}, limits)
     elif outcome.timed_out:
         status, message = WALL_TIMEOUT, f"over {wall_timeout:g} s wall time (killed)"
     elif outcome.signal == "SIGXCPU":

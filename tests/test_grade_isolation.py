@@ -1,0 +1,204 @@
+"""``grade`` on a hostile class: every script gets its own verdict, the honest ones are graded,
+no process outlives the run and no file appears outside, with and without bubblewrap."""
+
+import csv
+import json
+import os
+import shutil
+import socket
+import textwrap
+import uuid
+from dataclasses import asdict
+from pathlib import Path
+
+import pytest
+
+from omtp_drake.ros.cli import main
+from omtp_drake.ros.grade import grade_folder
+from omtp_drake.ros.isolation import Limits, bwrap_works
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "ros"
+SCENARIO = "lecture6_assignment3"
+#: Small limits: the hogs hit them in a second or two.
+LIMITS = Limits(memory_mb=1024, processes=12, cpu_s=3, open_files=256, output_kb=64)
+
+SANDBOXES = [
+    "none",
+    pytest.param(
+        "bwrap", marks=pytest.mark.skipif(not bwrap_works(), reason="bubblewrap does not work here")
+    ),
+]
+
+
+def hostile_class(folder: Path, tag: str, port: int) -> dict[str, str]:
+    """The class folder: script name -> the verdict it must get. ``tag`` names the files the
+    scripts try to leave behind (outside their folder) and their sleeping children."""
+    scripts = {
+        # A student who loops forever waiting for something, without sleeping.
+        "busy_loop.py": ("import rospy\nrospy.init_node('busy')\nwhile True:\n    pass\n", "cpu limit"),
+        # time.sleep: wall time, not simulated time (the course's classic mistake).
+        "wall_sleeper.py": ("import time\ntime.sleep(600)\n", "wall timeout"),
+        "spinner.py": ("import rospy\nrospy.init_node('spinner')\nrospy.spin()\n", "simulated timeout"),
+        "memory_hog.py": (
+            "hog = []\nwhile True:\n    hog.append(bytearray(50 * 1024 * 1024))\n",
+            "memory limit",
+        ),
+        "fork_sleepers.py": (
+            f"""
+            import os, time
+            for i in range(40):
+                if os.fork() == 0:
+                    os.execvp("sleep", ["{tag}", "300"])
+            time.sleep(600)
+            """,
+            "process limit",
+        ),
+        "leaves_children.py": (
+            f"""
+            import os, subprocess
+            for i in range(2):
+                subprocess.Popen(["{tag}", "301"], executable="sleep")
+            print("forked", flush=True)
+            """,
+            "ok",
+        ),
+        "write_outside.py": (
+            f"""
+            import rospy
+            rospy.init_node("writer")
+            with open("/var/tmp/escape_{tag}.txt", "w") as f:
+                f.write("I was here")
+            """,
+            "exception",
+        ),
+        "network.py": (
+            f"import socket\nsocket.create_connection(('127.0.0.1', {port}), timeout=2).sendall(b'hi')\n",
+            "exception",
+        ),
+        "os_exit.py": ("import os\nprint('leaving', flush=True)\nos._exit(0)\n", "exited early"),
+        "output_flood.py": (
+            "for i in range(200000):\n    print('spam spam spam spam spam', i)\n",
+            "output cut",
+        ),
+        "kills_parent.py": ("import os, signal\nos.kill(os.getppid(), signal.SIGKILL)\n", "exception"),
+        "self_signal.py": ("import os, signal\nos.kill(os.getpid(), signal.SIGSEGV)\n", "killed by signal"),
+        "honest_bob.py": ("import rospy\nrospy.init_node('bob')\nrospy.sleep(0.2)\n1 / 0\n", "exception"),
+    }
+    for name, (text, _) in scripts.items():
+        (folder / name).write_text(textwrap.dedent(text).lstrip())
+    shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "honest_alice.py")
+    verdicts = {name: verdict for name, (_, verdict) in scripts.items()}
+    verdicts["honest_alice.py"] = "ok"
+    return verdicts
+
+
+def processes_with(tag: str) -> list[int]:
+    """Live processes whose command line holds ``tag``."""
+    found = []
+    for entry in os.scandir("/proc"):
+        if entry.name.isdigit():
+            try:
+                cmdline = Path(entry.path, "cmdline").read_bytes()
+                state = Path(entry.path, "stat").read_text().rsplit(")", 1)[1].split()[0]
+            except OSError:
+                continue
+            if tag.encode() in cmdline and state != "Z":
+                found.append(int(entry.name))
+    return found
+
+
+@pytest.mark.parametrize("sandbox", SANDBOXES)
+def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(tmp_path, sandbox):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    tag = f"omtp-hostile-{uuid.uuid4().hex[:8]}"
+    listener = socket.create_server(("127.0.0.1", 0))
+    listener.settimeout(0.1)
+    expected = hostile_class(folder, tag, listener.getsockname()[1])
+    out = tmp_path / "out"
+    grades = grade_folder(
+        folder, SCENARIO, workers=2, timeout=30.0, wall_timeout=25.0, out=out, limits=LIMITS, sandbox=sandbox
+    )
+    by_name = {g.script: g for g in grades}
+    assert {name: g.status for name, g in by_name.items()} == expected
+    # The honest scripts are graded as without the sandbox.
+    alice = (out / "runs" / "honest_alice.stdout.txt").read_text()
+    assert (
+        "part in vacuum_gripper2_suction_cup: (" in alice
+        and by_name["honest_alice.py"].report["sim_time_s"] > 1.5
+    )
+    assert (
+        by_name["honest_bob.py"].message
+        == "ZeroDivisionError: division by zero (at honest_bob.py:4 in <module>)"
+    )
+    # What the sandbox refused, in the script's row.
+    assert f"write to /var/tmp/escape_{tag}.txt" in by_name["write_outside.py"].refused
+    assert "network connect" in by_name["network.py"].refused
+    assert "signal to process" in by_name["kills_parent.py"].refused
+    # Children left behind are killed, and say so; the run did not wait for their pipes.
+    assert "2 process(es) left running, killed" in by_name["leaves_children.py"].message
+    assert by_name["leaves_children.py"].isolation["wall_s"] < 8.0
+    assert by_name["os_exit.py"].message.startswith("exited early with code 0")
+    # Output: the first 64 KB kept in a file, the rest counted.
+    flood = by_name["output_flood.py"].isolation["stdout"]
+    assert flood["kept"] == 64 * 1024 and flood["cut"] > 5_000_000
+    assert (out / "runs" / "output_flood.stdout.txt").stat().st_size == 64 * 1024
+    # No process, no file, no connection outside.
+    assert processes_with(tag) == []
+    assert not Path(f"/var/tmp/escape_{tag}.txt").exists()
+    with pytest.raises(TimeoutError):
+        listener.accept()
+    listener.close()
+    # The table, the CSV and the plot are written; the limits and sandbox are in each report.
+    rows = list(csv.DictReader(open(out / "grades.csv")))
+    assert [r["status"] for r in rows] == [g.status for g in grades]
+    assert (out / "grades.png").stat().st_size > 1000
+    run = json.loads((out / "runs" / "memory_hog.json").read_text())
+    assert run["isolation"]["sandbox"] == sandbox and run["isolation"]["limits"]["memory_mb"] == 1024
+
+
+#: Gets past the guard (ctypes) to kill the grader's worker, after starting a sleeping child.
+WORKER_KILLER = """
+import ctypes, os, subprocess, time
+subprocess.Popen(["{tag}", "300"], executable="sleep")
+time.sleep(0.5)
+ctypes.CDLL(None).kill(os.getppid(), 9)
+time.sleep(600)
+"""
+
+
+@pytest.mark.parametrize("sandbox", SANDBOXES)
+def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    tag = f"omtp-killer-{uuid.uuid4().hex[:8]}"
+    (folder / "a_killer.py").write_text(WORKER_KILLER.format(tag=tag))
+    shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "b_honest.py")
+    grades = grade_folder(
+        folder, SCENARIO, workers=1, wall_timeout=20.0, out=tmp_path / "out", sandbox=sandbox
+    )
+    killer, honest = grades
+    if sandbox == "none":  # its parent is the worker: it dies, and the row says so
+        assert killer.status == "worker died" and "KilledWorker" in killer.message
+    else:  # its parent is bubblewrap's init, which the kernel does not let it kill
+        assert killer.status == "wall timeout"
+    assert honest.status == "ok" and honest.report["sim_time_s"] > 1.5
+    assert processes_with(tag) == []
+    assert len(list(csv.DictReader(open(tmp_path / "out" / "grades.csv")))) == 2
+
+
+def test_ros_run_sandbox_runs_one_script_isolated(tmp_path, capsys):
+    tag = uuid.uuid4().hex[:8]
+    script = tmp_path / "writer.py"
+    script.write_text(f"print('writing')\nopen('/var/tmp/escape_{tag}.txt', 'w').write('x')\n")
+    result = tmp_path / "result.json"
+    argv = ["ros-run", str(script), "--scenario", SCENARIO, "--sandbox", "auto", "--json", str(result)]
+    assert main(argv) == 1
+    out = capsys.readouterr().out
+    assert "writing" in out and "verdict: exception: PermissionError" in out
+    assert f"refused by the sandbox: write to /var/tmp/escape_{tag}.txt" in out
+    data = json.loads(result.read_text())
+    assert data["status"] == "exception" and data["isolation"]["limits"] == asdict(Limits())
+    assert not Path(f"/var/tmp/escape_{tag}.txt").exists()
+    assert main(argv + ["--meshcat"]) == 2
+    assert "--sandbox has no network" in capsys.readouterr().err
