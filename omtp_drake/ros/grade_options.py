@@ -42,15 +42,16 @@ def add_grade_flags(grade: argparse.ArgumentParser, ros_run: argparse.ArgumentPa
     actions = _ros_run_actions(ros_run)
     for name, flag in ROS_RUN_OPTIONS.items():
         a = actions[flag]
+        kwargs: dict[str, Any] = {"choices": a.choices, "metavar": a.metavar}
+        if a.type is not None:
+            kwargs["type"] = a.type
         grade.add_argument(
             flag,
             dest=f"ros_{name}",
             default=None,
             action="append" if isinstance(a, argparse._AppendAction) else "store",
-            type=a.type,
-            choices=a.choices,
-            metavar=a.metavar,
             help=f"ros-run's {flag} for every script ({OVERRIDES_FILE} in DIR overrides it per script)",
+            **kwargs,
         )
 
 

@@ -368,9 +368,23 @@ def add_isolation_flags(parser: argparse.ArgumentParser, *, sandbox_default: Opt
         help="bwrap: bubblewrap (read-only system, no network, private /tmp); none: limits and the "
         f"Python guard only; auto: bwrap when it works (default: {sandbox_default or 'not isolated'})",
     )
-    parser.add_argument("--memory", type=int, default=d.memory_mb, metavar="MB", help="address space per run")
-    parser.add_argument("--processes", type=int, default=d.processes, metavar="N", help="processes per run")
-    parser.add_argument("--cpu", type=int, default=d.cpu_s, metavar="S", help="CPU seconds per run")
+    parser.add_argument(
+        "--memory",
+        type=int,
+        default=d.memory_mb,
+        metavar="MB",
+        help="address space per run (default %(default)s)",
+    )
+    parser.add_argument(
+        "--processes",
+        type=int,
+        default=d.processes,
+        metavar="N",
+        help="processes per run (default %(default)s)",
+    )
+    parser.add_argument(
+        "--cpu", type=int, default=d.cpu_s, metavar="S", help="CPU seconds per run (default %(default)s)"
+    )
     parser.add_argument(
         "--open-files", type=int, default=d.open_files, metavar="N", help="open files per run"
     )
@@ -379,7 +393,7 @@ def add_isolation_flags(parser: argparse.ArgumentParser, *, sandbox_default: Opt
         type=int,
         default=d.output_kb,
         metavar="KB",
-        help="output kept per stream (the rest is cut)",
+        help="output kept per stream, the rest cut and counted (default %(default)s)",
     )
 
 
