@@ -13,6 +13,7 @@ from pathlib import Path
 
 import pytest
 
+from omtp_drake.errors import ConfigError
 from omtp_drake.ros.cli import main
 from omtp_drake.ros.grade import grade_folder
 from omtp_drake.ros.isolation import Limits, bwrap_works
@@ -202,3 +203,13 @@ def test_ros_run_sandbox_runs_one_script_isolated(tmp_path, capsys):
     assert not Path(f"/var/tmp/escape_{tag}.txt").exists()
     assert main(argv + ["--meshcat"]) == 2
     assert "--sandbox has no network" in capsys.readouterr().err
+
+
+def test_a_folder_too_big_to_copy_per_run_is_refused(tmp_path):
+    folder = tmp_path / "home"
+    folder.mkdir()
+    (folder / "student.py").write_text("print('hi')\n")
+    for i in range(2001):
+        (folder / f"photo_{i}.jpg").write_bytes(b"")
+    with pytest.raises(ConfigError, match="holds over 2000 files or 200 MB"):
+        grade_folder(folder, SCENARIO, workers=1)

@@ -64,6 +64,8 @@ __all__ = ["COLLISION", "EXCEPTION", "OK", "Grade", "GradeSettings", "grade_fold
 
 #: The run's report, in its folder's copy.
 _REPORT = ".omtp_report.json"
+#: The most a script's folder may hold: every run copies it (a class's folder, not a home).
+_COPY_MAX_FILES, _COPY_MAX_MB = 2000, 200
 
 
 @dataclass(frozen=True)
@@ -174,6 +176,20 @@ def _copy_folder(script: Path, dest: Path) -> Path:
     return dest
 
 
+def check_copyable(folder: Path) -> None:
+    """Raises unless ``folder`` is small enough to copy for every run."""
+    files, size = 0, 0
+    for root, dirs, names in os.walk(folder):
+        dirs[:] = [d for d in dirs if d != "__pycache__"]
+        files += len(names)
+        size += sum(os.lstat(os.path.join(root, n)).st_size for n in names)
+        if files > _COPY_MAX_FILES or size > _COPY_MAX_MB << 20:
+            raise ConfigError(
+                f"{str(folder)!r} holds over {_COPY_MAX_FILES} files or {_COPY_MAX_MB} MB, and each run "
+                "gets a copy of its script's folder: put the scripts in a folder of their own"
+            )
+
+
 def _readable(scenario: str) -> list[Path]:
     """A scenario file's folder (it may live in /tmp, which the sandbox hides)."""
     path = Path(scenario)
@@ -212,6 +228,7 @@ def run_isolated_script(args: argparse.Namespace, out: Callable[[str], None]) ->
     script = Path(args.script)
     if not script.is_file():
         raise ConfigError(f"script {args.script!r} does not exist")
+    check_copyable(script.resolve().parent)
     load_scenario(args.scenario)
     mode = resolve_sandbox(args.sandbox)
     scenario = str(Path(args.scenario).resolve()) if Path(args.scenario).is_file() else str(args.scenario)
@@ -270,6 +287,7 @@ def grade_folder(
     from omtp_drake.ros._core import load_scenario
 
     scripts = find_scripts(folder)
+    check_copyable(Path(folder))
     load_scenario(scenario)  # a bad name fails before any worker starts
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ConfigError(f"--workers must be an integer >= 1, got {workers!r}")
@@ -342,13 +360,14 @@ def _grade_of(future: Any, script: Path, settings: GradeSettings, logs: Path) ->
     try:
         return future.result()
     except Exception as e:  # KilledWorker, or the task's own failure: this script's row only
+        from distributed import KilledWorker
+
         session = logs / f"{script.stem}.session"
         if session.is_file():
             kill_session(int(session.read_text().split()[0]))
         isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits)}
-        return Grade(
-            script.name, WORKER_DIED, 0, None, f"its worker died: {describe_exception(e)}", "", isolation
-        )
+        what = "its worker died" if isinstance(e, KilledWorker) else "its grading task failed"
+        return Grade(script.name, WORKER_DIED, 0, None, f"{what}: {describe_exception(e)}", "", isolation)
 
 
 def write_grades(grades: list[Grade], out: Path) -> None:

@@ -224,26 +224,16 @@ def run_isolated(
     outcome = Outcome(None, None, 0.0, stdout=streams[0], stderr=streams[1])
     own = _BWRAP_PROCESSES if sandbox == "bwrap" else 0
     seen = {p: t for p, (_, _, t) in _process_table().items() if p == proc.pid}
-    last = 0
+    left = 0
     try:
-        while proc.poll() is None:
-            tree = _run_processes(proc.pid, seen)
-            seen.update(tree)
-            last = len(tree)
-            outcome.peak_processes = max(outcome.peak_processes, last - own)
-            if len(tree) - own > limits.processes:
-                outcome.process_limit = True
-                break
-            if time.monotonic() - start > wall_timeout:
-                outcome.timed_out = True
-                break
-            time.sleep(_POLL_S)
+        left = _watch(proc, seen, outcome, limits.processes + own, start + wall_timeout, own)
     finally:
         outcome.left_running = _kill_all(proc, seen)
         if sandbox == "bwrap" and not (outcome.timed_out or outcome.process_limit):
-            # The namespace's processes die with the run's own: count them at the last look.
-            outcome.left_running = max(outcome.left_running, last - own - 1)
+            # The namespace's processes die with the run's own: counted at the last look.
+            outcome.left_running = max(outcome.left_running, left)
         outcome.wall_s = time.monotonic() - start
+        outcome.peak_processes -= own
         reader.join(timeout=5.0)
         for pipe in (proc.stdout, proc.stderr):
             pipe.close()
@@ -254,6 +244,39 @@ def run_isolated(
         outcome.signal = _signal_name(code - 128)
     outcome.returncode = code
     return outcome
+
+
+def _watch(
+    proc: subprocess.Popen, seen: dict[int, int], outcome: Outcome, most: int, deadline: float, own: int
+) -> int:
+    """Looks at the run's processes every :data:`_POLL_S` until it ends, has more than
+    ``most`` processes or passes ``deadline`` (``outcome`` says which); how many processes
+    besides the sandbox's ``own`` and the run's main one there were at the last look."""
+    left, main = 0, proc.pid if own == 0 else 0
+    while proc.poll() is None:
+        table = _process_table()
+        tree = _run_processes(proc.pid, seen, table)
+        seen.update(tree)
+        if not main:  # the first process under the sandbox's own chain is the run's
+            main = next(iter(_chain_children(proc.pid, own - 1, table)), 0)
+        left = len(tree) - own - (1 if main in tree else 0)
+        outcome.peak_processes = max(outcome.peak_processes, len(tree))
+        if len(tree) > most:
+            outcome.process_limit = True
+            break
+        if time.monotonic() > deadline:
+            outcome.timed_out = True
+            break
+        time.sleep(_POLL_S)
+    return max(0, left)
+
+
+def _chain_children(root: int, depth: int, table: dict[int, tuple[int, int, int]]) -> list[int]:
+    """The children of the processes ``depth`` generations below ``root``."""
+    level = [root]
+    for _ in range(depth):
+        level = [p for p, (ppid, _, _) in table.items() if ppid in level]
+    return [p for p, (ppid, _, _) in table.items() if ppid in level]
 
 
 def _signal_name(number: int) -> str:
@@ -304,11 +327,13 @@ def _process_table() -> dict[int, tuple[int, int, int]]:
     return table
 
 
-def _run_processes(root: int, seen: dict[int, int]) -> dict[int, int]:
+def _run_processes(
+    root: int, seen: dict[int, int], table: Optional[dict[int, tuple[int, int, int]]] = None
+) -> dict[int, int]:
     """pid -> start time of the live processes of the run: descendants of ``root`` and of
     any process seen before (the same process: same start time), and every process of
     ``root``'s session."""
-    table = _process_table()
+    table = _process_table() if table is None else table
     found = {p: t for p, (_, sid, t) in table.items() if sid == root}
     found.update({p: t for p, t in seen.items() if p in table and table[p][2] == t})
     children: dict[int, list[int]] = {}
