@@ -213,3 +213,39 @@ def test_a_folder_too_big_to_copy_per_run_is_refused(tmp_path):
         (folder / f"photo_{i}.jpg").write_bytes(b"")
     with pytest.raises(ConfigError, match="holds over 2000 files or 200 MB"):
         grade_folder(folder, SCENARIO, workers=1)
+
+
+#: Past the Python guard: a write by another program, a write and a connection through ctypes.
+BYPASS = """
+import ctypes, os, socket, subprocess
+subprocess.run("echo x > /var/tmp/escape_{tag}.txt", shell=True)
+libc = ctypes.CDLL(None, use_errno=True)
+fd = libc.open(b"/var/tmp/escape2_{tag}.txt", os.O_WRONLY | os.O_CREAT, 0o644)
+print("ctypes open:", fd, os.strerror(ctypes.get_errno()), flush=True)
+s = socket.socket()
+address = (ctypes.c_ubyte * 16)(2, 0, {port_hi}, {port_lo}, 127, 0, 0, 1)
+print("ctypes connect:", libc.connect(s.fileno(), address, 16), os.strerror(ctypes.get_errno()))
+"""
+
+
+@pytest.mark.skipif(not bwrap_works(), reason="bubblewrap does not work here")
+def test_bubblewrap_refuses_what_gets_past_the_guard(tmp_path):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    tag = uuid.uuid4().hex[:8]
+    listener = socket.create_server(("127.0.0.1", 0))
+    listener.settimeout(0.1)
+    port = listener.getsockname()[1]
+    (folder / "bypass.py").write_text(BYPASS.format(tag=tag, port_hi=port >> 8, port_lo=port & 255))
+    (grade,) = grade_folder(folder, SCENARIO, workers=1, out=tmp_path / "out", sandbox="bwrap")
+    assert grade.status == "ok"
+    assert f"write to /var/tmp/escape_{tag}.txt (read-only)" in grade.refused
+    out = (tmp_path / "out" / "runs" / "bypass.stdout.txt").read_text()
+    assert "ctypes open: -1 Read-only file system" in out
+    assert "ctypes connect: -1 " in out  # its own network: a loopback with nothing on it
+    assert (
+        not Path(f"/var/tmp/escape_{tag}.txt").exists() and not Path(f"/var/tmp/escape2_{tag}.txt").exists()
+    )
+    with pytest.raises(TimeoutError):
+        listener.accept()
+    listener.close()

@@ -105,6 +105,7 @@ def _from_report(report: dict[str, Any], limits: Limits) -> tuple[str, str]:
 
 
 _EROFS = re.compile(r"\[Errno 30\] Read-only file system: '([^']*)'")
+_EROFS_PROGRAM = re.compile(r"(/[^\s:'\"]*): Read-only file system")  # a program's message (sh, touch)
 _NETWORK = re.compile(r"\[Errno (101|99|97)\] [^(|;]*")
 
 
@@ -115,5 +116,6 @@ def refusals(*texts: str) -> str:
         for m in re.finditer(re.escape(REFUSED) + r": ([^|;\n]*?\))", text):
             found.append(m.group(1).strip())
         found += [f"write to {m.group(1)} (read-only)" for m in _EROFS.finditer(text)]
+        found += [f"write to {m.group(1)} (read-only)" for m in _EROFS_PROGRAM.finditer(text)]
         found += [f"network ({m.group(0).strip()})" for m in _NETWORK.finditer(text)]
     return "; ".join(dict.fromkeys(found))
