@@ -1,12 +1,13 @@
 """What grading a class in isolation costs: the sandbox per script, and a class on 2 workers.
 
-    python bench/bench_grade.py [--repeats 5] [--class-size 40] [--workers 2]
+    python bench/bench_grade.py [--repeats 9] [--class-size 40] [--workers 2]
 
-1. One honest script (the assignment 3 example) run three ways, ``--repeats`` times each,
-   one at a time: a bare ``ros-run`` subprocess (what ``grade`` ran before it isolated
+1. One honest script (the assignment 3 example) run three ways, interleaved, ``--repeats``
+   times each: a bare ``ros-run`` subprocess (what ``grade`` ran before it isolated
    anything), ``grade_one`` with ``--sandbox none`` (copy of the folder, limits, guard,
    output capture, process watch) and with ``--sandbox bwrap``. The cost per script is the
-   difference of the medians to the bare run (target: <= 0.3 s for bwrap).
+   difference of the medians to the bare run (target: <= 0.3 s for bwrap); and
+   bubblewrap's own start (``bwrap ... true`` against ``true``).
 2. ``grade`` on a class of ``--class-size`` copies of that script on ``--workers`` workers
    (bubblewrap when it works): runs per minute, cluster start included.
 """
@@ -23,14 +24,23 @@ import time
 from pathlib import Path
 
 from omtp_drake.ros.grade import GradeSettings, grade_folder, grade_one
-from omtp_drake.ros.isolation import Limits, bwrap_works
+from omtp_drake.ros.isolation import Limits, bwrap_works, sandbox_prefix
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "ros" / "lecture6_assignment3.py"
 SCENARIO = "lecture6_assignment3"
 
 
 def bare(script: Path) -> None:
-    command = [sys.executable, "-m", "omtp_drake.ros.cli", "ros-run", str(script), "--scenario", SCENARIO, "-q"]
+    command = [
+        sys.executable,
+        "-m",
+        "omtp_drake.ros.cli",
+        "ros-run",
+        str(script),
+        "--scenario",
+        SCENARIO,
+        "-q",
+    ]
     subprocess.run(command, capture_output=True, check=True, cwd=script.parent)
 
 
@@ -41,16 +51,8 @@ def isolated(script: Path, sandbox: str) -> None:
         raise RuntimeError(f"{sandbox}: {grade.status}: {grade.message}")
 
 
-def median_wall(fn, repeats: int) -> float:
-    walls = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        fn()
-        walls.append(time.perf_counter() - start)
-    return statistics.median(walls)
-
-
 def bench_cost(repeats: int) -> None:
+    """The three ways interleaved, round by round (the machine's load drifts)."""
     with tempfile.TemporaryDirectory() as tmp:
         script = Path(tmp) / "student.py"
         shutil.copy(EXAMPLE, script)
@@ -58,11 +60,30 @@ def bench_cost(repeats: int) -> None:
         if bwrap_works():
             ways["sandbox bwrap"] = lambda: isolated(script, "bwrap")
         ways["bare ros-run"]()  # warm: the model cache, the page cache
-        walls = {name: median_wall(fn, repeats) for name, fn in ways.items()}
-    base = walls["bare ros-run"]
-    for name, wall in walls.items():
+        walls: dict[str, list[float]] = {name: [] for name in ways}
+        for _ in range(repeats):
+            for name, fn in ways.items():
+                start = time.perf_counter()
+                fn()
+                walls[name].append(time.perf_counter() - start)
+        if bwrap_works():
+            work = Path(tmp)
+            walls["bwrap alone"] = [_wall([*sandbox_prefix(work, work), "true"]) for _ in range(20)]
+            walls["no bwrap"] = [_wall(["true"]) for _ in range(20)]
+    base = statistics.median(walls["bare ros-run"])
+    for name in ways:
+        wall = statistics.median(walls[name])
         extra = "" if name == "bare ros-run" else f"  cost {wall - base:+.3f} s per script"
         print(f"{name:14s} median wall {wall:6.3f} s (of {repeats}){extra}")
+    if "bwrap alone" in walls:
+        alone = statistics.median(walls["bwrap alone"]) - statistics.median(walls["no bwrap"])
+        print(f"bubblewrap's own start (bwrap ... true against true, median of 20): {1000 * alone:.1f} ms")
+
+
+def _wall(command: list[str]) -> float:
+    start = time.perf_counter()
+    subprocess.run(command, check=True)
+    return time.perf_counter() - start
 
 
 def bench_class(size: int, workers: int) -> None:
@@ -84,7 +105,7 @@ def bench_class(size: int, workers: int) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--repeats", type=int, default=9)
     parser.add_argument("--class-size", type=int, default=40)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
