@@ -249,3 +249,20 @@ def test_bubblewrap_refuses_what_gets_past_the_guard(tmp_path):
     with pytest.raises(TimeoutError):
         listener.accept()
     listener.close()
+
+
+def test_a_script_sees_its_own_copy_of_the_folder_only(tmp_path):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "data.csv").write_text("1,2\n")
+    (folder / "_helpers.py").write_text("GREETING = 'hello'\n")
+    (folder / "grade.yaml").write_text("alice.py:\n  moveit: noetic\n")
+    looker = "import os\nfrom _helpers import GREETING\nprint(GREETING, sorted(os.listdir('.')))\n"
+    (folder / "alice.py").write_text(looker)
+    (folder / "bob.py").write_text(looker + "open('notes.txt', 'w').write('mine')\n")
+    out = folder / "results"  # inside the class folder: never copied
+    grade_folder(folder, SCENARIO, workers=1, out=out, sandbox="none")
+    seen = (out / "runs" / "alice.stdout.txt").read_text().splitlines()[0]
+    assert seen == "hello ['.tmp', '_helpers.py', 'alice.py', 'data.csv']"
+    assert "'bob.py'" in (out / "runs" / "bob.stdout.txt").read_text()
+    assert not (folder / "notes.txt").exists()  # bob wrote into his copy

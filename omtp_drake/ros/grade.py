@@ -79,6 +79,8 @@ class GradeSettings:
     limits: Limits = field(default_factory=Limits)
     #: ``bwrap`` or ``none`` (resolved by :func:`resolve_sandbox`).
     sandbox: str = "none"
+    #: Folders never copied with a script's folder (the results folder, when inside).
+    skip: tuple[str, ...] = ()
 
 
 @dataclass
@@ -128,7 +130,7 @@ def grade_one(
     root = Path(tempfile.mkdtemp(prefix=f"omtp-grade-{path.stem}-"))
     log_dir = Path(logs) if logs else root
     try:
-        work = _copy_folder(path, root / "work")
+        work = _copy_folder(path, root / "work", settings.skip)
         copy = work / path.name
         report_path = work / _REPORT
         ros_args = ["ros-run", str(copy), *args, "--scenario", settings.scenario, "--timeout"]
@@ -163,24 +165,25 @@ def grade_one(
     return Grade(path.name, status, in_bins, report, message, refused, isolation)
 
 
-def _copy_folder(script: Path, dest: Path) -> Path:
-    """The script's folder copied to ``dest``, without the class's other scripts and grade.yaml."""
+def _copy_folder(script: Path, dest: Path, skip: Sequence[str] = ()) -> Path:
+    """The script's folder copied to ``dest``, without the class's other scripts, grade.yaml,
+    a report file and the ``skip`` folders."""
     others = {p.name for p in find_scripts(script.parent)} - {script.name}
+    others |= {grade_options.OVERRIDES_FILE, _REPORT}
 
     def ignore(folder: str, names: list[str]) -> set[str]:
-        if Path(folder) != script.parent:
-            return {"__pycache__"} & set(names)
-        return (others | {grade_options.OVERRIDES_FILE, "__pycache__"}) & set(names)
+        dropped = {n for n in names if n == "__pycache__" or os.path.join(folder, n) in skip}
+        return dropped | (others & set(names) if Path(folder) == script.parent else set())
 
     shutil.copytree(script.parent, dest, symlinks=True, ignore=ignore)
     return dest
 
 
-def check_copyable(folder: Path) -> None:
-    """Raises unless ``folder`` is small enough to copy for every run."""
+def check_copyable(folder: Path, skip: Sequence[str] = ()) -> None:
+    """Raises unless ``folder`` (but ``skip``) is small enough to copy for every run."""
     files, size = 0, 0
-    for root, dirs, names in os.walk(folder):
-        dirs[:] = [d for d in dirs if d != "__pycache__"]
+    for root, dirs, names in os.walk(folder.resolve()):
+        dirs[:] = [d for d in dirs if d != "__pycache__" and os.path.join(root, d) not in skip]
         files += len(names)
         size += sum(os.lstat(os.path.join(root, n)).st_size for n in names)
         if files > _COPY_MAX_FILES or size > _COPY_MAX_MB << 20:
@@ -287,7 +290,8 @@ def grade_folder(
     from omtp_drake.ros._core import load_scenario
 
     scripts = find_scripts(folder)
-    check_copyable(Path(folder))
+    skip = (str(Path(out).resolve()),) if out is not None else ()
+    check_copyable(Path(folder), skip)
     load_scenario(scenario)  # a bad name fails before any worker starts
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ConfigError(f"--workers must be an integer >= 1, got {workers!r}")
@@ -301,7 +305,7 @@ def grade_folder(
     scenario_arg = str(Path(scenario).resolve()) if Path(scenario).is_file() else str(scenario)
     if mode == "bwrap":
         _warm_cache(scenario_arg)
-    settings = GradeSettings(scenario_arg, seed, timeout, wall_timeout, limits, mode)
+    settings = GradeSettings(scenario_arg, seed, timeout, wall_timeout, limits, mode, skip)
     per_script = {s.name: grade_options.script_options(s.name, class_values, overrides) for s in scripts}
     with tempfile.TemporaryDirectory(prefix="omtp-grade-logs-") as tmp:
         logs = Path(out) / "runs" if out is not None else Path(tmp)
