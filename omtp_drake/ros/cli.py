@@ -80,29 +80,6 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     from omtp_drake.ros.grade_options import add_grade_flags
     from omtp_drake.ros.isolation import add_isolation_flags
 
-    ros_run = _add_ros_run(sub)
-    p = sub.add_parser(
-        "grade",
-        help="ros-run every script of a folder (submissions) on a scenario: one row per script",
-        description="Each script runs isolated (its own copy of the folder, limits, bubblewrap where it "
-        "works) on local Dask workers; the table, OUT/grades.csv, OUT/grades.png and each run's report "
-        "and output in OUT/runs/.",
-    )
-    p.add_argument("folder", metavar="DIR")
-    p.add_argument("--scenario", required=True, metavar="NAME|FILE")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: cores)")
-    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
-    p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds per script")
-    p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall seconds per script")
-    p.add_argument("--out", default=None, metavar="DIR", help="results folder (default grade_<DIR>)")
-    add_isolation_flags(p, sandbox_default="auto")
-    add_grade_flags(p, ros_run)
-    p.set_defaults(func=cmd_grade)
-
-
-def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
-    from omtp_drake.ros.isolation import add_isolation_flags
-
     p = sub.add_parser(
         "ros-run",
         help="run an unmodified ROS 1 course script (rospy, MoveIt commander, tf2) in simulated time",
@@ -132,17 +109,35 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
     p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
-    p.add_argument(
-        "--wall-timeout", type=float, default=900.0, metavar="S", help="wall seconds (with --sandbox)"
-    )
+    p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall s (with --sandbox)")
     add_isolation_flags(p, sandbox_default=None)
     p.set_defaults(func=cmd_ros_run)
-    return p
+    ros_run = p
+
+    p = sub.add_parser(
+        "grade",
+        help="ros-run every script of a folder (submissions) on a scenario: one row per script",
+        description="Each script runs isolated (its own copy of the folder, limits, bubblewrap where "
+        "it works) on local Dask workers; the table, OUT/grades.csv, OUT/grades.png and each run's "
+        "report and output in OUT/runs/.",
+    )
+    p.add_argument("folder", metavar="DIR")
+    p.add_argument("--scenario", required=True, metavar="NAME|FILE")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: cores)")
+    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds per script")
+    p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall seconds per script")
+    p.add_argument("--out", default=None, metavar="DIR", help="results folder (default grade_<DIR>)")
+    add_isolation_flags(p, sandbox_default="auto")
+    add_grade_flags(p, ros_run)
+    p.set_defaults(func=cmd_grade)
 
 
 def ros_run_parser() -> argparse.ArgumentParser:
     """The ``ros-run`` command's parser (its flags are what ``grade`` passes on)."""
-    return _add_ros_run(argparse.ArgumentParser().add_subparsers())
+    sub = argparse.ArgumentParser().add_subparsers()
+    add_commands(sub)
+    return sub.choices["ros-run"]
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -411,7 +411,11 @@ def add_isolation_flags(parser: argparse.ArgumentParser, *, sandbox_default: Opt
         "--cpu", type=int, default=d.cpu_s, metavar="S", help="CPU seconds per run (default %(default)s)"
     )
     parser.add_argument(
-        "--open-files", type=int, default=d.open_files, metavar="N", help="open files per run"
+        "--open-files",
+        type=int,
+        default=d.open_files,
+        metavar="N",
+        help="open files per run (default %(default)s)",
     )
     parser.add_argument(
         "--output",
