@@ -36,4 +36,3 @@ def factory():
     Shared: never add its diagram to another builder (build your own station).
     """
     return build_station(load_scenario("omtp_factory"))
-

@@ -27,10 +27,14 @@ def dh_fk(model, q):
     T = np.eye(4)
     for i in range(6):
         ct, st, ca, sa = math.cos(q[i]), math.sin(q[i]), math.cos(alpha[i]), math.sin(alpha[i])
-        T = T @ np.array([[ct, -st * ca, st * sa, a[i] * ct],
-                          [st, ct * ca, -ct * sa, a[i] * st],
-                          [0, sa, ca, d[i]],
-                          [0, 0, 0, 1]])
+        T = T @ np.array(
+            [
+                [ct, -st * ca, st * sa, a[i] * ct],
+                [st, ct * ca, -ct * sa, a[i] * st],
+                [0, sa, ca, d[i]],
+                [0, 0, 0, 1],
+            ]
+        )
     return T
 
 
@@ -64,12 +68,15 @@ def test_named_pose_lookup_and_errors():
         arms.named_pose("R1Home", r2)
 
 
-@pytest.mark.parametrize("q, words", [
-    ([0.0] * 5, ["6 numbers", "got 5"]),
-    ([0.0, 0.0, float("nan"), 0.0, 0.0, 0.0], ["finite"]),
-    ([0.0, 0.0, 4.0, 0.0, 0.0, 0.0], ["elbow_joint", "4.0000", "[-3.1416, 3.1416]"]),
-    ("home", ["6 numbers"]),
-])
+@pytest.mark.parametrize(
+    "q, words",
+    [
+        ([0.0] * 5, ["6 numbers", "got 5"]),
+        ([0.0, 0.0, float("nan"), 0.0, 0.0, 0.0], ["finite"]),
+        ([0.0, 0.0, 4.0, 0.0, 0.0, 0.0], ["elbow_joint", "4.0000", "[-3.1416, 3.1416]"]),
+        ("home", ["6 numbers"]),
+    ],
+)
 def test_joint_positions_are_checked(q, words):
     with pytest.raises(ConfigError) as e:
         arms.check_joint_positions(q, RobotConfig(name="robot1"))
@@ -101,8 +108,7 @@ def test_joint_trajectory_respects_velocity_limits():
     t = np.linspace(trajectory.start_time(), trajectory.end_time(), 2000)
     v = np.abs(np.column_stack([trajectory.EvalDerivative(ti, 1) for ti in t]))
     assert np.all(v.max(axis=1) <= 0.5 * np.array(arms.VELOCITY_LIMITS["ur10"]) + 1e-9)
-    np.testing.assert_allclose(trajectory.value(trajectory.end_time()).ravel(),
-                               arms.NAMED_POSES["R1Up"])
+    np.testing.assert_allclose(trajectory.value(trajectory.end_time()).ravel(), arms.NAMED_POSES["R1Up"])
     with pytest.raises(ConfigError):
         arms.joint_trajectory(robot, ["Home"], speed_fraction=0)
 
@@ -110,8 +116,7 @@ def test_joint_trajectory_respects_velocity_limits():
 def _tool_positions(station, context):
     plant = station.plant
     pc = plant.GetMyContextFromRoot(context)
-    return {n: plant.GetFrameByName(f"{n}_tool0").CalcPoseInWorld(pc).translation()
-            for n in station.arms}
+    return {n: plant.GetFrameByName(f"{n}_tool0").CalcPoseInWorld(pc).translation() for n in station.arms}
 
 
 def test_arms_hold_home_under_gravity(factory):

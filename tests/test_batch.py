@@ -247,18 +247,34 @@ def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_
     from omtp_drake.sim.ledger import Ledger
     from omtp_drake.tasks.run import TaskResult
 
-    ledger = Ledger(time=30.0, spawned=2, parked=0, on_belt=0, on_floor=1, elsewhere=0, held={"robot2": 0},
-                    in_bin={"bin_1": 1}, disposed=0,
-                    parts={"object_1": "in_bin:bin_1", "object_2": "on_floor"})
-    picks = [PickRecord("object_1", 0.5, 6.0, True),
-             PickRecord("object_2", 6.5, 12.0, False, "lost", 1, position=(-7.0, 1.5, 0.05), given_up=True)]
+    ledger = Ledger(
+        time=30.0,
+        spawned=2,
+        parked=0,
+        on_belt=0,
+        on_floor=1,
+        elsewhere=0,
+        held={"robot2": 0},
+        in_bin={"bin_1": 1},
+        disposed=0,
+        parts={"object_1": "in_bin:bin_1", "object_2": "on_floor"},
+    )
+    picks = [
+        PickRecord("object_1", 0.5, 6.0, True),
+        PickRecord("object_2", 6.5, 12.0, False, "lost", 1, position=(-7.0, 1.5, 0.05), given_up=True),
+    ]
     result = TaskResult(SCENARIO, 3, picks, ledger, False, 30.0, 3.0, "bin_1", 2)
     record = batch.RunRecord(SCENARIO, 3, {}, "finished", result=result)
     assert not record.ledger_anomaly
     again = batch.RunRecord.from_dict(json.loads(json.dumps(record.to_dict())))
     assert not again.ledger_anomaly and again.result.picks[1].position == (-7.0, 1.5, 0.05)
-    unrecorded = batch.RunRecord(SCENARIO, 3, {}, "finished", result=TaskResult(
-        SCENARIO, 3, picks[:1], ledger, False, 30.0, 3.0, "bin_1", 2))
+    unrecorded = batch.RunRecord(
+        SCENARIO,
+        3,
+        {},
+        "finished",
+        result=TaskResult(SCENARIO, 3, picks[:1], ledger, False, 30.0, 3.0, "bin_1", 2),
+    )
     assert unrecorded.ledger_anomaly
 
 
@@ -266,8 +282,9 @@ def test_a_run_whose_worker_dies_is_run_again_and_says_so(tmp_path, capsys):
     out = tmp_path / "lost"
     run_fn = functools.partial(kill_the_worker_once, marker=str(tmp_path / "killed"))
     with batch.connect(workers=2) as client:
-        [record] = run_batch(SCENARIO, [0], parts=1, duration=0.3, client=client, out=out, progress=False,
-                             run_fn=run_fn)
+        [record] = run_batch(
+            SCENARIO, [0], parts=1, duration=0.3, client=client, out=out, progress=False, run_fn=run_fn
+        )
     assert record.status == "finished" and record.result.sim_time_s == pytest.approx(0.3)
     assert (record.lost_workers, record.attempts, record.retries) == (1, 1, 1)
     saved = json.loads((out / "runs" / "seed0.json").read_text())

@@ -27,7 +27,11 @@ def test_table_says_which_targets_are_met():
             CaseTiming("fast case", bare=0.080, full=0.095, target=0.1),
             CaseTiming("slow case", bare=0.060, full=0.150, target=0.12),
         ),
-        station_build_s=0.21, task_build_s=0.62, cycles=(5.5, 6.2, 7.3), repeats=2)
+        station_build_s=0.21,
+        task_build_s=0.62,
+        cycles=(5.5, 6.2, 7.3),
+        repeats=2,
+    )
     rows = {line.split("  ")[0].strip(): line for line in report.table().splitlines()}
     assert rows["fast case: wall ms per simulated s (RTF)"].rstrip().endswith("yes")
     assert "95 (10.5)" in rows["fast case: wall ms per simulated s (RTF)"]
@@ -48,8 +52,10 @@ def test_bare_plant_steps_the_scenario_without_our_systems():
     assert 0 < seconds < 10 and math.isfinite(seconds)
 
 
-@pytest.mark.parametrize("repeats, bare, message", [(0, 10.0, "repeats must be >= 1, got 0"),
-                                                    (1, 0.0, "bare_seconds must be > 0, got 0.0")])
+@pytest.mark.parametrize(
+    "repeats, bare, message",
+    [(0, 10.0, "repeats must be >= 1, got 0"), (1, 0.0, "bare_seconds must be > 0, got 0.0")],
+)
 def test_bad_settings_are_refused_before_anything_runs(repeats, bare, message):
     with pytest.raises(ConfigError, match=message):
         measure(repeats, bare)
@@ -64,8 +70,14 @@ def test_cli_bench_refuses_bad_repeats_in_one_line(capsys):
 
 
 def test_table_reports_the_full_run_over_the_same_motion_replayed():
-    report = SpeedReport(cases=(), station_build_s=0.2, task_build_s=0.3, cycles=(5.0,), repeats=3,
-                         replays=(ReplayTiming("fill_bin", replay=0.050, full=0.150),))
+    report = SpeedReport(
+        cases=(),
+        station_build_s=0.2,
+        task_build_s=0.3,
+        cycles=(5.0,),
+        repeats=3,
+        replays=(ReplayTiming("fill_bin", replay=0.050, full=0.150),),
+    )
     rows = {line.split("  ")[0].strip(): line for line in report.table().splitlines()}
     row = rows["fill_bin: CPU ms/s, full / same motion replayed"]
     assert "150 / 50 = 3.00x" in row and row.rstrip().endswith("NO")
@@ -99,7 +111,8 @@ def test_replay_follows_the_recorded_run_and_locks_the_arm_that_stood_still():
     def sample(run):
         station = run.runtime.station
         q_full[round(run.runtime.time, 6)] = station.plant.GetPositions(
-            station.plant.GetMyContextFromRoot(run.runtime.context), station.arms["robot2"].arm)
+            station.plant.GetMyContextFromRoot(run.runtime.context), station.arms["robot2"].arm
+        )
 
     run_task(scenario, on_chunk=sample)  # the same seed: the same run again
     bare = with_parts(prepare("fill_bin"), [[-8.3, -1.23, 0.051]], 0.1).with_time_step(0.002)

@@ -25,22 +25,30 @@ def test_camera_json_has_the_part_on_the_belt(capsys):
 
 
 def test_camera_text_is_like_rostopic_echo(capsys):
-    assert main(["camera", "lecture6_assignment3", "--camera", "logical_camera_2",
-                 "--time", "1.5"]) == 0
+    assert main(["camera", "lecture6_assignment3", "--camera", "logical_camera_2", "--time", "1.5"]) == 0
     out = capsys.readouterr().out
     assert 'camera_name: "logical_camera_2"' in out
     assert 'name: "object_1"' in out and 'type: "object"' in out
     assert out.rstrip().endswith("---")
 
 
-@pytest.mark.parametrize("args, message", [
-    (["camera", "lecture6_assignment1", "--camera", "logical_camera_3"],
-     "unknown camera 'logical_camera_3'; valid: logical_camera_1, logical_camera_2"),
-    (["camera", "lecture6_assignment1", "--camera", "logical_camera_1", "--time", "-1"],
-     "--time -1.0 is invalid; valid: a finite time >= 0 s"),
-    (["tf-echo", "lecture6_assignment3", "world", "logical_camera_2_object_2_frame"],
-     "frame 'logical_camera_2_object_2_frame' does not exist: logical_camera_2 has not seen 'object_2'"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (
+            ["camera", "lecture6_assignment1", "--camera", "logical_camera_3"],
+            "unknown camera 'logical_camera_3'; valid: logical_camera_1, logical_camera_2",
+        ),
+        (
+            ["camera", "lecture6_assignment1", "--camera", "logical_camera_1", "--time", "-1"],
+            "--time -1.0 is invalid; valid: a finite time >= 0 s",
+        ),
+        (
+            ["tf-echo", "lecture6_assignment3", "world", "logical_camera_2_object_2_frame"],
+            "frame 'logical_camera_2_object_2_frame' does not exist: logical_camera_2 has not seen 'object_2'",
+        ),
+    ],
+)
 def test_errors_are_one_line(capsys, args, message):
     assert main(args) == 2
     err = capsys.readouterr().err
@@ -51,8 +59,20 @@ def test_errors_are_one_line(capsys, args, message):
 def test_tf_echo_of_the_detected_part_in_the_suction_cup(capsys):
     """Assignment 3 from the command line: the part on the floor seen from robot 2's
     suction cup at R2Home (-8.287, -1.609, 1.122), tool pointing down."""
-    assert main(["tf-echo", "lecture6_assignment3", "vacuum_gripper2_suction_cup",
-                 "logical_camera_2_object_1_frame", "--time", "1.5", "--json"]) == 0
+    assert (
+        main(
+            [
+                "tf-echo",
+                "lecture6_assignment3",
+                "vacuum_gripper2_suction_cup",
+                "logical_camera_2_object_1_frame",
+                "--time",
+                "1.5",
+                "--json",
+            ]
+        )
+        == 0
+    )
     out = json.loads(capsys.readouterr().out)
     assert out["time"] == pytest.approx(1.5)
     p = np.array(out["translation"])

@@ -11,8 +11,9 @@ from omtp_drake.cli import main
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "omtp_drake.cli", *args],
-                          capture_output=True, text=True, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "omtp_drake.cli", *args], capture_output=True, text=True, timeout=300
+    )
 
 
 def test_scenarios_lists_names(capsys):
@@ -28,35 +29,49 @@ def test_tf_echo_json(capsys):
 
 
 def test_tf_echo_at_named_pose(capsys):
-    assert main(["tf-echo", "omtp_factory", "world", "vacuum_gripper2_suction_cup",
-                 "--pose", "robot2=R2Place"]) == 0
+    assert (
+        main(["tf-echo", "omtp_factory", "world", "vacuum_gripper2_suction_cup", "--pose", "robot2=R2Place"])
+        == 0
+    )
     out = capsys.readouterr().out
     assert "- Translation: [-8.034, -2.095, 1.250]" in out  # reference: (-8.035, -2.095, 1.250) +/- 1 mm
     assert "in RPY (degree)" in out
 
 
-@pytest.mark.parametrize("args, message", [
-    (["tf-echo", "omtp_fctory", "world", "robot1_tool0"], "unknown scenario 'omtp_fctory'; valid: "),
-    (
-        ["tf-echo", "omtp_factory", "world", "robot1_tol0"],
-        "unknown frame 'robot1_tol0'; closest: robot1_tool0",
-    ),
-    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot3=R1Up"], "unknown robot 'robot3'"),
-    (
-        ["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1=R1Upp"],
-        "unknown named pose of robot1 'R1Upp'",
-    ),
-    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1"], "--pose takes ROBOT=POSE"),
-    (["screenshot", "no_such_replay.html"], "replay '"),
-    (["screenshot", "no_such_replay.html", "--size", "1280"], "--size takes WIDTHxHEIGHT"),
-    # Ranges and values name the option the user wrote, in one line (no usage text).
-    (["batch", "lecture6_assignment4", "--seeds", "-1:3"], "--seeds '-1:3' is an empty range; valid: START"),
-    (["run", "lecture6_assignment4", "--seed", "-1"], "--seed must be an integer >= 0, got -1"),
-    (["run", "lecture6_assignment4", "--parts", "x"], "argument --parts: invalid int value: 'x'"),
-    (["run", "lecture6_assignment4", "--parts", "0"], "--parts must be >= 1, got 0"),
-    (["run", "lecture6_assignment4", "--duration", "-5"], "--duration must be a finite time > 0 s, got -5.0"),
-    (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--time", "-1"], "--time -1.0 is invalid"),
-])
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["tf-echo", "omtp_fctory", "world", "robot1_tool0"], "unknown scenario 'omtp_fctory'; valid: "),
+        (
+            ["tf-echo", "omtp_factory", "world", "robot1_tol0"],
+            "unknown frame 'robot1_tol0'; closest: robot1_tool0",
+        ),
+        (
+            ["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot3=R1Up"],
+            "unknown robot 'robot3'",
+        ),
+        (
+            ["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1=R1Upp"],
+            "unknown named pose of robot1 'R1Upp'",
+        ),
+        (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--pose", "robot1"], "--pose takes ROBOT=POSE"),
+        (["screenshot", "no_such_replay.html"], "replay '"),
+        (["screenshot", "no_such_replay.html", "--size", "1280"], "--size takes WIDTHxHEIGHT"),
+        # Ranges and values name the option the user wrote, in one line (no usage text).
+        (
+            ["batch", "lecture6_assignment4", "--seeds", "-1:3"],
+            "--seeds '-1:3' is an empty range; valid: START",
+        ),
+        (["run", "lecture6_assignment4", "--seed", "-1"], "--seed must be an integer >= 0, got -1"),
+        (["run", "lecture6_assignment4", "--parts", "x"], "argument --parts: invalid int value: 'x'"),
+        (["run", "lecture6_assignment4", "--parts", "0"], "--parts must be >= 1, got 0"),
+        (
+            ["run", "lecture6_assignment4", "--duration", "-5"],
+            "--duration must be a finite time > 0 s, got -5.0",
+        ),
+        (["tf-echo", "omtp_factory", "world", "robot1_tool0", "--time", "-1"], "--time -1.0 is invalid"),
+    ],
+)
 def test_errors_are_one_line_without_traceback(args, message):
     result = run(*args)
     assert result.returncode == 2
@@ -71,9 +86,23 @@ def test_run_with_meshcat_and_no_terminal_prints_the_url_and_ends_cleanly():
     """Issue 11: `run --meshcat` (and --serve) from Jupyter's `!` or the background:
     the URL first, no EOFError, a note instead of serving."""
     result = subprocess.run(
-        [sys.executable, "-m", "omtp_drake.cli", "run", "lecture6_assignment4", "--parts", "1",
-         "--meshcat", "--serve", "-q"],
-        capture_output=True, text=True, timeout=300, stdin=subprocess.DEVNULL)
+        [
+            sys.executable,
+            "-m",
+            "omtp_drake.cli",
+            "run",
+            "lecture6_assignment4",
+            "--parts",
+            "1",
+            "--meshcat",
+            "--serve",
+            "-q",
+        ],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        stdin=subprocess.DEVNULL,
+    )
     assert result.returncode == 0, result.stderr
     lines = result.stdout.splitlines()
     assert lines[0].startswith("Meshcat: http://localhost:")
@@ -102,26 +131,41 @@ def test_tf_echo_reports_the_state_at_the_time_asked(capsys):
     rt.advance_to(0.1)
     assert out["time"] == pytest.approx(0.1)
     np.testing.assert_allclose(out["translation"], rt.part_pose("object_1").translation(), atol=1e-9)
-    assert main(["tf-echo", "lecture6_assignment3", "world", "logical_camera_2_object_1_frame",
-                 "--time", "0.1", "--json"]) == 0
+    assert (
+        main(
+            [
+                "tf-echo",
+                "lecture6_assignment3",
+                "world",
+                "logical_camera_2_object_1_frame",
+                "--time",
+                "0.1",
+                "--json",
+            ]
+        )
+        == 0
+    )
     seen = json.loads(capsys.readouterr().out)
     np.testing.assert_allclose(seen["translation"], rt.part_pose("object_1").translation(), atol=1e-9)
 
 
-@pytest.mark.parametrize("text, message", [
-    ("", "the file is empty; a scenario needs keys"),
-    ("# only a comment\n", "the file is empty; a scenario needs keys"),
-    (
-        "base: omtp_factory\nparts:\n  - {name: p, xyz: [0, 0, 1]}\n  - {name: p, xyz: [1, 0, 1]}\n",
-        "parts: name 'p' is given twice; names in a list must be unique",
-    ),
-    (
-        "base: omtp_factory\ncameras:\n  - {name: logical_camera_1, near: 0.3}\n"
-        "  - {name: logical_camera_1}\n",
-        "cameras: name 'logical_camera_1' is given twice",
-    ),
-    ("base: omtp_factory\nseed: -3\n", "seed must be an integer >= 0, got -3"),
-])
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("", "the file is empty; a scenario needs keys"),
+        ("# only a comment\n", "the file is empty; a scenario needs keys"),
+        (
+            "base: omtp_factory\nparts:\n  - {name: p, xyz: [0, 0, 1]}\n  - {name: p, xyz: [1, 0, 1]}\n",
+            "parts: name 'p' is given twice; names in a list must be unique",
+        ),
+        (
+            "base: omtp_factory\ncameras:\n  - {name: logical_camera_1, near: 0.3}\n"
+            "  - {name: logical_camera_1}\n",
+            "cameras: name 'logical_camera_1' is given twice",
+        ),
+        ("base: omtp_factory\nseed: -3\n", "seed must be an integer >= 0, got -3"),
+    ],
+)
 def test_scenario_files_that_are_refused_in_one_line(tmp_path, text, message):
     path = tmp_path / "mine.yaml"
     path.write_text(text)

@@ -25,8 +25,7 @@ def belt_world(pool=3, **spawner):
 def velocity(rt, name):
     plant = rt.station.plant
     body = plant.GetBodyByName(name)
-    return plant.EvalBodySpatialVelocityInWorld(plant.GetMyContextFromRoot(rt.context),
-                                                body).translational()
+    return plant.EvalBodySpatialVelocityInWorld(plant.GetMyContextFromRoot(rt.context), body).translational()
 
 
 @pytest.mark.parametrize("power", [50.0, 100.0])

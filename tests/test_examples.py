@@ -17,8 +17,14 @@ def run_example(name, *args):
 
 def test_every_example_is_tested():
     assert sorted(p.stem for p in EXAMPLES.glob("*.py")) == sorted(
-        ["transform_object_pose", "lecture6_assignment3", "lecture6_assignment4", "lecture7_pick",
-         "fill_a_bin"])
+        [
+            "transform_object_pose",
+            "lecture6_assignment3",
+            "lecture6_assignment4",
+            "lecture7_pick",
+            "fill_a_bin",
+        ]
+    )
 
 
 def test_transform_object_pose_puts_the_part_where_it_is(capsys):
@@ -35,11 +41,14 @@ def test_assignment3_part_in_the_suction_cup_frame():
     assert angle < 0.01
 
 
-@pytest.mark.parametrize("name, args, bin_name, parts", [
-    ("lecture6_assignment4", ["--parts", "1"], "bin_1", 1),
-    ("lecture7_pick", ["--parts", "1"], "bin_2", 1),
-    ("fill_a_bin", ["--parts", "2"], "bin_1", 2),
-])
+@pytest.mark.parametrize(
+    "name, args, bin_name, parts",
+    [
+        ("lecture6_assignment4", ["--parts", "1"], "bin_1", 1),
+        ("lecture7_pick", ["--parts", "1"], "bin_2", 1),
+        ("fill_a_bin", ["--parts", "2"], "bin_1", 2),
+    ],
+)
 def test_pick_scripts_put_the_parts_in_the_bin(name, args, bin_name, parts):
     ledger = run_example(name, *args)["ledger"]
     assert ledger.in_bin[bin_name] == parts and ledger.balanced

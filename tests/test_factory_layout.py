@@ -25,10 +25,14 @@ LAYOUT = {
 
 # Suction-cup frame in world at each named pose (reference section 3, +/- 1 mm).
 SUCTION = {
-    "R1Up": (0.500, 2.066, 2.377), "R1Home": (0.336, 2.488, 1.587),
-    "R1PreGrasp": (0.871, 2.402, 1.587), "R1Place": (0.664, 1.112, 1.587),
-    "R2Up": (-8.001, -1.500, 1.701), "R2Home": (-8.287, -1.609, 1.122),
-    "R2PreGrasp": (-8.221, -1.233, 1.122), "R2Place": (-8.035, -2.095, 1.250),
+    "R1Up": (0.500, 2.066, 2.377),
+    "R1Home": (0.336, 2.488, 1.587),
+    "R1PreGrasp": (0.871, 2.402, 1.587),
+    "R1Place": (0.664, 1.112, 1.587),
+    "R2Up": (-8.001, -1.500, 1.701),
+    "R2Home": (-8.287, -1.609, 1.122),
+    "R2PreGrasp": (-8.221, -1.233, 1.122),
+    "R2Place": (-8.035, -2.095, 1.250),
 }
 
 
@@ -70,8 +74,9 @@ def test_belt_top_surface_height(factory):
 @pytest.mark.parametrize("pose", sorted(SUCTION))
 def test_suction_cup_at_named_pose(factory, tree, pose):
     robot = "robot1" if pose.startswith("R1") else "robot2"
-    X = _pose(factory, tree, "world", f"vacuum_gripper{robot[-1]}_suction_cup",
-              {robot: arms.named_pose(pose)})
+    X = _pose(
+        factory, tree, "world", f"vacuum_gripper{robot[-1]}_suction_cup", {robot: arms.named_pose(pose)}
+    )
     np.testing.assert_allclose(X.translation(), SUCTION[pose], atol=1e-3)
 
 
@@ -83,10 +88,13 @@ def test_suction_cup_and_tip_offsets_on_tool0(factory, tree):
         np.testing.assert_allclose(X.translation(), [0, 0, 0.0775], atol=1e-12)
 
 
-@pytest.mark.parametrize("robot, expected, tol", [
-    ("robot1", (-8.50, -4.00, -0.95), 1e-3),
-    ("robot2", (-0.70, 0.20, -0.70), 2e-3),
-])
+@pytest.mark.parametrize(
+    "robot, expected, tol",
+    [
+        ("robot1", (-8.50, -4.00, -0.95), 1e-3),
+        ("robot2", (-0.70, 0.20, -0.70), 2e-3),
+    ],
+)
 def test_bin_in_robot_base_frame(factory, tree, robot, expected, tol):
     X = _pose(factory, tree, f"{robot}_base_link", "bin_1_base_link")
     np.testing.assert_allclose(X.translation(), expected, atol=tol)
@@ -95,8 +103,17 @@ def test_bin_in_robot_base_frame(factory, tree, robot, expected, tol):
 def test_frame_tree_names_and_edges(tree):
     names = set(tree.names())
     for n in (1, 2):
-        chain = ["pedestal_link", "base_link", "shoulder_link", "upper_arm_link", "forearm_link",
-                 "wrist_1_link", "wrist_2_link", "wrist_3_link", "tool0"]
+        chain = [
+            "pedestal_link",
+            "base_link",
+            "shoulder_link",
+            "upper_arm_link",
+            "forearm_link",
+            "wrist_1_link",
+            "wrist_2_link",
+            "wrist_3_link",
+            "tool0",
+        ]
         assert {f"robot{n}_{c}" for c in chain} <= names
         assert {f"vacuum_gripper{n}_base_link", f"vacuum_gripper{n}_suction_cup"} <= names
     assert tree.parent("vacuum_gripper1_base_link") == "robot1_tool0"

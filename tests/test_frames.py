@@ -98,21 +98,29 @@ def test_camera_frames_and_detected_frames_are_in_the_tree(belt):
 def test_bin_in_each_robot_base_frame_through_the_buffer(belt):
     """Assignment 2: the bin's position in each robot's base frame (reference section 2)."""
     _, _, buffer = belt
-    for robot, expected, tol in (("robot1", (-8.50, -4.00, -0.95), 1e-3),
-                                 ("robot2", (-0.70, 0.20, -0.70), 2e-3)):
+    for robot, expected, tol in (
+        ("robot1", (-8.50, -4.00, -0.95), 1e-3),
+        ("robot2", (-0.70, 0.20, -0.70), 2e-3),
+    ):
         X = buffer.lookup_transform(f"{robot}_base_link", "bin_1_base_link").transform
         np.testing.assert_allclose(X.translation(), expected, atol=tol)
 
 
 def test_unknown_frame_lists_the_closest_names(belt):
     _, _, buffer = belt
-    with pytest.raises(UnknownNameError, match=r"unknown frame 'vacuum_gripper2_suction_cp'; "
-                                               r"closest: vacuum_gripper2_suction_cup"):
+    with pytest.raises(
+        UnknownNameError,
+        match=r"unknown frame 'vacuum_gripper2_suction_cp'; "
+        r"closest: vacuum_gripper2_suction_cup",
+    ):
         buffer.lookup_transform("world", "vacuum_gripper2_suction_cp")
     # Issue 11: a detected-part frame the camera does not see is a FrameError naming the
     # camera and what it does see.
-    with pytest.raises(FrameError, match=r"logical_camera_1 has not seen 'object_2' "
-                                         r"\(its images .* show object_1\)"):
+    with pytest.raises(
+        FrameError,
+        match=r"logical_camera_1 has not seen 'object_2' "
+        r"\(its images .* show object_1\)",
+    ):
         buffer.lookup_transform("logical_camera_1_object_2_frame", "world")
     with pytest.raises(UnknownNameError, match="unknown camera 'logical_camera_3'"):
         buffer.image("logical_camera_3")
@@ -165,8 +173,9 @@ def falling():
     builder = DiagramBuilder()
     builder.AddSystem(station.diagram)
     robot2 = station.arm("robot2").config
-    source = builder.AddSystem(TrajectorySource(
-        arms.joint_trajectory(robot2, ["Home", "PreGrasp"], dwell=0.0)))
+    source = builder.AddSystem(
+        TrajectorySource(arms.joint_trajectory(robot2, ["Home", "PreGrasp"], dwell=0.0))
+    )
     builder.Connect(source.get_output_port(), station.diagram.GetInputPort("robot2.position"))
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
@@ -174,10 +183,12 @@ def falling():
     for name, handles in station.arms.items():
         station.set_arm_positions(context, name, arms.named_pose("Home", handles.config))
     station.diagram.GetInputPort("robot1.position").FixValue(
-        station_context, arms.named_pose("Home", station.arm("robot1").config))
+        station_context, arms.named_pose("Home", station.arm("robot1").config)
+    )
     for robot in station.grippers:
         station.diagram.GetInputPort(f"{station.suction_name(robot)}.command").FixValue(
-            station_context, [0.0])
+            station_context, [0.0]
+        )
     station.initialize_context(context)
     plant = station.plant
     plant_context = plant.GetMyContextFromRoot(context)
@@ -191,9 +202,11 @@ def falling():
         simulator.AdvanceTo(t)
         buffer.record(context)
         short.record(context)
-        truth[t] = (tree.lookup_transform(plant_context, "world", "object_1"),
-                    tree.lookup_transform(plant_context, "world", CUP2),
-                    tree.lookup_transform(plant_context, CUP2, "object_1"))
+        truth[t] = (
+            tree.lookup_transform(plant_context, "world", "object_1"),
+            tree.lookup_transform(plant_context, "world", CUP2),
+            tree.lookup_transform(plant_context, CUP2, "object_1"),
+        )
     return station, buffer, truth, short
 
 
@@ -315,14 +328,18 @@ def test_detected_frame_exists_only_while_the_camera_sees_the_model():
     X_01 = buffer.lookup_transform("world", PART, 0.1).transform
     plant = station.plant
     part = plant.GetBodyByName("object_1")
-    plant.SetFreeBodyPose(plant.GetMyMutableContextFromRoot(context), part,
-                          RigidTransform([1.2, 4.0, 1.021]))  # out of camera 1's view
+    plant.SetFreeBodyPose(
+        plant.GetMyMutableContextFromRoot(context), part, RigidTransform([1.2, 4.0, 1.021])
+    )  # out of camera 1's view
     simulator.AdvanceTo(0.25)
     buffer.record(context)  # holds the image of 0.2: no part
     assert PART in buffer.all_frame_names(0.15)
     assert PART not in buffer.all_frame_names(0.25)
-    with pytest.raises(FrameError, match=r"'logical_camera_1_object_1_frame' does not exist at "
-                                         r"time 0.25 s: logical_camera_1 did not see 'object_1' then"):
+    with pytest.raises(
+        FrameError,
+        match=r"'logical_camera_1_object_1_frame' does not exist at "
+        r"time 0.25 s: logical_camera_1 did not see 'object_1' then",
+    ):
         buffer.lookup_transform("world", PART, 0.25)
     # Between the last image that saw it (0.1) and one that did not (0.2): held, not interpolated.
     assert_same_pose(buffer.lookup_transform("world", PART, 0.18).transform, X_01, 1e-12)
@@ -340,6 +357,10 @@ def test_anonymized_detections_get_no_frame():
     Simulator(station.diagram, context).Initialize()
     buffer = TfBuffer.from_context(station, context)
     assert [m.type for m in buffer.image("logical_camera_1").models] == ["object"]
-    assert not [n for n in buffer.all_frame_names() if n.startswith("logical_camera_1_")
-                and n not in ("logical_camera_1_frame", "logical_camera_1_optical_frame")]
+    assert not [
+        n
+        for n in buffer.all_frame_names()
+        if n.startswith("logical_camera_1_")
+        and n not in ("logical_camera_1_frame", "logical_camera_1_optical_frame")
+    ]
     assert math.isfinite(buffer.image("logical_camera_1").time)

@@ -26,11 +26,36 @@ from omtp_drake.scenario.loader import DIAGRAMS_DIR
 SCALE = float(os.environ.get("OMTP_FUZZ_SCALE", "1"))
 
 #: Values that break things: non-finite, huge, negative, zero, wrong types, nesting.
-BAD = st.sampled_from([
-    math.nan, math.inf, -math.inf, -1.0, 0.0, 1e9, -1e9, 1e-12, 7, -3, True, "", "abc",
-    [], [1.0], [1.0, 2.0], [math.nan, 0.0, 1.0], [0.0, 0.0, -5.0], [1e6, 0.0, 0.0], {},
-    {"x": 1}, None, [[1.0, 2.0, 3.0]], "R9Nowhere", "object_1", "robot2",
-])
+BAD = st.sampled_from(
+    [
+        math.nan,
+        math.inf,
+        -math.inf,
+        -1.0,
+        0.0,
+        1e9,
+        -1e9,
+        1e-12,
+        7,
+        -3,
+        True,
+        "",
+        "abc",
+        [],
+        [1.0],
+        [1.0, 2.0],
+        [math.nan, 0.0, 1.0],
+        [0.0, 0.0, -5.0],
+        [1e6, 0.0, 0.0],
+        {},
+        {"x": 1},
+        None,
+        [[1.0, 2.0, 3.0]],
+        "R9Nowhere",
+        "object_1",
+        "robot2",
+    ]
+)
 
 
 def _fields(schema) -> dict:
@@ -119,8 +144,23 @@ def _edge(field_type, current):
     if inner is bool or isinstance(current, bool):
         return st.booleans()
     if inner is str or isinstance(current, str):
-        return st.sampled_from(["", "robot1", "robot2", "bin_1", "logical_camera_2", "Home", "x y",
-                                "weld", "force", "point", "sap", "world", "object_1"])
+        return st.sampled_from(
+            [
+                "",
+                "robot1",
+                "robot2",
+                "bin_1",
+                "logical_camera_2",
+                "Home",
+                "x y",
+                "weld",
+                "force",
+                "point",
+                "sap",
+                "world",
+                "object_1",
+            ]
+        )
     if isinstance(current, list):
         return st.lists(NUMBERS, min_size=0, max_size=4)
     return BAD
@@ -166,11 +206,16 @@ def test_what_loads_builds_and_runs_or_is_refused(doc):
 
 
 @settings(max_examples=int(20 * SCALE), deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(documents(), st.sampled_from([
-    ["camera", "{path}", "--camera", "logical_camera_2", "--time", "0.1"],
-    ["tf-echo", "{path}", "world", "robot2_tool0", "--time", "0.1"],
-    ["run", "{path}", "--duration", "0.2", "-q"],
-]))
+@given(
+    documents(),
+    st.sampled_from(
+        [
+            ["camera", "{path}", "--camera", "logical_camera_2", "--time", "0.1"],
+            ["tf-echo", "{path}", "world", "robot2_tool0", "--time", "0.1"],
+            ["run", "{path}", "--duration", "0.2", "-q"],
+        ]
+    ),
+)
 def test_cli_prints_one_line_errors_only(tmp_path_factory, doc, argv):
     from omtp_drake.cli import main
 
@@ -192,36 +237,58 @@ def _assert_refused(tmp_path, text, words):
         assert word in str(e.value), str(e.value)
 
 
-@pytest.mark.parametrize("text, words", [
-    ("base: omtp_factory\nparts:\n  - {name: p, xyz: [.nan, 0, 1]}\n", ["parts[p].xyz[0]", "nan", "finite"]),
-    ("base: omtp_factory\nparts:\n  - {name: p, xyz: [0, 0, -5]}\n", ["outside the cell", "z >= 0"]),
-    (
-        "base: omtp_factory\nparts:\n  - {name: p, xyz: [1000000, 0, 1]}\n",
-        ["outside the cell", "|x|, |y| <= 10"],
-    ),
-    ("base: lecture6_assignment4\nspawner: {xyz: [-8.3, -1.23, .inf]}\n", ["spawner.xyz", "inf", "finite"]),
-    ("base: omtp_factory\ngravity: [0, 0, .nan]\n", ["gravity", "nan"]),
-    ("base: omtp_factory\nrobots:\n  - {name: robot1, xy: [.nan, 1.8]}\n", ["robots[robot1].xy", "nan"]),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        (
+            "base: omtp_factory\nparts:\n  - {name: p, xyz: [.nan, 0, 1]}\n",
+            ["parts[p].xyz[0]", "nan", "finite"],
+        ),
+        ("base: omtp_factory\nparts:\n  - {name: p, xyz: [0, 0, -5]}\n", ["outside the cell", "z >= 0"]),
+        (
+            "base: omtp_factory\nparts:\n  - {name: p, xyz: [1000000, 0, 1]}\n",
+            ["outside the cell", "|x|, |y| <= 10"],
+        ),
+        (
+            "base: lecture6_assignment4\nspawner: {xyz: [-8.3, -1.23, .inf]}\n",
+            ["spawner.xyz", "inf", "finite"],
+        ),
+        ("base: omtp_factory\ngravity: [0, 0, .nan]\n", ["gravity", "nan"]),
+        ("base: omtp_factory\nrobots:\n  - {name: robot1, xy: [.nan, 1.8]}\n", ["robots[robot1].xy", "nan"]),
+    ],
+)
 def test_non_finite_and_out_of_cell_values_are_refused_at_load(tmp_path, text, words):
     _assert_refused(tmp_path, text, words)
 
 
-@pytest.mark.parametrize("text, words", [
-    ("base: omtp_factory\ncameras:\n  - {name: logical_camera_2, update_rate_hz: 1.0e+9}\n",
-     ["logical_camera_2", "update_rate_hz=1000000000.0", "0 < update_rate_hz <= 1000"]),
-    ("base: fill_bin\ntask: {diffik_rate_hz: 1.0e+6}\n", ["task.diffik_rate_hz must be in (0, 1000] Hz"]),
-    ("base: omtp_factory\nrobots:\n  - {name: robot2, command_rate_hz: 1.0e+5}\n",
-     ["robots[robot2].command_rate_hz must be in (0, 1000] Hz"]),
-    ("base: omtp_factory\nplant_config: {time_step: 1.0e-9}\n",
-     ["plant_config.time_step must be in [0.0001, 0.01] s", "1e-09"]),
-    ("base: fill_bin\npart_pool: 100000\n", ["part_pool must be in [0, 100], got 100000"]),
-    ("base: lecture6_assignment4\nspawner: {period: 1.0e-9}\n",
-     ["spawner.period must be 0 (no automatic spawns) or >= 0.001 s"]),
-    ("base: omtp_factory\nsuction: {check_rate_hz: 1.0e+6}\n", ["check_rate_hz", "[10, 1000] Hz"]),
-    ("base: omtp_factory\ncameras:\n  - {name: logical_camera_2, rgbd: true, aspect_ratio: 0.001}\n",
-     ["rgbd_width", "1 <= rgbd_width / aspect_ratio <= 4096"]),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        (
+            "base: omtp_factory\ncameras:\n  - {name: logical_camera_2, update_rate_hz: 1.0e+9}\n",
+            ["logical_camera_2", "update_rate_hz=1000000000.0", "0 < update_rate_hz <= 1000"],
+        ),
+        ("base: fill_bin\ntask: {diffik_rate_hz: 1.0e+6}\n", ["task.diffik_rate_hz must be in (0, 1000] Hz"]),
+        (
+            "base: omtp_factory\nrobots:\n  - {name: robot2, command_rate_hz: 1.0e+5}\n",
+            ["robots[robot2].command_rate_hz must be in (0, 1000] Hz"],
+        ),
+        (
+            "base: omtp_factory\nplant_config: {time_step: 1.0e-9}\n",
+            ["plant_config.time_step must be in [0.0001, 0.01] s", "1e-09"],
+        ),
+        ("base: fill_bin\npart_pool: 100000\n", ["part_pool must be in [0, 100], got 100000"]),
+        (
+            "base: lecture6_assignment4\nspawner: {period: 1.0e-9}\n",
+            ["spawner.period must be 0 (no automatic spawns) or >= 0.001 s"],
+        ),
+        ("base: omtp_factory\nsuction: {check_rate_hz: 1.0e+6}\n", ["check_rate_hz", "[10, 1000] Hz"]),
+        (
+            "base: omtp_factory\ncameras:\n  - {name: logical_camera_2, rgbd: true, aspect_ratio: 0.001}\n",
+            ["rgbd_width", "1 <= rgbd_width / aspect_ratio <= 4096"],
+        ),
+    ],
+)
 def test_rates_steps_and_sizes_that_would_hang_or_exhaust_memory_are_refused(tmp_path, text, words):
     """Found by the fuzz test: a camera at 1e9 Hz, a 1 ns plant step or a spawner
     period, a pool of 1e5 parts, a 4096 x 4e6 RGB-D image loaded and then hung the

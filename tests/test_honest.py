@@ -19,8 +19,11 @@ def finish(run, limit):
         rt.advance(0.5)
     picks = list(run.history().picks)
     ledger = rt.ledger()
-    return picks, ledger, judge(picks, ledger, run.scenario.required_task().bin,
-                                run.scenario.required_task().parts)
+    return (
+        picks,
+        ledger,
+        judge(picks, ledger, run.scenario.required_task().bin, run.scenario.required_task().parts),
+    )
 
 
 def until_mode(run, mode, limit=30.0):
@@ -35,10 +38,17 @@ def sized(size, mass):
     return replace(scenario, pool_part_size=size, pool_part_mass=mass, spawner=spawner)
 
 
-@pytest.mark.parametrize("size, mass, parts, seed", [
-    (0.05, 0.1, 5, 1), (0.05, 1.0, 5, 2), (0.1, 0.1, 5, 3), (0.1, 1.0, 5, 4),
-    (0.2, 0.1, 2, 5), (0.2, 1.0, 2, 6),  # 0.2 m cubes: two fit (one per layer, up to the rim)
-])
+@pytest.mark.parametrize(
+    "size, mass, parts, seed",
+    [
+        (0.05, 0.1, 5, 1),
+        (0.05, 1.0, 5, 2),
+        (0.1, 0.1, 5, 3),
+        (0.1, 1.0, 5, 4),
+        (0.2, 0.1, 2, 5),
+        (0.2, 1.0, 2, 6),  # 0.2 m cubes: two fit (one per layer, up to the rim)
+    ],
+)
 def test_fill_bin_with_any_cube_from_5_to_20_cm_and_up_to_1_kg(size, mass, parts, seed):
     result = run_task(sized(size, mass), seed=seed, parts=parts)
     assert result.success, result.to_dict()["summary"]
@@ -56,7 +66,7 @@ def test_a_part_that_falls_into_the_bin_is_not_a_success():
     on (a replacement is spawned), the summary says so and the task is not a success."""
     run = TaskRun(prepare("fill_bin", parts=2))
     until_mode(run, Mode.TRANSFER)
-    run.runtime.advance(2.2)           # over the bin's near wall
+    run.runtime.advance(2.2)  # over the bin's near wall
     run.runtime.fail_vacuum("robot2", 0.5)
     picks, ledger, success = finish(run, 45)
     # One record for the drop, saying where the part ended (issue 22: no second

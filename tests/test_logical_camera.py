@@ -37,21 +37,22 @@ H = 0.05  # half-size of the 0.1 test cubes
 X_WC = RigidTransform(RollPitchYaw(0.3, -0.4, 2.0), [0.4, -0.7, 1.3])
 CUBES = ["object_0", "object_1", "object_2", "object_3", "bin_1", "conveyor"]
 # Boxes of varied sizes for the comparison with an independent oracle.
-ODD_SIZES = [(0.06 + 0.02 * (i % 4), 0.1 + 0.05 * (i % 3), 0.04 + 0.03 * (i % 5))
-             for i in range(24)]
+ODD_SIZES = [(0.06 + 0.02 * (i % 4), 0.1 + 0.05 * (i % 3), 0.04 + 0.03 * (i % 5)) for i in range(24)]
 
 
 def _inertia() -> SpatialInertia:
     return SpatialInertia.SolidBoxWithMass(1.0, 0.1, 0.1, 0.1)
 
 
-def _add_box_model(plant: MultibodyPlant, name: str, size: tuple[float, float, float],
-                   *, collision: bool = True) -> RigidBody:
+def _add_box_model(
+    plant: MultibodyPlant, name: str, size: tuple[float, float, float], *, collision: bool = True
+) -> RigidBody:
     instance = plant.AddModelInstance(name)
     body = plant.AddRigidBody("base", instance, _inertia())
     if collision:
-        plant.RegisterCollisionGeometry(body, RigidTransform(), Box(*size), "collision",
-                                        ProximityProperties())
+        plant.RegisterCollisionGeometry(
+            body, RigidTransform(), Box(*size), "collision", ProximityProperties()
+        )
     else:
         plant.RegisterVisualGeometry(body, RigidTransform(), Box(*size), "visual", [1, 1, 1, 1])
     return body
@@ -72,17 +73,16 @@ class World:
         root = self.diagram.CreateDefaultContext()
         plant_context = self.plant.GetMyMutableContextFromRoot(root)
         for i, body in enumerate(self.bodies.values()):
-            self.plant.SetFreeBodyPose(
-                plant_context, body, X_WC @ RigidTransform([-5.0 - i, 0.0, 0.0]))
+            self.plant.SetFreeBodyPose(plant_context, body, X_WC @ RigidTransform([-5.0 - i, 0.0, 0.0]))
         return root
 
     def place(self, root: Context, name: str, X_CB: RigidTransform) -> None:
         """Puts the body of model ``name`` at X_CB in the camera frame."""
-        self.plant.SetFreeBodyPose(self.plant.GetMyMutableContextFromRoot(root),
-                                   self.bodies[name], X_WC @ X_CB)
+        self.plant.SetFreeBodyPose(
+            self.plant.GetMyMutableContextFromRoot(root), self.bodies[name], X_WC @ X_CB
+        )
 
-    def capture(self, root: Context, camera: str = "cam", time: float = 0.0
-                ) -> LogicalCameraImage:
+    def capture(self, root: Context, camera: str = "cam", time: float = 0.0) -> LogicalCameraImage:
         """Forces one update of a camera at ``time`` and returns its image."""
         root.SetTime(time)
         system = self.cameras[camera]
@@ -97,8 +97,10 @@ class World:
 def _build_world(tmp_dir: Path, *, seed: int = 0, noise_seed: Optional[int] = None) -> World:
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
-    bodies = {name: _add_box_model(plant, name, (2 * H, 2 * H, 2 * H), collision=(i % 2 == 0))
-              for i, name in enumerate(CUBES)}
+    bodies = {
+        name: _add_box_model(plant, name, (2 * H, 2 * H, 2 * H), collision=(i % 2 == 0))
+        for i, name in enumerate(CUBES)
+    }
     bodies["big_1"] = _add_box_model(plant, "big_1", (0.4, 0.4, 0.4))
     for i, size in enumerate(ODD_SIZES):
         bodies[f"odd_{i}"] = _add_box_model(plant, f"odd_{i}", size)
@@ -108,18 +110,18 @@ def _build_world(tmp_dir: Path, *, seed: int = 0, noise_seed: Optional[int] = No
     instance = plant.AddModelInstance("arm_1")
     bodies["arm_1"] = plant.AddRigidBody("root", instance, _inertia())
     tip = plant.AddRigidBody("tip", instance, _inertia())
-    plant.RegisterCollisionGeometry(tip, RigidTransform(), Box(0.1, 0.1, 0.1), "c",
-                                    ProximityProperties())
+    plant.RegisterCollisionGeometry(tip, RigidTransform(), Box(0.1, 0.1, 0.1), "c", ProximityProperties())
     plant.WeldFrames(bodies["arm_1"].body_frame(), tip.body_frame(), RigidTransform([0, 0.5, 0]))
 
     # A mesh whose vertices span [0.5, 0.6] x [0, 0.1] x [0, 0.1] in its body frame.
     obj = tmp_dir / "cube.obj"
-    obj.write_text("".join(f"v {x} {y} {z}\n" for x in (0.5, 0.6) for y in (0, 0.1)
-                           for z in (0, 0.1)) + "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\n"
-                   + "f 1 5 6\nf 1 6 2\nf 3 4 8\nf 3 8 7\nf 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n")
+    obj.write_text(
+        "".join(f"v {x} {y} {z}\n" for x in (0.5, 0.6) for y in (0, 0.1) for z in (0, 0.1))
+        + "f 1 2 4\nf 1 4 3\nf 5 7 8\nf 5 8 6\n"
+        + "f 1 5 6\nf 1 6 2\nf 3 4 8\nf 3 8 7\nf 1 3 7\nf 1 7 5\nf 2 6 8\nf 2 8 4\n"
+    )
     mesh = plant.AddRigidBody("base", plant.AddModelInstance("mesh_1"), _inertia())
-    plant.RegisterCollisionGeometry(mesh, RigidTransform(), Convex(str(obj)), "c",
-                                    ProximityProperties())
+    plant.RegisterCollisionGeometry(mesh, RigidTransform(), Convex(str(obj)), "c", ProximityProperties())
     bodies["mesh_1"] = mesh
 
     # Welded in view: a floor (HalfSpace + a box) and geometry of the world itself.
@@ -130,16 +132,16 @@ def _build_world(tmp_dir: Path, *, seed: int = 0, noise_seed: Optional[int] = No
     # crashes Drake 1.51 with >= 16 dynamic geometries (drake#19263).
     plant.RegisterVisualGeometry(floor, RigidTransform(), HalfSpace(), "ground", [1, 1, 1, 1])
     plant.RegisterVisualGeometry(floor, RigidTransform(), Box(1, 1, 0.01), "tile", [1, 1, 1, 1])
-    plant.RegisterVisualGeometry(plant.world_body(), X_WC @ RigidTransform([0.6, 0, 0]),
-                                 Sphere(0.1), "world_ball", [1, 1, 1, 1])
+    plant.RegisterVisualGeometry(
+        plant.world_body(), X_WC @ RigidTransform([0.6, 0, 0]), Sphere(0.1), "world_ball", [1, 1, 1, 1]
+    )
 
     # The camera's own model: a 0.5 cube around the camera frame (it overlaps the near plane).
     own = plant.AddModelInstance("logical_camera_1")
     housing = plant.AddRigidBody("housing", own, _inertia())
     plant.WeldFrames(plant.world_frame(), housing.body_frame(), X_WC)
     plant.RegisterVisualGeometry(housing, RigidTransform(), Box(0.5, 0.5, 0.5), "v", [1, 1, 1, 1])
-    frame = plant.AddFrame(FixedOffsetFrame("logical_camera_1_frame", housing.body_frame(),
-                                            RigidTransform()))
+    frame = plant.AddFrame(FixedOffsetFrame("logical_camera_1_frame", housing.body_frame(), RigidTransform()))
     plant.Finalize()
 
     configs = {
@@ -148,13 +150,22 @@ def _build_world(tmp_dir: Path, *, seed: int = 0, noise_seed: Optional[int] = No
         "typed": LogicalCameraConfig(name="typed", known_types=["object", "conveyor"]),
         "named": LogicalCameraConfig(name="named", known_names=["object_3", "bin_1"]),
         "anonymous": LogicalCameraConfig(name="anonymous", anonymize=True),
-        "noisy": LogicalCameraConfig(name="noisy", position_noise_sigma=0.001,
-                                     orientation_noise_sigma=0.01, seed=noise_seed),
+        "noisy": LogicalCameraConfig(
+            name="noisy", position_noise_sigma=0.001, orientation_noise_sigma=0.01, seed=noise_seed
+        ),
     }
-    cameras = {name: add_logical_camera(builder, plant, scene_graph, frame, config,
-                                        exclude=[] if name == "cam_with_own" else [own],
-                                        seed=seed)
-               for name, config in configs.items()}
+    cameras = {
+        name: add_logical_camera(
+            builder,
+            plant,
+            scene_graph,
+            frame,
+            config,
+            exclude=[] if name == "cam_with_own" else [own],
+            seed=seed,
+        )
+        for name, config in configs.items()
+    }
     return World(builder.Build(), plant, frame, cameras, bodies)
 
 
@@ -170,9 +181,10 @@ def world(tmp_path_factory: pytest.TempPathFactory) -> World:
 def test_config_defaults_and_yaml() -> None:
     config = LogicalCameraConfig()
     config.validate()
-    assert (config.near, config.far, config.horizontal_fov, config.aspect_ratio) == \
-        (0.2, 1.0, 1.1, 1.5)
-    loaded = yaml_load_typed(schema=LogicalCameraConfig, data="""
+    assert (config.near, config.far, config.horizontal_fov, config.aspect_ratio) == (0.2, 1.0, 1.1, 1.5)
+    loaded = yaml_load_typed(
+        schema=LogicalCameraConfig,
+        data="""
 name: logical_camera_2
 parent: world
 xyz: [-8.3, -1.23, 1.8]
@@ -188,24 +200,39 @@ known_types: [object]
 known_names: []
 anonymize: true
 seed: 3
-""")
+""",
+    )
     loaded.validate()
     assert loaded.xyz == [-8.3, -1.23, 1.8] and loaded.known_types == ["object"]
     assert loaded.seed == 3 and loaded.anonymize
     assert np.allclose(loaded.X_PC().translation(), [-8.3, -1.23, 1.8])
 
 
-@pytest.mark.parametrize("key, value", [
-    ("name", ""),
-    ("near", 0.0), ("near", -0.1), ("near", math.nan),
-    ("far", 0.2), ("far", 0.1), ("far", math.inf),
-    ("horizontal_fov", 0.0), ("horizontal_fov", math.pi), ("horizontal_fov", -1.0),
-    ("aspect_ratio", 0.0), ("aspect_ratio", -1.5),
-    ("update_rate_hz", 0.0), ("update_rate_hz", -10.0),
-    ("position_noise_sigma", -0.001), ("orientation_noise_sigma", -0.01),
-    ("xyz", [0.0, 0.0]), ("rpy", [0.0, 0.0, 0.0, 0.0]), ("xyz", [0.0, math.nan, 0.0]),
-    ("seed", -1),
-])
+@pytest.mark.parametrize(
+    "key, value",
+    [
+        ("name", ""),
+        ("near", 0.0),
+        ("near", -0.1),
+        ("near", math.nan),
+        ("far", 0.2),
+        ("far", 0.1),
+        ("far", math.inf),
+        ("horizontal_fov", 0.0),
+        ("horizontal_fov", math.pi),
+        ("horizontal_fov", -1.0),
+        ("aspect_ratio", 0.0),
+        ("aspect_ratio", -1.5),
+        ("update_rate_hz", 0.0),
+        ("update_rate_hz", -10.0),
+        ("position_noise_sigma", -0.001),
+        ("orientation_noise_sigma", -0.01),
+        ("xyz", [0.0, 0.0]),
+        ("rpy", [0.0, 0.0, 0.0, 0.0]),
+        ("xyz", [0.0, math.nan, 0.0]),
+        ("seed", -1),
+    ],
+)
 def test_invalid_config_names_field_and_value(key: str, value: object) -> None:
     config = LogicalCameraConfig(**{key: value})
     with pytest.raises(ConfigError) as error:
@@ -226,12 +253,10 @@ def test_invalid_constructor_arguments() -> None:
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
     with pytest.raises(ConfigError, match="finalized"):
-        LogicalCamera(plant, scene_graph.model_inspector(), plant.world_frame(),
-                      LogicalCameraConfig())
+        LogicalCamera(plant, scene_graph.model_inspector(), plant.world_frame(), LogicalCameraConfig())
     plant.Finalize()
     with pytest.raises(ConfigError, match="seed=-2"):
-        add_logical_camera(builder, plant, scene_graph, plant.world_frame(),
-                           LogicalCameraConfig(), seed=-2)
+        add_logical_camera(builder, plant, scene_graph, plant.world_frame(), LogicalCameraConfig(), seed=-2)
 
 
 def test_model_type() -> None:
@@ -268,8 +293,12 @@ def _side_touching(normal: np.ndarray, depth: float) -> np.ndarray:
     return centre
 
 
-SIDE_NORMALS = {"+y": np.array([-TY, 1, 0]), "-y": np.array([-TY, -1, 0]),
-                "+z": np.array([-TZ, 0, 1]), "-z": np.array([-TZ, 0, -1])}
+SIDE_NORMALS = {
+    "+y": np.array([-TY, 1, 0]),
+    "-y": np.array([-TY, -1, 0]),
+    "+z": np.array([-TZ, 0, 1]),
+    "-z": np.array([-TZ, 0, -1]),
+}
 
 
 @pytest.mark.parametrize("plane", ["near", "far", *SIDE_NORMALS])
@@ -293,8 +322,9 @@ def test_partial_overlap_and_counts(world: World) -> None:
     # Centre beyond the far plane, 5 cm of the 0.4 cube inside.
     world.place(root, "big_1", RigidTransform([FAR + 0.15, 0, 0]))
     # Centre outside the +y side, a corner inside.
-    world.place(root, "object_1", RigidTransform(
-        _side_touching(SIDE_NORMALS["+y"], 0.5) - 0.02 * np.array([0, 1, 0])))
+    world.place(
+        root, "object_1", RigidTransform(_side_touching(SIDE_NORMALS["+y"], 0.5) - 0.02 * np.array([0, 1, 0]))
+    )
     world.place(root, "object_2", RigidTransform([0.5, 0.0, 0.0]))  # fully inside
     world.place(root, "object_3", RigidTransform([1.5, 0.0, 0.0]))  # beyond far
     world.place(root, "bin_1", RigidTransform([0.5, 2.0, 0.0]))  # far to the side
@@ -307,8 +337,7 @@ def test_rotated_box_corner_pokes_in(world: World) -> None:
     root = world.new_context()
     world.place(root, "object_0", RigidTransform([NEAR - 0.065, 0, 0]))
     assert world.seen(root) == []
-    world.place(root, "object_0", RigidTransform(RollPitchYaw(0, 0, math.pi / 4),
-                                                 [NEAR - 0.065, 0, 0]))
+    world.place(root, "object_0", RigidTransform(RollPitchYaw(0, 0, math.pi / 4), [NEAR - 0.065, 0, 0]))
     assert world.seen(root) == ["object_0"]
 
 
@@ -349,17 +378,20 @@ def test_mesh_bounding_box_from_vertices(world: World) -> None:
 def _oracle_overlap(X_CB: RigidTransform, size: tuple[float, float, float]) -> float:
     """The largest margin t such that a point is inside both shapes by t (an LP);
     they overlap iff t >= 0."""
-    normals = np.array([[-1, 0, 0], [1, 0, 0], [-TY, 1, 0], [-TY, -1, 0],
-                        [-TZ, 0, 1], [-TZ, 0, -1]], float)
+    normals = np.array([[-1, 0, 0], [1, 0, 0], [-TY, 1, 0], [-TY, -1, 0], [-TZ, 0, 1], [-TZ, 0, -1]], float)
     offsets = np.array([-NEAR, FAR, 0, 0, 0, 0])
     axes = X_CB.rotation().matrix().T  # rows: the box axes in C
     half = np.array(size) / 2
     centre = axes @ X_CB.translation()
     # Rows over x = [p, t]: n.p + |n| t <= b,  +-(a.p - a.c) + t <= h,  t <= 1.
-    A = np.block([[normals, np.linalg.norm(normals, axis=1)[:, None]],
-                  [axes, np.ones((3, 1))],
-                  [-axes, np.ones((3, 1))],
-                  [np.zeros((1, 3)), np.ones((1, 1))]])
+    A = np.block(
+        [
+            [normals, np.linalg.norm(normals, axis=1)[:, None]],
+            [axes, np.ones((3, 1))],
+            [-axes, np.ones((3, 1))],
+            [np.zeros((1, 3)), np.ones((1, 1))],
+        ]
+    )
     upper = np.concatenate([offsets, half + centre, half - centre, [1.0]])
     program = MathematicalProgram()
     x = program.NewContinuousVariables(4, "x")
@@ -411,15 +443,22 @@ def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None
     monkeypatch.setattr(overlap, "not_separated_by_edges_or_box", spy)
     rng = np.random.default_rng(7)
     # Points on the frustum's boundary: its 8 corners and the middles of its 12 edges.
-    corners = np.array([[d, sy * d * TY, sz * d * TZ] for d in (NEAR, FAR)
-                        for sy in (-1, 1) for sz in (-1, 1)])
-    edges = [(a + b) / 2 for i, a in enumerate(corners) for b in corners[i + 1:]
-             if np.count_nonzero(np.isclose(a, b)) >= 1]
+    corners = np.array(
+        [[d, sy * d * TY, sz * d * TZ] for d in (NEAR, FAR) for sy in (-1, 1) for sz in (-1, 1)]
+    )
+    edges = [
+        (a + b) / 2
+        for i, a in enumerate(corners)
+        for b in corners[i + 1 :]
+        if np.count_nonzero(np.isclose(a, b)) >= 1
+    ]
     anchors = np.concatenate([corners, edges])
     poses, sizes, expected = [], [], []
     while len(poses) < 600:
-        X_CB = RigidTransform(RollPitchYaw(rng.uniform(-math.pi, math.pi, 3)),
-                              anchors[rng.integers(len(anchors))] + rng.normal(0, 0.06, 3))
+        X_CB = RigidTransform(
+            RollPitchYaw(rng.uniform(-math.pi, math.pi, 3)),
+            anchors[rng.integers(len(anchors))] + rng.normal(0, 0.06, 3),
+        )
         size = rng.uniform(0.03, 0.2, 3)
         margin = _oracle_overlap(X_CB, tuple(size))
         if abs(margin) < 1e-6:
@@ -440,11 +479,16 @@ def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None
 def test_course_camera_1_geometry() -> None:
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=1e-3)
-    config = LogicalCameraConfig(name="logical_camera_1", xyz=[1.2, 1.8, 2.0],
-                                 rpy=[0, 1.5708, 0], near=0.2, far=1.0, horizontal_fov=1.1,
-                                 aspect_ratio=1.5)
-    frame = plant.AddFrame(FixedOffsetFrame("logical_camera_1_frame", plant.world_frame(),
-                                            config.X_PC()))
+    config = LogicalCameraConfig(
+        name="logical_camera_1",
+        xyz=[1.2, 1.8, 2.0],
+        rpy=[0, 1.5708, 0],
+        near=0.2,
+        far=1.0,
+        horizontal_fov=1.1,
+        aspect_ratio=1.5,
+    )
+    frame = plant.AddFrame(FixedOffsetFrame("logical_camera_1_frame", plant.world_frame(), config.X_PC()))
     part = _add_box_model(plant, "object_1", (0.2, 0.2, 0.2))  # bottom on the belt (0.92)
     plant.WeldFrames(plant.world_frame(), part.body_frame(), RigidTransform([1.2, 1.8, 1.02]))
     belt = _add_box_model(plant, "conveyor", (0.6, 10.0, 0.1))  # top at 0.92
@@ -473,11 +517,11 @@ def test_reported_pose_and_quaternion(world: World) -> None:
     image = world.capture(root, time=0.0)
     (model,) = image.models
     plant_context = world.plant.GetMyContextFromRoot(root)
-    X_CM = world.plant.CalcRelativeTransform(plant_context, world.frame,
-                                             world.bodies["object_3"].body_frame())
+    X_CM = world.plant.CalcRelativeTransform(
+        plant_context, world.frame, world.bodies["object_3"].body_frame()
+    )
     assert np.allclose(model.X_CM.GetAsMatrix4(), X_CM.GetAsMatrix4(), atol=1e-9)
-    X_WC_plant = world.plant.CalcRelativeTransform(plant_context, world.plant.world_frame(),
-                                                   world.frame)
+    X_WC_plant = world.plant.CalcRelativeTransform(plant_context, world.plant.world_frame(), world.frame)
     assert np.allclose(image.X_WC.GetAsMatrix4(), X_WC_plant.GetAsMatrix4(), atol=1e-12)
     q = X_CM.rotation().ToQuaternion()
     entry = image.to_dict()["models"][0]
@@ -490,9 +534,13 @@ def test_reported_pose_and_quaternion(world: World) -> None:
 
 
 def _quaternion_matrix(w: float, x: float, y: float, z: float) -> np.ndarray:
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
 
 
 def test_to_dict_and_str(world: World) -> None:
@@ -502,12 +550,24 @@ def test_to_dict_and_str(world: World) -> None:
     data = image.to_dict()
     assert data["time"] == pytest.approx(0.3) and data["camera_name"] == "cam"
     assert set(data["camera_pose"]) == {"translation", "rotation_xyzw"}
-    assert data["models"] == [{"name": "bin_1", "type": "bin", "pose": {
-        "translation": pytest.approx([0.5, 0, 0]),
-        "rotation_xyzw": pytest.approx([0, 0, 0, 1])}, "visible_fraction": 1.0}]
+    assert data["models"] == [
+        {
+            "name": "bin_1",
+            "type": "bin",
+            "pose": {"translation": pytest.approx([0.5, 0, 0]), "rotation_xyzw": pytest.approx([0, 0, 0, 1])},
+            "visible_fraction": 1.0,
+        }
+    ]
     text = str(image)
-    for line in ['camera_name: "cam"', "models:", 'name: "bin_1"', 'type: "bin"',
-                 "position:", "orientation:", "w: 1.0"]:
+    for line in [
+        'camera_name: "cam"',
+        "models:",
+        'name: "bin_1"',
+        'type: "bin"',
+        "position:",
+        "orientation:",
+        "w: 1.0",
+    ]:
         assert line in text
     assert "models: []" in str(world.capture(world.new_context()))
 
@@ -518,13 +578,20 @@ def test_types_and_filters(world: World) -> None:
         world.place(root, name, RigidTransform([0.5, -0.15 + 0.1 * i, 0]))
     everything = world.capture(root).models
     assert [(m.name, m.type) for m in everything] == [
-        ("object_1", "object"), ("object_3", "object"), ("bin_1", "bin"),
-        ("conveyor", "conveyor")]
+        ("object_1", "object"),
+        ("object_3", "object"),
+        ("bin_1", "bin"),
+        ("conveyor", "conveyor"),
+    ]
     assert world.seen(root, "typed") == ["object_1", "object_3", "conveyor"]
     assert world.seen(root, "named") == ["object_3", "bin_1"]
     anonymous = world.capture(root, "anonymous").models
     assert [(m.name, m.type) for m in anonymous] == [
-        ("", "object"), ("", "object"), ("", "bin"), ("", "conveyor")]
+        ("", "object"),
+        ("", "object"),
+        ("", "bin"),
+        ("", "conveyor"),
+    ]
     for plain, anon in zip(everything, anonymous):
         assert np.allclose(plain.X_CM.GetAsMatrix4(), anon.X_CM.GetAsMatrix4())
 
@@ -542,8 +609,7 @@ def _noisy_samples(world: World, count: int) -> np.ndarray:
     for k in range(count):
         (model,) = world.capture(root, "noisy", time=k / 10).models
         R_error = model.X_CM.rotation() @ X_CM.rotation().inverse()
-        rows.append([*(model.X_CM.translation() - X_CM.translation()),
-                     *RollPitchYaw(R_error).vector()])
+        rows.append([*(model.X_CM.translation() - X_CM.translation()), *RollPitchYaw(R_error).vector()])
     return np.array(rows)
 
 
@@ -582,8 +648,9 @@ def test_sample_and_hold() -> None:
     part = _add_box_model(plant, "object_1", (0.1, 0.1, 0.1))
     plant.WeldFrames(plant.world_frame(), part.body_frame(), RigidTransform([0.5, 0, 0]))
     plant.Finalize()
-    camera = add_logical_camera(builder, plant, scene_graph, plant.world_frame(),
-                                LogicalCameraConfig(name="cam", update_rate_hz=10.0))
+    camera = add_logical_camera(
+        builder, plant, scene_graph, plant.world_frame(), LogicalCameraConfig(name="cam", update_rate_hz=10.0)
+    )
     assert camera.get_name() == "cam"
     simulator = Simulator(builder.Build())
     context = camera.GetMyContextFromRoot(simulator.get_context())
@@ -619,8 +686,11 @@ def test_image_lives_in_the_state_it_declared() -> None:
     part = _add_box_model(plant, "object_1", (0.1, 0.1, 0.1))
     plant.WeldFrames(plant.world_frame(), part.body_frame(), RigidTransform([0.5, 0, 0]))
     plant.Finalize()
-    camera = builder.AddSystem(CameraWithMore(plant, scene_graph.model_inspector(),
-                                              plant.world_frame(), LogicalCameraConfig(name="cam")))
+    camera = builder.AddSystem(
+        CameraWithMore(
+            plant, scene_graph.model_inspector(), plant.world_frame(), LogicalCameraConfig(name="cam")
+        )
+    )
     builder.Connect(plant.get_body_poses_output_port(), camera.get_input_port(0))
     simulator = Simulator(builder.Build())
     simulator.Initialize()

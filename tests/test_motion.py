@@ -101,8 +101,9 @@ def test_unreachable_pose(planner):
 
 def test_goal_in_collision_names_the_bodies(planner, over_the_wall):
     q_in = over_the_wall[0]
-    q_wall = planner.ik(RigidTransform(DOWN, [-8.0, -2.005, 0.40]), q_seed=q_in,
-                        check_collisions=False)  # the tip in the bin's wall
+    q_wall = planner.ik(
+        RigidTransform(DOWN, [-8.0, -2.005, 0.40]), q_seed=q_in, check_collisions=False
+    )  # the tip in the bin's wall
     with pytest.raises(PlanningError, match="goal configuration .* in collision") as error:
         planner.plan(arms.named_pose("R2Place"), q_wall)
     assert "bin_1_base_link" in str(error.value)
@@ -130,11 +131,11 @@ def test_obstacles_and_held_part(planner, over_the_wall):
 
 
 def test_outside_the_joint_limits(scenario):
-    robots = [dataclasses.replace(r, joint_limit=2.0) if r.name == "robot2" else r
-              for r in scenario.robots]
+    robots = [dataclasses.replace(r, joint_limit=2.0) if r.name == "robot2" else r for r in scenario.robots]
     limited = ArmPlanner(dataclasses.replace(scenario, robots=robots), "robot2")
-    with pytest.raises(PlanningError,
-                       match=r"outside the joint limits: \w+_joint would be .* \[-2.000, 2.000\]"):
+    with pytest.raises(
+        PlanningError, match=r"outside the joint limits: \w+_joint would be .* \[-2.000, 2.000\]"
+    ):
         limited.ik(RigidTransform(DOWN, [-8.0, -2.2, 0.45]), q_seed=arms.named_pose("R2Home"))
 
 
@@ -145,8 +146,7 @@ def test_cartesian_path_down_and_out_of_reach(planner):
     path, fraction = planner.cartesian_path(q, [down])
     assert fraction == 1.0
     assert len(path) == 21  # 0.1 m in 5 mm steps
-    assert np.linalg.norm(planner.forward_kinematics(path[-1]).translation()
-                          - down.translation()) < 2e-4
+    assert np.linalg.norm(planner.forward_kinematics(path[-1]).translation() - down.translation()) < 2e-4
     far = RigidTransform(X_WE.rotation(), X_WE.translation() + [0.0, -1.5, 0.0])
     path, fraction = planner.cartesian_path(q, [far])
     assert 0.0 < fraction < 1.0
@@ -184,6 +184,9 @@ def test_cartesian_trajectory_stays_on_the_line(planner):
         p = planner.forward_kinematics(trajectory.value(t).ravel()).translation()
         worst = max(worst, np.linalg.norm((p - p0) - ((p - p0) @ u) * u))
     assert worst < 0.002
-    v = np.abs(np.array([trajectory.EvalDerivative(t, 1).ravel()
-                         for t in np.linspace(0.0, trajectory.end_time(), 2001)]))
+    v = np.abs(
+        np.array(
+            [trajectory.EvalDerivative(t, 1).ravel() for t in np.linspace(0.0, trajectory.end_time(), 2001)]
+        )
+    )
     assert np.all(v <= planner.velocity_limits * (1 + 1e-6))

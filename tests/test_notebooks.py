@@ -29,8 +29,9 @@ def _execute(path: Path, workdir: Path) -> nbformat.NotebookNode:
     book = nbformat.read(path, as_version=4)
     # Kernel "python3" is ipykernel's native kernel: it runs with this interpreter
     # (sys.executable), so a fresh `pip install -e ".[test]"` venv is all it needs.
-    client = NotebookClient(book, timeout=300, kernel_name="python3",
-                            resources={"metadata": {"path": str(workdir)}})
+    client = NotebookClient(
+        book, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(workdir)}}
+    )
     asyncio.run(client.async_execute())  # one event loop per thread
     return book
 

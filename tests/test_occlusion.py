@@ -22,8 +22,15 @@ from omtp_drake.sim.runtime import FactoryRuntime
 SIZE = 0.2  # the parts' edge (m)
 CORNER = 0.001  # radius of a part's corner spheres: it rests this far above its support
 SIDE_CAMERA = LogicalCameraConfig(
-    name="side_camera", xyz=[-9.2, -2.05, 0.3], rpy=[0.0, 0.0, 0.0],  # looks along world +x
-    near=0.1, far=3.0, horizontal_fov=0.8, aspect_ratio=1.5, occlusion=True)
+    name="side_camera",
+    xyz=[-9.2, -2.05, 0.3],
+    rpy=[0.0, 0.0, 0.0],  # looks along world +x
+    near=0.1,
+    far=3.0,
+    horizontal_fov=0.8,
+    aspect_ratio=1.5,
+    occlusion=True,
+)
 # Behind bin 1 (x in [-8.2, -7.8], y in [-2.4, -2.0]) as seen from the side camera:
 # its outer wall's near edge hides y < about -1.97 at the part's distance.
 BEHIND_WALL = [-7.55, -1.97, SIZE / 2 + CORNER]
@@ -41,9 +48,7 @@ def cell() -> FactoryRuntime:
         PartConfig(name="object_4", xyz=[1.2, 1.8, 0.92 + SIZE / 2 + CORNER]),
     ]
     camera_2 = next(c for c in scenario.cameras if c.name == "logical_camera_2")
-    scenario.cameras = [
-        replace(c, occlusion=True) for c in scenario.cameras
-    ] + [
+    scenario.cameras = [replace(c, occlusion=True) for c in scenario.cameras] + [
         replace(camera_2, name="camera_2_all", occlusion=True, min_visible_fraction=0.0),
         replace(camera_2, name="camera_2_plain"),  # occlusion off
         SIDE_CAMERA,
@@ -78,8 +83,9 @@ def test_part_in_the_open_is_fully_visible(cell):
     assert _fractions(cell, "logical_camera_1") == {"object_4": pytest.approx(1.0, abs=0.05)}
 
 
-def _slab_hits(origin: np.ndarray, targets: np.ndarray, boxes: list[tuple[RigidTransform, np.ndarray]]
-               ) -> np.ndarray:
+def _slab_hits(
+    origin: np.ndarray, targets: np.ndarray, boxes: list[tuple[RigidTransform, np.ndarray]]
+) -> np.ndarray:
     """Which segments origin -> target (n, 3) cross one of the boxes (pose in world, half size)."""
     blocked = np.zeros(len(targets), bool)
     for X_WB, half in boxes:
@@ -152,8 +158,9 @@ def test_image_text_and_dict_carry_the_fraction(cell):
     image = cell.camera_image("side_camera")
     assert image.occlusion
     (entry,) = [m for m in image.to_dict()["models"] if m["name"] == "object_3"]
-    assert entry["visible_fraction"] == pytest.approx(image.models[[m.name for m in image.models]
-                                                                   .index("object_3")].visible_fraction)
+    assert entry["visible_fraction"] == pytest.approx(
+        image.models[[m.name for m in image.models].index("object_3")].visible_fraction
+    )
     assert "visible_fraction: " in str(image)
     plain = cell.camera_image("camera_2_plain")
     assert not plain.occlusion and "visible_fraction" not in str(plain)
@@ -194,11 +201,20 @@ cameras:
     path = tmp_path / "s.yaml"
     path.write_text(yaml.safe_dump(raw))
     camera = load_scenario(path).cameras[0]
-    assert (camera.occlusion, camera.min_visible_fraction, camera.rgbd, camera.rgbd_width) == \
-        (True, 0.2, True, 96)
+    assert (camera.occlusion, camera.min_visible_fraction, camera.rgbd, camera.rgbd_width) == (
+        True,
+        0.2,
+        True,
+        96,
+    )
     assert camera.rgbd_height() == 64  # 96 / 1.5
-    for key, value in [("min_visible_fraction", 1.5), ("min_visible_fraction", -0.1),
-                       ("min_visible_fraction", math.nan), ("rgbd_width", 8), ("rgbd_width", 10000)]:
+    for key, value in [
+        ("min_visible_fraction", 1.5),
+        ("min_visible_fraction", -0.1),
+        ("min_visible_fraction", math.nan),
+        ("rgbd_width", 8),
+        ("rgbd_width", 10000),
+    ]:
         with pytest.raises(ConfigError, match=f"{key}={value!r} is invalid; valid:"):
             replace(camera, **{key: value}).validate()
     with pytest.raises(ScenarioError, match=r"cameras\[c\]\.occlusion must be true or false, got 'yes'"):
@@ -235,18 +251,30 @@ def test_each_shape_becomes_a_tight_polytope(tmp_path):
 
     from omtp_drake.cell.camera_geometry import slabs_in_geometry_frame
 
-    vertices = np.array([[0.3, 0, 0], [-0.1, 0, 0], [0, 0.2, 0], [0, -0.2, 0], [0, 0, 0.1],
-                         [0.05, 0.05, -0.25]])
+    vertices = np.array(
+        [[0.3, 0, 0], [-0.1, 0, 0], [0, 0.2, 0], [0, -0.2, 0], [0, 0, 0.1], [0.05, 0.05, -0.25]]
+    )
     mesh = tmp_path / "blob.obj"
-    mesh.write_text("".join(f"v {x} {y} {z}\n" for x, y, z in vertices)
-                    + "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n")
-    shapes = [Sphere(0.1), Cylinder(0.1, 0.3), Capsule(0.05, 0.2), Ellipsoid(0.1, 0.2, 0.3),
-              Box(0.1, 0.2, 0.3), Convex(str(mesh)), HalfSpace()]
+    mesh.write_text(
+        "".join(f"v {x} {y} {z}\n" for x, y, z in vertices)
+        + "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n"
+    )
+    shapes = [
+        Sphere(0.1),
+        Cylinder(0.1, 0.3),
+        Capsule(0.05, 0.2),
+        Ellipsoid(0.1, 0.2, 0.3),
+        Box(0.1, 0.2, 0.3),
+        Convex(str(mesh)),
+        HalfSpace(),
+    ]
     scene_graph = SceneGraph()
     plant = MultibodyPlant(0.0)
     plant.RegisterAsSourceForSceneGraph(scene_graph)
-    ids = [plant.RegisterVisualGeometry(plant.world_body(), RigidTransform(), shape, f"s{i}",
-                                        [1, 1, 1, 1]) for i, shape in enumerate(shapes)]
+    ids = [
+        plant.RegisterVisualGeometry(plant.world_body(), RigidTransform(), shape, f"s{i}", [1, 1, 1, 1])
+        for i, shape in enumerate(shapes)
+    ]
     plant.Finalize()
     inspector = scene_graph.model_inspector()
     rng = np.random.default_rng(3)

@@ -79,8 +79,9 @@ def test_limits_respected_during_a_run():
         rt.advance(0.005)  # half DiffIK's period: at most one DiffIK step per advance
         pc = plant_context(rt)
         peaks["joint"] = np.maximum(peaks["joint"], np.abs(station.plant.GetVelocities(pc, robot.arm)))
-        peaks["tool"] = max(peaks["tool"], float(np.linalg.norm(
-            tip.CalcSpatialVelocityInWorld(pc).translational())))
+        peaks["tool"] = max(
+            peaks["tool"], float(np.linalg.norm(tip.CalcSpatialVelocityInWorld(pc).translational()))
+        )
         model.SetPositions(model_context, command.Eval(station.diagram.GetMyContextFromRoot(rt.context)))
         p = model_tip.CalcPoseInWorld(model_context).translation()
         if "p" in last:  # commanded tool speed: one DiffIK step moves at most 1 m/s x 10 ms
@@ -177,8 +178,16 @@ def test_run_cli_writes_json_and_exit_code(tmp_path, capsys):
     data = json.loads(path.read_text())
     assert set(data) == {"scenario", "seed", "picks", "summary", "ledger", "faults"}
     assert data["faults"] == []  # the scenario declares none
-    assert {"attempted", "succeeded", "failed", "failure_reasons", "mean_cycle_time_s",
-            "sim_time_s", "wall_time_s", "real_time_factor"} <= set(data["summary"])
+    assert {
+        "attempted",
+        "succeeded",
+        "failed",
+        "failure_reasons",
+        "mean_cycle_time_s",
+        "sim_time_s",
+        "wall_time_s",
+        "real_time_factor",
+    } <= set(data["summary"])
     assert data["summary"]["failed"] == sum(not p["success"] for p in data["picks"])
     assert "SUCCESS" in capsys.readouterr().out
     # Too short to finish: the task failed, exit code 1.
@@ -231,7 +240,10 @@ def test_a_full_bin_gives_the_part_up_and_stops_the_task():
     rt.fail_vacuum("robot2", 0.5)
     picks = finish(run, 40)
     assert [(p.part, p.reason, p.given_up) for p in picks] == [
-        ("object_1", "dropped_into_bin", True), ("object_2", "", False), ("object_3", "bin_full", True)]
+        ("object_1", "dropped_into_bin", True),
+        ("object_2", "", False),
+        ("object_3", "bin_full", True),
+    ]
     np.testing.assert_allclose(picks[-1].position, rt.part_pose("object_3").translation(), atol=0.01)
     assert run.control().mode is Mode.BIN_FULL and run.done() and rt.time < 20
     result = TaskResult("lecture6_assignment4", 0, list(picks), rt.ledger(), False, rt.time, 1.0, "bin_1", 2)

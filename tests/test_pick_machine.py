@@ -59,8 +59,9 @@ def test_no_part_seen_waits_then_records_it(machine, task):
     assert started.mode is Mode.WAIT_PART and started.record is None and not started.vacuum
     waiting = machine.step(seen(task.detect_timeout - 1.0), started.control)
     assert waiting.mode is Mode.WAIT_PART and waiting.record is None
-    stale = MachineInput.seeing(task.detect_timeout + 1.0, X_ABOVE, FREE, tuple(arms.named_pose("R2Home")),
-                         pick_image=image(0.0))
+    stale = MachineInput.seeing(
+        task.detect_timeout + 1.0, X_ABOVE, FREE, tuple(arms.named_pose("R2Home")), pick_image=image(0.0)
+    )
     assert machine.step(stale, waiting.control).record is None  # no fresh image: no verdict
     late = machine.step(seen(task.detect_timeout + 1.0), waiting.control)
     assert late.mode is Mode.WAIT_PART
@@ -80,8 +81,16 @@ def test_a_part_at_rest_is_approached(machine):
 
 def attaching(t0=10.0, attempt=1):
     X_touch = tool_down(P_PART + [0.0, 0.0, SIZE / 2], 0.0)
-    s = ControlState(mode=Mode.ATTACH, mode_start=t0, path=hold(t0, X_touch), suction=True,
-                     part="object_1", X_WP=RigidTransform(P_PART), pick_start=5.0, attempt=attempt)
+    s = ControlState(
+        mode=Mode.ATTACH,
+        mode_start=t0,
+        path=hold(t0, X_touch),
+        suction=True,
+        part="object_1",
+        X_WP=RigidTransform(P_PART),
+        pick_start=5.0,
+        attempt=attempt,
+    )
     return s, X_touch
 
 
@@ -117,8 +126,15 @@ def test_attach_timeout_retries_then_gives_up_with_the_reason(machine, task):
 def _dropped(machine):
     """A part held in transit that the gripper no longer holds: the update that sees it."""
     X_WE = tool_down(np.array([-7.9, -1.6, 1.1]), 0.0)
-    s = ControlState(mode=Mode.TRANSFER, mode_start=20.0, path=hold(20.0, X_WE), suction=True,
-                     part="object_1", X_WP=RigidTransform(P_PART), pick_start=15.0)
+    s = ControlState(
+        mode=Mode.TRANSFER,
+        mode_start=20.0,
+        path=hold(20.0, X_WE),
+        suction=True,
+        part="object_1",
+        X_WP=RigidTransform(P_PART),
+        pick_start=15.0,
+    )
     return machine.step(seen(20.5, FREE, X_WE), s), X_WE
 
 
@@ -156,8 +172,17 @@ def test_a_part_dropped_into_the_bin_is_that_drop_record_not_a_new_attempt(machi
             DetectedModel("object_1", "object", RigidTransform(in_bin)),
         )
         bin_view = LogicalCameraImage(t, task.bin_camera, RigidTransform(), models)
-        step = machine.step(MachineInput.seeing(t, s.pose_at(t), FREE, tuple(arms.named_pose("R2Home")),
-                                         pick_image=image(t), bin_image=bin_view), s)
+        step = machine.step(
+            MachineInput.seeing(
+                t,
+                s.pose_at(t),
+                FREE,
+                tuple(arms.named_pose("R2Home")),
+                pick_image=image(t),
+                bin_image=bin_view,
+            ),
+            s,
+        )
         s = step.control
         records += [step.record] if step.record is not None else []
     [drop] = records
@@ -203,11 +228,19 @@ def test_images_are_read_only_when_the_machine_looks(machine):
         def read():
             reads.append(name)
             return () if name == "search" else image(0.30, ("object_1", P_PART))
+
         return read
 
     def inputs(t, X_WE):
-        return MachineInput(t, X_WE, FREE, tuple(arms.named_pose("R2Home")), reading("pick"),
-                            reading("bin"), reading("search"))
+        return MachineInput(
+            t,
+            X_WE,
+            FREE,
+            tuple(arms.named_pose("R2Home")),
+            reading("pick"),
+            reading("bin"),
+            reading("search"),
+        )
 
     s = machine.step(seen(0.0), ControlState()).control
     s = machine.step(seen(0.05, FREE, X_ABOVE, ("object_1", P_PART)), s).control

@@ -59,10 +59,16 @@ def test_arc_is_level_about_the_centre_and_ends_where_asked():
 
 
 @settings(max_examples=60, deadline=None)
-@given(st.lists(st.floats(-2, 2), min_size=3, max_size=3), st.lists(st.floats(-2, 2), min_size=3,
-       max_size=3), st.floats(-3, 3), st.floats(-3, 3), st.floats(0.1, 1.0))
+@given(
+    st.lists(st.floats(-2, 2), min_size=3, max_size=3),
+    st.lists(st.floats(-2, 2), min_size=3, max_size=3),
+    st.floats(-3, 3),
+    st.floats(-3, 3),
+    st.floats(0.1, 1.0),
+)
 def test_a_move_never_exceeds_its_speed_or_acceleration_and_is_no_slower_than_they_require(
-        p0, p1, yaw0, yaw1, speed):
+    p0, p1, yaw0, yaw1, speed
+):
     """Sampled finely, a planned line's tool speed peaks at most ``speed``, its
     acceleration at most MAX_TOOL_ACCELERATION, its turn rate at most
     MAX_TOOL_ROTATION_SPEED; and one of the limits (or MIN_DURATION) binds."""
@@ -75,17 +81,22 @@ def test_a_move_never_exceeds_its_speed_or_acceleration_and_is_no_slower_than_th
     p = np.array([X.translation() for X in poses])
     v = np.linalg.norm(np.diff(p, axis=0), axis=1) / dt
     a = np.linalg.norm(np.diff(p, 2, axis=0), axis=1) / dt**2
-    w = np.array([(a.rotation().inverse() @ b.rotation()).ToAngleAxis().angle() / dt
-                  for a, b in zip(poses, poses[1:])])
+    w = np.array(
+        [(a.rotation().inverse() @ b.rotation()).ToAngleAxis().angle() / dt for a, b in zip(poses, poses[1:])]
+    )
     assert v.max() <= speed * 1.01 + 1e-9
     assert a.max() <= MAX_TOOL_ACCELERATION * 1.02 + 1e-9
     assert w.max() <= MAX_TOOL_ROTATION_SPEED * 1.01
     assert segment.pose(segment.t1).IsNearlyEqualTo(X1, 1e-9)
     alpha = np.abs(np.diff(w)) / dt  # the slerp turns about one axis
     assert alpha.max() <= MAX_TOOL_ROTATION_ACCELERATION * 1.02 + 1e-9
-    binds = [v.max() >= 0.98 * speed, a.max() >= 0.97 * MAX_TOOL_ACCELERATION,
-             w.max() >= 0.98 * MAX_TOOL_ROTATION_SPEED, alpha.max() >= 0.97 * MAX_TOOL_ROTATION_ACCELERATION,
-             segment.duration == MIN_DURATION]
+    binds = [
+        v.max() >= 0.98 * speed,
+        a.max() >= 0.97 * MAX_TOOL_ACCELERATION,
+        w.max() >= 0.98 * MAX_TOOL_ROTATION_SPEED,
+        alpha.max() >= 0.97 * MAX_TOOL_ROTATION_ACCELERATION,
+        segment.duration == MIN_DURATION,
+    ]
     assert any(binds), (segment.duration, v.max(), a.max(), w.max(), alpha.max())
 
 
@@ -127,8 +138,9 @@ def test_pose_table_gives_the_path_in_the_arm_base_at_diffik_samples():
     from omtp_drake.control.pick_and_place.system import PoseTable
 
     planner = PickPlanner(X_WR, 1.0)
-    path = planner.travel(0.3, tool_down(np.array([-7.3, -1.2, 1.0]), 0.3),
-                          tool_down(np.array([-8.0, -2.2, 0.9]), -1.0))
+    path = planner.travel(
+        0.3, tool_down(np.array([-7.3, -1.2, 1.0]), 0.3), tool_down(np.array([-8.0, -2.2, 0.9]), -1.0)
+    )
     X_BW = X_WR.inverse()
     table = PoseTable()
     table.fill(path, 0.304, 0.01, X_BW)
@@ -152,8 +164,9 @@ def test_slots_fill_the_bin_in_layers_inside_its_walls(size, per_layer):
     p_B = first_layer - X_WBIN.translation()
     assert np.all(np.abs(p_B[:, :2]) + size / 2 <= BIN.inner_half_width + 1e-9)
     if per_layer > 1:
-        gaps = [np.max(np.abs(a[:2] - b[:2])) for i, a in enumerate(first_layer)
-                for b in first_layer[i + 1:]]
+        gaps = [
+            np.max(np.abs(a[:2] - b[:2])) for i, a in enumerate(first_layer) for b in first_layer[i + 1 :]
+        ]
         assert min(gaps) >= size
     # The next part starts a new layer, one part higher (or at the rim's release height).
     assert slots[per_layer][2] >= slots[0][2] - 1e-9
@@ -173,8 +186,7 @@ def test_slot_follows_a_moved_and_turned_bin():
 
 @settings(max_examples=80, deadline=None)
 @given(st.floats(-math.pi, math.pi), st.floats(-math.pi, math.pi), st.floats(0.05, 0.2))
-def test_grasp_pose_is_tool_down_above_the_top_face_and_square_with_the_part(part_yaw, tool_yaw,
-                                                                           size):
+def test_grasp_pose_is_tool_down_above_the_top_face_and_square_with_the_part(part_yaw, tool_yaw, size):
     planner = PickPlanner(X_WR, 1.0)
     X_WP = RigidTransform(RollPitchYaw(0, 0, part_yaw), [-8.3, -1.23, size / 2])
     X_now = tool_down(np.array([-8.3, -1.23, 0.6]), tool_yaw)
@@ -274,15 +286,22 @@ def test_a_long_arc_cruises_at_the_speed_limit_after_an_acceleration_limited_ram
     assert ramp * T == pytest.approx(ramp_time)
 
 
-
 @settings(max_examples=30, deadline=None)
-@given(st.floats(0.3, 1.0), st.floats(-3.0, 3.0), st.floats(0.0, 1.2), st.floats(0.0, 1.2),
-       st.floats(0.0, 1.0), st.sampled_from([None, 0.0, 0.1]), st.sampled_from([None, 0.0, 0.1]))
+@given(
+    st.floats(0.3, 1.0),
+    st.floats(-3.0, 3.0),
+    st.floats(0.0, 1.2),
+    st.floats(0.0, 1.2),
+    st.floats(0.0, 1.0),
+    st.sampled_from([None, 0.0, 0.1]),
+    st.sampled_from([None, 0.0, 0.1]),
+)
 # Legs shorter than 1 um (a turn of 1.2e-7 rad, a drop of 6e-8 m) once ended the
 # path that far from the goal: drawn by users' runs, kept as regressions.
 @example(radius=1.0, turn=1.192092896e-07, z0=0.0, z1=0.0, min_height=1.0, clear_start=None, clear_end=None)
-@example(radius=1.0, turn=1.0, z0=5.960464477539063e-08, z1=0.0, min_height=0.0, clear_start=None,
-         clear_end=None)
+@example(
+    radius=1.0, turn=1.0, z0=5.960464477539063e-08, z1=0.0, min_height=0.0, clear_start=None, clear_end=None
+)
 @example(radius=1.0, turn=0.0, z0=0.5, z1=0.5 - 1e-7, min_height=0.0, clear_start=0.0, clear_end=0.0)
 def test_a_blended_travel_keeps_its_speed_limit_and_its_clearances(
     radius, turn, z0, z1, min_height, clear_start, clear_end

@@ -1,6 +1,5 @@
 """Plots of a run (omtp_drake.tasks.plots): the recorder samples sane data, each figure shows it."""
 
-
 import numpy as np
 import pytest
 from matplotlib.colors import to_rgba
@@ -27,8 +26,9 @@ from omtp_drake.tasks.run import run_task
 def one_pick():
     """lecture6_assignment4 with one part (about 2 s), recorded."""
     recorders: list[RunRecorder] = []
-    result = run_task("lecture6_assignment4", parts=1,
-                      on_start=lambda run: recorders.append(RunRecorder.attach(run)))
+    result = run_task(
+        "lecture6_assignment4", parts=1, on_start=lambda run: recorders.append(RunRecorder.attach(run))
+    )
     return result, recorders[0].recording
 
 
@@ -38,15 +38,15 @@ def test_recorder_samples_every_tick_with_sane_data(one_pick):
     assert rec.robot == "robot2"
     t = rec.t
     assert len(rec) == len(rec.desired) == len(rec.actual) == len(rec.mode)
-    assert np.allclose(np.diff(t), 0.05)                # one sample per 50 ms tick
+    assert np.allclose(np.diff(t), 0.05)  # one sample per 50 ms tick
     assert t[-1] == pytest.approx(result.sim_time_s)
     error = rec.tracking_error
-    assert np.isfinite(error).sum() > 0.9 * len(rec)    # the controller has a path almost always
+    assert np.isfinite(error).sum() > 0.9 * len(rec)  # the controller has a path almost always
     assert np.nanmedian(error) < 0.05
     assert np.nanmax(error) < 0.1
     # Robot 2's cup face goes from near its base down to the part and then over bin 1.
     assert np.linalg.norm(rec.actual_xyz[-1, :2] - np.array([-8.0, -2.2])) < 0.1
-    assert rec.actual_xyz[:, 2].min() < 0.35            # reached down to the 0.2 m part
+    assert rec.actual_xyz[:, 2].min() < 0.35  # reached down to the 0.2 m part
     # Camera 2 saw the part before the pick; the bin camera sees it at the end.
     assert max(rec.detections["logical_camera_2"]) == 1
     assert rec.detections["logical_camera_bin_1"][0] == 0
@@ -63,8 +63,12 @@ def test_recorder_samples_every_tick_with_sane_data(one_pick):
 
 def test_recorder_period_thins_samples(one_pick):
     recorders: list[RunRecorder] = []
-    run_task("lecture6_assignment4", parts=1, duration=1.0,
-             on_start=lambda run: recorders.append(RunRecorder.attach(run, period=0.2)))
+    run_task(
+        "lecture6_assignment4",
+        parts=1,
+        duration=1.0,
+        on_start=lambda run: recorders.append(RunRecorder.attach(run, period=0.2)),
+    )
     t = recorders[0].recording.t
     assert len(t) == 5 and np.allclose(np.diff(t), 0.2)
 
@@ -85,13 +89,13 @@ def test_tracking_plot_has_xyz_and_error_axes(one_pick):
 
 def test_detection_plot_has_one_line_per_camera(one_pick):
     _, rec = one_pick
-    ax, = plot_detections(rec).get_axes()
+    (ax,) = plot_detections(rec).get_axes()
     assert sorted(line.get_label() for line in ax.get_lines()) == sorted(rec.detections)
 
 
 def test_ledger_plot_stacks_every_category(one_pick):
     _, rec = one_pick
-    ax, = plot_ledger(rec).get_axes()
+    (ax,) = plot_ledger(rec).get_axes()
     labels = [t.get_text() for t in ax.get_legend().get_texts()]
     assert labels == ["on_belt", "on_floor", "elsewhere", "held", "in bin_1", "disposed"]
     assert len(ax.collections) == 6
@@ -100,14 +104,15 @@ def test_ledger_plot_stacks_every_category(one_pick):
 
 def test_cycle_time_bars_colour_failures(one_pick):
     result, _ = one_pick
-    ax, = plot_cycle_times(result).get_axes()
+    (ax,) = plot_cycle_times(result).get_axes()
     assert [p.get_height() for p in ax.patches] == pytest.approx(
-        [p.cycle_time for p in result.picks if p.part])
+        [p.cycle_time for p in result.picks if p.part]
+    )
     assert all(p.get_facecolor() == to_rgba(OK_COLOUR) for p in ax.patches)
     failed = PickRecord("object_2", 1.0, 3.0, False, "attach_timeout", 1)
     result.picks.append(failed)
     try:
-        ax, = plot_cycle_times(result).get_axes()
+        (ax,) = plot_cycle_times(result).get_axes()
     finally:
         result.picks.remove(failed)
     assert ax.patches[-1].get_facecolor() == to_rgba(FAIL_COLOUR)
@@ -119,19 +124,23 @@ def test_seed_stats_bars_and_cycle_times(one_pick):
     result, _ = one_pick
     top, bottom = plot_seed_stats([result, result]).get_axes()
     assert [p.get_height() for p in top.patches] == [1, 1]
-    assert len(bottom.collections) == 2             # one scatter of cycle times per seed
+    assert len(bottom.collections) == 2  # one scatter of cycle times per seed
     means = bottom.get_lines()[0].get_ydata()
     assert means == pytest.approx([result.summary["mean_cycle_time_s"]] * 2)
 
 
 def test_conveyor_plot_shows_the_beam_stopping_the_belt():
     recorders: list[RunRecorder] = []
-    run_task("lecture7_conveyor_pick", parts=1, duration=4.0,
-             on_start=lambda run: recorders.append(RunRecorder.attach(run, period=0.1)))
+    run_task(
+        "lecture7_conveyor_pick",
+        parts=1,
+        duration=4.0,
+        on_start=lambda run: recorders.append(RunRecorder.attach(run, period=0.1)),
+    )
     rec = recorders[0].recording
     assert rec.conveyor_power[0] == 100.0 and any(rec.beam)
     first_broken = rec.beam.index(True)
-    assert rec.conveyor_power[first_broken + 1] == 0.0   # the beam stops the belt
+    assert rec.conveyor_power[first_broken + 1] == 0.0  # the beam stops the belt
     beam_ax, power_ax = plot_conveyor(rec).get_axes()
     assert np.array_equal(beam_ax.get_lines()[0].get_ydata(), np.asarray(rec.beam, float))
     assert np.array_equal(power_ax.get_lines()[0].get_ydata(), rec.conveyor_power)

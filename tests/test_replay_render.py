@@ -17,7 +17,8 @@ from omtp_drake.viz.meshcat import DEFAULT_VIEW, DetectionMarkers, frustum_segme
 
 CHROMIUM = find_browser()
 needs_chromium = pytest.mark.skipif(
-    CHROMIUM is None, reason="chromium is not on PATH (README command 1 installs it)")
+    CHROMIUM is None, reason="chromium is not on PATH (README command 1 installs it)"
+)
 
 
 @pytest.fixture(scope="module")
@@ -38,21 +39,21 @@ def masks(png) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """The image and, by name, where it shows the things the tests look for."""
     image, r, g, b = colours(png)
     return image, {
-        "ur_blue": (b > r + 25) & (g > r + 5) & (b > 150) & (r > 90),    # the UR's joint caps
+        "ur_blue": (b > r + 25) & (g > r + 5) & (b > 150) & (r > 90),  # the UR's joint caps
         "frustum_orange": (r > 200) & (g > 100) & (g < 190) & (b < 80),  # the cameras' wireframes
-        "marker": (r > 60) & (g < 20) & (b > 40) & (b < r),              # the detection sphere
+        "marker": (r > 60) & (g < 20) & (b > 40) & (b < r),  # the detection sphere
         "part_green": (g > r + 40) & (g > b + 40),
     }
 
 
 @needs_chromium
 def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
-    assert replay.stat().st_size > 1_000_000                # meshes and animation inside
+    assert replay.stat().st_size > 1_000_000  # meshes and animation inside
     # At 1.0 s robot 2 is on its way down to the part, which camera 2 reports.
     png = screenshot(replay, tmp_path / "replay.png", time=1.0, browser=CHROMIUM)
     image, seen = masks(png)
     assert image.shape == (800, 1280, 3)
-    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000   # a lit 3D scene, not a blank page
+    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000  # a lit 3D scene, not a blank page
     centre = (slice(200, 600), slice(320, 960))
     assert seen["ur_blue"][centre].sum() > 200, "robot 2 is not in the middle of the view"
     assert seen["frustum_orange"][centre].sum() > 200, "no camera frustum in the middle of the view"
@@ -66,11 +67,12 @@ def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
 
 @needs_chromium
 def test_frusta_and_markers_toggle_off(replay, tmp_path):
-    png = screenshot(replay, tmp_path / "clean.png", time=1.0, hide=["/frusta", "/detections"],
-                     browser=CHROMIUM)
+    png = screenshot(
+        replay, tmp_path / "clean.png", time=1.0, hide=["/frusta", "/detections"], browser=CHROMIUM
+    )
     _, seen = masks(png)
     assert seen["frustum_orange"].sum() < 20 and seen["marker"].sum() < 5
-    assert seen["ur_blue"].sum() > 200                            # the robot is still there
+    assert seen["ur_blue"].sum() > 200  # the robot is still there
     with pytest.raises(UnknownNameError, match=r"unknown Meshcat path '/frustum'; valid: .*/frusta"):
         screenshot(replay, tmp_path / "typo.png", hide=["/frustum"], browser=CHROMIUM)
 
@@ -89,8 +91,7 @@ def test_replay_time_moves_the_robot(replay, tmp_path):
 @needs_chromium
 def test_cli_screenshot(replay, tmp_path, capsys):
     png = tmp_path / "cli.png"
-    assert main(["screenshot", str(replay), "-o", str(png), "--time", "0.5",
-                 "--size", "640x400"]) == 0
+    assert main(["screenshot", str(replay), "-o", str(png), "--time", "0.5", "--size", "640x400"]) == 0
     assert f"screenshot: {png}" in capsys.readouterr().out
     image = colours(png)[0]
     assert image.shape == (400, 640, 3)
@@ -134,11 +135,11 @@ def test_detection_markers_float_over_parts_only():
     names = {m.name for m in run.runtime.camera_image("logical_camera_2").models}
     assert {"robot2", "vacuum_gripper2", "object_1"} <= names
     assert len(poses["logical_camera_2"]) == 1
-    assert "object_1" in station.pool                   # spawned from the pool
+    assert "object_1" in station.pool  # spawned from the pool
     size = station.scenario.pool_part_size
     expected = run.runtime.part_pose("object_1").translation() + [0, 0, size / 2 + 0.08]
     np.testing.assert_allclose(poses["logical_camera_2"][0].translation(), expected, atol=2e-3)
-    assert poses["logical_camera_bin_1"] == []          # it sees bin_1 only: no part
+    assert poses["logical_camera_bin_1"] == []  # it sees bin_1 only: no part
     with pytest.raises(ConfigError, match="radius must be > 0"):
         DetectionMarkers(station.meshcat, station, radius=0.0)
     # Issue 10 bug 5: a blacked-out camera publishes nothing, so its markers go away
@@ -153,10 +154,10 @@ def test_detection_markers_float_over_parts_only():
 def test_view_for_aims_at_the_task_robot():
     scenario = load_scenario("fill_bin")
     eye, target = view_for(scenario)
-    assert np.hypot(target[0] + 8.0, target[1] + 1.65) < 0.3     # robot 2, bin 1, pick spot
+    assert np.hypot(target[0] + 8.0, target[1] + 1.65) < 0.3  # robot 2, bin 1, pick spot
     assert 2.0 < np.linalg.norm(np.subtract(eye, target)) < 4.0
     eye1, target1 = view_for(load_scenario("lecture7_conveyor_pick"))
-    assert np.hypot(target1[0] - 0.5, target1[1] - 2.0) < 0.5   # robot 1, bin 2, camera 1
+    assert np.hypot(target1[0] - 0.5, target1[1] - 2.0) < 0.5  # robot 1, bin 2, camera 1
     assert view_for(load_scenario("omtp_factory")) == DEFAULT_VIEW
 
 

@@ -20,8 +20,9 @@ CAMERA = "logical_camera_1"
 
 
 def _with_camera(scenario, name, **changes):
-    return replace(scenario, cameras=[replace(c, **changes) if c.name == name else c
-                                      for c in scenario.cameras])
+    return replace(
+        scenario, cameras=[replace(c, **changes) if c.name == name else c for c in scenario.cameras]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -36,8 +37,9 @@ def view() -> FactoryRuntime:
 def _images(runtime: FactoryRuntime, camera: str = CAMERA):
     diagram = runtime.station.diagram
     context = diagram.GetMyContextFromRoot(runtime.context)
-    return [diagram.GetOutputPort(f"{camera}.{kind}_image").Eval(context)
-            for kind in ("color", "depth", "label")]
+    return [
+        diagram.GetOutputPort(f"{camera}.{kind}_image").Eval(context) for kind in ("color", "depth", "label")
+    ]
 
 
 def _pixels(runtime: FactoryRuntime, p_W: np.ndarray, camera: str = CAMERA) -> np.ndarray:
@@ -46,8 +48,11 @@ def _pixels(runtime: FactoryRuntime, p_W: np.ndarray, camera: str = CAMERA) -> n
     info = camera_info(config)
     X_WO = runtime.camera_image(camera).X_WC @ X_CameraOptical()
     p_O = (X_WO.inverse().GetAsMatrix34() @ np.c_[p_W, np.ones(len(p_W))].T).T
-    return np.c_[info.center_x() + info.focal_x() * p_O[:, 0] / p_O[:, 2],
-                 info.center_y() + info.focal_y() * p_O[:, 1] / p_O[:, 2], p_O[:, 2]]
+    return np.c_[
+        info.center_x() + info.focal_x() * p_O[:, 0] / p_O[:, 2],
+        info.center_y() + info.focal_y() * p_O[:, 1] / p_O[:, 2],
+        p_O[:, 2],
+    ]
 
 
 def _hull(points: np.ndarray) -> np.ndarray:
@@ -70,7 +75,7 @@ def _hull(points: np.ndarray) -> np.ndarray:
 
 def _signed_distance(hull: np.ndarray, shape: tuple[int, int]) -> np.ndarray:
     """Per pixel centre (v, u): distance inside the convex polygon (> 0 inside), in pixels."""
-    v, u = np.mgrid[0:shape[0], 0:shape[1]]
+    v, u = np.mgrid[0 : shape[0], 0 : shape[1]]
     q = np.stack([u, v], axis=-1).astype(float)
     distance = np.full(shape, np.inf)
     for a, b in zip(hull, np.roll(hull, -1, axis=0)):
@@ -98,8 +103,7 @@ def test_defaults_leave_the_logical_camera_as_it_was(view):
     plain.simulator.AdvancePendingEvents()
     assert plain.station.scene_graph.RendererCount() == 0
     image = plain.camera_image(CAMERA)
-    assert not image.occlusion and [(m.name, m.visible_fraction) for m in image.models] == [
-        ("object_1", 1.0)]
+    assert not image.occlusion and [(m.name, m.visible_fraction) for m in image.models] == [("object_1", 1.0)]
     text = str(image)
     assert "visible_fraction" not in text and "    x: 0.9790782" in text  # as in README.md
     assert text == str(view.camera_image(CAMERA))
@@ -129,7 +133,7 @@ def test_depth_at_the_part_centre_is_the_distance_to_its_top_face(view):
     _, depth, _ = _images(view)
     X_WP = view.part_pose("object_1")
     top = X_WP @ np.array([0.0, 0.0, 0.1])
-    (u, v, z), = _pixels(view, top[None, :])
+    ((u, v, z),) = _pixels(view, top[None, :])
     image = np.asarray(depth.data)[:, :, 0]
     assert image[round(v), round(u)] == pytest.approx(z, abs=0.005)
     # Straight down from 2.0 m to the top face at 0.92 + 0.001 + 0.2.
@@ -139,21 +143,24 @@ def test_depth_at_the_part_centre_is_the_distance_to_its_top_face(view):
 
 def test_cli_saves_the_colour_image(tmp_path, capsys):
     scenario = tmp_path / "with_view.yaml"
-    scenario.write_text(yaml.safe_dump({
-        "base": "lecture6_assignment1",
-        "cameras": [{"name": CAMERA, "rgbd": True, "rgbd_width": 96}]}))
+    scenario.write_text(
+        yaml.safe_dump(
+            {"base": "lecture6_assignment1", "cameras": [{"name": CAMERA, "rgbd": True, "rgbd_width": 96}]}
+        )
+    )
     png = tmp_path / "camera1.png"
     assert main(["camera", str(scenario), "--camera", CAMERA, "--image", str(png)]) == 0
     out = capsys.readouterr().out
     assert 'name: "object_1"' in out and f"colour image: {png}" in out
     pixels = imread(png)
     assert pixels.shape == (64, 96, 4)
-    assert (pixels[32, 48, 1] > pixels[32, 48, 0] + 0.1)  # the part (green) in the middle
+    assert pixels[32, 48, 1] > pixels[32, 48, 0] + 0.1  # the part (green) in the middle
 
 
 def test_cli_image_without_a_view_is_one_line(tmp_path, capsys):
-    assert main(["camera", "lecture6_assignment1", "--camera", CAMERA,
-                 "--image", str(tmp_path / "x.png")]) == 2
+    assert (
+        main(["camera", "lecture6_assignment1", "--camera", CAMERA, "--image", str(tmp_path / "x.png")]) == 2
+    )
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "rgbd: true" in err and "logical_camera_1" in err
     assert not (tmp_path / "x.png").exists()
@@ -177,8 +184,9 @@ def test_occlusion_agrees_with_the_rendered_labels():
         return int((np.asarray(_images(runtime, "logical_camera_2")[2].data) == part).sum())
 
     hidden = part_pixels()
-    runtime.station.set_arm_positions(runtime.context, "robot2",
-                                      [1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 0.0])  # R2Home
+    runtime.station.set_arm_positions(
+        runtime.context, "robot2", [1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 0.0]
+    )  # R2Home
     shown = part_pixels()
     print(f"visible fraction {model.visible_fraction:.3f}, VTK label pixels {hidden} / {shown}")
     assert 0.2 < hidden / shown < 0.95  # the arm hides some of it

@@ -25,7 +25,9 @@ def run(tmp_path, source, scenario=A3, name="script.py", **options):
 
 
 def test_time_sleep_rate_and_camera_messages_in_time_order(tmp_path):
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import rospy
         from omtp_gazebo.msg import LogicalCameraImage
@@ -41,7 +43,8 @@ def test_time_sleep_rate_and_camera_messages_in_time_order(tmp_path):
             rate.sleep()
         out = {"t0": t0.to_sec(), "t1": t1, "t2": rospy.get_time(), "stamps": stamps}
         json.dump(out, open(sys.argv[1], "w"))
-    """)
+    """,
+    )
     assert report.ok and report.exception is None
     assert data["t0"] == 0.0 and data["t1"] == pytest.approx(1.0) and data["t2"] == pytest.approx(1.5)
     stamps = np.array(data["stamps"])
@@ -50,7 +53,9 @@ def test_time_sleep_rate_and_camera_messages_in_time_order(tmp_path):
 
 
 def test_a_callback_that_blocks_holds_its_queue_and_never_reenters(tmp_path):
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import rospy
         from omtp_gazebo.msg import LogicalCameraImage
@@ -66,7 +71,8 @@ def test_a_callback_that_blocks_holds_its_queue_and_never_reenters(tmp_path):
         rospy.Subscriber("/omtp/logical_camera_2", LogicalCameraImage, slow, queue_size=1)
         rospy.sleep(2.0)
         json.dump(calls, open(sys.argv[1], "w"))
-    """)
+    """,
+    )
     assert report.callback_errors == [] and report.ok
     calls = np.array(data)
     assert len(calls) >= 4
@@ -75,14 +81,20 @@ def test_a_callback_that_blocks_holds_its_queue_and_never_reenters(tmp_path):
 
 
 def test_spin_ends_at_the_timeout_and_signal_shutdown_ends_it_earlier(tmp_path):
-    report, _ = run(tmp_path, """
+    report, _ = run(
+        tmp_path,
+        """
         import rospy
         rospy.init_node("spinner")
         rospy.spin()
-    """, timeout=1.0)
+    """,
+        timeout=1.0,
+    )
     assert report.exception is None and "timeout" in report.shutdown
     assert report.sim_time_s == pytest.approx(1.0)
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import rospy
         rospy.init_node("spinner")
@@ -94,13 +106,17 @@ def test_spin_ends_at_the_timeout_and_signal_shutdown_ends_it_earlier(tmp_path):
             else:
                 rate.sleep()
         rospy.sleep(1.0)  # after shutdown: ROSInterruptException, the run's normal end
-    """, timeout=5.0)
+    """,
+        timeout=5.0,
+    )
     assert report.exception is None and report.shutdown == "signal_shutdown: done"
     assert data["t"] == pytest.approx(0.8)
 
 
 def test_the_script_exception_points_at_its_own_line(tmp_path):
-    report, _ = run(tmp_path, """
+    report, _ = run(
+        tmp_path,
+        """
         import rospy
         from omtp_gazebo.msg import LogicalCameraImage
 
@@ -110,15 +126,21 @@ def test_the_script_exception_points_at_its_own_line(tmp_path):
             rospy.wait_for_message("/omtp/logical_camera_9", LogicalCameraImage, timeout=0.2)
 
         main()
-    """, name="my_pick.py")
-    assert report.exception.startswith("ROSException: timeout exceeded while waiting for message on topic "
-                                       "/omtp/logical_camera_9 (at my_pick.py:8 in main)")
+    """,
+        name="my_pick.py",
+    )
+    assert report.exception.startswith(
+        "ROSException: timeout exceeded while waiting for message on topic "
+        "/omtp/logical_camera_9 (at my_pick.py:8 in main)"
+    )
     assert report.traceback[-1].startswith("my_pick.py:8 in main: rospy.wait_for_message(")
     assert not report.ok and report.sim_time_s == pytest.approx(0.25, abs=0.06)
 
 
 def test_services_by_the_course_names_and_clear_errors(tmp_path):
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import rospy
         from omtp_gazebo.msg import ConveyorBeltState
@@ -138,7 +160,8 @@ def test_services_by_the_course_names_and_clear_errors(tmp_path):
         except NotImplementedError as e:
             out["unsupported"] = str(e)
         json.dump(out, open(sys.argv[1], "w"))
-    """)
+    """,
+    )
     assert report.ok
     assert data["gripper"] is True and data["belt_150"] is False and data["belt_50"] is True
     assert data["unknown"].startswith("service [/spawn_object_once] unavailable: this cell has ")
@@ -147,7 +170,9 @@ def test_services_by_the_course_names_and_clear_errors(tmp_path):
 
 
 def test_tf2_lookup_transform_matches_the_reference_and_raises_tf2_errors(tmp_path):
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import rospy, tf2_ros, tf2_geometry_msgs
         from geometry_msgs.msg import PoseStamped
@@ -173,7 +198,8 @@ def test_tf2_lookup_transform_matches_the_reference_and_raises_tf2_errors(tmp_pa
         p = tf2_geometry_msgs.do_transform_pose(pose, stamped).pose.position
         out["bin_in_world"] = [p.x, p.y, p.z]
         json.dump(out, open(sys.argv[1], "w"))
-    """)
+    """,
+    )
     assert report.ok
     np.testing.assert_allclose(data["bin_in_robot2"], [-0.70, 0.20, -0.70], atol=0.01)  # reference values
     np.testing.assert_allclose(data["bin_in_world"], [-8.0, -2.2, 0.0], atol=1e-9)
@@ -182,10 +208,13 @@ def test_tf2_lookup_transform_matches_the_reference_and_raises_tf2_errors(tmp_pa
 
 def test_the_ros_names_are_on_the_path_for_the_script_only(tmp_path):
     path_before = list(sys.path)
-    report, _ = run(tmp_path, """
+    report, _ = run(
+        tmp_path,
+        """
         import rospy, moveit_commander, tf2_ros, geometry_msgs.msg, std_srvs.srv, omtp_gazebo.srv
         rospy.init_node("imports")
-    """)
+    """,
+    )
     assert report.ok and sys.path == path_before
     ros_names = ("rospy", "moveit_commander", "geometry_msgs")
     assert not any(name.split(".")[0] in ros_names for name in sys.modules)
@@ -213,7 +242,9 @@ def test_two_runs_of_a_script_give_the_same_report(tmp_path):
 
 
 def test_a_callback_that_raises_is_logged_recorded_and_delivery_goes_on(tmp_path):
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import rospy
         from std_msgs.msg import String
@@ -229,25 +260,31 @@ def test_a_callback_that_raises_is_logged_recorded_and_delivery_goes_on(tmp_path
             chatter.publish(word)
             rospy.sleep(0.1)
         json.dump(got, open(sys.argv[1], "w"))
-    """)
+    """,
+    )
     assert data == ["one", "two", "three"]
     assert report.callback_errors == ["/chatter: ValueError: cannot handle two"] and not report.ok
 
 
 def test_the_scripts_own_modules_are_forgotten_after_the_run_and_the_projects_kept(tmp_path):
     (tmp_path / "helpers.py").write_text("ANSWER = 42\n")
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import helpers
         import omtp_drake.ros.transformations
         json.dump(helpers.ANSWER, open(sys.argv[1], "w"))
-    """)
+    """,
+    )
     assert report.ok and data == 42
     assert "helpers" not in sys.modules and "omtp_drake.ros.transformations" in sys.modules
 
 
 def test_a_latched_topic_gives_a_late_subscriber_its_last_message_once(tmp_path):
-    report, data = run(tmp_path, """
+    report, data = run(
+        tmp_path,
+        """
         import json, sys
         import rospy
         from std_msgs.msg import String
@@ -260,5 +297,6 @@ def test_a_latched_topic_gives_a_late_subscriber_its_last_message_once(tmp_path)
         rospy.Subscriber("/status", String, lambda m: late.append(m.data))
         rospy.sleep(0.2)
         json.dump([early, late], open(sys.argv[1], "w"))
-    """)
+    """,
+    )
     assert report.ok and data == [["ready"], ["ready"]]

@@ -91,8 +91,11 @@ def test_parts_in_the_planning_scene_are_obstacles_named_by_their_names(cell):
 
 
 def test_joint_targets_outside_the_limits_raise_planning_error(cell):
-    with pytest.raises(PlanningError, match=r"robot2: the goal is outside the joint limits: joint "
-                                            r"wrist_3_joint of robot2 at 4\.0000 rad is outside"):
+    with pytest.raises(
+        PlanningError,
+        match=r"robot2: the goal is outside the joint limits: joint "
+        r"wrist_3_joint of robot2 at 4\.0000 rad is outside",
+    ):
         cell.arm("robot2").go([1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 4.0])
 
 

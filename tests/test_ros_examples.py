@@ -15,7 +15,11 @@ EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "ros"
 
 def test_every_ros_example_is_tested():
     assert sorted(p.stem for p in EXAMPLES.glob("*.py")) == [
-        "cartesian_descent", "lecture6_assignment3", "lecture6_assignment4", "lecture7_belt_pick"]
+        "cartesian_descent",
+        "lecture6_assignment3",
+        "lecture6_assignment4",
+        "lecture7_belt_pick",
+    ]
 
 
 def test_assignment3_prints_the_part_in_the_suction_cup_frame(capsys):
@@ -29,11 +33,14 @@ def test_assignment3_prints_the_part_in_the_suction_cup_frame(capsys):
     assert np.linalg.norm(p) == pytest.approx(np.linalg.norm([-0.013, 0.379, 1.022]), abs=3e-3)
 
 
-@pytest.mark.parametrize("script, args, scenario, bin_name, parts", [
-    ("lecture6_assignment4", ["2"], "lecture6_assignment4", "bin_1", 2),
-    ("cartesian_descent", [], "lecture6_assignment4", "bin_1", 1),
-    ("lecture7_belt_pick", ["1"], "lecture7_conveyor_pick", "bin_2", 1),
-])
+@pytest.mark.parametrize(
+    "script, args, scenario, bin_name, parts",
+    [
+        ("lecture6_assignment4", ["2"], "lecture6_assignment4", "bin_1", 2),
+        ("cartesian_descent", [], "lecture6_assignment4", "bin_1", 1),
+        ("lecture7_belt_pick", ["1"], "lecture7_conveyor_pick", "bin_2", 1),
+    ],
+)
 def test_pick_scripts_put_the_parts_in_the_bin(script, args, scenario, bin_name, parts):
     report = run_script(EXAMPLES / f"{script}.py", args, scenario=scenario, timeout=60.0)
     assert report.exception is None and report.collisions == [] and report.callback_errors == []
@@ -44,8 +51,17 @@ def test_pick_scripts_put_the_parts_in_the_bin(script, args, scenario, bin_name,
 
 def test_ros_run_command_writes_the_report(tmp_path, capsys):
     out = tmp_path / "result.json"
-    code = main(["ros-run", str(EXAMPLES / "lecture6_assignment3.py"), "--scenario", "lecture6_assignment3",
-                 "--json", str(out), "-q"])
+    code = main(
+        [
+            "ros-run",
+            str(EXAMPLES / "lecture6_assignment3.py"),
+            "--scenario",
+            "lecture6_assignment3",
+            "--json",
+            str(out),
+            "-q",
+        ]
+    )
     assert code == 0
     data = json.loads(out.read_text())
     assert set(data) >= {"ledger", "sim_time_s", "wall_time_s", "exception", "collisions"}
@@ -56,8 +72,10 @@ def test_ros_run_command_writes_the_report(tmp_path, capsys):
 
 def test_two_runs_of_an_example_give_the_same_report():
     """Same script, scenario and seed: the same report, but for the wall time."""
-    runs = [run_script(EXAMPLES / "cartesian_descent.py", scenario="lecture6_assignment4").to_dict()
-            for _ in range(2)]
+    runs = [
+        run_script(EXAMPLES / "cartesian_descent.py", scenario="lecture6_assignment4").to_dict()
+        for _ in range(2)
+    ]
     for run in runs:
         run.pop("wall_time_s")
     assert runs[0] == runs[1] and runs[0]["ledger"]["in_bin"]["bin_1"] == 1

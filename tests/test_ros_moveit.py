@@ -132,7 +132,8 @@ def test_callbacks_run_while_the_main_thread_waits_for_a_move(tmp_path):
     """As rospy's callback threads do while ``go()`` blocks: the camera's callbacks run
     at their times during the move, in order, not all after it."""
     script = tmp_path / "during.py"
-    script.write_text(textwrap.dedent("""
+    script.write_text(
+        textwrap.dedent("""
         import json, sys
         import moveit_commander, rospy
         from omtp_gazebo.msg import LogicalCameraImage
@@ -145,7 +146,8 @@ def test_callbacks_run_while_the_main_thread_waits_for_a_move(tmp_path):
         group.set_named_target("R2Place")
         group.go(wait=True)
         json.dump({"start": start, "end": rospy.get_time(), "times": times}, open(sys.argv[1], "w"))
-    """))
+    """)
+    )
     out = tmp_path / "out.json"
     assert run_script(script, [str(out)], scenario=A4).ok
     data = json.loads(out.read_text())

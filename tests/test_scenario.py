@@ -63,7 +63,8 @@ def test_user_world_from_path_inherits_base(tmp_path):
         "description: only robot 2\n"
         "robots: !replace\n"
         "  - {name: robot2, model: ur5, xy: [-7.8, -1.5], pedestal_height: 0.7, yaw: 1.57,\n"
-        "     pose_prefix: R2, gripper: vacuum_gripper2}\n")
+        "     pose_prefix: R2, gripper: vacuum_gripper2}\n"
+    )
     s = load_scenario(str(path))
     assert s.name == "one_arm" and [r.name for r in s.robots] == ["robot2"]
     assert len(s.cameras) == 2
@@ -80,8 +81,7 @@ def test_base_merges_named_lists_by_name(tmp_path):
     assert r2.joint_limit == pytest.approx(2 * 3.141592653589793) and b2.joint_limit < 3.2
     assert (r2.model, r2.xy, r2.yaw, r2.gripper) == (b2.model, b2.xy, b2.yaw, b2.gripper)
     # A camera added by name; the course's two come from the base.
-    assert [c.name for c in base.cameras] == ["logical_camera_1", "logical_camera_2",
-                                              "logical_camera_bin_1"]
+    assert [c.name for c in base.cameras] == ["logical_camera_1", "logical_camera_2", "logical_camera_bin_1"]
     # A child's item of a known name merges key by key.
     path = tmp_path / "near.yaml"
     path.write_text("base: omtp_factory\ncameras:\n  - {name: logical_camera_2, far: 1.5}\n")
@@ -95,8 +95,10 @@ def test_pose_in_drake_transform_form(tmp_path):
     assert cam.xyz == pytest.approx([-8.0, -2.2, 1.7])
     assert cam.rpy == pytest.approx([0.0, 3.141592653589793 / 2, 0.0])
     path = tmp_path / "both.yaml"
-    path.write_text("base: omtp_factory\nparts:\n  - {name: p1, xyz: [0, 0, 0.1],\n"
-                    "     pose: {translation: [0, 0, 0.1]}}\n")
+    path.write_text(
+        "base: omtp_factory\nparts:\n  - {name: p1, xyz: [0, 0, 0.1],\n"
+        "     pose: {translation: [0, 0, 0.1]}}\n"
+    )
     with pytest.raises(ScenarioError, match=r"parts\[p1\] gives both pose and xyz"):
         load_scenario(path)
 
@@ -112,13 +114,16 @@ def test_misspelt_nested_key_names_file_key_closest_and_valid(tmp_path):
     assert "did you mean 'horizontal_fov'" in message and "valid keys: name, parent" in message
 
 
-@pytest.mark.parametrize("text, words", [
-    ("task: {robot: robot9}\n", ["task.robot", "robot9", "robot1, robot2"]),
-    ("task: {camera: cam}\n", ["task.camera", "'cam'", "logical_camera_1"]),
-    ("task: {bin: bin_7}\n", ["bin", "bin_7", "bin_1"]),
-    ("conveyor: {stop_on_beam: true}\nbreak_beam: false\n", ["stop_on_beam needs break_beam"]),
-    ("robots:\n  - {name: robot2, gripper: ''}\ntask: {robot: robot2}\n", ["has no gripper"]),
-])
+@pytest.mark.parametrize(
+    "text, words",
+    [
+        ("task: {robot: robot9}\n", ["task.robot", "robot9", "robot1, robot2"]),
+        ("task: {camera: cam}\n", ["task.camera", "'cam'", "logical_camera_1"]),
+        ("task: {bin: bin_7}\n", ["bin", "bin_7", "bin_1"]),
+        ("conveyor: {stop_on_beam: true}\nbreak_beam: false\n", ["stop_on_beam needs break_beam"]),
+        ("robots:\n  - {name: robot2, gripper: ''}\ntask: {robot: robot2}\n", ["has no gripper"]),
+    ],
+)
 def test_cross_references_are_checked_at_load(tmp_path, text, words):
     path = tmp_path / "bad.yaml"
     path.write_text("base: omtp_factory\n" + text)
@@ -128,12 +133,15 @@ def test_cross_references_are_checked_at_load(tmp_path, text, words):
         assert word in str(e.value)
 
 
-@pytest.mark.parametrize("name, words", [
-    ("world", ["name 'world' is taken by the cell", "reserved names: world, floor"]),
-    ("floor", ["name 'floor' is taken by the cell"]),
-    ("robot2_pedestal", ["names must be unique", "repeated: robot2_pedestal"]),
-    ("bin_1", ["names must be unique", "repeated: bin_1"]),
-])
+@pytest.mark.parametrize(
+    "name, words",
+    [
+        ("world", ["name 'world' is taken by the cell", "reserved names: world, floor"]),
+        ("floor", ["name 'floor' is taken by the cell"]),
+        ("robot2_pedestal", ["names must be unique", "repeated: robot2_pedestal"]),
+        ("bin_1", ["names must be unique", "repeated: bin_1"]),
+    ],
+)
 def test_a_part_may_not_take_a_name_of_the_cell(tmp_path, name, words):
     path = tmp_path / "named.yaml"
     path.write_text(f"base: omtp_factory\nparts:\n  - {{name: {name}, xyz: [1.2, 1.8, 1.1]}}\n")

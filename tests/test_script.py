@@ -144,8 +144,10 @@ def test_a_part_in_the_planning_scene_refuses_the_line_and_one_put_there_later_s
         part = cell.spawn_part(xyz=spot, yaw=0.0)
         cell.wait(1.0)
         cell.planning_scene.add_part(part)
-        with pytest.raises(CollisionError, match=f"touched something it should not: "
-                                                 f"vacuum_gripper2_base_link - {part}; it stopped there"):
+        with pytest.raises(
+            CollisionError,
+            match=f"touched something it should not: vacuum_gripper2_base_link - {part}; it stopped there",
+        ):
             arm.execute(plan)
         stopped = arm.tool_pose().translation()
         assert stopped[2] + 0.015 > p[2] + 0.1 - 0.01  # its body (cup face + 15 mm) within 1 cm of the top
@@ -178,12 +180,15 @@ def test_execute_without_wait_moves_two_arms_at_once(cell):
     arm1.go("Home")
 
 
-@pytest.mark.parametrize("target, words", [
-    (tool_down([-8.0, 0.5, 0.5]), ["unreachable"]),
-    ([0.0, 0.0, 4.0, 0.0, 0.0, 0.0], ["elbow_joint", "outside its limits"]),
-    ([1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 0.0, 0.0], ["6 numbers"]),
-    ("R1Home", ["unknown named pose of robot2 'R1Home'", "R2Home"]),
-])
+@pytest.mark.parametrize(
+    "target, words",
+    [
+        (tool_down([-8.0, 0.5, 0.5]), ["unreachable"]),
+        ([0.0, 0.0, 4.0, 0.0, 0.0, 0.0], ["elbow_joint", "outside its limits"]),
+        ([1.5708, -1.5708, 1.5708, -1.5708, -1.5708, 0.0, 0.0], ["6 numbers"]),
+        ("R1Home", ["unknown named pose of robot2 'R1Home'", "R2Home"]),
+    ],
+)
 def test_impossible_moves_are_clear_errors_and_nothing_moves(cell, target, words):
     arm = cell.arm("robot2")
     arm.go("Home")
@@ -199,8 +204,9 @@ def test_a_goal_inside_the_bin_wall_is_refused_naming_the_bodies(cell):
     arm = cell.arm("robot2")
     arm.go("Home")
     t = cell.time
-    q_wall = arm.planner.ik(tool_down([-8.0, -2.0, 0.30]), q_seed=arm.joint_values(),
-                            check_collisions=False)  # the cup in bin 1's wall
+    q_wall = arm.planner.ik(
+        tool_down([-8.0, -2.0, 0.30]), q_seed=arm.joint_values(), check_collisions=False
+    )  # the cup in bin 1's wall
     with pytest.raises(PlanningError, match="in collision.*bin_1"):
         arm.go(q_wall)
     assert cell.time == t

@@ -50,24 +50,33 @@ BACKENDS = ("weld", "force")
 
 def test_config_defaults_are_valid_and_load_from_yaml():
     SuctionConfig().validate()
-    config = yaml_load_typed(schema=SuctionConfig, data="backend: force\ncheck_rate_hz: 30.0\n"
-                             "consecutive_checks: 3\napply_reaction: false\n")
+    config = yaml_load_typed(
+        schema=SuctionConfig,
+        data="backend: force\ncheck_rate_hz: 30.0\nconsecutive_checks: 3\napply_reaction: false\n",
+    )
     config.validate()
-    assert (config.backend, config.check_rate_hz, config.consecutive_checks,
-            config.apply_reaction) == ("force", 30.0, 3, False)
+    assert (config.backend, config.check_rate_hz, config.consecutive_checks, config.apply_reaction) == (
+        "force",
+        30.0,
+        3,
+        False,
+    )
 
 
-@pytest.mark.parametrize("field_name, value, words", [
-    ("backend", "glue", ["backend", "glue", "weld", "force"]),
-    ("check_rate_hz", 5.0, ["check_rate_hz", "5.0", "[10, 1000] Hz"]),
-    ("check_rate_hz", math.nan, ["check_rate_hz", "nan"]),
-    ("max_angle_deg", 95.0, ["max_angle_deg", "95.0", "(0, 90)"]),
-    ("consecutive_checks", 0, ["consecutive_checks", "0", ">= 1"]),
-    ("stiffness", -1.0, ["stiffness", "-1.0", "(0, inf)"]),
-    ("damping", -2.0, ["damping", "-2.0", "[0, inf)"]),
-    ("angular_stiffness", math.inf, ["angular_stiffness", "inf"]),
-    ("max_hold_distance", 0.0, ["max_hold_distance", "0.0", "(0, inf)"]),
-])
+@pytest.mark.parametrize(
+    "field_name, value, words",
+    [
+        ("backend", "glue", ["backend", "glue", "weld", "force"]),
+        ("check_rate_hz", 5.0, ["check_rate_hz", "5.0", "[10, 1000] Hz"]),
+        ("check_rate_hz", math.nan, ["check_rate_hz", "nan"]),
+        ("max_angle_deg", 95.0, ["max_angle_deg", "95.0", "(0, 90)"]),
+        ("consecutive_checks", 0, ["consecutive_checks", "0", ">= 1"]),
+        ("stiffness", -1.0, ["stiffness", "-1.0", "(0, inf)"]),
+        ("damping", -2.0, ["damping", "-2.0", "[0, inf)"]),
+        ("angular_stiffness", math.inf, ["angular_stiffness", "inf"]),
+        ("max_hold_distance", 0.0, ["max_hold_distance", "0.0", "(0, inf)"]),
+    ],
+)
 def test_config_validation_names_field_value_and_range(field_name, value, words):
     config = SuctionConfig(**{field_name: value})
     with pytest.raises(ConfigError) as info:
@@ -140,8 +149,9 @@ def test_state_fields_and_two_consecutive_checks(backend):
 def test_interrupted_touch_restarts_the_count(backend):
     """Touching at checks 0 and 2 but not 1 does not attach; a 2nd touch in a row does."""
     down, up = tool_q(0, 0, TOP - PRESS), tool_q(0, 0, TOP + 0.005)
-    motion = trajectory([(0.0, down), (0.02, down), (0.03, up), (0.07, up), (0.08, down),
-                         (1.0, down)], accel=1e6)
+    motion = trajectory(
+        [(0.0, down), (0.02, down), (0.03, up), (0.07, up), (0.08, down), (1.0, down)], accel=1e6
+    )
     rig = build_rig(backend, motion)
     rig.command(True)
     rig.advance_to(0.12)  # checks at 0 (touch), 0.05 (apart), 0.10 (touch)
@@ -258,8 +268,7 @@ def _attach_moment(rig: Rig) -> float:
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_attach_does_not_snap_an_offset_yawed_part(backend):
     # Part yawed 20 deg, the cup 4 cm off its centre (diagonal), pressed 2 mm.
-    rig = build_rig(backend, hold(tool_q(0.03, -0.0265, TOP - PRESS)),
-                    parts=[(0.0, 0.0, math.radians(20.0))])
+    rig = build_rig(backend, hold(tool_q(0.03, -0.0265, TOP - PRESS)), parts=[(0.0, 0.0, math.radians(20.0))])
     rig.advance_to(0.3)  # the arm has arrived; then suction on
     rig.command(True)
     rig.advance_to(0.6)
@@ -280,24 +289,36 @@ def test_attach_does_not_snap_an_offset_yawed_part(backend):
     p_CP = state.X_CP.translation()
     assert math.hypot(p_CP[0], p_CP[1]) == pytest.approx(0.04, abs=1e-3)
     R_WP_expected = rig.X_WC().rotation() @ state.X_CP.rotation()
-    assert pose_change(RigidTransform(R_WP_expected, [0, 0, 0]),
-                       RigidTransform(rig.X_WP().rotation(), [0, 0, 0]))[1] < 0.1
+    assert (
+        pose_change(
+            RigidTransform(R_WP_expected, [0, 0, 0]), RigidTransform(rig.X_WP().rotation(), [0, 0, 0])
+        )[1]
+        < 0.1
+    )
 
 
-@pytest.mark.parametrize("backend, reaction, time_step, max_drift", [
-    ("weld", False, None, 1e-3),
-    # The force backend's spring is explicit, its gains capped at m / h^2 (SuctionConfig):
-    # 0.8 mm at 5 ms; at the default 10 ms a 1 kg part sags 2.8 mm under 20 m/s^2.
-    ("force", False, 0.005, 1e-3),
-    ("force", True, 0.005, 1e-3),
-    ("force", False, None, 3.5e-3),
-])
+@pytest.mark.parametrize(
+    "backend, reaction, time_step, max_drift",
+    [
+        ("weld", False, None, 1e-3),
+        # The force backend's spring is explicit, its gains capped at m / h^2 (SuctionConfig):
+        # 0.8 mm at 5 ms; at the default 10 ms a 1 kg part sags 2.8 mm under 20 m/s^2.
+        ("force", False, 0.005, 1e-3),
+        ("force", True, 0.005, 1e-3),
+        ("force", False, None, 3.5e-3),
+    ],
+)
 def test_holds_a_1kg_part_through_a_fast_move_then_releases(backend, reaction, time_step, max_drift):
     """At 1 m/s, 20 m/s^2 ramps. (The rig's tool is SAP-PD driven, so the force
     backend's reaction on the cup is stable here.)"""
     motion, t_moving, t_stop = pick_motion(accel=20.0)
-    rig = build_rig(backend, motion, mass=1.0, time_step=time_step,
-                    config=SuctionConfig(backend=backend, apply_reaction=reaction))
+    rig = build_rig(
+        backend,
+        motion,
+        mass=1.0,
+        time_step=time_step,
+        config=SuctionConfig(backend=backend, apply_reaction=reaction),
+    )
     rig.command(True)
     rig.advance_to(t_moving)
     state = rig.state()
@@ -310,12 +331,13 @@ def test_holds_a_1kg_part_through_a_fast_move_then_releases(backend, reaction, t
 
     rig.advance_to(t_stop + 0.2, after=measure)
     # Peak speed reached 1 m/s.
-    speeds = [np.linalg.norm(b[2].translation() - a[2].translation()) / rig.time_step
-              for a, b in zip(rig.log, rig.log[1:])]
+    speeds = [
+        np.linalg.norm(b[2].translation() - a[2].translation()) / rig.time_step
+        for a, b in zip(rig.log, rig.log[1:])
+    ]
     assert max(speeds) == pytest.approx(1.0, rel=0.05)
     # Every step, not only at chunk ends.
-    steps = [pose_change(X_CP, X_WC.InvertAndCompose(X_WP))
-             for t, X_WP, X_WC in rig.log if t >= t_moving]
+    steps = [pose_change(X_CP, X_WC.InvertAndCompose(X_WP)) for t, X_WP, X_WC in rig.log if t >= t_moving]
     worst = max(d for d, _ in steps)
     worst_angle = max(a for _, a in steps)
     assert rig.state().attached
@@ -341,10 +363,10 @@ def test_holds_a_1kg_part_through_a_fast_move_then_releases(backend, reaction, t
 def test_force_backend_loses_hold_when_pulled_away():
     """Pressing a held part into the floor stretches the spring: a 'hold lost' release."""
     down = tool_q(0, 0, TOP - PRESS)
-    motion = trajectory([(0.0, down), (0.2, down), (0.5, down - [0, 0, 0.03, 0, 0]),
-                         (2.0, down - [0, 0, 0.03, 0, 0])])
-    rig = build_rig("force", motion, config=SuctionConfig(backend="force", max_hold_distance=0.01),
-                    log=False)
+    motion = trajectory(
+        [(0.0, down), (0.2, down), (0.5, down - [0, 0, 0.03, 0, 0]), (2.0, down - [0, 0, 0.03, 0, 0])]
+    )
+    rig = build_rig("force", motion, config=SuctionConfig(backend="force", max_hold_distance=0.01), log=False)
     rig.command(True)
     rig.advance_to(0.2)
     assert rig.state().attached
@@ -361,16 +383,22 @@ def test_connect_spatial_forces_merges_several_force_grippers():
     parser = Parser(plant)
     cups = []
     for k in (1, 2):
-        parser.AddModelsFromString(expand_xacro(
-            MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": f"vacuum_gripper{k}"}), "urdf")
-        plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(f"vacuum_gripper{k}_base_link"),
-                         RigidTransform([k, 0, 1]))
+        parser.AddModelsFromString(
+            expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": f"vacuum_gripper{k}"}), "urdf"
+        )
+        plant.WeldFrames(
+            plant.world_frame(),
+            plant.GetFrameByName(f"vacuum_gripper{k}_base_link"),
+            RigidTransform([k, 0, 1]),
+        )
         cups.append(plant.GetBodyByName(f"vacuum_gripper{k}_cup"))
     parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "p"}), "urdf")
     part = plant.GetBodyByName("p")
     plant.Finalize()
-    grippers = [add_suction_gripper(builder, plant, cup, [part], SuctionConfig(backend="force"),
-                                    f"suction{k}") for k, cup in enumerate(cups, 1)]
+    grippers = [
+        add_suction_gripper(builder, plant, cup, [part], SuctionConfig(backend="force"), f"suction{k}")
+        for k, cup in enumerate(cups, 1)
+    ]
     connect_spatial_forces(builder, plant, grippers)
     assert builder.IsConnectedOrExported(plant.get_applied_spatial_force_input_port())
     with pytest.raises(ConfigError, match="already connected"):
@@ -379,16 +407,16 @@ def test_connect_spatial_forces_merges_several_force_grippers():
     context = diagram.CreateDefaultContext()
     for g in grippers:
         g.GetInputPort("command").FixValue(g.GetMyMutableContextFromRoot(context), [0.0])
-    assert plant.get_applied_spatial_force_input_port().Eval(
-        plant.GetMyContextFromRoot(context)) == []
+    assert plant.get_applied_spatial_force_input_port().Eval(plant.GetMyContextFromRoot(context)) == []
 
 
 def test_gripper_rejects_anchored_parts_and_declares_before_finalize():
     builder = DiagramBuilder()
     plant, _ = AddMultibodyPlant(plant_config(), builder)
     parser = Parser(plant)
-    parser.AddModelsFromString(expand_xacro(
-        MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf")
+    parser.AddModelsFromString(
+        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf"
+    )
     plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(f"{GRIPPER}_base_link"))
     parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "p"}), "urdf")
     parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "fixed"}), "urdf")
@@ -400,18 +428,19 @@ def test_gripper_rejects_anchored_parts_and_declares_before_finalize():
     with pytest.raises(ConfigError, match="before plant.Finalize"):
         declare_suction_constraints(plant, cup, plant.GetBodyByName("p"))
     with pytest.raises(ConfigError, match="'fixed' is anchored"):
-        ForceSuctionGripper(plant, cup, [plant.GetBodyByName("fixed")],
-                            SuctionConfig(backend="force"), "s")
+        ForceSuctionGripper(plant, cup, [plant.GetBodyByName("fixed")], SuctionConfig(backend="force"), "s")
 
 
 def test_weld_backend_needs_the_sap_solver():
     builder = DiagramBuilder()
-    plant, _ = AddMultibodyPlant(MultibodyPlantConfig(
-        time_step=H, discrete_contact_approximation="tamsi", contact_model="point"), builder)
+    plant, _ = AddMultibodyPlant(
+        MultibodyPlantConfig(time_step=H, discrete_contact_approximation="tamsi", contact_model="point"),
+        builder,
+    )
     parser = Parser(plant)
-    parser.AddModelsFromString(expand_xacro(
-        MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf")
+    parser.AddModelsFromString(
+        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf"
+    )
     parser.AddModelsFromString(expand_xacro(MODELS_DIR / "part.urdf.xacro", {"name": "p"}), "urdf")
     with pytest.raises(ConfigError, match="SAP solver.*tamsi"):
-        declare_suction_constraints(plant, plant.GetBodyByName(f"{GRIPPER}_cup"),
-                                    plant.GetBodyByName("p"))
+        declare_suction_constraints(plant, plant.GetBodyByName(f"{GRIPPER}_cup"), plant.GetBodyByName("p"))

@@ -133,14 +133,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_grade)
 
 
-def ros_run_parser() -> argparse.ArgumentParser:
-    """The ``ros-run`` command's parser (its flags are what ``grade`` passes on)."""
-    sub = argparse.ArgumentParser().add_subparsers()
-    add_commands(sub)
-    return sub.choices["ros-run"]
-
-
 def main(argv: Sequence[str] | None = None) -> int:
+    from omtp_drake.ros.guard import install_from_env
+
+    install_from_env()  # an isolated run's limits and guard (omtp_drake.ros.isolation), if it is one
     parser = argparse.ArgumentParser(prog="omtp-drake", description="ROS scripts on the OMTP cell.")
     add_commands(parser.add_subparsers(dest="command", required=True))
     args = parser.parse_args(argv)

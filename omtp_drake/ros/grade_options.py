@@ -1,10 +1,10 @@
 """The ``ros-run`` options ``grade`` passes on: for the whole class, and per script.
 
 :data:`ROS_RUN_OPTIONS` is the one table of them (option name -> ``ros-run``
-flag, its valid values and help). ``grade`` has a flag of the same name for
-each (the class's value), and a class folder may hold :data:`OVERRIDES_FILE`
-mapping a script's file name to its own values, e.g. a class that mixes
-MoveIt versions::
+flag and the check of its values). ``grade`` has a flag of the same name for
+each, built from ros-run's (the class's value), and a class folder may hold
+:data:`OVERRIDES_FILE` mapping a script's file name to its own values, e.g. a
+class that mixes MoveIt versions::
 
     old_student.py:
       moveit: melodic
@@ -13,7 +13,8 @@ MoveIt versions::
 from __future__ import annotations
 
 import argparse
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -22,35 +23,47 @@ from omtp_drake.errors import ConfigError
 #: The per-script overrides file of a class folder.
 OVERRIDES_FILE = "grade.yaml"
 
-#: grade's name of an option -> the ros-run flag it becomes. Its values, type and help
-#: are the ros-run flag's own (read from ros-run's parser): one entry per option passed on.
-ROS_RUN_OPTIONS: dict[str, str] = {
-    "moveit": "--moveit",
+
+@dataclass(frozen=True)
+class RosRunOption:
+    """One ros-run flag ``grade`` passes on: ``check(value)`` returns the value or raises
+    ConfigError naming the valid ones (read where ros-run reads them)."""
+
+    flag: str
+    check: Callable[[Any], Any]
+    #: The flag may be given more than once (a list in grade.yaml).
+    many: bool = False
+
+
+def _moveit_version(value: Any) -> str:
+    from omtp_drake.ros.runner import MOVEIT_VERSIONS
+
+    if value not in MOVEIT_VERSIONS:
+        raise ConfigError(f"{value!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
+    return str(value)
+
+
+#: grade's name of an option -> the ros-run flag it becomes. ``grade``'s own flag copies
+#: the ros-run flag's type, values and metavar from ros-run's parser.
+ROS_RUN_OPTIONS: dict[str, RosRunOption] = {
+    "moveit": RosRunOption("--moveit", _moveit_version),
 }
-
-
-def _ros_run_actions(ros_run: argparse.ArgumentParser | None = None) -> dict[str, argparse.Action]:
-    if ros_run is None:
-        from omtp_drake.ros.cli import ros_run_parser
-
-        ros_run = ros_run_parser()
-    return {flag: a for a in ros_run._actions for flag in a.option_strings}
 
 
 def add_grade_flags(grade: argparse.ArgumentParser, ros_run: argparse.ArgumentParser) -> None:
     """A ``grade`` flag per entry of :data:`ROS_RUN_OPTIONS`, as ros-run's (default: not passed)."""
-    actions = _ros_run_actions(ros_run)
-    for name, flag in ROS_RUN_OPTIONS.items():
-        a = actions[flag]
+    actions = {flag: a for a in ros_run._actions for flag in a.option_strings}
+    for name, option in ROS_RUN_OPTIONS.items():
+        a = actions[option.flag]
         kwargs: dict[str, Any] = {"choices": a.choices, "metavar": a.metavar}
         if a.type is not None:
             kwargs["type"] = a.type
         grade.add_argument(
-            flag,
+            option.flag,
             dest=f"ros_{name}",
             default=None,
-            action="append" if isinstance(a, argparse._AppendAction) else "store",
-            help=f"ros-run's {flag} for every script ({OVERRIDES_FILE} in DIR overrides it per script)",
+            action="append" if option.many else "store",
+            help=f"ros-run's {option.flag} for every script ({OVERRIDES_FILE} in DIR: per script)",
             **kwargs,
         )
 
@@ -62,34 +75,21 @@ def class_options(args: argparse.Namespace) -> dict[str, Any]:
 
 
 def check_options(options: Mapping[str, Any], where: str) -> dict[str, Any]:
-    """``options`` checked against the table and ros-run's flags (names, values, types)."""
+    """``options`` checked against the table (names, values)."""
     if not isinstance(options, Mapping):
         raise ConfigError(f"{where}: the options must be a mapping of name: value, got {options!r}")
-    actions = _ros_run_actions() if options else {}
     checked: dict[str, Any] = {}
     for name, value in options.items():
         if name not in ROS_RUN_OPTIONS:
             raise ConfigError(f"{where}: unknown option {name!r}; valid: {', '.join(ROS_RUN_OPTIONS)}")
-        action = actions[ROS_RUN_OPTIONS[name]]
-        many = isinstance(action, argparse._AppendAction)
-        values = value if many and isinstance(value, list) else [value]
-        checked[str(name)] = [_check_value(action, name, v, where) for v in values]
-        if not many:
-            checked[str(name)] = checked[str(name)][0]
-    return checked
-
-
-def _check_value(action: argparse.Action, name: str, value: Any, where: str) -> Any:
-    if action.type is not None and callable(action.type):
+        option = ROS_RUN_OPTIONS[name]
+        values = value if option.many and isinstance(value, list) else [value]
         try:
-            value = action.type(str(value))
-        except (TypeError, ValueError):
-            raise ConfigError(f"{where}: {name} {value!r} is not a valid value") from None
-    if action.choices is not None and value not in action.choices:
-        raise ConfigError(
-            f"{where}: {name} {value!r} is unknown; valid: {', '.join(map(str, action.choices))}"
-        )
-    return value
+            good = [option.check(v) for v in values]
+        except ConfigError as e:
+            raise ConfigError(f"{where}: {name} {e}") from None
+        checked[str(name)] = good if option.many else good[0]
+    return checked
 
 
 def load_overrides(folder: Path, scripts: Sequence[Path]) -> dict[str, dict[str, Any]]:
@@ -117,7 +117,7 @@ def ros_run_flags(options: Mapping[str, Any]) -> list[str]:
     flags = []
     for name, value in options.items():
         for v in value if isinstance(value, list) else [value]:
-            flags += [ROS_RUN_OPTIONS[name], str(v)]
+            flags += [ROS_RUN_OPTIONS[name].flag, str(v)]
     return flags
 
 

@@ -1,10 +1,10 @@
 """The first code of an isolated ``ros-run``: its resource limits and its write/network/signal guard.
 
-``python -m omtp_drake.ros.guard -- ros-run SCRIPT ...`` (started by
-:mod:`omtp_drake.ros.isolation`, inside bubblewrap when there is one) reads its
-settings from the ``OMTP_GUARD`` environment variable (JSON: ``limits``,
-``writable`` folders, ``script``, ``parent``), then, before anything of the
-script runs:
+An isolated ``ros-run`` (started by :mod:`omtp_drake.ros.isolation`, inside
+bubblewrap when there is one) has its settings in the ``OMTP_GUARD``
+environment variable (JSON: ``limits``, ``writable`` folders, ``script``,
+``parent``); the command line calls :func:`install_from_env` first, which,
+before anything of the script runs:
 
 - sets the resource limits (``RLIMIT_AS``, ``RLIMIT_CPU``, ``RLIMIT_NOFILE``,
   and ``RLIMIT_NPROC`` where it counts only this run's processes: inside
@@ -18,7 +18,6 @@ script runs:
 The hook sees what the script does through Python; a script that goes through
 ``ctypes`` or another program gets past it. Without bubblewrap it is the only
 guard; with bubblewrap the kernel refuses the same things, whatever the way.
-Then it runs the ``omtp-drake`` ROS command line (:func:`omtp_drake.ros.cli.main`).
 """
 
 from __future__ import annotations
@@ -148,17 +147,13 @@ def _ancestors() -> set[int]:
     return found
 
 
-def main(argv: Sequence[str]) -> int:
-    settings = json.loads(os.environ[ENV])
+def install_from_env() -> None:
+    """Limits and guard of ``$OMTP_GUARD``'s settings on this process (nothing when it is unset)."""
+    raw = os.environ.get(ENV)
+    if not raw:
+        return
+    settings = json.loads(raw)
     if settings.get("parent"):  # inside bubblewrap, its --die-with-parent does it
         _die_with_parent(int(settings["parent"]))
     set_limits(settings["limits"], in_namespace=bool(settings.get("in_namespace")))
     sys.addaudithook(Guard(settings["writable"], settings["script"]))
-    from omtp_drake.ros.cli import main as ros_main
-
-    return ros_main(list(argv))
-
-
-if __name__ == "__main__":
-    args = sys.argv[1:]
-    sys.exit(main(args[1:] if args[:1] == ["--"] else args))

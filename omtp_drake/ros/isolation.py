@@ -1,8 +1,9 @@
 """One untrusted ``ros-run`` isolated: its own copy of its folder, limits, a sandbox, output capped.
 
-:func:`run_isolated` starts ``python -m omtp_drake.ros.guard -- ros-run ...``
-(the guard sets the limits and refuses writes outside the copy, network and
-signals to other processes, see :mod:`omtp_drake.ros.guard`) in a session of
+:func:`run_isolated` starts ``python -m omtp_drake.ros.cli ros-run ...`` with
+the guard's settings in its environment (it sets the limits and refuses writes
+outside the copy, network and signals to other processes, see
+:mod:`omtp_drake.ros.guard`) in a session of
 its own, inside bubblewrap when the sandbox is ``bwrap``: the whole system
 read-only, the run's folder the only writable place, a private ``/tmp``, no
 network, its own process, IPC and user namespaces, killed with its parent.
@@ -180,7 +181,7 @@ def guarded_command(
             "OMP_NUM_THREADS": "1",
         }
     )
-    command = [sys.executable, "-m", "omtp_drake.ros.guard", "--", *ros_args]
+    command = [sys.executable, "-m", "omtp_drake.ros.cli", *ros_args]
     if sandbox == "bwrap":
         command = sandbox_prefix(work, cwd, readable) + command
     else:
