@@ -266,3 +266,45 @@ def test_a_script_sees_its_own_copy_of_the_folder_only(tmp_path):
     assert seen == "hello ['.tmp', '_helpers.py', 'alice.py', 'data.csv']"
     assert "'bob.py'" in (out / "runs" / "bob.stdout.txt").read_text()
     assert not (folder / "notes.txt").exists()  # bob wrote into his copy
+
+
+def test_auto_falls_back_to_the_limits_with_one_warning_where_bubblewrap_fails(monkeypatch, caplog):
+    from omtp_drake.ros import isolation
+
+    monkeypatch.setattr(isolation, "BWRAP", str(Path(__file__).parent / "no_bwrap_here"))
+    isolation.bwrap_works.cache_clear()
+    isolation.resolve_sandbox.cache_clear()
+    try:
+        assert [isolation.resolve_sandbox("auto") for _ in range(3)] == ["none"] * 3
+        warning = (
+            f"no working bubblewrap ({isolation.BWRAP}): scripts run with the limits and the Python guard"
+        )
+        assert [r.message.startswith(warning) for r in caplog.records].count(True) == 1
+        with pytest.raises(ConfigError, match="--sandbox bwrap: .*no_bwrap_here is missing or cannot create"):
+            isolation.resolve_sandbox("bwrap")
+        with pytest.raises(ConfigError, match="--sandbox 'docker' is unknown; valid: auto, bwrap, none"):
+            isolation.resolve_sandbox("docker")
+    finally:
+        isolation.bwrap_works.cache_clear()
+        isolation.resolve_sandbox.cache_clear()
+
+
+@pytest.mark.parametrize(
+    "exception, exit_code, shutdown, verdict",
+    [
+        ("MemoryError:  (at hog.py:3 in <module>)", 0, None, "memory limit"),
+        ("BlockingIOError: [Errno 11] Resource temporarily unavailable (at f.py:4 in <module>)", 0, None,
+         "process limit"),
+        ("KeyError: 'x' (at k.py:2 in <module>)", 0, None, "exception"),
+        (None, 3, None, "exited early"),
+        (None, 0, "--timeout of 30 s simulated time reached", "simulated timeout"),
+        (None, 0, "the script called signal_shutdown: done", "ok"),
+    ],
+)  # fmt: skip
+def test_a_reports_verdict_is_named_for_what_happened(exception, exit_code, shutdown, verdict):
+    from omtp_drake.ros.isolation import Outcome
+    from omtp_drake.ros.verdicts import classify
+
+    report = {"exception": exception, "exit_code": exit_code, "shutdown": shutdown, "collisions": []}
+    report["callback_errors"] = []
+    assert classify(Outcome(0, None, 1.0), report, "", LIMITS, 25.0)[0] == verdict
