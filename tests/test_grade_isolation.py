@@ -2,10 +2,12 @@
 no process outlives the run and no file appears outside, with and without bubblewrap."""
 
 import csv
+import glob
 import json
 import os
 import shutil
 import socket
+import tempfile
 import textwrap
 import uuid
 from dataclasses import asdict
@@ -186,6 +188,10 @@ def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox):
     assert honest.status == "ok" and honest.report["sim_time_s"] > 1.5
     assert processes_with(tag) == []
     assert len(list(csv.DictReader(open(tmp_path / "out" / "grades.csv")))) == 2
+    assert sorted(p.suffix for p in (tmp_path / "out" / "runs").iterdir()) == [".json"] * 2 + [".txt"] * 4
+    assert killer.isolation["sandbox"] == sandbox and not glob.glob(
+        f"{tempfile.gettempdir()}/omtp-grade-a_killer-*"
+    )
 
 
 def test_ros_run_sandbox_runs_one_script_isolated(tmp_path, capsys):

@@ -129,6 +129,8 @@ def grade_one(
     path = Path(script)
     root = Path(tempfile.mkdtemp(prefix=f"omtp-grade-{path.stem}-"))
     log_dir = Path(logs) if logs else root
+    session_file, root_file = log_dir / f"{path.stem}.session", log_dir / f"{path.stem}.root"
+    root_file.write_text(str(root))  # for the client to remove when this worker dies
     try:
         work = _copy_folder(path, root / "work", settings.skip)
         copy = work / path.name
@@ -142,7 +144,6 @@ def grade_one(
             ros_args, work=work, cwd=work, script=copy, sandbox=settings.sandbox, limits=settings.limits,
             readable=_readable(settings.scenario),
         )  # fmt: skip
-        session_file = log_dir / f"{path.stem}.session"
         outcome = run_isolated(
             command,
             env,
@@ -157,6 +158,8 @@ def grade_one(
         tail = _tail(Path(outcome.stderr.path))
     finally:
         shutil.rmtree(root, ignore_errors=True)
+        session_file.unlink(missing_ok=True)
+        root_file.unlink(missing_ok=True)
     status, message = classify(outcome, report, tail, settings.limits, settings.wall_timeout)
     refused = refusals((report or {}).get("exception") or "", tail)
     isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits), **asdict(outcome)}
@@ -366,9 +369,13 @@ def _grade_of(future: Any, script: Path, settings: GradeSettings, logs: Path) ->
     except Exception as e:  # KilledWorker, or the task's own failure: this script's row only
         from distributed import KilledWorker
 
-        session = logs / f"{script.stem}.session"
+        session, root = logs / f"{script.stem}.session", logs / f"{script.stem}.root"
         if session.is_file():
             kill_session(int(session.read_text().split()[0]))
+            session.unlink()
+        if root.is_file():
+            shutil.rmtree(root.read_text().strip(), ignore_errors=True)
+            root.unlink()
         isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits)}
         what = "its worker died" if isinstance(e, KilledWorker) else "its grading task failed"
         return Grade(script.name, WORKER_DIED, 0, None, f"{what}: {describe_exception(e)}", "", isolation)
