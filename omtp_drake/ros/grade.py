@@ -344,21 +344,36 @@ def _grade_all(
     grades: dict[str, Grade] = {}
     todo = list(scripts)
     # Never retried: a worker's death is its task's verdict.
-    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), batch_connect(workers) as client:
-        running = as_completed()
-        names: dict[str, Path] = {}
-        while todo or running.count():
-            while todo and running.count() < max(1, sum(client.nthreads().values())):
-                s = todo.pop(0)
-                key = f"grade-{s.stem}-{uuid.uuid4().hex[:8]}"
-                args = (str(s.resolve()), settings, dict(per_script[s.name]), str(logs))
-                running.add(client.submit(grade_one, *args, key=key, pure=False))
-                names[key] = s
-            future = next(running)
-            script = names.pop(future.key)
-            grades[script.name] = _grade_of(future, script, settings, logs)
-            future.release()
+    try:
+        with dask.config.set({"distributed.scheduler.allowed-failures": 0}), batch_connect(workers) as client:
+            running = as_completed()
+            names: dict[str, Path] = {}
+            while todo or running.count():
+                while todo and running.count() < max(1, sum(client.nthreads().values())):
+                    s = todo.pop(0)
+                    key = f"grade-{s.stem}-{uuid.uuid4().hex[:8]}"
+                    args = (str(s.resolve()), settings, dict(per_script[s.name]), str(logs))
+                    running.add(client.submit(grade_one, *args, key=key, pure=False))
+                    names[key] = s
+                future = next(running)
+                script = names.pop(future.key)
+                grades[script.name] = _grade_of(future, script, settings, logs)
+                future.release()
+    finally:  # interrupted (Ctrl-C): the runs still under way go too
+        for s in scripts:
+            _clean_up_after(s, logs)
     return [grades[s.name] for s in scripts]
+
+
+def _clean_up_after(script: Path, logs: Path) -> None:
+    """Kills the processes and removes the folder of ``script``'s run if its task could not."""
+    session, root = logs / f"{script.stem}.session", logs / f"{script.stem}.root"
+    if session.is_file():
+        kill_session(int(session.read_text().split()[0]))
+        session.unlink()
+    if root.is_file():
+        shutil.rmtree(root.read_text().strip(), ignore_errors=True)
+        root.unlink()
 
 
 def _grade_of(future: Any, script: Path, settings: GradeSettings, logs: Path) -> Grade:
@@ -369,13 +384,7 @@ def _grade_of(future: Any, script: Path, settings: GradeSettings, logs: Path) ->
     except Exception as e:  # KilledWorker, or the task's own failure: this script's row only
         from distributed import KilledWorker
 
-        session, root = logs / f"{script.stem}.session", logs / f"{script.stem}.root"
-        if session.is_file():
-            kill_session(int(session.read_text().split()[0]))
-            session.unlink()
-        if root.is_file():
-            shutil.rmtree(root.read_text().strip(), ignore_errors=True)
-            root.unlink()
+        _clean_up_after(script, logs)
         isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits)}
         what = "its worker died" if isinstance(e, KilledWorker) else "its grading task failed"
         return Grade(script.name, WORKER_DIED, 0, None, f"{what}: {describe_exception(e)}", "", isolation)
