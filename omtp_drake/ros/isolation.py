@@ -3,10 +3,10 @@
 :func:`run_isolated` starts ``python -m omtp_drake.ros.cli ros-run ...`` with
 the guard's settings in its environment (it sets the limits and refuses writes
 outside the copy, network and signals to other processes, see
-:mod:`omtp_drake.ros.guard`) in a session of
-its own, inside bubblewrap when the sandbox is ``bwrap``: the whole system
-read-only, the run's folder the only writable place, a private ``/tmp``, no
-network, its own process, IPC and user namespaces, killed with its parent.
+:mod:`omtp_drake.ros.guard`) in a session of its own, inside bubblewrap when
+the sandbox is ``bwrap``: the whole system read-only, the run's folder the only
+writable place, a private ``/tmp``, no network, its own process, IPC and user
+namespaces, killed with its parent.
 
 The grader never waits on the run's pipes: a reader thread copies stdout and
 stderr to files up to :attr:`Limits.output_kb` each and counts the rest. It
