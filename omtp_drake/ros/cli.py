@@ -24,6 +24,10 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
     """``ros-run``: exit 0 when the script ended cleanly (no exception, no collision)."""
     from omtp_drake.ros.runner import run_script
 
+    if args.sandbox is not None:
+        from omtp_drake.ros.grade import run_isolated_script
+
+        return run_isolated_script(args, _out)
     if not args.quiet:
         logging.getLogger("rospy").setLevel(logging.INFO)
         logging.getLogger("moveit_commander").setLevel(logging.INFO)
@@ -55,6 +59,8 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
 def cmd_grade(args: argparse.Namespace) -> int:
     """``grade``: exit 0 when every script ran cleanly."""
     from omtp_drake.ros.grade import OK, format_grades, grade_folder
+    from omtp_drake.ros.grade_options import class_options
+    from omtp_drake.ros.isolation import limits_from_args
 
     out = args.out or f"grade_{Path(args.folder).resolve().name}"
     grades = grade_folder(
@@ -65,6 +71,9 @@ def cmd_grade(args: argparse.Namespace) -> int:
         timeout=args.timeout,
         wall_timeout=args.wall_timeout,
         out=out,
+        limits=limits_from_args(args),
+        sandbox=args.sandbox,
+        options=class_options(args),
     )
     _out(format_grades(grades))
     _out(f"results: {out}/ (runs/*.json, grades.csv, grades.png)")
@@ -73,6 +82,9 @@ def cmd_grade(args: argparse.Namespace) -> int:
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
     """Registers ``ros-run`` and ``grade`` on the CLI's subparsers."""
+    from omtp_drake.ros.grade_options import add_grade_flags
+    from omtp_drake.ros.isolation import add_isolation_flags
+
     p = sub.add_parser(
         "ros-run",
         help="run an unmodified ROS 1 course script (rospy, MoveIt commander, tf2) in simulated time",
@@ -134,13 +146,17 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
     p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
     p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
+    p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall s (with --sandbox)")
+    add_isolation_flags(p, sandbox_default=None)
     p.set_defaults(func=cmd_ros_run)
+    ros_run = p
 
     p = sub.add_parser(
         "grade",
         help="ros-run every script of a folder (submissions) on a scenario: one row per script",
-        description="Each script runs in a process of its own on local Dask workers; the table, "
-        "OUT/grades.csv, OUT/grades.png and each run's report in OUT/runs/.",
+        description="Each script runs isolated (its own copy of the folder, limits, bubblewrap where "
+        "it works) on local Dask workers; the table, OUT/grades.csv, OUT/grades.png and each run's "
+        "report and output in OUT/runs/.",
     )
     p.add_argument("folder", metavar="DIR")
     p.add_argument("--scenario", required=True, metavar="NAME|FILE")
@@ -149,10 +165,15 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds per script")
     p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall seconds per script")
     p.add_argument("--out", default=None, metavar="DIR", help="results folder (default grade_<DIR>)")
+    add_isolation_flags(p, sandbox_default="auto")
+    add_grade_flags(p, ros_run)
     p.set_defaults(func=cmd_grade)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    from omtp_drake.ros.guard import install_from_env
+
+    install_from_env()  # an isolated run's limits and guard (omtp_drake.ros.isolation), if it is one
     parser = argparse.ArgumentParser(prog="omtp-drake", description="ROS scripts on the OMTP cell.")
     add_commands(parser.add_subparsers(dest="command", required=True))
     args = parser.parse_args(argv)

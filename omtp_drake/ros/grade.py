@@ -1,36 +1,86 @@
-"""``grade``: every ROS script of a folder (a class's submissions) run on a scenario.
+"""``grade``: every ROS script of a folder (a class's submissions) run on a scenario, isolated.
 
-Each script is one ``ros-run`` in a process of its own (a script that crashes,
-hangs or calls ``os._exit`` costs only its run), on the workers of the batch
-machinery's Dask cluster (:func:`omtp_drake.batch.connect`). The result is one
-row per script: its status, the parts it put in bins, the ledger, its times and
-its exception; written to ``OUT/runs/<script>.json`` (the run's report),
-``OUT/grades.csv`` and ``OUT/grades.png`` (parts in bins and simulated time
-per script).
+Each script is one ``ros-run`` (:func:`grade_one`) on its own copy of the class
+folder (the other submissions left out), under the guard and limits of
+:mod:`omtp_drake.ros.isolation` and in bubblewrap where it works: a script that
+crashes, hangs, floods its output, forks, hogs memory or kills its worker costs
+only its own row. Runs go to the workers of the batch machinery's Dask cluster
+(:func:`omtp_drake.batch.connect`). The result is one row per script: its
+verdict (:mod:`omtp_drake.ros.verdicts`), the parts it put in bins, the ledger,
+its times, its exception and what the sandbox refused; written to
+``OUT/runs/<script>.json`` (the run's report, its limits and sandbox),
+``OUT/runs/<script>.stdout.txt`` / ``.stderr.txt`` (its output, capped),
+``OUT/grades.csv`` and ``OUT/grades.png`` (parts in bins and simulated time per script).
 """
 
 from __future__ import annotations
 
+import argparse
 import csv
 import json
 import logging
-import subprocess
-import sys
+import os
+import shutil
 import tempfile
-from dataclasses import dataclass
+import uuid
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.errors import ConfigError
+from omtp_drake.ros import grade_options
+from omtp_drake.ros.isolation import (
+    Limits,
+    guarded_command,
+    kill_session,
+    limits_from_args,
+    resolve_sandbox,
+    run_isolated,
+)
+from omtp_drake.ros.verdicts import (
+    COLLISION,
+    CPU_LIMIT,
+    EXCEPTION,
+    EXITED_EARLY,
+    KILLED,
+    MEMORY_LIMIT,
+    OK,
+    OUTPUT_CUT,
+    PROCESS_LIMIT,
+    SIM_TIMEOUT,
+    WALL_TIMEOUT,
+    WORKER_DIED,
+    classify,
+    refusals,
+)
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 _log = logging.getLogger(__name__)
 
-#: Statuses: the script ended cleanly; raised; a move hit something; the run's
-#: process exceeded the wall-time limit; the process died.
-OK, EXCEPTION, COLLISION, TIMEOUT, CRASHED = "ok", "exception", "collision", "timeout", "crashed"
+__all__ = ["COLLISION", "EXCEPTION", "OK", "Grade", "GradeSettings", "grade_folder", "grade_one"]
+
+#: The run's report, in its folder's copy.
+_REPORT = ".omtp_report.json"
+#: The most a script's folder may hold: every run copies it (a class's folder, not a home).
+_COPY_MAX_FILES, _COPY_MAX_MB = 2000, 200
+
+
+@dataclass(frozen=True)
+class GradeSettings:
+    """What every run of a grade shares."""
+
+    scenario: str
+    seed: Optional[int] = None
+    timeout: float = 600.0
+    wall_timeout: float = 900.0
+    limits: Limits = field(default_factory=Limits)
+    #: ``bwrap`` or ``none`` (resolved by :func:`resolve_sandbox`).
+    sandbox: str = "none"
+    #: Folders never copied with a script's folder (the results folder, when inside).
+    skip: tuple[str, ...] = ()
 
 
 @dataclass
@@ -42,10 +92,15 @@ class Grade:
     in_bins: int
     report: Optional[dict[str, Any]]
     message: str = ""
+    #: What the sandbox refused the script (writes, network, signals).
+    refused: str = ""
+    #: How the isolated run ended: sandbox, limits, wall time, exit, output kept and cut.
+    isolation: dict[str, Any] = field(default_factory=dict)
 
     def row(self) -> dict[str, Any]:
         r = self.report or {}
         ledger = r.get("ledger", {})
+        out = self.isolation.get("stdout", {}), self.isolation.get("stderr", {})
         return {
             "script": self.script,
             "status": self.status,
@@ -55,49 +110,154 @@ class Grade:
             "held": sum(ledger.get("held", {}).values()) if ledger else "",
             "collisions": len(r.get("collisions", [])),
             "sim_time_s": r.get("sim_time_s", ""),
-            "wall_time_s": r.get("wall_time_s", ""),
+            "wall_time_s": r.get("wall_time_s", self.isolation.get("wall_s", "")),
+            "output_cut_bytes": sum(s.get("cut", 0) for s in out),
+            "refused": self.refused,
             "message": self.message,
         }
 
 
-def grade_one(script: str, scenario: str, seed: Optional[int], timeout: float, wall_timeout: float) -> Grade:
-    """One script's ros-run in a child process (a Dask task)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp) / "report.json"
-        command = [
-            sys.executable,
-            "-m",
-            "omtp_drake.ros.cli",
-            "ros-run",
-            script,
-            "--scenario",
-            scenario,
-            "--timeout",
-            str(timeout),
-            "--json",
-            str(out),
-        ]
-        if seed is not None:
-            command += ["--seed", str(seed)]
-        try:
-            done = subprocess.run(
-                command, capture_output=True, text=True, timeout=wall_timeout, cwd=str(Path(script).parent)
+def grade_one(
+    script: str,
+    settings: GradeSettings,
+    options: Optional[Mapping[str, str]] = None,
+    logs: Optional[str] = None,
+    args: Sequence[str] = (),
+) -> Grade:
+    """One script's ros-run, isolated (a Dask task): on a copy of its folder, its output
+    to ``logs/<script>.stdout.txt`` and ``.stderr.txt`` (a folder of its own when None)."""
+    path = Path(script)
+    root = Path(tempfile.mkdtemp(prefix=f"omtp-grade-{path.stem}-"))
+    log_dir = Path(logs) if logs else root
+    session_file, root_file = log_dir / f"{path.stem}.session", log_dir / f"{path.stem}.root"
+    root_file.write_text(str(root))  # for the client to remove when this worker dies
+    try:
+        work = _copy_folder(path, root / "work", settings.skip)
+        copy = work / path.name
+        report_path = work / _REPORT
+        ros_args = ["ros-run", str(copy), *args, "--scenario", settings.scenario, "--timeout"]
+        ros_args += [str(settings.timeout), "--json", str(report_path), "-q"]
+        ros_args += grade_options.ros_run_flags(options or {})
+        if settings.seed is not None:
+            ros_args += ["--seed", str(settings.seed)]
+        command, env = guarded_command(
+            ros_args, work=work, cwd=work, script=copy, sandbox=settings.sandbox, limits=settings.limits,
+            readable=_readable(settings.scenario),
+        )  # fmt: skip
+        outcome = run_isolated(
+            command,
+            env,
+            cwd=work,
+            limits=settings.limits,
+            wall_timeout=settings.wall_timeout,
+            logs=(log_dir / f"{path.stem}.stdout.txt", log_dir / f"{path.stem}.stderr.txt"),
+            sandbox=settings.sandbox,
+            session_file=session_file,
+        )
+        report = _read_report(report_path)
+        tail = _tail(Path(outcome.stderr.path))
+    finally:
+        shutil.rmtree(root, ignore_errors=True)
+        session_file.unlink(missing_ok=True)
+        root_file.unlink(missing_ok=True)
+    status, message = classify(outcome, report, tail, settings.limits, settings.wall_timeout)
+    refused = refusals((report or {}).get("exception") or "", tail)
+    isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits), **asdict(outcome)}
+    isolation["options"] = dict(options or {})
+    in_bins = sum(report["ledger"]["in_bin"].values()) if report else 0
+    return Grade(path.name, status, in_bins, report, message, refused, isolation)
+
+
+def _copy_folder(script: Path, dest: Path, skip: Sequence[str] = ()) -> Path:
+    """The script's folder copied to ``dest``, without the class's other scripts, grade.yaml,
+    a report file and the ``skip`` folders."""
+    others = {p.name for p in find_scripts(script.parent)} - {script.name}
+    others |= {grade_options.OVERRIDES_FILE, _REPORT}
+
+    def ignore(folder: str, names: list[str]) -> set[str]:
+        dropped = {n for n in names if n == "__pycache__" or os.path.join(folder, n) in skip}
+        return dropped | (others & set(names) if Path(folder) == script.parent else set())
+
+    shutil.copytree(script.parent, dest, symlinks=True, ignore=ignore)
+    return dest
+
+
+def check_copyable(folder: Path, skip: Sequence[str] = ()) -> None:
+    """Raises unless ``folder`` (but ``skip``) is small enough to copy for every run."""
+    files, size = 0, 0
+    for root, dirs, names in os.walk(folder.resolve()):
+        dirs[:] = [d for d in dirs if d != "__pycache__" and os.path.join(root, d) not in skip]
+        files += len(names)
+        size += sum(os.lstat(os.path.join(root, n)).st_size for n in names)
+        if files > _COPY_MAX_FILES or size > _COPY_MAX_MB << 20:
+            raise ConfigError(
+                f"{str(folder)!r} holds over {_COPY_MAX_FILES} files or {_COPY_MAX_MB} MB, and each run "
+                "gets a copy of its script's folder: put the scripts in a folder of their own"
             )
-        except subprocess.TimeoutExpired:
-            return Grade(Path(script).name, TIMEOUT, 0, None, f"over {wall_timeout:g} s wall time (killed)")
-        if not out.is_file():
-            tail = " | ".join((done.stderr or done.stdout).strip().splitlines()[-3:])
-            return Grade(Path(script).name, CRASHED, 0, None, f"exit code {done.returncode}: {tail}")
-        report = json.loads(out.read_text())
-    in_bins = sum(report["ledger"]["in_bin"].values())
-    if report["exception"] or report["callback_errors"]:
-        status = EXCEPTION
-        message = report["exception"] or f"bad callback: {report['callback_errors'][0]}"
-    elif report["collisions"]:
-        status, message = COLLISION, report["collisions"][0]
-    else:
-        status, message = OK, report.get("shutdown") or ""
-    return Grade(Path(script).name, status, in_bins, report, message)
+
+
+def _readable(scenario: str) -> list[Path]:
+    """A scenario file's folder (it may live in /tmp, which the sandbox hides)."""
+    path = Path(scenario)
+    return [path.resolve().parent] if path.suffix in (".yaml", ".yml") and path.is_file() else []
+
+
+def _read_report(path: Path) -> Optional[dict[str, Any]]:
+    try:
+        report = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    return report if isinstance(report, dict) and "ledger" in report else None
+
+
+def _tail(path: Path, limit: int = 2000) -> str:
+    """The last lines of a log, as one line."""
+    try:
+        with open(path, "rb") as f:
+            f.seek(max(0, f.seek(0, os.SEEK_END) - limit))
+            text = f.read().decode(errors="replace")
+    except OSError:
+        return ""
+    lines = [ln.strip() for ln in text.splitlines() if ln.strip()]
+    return " | ".join(lines[-4:])
+
+
+def run_isolated_script(args: argparse.Namespace, out: Callable[[str], None]) -> int:
+    """``ros-run --sandbox``: one script isolated as in a grade; prints its output (as kept) and
+    its verdict, writes ``--json`` as a grade's ``runs/<script>.json``; 0 when the verdict is ok."""
+    from omtp_drake.ros._core import load_scenario
+
+    if args.meshcat or args.record or args.realtime:
+        raise ConfigError(
+            "--sandbox has no network and no place to write a replay: drop --meshcat, --record, --realtime"
+        )
+    script = Path(args.script)
+    if not script.is_file():
+        raise ConfigError(f"script {args.script!r} does not exist")
+    check_copyable(script.resolve().parent)
+    load_scenario(args.scenario)
+    mode = resolve_sandbox(args.sandbox)
+    scenario = str(Path(args.scenario).resolve()) if Path(args.scenario).is_file() else str(args.scenario)
+    if mode == "bwrap":
+        _warm_cache(scenario)
+    if not args.wall_timeout > 0:
+        raise ConfigError(f"--wall-timeout must be > 0 s, got {args.wall_timeout}")
+    settings = GradeSettings(
+        scenario, args.seed, args.timeout, args.wall_timeout, limits_from_args(args), mode
+    )
+    with tempfile.TemporaryDirectory(prefix="omtp-ros-run-") as logs:
+        grade = grade_one(str(script.resolve()), settings, {"moveit": args.moveit}, logs, args.script_args)
+        for stream in ("stdout", "stderr"):
+            text = Path(logs, f"{script.stem}.{stream}.txt").read_text(errors="replace").rstrip()
+            if text:
+                out(text)
+    out(f"verdict: {grade.status}" + (f": {grade.message}" if grade.message else ""))
+    if grade.refused:
+        out(f"refused by the sandbox: {grade.refused}")
+    if args.json:
+        Path(args.json).write_text(json.dumps(_run_record(grade), indent=2))
+        out(f"result: {args.json}")
+    return 0 if grade.status == OK else 1
 
 
 def find_scripts(folder: str | Path) -> list[Path]:
@@ -119,31 +279,122 @@ def grade_folder(
     timeout: float = 600.0,
     wall_timeout: float = 900.0,
     out: Optional[str | Path] = None,
+    limits: Optional[Limits] = None,
+    sandbox: str = "auto",
+    options: Optional[Mapping[str, str]] = None,
 ) -> list[Grade]:
     """Every script of ``folder`` on ``scenario``, on ``workers`` local Dask workers;
-    the grades in script order (also written to ``out``, see the module doc)."""
-    from omtp_drake.ros._core import batch_connect, load_scenario
+    the grades in script order (also written to ``out``, see the module doc).
+
+    ``limits`` per run (default :class:`Limits`); ``sandbox``: ``auto``, ``bwrap`` or
+    ``none``; ``options``: ros-run options for every script (see
+    :mod:`omtp_drake.ros.grade_options`; ``folder/grade.yaml`` overrides them per script).
+    """
+    from omtp_drake.ros._core import load_scenario
 
     scripts = find_scripts(folder)
+    skip = (str(Path(out).resolve()),) if out is not None else ()
+    check_copyable(Path(folder), skip)
     load_scenario(scenario)  # a bad name fails before any worker starts
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ConfigError(f"--workers must be an integer >= 1, got {workers!r}")
-    with batch_connect(workers) as client:
-        futures = [
-            client.submit(grade_one, str(s.resolve()), str(scenario), seed, timeout, wall_timeout, pure=False)
-            for s in scripts
-        ]
-        grades = client.gather(futures)
-    if out is not None:
-        write_grades(grades, Path(out))
+    if not wall_timeout > 0:
+        raise ConfigError(f"--wall-timeout must be > 0 s, got {wall_timeout}")
+    limits = limits or Limits()
+    limits.check()
+    class_values = grade_options.check_options(options or {}, "grade", Path.cwd())
+    overrides = grade_options.load_overrides(Path(folder), scripts)
+    mode = resolve_sandbox(sandbox)
+    scenario_arg = str(Path(scenario).resolve()) if Path(scenario).is_file() else str(scenario)
+    if mode == "bwrap":
+        _warm_cache(scenario_arg)
+    settings = GradeSettings(scenario_arg, seed, timeout, wall_timeout, limits, mode, skip)
+    per_script = {s.name: grade_options.script_options(s.name, class_values, overrides) for s in scripts}
+    with tempfile.TemporaryDirectory(prefix="omtp-grade-logs-") as tmp:
+        logs = Path(out) / "runs" if out is not None else Path(tmp)
+        logs.mkdir(parents=True, exist_ok=True)
+        grades = _grade_all(scripts, settings, per_script, workers, logs)
+        if out is not None:
+            write_grades(grades, Path(out))
     return grades
+
+
+def _warm_cache(scenario: str) -> None:
+    """Builds the scenario's cell once here: the model cache is read-only in the sandbox."""
+    from omtp_drake.ros._core import Cell, load_scenario
+
+    Cell(load_scenario(scenario), auto_spawn=False).close()
+
+
+def _grade_all(
+    scripts: Sequence[Path],
+    settings: GradeSettings,
+    per_script: Mapping[str, Mapping[str, Any]],
+    workers: Optional[int],
+    logs: Path,
+) -> list[Grade]:
+    """The runs on the cluster, never more at once than the workers' threads (a worker
+    holds only the task it runs); a task whose worker died (or that failed) is its row."""
+    import dask
+    import distributed  # noqa: F401  (its config defaults first: dask.config.set would drop them on exit)
+    from distributed import as_completed
+
+    from omtp_drake.ros._core import batch_connect
+
+    grades: dict[str, Grade] = {}
+    todo = list(scripts)
+    # Never retried: a worker's death is its task's verdict.
+    try:
+        with dask.config.set({"distributed.scheduler.allowed-failures": 0}), batch_connect(workers) as client:
+            running = as_completed()
+            names: dict[str, Path] = {}
+            while todo or running.count():
+                while todo and running.count() < max(1, sum(client.nthreads().values())):
+                    s = todo.pop(0)
+                    key = f"grade-{s.stem}-{uuid.uuid4().hex[:8]}"
+                    args = (str(s.resolve()), settings, dict(per_script[s.name]), str(logs))
+                    running.add(client.submit(grade_one, *args, key=key, pure=False))
+                    names[key] = s
+                future = next(running)
+                script = names.pop(future.key)
+                grades[script.name] = _grade_of(future, script, settings, logs)
+                future.release()
+    finally:  # interrupted (Ctrl-C): the runs still under way go too
+        for s in scripts:
+            _clean_up_after(s, logs)
+    return [grades[s.name] for s in scripts]
+
+
+def _clean_up_after(script: Path, logs: Path) -> None:
+    """Kills the processes and removes the folder of ``script``'s run if its task could not."""
+    session, root = logs / f"{script.stem}.session", logs / f"{script.stem}.root"
+    if session.is_file():
+        kill_session(int(session.read_text().split()[0]))
+        session.unlink()
+    if root.is_file():
+        shutil.rmtree(root.read_text().strip(), ignore_errors=True)
+        root.unlink()
+
+
+def _grade_of(future: Any, script: Path, settings: GradeSettings, logs: Path) -> Grade:
+    from omtp_drake.batch.sandbox import describe_exception
+
+    try:
+        return future.result()
+    except Exception as e:  # KilledWorker, or the task's own failure: this script's row only
+        from distributed import KilledWorker
+
+        _clean_up_after(script, logs)
+        isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits)}
+        what = "its worker died" if isinstance(e, KilledWorker) else "its grading task failed"
+        return Grade(script.name, WORKER_DIED, 0, None, f"{what}: {describe_exception(e)}", "", isolation)
 
 
 def write_grades(grades: list[Grade], out: Path) -> None:
     runs = out / "runs"
     runs.mkdir(parents=True, exist_ok=True)
     for g in grades:
-        data = {"status": g.status, "message": g.message, "report": g.report}
+        data = _run_record(g)
         (runs / f"{Path(g.script).stem}.json").write_text(json.dumps(data, indent=2))
     rows = [g.row() for g in grades]
     with open(out / "grades.csv", "w", newline="") as f:
@@ -153,20 +404,36 @@ def write_grades(grades: list[Grade], out: Path) -> None:
     plot_grades(grades).savefig(out / "grades.png", dpi=100)
 
 
+def _run_record(g: Grade) -> dict[str, Any]:
+    return {
+        "status": g.status,
+        "message": g.message,
+        "refused": g.refused,
+        "isolation": g.isolation,
+        "report": g.report,
+    }
+
+
 def format_grades(grades: list[Grade]) -> str:
     width = max(10, *(len(g.script) for g in grades))
-    lines = [f"{'script':<{width}} {'status':<9} {'in bins':>7} {'sim s':>7} {'wall s':>7}  message"]
+    lines = [f"{'script':<{width}} {'status':<17} {'in bins':>7} {'sim s':>7} {'wall s':>7}  message"]
     for g in grades:
         r = g.row()
         sim = f"{r['sim_time_s']:.1f}" if r["sim_time_s"] != "" else "-"
         wall = f"{r['wall_time_s']:.1f}" if r["wall_time_s"] != "" else "-"
         lines.append(
-            f"{g.script:<{width}} {g.status:<9} {g.in_bins:>7} {sim:>7} {wall:>7}  {g.message[:100]}"
+            f"{g.script:<{width}} {g.status:<17} {g.in_bins:>7} {sim:>7} {wall:>7}  {g.message[:100]}"
         )
+        if g.refused:
+            lines.append(f"{'':<{width}} refused by the sandbox: {g.refused[:100]}")
     ok = sum(g.status == OK for g in grades)
     lines.append(
         f"{len(grades)} scripts: {ok} ran cleanly; {sum(g.in_bins for g in grades)} parts in bins in all"
     )
+    first = grades[0].isolation
+    if first:
+        limits = Limits(**first["limits"]).describe()
+        lines.append(f"each run: sandbox {first['sandbox']}; limits: {limits}")
     return "\n".join(lines)
 
 
@@ -176,10 +443,17 @@ def plot_grades(grades: list[Grade]) -> Figure:
 
     colours = {
         OK: "tab:green",
+        OUTPUT_CUT: "tab:olive",
+        SIM_TIMEOUT: "tab:cyan",
         EXCEPTION: "tab:red",
         COLLISION: "tab:orange",
-        TIMEOUT: "tab:gray",
-        CRASHED: "k",
+        EXITED_EARLY: "tab:pink",
+        WALL_TIMEOUT: "tab:gray",
+        CPU_LIMIT: "tab:brown",
+        MEMORY_LIMIT: "tab:purple",
+        PROCESS_LIMIT: "tab:blue",
+        KILLED: "k",
+        WORKER_DIED: "k",
     }
     fig = Figure(figsize=(max(6.0, 0.5 * len(grades) + 2), 6), layout="constrained")
     top, bottom = fig.subplots(2, 1, sharex=True)

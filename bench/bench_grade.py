@@ -1,0 +1,118 @@
+"""What grading a class in isolation costs: the sandbox per script, and a class on 2 workers.
+
+    python bench/bench_grade.py [--repeats 9] [--class-size 40] [--workers 2]
+
+1. One honest script (the assignment 3 example) run three ways, interleaved, ``--repeats``
+   times each: a bare ``ros-run`` subprocess (what ``grade`` ran before it isolated
+   anything), ``grade_one`` with ``--sandbox none`` (copy of the folder, limits, guard,
+   output capture, process watch) and with ``--sandbox bwrap``. The cost per script is the
+   difference of the medians to the bare run (target: <= 0.3 s for bwrap); and
+   bubblewrap's own start (``bwrap ... true`` against ``true``).
+2. ``grade`` on a class of ``--class-size`` copies of that script on ``--workers`` workers
+   (bubblewrap when it works): runs per minute, cluster start included.
+"""
+
+from __future__ import annotations
+
+import argparse
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from omtp_drake.ros.grade import GradeSettings, grade_folder, grade_one
+from omtp_drake.ros.isolation import Limits, bwrap_works, sandbox_prefix
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "ros" / "lecture6_assignment3.py"
+SCENARIO = "lecture6_assignment3"
+
+
+def bare(script: Path) -> None:
+    command = [
+        sys.executable,
+        "-m",
+        "omtp_drake.ros.cli",
+        "ros-run",
+        str(script),
+        "--scenario",
+        SCENARIO,
+        "-q",
+    ]
+    subprocess.run(command, capture_output=True, check=True, cwd=script.parent)
+
+
+def isolated(script: Path, sandbox: str) -> None:
+    settings = GradeSettings(SCENARIO, limits=Limits(), sandbox=sandbox)
+    grade = grade_one(str(script), settings)
+    if grade.status != "ok":
+        raise RuntimeError(f"{sandbox}: {grade.status}: {grade.message}")
+
+
+def bench_cost(repeats: int) -> None:
+    """The three ways interleaved, round by round (the machine's load drifts)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        script = Path(tmp) / "student.py"
+        shutil.copy(EXAMPLE, script)
+        ways = {"bare ros-run": lambda: bare(script), "sandbox none": lambda: isolated(script, "none")}
+        if bwrap_works():
+            ways["sandbox bwrap"] = lambda: isolated(script, "bwrap")
+        ways["bare ros-run"]()  # warm: the model cache, the page cache
+        walls: dict[str, list[float]] = {name: [] for name in ways}
+        for _ in range(repeats):
+            for name, fn in ways.items():
+                start = time.perf_counter()
+                fn()
+                walls[name].append(time.perf_counter() - start)
+        if bwrap_works():
+            work = Path(tmp)
+            walls["bwrap alone"] = [_wall([*sandbox_prefix(work, work), "true"]) for _ in range(20)]
+            walls["no bwrap"] = [_wall(["true"]) for _ in range(20)]
+    base = statistics.median(walls["bare ros-run"])
+    for name in ways:
+        wall = statistics.median(walls[name])
+        extra = "" if name == "bare ros-run" else f"  cost {wall - base:+.3f} s per script"
+        print(f"{name:14s} median wall {wall:6.3f} s (of {repeats}){extra}")
+    if "bwrap alone" in walls:
+        alone = statistics.median(walls["bwrap alone"]) - statistics.median(walls["no bwrap"])
+        print(f"bubblewrap's own start (bwrap ... true against true, median of 20): {1000 * alone:.1f} ms")
+
+
+def _wall(command: list[str]) -> float:
+    start = time.perf_counter()
+    subprocess.run(command, check=True)
+    return time.perf_counter() - start
+
+
+def bench_class(size: int, workers: int) -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        folder = Path(tmp) / "class"
+        folder.mkdir()
+        for i in range(size):
+            shutil.copy(EXAMPLE, folder / f"student_{i:02d}.py")
+        start = time.perf_counter()
+        grades = grade_folder(folder, SCENARIO, workers=workers, sandbox="auto")
+        wall = time.perf_counter() - start
+    ok = sum(g.status == "ok" for g in grades)
+    sandbox = grades[0].isolation["sandbox"]
+    print(
+        f"grade: {size} scripts on {workers} workers (sandbox {sandbox}) in {wall:.1f} s wall ({ok} ok): "
+        f"{60 * size / wall:.1f} runs per minute (cluster start included)"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=9)
+    parser.add_argument("--class-size", type=int, default=40)
+    parser.add_argument("--workers", type=int, default=2)
+    args = parser.parse_args()
+    bench_cost(args.repeats)
+    if args.class_size:
+        bench_class(args.class_size, args.workers)
+
+
+if __name__ == "__main__":
+    main()

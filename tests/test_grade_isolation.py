@@ -1,0 +1,316 @@
+"""``grade`` on a hostile class: every script gets its own verdict, the honest ones are graded,
+no process outlives the run and no file appears outside, with and without bubblewrap."""
+
+import csv
+import glob
+import json
+import os
+import shutil
+import socket
+import tempfile
+import textwrap
+import uuid
+from dataclasses import asdict
+from pathlib import Path
+
+import pytest
+
+from omtp_drake.errors import ConfigError
+from omtp_drake.ros.cli import main
+from omtp_drake.ros.grade import grade_folder
+from omtp_drake.ros.isolation import Limits, bwrap_works
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "ros"
+SCENARIO = "lecture6_assignment3"
+#: Small limits: the hogs hit them in a second or two.
+LIMITS = Limits(memory_mb=1024, processes=12, cpu_s=3, open_files=256, output_kb=64)
+
+SANDBOXES = [
+    "none",
+    pytest.param(
+        "bwrap", marks=pytest.mark.skipif(not bwrap_works(), reason="bubblewrap does not work here")
+    ),
+]
+
+
+def hostile_class(folder: Path, tag: str, port: int) -> dict[str, str]:
+    """The class folder: script name -> the verdict it must get. ``tag`` names the files the
+    scripts try to leave behind (outside their folder) and their sleeping children."""
+    scripts = {
+        # A student who loops forever waiting for something, without sleeping.
+        "busy_loop.py": ("import rospy\nrospy.init_node('busy')\nwhile True:\n    pass\n", "cpu limit"),
+        # time.sleep: wall time, not simulated time (the course's classic mistake).
+        "wall_sleeper.py": ("import time\ntime.sleep(600)\n", "wall timeout"),
+        "spinner.py": ("import rospy\nrospy.init_node('spinner')\nrospy.spin()\n", "simulated timeout"),
+        "memory_hog.py": (
+            "hog = []\nwhile True:\n    hog.append(bytearray(50 * 1024 * 1024))\n",
+            "memory limit",
+        ),
+        "fork_sleepers.py": (
+            f"""
+            import os, time
+            for i in range(40):
+                if os.fork() == 0:
+                    os.execvp("sleep", ["{tag}", "300"])
+            time.sleep(600)
+            """,
+            "process limit",
+        ),
+        "leaves_children.py": (
+            f"""
+            import os, subprocess
+            for i in range(2):
+                subprocess.Popen(["{tag}", "301"], executable="sleep")
+            print("forked", flush=True)
+            """,
+            "ok",
+        ),
+        "write_outside.py": (
+            f"""
+            import rospy
+            rospy.init_node("writer")
+            with open("/var/tmp/escape_{tag}.txt", "w") as f:
+                f.write("I was here")
+            """,
+            "exception",
+        ),
+        "network.py": (
+            f"import socket\nsocket.create_connection(('127.0.0.1', {port}), timeout=2).sendall(b'hi')\n",
+            "exception",
+        ),
+        "os_exit.py": ("import os\nprint('leaving', flush=True)\nos._exit(0)\n", "exited early"),
+        "output_flood.py": (
+            "for i in range(200000):\n    print('spam spam spam spam spam', i)\n",
+            "output cut",
+        ),
+        "kills_parent.py": ("import os, signal\nos.kill(os.getppid(), signal.SIGKILL)\n", "exception"),
+        "self_signal.py": ("import os, signal\nos.kill(os.getpid(), signal.SIGSEGV)\n", "killed by signal"),
+        "honest_bob.py": ("import rospy\nrospy.init_node('bob')\nrospy.sleep(0.2)\n1 / 0\n", "exception"),
+    }
+    for name, (text, _) in scripts.items():
+        (folder / name).write_text(textwrap.dedent(text).lstrip())
+    shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "honest_alice.py")
+    verdicts = {name: verdict for name, (_, verdict) in scripts.items()}
+    verdicts["honest_alice.py"] = "ok"
+    return verdicts
+
+
+def processes_with(tag: str) -> list[int]:
+    """Live processes whose command line holds ``tag``."""
+    found = []
+    for entry in os.scandir("/proc"):
+        if entry.name.isdigit():
+            try:
+                cmdline = Path(entry.path, "cmdline").read_bytes()
+                state = Path(entry.path, "stat").read_text().rsplit(")", 1)[1].split()[0]
+            except OSError:
+                continue
+            if tag.encode() in cmdline and state != "Z":
+                found.append(int(entry.name))
+    return found
+
+
+@pytest.mark.parametrize("sandbox", SANDBOXES)
+def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(tmp_path, sandbox):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    tag = f"omtp-hostile-{uuid.uuid4().hex[:8]}"
+    listener = socket.create_server(("127.0.0.1", 0))
+    listener.settimeout(0.1)
+    expected = hostile_class(folder, tag, listener.getsockname()[1])
+    out = tmp_path / "out"
+    grades = grade_folder(
+        folder, SCENARIO, workers=2, timeout=30.0, wall_timeout=25.0, out=out, limits=LIMITS, sandbox=sandbox
+    )
+    by_name = {g.script: g for g in grades}
+    assert {name: g.status for name, g in by_name.items()} == expected
+    # The honest scripts are graded as without the sandbox.
+    alice = (out / "runs" / "honest_alice.stdout.txt").read_text()
+    assert (
+        "part in vacuum_gripper2_suction_cup: (" in alice
+        and by_name["honest_alice.py"].report["sim_time_s"] > 1.5
+    )
+    assert (
+        by_name["honest_bob.py"].message
+        == "ZeroDivisionError: division by zero (at honest_bob.py:4 in <module>)"
+    )
+    # What the sandbox refused, in the script's row.
+    assert f"write to /var/tmp/escape_{tag}.txt" in by_name["write_outside.py"].refused
+    assert "network connect" in by_name["network.py"].refused
+    assert "signal to process" in by_name["kills_parent.py"].refused
+    # Children left behind are killed, and say so; the run did not wait for their pipes.
+    assert "2 process(es) left running, killed" in by_name["leaves_children.py"].message
+    assert by_name["leaves_children.py"].isolation["wall_s"] < 8.0
+    assert by_name["os_exit.py"].message.startswith("exited early with code 0")
+    # Output: the first 64 KB kept in a file, the rest counted.
+    flood = by_name["output_flood.py"].isolation["stdout"]
+    assert flood["kept"] == 64 * 1024 and flood["cut"] > 5_000_000
+    assert (out / "runs" / "output_flood.stdout.txt").stat().st_size == 64 * 1024
+    # No process, no file, no connection outside.
+    assert processes_with(tag) == []
+    assert not Path(f"/var/tmp/escape_{tag}.txt").exists()
+    with pytest.raises(TimeoutError):
+        listener.accept()
+    listener.close()
+    # The table, the CSV and the plot are written; the limits and sandbox are in each report.
+    rows = list(csv.DictReader(open(out / "grades.csv")))
+    assert [r["status"] for r in rows] == [g.status for g in grades]
+    assert (out / "grades.png").stat().st_size > 1000
+    run = json.loads((out / "runs" / "memory_hog.json").read_text())
+    assert run["isolation"]["sandbox"] == sandbox and run["isolation"]["limits"]["memory_mb"] == 1024
+
+
+#: Gets past the guard (ctypes) to kill the grader's worker, after starting a sleeping child.
+WORKER_KILLER = """
+import ctypes, os, subprocess, time
+subprocess.Popen(["{tag}", "300"], executable="sleep")
+time.sleep(0.5)
+ctypes.CDLL(None).kill(os.getppid(), 9)
+time.sleep(600)
+"""
+
+
+@pytest.mark.parametrize("sandbox", SANDBOXES)
+def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    tag = f"omtp-killer-{uuid.uuid4().hex[:8]}"
+    (folder / "a_killer.py").write_text(WORKER_KILLER.format(tag=tag))
+    shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "b_honest.py")
+    grades = grade_folder(
+        folder, SCENARIO, workers=1, wall_timeout=20.0, out=tmp_path / "out", sandbox=sandbox
+    )
+    killer, honest = grades
+    if sandbox == "none":  # its parent is the worker: it dies, and the row says so
+        assert killer.status == "worker died" and "KilledWorker" in killer.message
+    else:  # its parent is bubblewrap's init, which the kernel does not let it kill
+        assert killer.status == "wall timeout"
+    assert honest.status == "ok" and honest.report["sim_time_s"] > 1.5
+    assert processes_with(tag) == []
+    assert len(list(csv.DictReader(open(tmp_path / "out" / "grades.csv")))) == 2
+    assert sorted(p.suffix for p in (tmp_path / "out" / "runs").iterdir()) == [".json"] * 2 + [".txt"] * 4
+    assert killer.isolation["sandbox"] == sandbox and not glob.glob(
+        f"{tempfile.gettempdir()}/omtp-grade-a_killer-*"
+    )
+
+
+def test_ros_run_sandbox_runs_one_script_isolated(tmp_path, capsys):
+    tag = uuid.uuid4().hex[:8]
+    script = tmp_path / "writer.py"
+    script.write_text(f"print('writing')\nopen('/var/tmp/escape_{tag}.txt', 'w').write('x')\n")
+    result = tmp_path / "result.json"
+    argv = ["ros-run", str(script), "--scenario", SCENARIO, "--sandbox", "auto", "--json", str(result)]
+    assert main(argv) == 1
+    out = capsys.readouterr().out
+    assert "writing" in out and "verdict: exception: PermissionError" in out
+    assert f"refused by the sandbox: write to /var/tmp/escape_{tag}.txt" in out
+    data = json.loads(result.read_text())
+    assert data["status"] == "exception" and data["isolation"]["limits"] == asdict(Limits())
+    assert not Path(f"/var/tmp/escape_{tag}.txt").exists()
+    assert main(argv + ["--meshcat"]) == 2
+    assert "--sandbox has no network" in capsys.readouterr().err
+
+
+def test_a_folder_too_big_to_copy_per_run_is_refused(tmp_path):
+    folder = tmp_path / "home"
+    folder.mkdir()
+    (folder / "student.py").write_text("print('hi')\n")
+    for i in range(2001):
+        (folder / f"photo_{i}.jpg").write_bytes(b"")
+    with pytest.raises(ConfigError, match="holds over 2000 files or 200 MB"):
+        grade_folder(folder, SCENARIO, workers=1)
+
+
+#: Past the Python guard: a write by another program, a write and a connection through ctypes.
+BYPASS = """
+import ctypes, os, socket, subprocess
+subprocess.run("echo x > /var/tmp/escape_{tag}.txt", shell=True)
+libc = ctypes.CDLL(None, use_errno=True)
+fd = libc.open(b"/var/tmp/escape2_{tag}.txt", os.O_WRONLY | os.O_CREAT, 0o644)
+print("ctypes open:", fd, os.strerror(ctypes.get_errno()), flush=True)
+s = socket.socket()
+address = (ctypes.c_ubyte * 16)(2, 0, {port_hi}, {port_lo}, 127, 0, 0, 1)
+print("ctypes connect:", libc.connect(s.fileno(), address, 16), os.strerror(ctypes.get_errno()))
+"""
+
+
+@pytest.mark.skipif(not bwrap_works(), reason="bubblewrap does not work here")
+def test_bubblewrap_refuses_what_gets_past_the_guard(tmp_path):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    tag = uuid.uuid4().hex[:8]
+    listener = socket.create_server(("127.0.0.1", 0))
+    listener.settimeout(0.1)
+    port = listener.getsockname()[1]
+    (folder / "bypass.py").write_text(BYPASS.format(tag=tag, port_hi=port >> 8, port_lo=port & 255))
+    (grade,) = grade_folder(folder, SCENARIO, workers=1, out=tmp_path / "out", sandbox="bwrap")
+    assert grade.status == "ok"
+    assert f"write to /var/tmp/escape_{tag}.txt (read-only)" in grade.refused
+    out = (tmp_path / "out" / "runs" / "bypass.stdout.txt").read_text()
+    assert "ctypes open: -1 Read-only file system" in out
+    assert "ctypes connect: -1 " in out  # its own network: a loopback with nothing on it
+    assert (
+        not Path(f"/var/tmp/escape_{tag}.txt").exists() and not Path(f"/var/tmp/escape2_{tag}.txt").exists()
+    )
+    with pytest.raises(TimeoutError):
+        listener.accept()
+    listener.close()
+
+
+def test_a_script_sees_its_own_copy_of_the_folder_only(tmp_path):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "data.csv").write_text("1,2\n")
+    (folder / "_helpers.py").write_text("GREETING = 'hello'\n")
+    (folder / "grade.yaml").write_text("alice.py:\n  moveit: noetic\n")
+    looker = "import os\nfrom _helpers import GREETING\nprint(GREETING, sorted(os.listdir('.')))\n"
+    (folder / "alice.py").write_text(looker)
+    (folder / "bob.py").write_text(looker + "open('notes.txt', 'w').write('mine')\n")
+    out = folder / "results"  # inside the class folder: never copied
+    grade_folder(folder, SCENARIO, workers=1, out=out, sandbox="none")
+    seen = (out / "runs" / "alice.stdout.txt").read_text().splitlines()[0]
+    assert seen == "hello ['.tmp', '_helpers.py', 'alice.py', 'data.csv']"
+    assert "'bob.py'" in (out / "runs" / "bob.stdout.txt").read_text()
+    assert not (folder / "notes.txt").exists()  # bob wrote into his copy
+
+
+def test_auto_falls_back_to_the_limits_with_one_warning_where_bubblewrap_fails(monkeypatch, caplog):
+    from omtp_drake.ros import isolation
+
+    monkeypatch.setattr(isolation, "BWRAP", str(Path(__file__).parent / "no_bwrap_here"))
+    isolation.bwrap_works.cache_clear()
+    isolation.resolve_sandbox.cache_clear()
+    try:
+        assert [isolation.resolve_sandbox("auto") for _ in range(3)] == ["none"] * 3
+        warning = (
+            f"no working bubblewrap ({isolation.BWRAP}): scripts run with the limits and the Python guard"
+        )
+        assert [r.message.startswith(warning) for r in caplog.records].count(True) == 1
+        with pytest.raises(ConfigError, match="--sandbox bwrap: .*no_bwrap_here is missing or cannot create"):
+            isolation.resolve_sandbox("bwrap")
+        with pytest.raises(ConfigError, match="--sandbox 'docker' is unknown; valid: auto, bwrap, none"):
+            isolation.resolve_sandbox("docker")
+    finally:
+        isolation.bwrap_works.cache_clear()
+        isolation.resolve_sandbox.cache_clear()
+
+
+@pytest.mark.parametrize(
+    "exception, exit_code, shutdown, verdict",
+    [
+        ("MemoryError:  (at hog.py:3 in <module>)", 0, None, "memory limit"),
+        ("BlockingIOError: [Errno 11] Resource temporarily unavailable (at f.py:4 in <module>)", 0, None,
+         "process limit"),
+        ("KeyError: 'x' (at k.py:2 in <module>)", 0, None, "exception"),
+        (None, 3, None, "exited early"),
+        (None, 0, "--timeout of 30 s simulated time reached", "simulated timeout"),
+        (None, 0, "the script called signal_shutdown: done", "ok"),
+    ],
+)  # fmt: skip
+def test_a_reports_verdict_is_named_for_what_happened(exception, exit_code, shutdown, verdict):
+    from omtp_drake.ros.isolation import Outcome
+    from omtp_drake.ros.verdicts import classify
+
+    report = {"exception": exception, "exit_code": exit_code, "shutdown": shutdown, "collisions": []}
+    report["callback_errors"] = []
+    assert classify(Outcome(0, None, 1.0), report, "", LIMITS, 25.0)[0] == verdict

@@ -1,0 +1,129 @@
+"""``grade`` passes ros-run's options on: ``--moveit`` for the class, ``grade.yaml`` per script."""
+
+import csv
+
+import pytest
+
+from omtp_drake.errors import ConfigError
+from omtp_drake.ros.cli import main
+from omtp_drake.ros.grade import grade_folder
+from omtp_drake.ros.grade_options import check_options, ros_run_flags
+
+#: Melodic's habit: plan() returns the trajectory, handed straight to execute().
+MELODIC = """
+import sys
+import moveit_commander, rospy
+moveit_commander.roscpp_initialize(sys.argv)
+rospy.init_node("melodic_student")
+group = moveit_commander.MoveGroupCommander("robot2")
+group.set_named_target("R2Up")
+plan = group.plan()
+group.execute(plan, wait=True)
+"""
+
+#: Noetic's habit: plan() returns (success, trajectory, planning time, error code).
+NOETIC = """
+import sys
+import moveit_commander, rospy
+moveit_commander.roscpp_initialize(sys.argv)
+rospy.init_node("noetic_student")
+group = moveit_commander.MoveGroupCommander("robot2")
+group.set_named_target("R2Up")
+success, plan, planning_time, error_code = group.plan()
+if success:
+    group.execute(plan, wait=True)
+"""
+
+
+@pytest.fixture
+def mixed_class(tmp_path):
+    folder = tmp_path / "class"
+    folder.mkdir()
+    (folder / "melodic_student.py").write_text(MELODIC)
+    (folder / "noetic_student.py").write_text(NOETIC)
+    return folder
+
+
+def statuses(grades):
+    return {g.script: g.status for g in grades}
+
+
+def test_grade_moveit_melodic_is_passed_to_every_script(mixed_class, tmp_path, capsys):
+    argv = ["grade", str(mixed_class), "--scenario", "lecture6_assignment3", "--workers", "1"]
+    assert main(argv + ["--moveit", "melodic", "--out", str(tmp_path / "out")]) == 1
+    assert "melodic_student.py ok " in capsys.readouterr().out
+    rows = {r["script"]: r for r in csv.DictReader(open(tmp_path / "out" / "grades.csv"))}
+    assert rows["melodic_student.py"]["status"] == "ok"
+    assert rows["noetic_student.py"]["status"] == "exception"
+    message = (
+        "TypeError: cannot unpack non-iterable RobotTrajectory object (at noetic_student.py:8 in <module>)"
+    )
+    assert rows["noetic_student.py"]["message"] == message
+
+
+def test_grade_yaml_gives_a_script_its_own_moveit(mixed_class):
+    (mixed_class / "grade.yaml").write_text("melodic_student.py:\n  moveit: melodic\n")
+    grades = grade_folder(mixed_class, "lecture6_assignment3", workers=1)
+    assert statuses(grades) == {"melodic_student.py": "ok", "noetic_student.py": "ok"}
+    assert grades[0].isolation["options"] == {"moveit": "melodic"} and grades[1].isolation["options"] == {}
+    (mixed_class / "grade.yaml").write_text("carol.py:\n  moveit: melodic\n")
+    with pytest.raises(ConfigError, match="no script 'carol.py' in the folder; scripts: melodic_student.py"):
+        grade_folder(mixed_class, "lecture6_assignment3", workers=1)
+
+
+def test_options_are_checked_against_ros_runs_flags(tmp_path):
+    assert ros_run_flags(check_options({"moveit": "melodic"}, "grade", tmp_path)) == ["--moveit", "melodic"]
+    with pytest.raises(ConfigError, match="moveit 'kinetic' is unknown; valid: noetic, melodic"):
+        check_options({"moveit": "kinetic"}, "grade.yaml: a.py", tmp_path)
+    with pytest.raises(ConfigError, match="unknown option 'gravity'; valid: moveit, srdf, moveit_config"):
+        check_options({"gravity": 9.81}, "grade.yaml: a.py", tmp_path)
+    with pytest.raises(ConfigError, match="srdf 'mine.srdf': no such file"):
+        check_options({"srdf": "mine.srdf"}, "grade.yaml: a.py", tmp_path)
+    with pytest.raises(ConfigError, match="latency .*valid"):
+        check_options({"latency": "think=1"}, "grade", tmp_path)
+    calls = {"call": ["/spawn_object_at_robot2", "/gripper2/control true"], "settle": 1.5}
+    calls = check_options(calls, "g", tmp_path)
+    assert ros_run_flags(calls) == [
+        "--call", "/spawn_object_at_robot2", "--call", "/gripper2/control true", "--settle", "1.5"]
+
+
+#: A student's own named pose (lecture 5's SRDF), used after the slides' set-up call.
+HIGH_POSE = """
+import moveit_commander, rospy
+rospy.init_node("high_student")
+group = moveit_commander.MoveGroupCommander("robot2")
+group.set_named_target("high")
+if not group.go(wait=True):
+    raise RuntimeError("the move to 'high' failed")
+"""
+
+STUDENT_SRDF = """<?xml version="1.0" ?>
+<robot name="omtp">
+  <group name="robot2"><chain base_link="robot2_base_link" tip_link="vacuum_gripper2_suction_cup"/></group>
+  <group_state name="high" group="robot2">
+    <joint name="robot2_shoulder_pan_joint" value="1.2"/>
+    <joint name="robot2_shoulder_lift_joint" value="-1.2"/>
+    <joint name="robot2_elbow_joint" value="0.9"/>
+    <joint name="robot2_wrist_1_joint" value="-1.3"/>
+    <joint name="robot2_wrist_2_joint" value="-1.5708"/>
+    <joint name="robot2_wrist_3_joint" value="0"/>
+  </group_state>
+</robot>
+"""
+
+
+def test_grade_yaml_passes_a_students_srdf_and_set_up_calls(tmp_path):
+    folder = tmp_path / "class"
+    (folder / "lena").mkdir(parents=True)
+    (folder / "lena" / "omtp.srdf").write_text(STUDENT_SRDF)
+    (folder / "lena.py").write_text(HIGH_POSE)
+    (folder / "tom.py").write_text(HIGH_POSE)
+    (folder / "grade.yaml").write_text(
+        "lena.py:\n  srdf: lena/omtp.srdf\n  call: [/spawn_object_at_robot2]\n  settle: 0.5\n"
+    )
+    grades = {g.script: g for g in grade_folder(folder, "lecture6_assignment3", workers=1, sandbox="none")}
+    assert grades["lena.py"].status == "ok", grades["lena.py"].message
+    assert grades["lena.py"].report["sim_time_s"] >= 0.5  # the settle ran before the script
+    assert grades["lena.py"].report["empty_spawn_calls"]  # object_1 is there: the call spawns nothing
+    assert grades["tom.py"].status == "exception"  # no "high" in the cell's own SRDF
+    assert "high" in grades["tom.py"].message
