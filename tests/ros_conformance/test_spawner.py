@@ -93,3 +93,27 @@ def test_lecture7_feeder_spawns_every_3_s_until_stopped(course_run):
     # spawns come at the first physics steps (10 ms) after 3.005 s and 6.005 s.
     assert data["seen"] == [[1, 3.01, "box"], [2, 6.01, "box"]]
     assert report.ledger["spawned"] == 2
+
+
+def test_lecture6_robot1_belt_spawner_is_behind_spawn_object_once(course_run):
+    """lecture6_assignment1.launch's wiring (the course's robot-1 assignment 4 ran on it):
+    conveyor_objects.yaml's box every 10 s behind /spawn_object_once, no stop node."""
+    report, data = course_run(
+        """\
+        import json, sys
+        import rospy
+        from std_msgs.msg import Header
+        from std_srvs.srv import Empty
+        rospy.init_node('belt_feeder')
+        spawned = []
+        rospy.Subscriber('/spawned_part', Header, lambda m: spawned.append(round(m.stamp.to_sec(), 2)))
+        rospy.ServiceProxy('/spawn_object_once', Empty)()
+        rospy.sleep(25.0)
+        json.dump(spawned, open(sys.argv[1], 'w'))
+        """,
+        scenario="lecture6_assignment4_robot1",
+        out_arg=True,
+    )
+    assert report.ok, report.summary()
+    assert data == [10.01, 20.01]  # one period after the call (5 ms latency), at the next 10 ms step
+    assert report.ledger["spawned"] == 2 and report.empty_spawn_calls == []
