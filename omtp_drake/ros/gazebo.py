@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any, Optional
 import numpy as np
 
 from omtp_drake.errors import NotSupportedError
+from omtp_drake.ros.cell_services import Service
 from omtp_drake.ros.convert import pose_msg, rigid
 from omtp_drake.ros.gazebo_interfaces import (
     DeleteModel,
@@ -48,8 +49,7 @@ from omtp_drake.ros.gazebo_models import WORLD_NAMES, GazeboModels
 from omtp_drake.ros.gazebo_spawn import PartSpawner, place_part
 from omtp_drake.ros.interfaces import EmptyService
 from omtp_drake.ros.messages import Header, Time, Twist, Vector3
-from omtp_drake.ros.services import Service
-from omtp_drake.ros.topics import Source
+from omtp_drake.ros.sensor_topics import Source
 
 if TYPE_CHECKING:
     from omtp_drake.ros.graph import Graph

@@ -26,10 +26,10 @@ from pydrake.multibody.math import SpatialVelocity
 
 from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.errors import NotSupportedError, OmtpError
+from omtp_drake.ros.cell_services import Service, ServiceFailure
 from omtp_drake.ros.convert import rigid
 from omtp_drake.ros.gazebo_interfaces import SpawnModel
 from omtp_drake.ros.interfaces import EmptyService
-from omtp_drake.ros.services import Service, ServiceFailure
 from omtp_drake.scenario import SpawnerConfig, check_in_cell
 
 if TYPE_CHECKING:

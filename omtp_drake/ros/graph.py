@@ -10,8 +10,8 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Optional, Protocol
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.services import Service
-    from omtp_drake.ros.topics import Source
+    from omtp_drake.ros.cell_services import Service
+    from omtp_drake.ros.sensor_topics import Source
     from omtp_drake.script import Cell
 
 

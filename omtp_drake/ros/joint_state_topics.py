@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any
 
 from omtp_drake.ros._core import JOINT_NAMES
 from omtp_drake.ros.messages import Header, JointState, Time
-from omtp_drake.ros.topics import Source
+from omtp_drake.ros.sensor_topics import Source
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell

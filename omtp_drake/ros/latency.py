@@ -66,7 +66,7 @@ def think(what: str) -> None:
 def pass_time(seconds: float) -> None:
     """Lets ``seconds`` of simulated time pass in a blocking call (the cell runs,
     callbacks are delivered, the arms hold their commands; see ``Session.think``)."""
-    from omtp_drake.ros.node import _blocking
+    from omtp_drake.ros.rostime import _blocking
     from omtp_drake.ros.session import current
 
     with _blocking():

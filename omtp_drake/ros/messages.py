@@ -7,7 +7,7 @@ compares by value and prints like ``rostopic echo``. A service type ``Foo`` has
 fields positionally (``proxy(True)``) or a request object.
 
 :class:`Time` and :class:`Duration` are rospy's: seconds and nanoseconds,
-``rospy.Time.now()`` (omtp_drake.ros.node) is the cell's simulated time.
+``rospy.Time.now()`` (omtp_drake.ros.rostime) is the cell's simulated time.
 """
 
 from __future__ import annotations

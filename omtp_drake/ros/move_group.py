@@ -22,10 +22,7 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Any, Optional
 
-import numpy as np
-
 from omtp_drake.errors import OmtpError
-from omtp_drake.ros._core import SETTLE_TIMEOUT, SETTLE_TOLERANCE
 from omtp_drake.ros.ik_service import INVALID_GOAL_CONSTRAINTS
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotState
 from omtp_drake.ros.latency import delay_of
@@ -33,7 +30,7 @@ from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
 from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
 from omtp_drake.ros.moveit_config import semantics
 from omtp_drake.ros.moveit_interfaces import MoveGroupAction, MoveGroupResult
-from omtp_drake.ros.node import Time
+from omtp_drake.ros.rostime import Time
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import joint_names, to_msg
 
@@ -97,8 +94,6 @@ class MoveGroupClient:
         self._result: Any = None
         self._end = 0.0
         self._group: Optional[MoveGroupCommander] = None
-        #: The joints the running goal's plan ends at (None: no motion running).
-        self._goal: Optional[np.ndarray] = None
         self._done_cb: Any = None
 
     def wait_for_server(self, timeout: Any = None) -> bool:
@@ -138,7 +133,6 @@ class MoveGroupClient:
         if not group._run(plan, wait=False, start=delay_of("plan") + delay_of("execute")):
             self._finish(result, MoveItErrorCodes.CONTROL_FAILED, GoalState.ABORTED)
             return
-        self._goal = plan.trajectory.value(plan.trajectory.end_time()).ravel()
         result.executed_trajectory = result.planned_trajectory
         result.error_code = MoveItErrorCodes(MoveItErrorCodes.SUCCESS)
         self._result, self._state, self._end = result, GoalState.ACTIVE, group._motion_end
@@ -151,17 +145,8 @@ class MoveGroupClient:
         if self._done_cb is not None:
             self._done_cb(state, result)
 
-    def _settled(self) -> bool:
-        """MoveIt's execution ends when the robot has stopped (``waitForRobotToStop``): here
-        when the arm is at the plan's goal, or ``SETTLE_TIMEOUT`` after the plan's end."""
-        time = self._session.time
-        if time < self._end - 1e-9 or self._group is None or self._goal is None:
-            return time >= self._end - 1e-9
-        off = np.max(np.abs(self._group._arm.joint_values() - self._goal))
-        return bool(off <= SETTLE_TOLERANCE or time >= self._end + SETTLE_TIMEOUT - 1e-9)
-
     def _poll(self) -> None:
-        if self._state == GoalState.ACTIVE and self._settled():
+        if self._state == GoalState.ACTIVE and self._group is not None and self._group._motion_done():
             self._state = GoalState.SUCCEEDED
             if self._done_cb is not None and self._result is not None:
                 self._done_cb(self._state, self._result)
@@ -171,15 +156,9 @@ class MoveGroupClient:
         return self._state not in (GoalState.ACTIVE, GoalState.PENDING, GoalState.LOST)
 
     def wait_for_result(self, timeout: Any = None) -> bool:
-        from omtp_drake.ros.node import _blocking
-
         seconds = timeout.to_sec() if hasattr(timeout, "to_sec") else float(timeout or 0.0)
-        if self._state == GoalState.ACTIVE:
-            limit = self._end + SETTLE_TIMEOUT
-            if seconds > 0:
-                limit = min(limit, self._session.time + seconds)
-            with _blocking():
-                self._session.run_until(limit, until=self._settled)
+        if self._state == GoalState.ACTIVE and self._group is not None:
+            self._group._wait_for_motion(seconds)
         return self.is_done()
 
     def get_state(self) -> int:

@@ -35,13 +35,20 @@ from pydrake.math import RigidTransform
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.errors import CollisionError, OmtpError, PlanningError
-from omtp_drake.ros._core import CorePoseStamped, Plan, check_joint_positions, tool_frame_names
+from omtp_drake.ros._core import (
+    SETTLE_TIMEOUT,
+    SETTLE_TOLERANCE,
+    CorePoseStamped,
+    Plan,
+    check_joint_positions,
+    tool_frame_names,
+)
 from omtp_drake.ros.convert import pose_from_list, pose_msg, rigid
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotTrajectory
 from omtp_drake.ros.latency import delay_of, delayed, pass_time, think
 from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
 from omtp_drake.ros.moveit_config import arm_joint_limits, end_effector_link, semantics
-from omtp_drake.ros.node import Time, _blocking
+from omtp_drake.ros.rostime import Time, _blocking
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import from_msg, joint_names, to_msg
 from omtp_drake.ros.unsupported import not_supported
@@ -92,6 +99,7 @@ class MoveGroupCommander:
         self._velocity_scale = (limits and limits.default_velocity_scaling) or 1.0
         self._acceleration_scale = (limits and limits.default_acceleration_scaling) or 1.0
         self._motion_end = -1.0
+        self._motion_goal = np.zeros(0)
 
     def __getattr__(self, name: str) -> Any:
         if name.startswith("_"):
@@ -361,7 +369,26 @@ class MoveGroupCommander:
                 _log.error("%s: execution refused: %s", self._name, e)
                 return False
         self._motion_end = result.end
+        self._motion_goal = plan.trajectory.value(plan.trajectory.end_time()).ravel()
         return True
+
+    def _motion_done(self) -> bool:
+        """Whether the motion started last has ended as MoveIt's execution ends: the
+        trajectory over and the robot stopped (``waitForRobotToStop``), here the arm at
+        the plan's goal or ``SETTLE_TIMEOUT`` after the plan's end."""
+        time = self._session.time
+        if time < self._motion_end - 1e-9:
+            return False
+        off = float(np.max(np.abs(self._arm.joint_values() - self._motion_goal)))
+        return off <= SETTLE_TOLERANCE or time >= self._motion_end + SETTLE_TIMEOUT - 1e-9
+
+    def _wait_for_motion(self, seconds: float = 0.0) -> None:
+        """Advances time until :meth:`_motion_done` (at most ``seconds`` when > 0)."""
+        limit = self._motion_end + SETTLE_TIMEOUT
+        if seconds > 0:
+            limit = min(limit, self._session.time + seconds)
+        with _blocking():
+            self._session.run_until(limit, until=self._motion_done)
 
     def stop(self) -> None:
         """Stops a motion started with ``wait=False`` where the arm is (no-op when none runs)."""

@@ -26,9 +26,9 @@ from typing import Optional
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.exceptions import ROSInterruptException
 from omtp_drake.ros.latency import resolve_latency
 from omtp_drake.ros.moveit_config import install as install_moveit_config
-from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active

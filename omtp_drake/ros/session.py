@@ -39,11 +39,11 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.errors import SimulationError
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.cell_services import Service
     from omtp_drake.ros.joint_limits import JointLimits
     from omtp_drake.ros.names import NodeNames
-    from omtp_drake.ros.services import Service
+    from omtp_drake.ros.sensor_topics import Source
     from omtp_drake.ros.srdf import SemanticModel
-    from omtp_drake.ros.topics import Source
     from omtp_drake.scenario.latency import RosLatencyConfig
     from omtp_drake.script import Cell
 
@@ -111,9 +111,9 @@ class Session:
         moveit: str = "noetic",
         latency: Optional[RosLatencyConfig] = None,
     ):
+        from omtp_drake.ros.cell_services import cell_services
         from omtp_drake.ros.joint_state_topics import joint_state_sources
-        from omtp_drake.ros.services import cell_services
-        from omtp_drake.ros.topics import camera_views, cell_sources
+        from omtp_drake.ros.sensor_topics import camera_views, cell_sources
         from omtp_drake.ros.world_plugins import attach_gazebo
 
         self.cell = cell

@@ -21,9 +21,9 @@ from typing import TYPE_CHECKING, Any
 import yaml
 
 from omtp_drake.errors import ConfigError
+from omtp_drake.ros.cell_services import ServiceFailure
 from omtp_drake.ros.messages import Message
 from omtp_drake.ros.names import resolve
-from omtp_drake.ros.services import ServiceFailure
 
 if TYPE_CHECKING:
     from omtp_drake.ros.session import Session

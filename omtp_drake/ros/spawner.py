@@ -35,9 +35,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from omtp_drake.errors import OmtpError, SimulationError
+from omtp_drake.ros.cell_services import Service, ServiceFailure
 from omtp_drake.ros.interfaces import EmptyService
 from omtp_drake.ros.messages import Header, Time
-from omtp_drake.ros.services import Service, ServiceFailure
 from omtp_drake.sim.driver import spawn
 
 if TYPE_CHECKING:

@@ -17,9 +17,9 @@ from typing import Any, Optional
 from omtp_drake.errors import FrameError, UnknownNameError
 from omtp_drake.ros.convert import pose_msg, rigid, transform_msg
 from omtp_drake.ros.messages import Header, PoseStamped, Time, TransformStamped
-from omtp_drake.ros.node import _blocking
+from omtp_drake.ros.rostime import _blocking
+from omtp_drake.ros.sensor_topics import SINGLE_CAMERA_FRAME, single_camera
 from omtp_drake.ros.session import current
-from omtp_drake.ros.topics import SINGLE_CAMERA_FRAME, single_camera
 
 
 class TransformException(Exception):

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 from typing import Any, Optional
 
-from omtp_drake.ros import node
+from omtp_drake.ros import exceptions, service
+from omtp_drake.ros import topics as rospy_topics
 from omtp_drake.ros.flexbe.context import current_run
 from omtp_drake.ros.flexbe.engine import Logger
 from omtp_drake.ros.session import current
@@ -36,7 +37,7 @@ class ProxySubscriberCached:
         topics = self._topics()
         if topic not in topics:
             entry: dict[str, Any] = {"last_msg": None, "buffered": buffered, "msg_queue": [], "callbacks": []}
-            entry["subscriber"] = node.Subscriber(topic, msg_type, self._callback, topic)
+            entry["subscriber"] = rospy_topics.Subscriber(topic, msg_type, self._callback, topic)
             topics[topic] = entry
         if callback is not None:
             topics[topic]["callbacks"].append(callback)
@@ -117,7 +118,7 @@ class ProxyPublisher:
     ) -> None:
         publishers = current_run().publishers
         if topic not in publishers:
-            publishers[topic] = node.Publisher(topic, msg_type, latch=_latch, queue_size=_queue_size)
+            publishers[topic] = rospy_topics.Publisher(topic, msg_type, latch=_latch, queue_size=_queue_size)
 
     def is_available(self, topic: str) -> bool:
         return topic in current_run().publishers
@@ -148,7 +149,7 @@ class ProxyServiceCaller:
     ) -> None:
         services = current_run().services
         if topic not in services:
-            services[topic] = node.ServiceProxy(topic, msg_type, persistent)
+            services[topic] = service.ServiceProxy(topic, msg_type, persistent)
             self._check_service_available(topic)
 
     def is_available(self, topic: str) -> bool:
@@ -165,8 +166,8 @@ class ProxyServiceCaller:
             Logger.logerr(f"Service client {topic} not yet registered, need to add it first!")
             return False
         try:
-            node.wait_for_service(client.resolved_name)
-        except node.ROSException:
+            service.wait_for_service(client.resolved_name)
+        except exceptions.ROSException:
             services = ", ".join(sorted(current().services)) or "none"
             Logger.logerr(f"Service client {topic} timed out! (this cell's services: {services})")
             return False
@@ -182,7 +183,7 @@ class ProxyActionClient:
 
     def setupClient(self, topic: str, msg_type: Any, wait_duration: float = 10) -> None:  # noqa: N802
         from omtp_drake.errors import NotSupportedError
-        from omtp_drake.ros.commander import SimpleActionClient
+        from omtp_drake.ros.actions import SimpleActionClient
         from omtp_drake.ros.move_group import MoveGroupClient, is_move_group
 
         actions = current_run().actions
@@ -261,7 +262,7 @@ class ProxyActionClient:
 
 def _trajectory_done(client: Any) -> bool:
     """Whether an ``execute_trajectory`` goal has ended (its motion's end has passed)."""
-    from omtp_drake.ros.commander import GoalStatus
+    from omtp_drake.ros.actions import GoalStatus
 
     if client.get_state() == GoalStatus.ACTIVE and current().time >= client._end - 1e-9:
         client.wait_for_result()  # at its end already: marks it succeeded, no time passes

@@ -27,6 +27,7 @@ from typing import Any, Optional
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros._core import Cell, load_scenario
+from omtp_drake.ros.exceptions import ROSInterruptException
 from omtp_drake.ros.flexbe.context import (
     AUTONOMY_LEVELS,
     FlexbeRun,
@@ -38,7 +39,6 @@ from omtp_drake.ros.flexbe.context import (
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
 from omtp_drake.ros.moveit_config import install as install_moveit_config
-from omtp_drake.ros.node import ROSInterruptException
 from omtp_drake.ros.py2 import python2_imports
 from omtp_drake.ros.runner import SHIM_DIR, SHIM_PACKAGES
 from omtp_drake.ros.session import Session, ShutdownError, active

@@ -11,8 +11,8 @@ from __future__ import annotations
 from typing import Any, Optional
 
 from omtp_drake.errors import SimulationError
+from omtp_drake.ros.client import resolve_name
 from omtp_drake.ros.flexbe.context import current_run
-from omtp_drake.ros.node import resolve_name
 from omtp_drake.ros.session import current
 
 

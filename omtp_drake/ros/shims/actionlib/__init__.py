@@ -2,8 +2,8 @@
 
 from typing import Any
 
-from omtp_drake.ros import commander
-from omtp_drake.ros.commander import GoalStatus
+from omtp_drake.ros import actions
+from omtp_drake.ros.actions import GoalStatus
 from omtp_drake.ros.move_group import MoveGroupClient, is_move_group
 from omtp_drake.ros.unsupported import module_getattr
 
@@ -12,7 +12,7 @@ def SimpleActionClient(ns: str, ActionSpec: Any) -> Any:  # noqa: N802, N803 (ac
     """The client of the cell's action server ``ns`` (``move_group``, ``execute_trajectory``)."""
     if is_move_group(ns, ActionSpec):
         return MoveGroupClient(ns)
-    return commander.SimpleActionClient(ns, ActionSpec)
+    return actions.SimpleActionClient(ns, ActionSpec)
 
 
 class SimpleGoalState:

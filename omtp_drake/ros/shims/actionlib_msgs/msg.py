@@ -1,6 +1,6 @@
 """actionlib_msgs.msg of omtp-drake ros-run."""
 
-from omtp_drake.ros.commander import GoalStatus
+from omtp_drake.ros.actions import GoalStatus
 from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = ["GoalStatus"]

@@ -1,26 +1,12 @@
-"""rospy of omtp-drake ros-run: simulated time, topics, services, logging."""
+"""rospy of omtp-drake ros-run: simulated time, topics, services, logging (omtp_drake.ros.client,
+exceptions, rostime, service, topics)."""
 
-from omtp_drake.ros.messages import Duration
-from omtp_drake.ros.node import (
-    Publisher,
-    Rate,
-    ROSException,
-    ROSInitException,
-    ROSInterruptException,
-    ROSSerializationException,
-    ROSTimeMovedBackwardsException,
-    Service,
-    ServiceException,
-    ServiceProxy,
-    Subscriber,
-    Time,
+from omtp_drake.ros.client import (
     delete_param,
     get_caller_id,
     get_name,
     get_namespace,
     get_param,
-    get_rostime,
-    get_time,
     has_param,
     init_node,
     is_shutdown,
@@ -44,10 +30,33 @@ from omtp_drake.ros.node import (
     resolve_name,
     set_param,
     signal_shutdown,
-    sleep,
     spin,
-    wait_for_message,
+)
+from omtp_drake.ros.exceptions import (
+    ROSException,
+    ROSInitException,
+    ROSInterruptException,
+    ROSSerializationException,
+    ROSTimeMovedBackwardsException,
+    ServiceException,
+)
+from omtp_drake.ros.messages import Duration
+from omtp_drake.ros.rostime import (
+    Rate,
+    Time,
+    get_rostime,
+    get_time,
+    sleep,
+)
+from omtp_drake.ros.service import (
+    Service,
+    ServiceProxy,
     wait_for_service,
+)
+from omtp_drake.ros.topics import (
+    Publisher,
+    Subscriber,
+    wait_for_message,
 )
 from omtp_drake.ros.unsupported import module_getattr
 
