@@ -59,9 +59,16 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
 def cmd_grade(args: argparse.Namespace) -> int:
     """``grade``: exit 0 when every script ran cleanly."""
     from omtp_drake.ros.grade import OK, format_grades, grade_folder
+    from omtp_drake.ros.grade_flexbe import FlexbeGrading, shared_workspaces
     from omtp_drake.ros.grade_options import class_options
     from omtp_drake.ros.isolation import limits_from_args
 
+    if (args.workspace or args.python2 or args.behavior) and not args.flexbe:
+        raise OmtpError(
+            "--workspace, --python2 and --behavior go with --flexbe (a class of FlexBE workspaces)"
+        )
+    grading = FlexbeGrading(shared_workspaces(args.workspace), args.python2, args.behavior)
+    flexbe = grading if args.flexbe else None
     out = args.out or f"grade_{Path(args.folder).resolve().name}"
     grades = grade_folder(
         args.folder,
@@ -74,6 +81,7 @@ def cmd_grade(args: argparse.Namespace) -> int:
         limits=limits_from_args(args),
         sandbox=args.sandbox,
         options=class_options(args),
+        flexbe=flexbe,
     )
     _out(format_grades(grades))
     _out(f"results: {out}/ (runs/*.json, grades.csv, grades.png)")
@@ -167,6 +175,25 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", default=None, metavar="DIR", help="results folder (default grade_<DIR>)")
     add_isolation_flags(p, sandbox_default="auto")
     add_grade_flags(p, ros_run)
+    p.add_argument(
+        "--flexbe",
+        action="store_true",
+        help="DIR holds a catkin workspace per student, each with one FlexBE behaviour (run by flexbe-run)",
+    )
+    p.add_argument(
+        "--workspace",
+        action="append",
+        default=[],
+        metavar="DIR",
+        help="with --flexbe: a workspace every behaviour uses (the course's states; repeatable)",
+    )
+    p.add_argument("--python2", action="store_true", help="with --flexbe: load the workspaces as Python 2")
+    p.add_argument(
+        "--behavior",
+        default="",
+        metavar="NAME",
+        help="with --flexbe: the behaviour to run where a workspace has several",
+    )
     p.set_defaults(func=cmd_grade)
 
 
@@ -174,8 +201,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     from omtp_drake.ros.guard import install_from_env
 
     install_from_env()  # an isolated run's limits and guard (omtp_drake.ros.isolation), if it is one
+    from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
+
     parser = argparse.ArgumentParser(prog="omtp-drake", description="ROS scripts on the OMTP cell.")
-    add_commands(parser.add_subparsers(dest="command", required=True))
+    sub = parser.add_subparsers(dest="command", required=True)
+    add_commands(sub)
+    add_flexbe_commands(sub)  # grade --flexbe runs each behaviour as `flexbe-run` here
     args = parser.parse_args(argv)
     logging.basicConfig(level=logging.WARNING, format="[%(levelname)s] %(name)s: %(message)s")
     import pydrake.common  # noqa: F401  (sets the drake logger's level first)

@@ -29,7 +29,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros import grade_options
+from omtp_drake.ros import grade_flexbe, grade_options
+from omtp_drake.ros.grade_flexbe import FlexbeGrading
 from omtp_drake.ros.isolation import (
     Limits,
     guarded_command,
@@ -81,6 +82,8 @@ class GradeSettings:
     sandbox: str = "none"
     #: Folders never copied with a script's folder (the results folder, when inside).
     skip: tuple[str, ...] = ()
+    #: A FlexBE grade (submissions are workspaces run with flexbe-run); None: scripts.
+    flexbe: Optional[FlexbeGrading] = None
 
 
 @dataclass
@@ -132,17 +135,16 @@ def grade_one(
     session_file, root_file = log_dir / f"{path.stem}.session", log_dir / f"{path.stem}.root"
     root_file.write_text(str(root))  # for the client to remove when this worker dies
     try:
-        work = _copy_folder(path, root / "work", settings.skip)
-        copy = work / path.name
+        work, guarded, ros_args = _prepare(path, root / "work", settings, args)
         report_path = work / _REPORT
-        ros_args = ["ros-run", str(copy), *args, "--scenario", settings.scenario, "--timeout"]
-        ros_args += [str(settings.timeout), "--json", str(report_path), "-q"]
-        ros_args += grade_options.ros_run_flags(options or {})
+        ros_args += ["--scenario", settings.scenario, "--timeout", str(settings.timeout)]
+        ros_args += ["--json", str(report_path), "-q", *grade_options.ros_run_flags(options or {})]
         if settings.seed is not None:
             ros_args += ["--seed", str(settings.seed)]
+        shared = [Path(w) for w in (settings.flexbe or FlexbeGrading()).workspaces]
         command, env = guarded_command(
-            ros_args, work=work, cwd=work, script=copy, sandbox=settings.sandbox, limits=settings.limits,
-            readable=_readable(settings.scenario),
+            ros_args, work=work, cwd=work, script=guarded, sandbox=settings.sandbox, limits=settings.limits,
+            readable=_readable(settings.scenario) + shared,
         )  # fmt: skip
         outcome = run_isolated(
             command,
@@ -161,11 +163,26 @@ def grade_one(
         session_file.unlink(missing_ok=True)
         root_file.unlink(missing_ok=True)
     status, message = classify(outcome, report, tail, settings.limits, settings.wall_timeout)
+    if status == OK and report is not None and "outcome" in report:  # a behaviour's outcome
+        message = f"outcome {report['outcome']}" + (f"; {message}" if message else "")
     refused = refusals((report or {}).get("exception") or "", tail)
     isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits), **asdict(outcome)}
     isolation["options"] = dict(options or {})
     in_bins = sum(report["ledger"]["in_bin"].values()) if report else 0
     return Grade(path.name, status, in_bins, report, message, refused, isolation)
+
+
+def _prepare(
+    path: Path, dest: Path, settings: GradeSettings, args: Sequence[str]
+) -> tuple[Path, Path, list[str]]:
+    """The submission copied to ``dest``: (the copy's folder, the file whose code arms the
+    guard, the command's arguments before the common ones)."""
+    if settings.flexbe is None:
+        work = _copy_folder(path, dest, settings.skip)
+        return work, work / path.name, ["ros-run", str(work / path.name), *args]
+    dest.mkdir(parents=True)
+    source, flexbe_args = grade_flexbe.prepare(path, dest, settings.flexbe.behavior)
+    return dest, source, flexbe_args + grade_flexbe.flexbe_flags(settings.flexbe)
 
 
 def _copy_folder(script: Path, dest: Path, skip: Sequence[str] = ()) -> Path:
@@ -282,6 +299,7 @@ def grade_folder(
     limits: Optional[Limits] = None,
     sandbox: str = "auto",
     options: Optional[Mapping[str, str]] = None,
+    flexbe: Optional[FlexbeGrading] = None,
 ) -> list[Grade]:
     """Every script of ``folder`` on ``scenario``, on ``workers`` local Dask workers;
     the grades in script order (also written to ``out``, see the module doc).
@@ -289,10 +307,14 @@ def grade_folder(
     ``limits`` per run (default :class:`Limits`); ``sandbox``: ``auto``, ``bwrap`` or
     ``none``; ``options``: ros-run options for every script (see
     :mod:`omtp_drake.ros.grade_options`; ``folder/grade.yaml`` overrides them per script).
+    ``flexbe``: the submissions are student workspaces run with ``flexbe-run``
+    (:mod:`omtp_drake.ros.grade_flexbe`).
     """
     from omtp_drake.ros._core import load_scenario
 
-    scripts = find_scripts(folder)
+    scripts = (
+        find_scripts(folder) if flexbe is None else grade_flexbe.find_workspaces(folder, flexbe.behavior)
+    )
     skip = (str(Path(out).resolve()),) if out is not None else ()
     check_copyable(Path(folder), skip)
     load_scenario(scenario)  # a bad name fails before any worker starts
@@ -308,8 +330,11 @@ def grade_folder(
     scenario_arg = str(Path(scenario).resolve()) if Path(scenario).is_file() else str(scenario)
     if mode == "bwrap":
         _warm_cache(scenario_arg)
-    settings = GradeSettings(scenario_arg, seed, timeout, wall_timeout, limits, mode, skip)
+    settings = GradeSettings(scenario_arg, seed, timeout, wall_timeout, limits, mode, skip, flexbe)
     per_script = {s.name: grade_options.script_options(s.name, class_values, overrides) for s in scripts}
+    if flexbe is not None:
+        for name, values in per_script.items():
+            grade_flexbe.check_flexbe_options(values, f"grade --flexbe, {name}")
     with tempfile.TemporaryDirectory(prefix="omtp-grade-logs-") as tmp:
         logs = Path(out) / "runs" if out is not None else Path(tmp)
         logs.mkdir(parents=True, exist_ok=True)
