@@ -314,3 +314,21 @@ def test_a_reports_verdict_is_named_for_what_happened(exception, exit_code, shut
     report = {"exception": exception, "exit_code": exit_code, "shutdown": shutdown, "collisions": []}
     report["callback_errors"] = []
     assert classify(Outcome(0, None, 1.0), report, "", LIMITS, 25.0)[0] == verdict
+
+
+def test_a_checkout_or_venv_under_tmp_stays_readable_in_bubblewrap(tmp_path, monkeypatch):
+    """bubblewrap hides /tmp; a fresh clone or a virtual environment there (as CI's may be)
+    is shown again read-only, once, under its outermost folder."""
+    import sys
+
+    from omtp_drake.ros.isolation import sandbox_prefix
+
+    venv = tmp_path / "clone" / ".venv"
+    (venv / "bin").mkdir(parents=True)
+    monkeypatch.setattr(sys, "prefix", str(venv))
+    monkeypatch.setattr(sys, "path", [str(tmp_path / "clone"), *sys.path])
+    command = sandbox_prefix(tmp_path / "work", tmp_path / "work")
+    binds = [command[i + 1] for i, a in enumerate(command) if a == "--ro-bind"]
+    assert str((tmp_path / "clone").resolve()) in binds
+    assert str(venv.resolve()) not in binds  # inside the clone: shown with it
+    assert command.index("--tmpfs") < command.index("--ro-bind", command.index("--tmpfs"))

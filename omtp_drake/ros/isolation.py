@@ -131,10 +131,26 @@ def resolve_sandbox(choice: str) -> str:
     return "none"
 
 
+def _software_in_tmp() -> list[Path]:
+    """What the run's own Python needs that lives under /tmp (a checkout or a virtual
+    environment there, as in a fresh clone): its prefix, its path entries, the model cache."""
+    from omtp_drake.assets import cache_dir
+
+    wanted = [Path(sys.prefix), Path(sys.executable).parent, cache_dir()]
+    wanted += [Path(p) for p in sys.path if p]
+    found: list[Path] = []
+    for path in wanted:
+        real = path.resolve()
+        if real.parts[:2] == ("/", "tmp") and len(real.parts) > 2 and real.exists():
+            found.append(real)
+    tops = sorted(set(found), key=lambda p: len(p.parts))
+    return [p for i, p in enumerate(tops) if not any(p.is_relative_to(q) for q in tops[:i])]
+
+
 def sandbox_prefix(work: Path, cwd: Path, readable: Sequence[Path] = ()) -> list[str]:
     """The bubblewrap command line before the command: ``work`` the only writable folder,
-    ``readable`` folders of the hidden /tmp shown read-only."""
-    shown = [a for p in readable for a in ("--ro-bind", str(p), str(p))]
+    ``readable`` folders of the hidden /tmp (and the run's own software there) shown read-only."""
+    shown = [a for p in [*_software_in_tmp(), *readable] for a in ("--ro-bind", str(p), str(p))]
     return [
         BWRAP,
         "--ro-bind", "/", "/",
