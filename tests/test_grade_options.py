@@ -127,3 +127,20 @@ def test_grade_yaml_passes_a_students_srdf_and_set_up_calls(tmp_path):
     assert grades["lena.py"].report["empty_spawn_calls"]  # object_1 is there: the call spawns nothing
     assert grades["tom.py"].status == "exception"  # no "high" in the cell's own SRDF
     assert "high" in grades["tom.py"].message
+
+
+def test_ros_run_sandbox_passes_the_course_options_on(tmp_path, capsys):
+    """``ros-run --sandbox``: --srdf and --settle reach the isolated run (its SRDF readable
+    inside the sandbox wherever it lies)."""
+    folder = tmp_path / "student"
+    folder.mkdir()
+    (folder / "omtp.srdf").write_text(STUDENT_SRDF)
+    script = folder / "high.py"
+    script.write_text(HIGH_POSE.replace('rospy.init_node("high_student")', 'rospy.init_node("high_student")\n'
+                                        'print("start %.2f" % rospy.get_time())'))
+    argv = ["ros-run", str(script), "--scenario", "lecture6_assignment3", "--sandbox", "auto", "-q"]
+    assert main(argv + ["--srdf", str(folder / "omtp.srdf"), "--settle", "0.5"]) == 0
+    out = capsys.readouterr().out
+    assert "start 0.50" in out and "verdict: ok" in out
+    assert main(argv) == 1  # without the student's SRDF there is no "high"
+    assert "MoveItCommanderException" in capsys.readouterr().out

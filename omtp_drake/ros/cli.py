@@ -6,13 +6,13 @@
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
 from collections.abc import Sequence
 from pathlib import Path
 
 from omtp_drake.errors import OmtpError
+from omtp_drake.ros.report import show_report
 
 
 def _out(text: str) -> None:
@@ -47,13 +47,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         settle=args.settle,
         latency=args.latency,
     )
-    _out(report.summary())
-    if args.json:
-        Path(args.json).write_text(json.dumps(report.to_dict(), indent=2))
-        _out(f"result: {args.json}")
-    if report.replay:
-        _out(f"replay: {report.replay} (open it in any browser)")
-    return 0 if report.ok else 1
+    return show_report(report, args.json, _out)
 
 
 def cmd_grade(args: argparse.Namespace) -> int:
@@ -88,9 +82,8 @@ def cmd_grade(args: argparse.Namespace) -> int:
     return 0 if all(g.status == OK for g in grades) else 1
 
 
-def add_commands(sub: argparse._SubParsersAction) -> None:
-    """Registers ``ros-run`` and ``grade`` on the CLI's subparsers."""
-    from omtp_drake.ros.grade_options import add_grade_flags
+def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
+    """``ros-run``'s parser."""
     from omtp_drake.ros.isolation import add_isolation_flags
 
     p = sub.add_parser(
@@ -117,6 +110,21 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         default="noetic",
         help="MoveIt's Python API version: the shape of plan() (default noetic)",
     )
+    _add_course_options(p)
+    p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
+    p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
+    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
+    p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
+    p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
+    p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall s (with --sandbox)")
+    add_isolation_flags(p, sandbox_default=None)
+    p.set_defaults(func=cmd_ros_run)
+    return p
+
+
+def _add_course_options(p: argparse.ArgumentParser) -> None:
+    """ros-run's options for the course's set-up: the student's MoveIt config, the slides'
+    set-up calls, the time a script's calls take."""
     p.add_argument(
         "--srdf",
         metavar="FILE",
@@ -149,15 +157,12 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         "scenario's ros_latency (0: none, as a cell that stands still while a script thinks) or "
         "NAME=SECONDS,... with names plan, execute, cartesian, service (default: the scenario's)",
     )
-    p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
-    p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
-    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
-    p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
-    p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
-    p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall s (with --sandbox)")
-    add_isolation_flags(p, sandbox_default=None)
-    p.set_defaults(func=cmd_ros_run)
-    ros_run = p
+
+
+def _add_grade(sub: argparse._SubParsersAction, ros_run: argparse.ArgumentParser) -> None:
+    """``grade``'s parser: its own flags, the isolation flags, ros-run's options, FlexBE's."""
+    from omtp_drake.ros.grade_options import add_grade_flags
+    from omtp_drake.ros.isolation import add_isolation_flags
 
     p = sub.add_parser(
         "grade",
@@ -195,6 +200,11 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         help="with --flexbe: the behaviour to run where a workspace has several",
     )
     p.set_defaults(func=cmd_grade)
+
+
+def add_commands(sub: argparse._SubParsersAction) -> None:
+    """Registers ``ros-run`` and ``grade`` on the CLI's subparsers."""
+    _add_grade(sub, _add_ros_run(sub))
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -144,7 +144,7 @@ def grade_one(
         shared = [Path(w) for w in (settings.flexbe or FlexbeGrading()).workspaces]
         command, env = guarded_command(
             ros_args, work=work, cwd=work, script=guarded, sandbox=settings.sandbox, limits=settings.limits,
-            readable=_readable(settings.scenario) + shared,
+            readable=_readable(settings.scenario) + shared + _option_paths(options or {}),
         )  # fmt: skip
         outcome = run_isolated(
             command,
@@ -219,6 +219,13 @@ def _readable(scenario: str) -> list[Path]:
     return [path.resolve().parent] if path.suffix in (".yaml", ".yml") and path.is_file() else []
 
 
+def _option_paths(options: Mapping[str, Any]) -> list[Path]:
+    """The folders of the files an option names (a student's SRDF, MoveIt config), which
+    may live in /tmp, which the sandbox hides."""
+    paths = [Path(options["srdf"]).parent] if options.get("srdf") else []
+    return paths + ([Path(options["moveit_config"])] if options.get("moveit_config") else [])
+
+
 def _read_report(path: Path) -> Optional[dict[str, Any]]:
     try:
         report = json.loads(path.read_text())
@@ -263,7 +270,7 @@ def run_isolated_script(args: argparse.Namespace, out: Callable[[str], None]) ->
         scenario, args.seed, args.timeout, args.wall_timeout, limits_from_args(args), mode
     )
     with tempfile.TemporaryDirectory(prefix="omtp-ros-run-") as logs:
-        grade = grade_one(str(script.resolve()), settings, {"moveit": args.moveit}, logs, args.script_args)
+        grade = grade_one(str(script.resolve()), settings, _ros_run_options(args), logs, args.script_args)
         for stream in ("stdout", "stderr"):
             text = Path(logs, f"{script.stem}.{stream}.txt").read_text(errors="replace").rstrip()
             if text:
@@ -275,6 +282,13 @@ def run_isolated_script(args: argparse.Namespace, out: Callable[[str], None]) ->
         Path(args.json).write_text(json.dumps(_run_record(grade), indent=2))
         out(f"result: {args.json}")
     return 0 if grade.status == OK else 1
+
+
+def _ros_run_options(args: argparse.Namespace) -> dict[str, Any]:
+    """The ros-run options given on ``ros-run --sandbox``'s command line, for its isolated run."""
+    given = {name: getattr(args, name, None) for name in grade_options.ROS_RUN_OPTIONS}
+    given = {k: v for k, v in given.items() if v not in (None, [], 0.0)}
+    return grade_options.check_options(given, "ros-run", Path.cwd())
 
 
 def find_scripts(folder: str | Path) -> list[Path]:

@@ -8,10 +8,12 @@ scenario and its seed.
 
 from __future__ import annotations
 
+import json
 import traceback
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any, Optional, Protocol
 
 
 @dataclass
@@ -97,3 +99,26 @@ def describe_script_exception(e: BaseException, script: Path) -> str:
         if Path(frame.filename).resolve() == script:
             where = f" (at {script.name}:{frame.lineno} in {frame.name})"
     return f"{type(e).__name__}: {text[:500]}{where}"
+
+
+class _Shown(Protocol):
+    replay: Optional[str]
+
+    @property
+    def ok(self) -> bool: ...
+
+    def summary(self) -> str: ...
+
+    def to_dict(self) -> dict[str, Any]: ...
+
+
+def show_report(report: _Shown, json_path: Optional[str], out: Callable[[str], None]) -> int:
+    """Prints a run's report (``ros-run``'s or ``flexbe-run``'s), writes it as JSON to
+    ``json_path`` (when given) and names the replay; the command's exit code."""
+    out(report.summary())
+    if json_path:
+        Path(json_path).write_text(json.dumps(report.to_dict(), indent=2))
+        out(f"result: {json_path}")
+    if report.replay:
+        out(f"replay: {report.replay} (open it in any browser)")
+    return 0 if report.ok else 1

@@ -122,37 +122,55 @@ def run_script(
     except Exception:
         cell.close()
         raise
+    ending = _run_main(path, args, session)
+    replay = cell.close()
+    return _report(path, session, ending, time.perf_counter() - start, replay)
+
+
+@dataclasses.dataclass
+class _Ending:
+    """How a script's run ended: its exception (None: none), its exit code, Python 2."""
+
     exception: Optional[BaseException] = None
-    exit_code = 0
-    python2 = False
+    exit_code: int = 0
+    python2: bool = False
+
+
+def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
+    """Runs the script as ``__main__`` in its environment; how it ended."""
+    ending = _Ending()
     try:
         code = script_code(path)
-        python2 = code.python2
+        ending.python2 = code.python2
         # A Python 2 script's own modules (its folder's) load translated too.
         with script_environment(path, args), python2_imports([path.parent], code.python2), active(session):
             run_as_main(code, path)
     except SystemExit as e:
-        exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
+        ending.exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
     except ROSInterruptException as e:
         if session.shutdown_reason is None:
-            exception = e
+            ending.exception = e
     except Exception as e:  # the script's own error: reported, not raised
-        exception = e
-    replay = cell.close()
+        ending.exception = e
+    return ending
+
+
+def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: Optional[Path]) -> RosReport:
+    cell, exception = session.cell, ending.exception
     return RosReport(
         script=path.name,
-        scenario=loaded.name,
-        seed=loaded.seed,
+        scenario=cell.scenario.name,
+        seed=cell.scenario.seed,
         sim_time_s=cell.time,
-        wall_time_s=time.perf_counter() - start,
+        wall_time_s=wall,
         ledger=cell.ledger().to_dict(),
         collisions=list(session.collisions),
         callback_errors=list(session.callback_errors),
         exception=describe_script_exception(exception, path) if exception is not None else None,
         traceback=_script_traceback(exception, path) if exception is not None else [],
         shutdown=session.shutdown_reason,
-        exit_code=exit_code,
-        python2=python2,
+        exit_code=ending.exit_code,
+        python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
         replay=str(replay) if replay else None,
     )

@@ -3,12 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import logging
 import sys
-from pathlib import Path
 
 from omtp_drake.ros.flexbe.context import AUTONOMY_LEVELS
+from omtp_drake.ros.report import show_report
 
 
 def _out(text: str) -> None:
@@ -37,13 +36,7 @@ def cmd_flexbe_run(args: argparse.Namespace) -> int:
         record=args.record,
         python2=args.python2,
     )
-    _out(report.summary())
-    if args.json:
-        Path(args.json).write_text(json.dumps(report.to_dict(), indent=2))
-        _out(f"result: {args.json}")
-    if report.replay:
-        _out(f"replay: {report.replay} (open it in any browser)")
-    return 0 if report.ok else 1
+    return show_report(report, args.json, _out)
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:
