@@ -192,23 +192,38 @@ def run_behavior(
     ):
         result = _spin(entry, params or {}, session)
     replay = cell.close()
-    error = result.error
+    return _report(
+        entry.name, autonomy, session, run, result, spaces.roots, time.perf_counter() - start, replay
+    )
+
+
+def _report(
+    behavior: str,
+    autonomy: str,
+    session: Session,
+    run: FlexbeRun,
+    result: Any,
+    roots: Sequence[Path],
+    wall: float,
+    replay: Optional[Path],
+) -> FlexbeReport:
+    cell, error = session.cell, result.error
     return FlexbeReport(
-        behavior=entry.name,
-        scenario=loaded.name,
-        seed=loaded.seed,
+        behavior=behavior,
+        scenario=cell.scenario.name,
+        seed=cell.scenario.seed,
         autonomy=autonomy,
         outcome=result.outcome,
         sim_time_s=cell.time,
-        wall_time_s=time.perf_counter() - start,
+        wall_time_s=wall,
         ledger=cell.ledger().to_dict(),
         trace=[t.to_dict() for t in run.trace],
         logs=[line.to_dict() for line in run.logs],
         collisions=list(session.collisions),
         callback_errors=list(session.callback_errors),
-        exception=describe_error(error, spaces.roots) if error is not None else None,
+        exception=describe_error(error, roots) if error is not None else None,
         failed_state=result.failed_state,
-        traceback=_frames(error, spaces.roots) if error is not None else [],
+        traceback=_frames(error, roots) if error is not None else [],
         shutdown=session.shutdown_reason,
         replay=str(replay) if replay else None,
     )
