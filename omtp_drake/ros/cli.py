@@ -52,9 +52,10 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
 
 def cmd_grade(args: argparse.Namespace) -> int:
     """``grade``: exit 0 when every script ran cleanly."""
-    from omtp_drake.ros.grade import OK, format_grades, grade_folder
+    from omtp_drake.ros.grade import OK, grade_folder
     from omtp_drake.ros.grade_flexbe import FlexbeGrading, shared_workspaces
     from omtp_drake.ros.grade_options import class_options
+    from omtp_drake.ros.grade_table import format_grades
     from omtp_drake.ros.isolation import limits_from_args
 
     if (args.workspace or args.python2 or args.behavior) and not args.flexbe:

@@ -97,7 +97,7 @@ def _from_report(report: dict[str, Any], limits: Limits) -> tuple[str, str]:
     if report.get("collisions"):
         return COLLISION, report["collisions"][0]
     if report.get("exit_code"):
-        return EXITED_EARLY, f"sys.exit({report['exit_code']})"
+        return EXITED_EARLY, f"the script's exit code {report['exit_code']} (SystemExit)"
     shutdown = report.get("shutdown") or ""
     if shutdown.startswith("--timeout"):
         return SIM_TIMEOUT, shutdown
