@@ -32,7 +32,8 @@ import numpy as np
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context
 
-from omtp_drake.cell.camera_geometry import FrustumOverlap, body_geometries, bounding_box
+from omtp_drake.cell.body_geometry import body_geometries, bounding_box
+from omtp_drake.cell.frustum import FrustumOverlap
 from omtp_drake.cell.gazebo_models import GazeboModel, gazebo_models, model_type
 from omtp_drake.cell.logical_camera import CameraSample, DetectedModel, LogicalCameraImage
 

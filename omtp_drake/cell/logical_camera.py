@@ -49,13 +49,9 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import Frame, ModelInstanceIndex
 from pydrake.systems.framework import Context, DiagramBuilder, InputPort, LeafSystem, OutputPort, State
 
-from omtp_drake.cell.camera_geometry import (
-    AllVisible,
-    FrustumOverlap,
-    RayCastOcclusion,
-    body_geometries,
-    bounding_box,
-)
+from omtp_drake.cell.body_geometry import body_geometries, bounding_box
+from omtp_drake.cell.frustum import FrustumOverlap
+from omtp_drake.cell.occlusion import AllVisible, RayCastOcclusion
 from omtp_drake.errors import ConfigError, FrameError
 from omtp_drake.scenario.camera import LogicalCameraConfig
 
@@ -286,7 +282,7 @@ class LogicalCamera(LeafSystem):
     round shape (which may hide up to about 10 % more than the mesh does).
     It is measured on a grid of ``OCCLUSION_GRID`` x ``OCCLUSION_GRID`` rays
     over the model's image rectangle
-    (:class:`~omtp_drake.cell.camera_geometry.RayCastOcclusion`), so a far,
+    (:class:`~omtp_drake.cell.occlusion.RayCastOcclusion`), so a far,
     small model is resolved as finely as a near one. Without occlusion every
     model in view has ``visible_fraction`` 1.0 and nothing more is computed.
 
