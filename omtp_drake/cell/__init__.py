@@ -3,7 +3,8 @@
 Lives here: the station (``station.build_station``: the whole cell as one diagram),
 the UR arms and their servo (``arms``), belt and break beam (``conveyor``), part
 poses (``parts``), named frames (``frames``) and stamped poses (``poses``), the
-logical camera (``logical_camera``; its frustum test in ``frustum``, the geometries
+logical camera (``logical_camera``; its images in ``camera_image``, the models it
+may report in ``camera_candidates``, its frustum test in ``frustum``, the geometries
 and boxes of bodies in ``body_geometry``, their 26-DOPs in ``kdop``, its occlusion in
 ``occlusion``), the RGB-D view (``rgbd``), the vacuum gripper's attach rule
 (``suction``), its two holds (``suction_holds``) and its test rig (``suction_rig``).
