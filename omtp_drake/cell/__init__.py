@@ -7,7 +7,8 @@ logical camera (``logical_camera``; its images in ``camera_image``, the models i
 may report in ``camera_candidates``, its frustum test in ``frustum``, the geometries
 and boxes of bodies in ``body_geometry``, their 26-DOPs in ``kdop``, its occlusion in
 ``occlusion``), the RGB-D view (``rgbd``), the vacuum gripper's attach rule
-(``suction``), its two holds (``suction_holds``) and its test rig (``suction_rig``).
+(``suction``, what touches the cup in ``suction_touch``), its two holds (``suction_holds``,
+the weld's constraints in ``suction_constraints``) and its test rig (``suction_rig``).
 
 May import: ``omtp_drake.scenario``, ``omtp_drake.errors``, ``omtp_drake.assets``.
 """

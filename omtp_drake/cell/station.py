@@ -71,13 +71,8 @@ from omtp_drake.cell.logical_camera import LogicalCamera
 from omtp_drake.cell.parts import PartStates, parking_pose
 from omtp_drake.cell.sleep import RestClock
 from omtp_drake.cell.suction import SuctionGripper
-from omtp_drake.cell.suction_holds import (
-    SuctionConstraints,
-    WeldSuctionGripper,
-    add_suction_gripper,
-    connect_spatial_forces,
-    declare_suction_constraints,
-)
+from omtp_drake.cell.suction_constraints import SuctionConstraints, declare_suction_constraints
+from omtp_drake.cell.suction_holds import WeldSuctionGripper, add_suction_gripper, connect_spatial_forces
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, Scenario, require_scenario
 
