@@ -1,6 +1,7 @@
 """The cell: what the factory is made of, as Drake systems and models.
 
-Lives here: the station (``station.build_station``: the whole cell as one diagram),
+Lives here: the station (``station.build_station``: the whole cell as one diagram; its
+models in a plant: ``cell_models``),
 the UR arms and their servo (``arms``), belt and break beam (``conveyor``), part
 poses (``parts``), named frames (``frames``) and stamped poses (``poses``), the
 logical camera (``logical_camera``; its images in ``camera_image``, the models it
