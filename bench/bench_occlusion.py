@@ -42,7 +42,7 @@ from pydrake.geometry import ClippingRange, ColorRenderCamera, QueryObject, Rend
 from pydrake.math import RigidTransform  # noqa: E402
 from pydrake.systems.framework import Context  # noqa: E402
 
-from omtp_drake.cell.camera_geometry import OCCLUSION_GRID  # noqa: E402
+from omtp_drake.cell.occlusion import OCCLUSION_GRID  # noqa: E402
 from omtp_drake.cell.logical_camera import X_CameraOptical  # noqa: E402
 from omtp_drake.cell.rgbd import RENDERER_NAME, camera_info  # noqa: E402
 from omtp_drake.cell.station import Station, build_station  # noqa: E402

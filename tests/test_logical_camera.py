@@ -397,7 +397,7 @@ def test_every_stage_of_the_overlap_test_matches_the_oracle(monkeypatch) -> None
     """Boxes straddling the frustum's faces, edges and corners: each answer equals the
     LP's, and all three stages decide some (centre or face normals; a vertex inside;
     the 21 edge and box axes, with both answers)."""
-    from omtp_drake.cell.camera_geometry import FrustumOverlap
+    from omtp_drake.cell.frustum import FrustumOverlap
 
     overlap = FrustumOverlap(LogicalCameraConfig(name="c"))
     full_answers: list[bool] = []

@@ -233,7 +233,7 @@ def test_each_shape_becomes_a_tight_polytope(tmp_path):
     from pydrake.geometry import Box, Capsule, Convex, Cylinder, Ellipsoid, HalfSpace, SceneGraph, Sphere
     from pydrake.multibody.plant import MultibodyPlant
 
-    from omtp_drake.cell.camera_geometry import slabs_in_geometry_frame
+    from omtp_drake.cell.kdop import slabs_in_geometry_frame
 
     vertices = np.array([[0.3, 0, 0], [-0.1, 0, 0], [0, 0.2, 0], [0, -0.2, 0], [0, 0, 0.1],
                          [0.05, 0.05, -0.25]])

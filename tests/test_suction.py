@@ -13,12 +13,11 @@ from pydrake.systems.framework import DiagramBuilder
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell.suction import GripperState
+from omtp_drake.cell.suction_constraints import declare_suction_constraints, octahedron
 from omtp_drake.cell.suction_holds import (
     ForceSuctionGripper,
     add_suction_gripper,
     connect_spatial_forces,
-    declare_suction_constraints,
-    octahedron,
     sync_weld,
 )
 from omtp_drake.cell.suction_rig import (

@@ -21,7 +21,7 @@ camera's image; a part the camera's image shows is reported at the pose the imag
 for it (the camera's noise included).
 
 This is the ROS image's list (``/omtp/logical_camera_N``); the Python layer's
-:class:`~omtp_drake.cell.logical_camera.LogicalCameraImage` keeps its own models.
+:class:`~omtp_drake.cell.camera_image.LogicalCameraImage` keeps its own models.
 """
 
 from __future__ import annotations
@@ -32,9 +32,11 @@ import numpy as np
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context
 
-from omtp_drake.cell.camera_geometry import FrustumOverlap, body_geometries, bounding_box
+from omtp_drake.cell.body_geometry import body_geometries, bounding_box
+from omtp_drake.cell.camera_image import DetectedModel, LogicalCameraImage
+from omtp_drake.cell.frustum import FrustumOverlap
 from omtp_drake.cell.gazebo_models import GazeboModel, gazebo_models, model_type
-from omtp_drake.cell.logical_camera import CameraSample, DetectedModel, LogicalCameraImage
+from omtp_drake.cell.logical_camera import CameraSample
 
 if TYPE_CHECKING:
     from omtp_drake.cell.station import Station

@@ -30,13 +30,11 @@ Typical use, once the plant (which has the camera frame) is finalized::
 # (no `from __future__ import annotations`: the config is a YAML schema)
 
 import copy
-import logging
 import math
-import re
 import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, Optional
+from typing import Any, Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
@@ -49,25 +47,23 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import Frame, ModelInstanceIndex
 from pydrake.systems.framework import Context, DiagramBuilder, InputPort, LeafSystem, OutputPort, State
 
-from omtp_drake.cell.camera_geometry import (
-    AllVisible,
-    FrustumOverlap,
-    RayCastOcclusion,
-    body_geometries,
-    bounding_box,
-)
-from omtp_drake.errors import ConfigError, FrameError
+from omtp_drake.cell.camera_candidates import CameraCandidates
+from omtp_drake.cell.camera_image import DetectedModel, LogicalCameraImage, model_type
+from omtp_drake.cell.occlusion import AllVisible, RayCastOcclusion
+from omtp_drake.errors import ConfigError
 from omtp_drake.scenario.camera import LogicalCameraConfig
 
-if TYPE_CHECKING:
-    from omtp_drake.cell.poses import PoseStamped
-
-_log = logging.getLogger(__name__)
-
-_TRAILING_INDEX = re.compile(r"_\d+$")
-
-# The plant's model instances that are never candidates: world (0) and default (1).
-_RESERVED_INSTANCES = (0, 1)
+#: The camera's public names; the image types live in :mod:`omtp_drake.cell.camera_image`
+#: and are named here too, where users of the camera import them.
+__all__ = [
+    "CameraSample",
+    "DetectedModel",
+    "LogicalCamera",
+    "LogicalCameraImage",
+    "X_CameraOptical",
+    "add_logical_camera",
+    "model_type",
+]
 
 
 def X_CameraOptical() -> RigidTransform:
@@ -76,137 +72,14 @@ def X_CameraOptical() -> RigidTransform:
     return RigidTransform(R_CO, np.zeros(3))
 
 
-def model_type(name: str) -> str:
-    """A model's name without a trailing ``_<digits>`` (``object_3`` -> ``object``)."""
-    return _TRAILING_INDEX.sub("", name)
-
-
-def _pose_dict(X: RigidTransform) -> dict[str, list[float]]:
-    """Translation and quaternion [x, y, z, w] (w >= 0, Drake's canonical form)."""
-    q = X.rotation().ToQuaternion()
-    # `+ 0.0` turns -0.0 into 0.0.
-    return {
-        "translation": [float(v) + 0.0 for v in X.translation()],
-        "rotation_xyzw": [float(v) + 0.0 for v in (q.x(), q.y(), q.z(), q.w())],
-    }
-
-
-def _pose_lines(X: RigidTransform, indent: str) -> list[str]:
-    pose = _pose_dict(X)
-    lines = [f"{indent}pose:", f"{indent}  position:"]
-    lines += [f"{indent}    {k}: {v!r}" for k, v in zip("xyz", pose["translation"])]
-    lines.append(f"{indent}  orientation:")
-    lines += [f"{indent}    {k}: {v!r}" for k, v in zip("xyzw", pose["rotation_xyzw"])]
-    return lines
-
-
-@dataclass(frozen=True)
-class DetectedModel:
-    """One model in view.
-
-    Attributes:
-        name: the model instance's name (``""`` when the camera anonymizes).
-        type: the name without a trailing ``_<digits>`` (see :func:`model_type`).
-        X_CM: pose of the model's origin M (its first body's frame) in the camera frame C.
-        visible_fraction: the share of the model's image that is not hidden by
-            other geometry (see :class:`LogicalCamera`); 1.0 when the camera
-            does not test occlusion.
-    """
-
-    name: str
-    type: str
-    X_CM: RigidTransform
-    visible_fraction: float = 1.0
-
-
-@dataclass(frozen=True)
-class LogicalCameraImage:
-    """One sample of a logical camera.
-
-    Attributes:
-        time: the sample time [s].
-        camera_name: the camera's name.
-        X_WC: the camera frame's pose in the world at ``time``.
-        models: the models in view, in the plant's model-instance order.
-        occlusion: whether the camera tested occlusion (each model's
-            ``visible_fraction`` was measured; it is printed then).
-
-    Images are values: the poses they hold must not be mutated (copies of an
-    image share them).
-    """
-
-    time: float
-    camera_name: str
-    X_WC: RigidTransform
-    models: tuple[DetectedModel, ...]
-    occlusion: bool = False
-
-    def __deepcopy__(self, memo: dict[int, Any]) -> "LogicalCameraImage":
-        # Drake clones abstract state values on every update; an image is immutable.
-        return self
-
-    @property
-    def frame(self) -> str:
-        """The camera frame's name in tf (``<camera>_frame``)."""
-        return f"{self.camera_name}_frame"
-
-    def pose_of(self, name: str) -> "PoseStamped":
-        """The pose of model ``name`` as reported, in the camera frame, stamped with
-        the image's time (for ``TfBuffer.transform_pose``)."""
-        from omtp_drake.cell.poses import PoseStamped
-
-        for m in self.models:
-            if m.name == name:
-                return PoseStamped(self.frame, self.time, m.X_CM)
-        raise FrameError(
-            f"{self.camera_name} does not see {name!r} in its image at t = {self.time:.6g} s; "
-            f"it sees: {', '.join(m.name or '(anonymous)' for m in self.models) or 'nothing'}"
-        )
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data (for JSON/YAML); quaternions are [x, y, z, w] with w >= 0."""
-        return {
-            "time": self.time,
-            "camera_name": self.camera_name,
-            "camera_pose": _pose_dict(self.X_WC),
-            "models": [
-                {
-                    "name": m.name,
-                    "type": m.type,
-                    "pose": _pose_dict(m.X_CM),
-                    "visible_fraction": float(m.visible_fraction),
-                }
-                for m in self.models
-            ],
-        }
-
-    def __str__(self) -> str:
-        """Renders like ``rostopic echo`` of the original ``LogicalCameraImage`` message
-        (with occlusion, each model also shows its ``visible_fraction``)."""
-        lines = [f"time: {round(self.time, 9)!r}", f'camera_name: "{self.camera_name}"']
-        lines += _pose_lines(self.X_WC, "")
-        if not self.models:
-            lines.append("models: []")
-        else:
-            lines.append("models:")
-            for m in self.models:
-                lines += ["  -", f'    name: "{m.name}"', f'    type: "{m.type}"']
-                lines += _pose_lines(m.X_CM, "    ")
-                if self.occlusion:
-                    lines.append(f"    visible_fraction: {round(m.visible_fraction, 4)!r}")
-        lines.append("---")
-        return "\n".join(lines)
-
-
 @dataclass(frozen=True)
 class CameraSample:
     """A logical camera's state: when it last sampled and where every body was then
     (``X_WB``: the plant's body poses as the abstract value of its port, a list of
     ``RigidTransform`` by body index; None before the first sample).
 
-    The poses stay a C++ copy until an image is computed: a sample that turned them
-    into Python objects cost 34-42 us in a run, 12-19 us now (bench/README.md), and
-    most samples are never looked at."""
+    The poses stay a C++ copy until an image is computed: turning them into Python
+    objects is left to the image, as most samples are never looked at."""
 
     time: float = math.nan
     X_WB: Optional[AbstractValue] = None
@@ -214,16 +87,6 @@ class CameraSample:
     def __deepcopy__(self, memo: dict[int, Any]) -> "CameraSample":
         # Drake clones abstract state values on every update; a sample is immutable.
         return self
-
-
-@dataclass(frozen=True)
-class _Candidate:
-    """A model the camera may report, as it reports it."""
-
-    name: str  # "" when anonymized
-    type: str
-    origin_body: int  # body index of M
-    instance: int  # model instance index
 
 
 class LogicalCamera(LeafSystem):
@@ -286,7 +149,7 @@ class LogicalCamera(LeafSystem):
     round shape (which may hide up to about 10 % more than the mesh does).
     It is measured on a grid of ``OCCLUSION_GRID`` x ``OCCLUSION_GRID`` rays
     over the model's image rectangle
-    (:class:`~omtp_drake.cell.camera_geometry.RayCastOcclusion`), so a far,
+    (:class:`~omtp_drake.cell.occlusion.RayCastOcclusion`), so a far,
     small model is resolved as finely as a near one. Without occlusion every
     model in view has ``visible_fraction`` 1.0 and nothing more is computed.
 
@@ -318,8 +181,9 @@ class LogicalCamera(LeafSystem):
         self._seed_key = (config.seed if config.seed is not None else seed, zlib.crc32(config.name.encode()))
         self._camera_body = int(frame.body().index())
         self._X_BC = frame.GetFixedPoseInBodyFrame()
-        self._frustum = FrustumOverlap(config)
-        self._init_candidates(plant, scene_graph_inspector, {int(i) for i in exclude})
+        candidates = CameraCandidates(plant, scene_graph_inspector, config, {int(i) for i in exclude})
+        self._in_view = candidates.in_view
+        self._candidates = candidates.models
         # The one variant point: how much of each model in view is visible.
         self._visibility: AllVisible | RayCastOcclusion = (
             RayCastOcclusion(
@@ -377,54 +241,6 @@ class LogicalCamera(LeafSystem):
         """The ``image`` output: the last :class:`LogicalCameraImage`."""
         return self._image_port
 
-    def _init_candidates(
-        self, plant: MultibodyPlant, inspector: SceneGraphInspector, exclude: set[int]
-    ) -> None:
-        """Sets the candidate models and the bounding boxes of their bodies
-        (rows of ``_box_*``; candidate k owns rows [_box_starts[k], _box_starts[k + 1]))."""
-        config = self._config
-        candidates: list[_Candidate] = []
-        box_body: list[int] = []
-        box_centre: list[np.ndarray] = []
-        box_half: list[np.ndarray] = []
-        box_starts: list[int] = []
-        for i in range(plant.num_model_instances()):
-            instance = ModelInstanceIndex(i)
-            name = plant.GetModelInstanceName(instance)
-            if (
-                i in _RESERVED_INSTANCES
-                or i in exclude
-                or (config.known_types and model_type(name) not in config.known_types)
-                or (config.known_names and name not in config.known_names)
-            ):
-                continue
-            bodies = plant.GetBodyIndices(instance)
-            boxes = []
-            for body in bodies:
-                geometries = body_geometries(plant, inspector, body)
-                if geometries:
-                    boxes.append((int(body), bounding_box(inspector, geometries)))
-            if not boxes:
-                continue
-            bounded = [(body, box) for body, box in boxes if box is not None]
-            if len(bounded) < len(boxes):
-                _log.debug("%s: model %r has a HalfSpace; never reported", self._name, name)
-                continue
-            candidates.append(
-                _Candidate("" if config.anonymize else name, model_type(name), int(bodies[0]), i)
-            )
-            box_starts.append(len(box_body))
-            for body, (centre, half) in bounded:
-                box_body.append(body)
-                box_centre.append(centre)
-                box_half.append(half)
-        self._candidates = tuple(candidates)
-        self._box_body = tuple(box_body)
-        self._box_centre = np.array(box_centre).reshape(-1, 3, 1)
-        self._box_half = np.array(box_half).reshape(-1, 3)
-        self._box_starts = np.array(box_starts, dtype=np.intp)
-        _log.debug("%s: %d candidate models, %d boxes", self._name, len(candidates), len(box_body))
-
     @property
     def config(self) -> LogicalCameraConfig:
         """A copy of the camera's configuration."""
@@ -461,12 +277,7 @@ class LogicalCamera(LeafSystem):
             return LogicalCameraImage(time, self._name, X_WC, (), occlusion)
         X_CW = X_WC.inverse()
         T_CW = X_CW.GetAsMatrix34()
-        # [R_CB | R_CW p_WB] of the bodies with boxes, then the box centres in C.
-        T = T_CW[:, :3] @ np.array([X_WB[b].GetAsMatrix34() for b in self._box_body])
-        R_CB = T[:, :, :3]
-        p_CB = T[:, :, 3] + (R_CB @ self._box_centre)[:, :, 0] + T_CW[:, 3]
-        seen = np.logical_or.reduceat(self._frustum.overlaps(p_CB, R_CB, self._box_half), self._box_starts)
-        indices = np.flatnonzero(seen)
+        indices = self._in_view(T_CW, X_WB)
         fractions = self._visibility.fractions(T_CW, X_WB, indices)
         if occlusion:
             visible = fractions >= self._config.min_visible_fraction

@@ -49,10 +49,15 @@ from pydrake.multibody.plant import (
 from pydrake.multibody.tree import BodyIndex, RigidBody
 from pydrake.systems.framework import Context, EventStatus, InputPort, LeafSystem, OutputPort, State
 
+from omtp_drake.cell.suction_touch import contact_points, part_body_indices, touching_part
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario.suction import SuctionConfig
 
 _log = logging.getLogger(__name__)
+
+#: The gripper's public names (``contact_points`` lives in
+#: :mod:`omtp_drake.cell.suction_touch` and is named here too, for its users).
+__all__ = ["GripperMemory", "GripperState", "SuctionGripper", "contact_points"]
 
 
 @dataclass(frozen=True)
@@ -105,17 +110,6 @@ class GripperMemory:
 
 
 _IDLE = GripperState(enabled=False, attached=False, part="", X_CP=None, since=math.nan)
-
-
-def contact_points(plant: MultibodyPlant, plant_context: Context, body_a: int, body_b: int) -> int:
-    """How many point contacts the plant's contact results have between the bodies with
-    indices ``body_a`` and ``body_b`` (in either order) in ``plant_context``."""
-    results = plant.get_contact_results_output_port().Eval(plant_context)
-    pair = {int(body_a), int(body_b)}
-    return sum(
-        {int(info.bodyA_index()), int(info.bodyB_index())} == pair
-        for info in (results.point_pair_contact_info(i) for i in range(results.num_point_pair_contacts()))
-    )
 
 
 class SuctionGripper(LeafSystem):
@@ -183,23 +177,10 @@ class SuctionGripper(LeafSystem):
         super().__init__()
         if not plant.is_finalized():
             raise ConfigError(f"gripper {name!r}: the plant must be finalized first")
-        if not part_bodies:
-            raise ConfigError(f"gripper {name!r} needs at least one candidate part body; got none")
         self.set_name(name)
         self._config = config
         self._cup = int(cup_body.index())
-        self._bodies: dict[str, int] = {}
-        for body in part_bodies:
-            if int(body.index()) == self._cup:
-                raise ConfigError(f"gripper {name!r}: the cup {body.name()!r} cannot be its own part")
-            if plant.IsAnchored(body):
-                raise ConfigError(
-                    f"gripper {name!r}: part body {body.name()!r} is anchored (welded to the "
-                    "world); candidate parts must be movable"
-                )
-            if body.name() in self._bodies:
-                raise ConfigError(f"gripper {name!r}: part body name {body.name()!r} is repeated")
-            self._bodies[body.name()] = int(body.index())
+        self._bodies = part_body_indices(plant, self._cup, part_bodies, name)
         self._names = {index: n for n, index in self._bodies.items()}
         self._cos_max = math.cos(math.radians(config.max_angle_deg))
         self._check_period = 1.0 / config.check_rate_hz
@@ -368,22 +349,7 @@ class SuctionGripper(LeafSystem):
         # of 300 runs of a test (the normal read as if the part were not under the
         # cup); in this order, in none of 600.
         z_WC = np.array(self._poses.Eval(context)[self._cup].rotation().col(2))
-        contacts: ContactResults = self._contacts.Eval(context)
-        best, best_depth = -1, -math.inf
-        for i in range(contacts.num_point_pair_contacts()):
-            info = contacts.point_pair_contact_info(i)
-            a, b = int(info.bodyA_index()), int(info.bodyB_index())
-            if a == self._cup and b in self._names:
-                part, sign = b, 1.0  # nhat_BA_W points from B (part) into A (cup)
-            elif b == self._cup and a in self._names:
-                part, sign = a, -1.0
-            else:
-                continue
-            pair = info.point_pair()
-            n_PC_W = sign * pair.nhat_BA_W  # from the part into the cup
-            if -float(np.dot(n_PC_W, z_WC)) >= self._cos_max and pair.depth > best_depth:
-                best, best_depth = part, pair.depth
-        return best
+        return touching_part(self._contacts.Eval(context), self._cup, self._names, z_WC, self._cos_max)
 
     def _get_memory(self, context: Context) -> GripperMemory:
         return context.get_abstract_state(self._memory).get_value()

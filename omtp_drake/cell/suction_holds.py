@@ -8,7 +8,7 @@ Two ways of holding the part (``SuctionConfig.backend``):
 
 * ``"weld"`` (default): six rigid distance constraints of the plant, between
   three points of the cup and three points of the part (an octahedron, see
-  :func:`declare_suction_constraints`). They are declared before
+  :mod:`omtp_drake.cell.suction_constraints`). They are declared before
   ``Finalize()`` and rewritten at run time with the *current* distances, so
   the part is held exactly where it is. Constraint parameters live in the
   plant's Context and no system may write another system's Context, so the
@@ -45,7 +45,6 @@ Typical use (station side)::
 # No `from __future__ import annotations`, as in omtp_drake.cell.suction.
 
 import logging
-import math
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Optional
@@ -55,16 +54,15 @@ from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialForce, SpatialVelocity
 from pydrake.multibody.plant import (
-    DiscreteContactSolver,
-    DistanceConstraintParams,
     ExternallyAppliedSpatialForce_,
     ExternallyAppliedSpatialForceMultiplexer,
     MultibodyPlant,
 )
-from pydrake.multibody.tree import BodyIndex, MultibodyConstraintId, RigidBody
+from pydrake.multibody.tree import BodyIndex, RigidBody
 from pydrake.systems.framework import Context, DiagramBuilder, InputPort, OutputPort
 
 from omtp_drake.cell.suction import GripperMemory, GripperState, SuctionGripper
+from omtp_drake.cell.suction_constraints import SuctionConstraints
 from omtp_drake.errors import ConfigError, SimulationError
 from omtp_drake.scenario.suction import SuctionConfig
 
@@ -107,7 +105,7 @@ class WeldSuctionGripper(SuctionGripper):
         part_bodies: Sequence[RigidBody],
         config: SuctionConfig,
         name: str,
-        constraints: "SuctionConstraints",
+        constraints: SuctionConstraints,
     ):
         super().__init__(plant, cup_body, part_bodies, config, name)
         if int(constraints.cup) != self._cup:
@@ -118,7 +116,7 @@ class WeldSuctionGripper(SuctionGripper):
         self._constraints = constraints
 
     @property
-    def constraints(self) -> "SuctionConstraints":
+    def constraints(self) -> SuctionConstraints:
         """The plant constraints this gripper holds with."""
         return self._constraints
 
@@ -315,125 +313,6 @@ def _gains_for(body: RigidBody, config: SuctionConfig, h: float) -> _PartGains:
     return _PartGains(k, c, kr, cr, p_PScm)
 
 
-#: Circumradius of the cup's and the part's triangles of constraint points [m].
-_TRIANGLE_RADIUS = 0.05
-#: Distance along +Cz between the two triangles (regular octahedron) [m].
-_TRIANGLE_GAP = _TRIANGLE_RADIUS * math.sqrt(3.0) * math.sqrt(2.0 / 3.0)
-
-
-def octahedron() -> tuple[np.ndarray, np.ndarray, list[tuple[int, int]]]:
-    """Points a_i (in C), b_j (in C, on the part side) and the six (i, j) pairs.
-
-    Two equilateral triangles of circumradius R in planes normal to Cz, one at
-    the cup face and one R sqrt(2) further along +Cz, turned 60 deg from each
-    other, form a regular octahedron; its six "side" edges join each a_i to
-    b_i and b_(i+1). With the triangles rigid (they belong to the bodies), the
-    octahedron is rigid, so the six lengths fix the relative pose.
-    """
-    angles_a = np.radians([90.0, 210.0, 330.0])
-    angles_b = angles_a + np.radians(60.0)
-    R = _TRIANGLE_RADIUS
-    a = np.stack([R * np.cos(angles_a), R * np.sin(angles_a), np.zeros(3)], axis=1)
-    b = np.stack([R * np.cos(angles_b), R * np.sin(angles_b), np.full(3, _TRIANGLE_GAP)], axis=1)
-    pairs = [(0, 0), (0, 2), (1, 0), (1, 1), (2, 1), (2, 2)]
-    return a, b, pairs
-
-
-@dataclass(frozen=True)
-class SuctionConstraints:
-    """Six distance constraints between a cup and (at run time) the held part.
-
-    Declared by :func:`declare_suction_constraints`. The constraints' bodies,
-    points, lengths and active status live in the plant's Context: every new
-    Context must go through :meth:`deactivate_all` (Drake makes constraints
-    active in a new Context).
-    """
-
-    cup: BodyIndex
-    ids: tuple[MultibodyConstraintId, ...]
-    #: Constraint points in the cup frame: a_i (on the cup) and b_j (part side).
-    p_CA: np.ndarray
-    p_CB: np.ndarray
-    pairs: tuple[tuple[int, int], ...]
-
-    def deactivate_all(self, plant: MultibodyPlant, plant_context: Context) -> None:
-        """Deactivates the six constraints (needed in every new Context)."""
-        for id_ in self.ids:
-            plant.SetConstraintActiveStatus(plant_context, id_, False)
-
-    def held_body(self, plant: MultibodyPlant, plant_context: Context) -> Optional[BodyIndex]:
-        """The body the active constraints hold; None when inactive."""
-        if not plant.GetConstraintActiveStatus(plant_context, self.ids[0]):
-            return None
-        return plant.GetDistanceConstraintParams(plant_context, self.ids[0]).bodyB()
-
-    def attach(self, plant: MultibodyPlant, plant_context: Context, part_body: RigidBody) -> RigidTransform:
-        """Holds ``part_body`` at its current pose in the cup; returns that pose X_CP.
-
-        The part's points are the octahedron's points b_j placed where they are
-        now, so every constraint's length is its current length: nothing moves.
-        """
-        cup = plant.get_body(self.cup)
-        if int(part_body.index()) == int(self.cup):
-            raise ConfigError(f"suction: the cup {cup.name()!r} cannot hold itself")
-        X_WC = plant.EvalBodyPoseInWorld(plant_context, cup)
-        X_WP = plant.EvalBodyPoseInWorld(plant_context, part_body)
-        X_CP = X_WC.InvertAndCompose(X_WP)
-        X_PC = X_CP.inverse()
-        for id_, (i, j) in zip(self.ids, self.pairs):
-            p_CA, p_PB = self.p_CA[i], X_PC @ self.p_CB[j]
-            distance = float(np.linalg.norm(X_WC @ p_CA - X_WP @ p_PB))
-            plant.SetDistanceConstraintParams(
-                plant_context,
-                id_,
-                DistanceConstraintParams(self.cup, p_CA, part_body.index(), p_PB, distance, math.inf, 0.0),
-            )
-            plant.SetConstraintActiveStatus(plant_context, id_, True)
-        return X_CP
-
-    def release(self, plant: MultibodyPlant, plant_context: Context) -> None:
-        """Lets the held part go (deactivates the constraints)."""
-        self.deactivate_all(plant, plant_context)
-
-
-def declare_suction_constraints(
-    plant: MultibodyPlant, cup_body: RigidBody, any_part_body: RigidBody
-) -> SuctionConstraints:
-    """Declares the weld backend's six distance constraints; call before ``plant.Finalize()``.
-
-    ``any_part_body`` is a placeholder (any movable body other than the cup):
-    :meth:`SuctionConstraints.attach` rewrites the constraints for the part
-    actually held. The plant must use the SAP solver. Neither body may be the
-    world body (constraints on it crash Drake 1.51's simulation).
-    """
-    if plant.is_finalized():
-        raise ConfigError("declare_suction_constraints must be called before plant.Finalize()")
-    solver = plant.get_discrete_contact_solver()
-    if plant.time_step() <= 0 or solver != DiscreteContactSolver.kSap:
-        raise ConfigError(
-            "the weld backend needs a discrete plant with the SAP solver (time_step > 0, "
-            "discrete_contact_approximation 'sap', 'lagged' or 'similar'); got time_step "
-            f"{plant.time_step()} and {_approximation_name(plant)!r}"
-        )
-    world = int(plant.world_body().index())
-    for body, what in ((cup_body, "cup"), (any_part_body, "placeholder part")):
-        if int(body.index()) == world:
-            raise ConfigError(f"suction {what} body cannot be the world body")
-    if int(cup_body.index()) == int(any_part_body.index()):
-        raise ConfigError(f"suction placeholder part must differ from the cup {cup_body.name()!r}")
-    a, b, pairs = octahedron()
-    ids = []
-    for i, j in pairs:
-        distance = float(np.linalg.norm(a[i] - b[j]))
-        ids.append(plant.AddDistanceConstraint(cup_body, a[i], any_part_body, b[j], distance))
-    return SuctionConstraints(cup_body.index(), tuple(ids), a, b, tuple(pairs))
-
-
-def _approximation_name(plant: MultibodyPlant) -> str:
-    """The plant's discrete contact approximation as spelt in MultibodyPlantConfig ("sap")."""
-    return str(plant.get_discrete_contact_approximation()).rsplit(".k", 1)[-1].lower()
-
-
 def sync_weld(gripper: WeldSuctionGripper, plant: MultibodyPlant, root_context: Context) -> None:
     """Makes a weld gripper's constraints follow its state; call between advances.
 
@@ -487,8 +366,8 @@ def add_suction_gripper(
 ) -> SuctionGripper:
     """Adds the vacuum gripper of ``config.backend`` named ``name`` and connects it to the plant.
 
-    ``weld`` needs the ``constraints`` declared for this cup before the plant was
-    finalized (:func:`declare_suction_constraints`); ``force`` needs none.
+    ``weld`` needs the ``constraints`` declared for this cup before the plant was finalized
+    (:func:`~omtp_drake.cell.suction_constraints.declare_suction_constraints`); ``force`` needs none.
     Connects the plant's outputs the gripper reads; ``command`` is left to the
     caller, and so are the force outputs (see :func:`connect_spatial_forces`).
     """

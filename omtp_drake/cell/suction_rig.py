@@ -45,11 +45,11 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell.suction import GripperState, SuctionGripper, contact_points
+from omtp_drake.cell.suction_constraints import declare_suction_constraints
 from omtp_drake.cell.suction_holds import (
     WeldSuctionGripper,
     add_suction_gripper,
     connect_spatial_forces,
-    declare_suction_constraints,
     sync_weld,
 )
 from omtp_drake.errors import ConfigError

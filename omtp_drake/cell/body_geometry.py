@@ -1,0 +1,104 @@
+"""Which geometries of a body a camera counts, and the boxes that bound them.
+
+* :func:`body_geometries` (proximity and illustration: the bodies a logical
+  camera may report) and :func:`visualbody_geometries` (what a camera sees of a
+  body: one role, the first of perception, illustration, proximity that it has).
+* :func:`bounding_box`: the axis-aligned box of a body's geometries' oriented
+  bounding boxes (:func:`oriented_bounding_box`).
+
+A mesh's bounding box (and, through :func:`per_mesh_file`, its convex hull) is
+computed once per file and scale (a memo of pure functions of the file). Frames
+as in :mod:`omtp_drake.cell.logical_camera` (``B`` a body, ``G`` a geometry,
+``O`` an oriented bounding box).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any, Optional, TypeVar
+
+import numpy as np
+from pydrake.geometry import Convex, GeometryId, Mesh, Obb, Role, SceneGraphInspector
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import BodyIndex
+
+
+def body_geometries(
+    plant: MultibodyPlant, inspector: SceneGraphInspector, body_index: BodyIndex
+) -> list[GeometryId]:
+    """The proximity and illustration geometries of a body."""
+    frame_id = plant.GetBodyFrameIdIfExists(body_index)
+    if frame_id is None:
+        return []
+    geometries = set(inspector.GetGeometries(frame_id, Role.kProximity))
+    geometries |= set(inspector.GetGeometries(frame_id, Role.kIllustration))
+    return sorted(geometries, key=lambda g: g.get_value())
+
+
+def visualbody_geometries(
+    plant: MultibodyPlant, inspector: SceneGraphInspector, body_index: BodyIndex
+) -> list[GeometryId]:
+    """What a camera sees of a body: its perception geometries, else its
+    illustration ones, else its proximity ones (a body modelled for one role only
+    is still seen)."""
+    frame_id = plant.GetBodyFrameIdIfExists(body_index)
+    if frame_id is None:
+        return []
+    for role in (Role.kPerception, Role.kIllustration, Role.kProximity):
+        geometries = inspector.GetGeometries(frame_id, role)
+        if geometries:
+            return sorted(geometries, key=lambda g: g.get_value())
+    return []
+
+
+T = TypeVar("T")
+
+#: What is computed from a mesh file, by (what, file, scale): a mesh's bounding box
+#: and convex hull take milliseconds each (a UR arm's hulls about 0.25 s in all), and
+#: every camera of every station built in a process needs those of every arm. Pure
+#: functions of the file, so a memo, not state.
+_MESH_MEMO: dict[tuple[str, str, tuple[float, ...]], Any] = {}
+
+
+def per_mesh_file(
+    what: str, inspector: SceneGraphInspector, geometry_id: GeometryId, compute: Callable[[], T]
+) -> T:
+    """``compute()``, once per mesh file and scale for a Mesh or Convex from a file."""
+    shape = inspector.GetShape(geometry_id)
+    if not (isinstance(shape, (Mesh, Convex)) and shape.source().is_path()):
+        return compute()
+    key = (what, f"{type(shape).__name__}:{shape.source().path()}", tuple(shape.scale3()))
+    if key not in _MESH_MEMO:
+        _MESH_MEMO[key] = compute()
+    return _MESH_MEMO[key]
+
+
+def oriented_bounding_box(inspector: SceneGraphInspector, geometry_id: GeometryId) -> Optional[Obb]:
+    """The geometry's oriented bounding box in its frame (None: unbounded), computed
+    once per mesh file and scale."""
+    return per_mesh_file("obb", inspector, geometry_id, lambda: inspector.GetObbInGeometryFrame(geometry_id))
+
+
+#: The 8 corners of the cube [-1, 1]^3 (rows).
+BOX_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], float)
+
+
+def bounding_box(
+    inspector: SceneGraphInspector, geometries: Sequence[GeometryId]
+) -> Optional[tuple[np.ndarray, np.ndarray]]:
+    """The axis-aligned box (centre, half-extents), in the frame F they are
+    registered to, of the oriented bounding boxes of ``geometries`` (analytic
+    for primitives, from the vertices for meshes); None if one of them is
+    unbounded (a HalfSpace)."""
+    corners = []
+    for geometry_id in geometries:
+        obb = oriented_bounding_box(inspector, geometry_id)
+        if obb is None:
+            return None
+        X_FO = inspector.GetPoseInFrame(geometry_id) @ obb.pose()
+        corners.append(
+            X_FO.rotation().matrix() @ (BOX_CORNERS * obb.half_width()).T + X_FO.translation()[:, None]
+        )
+    points = np.concatenate(corners, axis=1)
+    low, high = points.min(axis=1), points.max(axis=1)
+    return (low + high) / 2, (high - low) / 2

@@ -1,0 +1,213 @@
+"""The cell's models in a plant: every model of a scenario, welded at its pose.
+
+:func:`add_cell_models` adds the floor, pedestals and arms with grippers, bins,
+conveyor, break beam, deletion wall, camera frames and the parts to a plant that
+is not finalized, and returns their instances (:class:`CellModels`). The station
+(:func:`omtp_drake.cell.station.build_station`) builds on it, and so does
+anything that needs the same cell in a plant of its own.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+from pydrake.geometry import CollisionFilterDeclaration, GeometrySet, Role, SceneGraph
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import FixedOffsetFrame, ModelInstanceIndex, PdControllerGains
+from pydrake.systems.framework import Diagram
+
+from omtp_drake.assets import MODELS_DIR, expand_xacro
+from omtp_drake.cell import arms
+from omtp_drake.cell.conveyor import X_W_CONVEYOR
+from omtp_drake.cell.parts import parking_pose
+from omtp_drake.scenario import RobotConfig, Scenario
+
+#: Reference poses of the fixed pieces of the cell (world frame).
+X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.575, 1.9, 0.925])
+X_W_DELETION_WALL = RigidTransform(RollPitchYaw(0.0, 0.0, 1.5708), [1.2, -5.1, 1.425])
+#: Damping gain of the belt's velocity servo (N s/m).
+_BELT_KD = 1e4
+
+
+@dataclass
+class ArmHandles:
+    """What the station knows of one arm."""
+
+    config: RobotConfig
+    arm: ModelInstanceIndex
+    gripper: Optional[ModelInstanceIndex]
+    pedestal: ModelInstanceIndex
+    #: The servo's model of the arm and gripper (base at the origin); also
+    #: what differential IK plans with. Held here to keep it alive.
+    control_plant: Optional[MultibodyPlant] = None
+    #: The servo's command sampler (its initial position is set by
+    #: :meth:`Station.initialize_context`).
+    sampler: Optional[arms.CommandSampler] = None
+    #: The servo (computed torque; with ``ki > 0`` a PID whose integral is its
+    #: continuous state).
+    controller: Optional[Diagram] = None
+
+
+@dataclass
+class CellModels:
+    """The model instances :func:`add_cell_models` added to a plant."""
+
+    floor: ModelInstanceIndex
+    arms: dict[str, ArmHandles]
+    bins: dict[str, ModelInstanceIndex]
+    #: bin -> the world frame its base is welded to (its pose is a Context
+    #: parameter: a bin can be moved between advances, see Station.move_bin).
+    bin_anchors: dict[str, FixedOffsetFrame]
+    conveyor: Optional[ModelInstanceIndex]
+    cameras: dict[str, ModelInstanceIndex]
+    #: Every part (placed and pool) by name.
+    parts: dict[str, ModelInstanceIndex]
+    #: Names of the pool's parts, in spawn order.
+    pool: list[str]
+
+
+def _add_xacro(parser: Parser, file: str, args: dict | None = None) -> ModelInstanceIndex:
+    text = expand_xacro(MODELS_DIR / file, args or {})
+    (instance,) = parser.AddModelsFromString(text, "sdf" if ".sdf" in file else "urdf")
+    return instance
+
+
+def _weld(plant: MultibodyPlant, frame_name: str, X_WF: RigidTransform, parent=None) -> None:
+    plant.WeldFrames(parent or plant.world_frame(), plant.GetFrameByName(frame_name), X_WF)
+
+
+def add_cell_models(
+    plant: MultibodyPlant, scene_graph: SceneGraph, scenario: Scenario, *, parts: bool = True
+) -> CellModels:
+    """Adds every model of ``scenario``'s cell to ``plant`` (not finalized), welded at its
+    pose: floor, pedestals and arms with grippers, bins, conveyor, break beam, deletion
+    wall, camera frames and (with ``parts``) the placed parts and the parked pool.
+
+    Used by :func:`build_station` and by anything that needs the same cell in a plant
+    of its own (e.g. a motion planner's collision model).
+    """
+    parser = Parser(plant)
+    floor = _add_xacro(parser, "floor.urdf.xacro")
+    _weld(plant, "floor", RigidTransform())
+    arm_handles = _add_arms(parser, scenario)
+    bins, anchors = _add_bins(parser, scenario)
+    conveyor = _add_fixtures(parser, scenario)
+    camera_instances = _add_camera_frames(parser, scenario)
+    part_instances, pool = _add_parts(parser, scenario) if parts else ({}, [])
+    _filter_robot_collisions(plant, scene_graph, arm_handles)
+    return CellModels(
+        floor=floor,
+        arms=arm_handles,
+        bins=bins,
+        bin_anchors=anchors,
+        conveyor=conveyor,
+        cameras=camera_instances,
+        parts=part_instances,
+        pool=pool,
+    )
+
+
+def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:
+    """Each robot's pedestal and arm with its gripper, welded at the robot's pose."""
+    plant = parser.plant()
+    arm_handles: dict[str, ArmHandles] = {}
+    for robot in scenario.robots:
+        x, y = robot.xy
+        pedestal = _add_xacro(
+            parser, "pedestal.urdf.xacro", {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height}
+        )
+        _weld(
+            plant, f"{robot.name}_pedestal_link", RigidTransform(RollPitchYaw(0, 0, robot.yaw), [x, y, 0.0])
+        )
+        arm, gripper = arms.add_arm_models(parser, robot)
+        _weld(plant, f"{robot.name}_base_link", arms.base_pose(robot))
+        arm_handles[robot.name] = ArmHandles(robot, arm, gripper, pedestal)
+    return arm_handles
+
+
+def _add_bins(
+    parser: Parser, scenario: Scenario
+) -> tuple[dict[str, ModelInstanceIndex], dict[str, FixedOffsetFrame]]:
+    """The bins, each welded to a world frame of its own (its anchor)."""
+    plant = parser.plant()
+    bins, anchors = {}, {}
+    for b in scenario.bins:
+        bins[b.name] = _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
+        anchors[b.name] = plant.AddFrame(FixedOffsetFrame(f"{b.name}_anchor", plant.world_frame(), b.X_WB()))
+        plant.WeldFrames(anchors[b.name], plant.GetFrameByName(f"{b.name}_base_link"))
+    return bins, anchors
+
+
+def _add_fixtures(parser: Parser, scenario: Scenario) -> Optional[ModelInstanceIndex]:
+    """The conveyor (with its belt's velocity servo gains), break beam and deletion
+    wall of the scenario; returns the conveyor's instance (None: no conveyor)."""
+    plant = parser.plant()
+    conveyor = None
+    if scenario.conveyor is not None:
+        conveyor = _add_xacro(parser, "conveyor.urdf.xacro")
+        _weld(plant, "conveyor_base", X_W_CONVEYOR)
+        for index in plant.GetJointActuatorIndices():
+            actuator = plant.get_joint_actuator(index)
+            if actuator.model_instance() == conveyor:
+                actuator.set_controller_gains(PdControllerGains(p=0.0, d=_BELT_KD))
+    if scenario.break_beam:
+        _add_xacro(parser, "break_beam.urdf.xacro")
+        _weld(plant, "break_beam_base_link", X_W_BREAK_BEAM)
+    if scenario.deletion_wall:
+        _add_xacro(parser, "deletion_wall.urdf.xacro")
+        _weld(plant, "deletion_wall", X_W_DELETION_WALL)
+    return conveyor
+
+
+def _add_camera_frames(parser: Parser, scenario: Scenario) -> dict[str, ModelInstanceIndex]:
+    """Each camera's model, its frame welded to its parent at the camera's pose."""
+    plant = parser.plant()
+    camera_instances = {}
+    for cam in scenario.cameras:
+        camera_instances[cam.name] = _add_xacro(parser, "logical_camera.urdf.xacro", {"name": cam.name})
+        parent = plant.GetFrameByName(cam.parent) if cam.parent != "world" else plant.world_frame()
+        _weld(plant, f"{cam.name}_frame", cam.X_PC(), parent=parent)
+    return camera_instances
+
+
+def _add_parts(parser: Parser, scenario: Scenario) -> tuple[dict[str, ModelInstanceIndex], list[str]]:
+    """The placed parts at their poses, then the pool's ``object_k`` at their parking poses."""
+    plant = parser.plant()
+    instances: dict[str, ModelInstanceIndex] = {}
+
+    def add(name: str, size: float, mass: float, X_WP: RigidTransform) -> None:
+        instances[name] = _add_xacro(parser, "part.urdf.xacro", {"name": name, "size": size, "mass": mass})
+        plant.SetDefaultFloatingBaseBodyPose(plant.GetBodyByName(name, instances[name]), X_WP)
+
+    for part in scenario.parts:
+        add(part.name, part.size, part.mass, RigidTransform(RollPitchYaw(part.rpy), part.xyz))
+    pool: list[str] = []
+    k = 1
+    while len(pool) < scenario.part_pool:
+        name = f"object_{k}"
+        k += 1
+        if name not in instances:
+            pool.append(name)
+            add(name, scenario.pool_part_size, scenario.pool_part_mass, parking_pose(len(instances)))
+    return instances, pool
+
+
+def _filter_robot_collisions(
+    plant: MultibodyPlant, scene_graph: SceneGraph, arm_handles: dict[str, ArmHandles]
+) -> None:
+    """No contact between the links of one arm, its gripper and its pedestal."""
+    inspector = scene_graph.model_inspector()
+    for handles in arm_handles.values():
+        geometries = []
+        instances = [handles.arm, handles.pedestal] + ([handles.gripper] if handles.gripper else [])
+        for instance in instances:
+            for body_index in plant.GetBodyIndices(instance):
+                frame_id = plant.GetBodyFrameIdOrThrow(body_index)
+                geometries += inspector.GetGeometries(frame_id, Role.kProximity)
+        scene_graph.collision_filter_manager().Apply(
+            CollisionFilterDeclaration().ExcludeWithin(GeometrySet(geometries))
+        )
