@@ -120,25 +120,14 @@ class MoveGroupTargets:
 
     def set_pose_target(self, pose: Any, end_effector_link: str = "") -> None:
         """A pose target for the end-effector link: a Pose (world), a PoseStamped (any tf
-        frame, at its stamp), or a list of 6 (xyz rpy) or 7 (xyz quaternion) numbers."""
+        frame, at its stamp), or a list of 6 (xyz rpy) or 7 (xyz quaternion) numbers.
+        Another type, or a pose that is no pose (not finite, a zero quaternion...),
+        raises MoveItCommanderException."""
         frame = self._short(end_effector_link)
-        if isinstance(pose, PoseStamped):
-            stamp = pose.header.stamp.to_sec()
-            target: Any = CorePoseStamped(
-                pose.header.frame_id.lstrip("/") or "world",
-                stamp or None,
-                rigid(pose.pose, "set_pose_target"),
-            )
-            if target.frame_id == "world":
-                target = target.pose
-        elif isinstance(pose, Pose):
-            target = rigid(pose, "set_pose_target")
-        elif isinstance(pose, (list, tuple, np.ndarray)):
-            target = pose_from_list(pose, "set_pose_target")
-        else:
-            raise MoveItCommanderException(
-                f"set_pose_target takes a Pose, PoseStamped or list, got {type(pose).__name__}"
-            )
+        try:
+            target = _pose_target(pose)
+        except OmtpError as e:
+            raise MoveItCommanderException(str(e)) from None
         self._target = ("pose", (target, frame))
 
     def set_pose_targets(self, poses: Any, end_effector_link: str = "") -> None:
@@ -173,6 +162,26 @@ class MoveGroupTargets:
 
     set_goal_joint_tolerance = set_goal_position_tolerance = set_goal_orientation_tolerance = (
         set_goal_tolerance
+    )
+
+
+def _pose_target(pose: Any) -> Any:
+    """``pose`` (see ``set_pose_target``) as the cell's arms take it: a world pose, or a
+    pose stamped in another tf frame. ConfigError when it is no pose."""
+    if isinstance(pose, PoseStamped):
+        stamp = pose.header.stamp.to_sec()
+        target = CorePoseStamped(
+            pose.header.frame_id.lstrip("/") or "world",
+            stamp or None,
+            rigid(pose.pose, "set_pose_target"),
+        )
+        return target.pose if target.frame_id == "world" else target
+    if isinstance(pose, Pose):
+        return rigid(pose, "set_pose_target")
+    if isinstance(pose, (list, tuple, np.ndarray)):
+        return pose_from_list(pose, "set_pose_target")
+    raise MoveItCommanderException(
+        f"set_pose_target takes a Pose, PoseStamped or list, got {type(pose).__name__}"
     )
 
 
