@@ -36,7 +36,14 @@ import numpy as np
 from pydrake.math import RigidTransform
 from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake.errors import CollisionError, OmtpError, PlanningError
+from omtp_drake.errors import (
+    CollisionError,
+    GoalInCollisionError,
+    OmtpError,
+    PlanningError,
+    StartInCollisionError,
+    UnreachableError,
+)
 from omtp_drake.ros._core import (
     SETTLE_TIMEOUT,
     SETTLE_TOLERANCE,
@@ -59,13 +66,13 @@ __all__ = ["MoveGroupCommander", "MoveItCommanderException"]
 _log = logging.getLogger("moveit_commander")
 
 
-def _error_code(error: OmtpError) -> int:
-    text = str(error)
-    if "start configuration" in text:
+def _error_code(error: PlanningError) -> int:
+    """MoveIt's error code for a failed plan, by the kind of failure."""
+    if isinstance(error, StartInCollisionError):
         return MoveItErrorCodes.START_STATE_IN_COLLISION
-    if "unreachable" in text or "joint limits" in text:
+    if isinstance(error, UnreachableError):
         return MoveItErrorCodes.NO_IK_SOLUTION
-    if "in collision" in text:
+    if isinstance(error, GoalInCollisionError):
         return MoveItErrorCodes.GOAL_IN_COLLISION
     return MoveItErrorCodes.PLANNING_FAILED
 

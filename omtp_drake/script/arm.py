@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from typing import Optional, Union
 
 import numpy as np
@@ -35,7 +36,15 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.control.motion import ArmPlanner
 from omtp_drake.control.motion.scene import CupBox
-from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError, check_duration
+from omtp_drake.errors import (
+    ConfigError,
+    GoalInCollisionError,
+    PlanningError,
+    UnknownNameError,
+    UnreachableError,
+    check_duration,
+)
+from omtp_drake.scenario import RobotConfig
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.motion import SETTLE_TIMEOUT, SETTLE_TOLERANCE, MoveResult, MoveRunner, Plan
 from omtp_drake.script.scene import CellPlanningScene, world_pose
@@ -109,8 +118,10 @@ class Arm:
         tool frame ``frame``. ``speed`` scales the joint velocity limits (0, 1].
 
         Raises:
-            PlanningError: unreachable, outside the joint limits, in collision, or no
-                collision-free path (the message says which and names the bodies).
+            PlanningError: unreachable or outside the joint limits (UnreachableError),
+                the goal or the start in collision (GoalInCollisionError,
+                StartInCollisionError), or no collision-free path (the message says
+                which and names the bodies).
         """
         speed = _check_fraction("speed", speed)
         planner, other_q = self._planning_scene(), self._other_arms()
@@ -245,16 +256,13 @@ class Arm:
         if isinstance(target, (RigidTransform, PoseStamped)):
             X_WE = world_pose(self._tf, target)
             return planner.ik(X_WE, frame=frame, q_seed=self.joint_values(), other_q=other_q)
-        try:
-            q = arms.check_joint_positions(target, self.config)
-        except ConfigError as e:
-            if "outside its limits" not in str(e):
-                raise
-            raise PlanningError(f"{self.name}: the goal is outside the joint limits: {e}") from None
+        q = _joint_goal(target, self.config)
         collisions = planner.collisions(q, other_q)
         if collisions:
             pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
-            raise PlanningError(f"{self.name}: the goal {np.round(q, 3).tolist()} is in collision: {pairs}")
+            raise GoalInCollisionError(
+                f"{self.name}: the goal {np.round(q, 3).tolist()} is in collision: {pairs}"
+            )
         return q
 
     def _other_arms(self) -> dict[str, np.ndarray]:
@@ -285,6 +293,18 @@ class Arm:
         else:
             planner.scene.clear_held_part()
         return planner
+
+
+def _joint_goal(target: Sequence[float] | np.ndarray, config: RobotConfig) -> np.ndarray:
+    """``target`` as six joint positions of the arm ``config``: ConfigError when they
+    are no six finite numbers, UnreachableError when they are outside the joint limits."""
+    try:
+        return arms.check_joint_positions(target, config)
+    except ConfigError as e:
+        error = e
+    # Six finite numbers pass without limits: the limits were what refused them.
+    arms.check_joint_positions(target, replace(config, joint_limit=math.inf))
+    raise UnreachableError(f"{config.name}: the goal is outside the joint limits: {error}")
 
 
 def _check_fraction(what: str, value: float) -> float:
