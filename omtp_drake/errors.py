@@ -115,3 +115,18 @@ def check_vector(what: str, value: Iterable[float], *, max_norm: float = math.in
         shown = list(value) if isinstance(value, Iterable) else value
         raise ConfigError(f"{what} needs 3 finite numbers{limit}, got {shown!r}")
     return v
+
+
+class StartInCollisionError(PlanningError):
+    """The arm's start configuration is in collision and no free one is near it
+    (the message names the touching pairs)."""
+
+
+class GoalInCollisionError(PlanningError):
+    """The goal configuration, or every IK solution of a goal pose, is in collision
+    (the message names the touching pairs)."""
+
+
+class UnreachableError(PlanningError):
+    """A goal the arm cannot take: a pose out of its reach, or a pose or joint values
+    only outside its joint limits (the message says by how much, or which joint)."""

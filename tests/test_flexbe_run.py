@@ -245,6 +245,8 @@ MOVE_GROUP_SCRIPT = """
     far.ik_request.pose_stamped.pose.position.z = 5.0
     far.ik_request.pose_stamped.pose.orientation.w = 1.0
     out['far_code'] = ik(far).error_code.val
+    target.pose.position.z = 0.0  # the cup in the floor
+    out['floor_code'] = ik(req).error_code.val
 
     client = actionlib.SimpleActionClient('move_group', MoveGroupAction)
     client.wait_for_server()
@@ -301,6 +303,7 @@ def test_move_group_action_and_compute_ik_against_the_planner(tmp_path):
     r = json.loads(out.read_text())
     assert r["ik_code"] == 1 and len(r["ik"]) == 6
     assert r["far_code"] == -31  # NO_IK_SOLUTION
+    assert r["floor_code"] == -12  # GOAL_IN_COLLISION
     code, planned, executed, elapsed = r["plan_only"]
     assert code == 1 and planned >= 2 and executed == 0 and elapsed == 0.0  # planned, nothing moved
     code, elapsed, duration = r["executed"]

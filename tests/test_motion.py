@@ -10,7 +10,7 @@ from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
 
 from omtp_drake.cell import arms
 from omtp_drake.control.motion import ArmPlanner
-from omtp_drake.errors import PlanningError
+from omtp_drake.errors import GoalInCollisionError, PlanningError, StartInCollisionError, UnreachableError
 from omtp_drake.scenario import load_scenario
 
 DOWN = RotationMatrix(RollPitchYaw(np.pi, 0.0, 0.0))  # tool +z pointing down
@@ -94,7 +94,7 @@ def test_free_straight_move_is_one_segment(planner):
 
 
 def test_unreachable_pose(planner):
-    with pytest.raises(PlanningError, match="unreachable") as error:
+    with pytest.raises(UnreachableError, match="unreachable") as error:
         planner.ik(RigidTransform(DOWN, [-6.5, -1.5, 1.0]))
     assert "mm" in str(error.value)
 
@@ -103,12 +103,24 @@ def test_goal_in_collision_names_the_bodies(planner, over_the_wall):
     q_in = over_the_wall[0]
     q_wall = planner.ik(RigidTransform(DOWN, [-8.0, -2.005, 0.40]), q_seed=q_in,
                         check_collisions=False)  # the tip in the bin's wall
-    with pytest.raises(PlanningError, match="goal configuration .* in collision") as error:
+    with pytest.raises(GoalInCollisionError, match="goal configuration .* in collision") as error:
         planner.plan(arms.named_pose("R2Place"), q_wall)
     assert "bin_1_base_link" in str(error.value)
     assert "vacuum_gripper2_cup" in str(error.value)
-    with pytest.raises(PlanningError, match="every IK solution .* in collision"):
+    with pytest.raises(GoalInCollisionError, match="every IK solution .* in collision"):
         planner.ik(RigidTransform(DOWN, [-8.0, -2.005, 0.40]), q_seed=q_in)
+
+
+def test_a_start_stuck_in_collision_is_its_own_error(planner, over_the_wall):
+    q_in = over_the_wall[0]
+    try:
+        # A 0.6 m box hanging from the cup in the bin: in its floor at every nudge of 0.3 rad.
+        planner.scene.set_held_part(RigidTransform([0.0, 0.0, 0.3]), 0.6)
+        assert planner.collisions(arms.named_pose("R2Home")) == []
+        with pytest.raises(StartInCollisionError, match=r"start configuration .* held_part / floor"):
+            planner.plan(q_in, arms.named_pose("R2Home"))
+    finally:
+        planner.scene.clear_held_part()
 
 
 def test_obstacles_and_held_part(planner, over_the_wall):
@@ -133,7 +145,7 @@ def test_outside_the_joint_limits(scenario):
     robots = [dataclasses.replace(r, joint_limit=2.0) if r.name == "robot2" else r
               for r in scenario.robots]
     limited = ArmPlanner(dataclasses.replace(scenario, robots=robots), "robot2")
-    with pytest.raises(PlanningError,
+    with pytest.raises(UnreachableError,
                        match=r"outside the joint limits: \w+_joint would be .* \[-2.000, 2.000\]"):
         limited.ik(RigidTransform(DOWN, [-8.0, -2.2, 0.45]), q_seed=arms.named_pose("R2Home"))
 

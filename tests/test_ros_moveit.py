@@ -153,3 +153,37 @@ def test_callbacks_run_while_the_main_thread_waits_for_a_move(tmp_path):
     inside = times[(times > data["start"]) & (times < data["end"] - 0.2)]
     assert data["end"] - data["start"] > 1.0 and len(inside) >= 5
     assert np.all(np.diff(times) >= 0)
+
+
+BAD_POSES = """
+    import json, sys
+    import moveit_commander, rospy
+    import geometry_msgs.msg
+    rospy.init_node("bad_poses")
+    group = moveit_commander.MoveGroupCommander("robot2")
+    out = {}
+    try:
+        group.set_pose_target([-8.0, -1.5, 1.0])  # forgot the orientation
+    except moveit_commander.MoveItCommanderException as e:
+        out["short_list"] = str(e)
+    pose_goal = geometry_msgs.msg.Pose()
+    pose_goal.position.x = float("nan")
+    pose_goal.orientation.w = 1.0
+    try:
+        group.set_pose_target(pose_goal)
+    except moveit_commander.MoveItCommanderException as e:
+        out["nan_pose"] = str(e)
+    json.dump(out, open(sys.argv[1], "w"))
+"""
+
+
+def test_a_bad_pose_target_raises_moveit_commander_exception(tmp_path):
+    script = tmp_path / "bad_poses.py"
+    script.write_text(textwrap.dedent(BAD_POSES))
+    out = tmp_path / "out.json"
+    report = run_script(script, [str(out)], scenario=A4)
+    assert report.exception is None
+    data = json.loads(out.read_text())
+    assert "takes 6 numbers (x, y, z, roll, pitch, yaw) or 7" in data["short_list"]
+    assert "got 3" in data["short_list"]
+    assert "set_pose_target: the position" in data["nan_pose"] and "not finite" in data["nan_pose"]

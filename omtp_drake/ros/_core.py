@@ -10,12 +10,13 @@ from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.scenario import load_scenario
 from omtp_drake.script import Cell
-from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Plan
+from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan
 
 __all__ = [
     "SETTLE_TIMEOUT",
     "SETTLE_TOLERANCE",
     "JOINT_NAMES",
+    "Arm",
     "Cell",
     "CorePoseStamped",
     "Plan",

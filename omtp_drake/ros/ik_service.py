@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from omtp_drake.errors import PlanningError
+from omtp_drake.errors import GoalInCollisionError, PlanningError
 from omtp_drake.ros._core import JOINT_NAMES, CorePoseStamped, tool_frame_names
 from omtp_drake.ros.convert import rigid
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotState
@@ -55,11 +55,10 @@ def _ik_target(cell: Cell, pose: PoseStamped) -> Any:
 
 
 def _ik_error_code(error: PlanningError) -> int:
-    return (
-        MoveItErrorCodes.GOAL_IN_COLLISION
-        if "in collision" in str(error)
-        else MoveItErrorCodes.NO_IK_SOLUTION
-    )
+    """MoveIt's code for a failed IK: every solution in collision, or none found."""
+    if isinstance(error, GoalInCollisionError):
+        return MoveItErrorCodes.GOAL_IN_COLLISION
+    return MoveItErrorCodes.NO_IK_SOLUTION
 
 
 def compute_ik(cell: Cell, request: Any) -> GetPositionIKResponse:

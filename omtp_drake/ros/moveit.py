@@ -6,7 +6,9 @@ the arm whose six joints it moves; the planning frame is ``world``; the end-effe
 link is the SRDF's (its end effector's parent link, or its chain's tip: the course's
 ``vacuum_gripperN_suction_cup``; ``set_end_effector_link`` takes the gripper's
 ``vacuum_gripperN_tip``, the cup face, or ``robotN_tool0``). Named targets are the
-group's SRDF states (``R2Home``...) and the remembered joint values.
+group's SRDF states (``R2Home``...) and the remembered joint values; the target
+setters and plan options are the commander's :class:`~omtp_drake.ros.moveit_targets.MoveGroupTargets`
+half.
 
 As in MoveIt, planning and execution failures are not exceptions: ``go`` and
 ``execute`` return False and ``plan`` an empty trajectory (logged with the
@@ -34,44 +36,48 @@ import numpy as np
 from pydrake.math import RigidTransform
 from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake.errors import CollisionError, OmtpError, PlanningError
+from omtp_drake.errors import (
+    CollisionError,
+    GoalInCollisionError,
+    OmtpError,
+    PlanningError,
+    StartInCollisionError,
+    UnreachableError,
+)
 from omtp_drake.ros._core import (
     SETTLE_TIMEOUT,
     SETTLE_TOLERANCE,
-    CorePoseStamped,
     Plan,
-    check_joint_positions,
     tool_frame_names,
 )
-from omtp_drake.ros.convert import pose_from_list, pose_msg, rigid
+from omtp_drake.ros.convert import pose_msg, rigid
 from omtp_drake.ros.interfaces import MoveItErrorCodes, RobotTrajectory
 from omtp_drake.ros.latency import delay_of, delayed, pass_time, think
-from omtp_drake.ros.messages import Header, JointState, Pose, PoseStamped
+from omtp_drake.ros.messages import Header, Pose, PoseStamped
 from omtp_drake.ros.moveit_config import arm_joint_limits, end_effector_link, semantics
+from omtp_drake.ros.moveit_targets import MoveGroupTargets, MoveItCommanderException
 from omtp_drake.ros.rostime import Time, _blocking
 from omtp_drake.ros.session import current
 from omtp_drake.ros.trajectories import from_msg, joint_names, to_msg
 from omtp_drake.ros.unsupported import not_supported
 
+__all__ = ["MoveGroupCommander", "MoveItCommanderException"]
+
 _log = logging.getLogger("moveit_commander")
 
 
-class MoveItCommanderException(Exception):
-    """A bad argument to a commander (unknown group, name, link, or a target out of bounds)."""
-
-
-def _error_code(error: OmtpError) -> int:
-    text = str(error)
-    if "start configuration" in text:
+def _error_code(error: PlanningError) -> int:
+    """MoveIt's error code for a failed plan, by the kind of failure."""
+    if isinstance(error, StartInCollisionError):
         return MoveItErrorCodes.START_STATE_IN_COLLISION
-    if "unreachable" in text or "joint limits" in text:
+    if isinstance(error, UnreachableError):
         return MoveItErrorCodes.NO_IK_SOLUTION
-    if "in collision" in text:
+    if isinstance(error, GoalInCollisionError):
         return MoveItErrorCodes.GOAL_IN_COLLISION
     return MoveItErrorCodes.PLANNING_FAILED
 
 
-class MoveGroupCommander:
+class MoveGroupCommander(MoveGroupTargets):
     """moveit_commander.MoveGroupCommander for ``name`` (``robot1``, ``robot2``)."""
 
     def __init__(
@@ -147,133 +153,6 @@ class MoveGroupCommander:
 
         X_WE = self._arm.tool_pose(self._short(end_effector_link))
         return [float(x) for x in RollPitchYaw(X_WE.rotation()).vector()]
-
-    def _short(self, link: str) -> str:
-        link = link or self._eef
-        if link not in self._links:
-            raise MoveItCommanderException(
-                f"{link!r} is no link of {self._name}; links: {', '.join(self._links)}"
-            )
-        return self._links[link]
-
-    # ------------------------------------------------------------ targets
-
-    def get_named_targets(self) -> list[str]:
-        return list(self._semantic.named_states(self._name)) + sorted(self._remembered)
-
-    def get_named_target_values(self, target: str) -> dict[str, float]:
-        """The named state's joint values (the joints its SRDF entry sets)."""
-        if target in self._remembered:
-            return dict(zip(joint_names(self._robot), map(float, self._remembered[target])))
-        states = self._semantic.named_states(self._name)
-        if target not in states:
-            return {}  # as MoveIt
-        return dict(states[target])
-
-    def _named(self, name: str) -> np.ndarray:
-        if name in self._remembered:
-            return self._remembered[name]
-        states = self._semantic.named_states(self._name)
-        if name not in states:
-            raise MoveItCommanderException(
-                f"unable to set target {name!r}: named targets of {self._name}: "
-                + ", ".join(self.get_named_targets())
-            )
-        return self._joints(states[name])
-
-    def set_named_target(self, name: str) -> None:
-        self._target = ("joints", self._named(name))
-
-    def remember_joint_values(self, name: str, values: Any = None) -> None:
-        q = self._joints(self._arm.joint_values() if values is None else values)
-        self._remembered[name] = q
-
-    def get_remembered_joint_values(self) -> dict[str, list[float]]:
-        return {k: [float(x) for x in v] for k, v in self._remembered.items()}
-
-    def forget_joint_values(self, name: str) -> None:
-        self._remembered.pop(name, None)
-
-    def _joints(self, values: Any) -> np.ndarray:
-        if isinstance(values, JointState):
-            values = dict(zip(values.name, values.position)) if values.name else list(values.position)
-        if isinstance(values, dict):
-            names = joint_names(self._robot)
-            unknown = sorted(set(values) - set(names))
-            if unknown:
-                raise MoveItCommanderException(
-                    f"{unknown[0]!r} is no joint of {self._name}; joints: {', '.join(names)}"
-                )
-            current_q = self._arm.joint_values()
-            values = [values.get(n, current_q[i]) for i, n in enumerate(names)]
-        try:
-            return check_joint_positions(values, self._arm.config)
-        except OmtpError as e:
-            raise MoveItCommanderException(f"error setting joint target: {e}") from None
-
-    def set_joint_value_target(self, arg1: Any, arg2: Any = None, arg3: Any = None) -> None:
-        if isinstance(arg1, str) and arg2 is not None:
-            arg1 = {arg1: arg2}
-        if isinstance(arg1, (Pose, PoseStamped)):
-            not_supported("set_joint_value_target with a pose (approximate IK)", "use set_pose_target")
-        self._target = ("joints", self._joints(arg1))
-
-    def set_pose_target(self, pose: Any, end_effector_link: str = "") -> None:
-        """A pose target for the end-effector link: a Pose (world), a PoseStamped (any tf
-        frame, at its stamp), or a list of 6 (xyz rpy) or 7 (xyz quaternion) numbers."""
-        frame = self._short(end_effector_link)
-        if isinstance(pose, PoseStamped):
-            stamp = pose.header.stamp.to_sec()
-            target: Any = CorePoseStamped(
-                pose.header.frame_id.lstrip("/") or "world",
-                stamp or None,
-                rigid(pose.pose, "set_pose_target"),
-            )
-            if target.frame_id == "world":
-                target = target.pose
-        elif isinstance(pose, Pose):
-            target = rigid(pose, "set_pose_target")
-        elif isinstance(pose, (list, tuple, np.ndarray)):
-            target = pose_from_list(pose, "set_pose_target")
-        else:
-            raise MoveItCommanderException(
-                f"set_pose_target takes a Pose, PoseStamped or list, got {type(pose).__name__}"
-            )
-        self._target = ("pose", (target, frame))
-
-    def set_pose_targets(self, poses: Any, end_effector_link: str = "") -> None:
-        not_supported("MoveGroupCommander.set_pose_targets (several goal poses)", "use set_pose_target")
-
-    def clear_pose_targets(self) -> None:
-        self._target = None
-
-    def clear_pose_target(self, end_effector_link: str) -> None:
-        self._target = None
-
-    def set_max_velocity_scaling_factor(self, value: float) -> None:
-        self._velocity_scale = _fraction("max velocity scaling factor", value)
-
-    def set_max_acceleration_scaling_factor(self, value: float) -> None:
-        self._acceleration_scale = _fraction("max acceleration scaling factor", value)
-
-    def set_planning_time(self, seconds: float) -> None:
-        _log.info("set_planning_time(%s): the cell's planner has its own time limit", seconds)
-
-    def set_num_planning_attempts(self, num: int) -> None:
-        _log.info("set_num_planning_attempts(%s): the cell's planner is deterministic; one attempt", num)
-
-    def set_planner_id(self, planner_id: str) -> None:
-        _log.info("set_planner_id(%s): the cell plans with OMPL's RRTConnect", planner_id)
-
-    def allow_replanning(self, value: bool) -> None:
-        _log.info("allow_replanning(%s): the cell does not replan", value)
-
-    def set_goal_tolerance(self, value: float) -> None:
-        _log.info("set_goal_tolerance(%s): the cell's goals are exact (IK within 0.1 mm)", value)
-
-    set_goal_joint_tolerance = set_goal_position_tolerance = set_goal_orientation_tolerance = (
-        set_goal_tolerance
-    )
 
     # ------------------------------------------------------------ planning and moving
 
@@ -438,10 +317,3 @@ def _cartesian_args(args: tuple, kwargs: dict) -> tuple[float, bool]:
     if kwargs:
         raise MoveItCommanderException(f"compute_cartesian_path got unknown arguments: {', '.join(kwargs)}")
     return float(jump or 0.0), bool(avoid)
-
-
-def _fraction(what: str, value: float) -> float:
-    value = float(value)
-    if not 0 < value <= 1:
-        raise MoveItCommanderException(f"{what} must be in (0, 1], got {value}")
-    return value

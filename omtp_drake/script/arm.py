@@ -1,6 +1,6 @@
-"""An arm of the scripted cell, MoveIt-commander style: plans, moves and the system that commands it.
+"""An arm of the scripted cell, MoveIt-commander style: :class:`Arm`, the facade a script uses.
 
-Arms (:class:`Arm`, like MoveIt's ``MoveGroupCommander``): ``go`` to a named
+Arms (like MoveIt's ``MoveGroupCommander``): ``go`` to a named
 pose or joint values, ``move_to`` a tool pose (inverse kinematics; any tf frame),
 ``move_linear`` along straight lines (like ``compute_cartesian_path``, with a
 guard that stops the move as soon as a condition holds), ``plan`` / ``execute``.
@@ -14,302 +14,46 @@ it hit; a move that cannot be planned raises
 Tool frames: ``tip`` (the suction cup's face, default), ``suction_cup`` (the
 course's ``vacuum_gripperN_suction_cup``, 0.0675 m behind the face) and ``tool0``.
 
-An arm's position servo is fed by its :class:`ArmCommander`, a system the
-:class:`~omtp_drake.script.cell.Cell` adds to the diagram.
+The arm's parts live beside it: the system feeding its position servo in
+:mod:`omtp_drake.script.arm_commander`, the plans it makes and the step loop
+that runs them in :mod:`omtp_drake.script.motion` (:class:`Plan`,
+:class:`MoveResult`, :data:`SETTLE_TOLERANCE` and :data:`SETTLE_TIMEOUT` are
+importable from here too).
 """
 
 from __future__ import annotations
 
-import functools
 import math
-from collections.abc import Callable, Iterator, Sequence
-from dataclasses import dataclass, field, replace
-from typing import Any, Optional, Union
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from typing import Optional, Union
 
 import numpy as np
-from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform
-from pydrake.systems.framework import Context, DiscreteValues, LeafSystem, OutputPort
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.control.motion import ArmPlanner
 from omtp_drake.control.motion.scene import CupBox
-from omtp_drake.errors import CollisionError, ConfigError, PlanningError, UnknownNameError, check_duration
+from omtp_drake.errors import (
+    ConfigError,
+    GoalInCollisionError,
+    PlanningError,
+    UnknownNameError,
+    UnreachableError,
+    check_duration,
+)
 from omtp_drake.scenario import RobotConfig
+from omtp_drake.script.arm_commander import ArmCommander
+from omtp_drake.script.motion import SETTLE_TIMEOUT, SETTLE_TOLERANCE, MoveResult, MoveRunner, Plan
 from omtp_drake.script.scene import CellPlanningScene, world_pose
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.sim.tf import TfBuffer
 
-#: How often (s) a guarded move checks its condition, and an unguarded one its contacts.
-GUARD_PERIOD = 0.01
-CONTACT_CHECK_PERIOD = 0.05
-#: A joint move has arrived when every joint is this close (rad) to its goal.
-SETTLE_TOLERANCE = 5e-4
-#: ...and waits at most this long (s) after its trajectory's end for that.
-SETTLE_TIMEOUT = 1.0
-#: A guarded move that fires stops with this deceleration (m/s^2 at the tool, about).
-_STOP_TIME = 0.1
+__all__ = ["SETTLE_TIMEOUT", "SETTLE_TOLERANCE", "Arm", "ArmCommander", "MoveResult", "Plan", "Target"]
 
 Target = Union[str, Sequence[float], np.ndarray, RigidTransform, PoseStamped]
-
-
-@dataclass(frozen=True)
-class _Command:
-    """What an arm is told to do: follow ``trajectory`` (its own time axis, shifted by
-    ``t0``), then hold its end; or hold ``q`` when there is none."""
-
-    q: np.ndarray
-    trajectory: Optional[PiecewisePolynomial] = None
-    t0: float = 0.0
-
-    def __deepcopy__(self, memo: dict) -> _Command:
-        return self  # immutable: Drake clones abstract state on every update
-
-    def at(self, t: float) -> np.ndarray:
-        if self.trajectory is None:
-            return self.q
-        tau = min(max(t - self.t0, self.trajectory.start_time()), self.trajectory.end_time())
-        return self.trajectory.value(tau).ravel()
-
-
-class ArmCommander(LeafSystem):
-    """Feeds an arm's position servo with a joint trajectory that a script sets.
-
-    .. pydrake_system::
-
-        name: ArmCommander
-        output_ports:
-        - position
-
-    Output port ``position`` (vector, 6, :meth:`position_output_port`): the
-    trajectory sampled at ``rate_hz`` (the servo's command rate) and held, so
-    the servo reads a cached value between samples (no Python per plant step).
-
-    State: abstract, the command (:class:`_Command`: a trajectory and its start
-    time, or a position to hold); discrete, the sampled position. A script sets a
-    new command between advances with :meth:`command`.
-    """
-
-    def __init__(self, robot: RobotConfig):
-        super().__init__()
-        self.set_name(f"{robot.name}.commander")
-        q0 = arms.named_pose(robot.initial_pose, robot)
-        self._command = self.DeclareAbstractState(AbstractValue.Make(_Command(q0)))
-        self._q = self.DeclareDiscreteState(q0)
-        self._position_port = self.DeclareStateOutputPort("position", self._q)
-        self.DeclarePeriodicDiscreteUpdateEvent(1.0 / robot.command_rate_hz, 0.0, self._sample)
-        self.DeclareInitializationDiscreteUpdateEvent(self._sample)
-
-    def position_output_port(self) -> OutputPort:
-        """The ``position`` output: the sampled joint positions for the arm's servo."""
-        return self._position_port
-
-    def _sample(self, context: Context, discrete_state: DiscreteValues) -> None:
-        command: _Command = context.get_abstract_state(self._command).get_value()
-        discrete_state.set_value(self._q, command.at(context.get_time()))
-
-    def command(self, context: Context, command: _Command) -> None:
-        """The new command, from now on (the sampled position follows at the next sample)."""
-        context.SetAbstractState(self._command, command)
-
-    def current(self, context: Context) -> _Command:
-        return context.get_abstract_state(self._command).get_value()
-
-    def commanded_position(self, context: Context) -> np.ndarray:
-        """The position the servo is being sent now."""
-        return context.get_discrete_state(self._q).value().copy()
-
-
-@dataclass(frozen=True)
-class Plan:
-    """A timed joint motion of one arm, ready to :meth:`Arm.execute`.
-
-    Attributes:
-        trajectory: joint positions over the plan's own time (from 0).
-        path: the joint waypoints it was timed through.
-        kind: ``joint`` (straight or planned around obstacles), ``cartesian``.
-        fraction: for a Cartesian plan, the fraction of the asked motion it covers.
-    """
-
-    trajectory: PiecewisePolynomial
-    path: tuple[np.ndarray, ...]
-    kind: str
-    fraction: float = 1.0
-
-    @property
-    def duration(self) -> float:
-        return self.trajectory.end_time() - self.trajectory.start_time()
-
-    def __iter__(self) -> Iterator[Any]:
-        """``plan, fraction = arm.compute_cartesian_path(...)`` unpacks like MoveIt's tuple."""
-        return iter((self, self.fraction))
-
-
-@dataclass(frozen=True)
-class MoveResult:
-    """What a move did.
-
-    Attributes:
-        start, end: simulated times (s).
-        stopped: a guard (``until``) stopped the move before its end.
-        q: the arm's joint positions when the call returned.
-    """
-
-    start: float
-    end: float
-    stopped: bool
-    q: np.ndarray = field(repr=False)
-
-
-class _ArmMotion:
-    """An arm's motions in the running cell: a plan handed to its commander, run
-    with its guard and contact checks, and stopped when the guard fires."""
-
-    def __init__(
-        self,
-        runtime: FactoryRuntime,
-        name: str,
-        commander: ArmCommander,
-        scene: CellPlanningScene,
-        step_hooks: list[Callable[[], None]],
-    ):
-        self._runtime = runtime
-        self._commander = commander
-        self._scene = scene
-        self._step_hooks = step_hooks
-        self.name = name
-
-    def _joint_values(self) -> np.ndarray:
-        return self._runtime.joint_positions(self.name)
-
-    def contacts(self) -> list[tuple[str, str]]:
-        """What the arm or its gripper touches now, as sorted (own body, other body)
-        name pairs: the static cell, the other arm, and parts added to the planning
-        scene. Other parts are left out: they are pressed and pushed by physics (the
-        cup's vacuum attaches one on contact). The motion commands stop with
-        ``CollisionError`` when this is not empty."""
-        plant = self._runtime.station.plant
-        plant_context = plant.GetMyContextFromRoot(self._runtime.context)
-        # SceneGraph's penetration query: the pairs the plant's contact results would
-        # list, at a fifth of the cost of evaluating those after a step.
-        query = plant.get_geometry_query_input_port().Eval(plant_context)
-        pairs = query.ComputePointPairPenetration()
-        if not pairs:
-            return []
-        inspector = query.inspector()
-        own, parts = self._contact_bodies
-        names = self._scene.names()  # parts in it are obstacles, but for the one held
-        held = self._held_part() if names else ""
-        guarded = {parts[n] for n in names if n in parts and n != held}
-        ignored = set(parts.values()) - guarded
-        touched = set()
-        for pair in pairs:
-            a, b = (plant.GetBodyFromFrameId(inspector.GetFrameId(g)) for g in (pair.id_A, pair.id_B))
-            for mine, other in ((a, b), (b, a)):
-                i, j = int(mine.index()), int(other.index())
-                if i in own and j not in own and j not in ignored:
-                    touched.add((mine.name(), other.name()))
-        return sorted(touched)
-
-    def _held_part(self) -> str:
-        """The part this arm's gripper holds ("" when none, or no gripper)."""
-        runtime = self._runtime
-        return runtime.gripper_state(self.name).part if self.name in runtime.station.grippers else ""
-
-    @functools.cached_property
-    def _contact_bodies(self) -> tuple[set[int], dict[str, int]]:
-        """Body indices (fixed once the station is built): the arm's and its
-        gripper's, and the parts' by name."""
-        station = self._runtime.station
-        plant = station.plant
-        handles = station.arm(self.name)
-        own = {int(b) for b in plant.GetBodyIndices(handles.arm)}
-        if handles.gripper is not None:
-            own |= {int(b) for b in plant.GetBodyIndices(handles.gripper)}
-        parts = {n: int(plant.GetBodyByName(n, i).index()) for n, i in station.parts.items()}
-        return own, parts
-
-    def start(self, plan: Plan) -> float:
-        """Hands ``plan`` to the arm's commander from now; returns the start time."""
-        commander = self._commander
-        context = commander.GetMyMutableContextFromRoot(self._runtime.context)
-        start = self._runtime.time
-        # The plan's first sample is where the arm is; the commander takes over from it.
-        commander.command(
-            context, _Command(q=commander.commanded_position(context), trajectory=plan.trajectory, t0=start)
-        )
-        return start
-
-    def run(self, plan: Plan, until: Optional[Callable[[], bool]]) -> MoveResult:
-        """Runs ``plan`` from now to its end (and until the arm has settled), or
-        until ``until()`` holds; checks the arm's contacts on the way."""
-        runtime = self._runtime
-        commander = self._commander
-        context = commander.GetMyMutableContextFromRoot(runtime.context)
-        start = self.start(plan)
-        end = start + plan.duration
-        period = GUARD_PERIOD if until is not None else CONTACT_CHECK_PERIOD
-        stopped = False
-        next_contact_check = start + CONTACT_CHECK_PERIOD
-        while runtime.time < end - 1e-9:
-            runtime.advance_to(min(end, runtime.time + period))
-            if runtime.time >= next_contact_check - 1e-9 or runtime.time >= end - 1e-9:
-                self._check_contacts()
-                next_contact_check = runtime.time + CONTACT_CHECK_PERIOD
-            self._between_steps()
-            if until is not None and until():
-                stopped = True
-                self._stop(context)
-                break
-        goal = commander.current(context).at(math.inf)
-        settle_end = runtime.time + SETTLE_TIMEOUT
-        while (
-            not stopped
-            and np.max(np.abs(self._joint_values() - goal)) > SETTLE_TOLERANCE
-            and runtime.time < settle_end - 1e-9
-        ):
-            runtime.advance_to(min(settle_end, runtime.time + GUARD_PERIOD))
-            self._check_contacts()
-            self._between_steps()
-        return MoveResult(start, runtime.time, stopped, self._joint_values())
-
-    def _between_steps(self) -> None:
-        """The cell's move-step hooks (see :meth:`Cell.on_move_step
-        <omtp_drake.script.cell.Cell.on_move_step>`)."""
-        for hook in self._step_hooks:
-            hook()
-
-    def _stop(self, context: Context) -> None:
-        """Decelerates from the commanded motion to rest over about 0.1 s."""
-        command = self._commander.current(context)
-        t = self._runtime.time
-        q = command.at(t)
-        if command.trajectory is None:
-            return
-        tau = min(max(t - command.t0, command.trajectory.start_time()), command.trajectory.end_time())
-        v = command.trajectory.EvalDerivative(tau, 1).ravel()
-        q_rest = q + 0.5 * v * _STOP_TIME
-        stop = PiecewisePolynomial.CubicHermite(
-            [0.0, _STOP_TIME], np.column_stack([q, q_rest]), np.column_stack([v, np.zeros_like(v)])
-        )
-        self._commander.command(context, replace(command, trajectory=stop, t0=t))
-        self._runtime.advance(_STOP_TIME)
-
-    def _check_contacts(self) -> None:
-        """Raises CollisionError if the arm or its gripper touches anything but a
-        loose part (see :meth:`contacts`)."""
-        touched = self.contacts()
-        if not touched:
-            return
-        context = self._commander.GetMyMutableContextFromRoot(self._runtime.context)
-        self._commander.command(context, _Command(q=self._joint_values()))
-        pairs = ", ".join(f"{a} - {b}" for a, b in touched)
-        raise CollisionError(
-            f"t={self._runtime.time:.2f} s: {self.name} touched something it should not: {pairs}; "
-            "it stopped there"
-        )
 
 
 class Arm:
@@ -332,7 +76,7 @@ class Arm:
         self.config = runtime.station.arm(name).config
         self._planner: Optional[ArmPlanner] = None
         self._tool_frames = arms.tool_frame_names(self.config)
-        self._motion = _ArmMotion(runtime, name, commander, scene, step_hooks)
+        self._motion = MoveRunner(runtime, name, commander, scene, step_hooks)
 
     # ------------------------------------------------------------ state
 
@@ -374,8 +118,10 @@ class Arm:
         tool frame ``frame``. ``speed`` scales the joint velocity limits (0, 1].
 
         Raises:
-            PlanningError: unreachable, outside the joint limits, in collision, or no
-                collision-free path (the message says which and names the bodies).
+            PlanningError: unreachable or outside the joint limits (UnreachableError),
+                the goal or the start in collision (GoalInCollisionError,
+                StartInCollisionError), or no collision-free path (the message says
+                which and names the bodies).
         """
         speed = _check_fraction("speed", speed)
         planner, other_q = self._planning_scene(), self._other_arms()
@@ -510,16 +256,13 @@ class Arm:
         if isinstance(target, (RigidTransform, PoseStamped)):
             X_WE = world_pose(self._tf, target)
             return planner.ik(X_WE, frame=frame, q_seed=self.joint_values(), other_q=other_q)
-        try:
-            q = arms.check_joint_positions(target, self.config)
-        except ConfigError as e:
-            if "outside its limits" not in str(e):
-                raise
-            raise PlanningError(f"{self.name}: the goal is outside the joint limits: {e}") from None
+        q = _joint_goal(target, self.config)
         collisions = planner.collisions(q, other_q)
         if collisions:
             pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
-            raise PlanningError(f"{self.name}: the goal {np.round(q, 3).tolist()} is in collision: {pairs}")
+            raise GoalInCollisionError(
+                f"{self.name}: the goal {np.round(q, 3).tolist()} is in collision: {pairs}"
+            )
         return q
 
     def _other_arms(self) -> dict[str, np.ndarray]:
@@ -550,6 +293,18 @@ class Arm:
         else:
             planner.scene.clear_held_part()
         return planner
+
+
+def _joint_goal(target: Sequence[float] | np.ndarray, config: RobotConfig) -> np.ndarray:
+    """``target`` as six joint positions of the arm ``config``: ConfigError when they
+    are no six finite numbers, UnreachableError when they are outside the joint limits."""
+    try:
+        return arms.check_joint_positions(target, config)
+    except ConfigError as e:
+        error = e
+    # Six finite numbers pass without limits: the limits were what refused them.
+    arms.check_joint_positions(target, replace(config, joint_limit=math.inf))
+    raise UnreachableError(f"{config.name}: the goal is outside the joint limits: {error}")
 
 
 def _check_fraction(what: str, value: float) -> float:

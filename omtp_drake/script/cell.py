@@ -46,7 +46,8 @@ from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
 from omtp_drake.errors import UnknownNameError, check_duration
 from omtp_drake.scenario import Scenario, as_scenario
-from omtp_drake.script.arm import Arm, ArmCommander
+from omtp_drake.script.arm import Arm
+from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
 from omtp_drake.script.devices import Camera, Gripper, wait_until
 from omtp_drake.script.scene import CellPlanningScene, world_pose

@@ -37,7 +37,7 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.station import ArmHandles, add_cell_models
 from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
 from omtp_drake.control.motion.scene import PlanningScene
-from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
+from omtp_drake.errors import ConfigError, GoalInCollisionError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, Scenario
 
 #: Other arms' joint positions: one array (when there is one other arm) or by robot name.
@@ -211,21 +211,21 @@ class CollisionModel:
         return pairs
 
     def require_free(self, what: str, q: np.ndarray, full: np.ndarray) -> None:
-        """PlanningError naming the touching pairs unless the full configuration
-        ``full`` (the arm at ``q``, the ``what`` configuration) is collision free."""
+        """GoalInCollisionError naming the touching pairs unless the full configuration
+        ``full`` (the arm at ``q``, the ``what`` configuration: a goal) is collision free."""
         if not self.config_free(full):
-            raise PlanningError(
+            raise GoalInCollisionError(
                 f"the {what} configuration {fmt_q(q)} of {self.config.name} is in collision: "
                 f"{fmt_pairs(self.pairs(full))}"
             )
 
     def ik_error(
         self, where: str, solutions: list[np.ndarray], q_seed: np.ndarray, base: np.ndarray
-    ) -> PlanningError:
+    ) -> GoalInCollisionError:
         """The error for IK whose every solution is in collision: the pairs touching at
         the solution nearest ``q_seed`` (``base``: the full configuration)."""
         nearest = min(solutions, key=lambda q: float(np.linalg.norm(q - q_seed)))
-        return PlanningError(
+        return GoalInCollisionError(
             f"every IK solution of the {where} is in collision; the nearest "
             f"{fmt_q(nearest)}: {fmt_pairs(self.pairs(self.with_arm(base, nearest)))}"
         )

@@ -20,7 +20,7 @@ from pydrake.solvers import Solve
 from omtp_drake.cell import arms
 from omtp_drake.control.motion.collision import CollisionModel
 from omtp_drake.control.motion.messages import fmt_pose
-from omtp_drake.errors import ConfigError, PlanningError, UnknownNameError
+from omtp_drake.errors import ConfigError, UnknownNameError, UnreachableError
 from omtp_drake.scenario import RobotConfig, Scenario
 
 #: The course's named poses (short names) that seed IK after the caller's seed.
@@ -139,11 +139,11 @@ class ArmKinematics:
         outside = np.maximum(wrapped - self.upper, self.lower - wrapped)
         return wrapped, outside
 
-    def joint_limit_error(self, where: str, q: np.ndarray, outside: np.ndarray) -> PlanningError:
+    def joint_limit_error(self, where: str, q: np.ndarray, outside: np.ndarray) -> UnreachableError:
         """The error for a pose reachable only outside the joint limits: the joint
         furthest ``outside`` them and its value in the solution ``q``."""
         j = int(np.argmax(outside))
-        return PlanningError(
+        return UnreachableError(
             f"the {where} is reachable only outside the joint limits: "
             f"{arms.JOINT_NAMES[j]} would be {q[j]:.3f} rad, limits "
             f"[{self.lower[j]:.3f}, {self.upper[j]:.3f}]"
@@ -204,7 +204,7 @@ def inverse_kinematics(
         if np.any(outside > 0):
             raise kinematics.joint_limit_error(where, q, outside)
     position_error, angle_error = kinematics.closest_miss(tool, X_BE, seeds[:3])
-    raise PlanningError(
+    raise UnreachableError(
         f"unreachable: the {where}: the closest solution misses it by "
         f"{position_error * 1000:.0f} mm and {math.degrees(angle_error):.1f} deg"
     )

@@ -216,10 +216,10 @@ class ArmPlanner:
         (:func:`~omtp_drake.control.motion.search.move_out`).
 
         Raises:
-            PlanningError: the goal in collision, a start in collision with no free
-                configuration near it (the message names the bodies), or no path found
-                within ``timeout`` s (the message names the bodies blocking the
-                straight path).
+            PlanningError: the goal in collision (GoalInCollisionError), a start in
+                collision with no free configuration near it (StartInCollisionError; the
+                messages name the bodies), or no path found within ``timeout`` s (the
+                message names the bodies blocking the straight path).
         """
         if timeout <= 0:
             raise ConfigError(f"timeout must be > 0 s, got {timeout}")
@@ -275,8 +275,9 @@ class ArmPlanner:
 
         Raises:
             PlanningError: ``unreachable`` (with the distance and angle by which the
-                closest solution misses the pose), reachable only ``outside the joint
-                limits``, or every solution found is in collision (naming the bodies).
+                closest solution misses the pose) or reachable only ``outside the joint
+                limits`` (UnreachableError), or every solution found is in collision
+                (GoalInCollisionError, naming the bodies).
         """
         q_seed = self._q(self._collision.q_initial if q_seed is None else q_seed)
         return inverse_kinematics(

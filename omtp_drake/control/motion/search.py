@@ -23,7 +23,7 @@ from pydrake.planning import SceneGraphCollisionChecker
 from omtp_drake.control.motion.collision import CollisionModel
 from omtp_drake.control.motion.ik import ArmKinematics
 from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
-from omtp_drake.errors import PlanningError
+from omtp_drake.errors import PlanningError, StartInCollisionError
 
 _log = logging.getLogger(__name__)
 
@@ -191,7 +191,7 @@ def move_out(
     same configuration.
 
     Raises:
-        PlanningError: no configuration within 0.3 rad a joint is free (naming the
+        StartInCollisionError: no configuration within 0.3 rad a joint is free (naming the
             pairs in collision at the start).
     """
     rng = np.random.default_rng(seed)
@@ -201,7 +201,7 @@ def move_out(
             q = np.clip(q_start + nudge, kinematics.lower, kinematics.upper)
             if collision.config_free(collision.with_arm(base, q)):
                 return q
-    raise PlanningError(
+    raise StartInCollisionError(
         f"the start configuration {fmt_q(q_start)} of {collision.config.name} is in collision "
         f"({fmt_pairs(collision.pairs(base))}) and no configuration within 0.3 rad of it is free"
     )
