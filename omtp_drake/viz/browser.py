@@ -15,14 +15,16 @@ scene through ~200 ``fetch("data:...")`` calls.
 
 from __future__ import annotations
 
+import asyncio
 import json
 import logging
 import os
 import shutil
 import time as _time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any, Optional, TypeVar
 
 from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 
@@ -30,6 +32,7 @@ if TYPE_CHECKING:
     from playwright.sync_api import Page
 
 _log = logging.getLogger(__name__)
+T = TypeVar("T")
 
 #: Names under which Debian and other distributions install chromium.
 BROWSER_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
@@ -140,6 +143,28 @@ def screenshot(
             f"no headless browser found on PATH (looked for: "
             f"{', '.join(BROWSER_NAMES)}); on Debian: apt-get install chromium"
         )
+    image, shown = _outside_event_loop(_capture, browser, html, time, size, list(hide), timeout_s)
+    png.parent.mkdir(parents=True, exist_ok=True)
+    png.write_bytes(image)
+    _log.info("screenshot of %s at t = %.2f s written to %s", html.name, shown, png)
+    return png
+
+
+def _outside_event_loop(function: Callable[..., T], *args: Any) -> T:
+    """``function(*args)`` here, or in a thread of its own if this thread runs an asyncio
+    loop (a Jupyter kernel's), which Playwright's sync API refuses."""
+    try:
+        asyncio.get_running_loop()
+    except RuntimeError:
+        return function(*args)
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        return pool.submit(function, *args).result()
+
+
+def _capture(
+    browser: str, html: Path, time: Optional[float], size: tuple[int, int], hide: list[str], timeout_s: float
+) -> tuple[bytes, float]:
+    """Launches ``browser``, renders ``html`` in it and returns (PNG bytes, replay time shown)."""
     from playwright.sync_api import Error as PlaywrightError
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
     from playwright.sync_api import sync_playwright
@@ -157,17 +182,13 @@ def screenshot(
             ) from None
         try:
             page = chromium.new_page(viewport={"width": size[0], "height": size[1]}, device_scale_factor=1)
-            image, shown = _render(page, html, time, list(hide), deadline)
+            return _render(page, html, time, hide, deadline)
         except PlaywrightTimeout:
             raise BrowserError(f"chromium did not finish {html.name} within {timeout_s} s") from None
         except PlaywrightError as e:
             raise BrowserError(f"chromium failed on {html.name}: {str(e).splitlines()[0]}") from None
         finally:
             chromium.close()
-    png.parent.mkdir(parents=True, exist_ok=True)
-    png.write_bytes(image)
-    _log.info("screenshot of %s at t = %.2f s written to %s", html.name, shown, png)
-    return png
 
 
 def _check_request(html: Path, size: tuple[int, int], time: Optional[float]) -> None:
