@@ -4,8 +4,8 @@ Two sources of models feed the factory:
 
 * ``models/*.xacro`` (shipped with this package): every piece of the cell built
   from primitives. They are expanded with the PyPI ``xacro`` package, without
-  ROS: ``$(find PKG)`` is resolved from :data:`PACKAGES` instead of the ament
-  index.
+  ROS: they include each other by paths relative to the including file, so no
+  ``$(find PKG)`` (which needs the ament index) is involved.
 * The classic UR5 / UR10 of the installed ``example-robot-data`` package. Drake
   1.51 cannot use them as shipped (``.stl`` collision meshes are rejected,
   Meshcat does not draw ``.stl``, ``.dae`` doubles the replay size, the URDF
@@ -17,7 +17,6 @@ Two sources of models feed the factory:
 
 from __future__ import annotations
 
-import contextlib
 import functools
 import hashlib
 import importlib.metadata
@@ -26,7 +25,7 @@ import math
 import os
 import tempfile
 import xml.etree.ElementTree as ET
-from collections.abc import Iterator, Mapping
+from collections.abc import Mapping
 from pathlib import Path
 
 from omtp_drake.errors import ConfigError, UnknownNameError
@@ -35,9 +34,6 @@ _log = logging.getLogger(__name__)
 
 #: The repository folder of model sources (``models/``).
 MODELS_DIR = Path(__file__).resolve().parent.parent / "models"
-
-#: ``$(find PKG)`` targets known to the xacro expansion.
-PACKAGES: Mapping[str, Path] = {"omtp_drake_models": MODELS_DIR}
 
 #: Arms this project can load, by the name used in scenarios.
 UR_MODELS = ("ur5", "ur10")
@@ -51,27 +47,6 @@ _DRAKE_NS = "http://drake.mit.edu"
 # xacro without ROS
 
 
-@contextlib.contextmanager
-def _find_from(packages: Mapping[str, Path]) -> Iterator[None]:
-    """Temporarily route xacro's ``$(find PKG)`` to ``packages``."""
-    from xacro import substitution_args
-
-    def find(pkg: str) -> str:
-        if pkg not in packages:
-            raise UnknownNameError("xacro package", pkg, packages)
-        return str(packages[pkg])
-
-    saved = substitution_args._eval_find
-    saved_dict = substitution_args._eval_dict["find"]
-    substitution_args._eval_find = find
-    substitution_args._eval_dict["find"] = find
-    try:
-        yield
-    finally:
-        substitution_args._eval_find = saved
-        substitution_args._eval_dict["find"] = saved_dict
-
-
 def expand_xacro(path: Path | str, args: Mapping[str, object] | None = None) -> str:
     """Expands the xacro file ``path`` with ``args`` and returns the URDF text."""
     import xacro
@@ -80,11 +55,10 @@ def expand_xacro(path: Path | str, args: Mapping[str, object] | None = None) -> 
     if not path.is_file():
         raise ConfigError(f"xacro file {str(path)!r} does not exist")
     mappings = {k: _xacro_value(v) for k, v in (args or {}).items()}
-    with _find_from(PACKAGES):
-        try:
-            doc = xacro.process_file(str(path), mappings=mappings)
-        except xacro.XacroException as e:
-            raise ConfigError(f"cannot expand {path.name} with {mappings}: {e}") from e
+    try:
+        doc = xacro.process_file(str(path), mappings=mappings)
+    except xacro.XacroException as e:
+        raise ConfigError(f"cannot expand {path.name} with {mappings}: {e}") from e
     return doc.toprettyxml(indent="  ")
 
 
@@ -215,6 +189,15 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
     ET.register_namespace("drake", _DRAKE_NS)
     root = ET.parse(src).getroot()
     root.set("name", name)
+    _drop_world_and_ee_collision(root)
+    _prefix_names(root, prefix, joint_limit)
+    _point_meshes_to(root, meshes)
+    _write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    return dst
+
+
+def _drop_world_and_ee_collision(root: ET.Element) -> None:
+    """Removes ``<gazebo>``, the ``world`` link and its joint, and ``ee_link``'s collision box."""
     for el in root.findall("gazebo"):
         root.remove(el)
     for joint in root.findall("joint"):
@@ -226,6 +209,10 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
         if link.get("name") == "ee_link":
             for col in link.findall("collision"):
                 link.remove(col)
+
+
+def _prefix_names(root: ET.Element, prefix: str, joint_limit: float) -> None:
+    """Prefixes link, joint, transmission and actuator names; sets revolute limits to +/- ``joint_limit``."""
     for link in root.findall("link"):
         link.set("name", prefix + _attr(link, "name"))
     for joint in root.findall("joint"):
@@ -243,6 +230,10 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
         trans_joint.set("name", prefix + _attr(trans_joint, "name"))
         actuator = _child(trans, "actuator")
         actuator.set("name", prefix + _attr(actuator, "name"))
+
+
+def _point_meshes_to(root: ET.Element, meshes: Path) -> None:
+    """Points every mesh at its converted file under ``meshes``; collision meshes are declared convex."""
     for mesh in root.iter("mesh"):
         filename = _attr(mesh, "filename")
         kind = "collision" if "/collision/" in filename else "visual"
@@ -251,8 +242,6 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
         mesh.set("filename", str(meshes / kind / (stem + ext)))
         if kind == "collision":
             ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
-    _write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
-    return dst
 
 
 def _child(element: ET.Element, tag: str) -> ET.Element:

@@ -49,51 +49,6 @@ def cmd_scenarios(args: argparse.Namespace) -> int:
     return 0
 
 
-def _print_result(result) -> None:
-    summary = result.summary
-    print(f"{'part':>10} {'start s':>8} {'end s':>8} {'cycle s':>8} {'attempt':>7}  result")
-    for pick in result.picks:
-        outcome = "ok" if pick.success else f"failed: {pick.reason}"
-        if pick.position is not None:  # where the part lies (a drop: where it landed)
-            outcome += " at ({:.2f}, {:.2f}, {:.2f})".format(*pick.position)
-        print(
-            f"{pick.part or '-':>10} {pick.start:8.2f} {pick.end:8.2f} {pick.cycle_time:8.2f} "
-            f"{pick.attempt:7d}  {outcome}"
-        )
-    print(
-        f"{result.scenario} (seed {result.seed}): {summary['in_bin']}/{summary['parts']} parts "
-        f"in {result.bin}; {summary['succeeded']} picks ok, {summary['failed']} failed; "
-        f"mean cycle {summary['mean_cycle_time_s']:.2f} s; "
-        f"{summary['sim_time_s']:.1f} s simulated in {summary['wall_time_s']:.1f} s "
-        f"(real-time factor {summary['real_time_factor']:.1f})"
-    )
-    print(result.ledger.summary_line())
-    for fault in result.faults:
-        print(f"fault: {_fault_line(fault)}")
-    print(result.verdict)
-
-
-def _fault_line(fault: dict) -> str:
-    """One line of what a fault did: ``drop (vacuum_failure robot2) at 3.95-4.45 s: dropped
-    object_1, landed on_floor at (-8.460, -1.755, 0.101)``."""
-    span = f"{fault['time']:.2f}" + (f"-{fault['until']:.2f}" if fault["until"] is not None else "")
-    head = f"{fault['name']} ({fault['kind']}{' ' + fault['target'] if fault['target'] else ''}) at {span} s"
-    effect = fault["effect"]
-    words = []
-    if "dropped" in effect:
-        words.append(f"dropped {effect['dropped']}" if effect["dropped"] else "held nothing")
-    if "landed" in effect:
-        x, y, z = effect["landed"]["position"]
-        words.append(f"landed {effect['landed']['where']} at ({x:.3f}, {y:.3f}, {z:.3f})")
-    if "knocked" in effect:
-        words.append(
-            f"knocked {effect['knocked']}" if effect["knocked"] else f"knocked nothing: {effect['why']}"
-        )
-    if "carried" in effect:
-        words.append(f"carried {', '.join(effect['carried']) or 'no part'}")
-    return head + (": " + ", ".join(words) if words else "")
-
-
 def _progress(args: argparse.Namespace) -> bool:
     """A progress bar only on a terminal (a log gets no carriage-return lines):
     ``--progress`` asks for one anyway, ``-q`` for none."""
@@ -126,7 +81,7 @@ def _run_and_report(args: argparse.Namespace, scenario: str, *, progress: bool) 
         progress=progress,
         on_start=started,
     )
-    _print_result(result)
+    print(result.format())
     if getattr(args, "json", None):
         with open(args.json, "w") as f:
             json.dump(result.to_dict(), f, indent=2)
@@ -222,71 +177,25 @@ def cmd_batch(args: argparse.Namespace) -> int:
     return 0 if all(r.success for r in records) else 1
 
 
-def format_transform(X, time: float = 0.0) -> str:
-    """Like ROS ``tf_echo``."""
-    q = X.rotation().ToQuaternion()
-    from pydrake.math import RollPitchYaw
-
-    rpy = RollPitchYaw(X.rotation()).vector()
-    t = X.translation()
-    return (
-        f"At time {time:.3f}\n"
-        f"- Translation: [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}]\n"
-        f"- Rotation: in Quaternion [{q.x():.3f}, {q.y():.3f}, {q.z():.3f}, {q.w():.3f}]\n"
-        f"            in RPY (radian) [{rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}]\n"
-        f"            in RPY (degree) [{math.degrees(rpy[0]):.3f}, {math.degrees(rpy[1]):.3f}, "
-        f"{math.degrees(rpy[2]):.3f}]"
-    )
-
-
 def _simulated_station(
     scenario: str, time: float, poses: dict[str, str] | None = None, camera: str | None = None
 ) -> tuple[Station, Context]:
-    """(station, root context): the scenario run (spawner included) from rest to
-    ``time``, each arm held at a named pose (``poses``: robot -> pose, default
-    Home) or, without ``poses``, at its initial pose. ``camera`` is checked
-    before simulating."""
-    from omtp_drake.cell import arms
-    from omtp_drake.errors import UnknownNameError
-    from omtp_drake.sim.runtime import FactoryRuntime
+    """(station, root context) of :func:`~omtp_drake.sim.runtime.runtime_at` at ``--time``."""
+    from omtp_drake.sim.runtime import runtime_at
 
     if not (math.isfinite(time) and time >= 0):
         raise ConfigError(f"--time {time!r} is invalid; valid: a finite time >= 0 s")
-    runtime = FactoryRuntime(scenario)
-    station = runtime.station
-    if camera is not None and camera not in station.cameras:
-        raise UnknownNameError("camera", camera, station.cameras)
-    if poses is not None:
-        for robot in poses:
-            station.arm(robot)  # unknown robot: one clear error
-        for name, h in station.arms.items():
-            runtime.hold_arm(name, arms.named_pose(poses.get(name, "Home"), h.config))
-    runtime.advance_to(time)
-    # The images at `time` (not the state one plant step later: the plant stays at `time`).
-    runtime.sample_cameras()
-    context = runtime.context
-    return station, context
+    runtime = runtime_at(scenario, time, poses, camera)
+    return runtime.station, runtime.context
 
 
 def cmd_tf_echo(args: argparse.Namespace) -> int:
-    from omtp_drake.sim.tf import TfBuffer
+    from omtp_drake.sim.tf import TfBuffer, format_transform, transform_json
 
     station, context = _simulated_station(args.scenario, args.time, _parse_poses(args.pose))
     stamped = TfBuffer.from_context(station, context).lookup_transform(args.source, args.target)
-    X = stamped.transform
-    if args.json:
-        q = X.rotation().ToQuaternion()
-        print(
-            json.dumps(
-                {
-                    "translation": [float(v) for v in X.translation()],
-                    "rotation_xyzw": [q.x(), q.y(), q.z(), q.w()],
-                    "time": stamped.time,
-                }
-            )
-        )
-    else:
-        print(format_transform(X, stamped.time))
+    text = transform_json if args.json else format_transform
+    print(text(stamped.transform, stamped.time))
     return 0
 
 
@@ -408,8 +317,8 @@ def _add_replay_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_screenshot)
 
 
-def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
-    """Registers the commands that inspect the cell at a time, like ROS tools: tf-echo, camera, frames."""
+def _add_tf_echo_command(sub: argparse._SubParsersAction) -> None:
+    """Registers ``omtp-drake tf-echo``: a frame's pose in another, like ROS tf_echo."""
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("source", metavar="SOURCE")
@@ -432,6 +341,10 @@ def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_tf_echo)
 
+
+def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
+    """Registers the commands that inspect the cell at a time, like ROS tools: tf-echo, camera, frames."""
+    _add_tf_echo_command(sub)
     p = sub.add_parser("camera", help="what a logical camera sees, like rostopic echo")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("--camera", required=True, metavar="NAME", help="e.g. logical_camera_1")

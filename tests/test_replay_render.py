@@ -2,6 +2,7 @@
 with the scene, robot 2, the logical cameras' frusta and a detection marker on
 screen, seen from the task's view; markers float over detected parts only."""
 
+import asyncio
 import shutil
 
 import numpy as np
@@ -84,6 +85,17 @@ def test_replay_time_moves_the_robot(replay, tmp_path):
     with pytest.raises(ConfigError, match=r"past the end of replay.html \(0\.\.3\.0"):
         screenshot(replay, tmp_path / "late.png", time=9.0, browser=CHROMIUM)
     assert not (tmp_path / "late.png").exists()
+
+
+@needs_chromium
+def test_screenshot_from_a_running_event_loop_as_in_a_notebook(replay, tmp_path):
+    # A Jupyter kernel runs an asyncio loop in the thread that runs the cells.
+    async def cell():
+        return screenshot(replay, tmp_path / "nb.png", time=1.0, size=(320, 200), browser=CHROMIUM)
+
+    image = colours(asyncio.run(cell()))[0]
+    assert image.shape == (200, 320, 3)
+    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 500
 
 
 @needs_chromium

@@ -11,7 +11,6 @@ from __future__ import annotations
 from typing import ClassVar
 
 from omtp_drake.ros.messages import (
-    Duration,
     Header,
     JointState,
     JointTrajectory,
@@ -245,9 +244,3 @@ class ExecuteTrajectoryAction(Message):
     _type = "moveit_msgs/ExecuteTrajectoryAction"
     _goal_class: ClassVar[type[Message]] = ExecuteTrajectoryGoal
     _result_class: ClassVar[type[Message]] = ExecuteTrajectoryResult
-
-
-def duration_of(trajectory: RobotTrajectory) -> Duration:
-    """The time from start of a trajectory's last point (zero when it has none)."""
-    points = trajectory.joint_trajectory.points
-    return points[-1].time_from_start if points else Duration()

@@ -298,13 +298,6 @@ class Session:
             self._in_callback -= 1
             subscriber.busy = False
 
-    @property
-    def in_callback(self) -> bool:
-        return self._in_callback > 0
-
-    def topic_names(self) -> list[str]:
-        return sorted(set(self.sources) | {t for t, subs in self._subscribers.items() if subs})
-
 
 def finite_seconds(value: Any, what: str) -> float:
     """``value`` (seconds, a Duration) as finite seconds >= 0."""

@@ -80,6 +80,28 @@ class FaultReport:
         }
 
 
+def fault_line(fault: dict[str, Any]) -> str:
+    """One line of what a fault did (``fault`` as :meth:`FaultReport.to_dict` gives it):
+    ``drop (vacuum_failure robot2) at 3.95-4.45 s: dropped object_1, landed on_floor at
+    (-8.460, -1.755, 0.101)``."""
+    span = f"{fault['time']:.2f}" + (f"-{fault['until']:.2f}" if fault["until"] is not None else "")
+    head = f"{fault['name']} ({fault['kind']}{' ' + fault['target'] if fault['target'] else ''}) at {span} s"
+    effect = fault["effect"]
+    words = []
+    if "dropped" in effect:
+        words.append(f"dropped {effect['dropped']}" if effect["dropped"] else "held nothing")
+    if "landed" in effect:
+        x, y, z = effect["landed"]["position"]
+        words.append(f"landed {effect['landed']['where']} at ({x:.3f}, {y:.3f}, {z:.3f})")
+    if "knocked" in effect:
+        words.append(
+            f"knocked {effect['knocked']}" if effect["knocked"] else f"knocked nothing: {effect['why']}"
+        )
+    if "carried" in effect:
+        words.append(f"carried {', '.join(effect['carried']) or 'no part'}")
+    return head + (": " + ", ".join(words) if words else "")
+
+
 @dataclass
 class _Watch:
     """The state of one fault's trigger between checks."""

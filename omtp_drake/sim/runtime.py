@@ -351,3 +351,28 @@ class FactoryRuntime:
         if thing is None:
             raise ConfigError(f"this scenario has no {what}")
         return thing
+
+
+def runtime_at(
+    scenario: Scenario | str,
+    time: float,
+    poses: Optional[dict[str, str]] = None,
+    camera: Optional[str] = None,
+) -> FactoryRuntime:
+    """The scenario run (spawner included) from rest to ``time``, each arm held at a
+    named pose (``poses``: robot -> pose, default Home) or, without ``poses``, at its
+    initial pose, with the cameras' images of ``time``. An unknown ``camera`` or robot
+    in ``poses`` raises :class:`UnknownNameError` before anything is simulated."""
+    runtime = FactoryRuntime(scenario)
+    station = runtime.station
+    if camera is not None and camera not in station.cameras:
+        raise UnknownNameError("camera", camera, station.cameras)
+    if poses is not None:
+        for robot in poses:
+            station.arm(robot)  # unknown robot: one clear error
+        for name, h in station.arms.items():
+            runtime.hold_arm(name, arms.named_pose(poses.get(name, "Home"), h.config))
+    runtime.advance_to(time)
+    # The images at `time` (not the state one plant step later: the plant stays at `time`).
+    runtime.sample_cameras()
+    return runtime

@@ -21,13 +21,14 @@ Typical use::
 from __future__ import annotations
 
 import bisect
+import json
 import logging
 import math
 from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from typing import Optional
 
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.framework import Context, EventStatus
 
 from omtp_drake.cell.frames import TIME_EPS, FrameTree
@@ -459,3 +460,30 @@ class TfBuffer:
         if self._tree.is_fixed(name):
             return "fixed"
         return "moving"
+
+
+def format_transform(X: RigidTransform, time: float = 0.0) -> str:
+    """``X`` at ``time`` as ROS ``tf_echo`` prints a transform."""
+    q = X.rotation().ToQuaternion()
+    rpy = RollPitchYaw(X.rotation()).vector()
+    t = X.translation()
+    return (
+        f"At time {time:.3f}\n"
+        f"- Translation: [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}]\n"
+        f"- Rotation: in Quaternion [{q.x():.3f}, {q.y():.3f}, {q.z():.3f}, {q.w():.3f}]\n"
+        f"            in RPY (radian) [{rpy[0]:.3f}, {rpy[1]:.3f}, {rpy[2]:.3f}]\n"
+        f"            in RPY (degree) [{math.degrees(rpy[0]):.3f}, {math.degrees(rpy[1]):.3f}, "
+        f"{math.degrees(rpy[2]):.3f}]"
+    )
+
+
+def transform_json(X: RigidTransform, time: float) -> str:
+    """``X`` at ``time`` as one JSON object: ``translation``, ``rotation_xyzw``, ``time``."""
+    q = X.rotation().ToQuaternion()
+    return json.dumps(
+        {
+            "translation": [float(v) for v in X.translation()],
+            "rotation_xyzw": [q.x(), q.y(), q.z(), q.w()],
+            "time": time,
+        }
+    )

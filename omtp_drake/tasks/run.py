@@ -34,6 +34,7 @@ from omtp_drake.control.pick_and_place import (
 )
 from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.scenario import Scenario, as_scenario
+from omtp_drake.sim.faults import fault_line
 from omtp_drake.sim.ledger import Ledger
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.viz.meshcat import add_visual_extras, save_recording, start_meshcat, start_recording, view_for
@@ -120,6 +121,31 @@ class TaskResult:
         """Every part that entered the world is accounted for: the ledger balances and
         no part is left loose unrecorded."""
         return self.ledger.balanced and not self.unaccounted_parts
+
+    def format(self) -> str:
+        """The result as ``omtp-drake run`` prints it: a line per pick, the counts, the
+        ledger, a line per fault that struck and the verdict."""
+        summary = self.summary
+        lines = [f"{'part':>10} {'start s':>8} {'end s':>8} {'cycle s':>8} {'attempt':>7}  result"]
+        for pick in self.picks:
+            outcome = "ok" if pick.success else f"failed: {pick.reason}"
+            if pick.position is not None:  # where the part lies (a drop: where it landed)
+                outcome += " at ({:.2f}, {:.2f}, {:.2f})".format(*pick.position)
+            lines.append(
+                f"{pick.part or '-':>10} {pick.start:8.2f} {pick.end:8.2f} {pick.cycle_time:8.2f} "
+                f"{pick.attempt:7d}  {outcome}"
+            )
+        lines.append(
+            f"{self.scenario} (seed {self.seed}): {summary['in_bin']}/{summary['parts']} parts "
+            f"in {self.bin}; {summary['succeeded']} picks ok, {summary['failed']} failed; "
+            f"mean cycle {summary['mean_cycle_time_s']:.2f} s; "
+            f"{summary['sim_time_s']:.1f} s simulated in {summary['wall_time_s']:.1f} s "
+            f"(real-time factor {summary['real_time_factor']:.1f})"
+        )
+        lines.append(self.ledger.summary_line())
+        lines += [f"fault: {fault_line(fault)}" for fault in self.faults]
+        lines.append(self.verdict)
+        return "\n".join(lines)
 
     def to_dict(self) -> dict:
         return {

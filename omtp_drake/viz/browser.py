@@ -6,38 +6,39 @@ every embedded Meshcat command has been applied, moves the recorded animation
 to ``time`` (seconds of simulated time; default: its end), and saves what a
 user would see in a 1280 x 800 browser window.
 
-It drives Debian's ``chromium`` through the Chrome DevTools Protocol over a
-pipe (``--remote-debugging-pipe``), so no Python package and no network port is
-needed, and it waits on the page's own state rather than on a time budget:
-``chromium --screenshot --virtual-time-budget`` hangs now and then on these
-pages, which load their scene through ~200 ``fetch("data:...")`` calls.
+It drives the system's chromium (``find_browser``) through Playwright, which
+downloads nothing when given the browser's path, and it waits on the page's
+own state rather than on a time budget: ``chromium --screenshot
+--virtual-time-budget`` hangs now and then on these pages, which load their
+scene through ~200 ``fetch("data:...")`` calls.
 """
 
 from __future__ import annotations
 
-import base64
-import fcntl
+import asyncio
 import json
 import logging
 import os
-import queue
 import shutil
-import signal
-import subprocess
-import sys
-import tempfile
-import threading
 import time as _time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional, TypeVar
 
 from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 
+if TYPE_CHECKING:
+    from playwright.sync_api import Page
+
 _log = logging.getLogger(__name__)
+T = TypeVar("T")
 
 #: Names under which Debian and other distributions install chromium.
 BROWSER_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
+
+#: Switches added to Playwright's own: software WebGL (SwiftShader), as on a machine without a GPU.
+_CHROMIUM_ARGS = ("--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--mute-audio")
 
 
 def find_browser() -> Optional[str]:
@@ -111,135 +112,6 @@ _SEEK = """
 """
 
 
-_TRAMPOLINE = (
-    "import os, sys\n"
-    "i, o = int(sys.argv[1]), int(sys.argv[2])\n"
-    "os.dup2(i, 3); os.dup2(o, 4); os.close(i); os.close(o)\n"
-    "os.execvp(sys.argv[3], sys.argv[3:])\n"
-)
-
-
-class _DevTools:
-    """A minimal Chrome DevTools Protocol client over chromium's debugging pipe
-    (requests on fd 3, replies and events on fd 4, NUL-separated JSON)."""
-
-    def __init__(self, command: list[str]):
-        self._browser = command[0]
-        to_browser_r, to_browser_w = os.pipe()
-        from_browser_r, from_browser_w = os.pipe()
-        # The child's ends go to fds >= 10 so that a trampoline (a fresh Python,
-        # safe where a preexec_fn is not: the caller may run threads, e.g.
-        # Meshcat's server) can move them to 3 and 4 without clobbering one
-        # another, then exec the browser.
-        child_in = fcntl.fcntl(to_browser_r, fcntl.F_DUPFD_CLOEXEC, 10)
-        child_out = fcntl.fcntl(from_browser_w, fcntl.F_DUPFD_CLOEXEC, 10)
-        os.close(to_browser_r)
-        os.close(from_browser_w)
-        try:
-            self.process = subprocess.Popen(
-                [sys.executable, "-c", _TRAMPOLINE, str(child_in), str(child_out), *command],
-                stdin=subprocess.DEVNULL,
-                stdout=subprocess.DEVNULL,
-                stderr=subprocess.DEVNULL,
-                pass_fds=(child_in, child_out),
-                start_new_session=True,
-            )
-        finally:
-            os.close(child_in)
-            os.close(child_out)
-        self._out = os.fdopen(to_browser_w, "wb", buffering=0)
-        self._in = os.fdopen(from_browser_r, "rb", buffering=0)
-        self._next_id = 0
-        self._replies: dict[int, queue.Queue[dict]] = {}
-        self._events: queue.Queue[dict] = queue.Queue()
-        self._lock = threading.Lock()
-        self._closed = False
-        self._reader = threading.Thread(target=self._read, daemon=True)
-        self._reader.start()
-
-    def _read(self) -> None:
-        buffer = b""
-        while True:
-            chunk = self._in.read(1 << 16)
-            if not chunk:  # the browser exited (or never started): wake every waiter
-                with self._lock:
-                    self._closed = True
-                    for box in self._replies.values():
-                        box.put({"closed": True})
-                self._events.put({"method": "__closed__"})
-                return
-            buffer += chunk
-            while b"\0" in buffer:
-                raw, buffer = buffer.split(b"\0", 1)
-                message = json.loads(raw)
-                if "id" in message:
-                    with self._lock:
-                        reply_box = self._replies.get(message["id"])
-                    if reply_box is not None:
-                        reply_box.put(message)
-                else:
-                    self._events.put(message)
-
-    def call(
-        self, method: str, params: Optional[dict] = None, *, session: Optional[str] = None, deadline: float
-    ) -> dict:
-        with self._lock:
-            if self._closed:
-                raise BrowserError(self._exited(method))
-            self._next_id += 1
-            ident = self._next_id
-            box: queue.Queue[dict] = queue.Queue()
-            self._replies[ident] = box
-        message: dict[str, Any] = {"id": ident, "method": method, "params": params or {}}
-        if session:
-            message["sessionId"] = session
-        try:
-            self._out.write(json.dumps(message).encode() + b"\0")
-            reply = box.get(timeout=max(0.0, deadline - _time.monotonic()))
-        except BrokenPipeError:
-            raise BrowserError(self._exited(method)) from None
-        except queue.Empty:
-            raise BrowserError(f"chromium did not answer {method} in time") from None
-        finally:
-            with self._lock:
-                self._replies.pop(ident, None)
-        if reply.get("closed"):
-            raise BrowserError(self._exited(method))
-        if "error" in reply:
-            raise BrowserError(f"chromium refused {method}: {reply['error'].get('message')}")
-        return reply.get("result", {})
-
-    def _exited(self, method: str) -> str:
-        try:
-            code = self.process.wait(timeout=2.0)
-        except subprocess.TimeoutExpired:
-            code = None
-        return f"the browser exited (code {code}) before answering {method}; is {self._browser!r} a chromium?"
-
-    def wait_event(self, method: str, *, deadline: float) -> dict:
-        while True:
-            try:
-                event = self._events.get(timeout=max(0.0, deadline - _time.monotonic()))
-            except queue.Empty:
-                raise BrowserError(f"timed out waiting for chromium's {method}") from None
-            if event.get("method") == "__closed__":
-                raise BrowserError(f"chromium exited while waiting for {method}")
-            if event.get("method") == method:
-                return event
-
-    def close(self) -> None:
-        try:
-            self._out.close()
-        except OSError:
-            pass
-        try:  # chromium's helper processes too, or they keep the CPU busy
-            os.killpg(self.process.pid, signal.SIGKILL)
-        except ProcessLookupError:
-            pass
-        self.process.wait()
-        self._in.close()
-
-
 def screenshot(
     html: str | Path,
     png: str | Path,
@@ -264,6 +136,63 @@ def screenshot(
     """
     html = Path(html).resolve()
     png = Path(png)
+    _check_request(html, size, time)
+    browser = browser or find_browser()
+    if browser is None:
+        raise BrowserError(
+            f"no headless browser found on PATH (looked for: "
+            f"{', '.join(BROWSER_NAMES)}); on Debian: apt-get install chromium"
+        )
+    image, shown = _outside_event_loop(_capture, browser, html, time, size, list(hide), timeout_s)
+    png.parent.mkdir(parents=True, exist_ok=True)
+    png.write_bytes(image)
+    _log.info("screenshot of %s at t = %.2f s written to %s", html.name, shown, png)
+    return png
+
+
+def _outside_event_loop(function: Callable[..., T], *args: Any) -> T:
+    """``function(*args)`` here, or in a thread of its own if this thread runs an asyncio
+    loop (a Jupyter kernel's), which Playwright's sync API refuses."""
+    try:
+        asyncio.get_running_loop()
+    except RuntimeError:
+        return function(*args)
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        return pool.submit(function, *args).result()
+
+
+def _capture(
+    browser: str, html: Path, time: Optional[float], size: tuple[int, int], hide: list[str], timeout_s: float
+) -> tuple[bytes, float]:
+    """Launches ``browser``, renders ``html`` in it and returns (PNG bytes, replay time shown)."""
+    from playwright.sync_api import Error as PlaywrightError
+    from playwright.sync_api import TimeoutError as PlaywrightTimeout
+    from playwright.sync_api import sync_playwright
+
+    deadline = _time.monotonic() + timeout_s
+    with sync_playwright() as playwright:
+        try:
+            chromium = playwright.chromium.launch(
+                executable_path=browser, args=list(_CHROMIUM_ARGS), timeout=_ms_left(deadline)
+            )
+        except PlaywrightError as e:
+            first = str(e).splitlines()[0]
+            raise BrowserError(
+                f"the browser exited before starting ({first}); is {browser!r} a chromium?"
+            ) from None
+        try:
+            page = chromium.new_page(viewport={"width": size[0], "height": size[1]}, device_scale_factor=1)
+            return _render(page, html, time, hide, deadline)
+        except PlaywrightTimeout:
+            raise BrowserError(f"chromium did not finish {html.name} within {timeout_s} s") from None
+        except PlaywrightError as e:
+            raise BrowserError(f"chromium failed on {html.name}: {str(e).splitlines()[0]}") from None
+        finally:
+            chromium.close()
+
+
+def _check_request(html: Path, size: tuple[int, int], time: Optional[float]) -> None:
+    """Raises :class:`ConfigError` for a missing replay, a size out of range or a negative time."""
     if not html.is_file():
         raise ConfigError(f"replay {str(html)!r} does not exist (write one with --record)")
     width, height = size
@@ -271,79 +200,31 @@ def screenshot(
         raise ConfigError(f"screenshot size {size!r} is outside 64..8192 pixels per side")
     if time is not None and not time >= 0.0:
         raise ConfigError(f"replay time {time!r} must be >= 0 s")
-    browser = browser or find_browser()
-    if browser is None:
-        raise BrowserError(
-            f"no headless browser found on PATH (looked for: "
-            f"{', '.join(BROWSER_NAMES)}); on Debian: apt-get install chromium"
-        )
-    deadline = _time.monotonic() + timeout_s
-    with tempfile.TemporaryDirectory(prefix="omtp_chromium_") as profile:
-        command = [
-            browser,
-            "--headless=new",
-            "--remote-debugging-pipe",
-            "--no-sandbox",
-            "--use-angle=swiftshader",
-            "--enable-unsafe-swiftshader",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--no-first-run",
-            "--no-default-browser-check",
-            "--mute-audio",
-            f"--user-data-dir={profile}",
-            f"--window-size={width},{height}",
-            "about:blank",
-        ]
-        tools = _DevTools(command)
-        try:
-            image, shown = _render(tools, html, time, width, height, list(hide), deadline)
-        finally:
-            tools.close()
-    png.parent.mkdir(parents=True, exist_ok=True)
-    png.write_bytes(image)
-    _log.info("screenshot of %s at t = %.2f s written to %s", html.name, shown, png)
-    return png
+
+
+def _ms_left(deadline: float) -> float:
+    """Milliseconds until ``deadline`` (Playwright's unit), at least 1."""
+    return max(1.0, (deadline - _time.monotonic()) * 1000.0)
+
+
+def _evaluate(page: Page, expression: str, deadline: float) -> Any:
+    """Awaits the page's ``expression`` and returns its value; the page's clock bounds the wait."""
+    from playwright.sync_api import Error as PlaywrightError
+
+    ms = round(_ms_left(deadline))
+    timeout = f"new Promise((_, no) => setTimeout(() => no(new Error('timed out after {ms} ms')), {ms}))"
+    try:
+        return page.evaluate(f"Promise.race([{expression}, {timeout}])")
+    except PlaywrightError as e:
+        raise BrowserError(f"the replay page failed: {str(e).splitlines()[0]}") from None
 
 
 def _render(
-    tools: _DevTools,
-    html: Path,
-    time: Optional[float],
-    width: int,
-    height: int,
-    hide: list[str],
-    deadline: float,
+    page: Page, html: Path, time: Optional[float], hide: list[str], deadline: float
 ) -> tuple[bytes, float]:
-    target = tools.call("Target.createTarget", {"url": "about:blank"}, deadline=deadline)
-    session = tools.call(
-        "Target.attachToTarget", {"targetId": target["targetId"], "flatten": True}, deadline=deadline
-    )["sessionId"]
-
-    def call(method: str, params: Optional[dict] = None) -> dict:
-        return tools.call(method, params, session=session, deadline=deadline)
-
-    def evaluate(expression: str) -> Any:
-        result = call(
-            "Runtime.evaluate", {"expression": expression, "awaitPromise": True, "returnByValue": True}
-        )
-        if "exceptionDetails" in result:
-            detail = result["exceptionDetails"]
-            text = detail.get("exception", {}).get("description") or detail.get("text")
-            raise BrowserError(f"the replay page failed: {text}")
-        return result["result"].get("value")
-
-    call("Page.enable")
-    call("Runtime.enable")
-    call(
-        "Emulation.setDeviceMetricsOverride",
-        {"width": width, "height": height, "deviceScaleFactor": 1, "mobile": False},
-    )
-    call("Page.addScriptToEvaluateOnNewDocument", {"source": _TRACK_FETCHES})
-    call("Page.navigate", {"url": html.as_uri()})
-    tools.wait_event("Page.loadEventFired", deadline=deadline)
-    state = evaluate(_SETTLE)
+    page.add_init_script(_TRACK_FETCHES)
+    page.goto(html.as_uri(), wait_until="load", timeout=_ms_left(deadline))
+    state = _evaluate(page, _SETTLE, deadline)
     if not state or not state.get("ok"):
         raise BrowserError(
             f"{html.name} is not a Meshcat replay: {(state or {}).get('why', 'the page did not load')}"
@@ -352,7 +233,7 @@ def _render(
     if time is not None and duration > 0.0 and time > duration:
         raise ConfigError(f"replay time {time} s is past the end of {html.name} (0..{duration:.2f} s)")
     if hide:
-        hidden = evaluate(_HIDE % json.dumps(hide))
+        hidden = _evaluate(page, _HIDE % json.dumps(hide), deadline)
         if hidden["missing"]:
             raise UnknownNameError(
                 "Meshcat path",
@@ -361,8 +242,7 @@ def _render(
             )
     shown = duration if time is None else float(time)
     if duration > 0.0:
-        evaluate(_SEEK % shown)
+        _evaluate(page, _SEEK % shown, deadline)
     else:
-        evaluate("new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))")
-    data = call("Page.captureScreenshot", {"format": "png"})["data"]
-    return base64.b64decode(data), shown
+        _evaluate(page, "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))", deadline)
+    return page.screenshot(type="png", timeout=_ms_left(deadline)), shown

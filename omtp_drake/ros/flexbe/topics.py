@@ -39,7 +39,3 @@ def get_topic_type(topic: str, blocking: bool = False) -> tuple[Optional[str], O
     """``('pkg/Type', resolved topic, None)``, or ``(None, None, None)``."""
     msg_class, name, _ = get_topic_class(topic, blocking)
     return (msg_class._type, name, None) if msg_class is not None else (None, None, None)
-
-
-def topic_names() -> list[str]:
-    return current().topic_names()
