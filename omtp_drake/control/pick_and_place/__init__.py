@@ -5,6 +5,10 @@
   :class:`PickFailure`, :class:`PickHistory`), plain values;
 - :mod:`~omtp_drake.control.pick_and_place.perception`: parts and the bin as the
   logical cameras show them;
+- :mod:`~omtp_drake.control.pick_and_place.machine_io`: the state machine's plain
+  inputs (:class:`MachineInput`) and answers (:class:`Decision`);
+- :mod:`~omtp_drake.control.pick_and_place.recovery`: its tool paths and the ends
+  of failed attempts;
 - :mod:`~omtp_drake.control.pick_and_place.machine`: the pure state machine
   (:class:`PickMachine`: plain inputs in, a :class:`Decision` out; no Drake system);
 - :mod:`~omtp_drake.control.pick_and_place.system`: the ``LeafSystem`` around it

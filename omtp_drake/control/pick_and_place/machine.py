@@ -41,114 +41,22 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field, replace
-from functools import cached_property
+from dataclasses import replace
 from typing import Optional
 
 import numpy as np
 from pydrake.math import RigidTransform
 
 from omtp_drake.cell import arms
-from omtp_drake.cell.logical_camera import LogicalCameraImage
-from omtp_drake.cell.suction import GripperState
+from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, Decision, MachineInput
 from omtp_drake.control.pick_and_place.perception import Perception, Sighting
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickRecord, position_of
+from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickRecord
+from omtp_drake.control.pick_and_place.recovery import Moves, Recovery, Step, go
 from omtp_drake.control.pick_policy import PickPlanner
 from omtp_drake.control.tool_paths import Path, SegmentKind, hold, yaw_of
 from omtp_drake.scenario import BinConfig, RobotConfig, Scenario, TaskConfig
 
-#: The image of a camera that has taken none (time NaN, nothing in view).
-NO_IMAGE = LogicalCameraImage(math.nan, "", RigidTransform(), ())
-
-
-def _no_image() -> LogicalCameraImage:
-    return NO_IMAGE
-
-
-@dataclass(frozen=True)
-class MachineInput:
-    """What one update sees.
-
-    The camera images are read when the machine first asks for one (most modes
-    never look: a moving arm follows its path), through the ``read_*`` functions,
-    once per update; :meth:`seeing` makes an input of images in hand.
-
-    Attributes:
-        t: the time (s).
-        X_WE: the tool's pose at the measured joint positions.
-        gripper: the gripper's state (``attached``, the held ``part``).
-        q: the arm's measured joint positions (rad), pan ... wrist 3.
-        pick_image: the pick camera's latest image.
-        bin_image: the bin camera's latest image (:data:`NO_IMAGE` without one).
-        search_images: the other cameras' latest images.
-        X_WE_desired: the control state's path at ``t``, when the caller has it at
-            hand (the controller's pose table for DiffIK); None: the machine
-            evaluates the path itself.
-    """
-
-    t: float
-    X_WE: RigidTransform
-    gripper: GripperState
-    q: tuple[float, ...]
-    read_pick_image: Callable[[], LogicalCameraImage] = field(default=_no_image, repr=False)
-    read_bin_image: Callable[[], LogicalCameraImage] = field(default=_no_image, repr=False)
-    read_search_images: Callable[[], tuple[LogicalCameraImage, ...]] = field(default=tuple, repr=False)
-    X_WE_desired: Optional[RigidTransform] = None
-
-    @classmethod
-    def seeing(
-        cls,
-        t: float,
-        X_WE: RigidTransform,
-        gripper: GripperState,
-        q: tuple[float, ...],
-        pick_image: LogicalCameraImage = NO_IMAGE,
-        bin_image: LogicalCameraImage = NO_IMAGE,
-        search_images: tuple[LogicalCameraImage, ...] = (),
-    ) -> MachineInput:
-        """An input with these images."""
-        return cls(t, X_WE, gripper, q, lambda: pick_image, lambda: bin_image, lambda: search_images)
-
-    @cached_property
-    def pick_image(self) -> LogicalCameraImage:
-        return self.read_pick_image()
-
-    @cached_property
-    def bin_image(self) -> LogicalCameraImage:
-        return self.read_bin_image()
-
-    @cached_property
-    def search_images(self) -> tuple[LogicalCameraImage, ...]:
-        return self.read_search_images()
-
-
-@dataclass(frozen=True)
-class Decision:
-    """What one update decides: the next control state (mode, tool path, suction),
-    the record of an attempt that ended (None: none did) and the tool's tracking
-    error (m) seen."""
-
-    control: ControlState
-    record: Optional[PickRecord] = None
-    tracking_error: float = 0.0
-
-    @property
-    def mode(self) -> Mode:
-        return self.control.mode
-
-    @property
-    def path(self) -> Path:
-        """The tool path to follow (``X_WE`` by time)."""
-        return self.control.path
-
-    @property
-    def vacuum(self) -> bool:
-        """Suction on?"""
-        return self.control.suction
-
-
-#: A handler's answer: the next control state and, when an attempt ended, its record.
-_Step = tuple[ControlState, Optional[PickRecord]]
+__all__ = ["NO_IMAGE", "Decision", "MachineInput", "PickMachine", "bin_capacity", "task_planner"]
 
 
 def task_planner(config: TaskConfig, robot: RobotConfig) -> PickPlanner:
@@ -174,10 +82,6 @@ def bin_capacity(scenario: Scenario) -> int:
     return len(task_planner(task, scenario.robot(task.robot)).slots(b.X_WB(), b.geometry, size))
 
 
-def _go(s: ControlState, mode: Mode, t: float, **changes) -> ControlState:
-    return replace(s, mode=mode, mode_start=t, **changes)
-
-
 def _note_candidate(s: ControlState, name: str, X_WP: RigidTransform, stamp: float) -> ControlState:
     """Records a sighting of the next part (from an image not seen before): at
     rest if the previous sighting was of the same part within 3 mm."""
@@ -189,172 +93,6 @@ def _note_candidate(s: ControlState, name: str, X_WP: RigidTransform, stamp: flo
         and np.linalg.norm(s.candidate_X.translation() - X_WP.translation()) <= 0.003
     )
     return replace(s, candidate=name, candidate_X=X_WP, candidate_time=stamp, candidate_at_rest=at_rest)
-
-
-class _Moves:
-    """The task's tool paths: travels that clear the bin's rim, the way Home."""
-
-    def __init__(
-        self,
-        planner: PickPlanner,
-        see: Perception,
-        bin: BinConfig,
-        X_W_home: RigidTransform,
-        wrist_home: float,
-    ) -> None:
-        self.planner = planner
-        self._see = see
-        self._bin = bin
-        self._X_W_home = X_W_home
-        self._wrist_home = wrist_home
-
-    def wrist(self, inputs: MachineInput) -> float:
-        """The last wrist joint's measured angle from its home angle (rad)."""
-        return inputs.q[5] - self._wrist_home
-
-    def bin_pose(self, inputs: MachineInput) -> RigidTransform:
-        """``X_WBin``: where the bin camera last saw the bin, else the scenario's pose."""
-        return self._see.bin_pose(inputs.bin_image)
-
-    def travel(
-        self,
-        inputs: MachineInput,
-        X_goal: RigidTransform,
-        size: float,
-        min_height: float = -math.inf,
-        **clear: Optional[float],
-    ) -> Path:
-        """From the tool's pose now: up, an arc, down (see PickPlanner.travel, which
-        gets ``clear_start`` and ``clear_end``), at least ``min_height`` high and high
-        enough near the bin for a part of edge ``size`` under the tool to clear its rim."""
-        X_now = inputs.X_WE
-        rim = self.planner.clearance_height(
-            self.bin_pose(inputs), self._bin.geometry, size, [X_now.translation(), X_goal.translation()]
-        )
-        return self.planner.travel(inputs.t, X_now, X_goal, max(rim, min_height), **clear)
-
-    def home(self, inputs: MachineInput, size: float) -> Path:
-        """The travel Home (turned to keep the wrist wound less than half a turn)."""
-        X_home = self.planner.home_pose(self._X_W_home, inputs.X_WE, self.wrist(inputs))
-        return self.travel(inputs, X_home, size)
-
-
-class _Recovery:
-    """Ends of failed attempts: a failure (the arm goes Home to retry, or gives the
-    part up after its last attempt), a part lost or dropped into the bin, a full bin."""
-
-    def __init__(
-        self, config: TaskConfig, see: Perception, moves: _Moves, part_size: Callable[[str], float]
-    ) -> None:
-        self._config = config
-        self._see = see
-        self._moves = moves
-        self._size = part_size
-
-    def fail(
-        self, inputs: MachineInput, s: ControlState, reason: PickFailure, *, reset_ik: bool = False
-    ) -> _Step:
-        """Records a failed attempt and sends the arm Home (suction off); with
-        ``reset_ik`` DiffIK restarts from the measured joints first."""
-        t = inputs.t
-        if reason is PickFailure.DROPPED and s.part:  # last known: under the cup when it fell
-            size = self._size(s.part)
-            s = replace(s, X_WP=RigidTransform(inputs.X_WE.translation() - [0.0, 0.0, size / 2]))
-        attempt = s.attempt + 1 if s.part else 1
-        ignored = s.ignored
-        given_up = bool(s.part) and attempt > self._config.max_attempts
-        if given_up:  # its last attempt: left where it was last known
-            ignored = ignored + (s.part,)
-            attempt = 1
-        position = position_of(s.X_WP) if given_up else None
-        record = PickRecord(s.part, s.pick_start, t, False, reason, s.attempt, position, given_up)
-        path = self._moves.home(inputs, self._size(s.part) if s.part else 0.0)
-        # A drop is recorded once where the part came to rest is known (see landed()).
-        pending = record if reason is PickFailure.DROPPED and not given_up else None
-        return _go(
-            s,
-            Mode.HOME,
-            t,
-            attempt=attempt,
-            ignored=ignored,
-            suction=False,
-            part="" if attempt == 1 else s.part,
-            path=path,
-            reset_ik=reset_ik,
-            pending_drop=pending,
-        ), (None if pending is not None else record)
-
-    @staticmethod
-    def landed(t: float, s: ControlState, X_WP: RigidTransform) -> _Step:
-        """The dropped part is seen at rest at ``X_WP`` at ``t``: its drop is recorded
-        with where it landed, and the next attempt starts now (a retry after another
-        failure counts from its first attempt; a drop has its own record's end)."""
-        drop = s.pending_drop
-        if drop is None:
-            return s, None
-        return replace(s, pending_drop=None, pick_start=t), replace(drop, position=position_of(X_WP))
-
-    def lost(self, inputs: MachineInput, s: ControlState, name: str, mine: list[Sighting]) -> Optional[_Step]:
-        """Part ``name`` (being picked again, or the last one seen) is given up on when
-        it fell into the bin (``dropped_into_bin``: in the bin, but not by a place),
-        lies out of reach, or no camera has seen it for ``lost_timeout`` s (``lost``,
-        where it was last seen); the record has its position. None while it may still
-        be picked."""
-        t = inputs.t
-        last = s.X_WP if s.part else s.candidate_X
-        in_bin = self._see.seen_in_bin(t, inputs.bin_image, name)
-        if in_bin is not None:
-            why, X_WP, placed = PickFailure.DROPPED_INTO_BIN, in_bin, s.placed + 1
-        elif mine:
-            at_rest = bool(s.part) or s.candidate_at_rest  # (a part seen for the first time may still roll)
-            if self._see.reachable(mine[0][1], self._size(name)) or not at_rest:
-                return None
-            why, X_WP, placed = PickFailure.LOST, mine[0][1], s.placed
-        elif math.isnan(s.missing_since) or t - s.missing_since < self._config.lost_timeout:
-            return None
-        else:
-            why, X_WP, placed = PickFailure.LOST, last, s.placed
-        start = s.pick_start if s.part else s.candidate_time
-        attempt = s.attempt if s.part else 1
-        record = PickRecord(name, start, t, False, why, attempt, position=position_of(X_WP), given_up=True)
-        if s.pending_drop is not None and s.pending_drop.part == name:
-            # Not a new attempt: where the drop ended (in the bin, or out of reach / unseen).
-            reason = (
-                PickFailure.DROPPED_INTO_BIN if why is PickFailure.DROPPED_INTO_BIN else PickFailure.DROPPED
-            )
-            record = replace(s.pending_drop, reason=reason, position=position_of(X_WP), given_up=True)
-        return _go(
-            s,
-            Mode.WAIT_PART,
-            t,
-            part="",
-            attempt=1,
-            ignored=s.ignored + (name,),
-            placed=placed,
-            last_seen=t,
-            missing_since=math.nan,
-            candidate="",
-            candidate_X=None,
-            candidate_time=math.nan,
-            candidate_at_rest=False,
-            pending_drop=None,
-        ), record
-
-    def bin_full(
-        self, inputs: MachineInput, s: ControlState, name: str, X_WP: Optional[RigidTransform]
-    ) -> _Step:
-        """No slot left for part ``name``: it is given up where it lies (let go if
-        held), the arm goes Home and the machine stops (Mode.BIN_FULL)."""
-        t = inputs.t
-        start = s.pick_start if s.part == name else t
-        record = PickRecord(
-            name, start, t, False, PickFailure.BIN_FULL, s.attempt, position_of(X_WP), given_up=True
-        )
-        path = self._moves.home(inputs, self._size(name))
-        state = _go(
-            s, Mode.BIN_FULL, t, part="", attempt=1, ignored=s.ignored + (name,), suction=False, path=path
-        )
-        return state, record
 
 
 class PickMachine:
@@ -383,9 +121,9 @@ class PickMachine:
         self._see = Perception(config, robot, bin, part_size)
         self._planner = task_planner(config, robot)
         wrist_home = float(arms.named_pose("Home", robot)[5])
-        self._moves = _Moves(self._planner, self._see, bin, X_W_home, wrist_home)
-        self._recovery = _Recovery(config, self._see, self._moves, part_size)
-        self._handlers: dict[Mode, Callable[[MachineInput, ControlState], _Step]] = {
+        self._moves = Moves(self._planner, self._see, bin, X_W_home, wrist_home)
+        self._recovery = Recovery(config, self._see, self._moves, part_size)
+        self._handlers: dict[Mode, Callable[[MachineInput, ControlState], Step]] = {
             Mode.INIT: self._init,
             Mode.WAIT_PART: self._wait_part,
             Mode.APPROACH: self._approach,
@@ -440,10 +178,10 @@ class PickMachine:
 
     # ------------------------------------------------------------- handlers
 
-    def _init(self, inputs: MachineInput, s: ControlState) -> _Step:
-        return _go(s, Mode.WAIT_PART, inputs.t, last_seen=inputs.t, path=hold(inputs.t, inputs.X_WE)), None
+    def _init(self, inputs: MachineInput, s: ControlState) -> Step:
+        return go(s, Mode.WAIT_PART, inputs.t, last_seen=inputs.t, path=hold(inputs.t, inputs.X_WE)), None
 
-    def _wait_part(self, inputs: MachineInput, s: ControlState) -> _Step:
+    def _wait_part(self, inputs: MachineInput, s: ControlState) -> Step:
         """Plan a pick as soon as a part is seen at rest (same pose in two images)."""
         t = inputs.t
         seen = self._parts_seen(inputs, s)
@@ -467,11 +205,11 @@ class PickMachine:
         reachable = [x for x in seen if self._see.reachable(x[1], self._size(x[0]))]
         if not reachable and seen:
             # Only parts the arm cannot reach: watch one; once it is at rest it is
-            # given up as lost (see _Recovery.lost), so the spawner may replace it.
+            # given up as lost (see Recovery.lost), so the spawner may replace it.
             return _note_candidate(s, *seen[0]), None
         if not reachable:
             if t - s.last_seen > self._config.detect_timeout:
-                return _go(s, Mode.WAIT_PART, t, last_seen=t), PickRecord(
+                return go(s, Mode.WAIT_PART, t, last_seen=t), PickRecord(
                     "", t, t, False, PickFailure.NO_PART, 1
                 )
             return s, None
@@ -484,7 +222,7 @@ class PickMachine:
             return self._recovery.landed(t, s, X_WP)  # the pick is planned at the next update
         return self._plan_pick(inputs, s, name, X_WP)
 
-    def _plan_pick(self, inputs: MachineInput, s: ControlState, name: str, X_WP: RigidTransform) -> _Step:
+    def _plan_pick(self, inputs: MachineInput, s: ControlState, name: str, X_WP: RigidTransform) -> Step:
         """Travel above part ``name`` (at rest at ``X_WP``), if the bin has a slot for it."""
         t, size = inputs.t, self._size(name)
         if self._planner.slot(self._moves.bin_pose(inputs), self._bin.geometry, size, s.placed) is None:
@@ -496,7 +234,7 @@ class PickMachine:
         # The cup is empty: it may leave and arrive on a curve (it stays above the
         # rim it starts over and above the approach height at the part).
         path = self._moves.travel(inputs, X_above, size, clear_start=0.0, clear_end=0.0)
-        return _go(
+        return go(
             s,
             Mode.APPROACH,
             t,
@@ -508,7 +246,7 @@ class PickMachine:
             missing_since=math.nan,
         ), None
 
-    def _approach(self, inputs: MachineInput, s: ControlState) -> _Step:
+    def _approach(self, inputs: MachineInput, s: ControlState) -> Step:
         """Above the part: look again (it may have moved since the plan), go down."""
         t, c = inputs.t, self._config
         if not s.path.done(t):
@@ -523,14 +261,14 @@ class PickMachine:
         X_near = self._planner.grasp_pose(X_WP, size, inputs.X_WE, c.slow_zone)
         fast = self._planner.move(SegmentKind.LINE, t, inputs.X_WE, X_near)
         slow = self._planner.move(SegmentKind.LINE, fast.t1, X_near, X_touch, c.descent_speed)
-        return _go(s, Mode.DESCEND, t, X_WP=X_WP, path=Path((fast, slow))), None
+        return go(s, Mode.DESCEND, t, X_WP=X_WP, path=Path((fast, slow))), None
 
-    def _descend(self, inputs: MachineInput, s: ControlState) -> _Step:
+    def _descend(self, inputs: MachineInput, s: ControlState) -> Step:
         if not s.path.done(inputs.t):
             return s, None
-        return _go(s, Mode.ATTACH, inputs.t, suction=True), None
+        return go(s, Mode.ATTACH, inputs.t, suction=True), None
 
-    def _attach(self, inputs: MachineInput, s: ControlState) -> _Step:
+    def _attach(self, inputs: MachineInput, s: ControlState) -> Step:
         t, c = inputs.t, self._config
         if inputs.gripper.attached and inputs.gripper.part == s.part:
             X_WBin = self._moves.bin_pose(inputs)
@@ -543,17 +281,17 @@ class PickMachine:
             # part clears what it lay on (the belt's rails, its neighbours).
             lift = inputs.X_WE.translation()[2] + c.approach_height
             path = self._moves.travel(inputs, X_drop, size, min_height=lift, clear_start=c.approach_height)
-            return _go(s, Mode.TRANSFER, t, path=path), None
+            return go(s, Mode.TRANSFER, t, path=path), None
         if t - s.mode_start > c.attach_timeout:
             return self._recovery.fail(inputs, s, PickFailure.ATTACH_TIMEOUT)
         return s, None
 
-    def _transfer(self, inputs: MachineInput, s: ControlState) -> _Step:
+    def _transfer(self, inputs: MachineInput, s: ControlState) -> Step:
         if not s.path.done(inputs.t):
             return s, None
-        return _go(s, Mode.RELEASE, inputs.t, suction=False), None
+        return go(s, Mode.RELEASE, inputs.t, suction=False), None
 
-    def _release(self, inputs: MachineInput, s: ControlState) -> _Step:
+    def _release(self, inputs: MachineInput, s: ControlState) -> Step:
         """Suction off; once the part has settled, the bin camera decides."""
         t = inputs.t
         s = self._watch_for_next(inputs, s)
@@ -569,7 +307,7 @@ class PickMachine:
         if not success:
             return self._recovery.fail(inputs, s, PickFailure.MISSED_BIN)[0], record
         # Straight on to the next part (Home only after a failure).
-        return _go(
+        return go(
             s,
             Mode.WAIT_PART,
             t,
@@ -589,7 +327,7 @@ class PickMachine:
                 return _note_candidate(s, name, X_WP, stamp)
         return s
 
-    def _home(self, inputs: MachineInput, s: ControlState) -> _Step:
+    def _home(self, inputs: MachineInput, s: ControlState) -> Step:
         if not s.path.done(inputs.t):
             return s, None
-        return _go(s, Mode.WAIT_PART, inputs.t, last_seen=inputs.t), None
+        return go(s, Mode.WAIT_PART, inputs.t, last_seen=inputs.t), None

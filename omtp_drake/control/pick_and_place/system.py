@@ -38,7 +38,8 @@ from pydrake.systems.primitives import ConstantValueSource
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.suction import GripperState
-from omtp_drake.control.pick_and_place.machine import NO_IMAGE, MachineInput, PickMachine
+from omtp_drake.control.pick_and_place.machine import PickMachine
+from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
 from omtp_drake.control.pick_and_place.records import ControlState, PickHistory
 from omtp_drake.control.tool_paths import Path
 from omtp_drake.errors import ConfigError
@@ -81,7 +82,7 @@ class PickAndPlaceController(LeafSystem):
       - ``control`` (:class:`ControlState`), ``history`` (:class:`PickHistory`).
 
     Each periodic update (at ``update_rate_hz``) reads the input ports into a
-    :class:`~omtp_drake.control.pick_and_place.machine.MachineInput` (the cameras'
+    :class:`~omtp_drake.control.pick_and_place.machine_io.MachineInput` (the cameras'
     only when the machine asks for an image), asks the
     machine for its decision and writes it into the state. State (abstract): the
     control state and the history. A scratch Context of the arm's model, for forward
