@@ -21,6 +21,8 @@ It is the one facade over the package's parts, one module per concept:
 - :mod:`~omtp_drake.control.motion.scene`: the planning scene, what is added to it
   (obstacle boxes, a held part);
 - :mod:`~omtp_drake.control.motion.ik`: forward and inverse kinematics with seeds;
+- :mod:`~omtp_drake.control.motion.planner_kinematics`: the planner's kinematic queries
+  (``forward_kinematics``, ``ik``, ``cartesian_path``), a base class of ArmPlanner;
 - :mod:`~omtp_drake.control.motion.search`: OMPL's RRTConnect and simplifier;
 - :mod:`~omtp_drake.control.motion.cartesian`: straight-line tool motions;
 - :mod:`~omtp_drake.control.motion.timing`: TOPP-RA time parameterization.
@@ -45,14 +47,13 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 
 import numpy as np
-from pydrake.math import RigidTransform
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
-from omtp_drake.control.motion.cartesian import cartesian_path
 from omtp_drake.control.motion.collision import CollisionModel, OtherPositions
-from omtp_drake.control.motion.ik import ArmKinematics, inverse_kinematics
+from omtp_drake.control.motion.ik import ArmKinematics
 from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
+from omtp_drake.control.motion.planner_kinematics import ArmKinematicsQueries
 from omtp_drake.control.motion.scene import PlanningScene
 from omtp_drake.control.motion.search import JointSearch, move_out
 from omtp_drake.control.motion.timing import ACCELERATION_LIMITS, scaled_limits, time_parameterize
@@ -76,7 +77,7 @@ def _check_planner_options(margin: float, edge_step: float, search_step: float, 
         )
 
 
-class ArmPlanner:
+class ArmPlanner(ArmKinematicsQueries):
     """Collision checking, planning, IK and time parameterization for one arm.
 
     Args:
@@ -115,7 +116,7 @@ class ArmPlanner:
         if robot not in configs:
             raise UnknownNameError("robot", robot, configs)
         _check_planner_options(margin, edge_step, search_step, planner_range)
-        self._config: RobotConfig = configs[robot]
+        self._config = configs[robot]
         self._collision = CollisionModel(
             scenario, robot, margin=margin, edge_step=edge_step, self_collisions=self_collisions
         )
@@ -155,11 +156,6 @@ class ArmPlanner:
         """Default joint acceleration limits (rad/s^2), see :data:`ACCELERATION_LIMITS
         <omtp_drake.control.motion.timing.ACCELERATION_LIMITS>`."""
         return np.array(ACCELERATION_LIMITS[self._config.model], dtype=float)
-
-    def _q(self, q) -> np.ndarray:
-        """``q`` checked (six finite joint positions within the limits), clipped to them."""
-        q = arms.check_joint_positions(q, self._config)
-        return np.clip(q, self._kinematics.lower, self._kinematics.upper)
 
     # ----------------------------------------------------------- the scene
 
@@ -244,93 +240,6 @@ class ArmPlanner:
                 f"{fmt_pairs(self._collision.path_pairs(base, goal_full))}"
             )
         return path
-
-    # ------------------------------------------------------------ kinematics
-
-    def forward_kinematics(self, q, frame: str = "tip") -> RigidTransform:
-        """``X_WE``: the world pose of tool frame E (``tip``, ``suction_cup``, ``tool0``) at ``q``."""
-        return self._kinematics.forward_kinematics(self._q(q), frame)
-
-    def ik(
-        self,
-        X_WE: RigidTransform,
-        *,
-        frame: str = "tip",
-        q_seed=None,
-        other_q: OtherPositions = None,
-        check_collisions: bool = True,
-        position_tolerance: float = 1e-4,
-        orientation_tolerance: float = 1e-3,
-        num_seeds: int = 8,
-    ) -> np.ndarray:
-        """Joint positions putting tool frame E at the world pose ``X_WE``, within the
-        joint limits, collision free (unless ``check_collisions`` is False), nearest
-        ``q_seed`` (default: the arm's initial pose).
-
-        Frames: ``tip`` (``<gripper>_tip``, the physical cup face), ``suction_cup``
-        (``<gripper>_suction_cup``, the course's frame, 1 cm off the flange), ``tool0``.
-        Solves Drake's InverseKinematics (SNOPT) from ``q_seed``; when that solution is
-        not usable, from the arm's named poses and a few fixed random seeds, and keeps
-        the usable solution nearest ``q_seed``.
-
-        Raises:
-            PlanningError: ``unreachable`` (with the distance and angle by which the
-                closest solution misses the pose) or reachable only ``outside the joint
-                limits`` (UnreachableError), or every solution found is in collision
-                (GoalInCollisionError, naming the bodies).
-        """
-        q_seed = self._q(self._collision.q_initial if q_seed is None else q_seed)
-        return inverse_kinematics(
-            self._kinematics,
-            self._collision if check_collisions else None,
-            self._collision.full(q_seed, other_q),
-            X_WE,
-            frame,
-            q_seed,
-            position_tolerance=position_tolerance,
-            orientation_tolerance=orientation_tolerance,
-            num_seeds=num_seeds,
-        )
-
-    def cartesian_path(
-        self,
-        q_start,
-        waypoints: Sequence[RigidTransform],
-        *,
-        frame: str = "tip",
-        max_step: float = 0.005,
-        max_rotation_step: float = 0.05,
-        jump_threshold: float | None = 0.5,
-        avoid_collisions: bool = True,
-        other_q: OtherPositions = None,
-    ) -> tuple[list[np.ndarray], float]:
-        """A straight-line tool motion through world poses, like MoveIt's
-        ``compute_cartesian_path``.
-
-        From the tool pose at ``q_start`` the pose of frame E moves in straight lines
-        (rotation by slerp) through ``waypoints`` (each an ``X_WE``), in steps of at most
-        ``max_step`` m and ``max_rotation_step`` rad. Each step's IK is seeded by the
-        previous step's solution and kept nearest it. The path stops at the first step
-        that is unreachable, moves some joint by more than ``jump_threshold`` rad (a
-        jump to another IK branch; None: no check) or, with ``avoid_collisions``,
-        collides (on the joint segment from the previous step).
-
-        Returns:
-            The joint path (starting with ``q_start``) and the fraction of the steps
-            achieved, 0...1 (1.0: the whole motion).
-        """
-        q_start = self._q(q_start)
-        return cartesian_path(
-            self._kinematics,
-            self._collision if avoid_collisions else None,
-            q_start,
-            waypoints,
-            self._collision.full(q_start, other_q),
-            frame=frame,
-            max_step=max_step,
-            max_rotation_step=max_rotation_step,
-            jump_threshold=jump_threshold,
-        )
 
     # ---------------------------------------------------------------- timing
 
