@@ -12,6 +12,7 @@ import contextlib
 import itertools
 import logging
 from collections.abc import Callable, Iterator
+from dataclasses import dataclass
 
 import numpy as np
 from ompl import base as ob
@@ -37,6 +38,20 @@ def _ompl_quiet() -> Iterator[None]:
         yield
     finally:
         ou.restorePreviousOutputHandler()
+
+
+@dataclass(frozen=True)
+class _Query:
+    """One search: from ``q_start`` to ``q_goal`` (the arm's joints), ``base`` the full
+    configuration of everything but the arm, within ``timeout`` s, OMPL seeded from
+    ``seed``, the path simplified or not."""
+
+    q_start: np.ndarray
+    q_goal: np.ndarray
+    base: np.ndarray
+    timeout: float
+    seed: int
+    simplify: bool
 
 
 class _DrakeMotionValidator(ob.MotionValidator):
@@ -97,8 +112,9 @@ class JointSearch:
         checker = self._collision.checker
         fine = checker.edge_step_size()
         steps = [self._search_step, fine] if self._search_step > fine else [fine]
+        query = _Query(q_start, q_goal, base, timeout, seed, simplify)
         for step in steps:
-            path = self._ompl_path(q_start, q_goal, base, timeout, seed, simplify, step)
+            path = self._ompl_path(query, step)
             if path is None:
                 return None
             edges = [
@@ -114,16 +130,9 @@ class JointSearch:
             f"segment in collision (a bug: please report it)"
         )
 
-    def _ompl_path(
-        self,
-        q_start: np.ndarray,
-        q_goal: np.ndarray,
-        base: np.ndarray,
-        timeout: float,
-        seed: int,
-        simplify: bool,
-        step: float,
-    ) -> list[np.ndarray] | None:
+    def _ompl_path(self, query: _Query, step: float) -> list[np.ndarray] | None:
+        """One OMPL search for ``query`` with motions checked every ``step`` rad."""
+        q_start, q_goal, base = query.q_start, query.q_goal, query.base
         n = len(q_start)
         checker = self._collision.checker
         fine = checker.edge_step_size()
@@ -135,7 +144,7 @@ class JointSearch:
         try:
             with _ompl_quiet():
                 # OMPL ignores seed 0; every RNG created after this call is seeded from it.
-                ou.RNG.setSeed(seed + 1)
+                ou.RNG.setSeed(query.seed + 1)
                 # (the validator, a Python subclass, must outlive the search)
                 setup, validator = self._setup(n, to_full)
                 space = setup.getStateSpace()
@@ -143,11 +152,11 @@ class JointSearch:
                 for i in range(n):
                     start[i], goal[i] = float(q_start[i]), float(q_goal[i])
                 setup.setStartAndGoalStates(start, goal)
-                setup.solve(float(timeout))
+                setup.solve(float(query.timeout))
                 if not setup.haveExactSolutionPath():
                     return None
                 solution = setup.getSolutionPath()
-                if simplify:
+                if query.simplify:
                     # Not time-limited (so deterministic): shortcut, drop vertices.
                     simplifier = setup.getPathSimplifier()
                     simplifier.ropeShortcutPath(solution)
