@@ -201,7 +201,6 @@ seed: 3
     ("far", 0.2), ("far", 0.1), ("far", math.inf),
     ("horizontal_fov", 0.0), ("horizontal_fov", math.pi), ("horizontal_fov", -1.0),
     ("aspect_ratio", 0.0), ("aspect_ratio", -1.5),
-    ("update_rate_hz", 0.0), ("update_rate_hz", -10.0),
     ("position_noise_sigma", -0.001), ("orientation_noise_sigma", -0.01),
     ("xyz", [0.0, 0.0]), ("rpy", [0.0, 0.0, 0.0, 0.0]), ("xyz", [0.0, math.nan, 0.0]),
     ("seed", -1),
@@ -220,6 +219,14 @@ def test_invalid_config_names_field_and_value(key: str, value: object) -> None:
     with pytest.raises(ConfigError):
         add_logical_camera(builder, plant, scene_graph, plant.world_frame(), config)
     assert len(builder.GetSystems()) == count
+
+
+@pytest.mark.parametrize("value", [0.0, -10.0, math.nan, 5000.0])
+def test_invalid_update_rate_names_camera_range_and_value(value: float) -> None:
+    config = LogicalCameraConfig(name="cam", update_rate_hz=value)
+    with pytest.raises(ConfigError) as error:
+        config.validate()
+    assert str(error.value) == f"logical camera 'cam': update_rate_hz must be in (0, 1000] Hz, got {value}"
 
 
 def test_invalid_constructor_arguments() -> None:

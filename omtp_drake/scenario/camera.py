@@ -10,7 +10,7 @@ from typing import Optional
 from pydrake.common.schema import Transform
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake.errors import MAX_RATE_HZ, ConfigError
+from omtp_drake.errors import ConfigError, check_rate
 
 
 @dataclass
@@ -90,13 +90,7 @@ class LogicalCameraConfig:
             "0 < horizontal_fov < pi",
         )
         _check(prefix, "aspect_ratio", self.aspect_ratio, self.aspect_ratio > 0, "aspect_ratio > 0")
-        _check(
-            prefix,
-            "update_rate_hz",
-            self.update_rate_hz,
-            0 < self.update_rate_hz <= MAX_RATE_HZ,
-            f"0 < update_rate_hz <= {MAX_RATE_HZ:g}",
-        )
+        check_rate(f"{prefix} update_rate_hz", self.update_rate_hz)
         for key in ("position_noise_sigma", "orientation_noise_sigma"):
             value = getattr(self, key)
             _check(prefix, key, value, value >= 0, f"{key} >= 0")
