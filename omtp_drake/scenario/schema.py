@@ -149,6 +149,18 @@ class Scenario:
         _check_finite("", self)
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
             raise ConfigError(f"seed must be an integer >= 0, got {self.seed!r}")
+        names = self._validate_pieces()
+        self._validate_pool_and_belt()
+        check_len("gravity", self.gravity, 3)
+        self._validate_plant_config()
+        if self.task is not None:
+            self._validate_task(self.task)
+        self._validate_faults()
+        self._validate_names(names)
+
+    def _validate_pieces(self) -> list[str]:
+        """Each robot, camera, bin and part checks itself (and the gripper settings);
+        returns the names they add to the world."""
         names: list[str] = []
         for robot in self.robots:
             robot.validate()
@@ -167,6 +179,10 @@ class Scenario:
         self.suction.validate()
         self.sleep.validate()
         self.ros_latency.validate()
+        return names
+
+    def _validate_pool_and_belt(self) -> None:
+        """The part pool, the spawner that draws from it and the conveyor."""
         if self.pool_part_size <= 0 or self.pool_part_mass <= 0:
             raise ConfigError(
                 f"pool parts need size > 0 and mass > 0, got {self.pool_part_size}, {self.pool_part_mass}"
@@ -182,11 +198,9 @@ class Scenario:
             self.conveyor.validate()
             if self.conveyor.stop_on_beam and not self.break_beam:
                 raise ConfigError("conveyor.stop_on_beam needs break_beam: true")
-        check_len("gravity", self.gravity, 3)
-        self._validate_plant_config()
-        if self.task is not None:
-            self._validate_task(self.task)
-        self._validate_faults()
+
+    def _validate_names(self, names: list[str]) -> None:
+        """The world's names are unique, well formed, and leave the pool's and the cell's alone."""
         part_names = {part.name for part in self.parts}
         dupes = sorted({n for n in names if names.count(n) > 1})
         if dupes:
