@@ -134,7 +134,7 @@ def _unwrap_optional(schema: Any) -> Any:
 def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[str, str]]:
     """The steps (``field`` name or list ``item`` name) of ``key`` into a
     scenario's plain data; ConfigError naming the valid keys or names."""
-    from omtp_drake.scenario import Scenario, closest_name, is_record, schema_fields
+    from omtp_drake.scenario import Scenario, is_record, schema_fields
 
     words = key.split(".")
     if not all(words):
@@ -144,39 +144,17 @@ def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[st
     steps: list[tuple[str, str]] = []
     i = 0
     while True:
-        where = ".".join(words[:i]) or "the scenario"
-        fields = [f for f in schema_fields(schema) if not (schema is Scenario and f in _NOT_SWEEPABLE)]
         word = words[i]
-        if word not in fields:
-            near = closest_name(word, fields)
-            hint = f" (closest: {near})" if near else ""
-            extra = "; set seeds with --seeds" if schema is Scenario and word == "seed" else ""
-            raise ConfigError(
-                f"--set {key}: unknown key {word!r} in {where}{hint}; valid keys: {', '.join(fields)}{extra}"
-            )
-        ftype = _unwrap_optional(schema_fields(schema)[word])
+        ftype = _field_type(key, schema, word, ".".join(words[:i]) or "the scenario")
         steps.append(("field", word))
         prefix = ".".join(words[: i + 1])
         child = node.get(word) if isinstance(node, dict) else None
         i += 1
         item_type = typing.get_args(ftype)[0] if typing.get_origin(ftype) is list else None
         if item_type is not None and is_record(item_type):
-            names = [str(x.get("name")) for x in (child or []) if isinstance(x, dict)]
-            if i == len(words):
-                raise ConfigError(
-                    f"--set {key}: {prefix} is a list of named items; give {prefix}.NAME.FIELD; "
-                    f"names: {', '.join(names) or 'none'}"
-                )
-            name = words[i]
-            if name not in names:
-                near = closest_name(name, names)
-                hint = f" (closest: {near})" if near else ""
-                raise ConfigError(
-                    f"--set {key}: {scenario} has no {prefix} item {name!r}{hint}; "
-                    f"names: {', '.join(names) or 'none'}"
-                )
-            steps.append(("item", name))
-            node = next(x for x in (child or []) if x.get("name") == name)
+            name = words[i] if i < len(words) else None
+            node = _named_item(key, scenario, prefix, child, name)
+            steps.append(("item", words[i]))
             schema = item_type
             i += 1
             if i == len(words):
@@ -198,6 +176,43 @@ def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[st
         if i != len(words):
             raise ConfigError(f"--set {key}: {prefix} is a value, not a group of keys")
         return steps
+
+
+def _field_type(key: str, schema: Any, word: str, where: str) -> Any:
+    """The type of field ``word`` of record ``schema`` (at ``where`` in ``key``);
+    ConfigError naming the sweepable fields when it has none of that name."""
+    from omtp_drake.scenario import Scenario, closest_name, schema_fields
+
+    fields = [f for f in schema_fields(schema) if not (schema is Scenario and f in _NOT_SWEEPABLE)]
+    if word not in fields:
+        near = closest_name(word, fields)
+        hint = f" (closest: {near})" if near else ""
+        extra = "; set seeds with --seeds" if schema is Scenario and word == "seed" else ""
+        raise ConfigError(
+            f"--set {key}: unknown key {word!r} in {where}{hint}; valid keys: {', '.join(fields)}{extra}"
+        )
+    return _unwrap_optional(schema_fields(schema)[word])
+
+
+def _named_item(key: str, scenario: str, prefix: str, items: Any, name: Optional[str]) -> dict:
+    """The item called ``name`` of the list of named records ``items`` (at ``prefix``
+    in ``key``); ConfigError listing the names when ``name`` is missing or unknown."""
+    from omtp_drake.scenario import closest_name
+
+    names = [str(x.get("name")) for x in (items or []) if isinstance(x, dict)]
+    if name is None:
+        raise ConfigError(
+            f"--set {key}: {prefix} is a list of named items; give {prefix}.NAME.FIELD; "
+            f"names: {', '.join(names) or 'none'}"
+        )
+    if name not in names:
+        near = closest_name(name, names)
+        hint = f" (closest: {near})" if near else ""
+        raise ConfigError(
+            f"--set {key}: {scenario} has no {prefix} item {name!r}{hint}; "
+            f"names: {', '.join(names) or 'none'}"
+        )
+    return next(x for x in (items or []) if x.get("name") == name)
 
 
 def _with_value(raw: dict, steps: list[tuple[str, str]], value: Any) -> dict:

@@ -36,15 +36,9 @@ from omtp_drake.cell.logical_camera import LogicalCameraImage
 from omtp_drake.cell.poses import PoseStamped, TransformStamped, detected_frame_name, interpolate_pose
 from omtp_drake.cell.station import Station
 from omtp_drake.errors import ConfigError, FrameError, UnknownNameError
+from omtp_drake.sim.tf_poses import PlantFramePoses, Snapshot
 
 _log = logging.getLogger(__name__)
-
-
-@dataclass(frozen=True)
-class _Snapshot:
-    time: float
-    #: X_WB of every body, by body index.
-    X_WB: tuple[RigidTransform, ...]
 
 
 @dataclass(frozen=True)
@@ -220,18 +214,14 @@ class TfBuffer:
         self._plant = station.plant
         self._cache_time = float(cache_time)
         self._tree = FrameTree(station.plant)
+        self._poses = PlantFramePoses(self._tree)
         #: static frame name -> (body index, X_BF)
-        self._static: dict[str, tuple[int, RigidTransform]] = {}
-        for name in self._tree.names():
-            frame = self._tree.frame(name)
-            self._static[name] = (int(frame.body().index()), frame.GetFixedPoseInBodyFrame())
-        self._parents: dict[str, Optional[str]] = {n: self._tree.parent(n) for n in self._static}
-        self._body_frames = {n for n in self._static if self._tree.frame(n).is_body_frame()}
+        self._static = self._poses.static
         self._cameras: tuple[str, ...] = tuple(station.cameras)
         for camera in self._cameras:
             if f"{camera}_frame" not in self._static:
                 raise ConfigError(f"camera {camera!r} has no plant frame {camera}_frame")
-        self._snapshots: list[_Snapshot] = []
+        self._snapshots: list[Snapshot] = []
         self._times: list[float] = []
         self._detected = _DetectedFrames(self._cameras, self._static.keys())
         self._images: Optional[Callable[[str, Context], LogicalCameraImage]] = None
@@ -267,9 +257,9 @@ class TfBuffer:
         station_context = self._station.diagram.GetMyContextFromRoot(root_context)
         i = bisect.bisect_left(self._times, time - TIME_EPS)
         if i < len(self._times) and abs(self._times[i] - time) <= TIME_EPS:
-            self._snapshots[i] = _Snapshot(time, X_WB)
+            self._snapshots[i] = Snapshot(time, X_WB)
         else:
-            self._snapshots.insert(i, _Snapshot(time, X_WB))
+            self._snapshots.insert(i, Snapshot(time, X_WB))
             self._times.insert(i, time)
         for camera in self._cameras:
             if self._images is not None:
@@ -334,7 +324,7 @@ class TfBuffer:
         """The parent of frame ``name`` (None for ``world``)."""
         self._check_name(name)
         if name in self._static:
-            return self._parents[name]
+            return self._poses.parents[name]
         return f"{self._detected.camera_of(name)}_frame"
 
     def image(self, camera: str, time: Optional[float] = None) -> LogicalCameraImage:
@@ -368,8 +358,8 @@ class TfBuffer:
         if abs(before.time - t) > TIME_EPS:
             after = self._snapshots[i + 1]
         cache: dict[str, RigidTransform] = {"world": RigidTransform()}
-        X_WT = self._world_pose(target, before, after, t, cache)
-        X_WS = self._world_pose(source, before, after, t, cache)
+        X_WT = self._poses.world_pose(target, before, after, t, cache, self._detection)
+        X_WS = self._poses.world_pose(source, before, after, t, cache, self._detection)
         return TransformStamped(target, source, t, X_WT.InvertAndCompose(X_WS))
 
     def transform_pose(self, pose: PoseStamped, target_frame: str) -> PoseStamped:
@@ -407,49 +397,6 @@ class TfBuffer:
         if camera is None:
             raise UnknownNameError("frame", name, self.all_frame_names(time), closest=True)
         return camera, self._detected.detection(name, camera, time)
-
-    def _snapshot_world_pose(self, snapshot: _Snapshot, name: str) -> RigidTransform:
-        """X_WF of a plant frame in one snapshot."""
-        body, X_BF = self._static[name]
-        return snapshot.X_WB[body] @ X_BF
-
-    def _world_pose(
-        self,
-        name: str,
-        before: _Snapshot,
-        after: Optional[_Snapshot],
-        time: float,
-        cache: dict[str, RigidTransform],
-    ) -> RigidTransform:
-        """X_WF at ``time``: from ``before`` alone, or each edge interpolated."""
-        if name in cache:
-            return cache[name]
-        if name in self._static:
-            parent = self._parents[name]
-            if after is None:
-                X = self._snapshot_world_pose(before, name)
-            elif parent is None:
-                X = RigidTransform()
-            else:
-                if name in self._body_frames:
-                    alpha = (time - before.time) / (after.time - before.time)
-                    X_PF = interpolate_pose(
-                        self._snapshot_world_pose(before, parent).InvertAndCompose(
-                            self._snapshot_world_pose(before, name)
-                        ),
-                        self._snapshot_world_pose(after, parent).InvertAndCompose(
-                            self._snapshot_world_pose(after, name)
-                        ),
-                        alpha,
-                    )
-                else:
-                    X_PF = self._static[name][1]  # fixed in its body: X_BF
-                X = self._world_pose(parent, before, after, time, cache) @ X_PF
-        else:
-            camera, X_CM = self._detection(name, time)
-            X = self._world_pose(f"{camera}_frame", before, after, time, cache) @ X_CM
-        cache[name] = X
-        return X
 
     def frame_kind(self, name: str) -> str:
         """``camera``, ``detected``, ``moving`` (across a joint) or ``fixed``."""

@@ -313,17 +313,36 @@ def run_task(
         add_visual_extras(rt, recording=bool(record))  # camera frusta, detection markers
     if on_start is not None:
         on_start(run)
-    bar = None
-    if progress:
-        from tqdm import tqdm
-
-        bar = tqdm(
-            total=round(limit, 1),
-            desc=scenario.name,
-            unit="sim s",
-            bar_format="{desc} | {n:.1f}/{total:.0f} s simulated |{bar}| [{elapsed}<{remaining}]",
-        )
+    bar = _progress_bar(scenario.name, limit) if progress else None
     wall0 = time.perf_counter()
+    _advance_until_done(run, limit, chunk, on_chunk, bar)
+    wall = time.perf_counter() - wall0
+    if bar is not None:
+        bar.close()
+    if record:
+        save_recording(rt.station.visualizer, viewer, record)
+    return _result(run, wall)
+
+
+def _progress_bar(name: str, limit: float):
+    """A tqdm bar of simulated time out of ``limit`` s."""
+    from tqdm import tqdm
+
+    return tqdm(
+        total=round(limit, 1),
+        desc=name,
+        unit="sim s",
+        bar_format="{desc} | {n:.1f}/{total:.0f} s simulated |{bar}| [{elapsed}<{remaining}]",
+    )
+
+
+def _advance_until_done(
+    run: TaskRun, limit: float, chunk: float, on_chunk: Optional[Callable[[TaskRun], None]], bar
+) -> None:
+    """Advances ``run`` chunk by chunk until its task is done or ``limit`` s,
+    calling ``on_chunk`` and updating ``bar`` (parts in the bin) after each chunk."""
+    rt = run.runtime
+    task = run.scenario.required_task()
     while rt.time < limit - 1e-9:
         rt.advance_to(min(limit, rt.time + chunk))
         if on_chunk is not None:
@@ -331,16 +350,20 @@ def run_task(
         if bar is not None:
             bar.n = round(rt.time, 1)
             bar.set_description_str(
-                f"{scenario.name}: {rt.ledger().in_bin.get(task.bin, 0)}/{n} in {task.bin}", refresh=False
+                f"{run.scenario.name}: {rt.ledger().in_bin.get(task.bin, 0)}/{task.parts} in {task.bin}",
+                refresh=False,
             )
             bar.refresh()
         if run.done():
             break
-    wall = time.perf_counter() - wall0
-    if bar is not None:
-        bar.close()
-    if record:
-        save_recording(rt.station.visualizer, viewer, record)
+
+
+def _result(run: TaskRun, wall: float) -> TaskResult:
+    """The verdict of a finished run: its picks (a pending drop included), ledger and faults."""
+    rt = run.runtime
+    scenario = run.scenario
+    task = scenario.required_task()
+    n = task.parts
     ledger = rt.ledger()
     picks = list(run.history().picks)
     pending = run.control().pending_drop
