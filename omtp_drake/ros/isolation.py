@@ -400,6 +400,16 @@ def kill_session(session: int) -> int:
     return len(victims)
 
 
+#: The limit flags: (flag, the Limits field, metavar, what it limits).
+_LIMIT_FLAGS = (
+    ("--memory", "memory_mb", "MB", "address space per run"),
+    ("--processes", "processes", "N", "processes per run"),
+    ("--cpu", "cpu_s", "S", "CPU seconds per run"),
+    ("--open-files", "open_files", "N", "open files per run"),
+    ("--output", "output_kb", "KB", "output kept per stream, the rest cut and counted"),
+)
+
+
 def add_isolation_flags(parser: argparse.ArgumentParser, *, sandbox_default: Optional[str]) -> None:
     """``--sandbox`` and the limit flags of ``grade`` and ``ros-run``."""
     d = Limits()
@@ -410,40 +420,18 @@ def add_isolation_flags(parser: argparse.ArgumentParser, *, sandbox_default: Opt
         help="bwrap: bubblewrap (read-only system, no network, private /tmp); none: limits and the "
         f"Python guard only; auto: bwrap when it works (default: {sandbox_default or 'not isolated'})",
     )
-    parser.add_argument(
-        "--memory",
-        type=int,
-        default=d.memory_mb,
-        metavar="MB",
-        help="address space per run (default %(default)s)",
-    )
-    parser.add_argument(
-        "--processes",
-        type=int,
-        default=d.processes,
-        metavar="N",
-        help="processes per run (default %(default)s)",
-    )
-    parser.add_argument(
-        "--cpu", type=int, default=d.cpu_s, metavar="S", help="CPU seconds per run (default %(default)s)"
-    )
-    parser.add_argument(
-        "--open-files",
-        type=int,
-        default=d.open_files,
-        metavar="N",
-        help="open files per run (default %(default)s)",
-    )
-    parser.add_argument(
-        "--output",
-        type=int,
-        default=d.output_kb,
-        metavar="KB",
-        help="output kept per stream, the rest cut and counted (default %(default)s)",
-    )
+    for flag, field_name, metavar, what in _LIMIT_FLAGS:
+        parser.add_argument(
+            flag,
+            dest=field_name,
+            type=int,
+            default=getattr(d, field_name),
+            metavar=metavar,
+            help=f"{what} (default %(default)s)",
+        )
 
 
 def limits_from_args(args: argparse.Namespace) -> Limits:
-    limits = Limits(args.memory, args.processes, args.cpu, args.open_files, args.output)
+    limits = Limits(**{field_name: getattr(args, field_name) for _, field_name, _, _ in _LIMIT_FLAGS})
     limits.check()
     return limits
