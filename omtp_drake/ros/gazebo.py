@@ -203,11 +203,7 @@ class GazeboWorld:
             _log.error("Updating ModelState: model [%s] does not exist", state.model_name)
             response.status_message = "SetModelState: model does not exist"
             return response
-        if state.model_name not in self.models.parts:
-            raise NotSupportedError(
-                f"/gazebo/set_model_state of {state.model_name!r}: here it moves parts only; the parts "
-                f"in the world: {', '.join(sorted(self.models.parts & set(self.models.names()))) or 'none'}"
-            )
+        self._parts_only("/gazebo/set_model_state", "moves", state.model_name)
         found, frame = self.frame(state.reference_frame)
         if not found:
             response.status_message = "SetModelState: specified reference frame entity does not exist"
@@ -222,17 +218,22 @@ class GazeboWorld:
         response.success, response.status_message = True, "SetModelState: set model state done"
         return response
 
+    def _parts_only(self, service: str, verb: str, model: str) -> None:
+        """One error for a model that is not a part (the arms are welded and servoed here)."""
+        if model not in self.models.parts:
+            in_world = sorted(self.models.parts & set(self.models.names()))
+            raise NotSupportedError(
+                f"{service} of {model!r}: here it {verb} parts only; the parts in the world: "
+                f"{', '.join(in_world) or 'none'}"
+            )
+
     def delete_model(self, request: Any) -> Any:
         response: Any = DeleteModel._response_class()
         if request.model_name not in self.models.names():
             _log.error("DeleteModel: model [%s] does not exist", request.model_name)
             response.status_message = "DeleteModel: model does not exist"
             return response
-        if request.model_name not in self.models.parts:
-            raise NotSupportedError(
-                f"/gazebo/delete_model of {request.model_name!r}: here it deletes parts only; the parts "
-                f"in the world: {', '.join(sorted(self.models.parts & set(self.models.names()))) or 'none'}"
-            )
+        self._parts_only("/gazebo/delete_model", "deletes", request.model_name)
         part = self.models.part_of[request.model_name]
         self.cell.remove_part(part)
         if part != request.model_name:
