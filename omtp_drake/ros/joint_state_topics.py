@@ -1,8 +1,9 @@
 """The arms' joint states, by the names the course's controllers use.
 
 - ``/robotN/joint_states`` (``sensor_msgs/JointState``): each arm's joint
-  positions and velocities at the controllers' state rate, and ``/joint_states``
-  (both arms, as the launch file's joint_state_publisher merges them).
+  positions, and ``/joint_states`` (both arms, as the launch file's
+  joint_state_publisher merges them). Sources are polled once per cell tick, so
+  they publish at the tick's rate, at most the controllers' state rate.
 """
 
 from __future__ import annotations
@@ -16,7 +17,7 @@ from omtp_drake.ros.sensor_topics import Source
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
-#: The course's joint trajectory controllers publish their state at 50 Hz.
+#: The course's joint trajectory controllers publish their state at 50 Hz: the cap here.
 JOINT_STATE_RATE_HZ = 50.0
 
 
