@@ -1,11 +1,12 @@
 """Scenario files: loading, inheritance and clear errors."""
 
 import pytest
+import yaml
 
 from omtp_drake.cell.station import build_station
 from omtp_drake.control.motion import ArmPlanner
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
-from omtp_drake.scenario import Scenario, as_scenario, load_scenario, scenario_names
+from omtp_drake.scenario import Scenario, as_scenario, load_scenario, scenario_from_dict, scenario_names
 
 
 def test_factory_scenario_contents():
@@ -171,3 +172,38 @@ def test_with_time_step_changes_only_the_step_and_refuses_a_bad_one():
     assert after.discrete_contact_approximation == before.discrete_contact_approximation
     with pytest.raises(ConfigError, match=r"time_step must be in .*got 0.05"):
         scenario.with_time_step(0.05)
+
+
+@pytest.mark.parametrize("text, message", [
+    ("cameras:\n  - {name: c, occlusion: 'yes'}\n",
+     "x.yaml: cameras[c].occlusion must be true or false, got 'yes'"),
+    ("cameras:\n  - {name: c, xyz: [a, b, c]}\n",
+     "x.yaml: cameras[c].xyz must be a list of numbers, got ['a', 'b', 'c']"),
+    ("seed: 1.5\n", "x.yaml: seed must be an integer, got 1.5"),
+    ("conveyor: 3\n", "x.yaml: conveyor must be a mapping of keys (power, stop_on_beam), got 3"),
+    ("robots: [3]\n", "x.yaml: robots[0] must be a mapping of keys (name, model,"),
+    ("parts:\n  - {name: p, pose: {translation: [1, 2]}}\n",
+     "x.yaml: parts[p].pose.translation must be 3 numbers, got [1, 2]"),
+    ("parts:\n  - {name: p, pose: {transl: [1, 2, 3]}}\n",
+     "x.yaml: parts[p].pose: unknown key 'transl' (did you mean 'translation'?); "
+     "valid keys: base_frame, translation, rotation"),
+    ("parts:\n  - {name: p, pose: {translation: [1, 2, 3], rotation: !Rpy {deg: [1, 2]}}}\n",
+     "x.yaml: parts[p].pose.rotation must be one of !Identity {}, !Rpy {deg}, !AngleAxis {angle_deg, axis}, "
+     "!Uniform {}, got !Rpy {'deg': [1, 2]}"),
+    ("parts:\n  - {name: p, pose: {translation: [1, 2, 3], rotation: !Uniform {}}}\n",
+     "x.yaml: parts[p].pose must be a fixed pose; valid rotations: !Rpy"),
+])
+def test_a_refused_document_names_the_key_path_and_what_is_valid(text, message):
+    """Drake's typed loader is the one checker; a refusal is said at the first refused key."""
+    from omtp_drake.scenario.loader import _Loader
+
+    with pytest.raises(ScenarioError) as e:
+        scenario_from_dict(yaml.load(text, Loader=_Loader), source="x.yaml")
+    assert str(e.value).startswith(message)
+    assert "\n" not in str(e.value)
+
+
+def test_values_are_typed_by_drakes_rules():
+    """What Drake's loader converts (a quoted number, an int for a float) loads as that type."""
+    scenario = scenario_from_dict({"seed": "7", "cameras": [{"name": "c", "far": 2}]})
+    assert scenario.seed == 7 and isinstance(scenario.cameras[0].far, float)

@@ -124,13 +124,6 @@ def settings_label(settings: Mapping[str, Any]) -> str:
     return " ".join(f"{k}={format_value(v)}" for k, v in settings.items()) or "defaults"
 
 
-def _unwrap_optional(schema: Any) -> Any:
-    if typing.get_origin(schema) is Union:
-        options = [a for a in typing.get_args(schema) if a is not type(None)]
-        return options[0] if len(options) == 1 else schema
-    return schema
-
-
 def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[str, str]]:
     """The steps (``field`` name or list ``item`` name) of ``key`` into a
     scenario's plain data; ConfigError naming the valid keys or names."""
@@ -181,7 +174,7 @@ def _key_steps(raw: Mapping[str, Any], key: str, scenario: str) -> list[tuple[st
 def _field_type(key: str, schema: Any, word: str, where: str) -> Any:
     """The type of field ``word`` of record ``schema`` (at ``where`` in ``key``);
     ConfigError naming the sweepable fields when it has none of that name."""
-    from omtp_drake.scenario import Scenario, closest_name, schema_fields
+    from omtp_drake.scenario import Scenario, closest_name, schema_fields, unwrap_optional
 
     fields = [f for f in schema_fields(schema) if not (schema is Scenario and f in _NOT_SWEEPABLE)]
     if word not in fields:
@@ -191,7 +184,7 @@ def _field_type(key: str, schema: Any, word: str, where: str) -> Any:
         raise ConfigError(
             f"--set {key}: unknown key {word!r} in {where}{hint}; valid keys: {', '.join(fields)}{extra}"
         )
-    return _unwrap_optional(schema_fields(schema)[word])
+    return unwrap_optional(schema_fields(schema)[word])
 
 
 def _named_item(key: str, scenario: str, prefix: str, items: Any, name: Optional[str]) -> dict:

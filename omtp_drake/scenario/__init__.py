@@ -23,16 +23,14 @@ from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.latency import RosLatencyConfig
 from omtp_drake.scenario.loader import (
     as_scenario,
-    closest_name,
-    is_record,
     load_scenario,
     require_scenario,
     scenario_document,
     scenario_from_dict,
     scenario_names,
     scenario_text,
-    schema_fields,
 )
+from omtp_drake.scenario.refusals import closest_name, is_record, schema_fields, unwrap_optional
 from omtp_drake.scenario.schema import Scenario
 from omtp_drake.scenario.suction import SuctionConfig
 
@@ -61,4 +59,5 @@ __all__ = [
     "scenario_names",
     "scenario_text",
     "schema_fields",
+    "unwrap_optional",
 ]

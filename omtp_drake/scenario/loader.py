@@ -5,9 +5,10 @@ settings and the seed. It is the analogue of a Gazebo world plus launch file,
 and the one home of the cell's facts that may vary (poses, sizes, rates); the
 fixed sizes of the cell's pieces live in their model files (``models/``).
 
-Files are read with Drake's typed YAML loader after a check of every key and
-value against the schema, so a misspelt key, a wrong type or a non-finite
-number is one clear error naming the file, the key and the valid choices.
+Files are typed by Drake's YAML loader, the one checker of keys and types; a
+document it refuses is one clear error naming the file, the key path and the
+valid choices (:mod:`omtp_drake.scenario.refusals` finds them), and the values
+are then checked by the configs' ``validate()``.
 
 A scenario file may start from another one with ``base: <name or path>``: the
 base is loaded first and the file's keys are merged into it. Mappings merge
@@ -30,22 +31,19 @@ Example::
     scenario = as_scenario(name_or_scenario)          # entry points: a name, a path or a Scenario
 """
 
-import dataclasses
-import difflib
-import typing
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Optional
+from typing import Any
 
 import yaml
-from pydrake.common.schema import Transform
 from pydrake.common.yaml import yaml_load_typed
 from pydrake.math import RollPitchYaw
 
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.scenario.camera import LogicalCameraConfig
 from omtp_drake.scenario.configs import PartConfig
+from omtp_drake.scenario.refusals import LOADER_ERRORS, refusal_message
 from omtp_drake.scenario.schema import Scenario
 
 #: Folder of the scenario files shipped with the package.
@@ -236,20 +234,21 @@ def scenario_from_dict(raw: dict, *, source: str = "scenario", name: str = "") -
     already merged). ``source`` names it in error messages."""
     if not isinstance(raw, dict):
         raise ScenarioError(f"{source}: a scenario must be a mapping of keys, got {type(raw).__name__}")
-    _check_schema(raw, Scenario, source, "")
-    text = yaml.dump(raw, Dumper=_Dumper, sort_keys=False)
     try:
-        scenario = yaml_load_typed(schema=Scenario, data=text, defaults=Scenario())
-    except (RuntimeError, AssertionError, TypeError, ValueError) as e:
-        # What the schema check above let through (Drake's own checks).
-        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        raise ScenarioError(f"{source}: bad value or type: {first}") from None
+        scenario = yaml_load_typed(schema=Scenario, data=scenario_text(raw), defaults=Scenario())
+    except LOADER_ERRORS as e:
+        raise ScenarioError(refusal_message(raw, Scenario, source, e, scenario_text)) from None
     if not raw.get("name"):
         scenario.name = name
     scenario.base = ""
     _apply_poses(scenario, raw, source)
     scenario.validate()
     return scenario
+
+
+_FIXED_ROTATIONS = (
+    "!Rpy {deg: [roll, pitch, yaw]}, !AngleAxis {angle_deg: a, axis: [x, y, z]} or !Identity {}"
+)
 
 
 def _apply_poses(scenario: Scenario, raw: dict, source: str) -> None:
@@ -268,12 +267,12 @@ def _apply_poses(scenario: Scenario, raw: dict, source: str) -> None:
                 raise ScenarioError(
                     f"{source}: {key}[{item.name}] gives both pose and {' and '.join(both)}; give one of them"
                 )
-            try:
-                X = item.pose.GetDeterministicValue()
-            except (RuntimeError, ValueError) as e:
+            if not item.pose.IsDeterministic():
                 raise ScenarioError(
-                    f"{source}: {key}[{item.name}].pose must be a fixed pose: {str(e).splitlines()[0]}"
-                ) from None
+                    f"{source}: {key}[{item.name}].pose must be a fixed pose; "
+                    f"valid rotations: {_FIXED_ROTATIONS}"
+                )
+            X = item.pose.GetDeterministicValue()
             if item.pose.base_frame not in (None, "", "world", getattr(item, "parent", "world")):
                 raise ScenarioError(
                     f"{source}: {key}[{item.name}].pose.base_frame {item.pose.base_frame!r} is not "
@@ -282,131 +281,6 @@ def _apply_poses(scenario: Scenario, raw: dict, source: str) -> None:
             item.xyz = [float(v) for v in X.translation()]
             item.rpy = [float(v) for v in RollPitchYaw(X.rotation()).vector()]
             item.pose = None
-
-
-def schema_fields(schema: Any) -> dict[str, Any]:
-    """Field name -> type of a dataclass or a pydrake config class (of the
-    scenario's schema); empty for any other type."""
-    if dataclasses.is_dataclass(schema):
-        hints = typing.get_type_hints(schema)
-        return {f.name: hints[f.name] for f in dataclasses.fields(schema)}
-    return {f.name: f.type for f in getattr(schema, "__fields__", ())}
-
-
-def is_record(schema: Any) -> bool:
-    """Is ``schema`` a group of keys (a dataclass or config class, not a pose)?"""
-    return (dataclasses.is_dataclass(schema) or hasattr(schema, "__fields__")) and schema is not Transform
-
-
-def _check_schema(value: Any, schema: Any, source: str, path: str) -> None:
-    """Raises ScenarioError for an unknown key or a value of the wrong type at ``path``."""
-    where = f"{source}: {path}" if path else source
-    origin = typing.get_origin(schema)
-    if origin is typing.Union:
-        options = [a for a in typing.get_args(schema) if a is not type(None)]
-        if value is None:
-            return
-        schema = options[0] if len(options) == 1 else schema
-        if len(options) != 1:
-            return  # a variant (Drake checks it)
-        origin = typing.get_origin(schema)
-    if schema is Transform:
-        if not isinstance(value, dict):
-            raise ScenarioError(f"{where} must be a pose mapping (translation, rotation), got {value!r}")
-        unknown = sorted(set(value) - {"base_frame", "translation", "rotation"})
-        if unknown:
-            raise ScenarioError(
-                _unknown_key_message(where, unknown[0], ["base_frame", "translation", "rotation"])
-            )
-        _check_pose(value, where)
-        return
-    if is_record(schema):
-        if not isinstance(value, dict):
-            raise ScenarioError(
-                f"{where} must be a mapping of keys ({', '.join(schema_fields(schema))}), got {value!r}"
-            )
-        fields = schema_fields(schema)
-        for key, item in value.items():
-            if key not in fields:
-                raise ScenarioError(_unknown_key_message(where, str(key), list(fields)))
-            _check_schema(item, fields[key], source, f"{path}.{key}" if path else str(key))
-        return
-    if origin is list:
-        (item_schema,) = typing.get_args(schema)
-        if not isinstance(value, list):
-            raise ScenarioError(f"{where} must be a list, got {value!r}")
-        for i, item in enumerate(value):
-            label = item.get("name", i) if isinstance(item, dict) else i
-            _check_schema(item, item_schema, source, f"{path}[{label}]")
-        return
-    expected = {float: "a number", int: "an integer", bool: "true or false", str: "a string"}
-    if schema in expected:
-        ok = {
-            float: isinstance(value, (int, float)) and not isinstance(value, bool),
-            int: isinstance(value, int) and not isinstance(value, bool),
-            bool: isinstance(value, bool),
-            str: isinstance(value, str),
-        }[schema]
-        if not ok:
-            raise ScenarioError(f"{where} must be {expected[schema]}, got {value!r}")
-
-
-def closest_name(name: str, valid: Sequence[str]) -> Optional[str]:
-    """The valid name ``name`` was most likely meant to be: a close spelling, or
-    one that holds its letters in order (an abbreviation: ``hfov`` for
-    ``horizontal_fov``); None when nothing is close."""
-    near = difflib.get_close_matches(name, list(valid), n=1, cutoff=0.5)
-    if near:
-        return near[0]
-
-    def holds(word: str) -> bool:
-        letters = iter(word)
-        return all(c in letters for c in name)
-
-    abbreviations = sorted((v for v in valid if holds(v)), key=len)
-    return abbreviations[0] if abbreviations and len(name) >= 2 else None
-
-
-_ROTATIONS = "!Rpy {deg: [roll, pitch, yaw]}, !AngleAxis {angle_deg: a, axis: [x, y, z]} or !Identity {}"
-
-
-def _check_pose(value: dict, where: str) -> None:
-    """A fixed pose: translation 3 numbers; rotation one of the fixed forms."""
-
-    def numbers(x: Any, n: int) -> bool:
-        return (
-            isinstance(x, list)
-            and len(x) == n
-            and all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in x)
-        )
-
-    if "translation" in value and not numbers(value["translation"], 3):
-        raise ScenarioError(f"{where}.translation must be 3 numbers, got {value['translation']!r}")
-    if "base_frame" in value and not isinstance(value["base_frame"], (str, type(None))):
-        raise ScenarioError(f"{where}.base_frame must be a frame name, got {value['base_frame']!r}")
-    if "rotation" not in value:
-        return
-    rotation = value["rotation"]
-    forms = {"!Rpy": {"deg": 3}, "!AngleAxis": {"angle_deg": 1, "axis": 3}, "!Identity": {}}
-    body = rotation.value if isinstance(rotation, _Tagged) else None
-    if (
-        not isinstance(rotation, _Tagged)
-        or rotation.tag not in forms
-        or not isinstance(body, dict)
-        or set(body) != set(forms[rotation.tag])
-        or not all(numbers(body[k] if n > 1 else [body[k]], n) for k, n in forms[rotation.tag].items())
-    ):
-        raise ScenarioError(f"{where}.rotation must be {_ROTATIONS}, got {_show(rotation)}")
-
-
-def _show(value: Any) -> str:
-    return f"{value.tag} {value.value!r}" if isinstance(value, _Tagged) else repr(value)
-
-
-def _unknown_key_message(where: str, key: str, valid: list[str]) -> str:
-    near = closest_name(key, valid)
-    hint = f" (did you mean {near!r}?)" if near else ""
-    return f"{where}: unknown key {key!r}{hint}; valid keys: {', '.join(valid)}"
 
 
 def require_scenario(value: Any, who: str) -> Scenario:
