@@ -41,6 +41,12 @@ class UnknownNameError(OmtpError, KeyError):
         return self.args[0]
 
 
+class StateError(OmtpError, RuntimeError):
+    """A call made when its object cannot take it yet or any more: a recording not
+    yet advanced, a constraint declared after ``Finalize``, an object still held
+    (the message says what to do first)."""
+
+
 class FrameError(OmtpError):
     """A transform cannot be looked up (e.g. a time outside the buffer's history)."""
 

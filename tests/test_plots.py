@@ -7,7 +7,7 @@ from matplotlib.colors import to_rgba
 from matplotlib.figure import Figure
 
 from omtp_drake.control.pick_and_place import PickFailure, PickRecord
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, StateError
 from omtp_drake.tasks.plots import (
     FAIL_COLOUR,
     OK_COLOUR,
@@ -137,12 +137,12 @@ def test_conveyor_plot_shows_the_beam_stopping_the_belt():
     assert np.array_equal(power_ax.get_lines()[0].get_ydata(), rec.conveyor_power)
 
 
-def test_empty_inputs_raise_config_errors():
-    with pytest.raises(ConfigError):
+def test_wrong_inputs_raise_config_errors_and_an_empty_recording_a_state_error():
+    with pytest.raises(ConfigError, match="the recording has no break beam and conveyor"):
         plot_conveyor(RunRecording(robot="robot2", time=[0.0]))  # no beam recorded
-    with pytest.raises(ConfigError):
+    with pytest.raises(StateError, match="the recording is empty: advance the runtime after attaching"):
         plot_tracking_error(RunRecording(robot="robot2"))
-    with pytest.raises(ConfigError):
+    with pytest.raises(ConfigError, match="plot_seed_stats needs at least one result"):
         plot_seed_stats([])
-    with pytest.raises(ConfigError):
+    with pytest.raises(ConfigError, match="expected a RunRecording or RunRecorder, got str"):
         plot_ledger("not a recording")

@@ -13,6 +13,7 @@ from omtp_drake.errors import (
     FrameError,
     GoalInCollisionError,
     PlanningError,
+    StateError,
     UnknownNameError,
     UnreachableError,
 )
@@ -164,6 +165,19 @@ def test_a_part_in_the_planning_scene_refuses_the_line_and_one_put_there_later_s
         cell.remove_part(part)
         cell.planning_scene.remove()
     arm.go("Home")
+
+
+def test_a_box_held_by_a_gripper_is_detached_before_it_is_replaced(cell):
+    scene = cell.planning_scene
+    scene.attach_box("robot2", "held_box", size=0.1)
+    try:
+        with pytest.raises(StateError, match="'held_box' is attached to robot2; detach it first"):
+            scene.add_box("held_box", RigidTransform([-8.0, -1.5, 0.5]), 0.1)
+        scene.detach("robot2", "held_box")
+        scene.add_box("held_box", RigidTransform([-8.0, -1.5, 0.5]), 0.1)  # in the world now: replaced
+    finally:
+        scene.detach()
+        scene.remove()
 
 
 def test_execute_without_wait_moves_two_arms_at_once(cell):

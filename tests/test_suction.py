@@ -38,7 +38,7 @@ from omtp_drake.cell.suction_rig import (
     tool_q,
     trajectory,
 )
-from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.errors import ConfigError, StateError, UnknownNameError
 from omtp_drake.scenario import SuctionConfig
 
 BACKENDS = ("weld", "force")
@@ -424,7 +424,7 @@ def test_connect_spatial_forces_merges_several_force_grippers():
                                     f"suction{k}") for k, cup in enumerate(cups, 1)]
     connect_spatial_forces(builder, plant, grippers)
     assert builder.IsConnectedOrExported(plant.get_applied_spatial_force_input_port())
-    with pytest.raises(ConfigError, match="already connected"):
+    with pytest.raises(StateError, match="already connected"):
         connect_spatial_forces(builder, plant, grippers)
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
@@ -448,7 +448,7 @@ def test_gripper_rejects_anchored_parts_and_declares_before_finalize():
     with pytest.raises(ConfigError, match="world body"):
         declare_suction_constraints(plant, cup, plant.world_body())
     plant.Finalize()
-    with pytest.raises(ConfigError, match="before plant.Finalize"):
+    with pytest.raises(StateError, match="before plant.Finalize"):
         declare_suction_constraints(plant, cup, plant.GetBodyByName("p"))
     with pytest.raises(ConfigError, match="'fixed' is anchored"):
         ForceSuctionGripper(plant, cup, [plant.GetBodyByName("fixed")],

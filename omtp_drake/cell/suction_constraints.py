@@ -19,7 +19,7 @@ from pydrake.multibody.plant import DiscreteContactSolver, DistanceConstraintPar
 from pydrake.multibody.tree import BodyIndex, MultibodyConstraintId, RigidBody
 from pydrake.systems.framework import Context
 
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, StateError
 
 #: Circumradius of the cup's and the part's triangles of constraint points [m].
 _TRIANGLE_RADIUS = 0.05
@@ -113,7 +113,7 @@ def declare_suction_constraints(
     world body (constraints on it crash Drake 1.51's simulation).
     """
     if plant.is_finalized():
-        raise ConfigError("declare_suction_constraints must be called before plant.Finalize()")
+        raise StateError("declare_suction_constraints must be called before plant.Finalize()")
     solver = plant.get_discrete_contact_solver()
     if plant.time_step() <= 0 or solver != DiscreteContactSolver.kSap:
         raise ConfigError(

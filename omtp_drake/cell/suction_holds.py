@@ -63,7 +63,7 @@ from pydrake.systems.framework import Context, DiagramBuilder, InputPort, Output
 
 from omtp_drake.cell.suction import GripperMemory, GripperState, SuctionGripper
 from omtp_drake.cell.suction_constraints import SuctionConstraints
-from omtp_drake.errors import ConfigError, SimulationError
+from omtp_drake.errors import ConfigError, SimulationError, StateError
 from omtp_drake.scenario.suction import SuctionConfig
 
 _log = logging.getLogger(__name__)
@@ -407,7 +407,7 @@ def connect_spatial_forces(
         return
     port = plant.get_applied_spatial_force_input_port()
     if builder.IsConnectedOrExported(port):
-        raise ConfigError(
+        raise StateError(
             "the plant's applied_spatial_force input is already connected; "
             "connect_spatial_forces must be its only source"
         )

@@ -26,7 +26,7 @@ import numpy as np
 from pydrake.math import RigidTransform
 
 from omtp_drake.cell.poses import PoseStamped
-from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.errors import ConfigError, StateError, UnknownNameError
 
 if TYPE_CHECKING:
     from omtp_drake.sim.runtime import FactoryRuntime
@@ -151,5 +151,5 @@ class CellPlanningScene:
             raise ConfigError("a planning-scene object needs a name")
         held = self._boxes.get(name)
         if held is not None and held.robot and name != allow:
-            raise ConfigError(f"{name!r} is attached to {held.robot}; detach it first")
+            raise StateError(f"{name!r} is attached to {held.robot}; detach it first")
         return name

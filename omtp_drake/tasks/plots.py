@@ -32,7 +32,7 @@ from pydrake.math import RigidTransform
 
 from omtp_drake.cell.logical_camera import model_type
 from omtp_drake.control.pick_and_place import ControlState
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, StateError
 
 if TYPE_CHECKING:
     from omtp_drake.sim.runtime import FactoryRuntime
@@ -184,7 +184,7 @@ class RunRecorder:
 
 def _need_samples(rec: RunRecording) -> None:
     if len(rec) == 0:
-        raise ConfigError("the recording is empty: advance the runtime after attaching the recorder")
+        raise StateError("the recording is empty: advance the runtime after attaching the recorder")
 
 
 def plot_tracking_error(rec: RunRecording | RunRecorder) -> Figure:
