@@ -35,6 +35,7 @@ from omtp_drake.ros.interfaces import LogicalCameraImage, Model, Proximity, Vacu
 from omtp_drake.ros.messages import Header, Time
 
 if TYPE_CHECKING:
+    from omtp_drake.cell.conveyor import BreakBeam
     from omtp_drake.script import Cell
 
 #: The lecture's single-camera topic and frame.
@@ -90,10 +91,7 @@ class BreakBeamSource(Source):
     msg_class = Proximity
     latch = True
 
-    def __init__(self, cell: Cell, changes_only: bool):
-        beam = cell.station.break_beam
-        if beam is None:
-            raise ValueError("the cell has no break beam")
+    def __init__(self, cell: Cell, beam: BreakBeam, changes_only: bool):
         self._cell = cell
         self._rate = beam.rate_hz
         self._range = beam.range
@@ -153,9 +151,10 @@ def cell_sources(cell: Cell, views: dict[str, GazeboCameraView]) -> dict[str, So
     single = single_camera(cell)
     if single is not None:
         sources[SINGLE_CAMERA_TOPIC] = CameraSource(cell, views[single])
-    if cell.station.break_beam is not None:
-        sources[f"/{BREAK_BEAM_SENSOR}"] = BreakBeamSource(cell, changes_only=False)
-        sources[f"/{BREAK_BEAM_SENSOR}_change"] = BreakBeamSource(cell, changes_only=True)
+    beam = cell.station.break_beam
+    if beam is not None:
+        sources[f"/{BREAK_BEAM_SENSOR}"] = BreakBeamSource(cell, beam, changes_only=False)
+        sources[f"/{BREAK_BEAM_SENSOR}_change"] = BreakBeamSource(cell, beam, changes_only=True)
     for robot, plugin in gripper_plugins(cell).items():
         sources[f"/{plugin}/state"] = GripperStateSource(cell, robot)
     return sources
