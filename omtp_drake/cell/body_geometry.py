@@ -1,8 +1,9 @@
 """Which geometries of a body a camera counts, and the boxes that bound them.
 
-* :func:`body_geometries` (proximity and illustration: the bodies a logical
-  camera may report) and :func:`visualbody_geometries` (what a camera sees of a
-  body: one role, the first of perception, illustration, proximity that it has).
+* :func:`body_geometries` (those of given roles; by default proximity and
+  illustration: the bodies a logical camera may report) and
+  :func:`seen_geometries` (what a camera sees of a body: one role, the first of
+  perception, illustration, proximity that it has).
 * :func:`bounding_box`: the axis-aligned box of a body's geometries' oriented
   bounding boxes (:func:`oriented_bounding_box`).
 
@@ -24,30 +25,32 @@ from pydrake.multibody.tree import BodyIndex
 
 
 def body_geometries(
-    plant: MultibodyPlant, inspector: SceneGraphInspector, body_index: BodyIndex
+    plant: MultibodyPlant,
+    inspector: SceneGraphInspector,
+    body_index: BodyIndex,
+    roles: Sequence[Role] = (Role.kProximity, Role.kIllustration),
 ) -> list[GeometryId]:
-    """The proximity and illustration geometries of a body."""
+    """The geometries of a body that have any of ``roles`` (by default those a
+    logical camera may report), in id order."""
     frame_id = plant.GetBodyFrameIdIfExists(body_index)
     if frame_id is None:
         return []
-    geometries = set(inspector.GetGeometries(frame_id, Role.kProximity))
-    geometries |= set(inspector.GetGeometries(frame_id, Role.kIllustration))
+    geometries: set[GeometryId] = set()
+    for role in roles:
+        geometries |= set(inspector.GetGeometries(frame_id, role))
     return sorted(geometries, key=lambda g: g.get_value())
 
 
-def visualbody_geometries(
+def seen_geometries(
     plant: MultibodyPlant, inspector: SceneGraphInspector, body_index: BodyIndex
 ) -> list[GeometryId]:
     """What a camera sees of a body: its perception geometries, else its
     illustration ones, else its proximity ones (a body modelled for one role only
     is still seen)."""
-    frame_id = plant.GetBodyFrameIdIfExists(body_index)
-    if frame_id is None:
-        return []
     for role in (Role.kPerception, Role.kIllustration, Role.kProximity):
-        geometries = inspector.GetGeometries(frame_id, role)
+        geometries = body_geometries(plant, inspector, body_index, roles=(role,))
         if geometries:
-            return sorted(geometries, key=lambda g: g.get_value())
+            return geometries
     return []
 
 

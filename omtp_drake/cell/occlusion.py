@@ -19,7 +19,7 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import BodyIndex
 
-from omtp_drake.cell.body_geometry import BOX_CORNERS, oriented_bounding_box, visualbody_geometries
+from omtp_drake.cell.body_geometry import BOX_CORNERS, oriented_bounding_box, seen_geometries
 from omtp_drake.cell.frustum import FrustumOverlap
 from omtp_drake.cell.kdop import slabs_in_geometry_frame
 from omtp_drake.scenario.camera import LogicalCameraConfig
@@ -43,7 +43,7 @@ class RayCastOcclusion:
     """The visible fraction of models, from rays cast against the scene's visual
     geometry (see :class:`~omtp_drake.cell.logical_camera.LogicalCamera`, "Occlusion").
 
-    Every visual geometry of the plant (:func:`~omtp_drake.cell.body_geometry.visualbody_geometries`: its
+    Every visual geometry of the plant (:func:`~omtp_drake.cell.body_geometry.seen_geometries`: its
     perception geometries, else illustration, else proximity ones) is a convex
     polytope fixed to its body (:func:`slabs_in_geometry_frame`), with the
     oriented bounding box that culls it. For a sample: the geometries whose box
@@ -84,7 +84,7 @@ class RayCastOcclusion:
         normals, d_plus, d_minus, counts = [], [], [], []
         for index in range(plant.num_bodies()):
             body = plant.get_body(BodyIndex(index))
-            geometries = visualbody_geometries(plant, inspector, body.index())
+            geometries = seen_geometries(plant, inspector, body.index())
             if not geometries:
                 continue
             bodies.append(index)

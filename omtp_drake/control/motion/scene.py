@@ -21,6 +21,7 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.tree import RigidBody
 from pydrake.planning import SceneGraphCollisionChecker
 
+from omtp_drake.cell.body_geometry import body_geometries
 from omtp_drake.errors import ConfigError
 
 #: What one obstacle is: its pose in world and its size (edge or x, y, z edges).
@@ -107,8 +108,7 @@ class PlanningScene:
     def body_geometries(self, body: RigidBody) -> list[GeometryId]:
         """The proximity geometries of ``body``, added boxes included."""
         inspector = self._checker.model_context().GetQueryObject().inspector()
-        frame = self._checker.plant().GetBodyFrameIdOrThrow(body.index())
-        return list(inspector.GetGeometries(frame, Role.kProximity))
+        return body_geometries(self._checker.plant(), inspector, body.index(), roles=(Role.kProximity,))
 
     def label(self, geometry: GeometryId, body: RigidBody) -> str:
         """The name of ``geometry`` (of ``body``) in collision reports: an added box's
