@@ -10,7 +10,7 @@ May import: ``omtp_drake.tasks`` and everything below it.
 """
 
 from omtp_drake.batch.cluster import connect, default_workers, run_batch
-from omtp_drake.batch.records import RunRecord
+from omtp_drake.batch.run_records import RunRecord
 from omtp_drake.batch.sandbox import Sandbox, simulate
 from omtp_drake.batch.summary import format_summary, summarize, wilson_interval
 from omtp_drake.batch.sweep import parse_seeds, parse_sets, plan_batch

@@ -66,7 +66,7 @@ from omtp_drake.cell.cell_models import ArmHandles, CellModels, add_cell_models
 from omtp_drake.cell.conveyor import BeltGeometry, BreakBeam, ConveyorBelt
 from omtp_drake.cell.logical_camera import LogicalCamera
 from omtp_drake.cell.parts import PartStates
-from omtp_drake.cell.sleep import RestClock
+from omtp_drake.cell.rest_clock import RestClock
 from omtp_drake.cell.suction import SuctionGripper
 from omtp_drake.cell.suction_constraints import SuctionConstraints, declare_suction_constraints
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, add_suction_gripper, connect_spatial_forces

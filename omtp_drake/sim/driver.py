@@ -38,8 +38,8 @@ from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
 from omtp_drake.sim.ledger import held_parts, locate
+from omtp_drake.sim.part_sleep import PartSleep
 from omtp_drake.sim.pool import PartPool
-from omtp_drake.sim.sleep import PartSleep
 
 if TYPE_CHECKING:
     from omtp_drake.cell.station import Station

@@ -51,8 +51,8 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
 from omtp_drake.control.motion.collision import CollisionModel, OtherPositions
+from omtp_drake.control.motion.formatting import fmt_pairs, fmt_q
 from omtp_drake.control.motion.ik import ArmKinematics
-from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
 from omtp_drake.control.motion.planner_kinematics import ArmKinematicsQueries
 from omtp_drake.control.motion.scene import PlanningScene
 from omtp_drake.control.motion.search import JointSearch, move_out

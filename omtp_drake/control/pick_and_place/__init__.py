@@ -1,6 +1,6 @@
 """Pick and place with differential IK: a state machine per robot.
 
-- :mod:`~omtp_drake.control.pick_and_place.records`: what the controller is doing
+- :mod:`~omtp_drake.control.pick_and_place.controller_state`: what the controller is doing
   and has done (:class:`Mode`, :class:`ControlState`, :class:`PickRecord`,
   :class:`PickFailure`, :class:`PickHistory`), plain values;
 - :mod:`~omtp_drake.control.pick_and_place.perception`: parts and the bin as the
@@ -17,6 +17,13 @@
 Modules here import each other by module, never through this package.
 """
 
+from omtp_drake.control.pick_and_place.controller_state import (
+    ControlState,
+    Mode,
+    PickFailure,
+    PickHistory,
+    PickRecord,
+)
 from omtp_drake.control.pick_and_place.machine import (
     NO_IMAGE,
     Decision,
@@ -25,7 +32,6 @@ from omtp_drake.control.pick_and_place.machine import (
     bin_capacity,
     task_planner,
 )
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickHistory, PickRecord
 from omtp_drake.control.pick_and_place.system import (
     PickAndPlaceController,
     add_pick_and_place,

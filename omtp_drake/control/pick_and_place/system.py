@@ -38,9 +38,9 @@ from pydrake.systems.primitives import ConstantValueSource
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.suction import GripperState
+from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory
 from omtp_drake.control.pick_and_place.machine import PickMachine
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
-from omtp_drake.control.pick_and_place.records import ControlState, PickHistory
 from omtp_drake.control.tool_paths import Path
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import BinConfig, RobotConfig, TaskConfig
