@@ -138,8 +138,8 @@ class Station:
         ports nobody drives, fixed so the station holds still (an arm's
         ``position`` at its pose, a gripper's ``command`` off). An arm whose
         ``position`` is held is also locked (:meth:`set_arm_locked`): it never
-        moves, and the contact solver drops its degrees of freedom (fill_bin:
-        3 % less CPU per simulated second, bench/README.md).
+        moves, and the contact solver drops its degrees of freedom (less CPU per
+        simulated second: bench/README.md, "Measured").
         ``root_context`` is the Context of the station's diagram or of a
         diagram containing it.
         """
