@@ -1,6 +1,6 @@
 """The plant's time step against suction outcomes (issue 20: 5, 8 or 10 ms?).
 
-Scene (omtp_drake.cell.suction_rig, the rig the suction tests use): a world floor,
+Scene (tests/suction_rig.py, the rig the suction tests use): a world floor,
 0.2 m cube parts, a tool on stiff SAP-PD joints carrying the course's vacuum
 gripper, SAP point contact; only the plant's step changes between rows. A driver
 loop advances in 50 ms ticks and calls ``sync_weld`` after each, as the runtime does.
@@ -34,15 +34,23 @@ Numbers only, no pass/fail:
 import argparse
 import logging
 import math
+import sys
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.systems.framework import Context
 
 from omtp_drake.cell.suction import contact_points
-from omtp_drake.cell.suction_rig import (
+from omtp_drake.scenario import SuctionConfig, load_scenario
+from omtp_drake.script import Cell
+
+# The suction rig lives with the tests that use it (tests/suction_rig.py).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+
+from suction_rig import (  # noqa: E402
     PRESS,
     SIZE,
     TOP,
@@ -53,8 +61,6 @@ from omtp_drake.cell.suction_rig import (
     pose_change,
     tool_q,
 )
-from omtp_drake.scenario import SuctionConfig, load_scenario
-from omtp_drake.script import Cell
 
 logging.getLogger("drake").setLevel(logging.ERROR)
 logging.getLogger("omtp_drake").setLevel(logging.WARNING)

@@ -1,6 +1,6 @@
 """Cost of the vacuum gripper, per backend.
 
-Scene (omtp_drake.cell.suction_rig, the rig the suction tests use): a world floor, 10 parts of 1 kg
+Scene (tests/suction_rig.py, the rig the suction tests use): a world floor, 10 parts of 1 kg
 (0.2 m cubes) on it, a tool on stiff SAP-PD joints carrying the course's vacuum
 gripper, SAP point contact at the station's plant settings (10 ms steps). The tool presses
 on one part, the gripper attaches it, and the tool then carries it back and
@@ -19,11 +19,17 @@ of several runs; no pass/fail.
 import argparse
 import logging
 import statistics
+import sys
 import time
-from typing import Callable
+from collections.abc import Callable
+from pathlib import Path
 
-from omtp_drake.cell.suction_rig import PRESS, TOP, Rig, build_rig, plant_config, tool_q, trajectory
 from omtp_drake.scenario import SuctionConfig
+
+# The suction rig lives with the tests that use it (tests/suction_rig.py).
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
+
+from suction_rig import PRESS, TOP, Rig, build_rig, plant_config, tool_q, trajectory  # noqa: E402
 
 logging.getLogger("drake").setLevel(logging.ERROR)
 logging.getLogger("omtp_drake").setLevel(logging.WARNING)
@@ -83,7 +89,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seconds", type=float, default=10.0, help="simulated time per run")
     args = parser.parse_args()
-    print(f"scene: {len(PARTS)} parts of 1 kg, tool at 1 m/s, {1e3 * plant_config().time_step:g} ms SAP point contact, "
+    step_ms = 1e3 * plant_config().time_step
+    print(f"scene: {len(PARTS)} parts of 1 kg, tool at 1 m/s, {step_ms:g} ms SAP point contact, "
           f"{args.seconds:g} s simulated per run, 50 ms ticks")
     print(f"{'case':<28} {'RTF best':>9} {'RTF median':>11}")
     rigs = {}

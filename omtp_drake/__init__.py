@@ -8,10 +8,23 @@ The usual entry points::
 
 ``import omtp_drake`` loads nothing heavy: each name is imported on first use.
 
-The packages, bottom to top (a package imports only from those below it):
-``errors`` -> ``assets`` -> ``scenario`` -> ``cell`` -> ``sim``, ``control`` -> ``viz``
--> ``tasks``, ``script`` -> ``batch`` -> ``ros``, ``demos``, ``benchmark`` -> ``cli``
-(tests/test_layering.py holds the order and checks it).
+Modules and packages, bottom to top (one imports only from those below it; the order
+is held and checked by tests/test_layering.py):
+
+- ``errors``: one exception hierarchy for every user-facing error
+- ``assets``: model files: the project's xacro sources and the classic UR arms
+- ``scenario``: the typed schema of ``diagrams/*.yaml`` and its loader
+- ``cell``: what the factory is made of, as Drake systems and models
+- ``sim``: running the cell: the driver, its world edits, the part pool and services
+- ``control``: deciding how the arms move: tool paths, pick and place, motion planning
+- ``viz``: looking at the cell: Meshcat views and replays, screenshots, the frame tree
+- ``tasks``: a scenario's pick-and-place task, run and judged; plots of a run
+- ``script``: scripting the cell yourself: ``Cell`` and its arms, grippers and cameras
+- ``batch``: many runs in parallel on Dask, their records, summaries and plots
+- ``ros``: the course's ROS 1 scripts and FlexBE behaviours, unchanged, on the cell
+- ``demos``: ready-made runs of the factory for the command line
+- ``bench_command``: ``omtp-drake bench``'s link to the benchmarks in ``bench/``
+- ``cli``: the ``omtp-drake`` command line
 """
 
 from __future__ import annotations

@@ -1,13 +1,15 @@
-"""The package's shape: layers point one way and no module imports itself back.
+"""The package's shape: layers point one way, no module imports itself back, and
+each package's docstring maps exactly the modules it holds.
 
 Every import counts: at module level, inside functions, and under
 ``TYPE_CHECKING``. ``omtp_drake/__init__.py`` is the lazy facade over the
-layers (it imports nothing when loaded) and is left out.
+layers (it imports nothing when loaded) and is left out of the import graph.
 """
 
 from __future__ import annotations
 
 import ast
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -143,3 +145,43 @@ def test_importing_the_package_loads_nothing_heavy(heavy):
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "0"
+
+
+#: A line of a package's map of its modules: ``- ``name``: its job``.
+_MAP_LINE = re.compile(r"^ *- ``(\w+)``: \S", re.MULTILINE)
+
+
+def _mapped(docstring: str) -> list[str]:
+    """The module names a package docstring's map lists, in order."""
+    return _MAP_LINE.findall(docstring)
+
+
+def _packages() -> list[Path]:
+    """Every package of omtp_drake, except the ROS-named shim packages under
+    ``ros/shims`` (they mirror ROS's packages; ``ros`` maps ``shims`` itself)."""
+    inits = PACKAGE.rglob("__init__.py")
+    return sorted(p.parent for p in inits if "shims" not in p.relative_to(PACKAGE).parts)
+
+
+def _members(package: Path) -> set[str]:
+    """The modules of ``package``: its ``*.py`` files and its folders of Python code."""
+    modules = {p.stem for p in package.glob("*.py") if p.name != "__init__.py"}
+    folders = {d.name for d in package.iterdir() if d.is_dir() and any(d.rglob("*.py"))}
+    return modules | folders
+
+
+def test_the_map_reader_reads_map_lines_only():
+    doc = "Modules:\n\n- ``driver``: runs it\n  - ``pool``: the parts\n``ledger`` is named in prose\n- ``x``:"
+    assert _mapped(doc) == ["driver", "pool"]
+
+
+@pytest.mark.parametrize("package", _packages(), ids=lambda p: p.relative_to(PACKAGE.parent).as_posix())
+def test_each_package_docstring_maps_exactly_its_modules(package):
+    doc = ast.get_docstring(ast.parse((package / "__init__.py").read_text())) or ""
+    mapped = _mapped(doc)
+    twice = sorted({m for m in mapped if mapped.count(m) > 1})
+    members = _members(package)
+    assert not twice, f"mapped twice: {twice}"
+    assert set(mapped) == members, (
+        f"not in the map: {sorted(members - set(mapped))}; mapped but absent: {sorted(set(mapped) - members)}"
+    )

@@ -1,6 +1,6 @@
 """Parts at rest fall asleep (their joints locked, their contacts with what never
 moves filtered out) and wake when something that moves touches them
-(omtp_drake.cell.sleep, omtp_drake.sim.sleep)."""
+(omtp_drake.cell.rest_clock, omtp_drake.sim.part_sleep)."""
 
 from dataclasses import replace
 
@@ -10,8 +10,8 @@ from pydrake.geometry import Role
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import load_scenario
 from omtp_drake.sim.driver import world_edits
+from omtp_drake.sim.part_sleep import PartSleep
 from omtp_drake.sim.runtime import FactoryRuntime
-from omtp_drake.sim.sleep import PartSleep
 from omtp_drake.tasks.run import TaskRun, prepare
 
 SIZE = 0.1  # fill_bin's parts
@@ -195,7 +195,7 @@ def test_rest_clock_counts_a_part_still_only_below_both_speeds():
     from pydrake.systems.analysis import Simulator
     from pydrake.systems.framework import DiagramBuilder
 
-    from omtp_drake.cell.sleep import RestClock
+    from omtp_drake.cell.rest_clock import RestClock
     from omtp_drake.scenario import SleepConfig
 
     velocities = {  # name: (w, v), the defaults' limits 0.1 rad/s and 0.01 m/s

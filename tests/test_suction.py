@@ -1,5 +1,5 @@
 """The vacuum gripper (omtp_drake.cell.suction), both backends, on the suction rig
-(omtp_drake.cell.suction_rig: a 5-DOF tool over a floor with parts)."""
+(tests/suction_rig.py: a 5-DOF tool over a floor with parts)."""
 
 import math
 
@@ -10,17 +10,7 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlantConfig
 from pydrake.systems.framework import DiagramBuilder
-
-from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.cell.suction import GripperState
-from omtp_drake.cell.suction_constraints import declare_suction_constraints, octahedron
-from omtp_drake.cell.suction_holds import (
-    ForceSuctionGripper,
-    add_suction_gripper,
-    connect_spatial_forces,
-    sync_weld,
-)
-from omtp_drake.cell.suction_rig import (
+from suction_rig import (
     CUP_OFFSET,
     GRIPPER,
     PART_Z,
@@ -37,6 +27,16 @@ from omtp_drake.cell.suction_rig import (
     pose_change,
     tool_q,
     trajectory,
+)
+
+from omtp_drake.assets import MODELS_DIR, expand_xacro
+from omtp_drake.cell.suction import GripperState
+from omtp_drake.cell.suction_constraints import declare_suction_constraints, octahedron
+from omtp_drake.cell.suction_holds import (
+    ForceSuctionGripper,
+    add_suction_gripper,
+    connect_spatial_forces,
+    sync_weld,
 )
 from omtp_drake.errors import ConfigError, StateError, UnknownNameError
 from omtp_drake.scenario import SuctionConfig

@@ -14,7 +14,7 @@ given by its scheduler's address (``dask scheduler`` / ``dask worker``)::
 
 The plan (every run, checked) comes from :mod:`omtp_drake.batch.sweep`; each run
 goes to its worker's sandbox (:mod:`omtp_drake.batch.sandbox`), so a run that
-raises, hangs or crashes becomes a :class:`~omtp_drake.batch.records.RunRecord` of status ``error``,
+raises, hangs or crashes becomes a :class:`~omtp_drake.batch.run_records.RunRecord` of status ``error``,
 ``timeout`` or ``crashed``, is retried once on another worker, and the batch
 goes on. Results go to ``out`` (:mod:`omtp_drake.batch.store`).
 """
@@ -32,7 +32,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional, Union
 
-from omtp_drake.batch.records import CRASHED, ERROR, FINISHED, RunRecord
+from omtp_drake.batch.run_records import CRASHED, ERROR, FINISHED, RunRecord
 from omtp_drake.batch.sandbox import RunFunction, describe_exception, run_in_child, simulate, thread_sandbox
 from omtp_drake.batch.store import ResultStore
 from omtp_drake.batch.sweep import BatchPlan, RunSpec, plan_batch

@@ -14,7 +14,7 @@ from omtp_drake.errors import ConfigError
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from omtp_drake.batch.records import RunRecord
+    from omtp_drake.batch.run_records import RunRecord
 
 
 def plot_success_rates(summaries: Sequence[SettingSummary]) -> Figure:

@@ -27,7 +27,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn, Optional
 
-from omtp_drake.batch.records import CRASHED, ERROR, FINISHED, TIMEOUT
+from omtp_drake.batch.run_records import CRASHED, ERROR, FINISHED, TIMEOUT
 from omtp_drake.batch.sweep import RunSpec
 
 if TYPE_CHECKING:

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from omtp_drake.batch.plots import plot_cycle_time_histograms, plot_success_rates
-from omtp_drake.batch.records import RunRecord, write_table
+from omtp_drake.batch.run_records import RunRecord, write_table
 from omtp_drake.batch.summary import summarize
 from omtp_drake.batch.sweep import BatchPlan
 from omtp_drake.errors import ConfigError

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from omtp_drake.batch.records import FINISHED, RunRecord
+from omtp_drake.batch.run_records import FINISHED, RunRecord
 from omtp_drake.batch.sweep import settings_label
 
 #: z of the two-sided 95 % interval.

@@ -158,8 +158,8 @@ class CommandSampler:
     StateInterpolatorWithDiscreteDerivative passes the newest sample as the position
     while its velocity is the difference of the two before it; a derivative of that
     velocity, sampled at the same instants, is another sample behind. During an
-    acceleration such a servo lags and then catches up faster than commanded: a 1 m/s
-    plan measured up to 1.17 m/s at the cup (this sampler: see bench/README.md).
+    acceleration such a servo lags and then catches up faster than commanded: the cup
+    overshoots a plan's speed (figures: bench/README.md, "Measured").
 
     Input port ``position`` (n); output ports ``desired_state`` (2n, ``[q_d; v_d]``)
     and ``desired_acceleration`` (n).

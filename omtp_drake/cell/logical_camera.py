@@ -115,7 +115,7 @@ class LogicalCamera(LeafSystem):
     (:class:`CameraSample`; a sample only copies the poses). The image is
     computed from the sample when the ``image`` port is read, and cached until
     the next sample: a camera nobody reads costs no frustum, occlusion or noise
-    work (issue 20), and one read several times per sample computes it once.
+    work, and one read several times per sample computes it once.
 
     Frames: the camera frame C is the plant frame ``frame``; it looks along +Cx,
     +Cz up, the width along Cy (Gazebo's logical camera; see the module

@@ -127,7 +127,7 @@ class PartStates:
       geometry out of SceneGraph's proximity engine (out of the world, at no cost);
     * *asleep*: its joint locked anywhere else, its pairs with what never moves
       filtered and its corner spheres out of the proximity engine (see
-      :mod:`omtp_drake.cell.sleep`);
+      :mod:`omtp_drake.cell.rest_clock`);
     * *awake*: its joint free.
     """
 
@@ -178,7 +178,7 @@ class PartStates:
         return name in self.parked(plant_context)
 
     def is_asleep(self, plant_context: Context, name: str) -> bool:
-        """Part ``name`` sleeps: in the world, its joint locked (see :mod:`omtp_drake.cell.sleep`)."""
+        """Part ``name`` sleeps: in the world, its joint locked (see :mod:`omtp_drake.cell.rest_clock`)."""
         self._free_joint(name)
         return name in self.locked(plant_context)[1]
 

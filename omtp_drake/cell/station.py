@@ -66,7 +66,7 @@ from omtp_drake.cell.cell_models import ArmHandles, CellModels, add_cell_models
 from omtp_drake.cell.conveyor import BeltGeometry, BreakBeam, ConveyorBelt
 from omtp_drake.cell.logical_camera import LogicalCamera
 from omtp_drake.cell.parts import PartStates
-from omtp_drake.cell.sleep import RestClock
+from omtp_drake.cell.rest_clock import RestClock
 from omtp_drake.cell.suction import SuctionGripper
 from omtp_drake.cell.suction_constraints import SuctionConstraints, declare_suction_constraints
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, add_suction_gripper, connect_spatial_forces
@@ -138,8 +138,8 @@ class Station:
         ports nobody drives, fixed so the station holds still (an arm's
         ``position`` at its pose, a gripper's ``command`` off). An arm whose
         ``position`` is held is also locked (:meth:`set_arm_locked`): it never
-        moves, and the contact solver drops its degrees of freedom (fill_bin:
-        3 % less CPU per simulated second, bench/README.md).
+        moves, and the contact solver drops its degrees of freedom (less CPU per
+        simulated second: bench/README.md, "Measured").
         ``root_context`` is the Context of the station's diagram or of a
         diagram containing it.
         """

@@ -344,10 +344,9 @@ class SuctionGripper(LeafSystem):
     def _touching_part(self, context: Context) -> int:
         """Body index of the candidate part touching the cup well (deepest), or -1."""
         # The cup's axis first, as a copy, and no other Eval while the contact results
-        # are read: ``contacts`` is a view of the plant's cache. With the pose Eval in
-        # the loop (after the first cup contact), sync_weld dropped a good attach in 6
-        # of 300 runs of a test (the normal read as if the part were not under the
-        # cup); in this order, in none of 600.
+        # are read: ``contacts`` is a view of the plant's cache. With the pose Eval
+        # among those reads, a normal was read as if the part were not under the cup
+        # and sync_weld dropped a good attach (run counts: bench/README.md, "Measured").
         z_WC = np.array(self._poses.Eval(context)[self._cup].rotation().col(2))
         return touching_part(self._contacts.Eval(context), self._cup, self._names, z_WC, self._cos_max)
 

@@ -18,16 +18,15 @@ Two ways of holding the part (``SuctionConfig.backend``):
   only then reports ``attached`` (so a controller that lifts as soon as it
   sees ``attached`` never leaves the part behind). It also releases the
   constraints once the gripper has let go. Without :func:`sync_weld` calls a
-  weld gripper never attaches (a warning is logged after 1 s). Measured: no
-  snap (0.2 um), about 10 um drift carrying 1 kg at 1 m/s.
+  weld gripper never attaches (a warning is logged after 1 s). The part does not
+  snap at the attach and drifts by micrometres in the cup (bench/README.md, "Measured").
 * ``"force"``: a stiff 6-DOF spring-damper pulling the part toward
   ``X_WC * X_CP``, applied through the plant's ``applied_spatial_force``
   input. It lives entirely inside the diagram (no runtime help) and the hold
-  starts at the attaching check itself, but it is compliant (2.9 mm drift
-  carrying 1 kg at 1 m/s with 20 m/s^2 ramps at the default 10 ms step, 0.8 mm at
-  5 ms, 0.3-0.8 mm at 2 ms: the limit of any explicit spring at that step),
-  and it costs a Python evaluation (about 40 us) every plant step while a
-  part is held.
+  starts at the attaching check itself, but it is compliant (a carried part
+  drifts in the cup by millimetres, less at shorter plant steps: the limit of any
+  explicit spring at a step), and it costs a Python evaluation every plant step
+  while a part is held (bench/README.md, "Measured").
 
 Typical use (station side)::
 
@@ -258,7 +257,7 @@ class ForceSuctionGripper(SuctionGripper):
         part = self._bodies[state.part]
         g = self._gains[part]
         # Only the two bodies' poses and velocities, as plain arrays (pydrake
-        # accessors and np.cross, ~20 us alone, are slow at this size).
+        # accessors and np.cross are slow at this size).
         poses = self._poses.Eval(context)
         velocities = self._velocities.Eval(context)
         M_WC, M_WP = poses[self._cup].GetAsMatrix34(), poses[part].GetAsMatrix34()

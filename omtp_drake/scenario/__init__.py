@@ -1,8 +1,17 @@
 """The scenario: the typed schema of ``diagrams/*.yaml`` and the one loader.
 
-Lives here: :class:`Scenario` and every ``*Config`` of the schema (``configs``,
-``camera``, ``suction``), the loader (``loader``: YAML, ``base:`` merges, checks),
-and :func:`as_scenario`, the one door from a name or path to a ``Scenario``.
+Modules (one job each):
+
+- ``schema``: ``Scenario``: which world to build, the root of the schema
+- ``configs``: the scenario's pieces: robots, bins, parts, the belt, the spawner, the task
+- ``camera``: a logical camera's settings
+- ``suction``: a vacuum gripper's settings
+- ``latency``: the simulated time a ROS script's calls take
+- ``faults``: faults as data: what goes wrong in a run, when, and for how long
+- ``loader``: YAML, ``base:`` merges and Drake's typed load: the one place a file becomes a ``Scenario``
+- ``refusals``: a refused document said in one line (the key path, the valid keys, the closest name)
+
+:func:`as_scenario` is the one door from a name or path to a ``Scenario``.
 
 May import: ``omtp_drake.errors`` and ``omtp_drake.assets`` only (the bottom layer).
 """

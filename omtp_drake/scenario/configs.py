@@ -329,10 +329,9 @@ class SleepConfig:
     not move (the floor, a bin, a sleeping part), touched nothing that moves (an
     arm, a cup, the belt, an awake part) and no gripper held it. It wakes when
     something that moves touches it (checked at ``check_rate_hz``) or when it is
-    knocked. Physics engines do the same (Bullet's deactivation). Without it,
-    ``fill_bin`` costs more with every part resting in the bin (67 CPU ms per
-    simulated second in its first 5 s, 112 in its last); with it, 56-66 all
-    along (bench/README.md, issue 20 item 6).
+    knocked. Physics engines do the same (Bullet's deactivation). Without it, a
+    run costs more with every part that comes to rest in a bin; with it, the
+    cost per simulated second stays flat (figures: bench/README.md, "Measured").
     """
 
     enabled: bool = True

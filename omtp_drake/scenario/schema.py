@@ -42,24 +42,21 @@ from omtp_drake.scenario.suction import SuctionConfig
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
 MIN_TIME_STEP = 1e-4
 #: The most parts a pool may hold: every one is a body in the plant, and the build
-#: grows faster than linearly (fill_bin's FactoryRuntime: 0.6 s with 12 parts, 2.1 s
-#: with 100, 88 s with 500).
+#: time grows faster than linearly with them (figures: bench/README.md, "Measured").
 MAX_PART_POOL = 100
 
 
 def _default_plant_config() -> MultibodyPlantConfig:
-    # 10 ms steps, as Drake's manipulation station with SAP (issue 20's step study,
-    # bench/README.md): fill_bin seeds 0-99 and lecture7_conveyor_pick seeds 0-49
-    # all succeed at 5, 8 and 10 ms with the same cycle times; CPU per simulated
-    # second of fill_bin 126 -> 96 -> 86 ms. SAP softens near-rigid contacts by
-    # (threshold x step)^2: the threshold 0.5 keeps 5 ms's stiffness at 10 ms (the
-    # arm's cup pressed into a part 1.2 mm, 1.6 at 5 ms and 2.4 at 10 ms with 1.0).
-    # The force suction backend sags more at 10 ms (SuctionConfig). Commands
-    # (100 Hz), DiffIK, cameras and checks fall on step boundaries. SAP is needed
-    # for the run-time constraints and the belt's velocity-controlled actuator;
-    # point contact is about 2.4x cheaper than hydroelastic here. Unsampled output
-    # ports (poses and contacts computed from the current state when read) spare
-    # every Python system a call each step: 10-12 % faster.
+    # 10 ms steps, as Drake's manipulation station with SAP: the tasks' outcomes and
+    # cycle times are the same at 5, 8 and 10 ms, and 10 ms costs the least CPU per
+    # simulated second. SAP softens near-rigid contacts by (threshold x step)^2: the
+    # threshold 0.5 keeps at 10 ms the stiffness a threshold of 1.0 gives at 5 ms (how
+    # far the cup presses into a part). The force suction backend sags more at 10 ms
+    # (SuctionConfig). Commands (100 Hz), DiffIK, cameras and checks fall on step
+    # boundaries. SAP is needed for the run-time constraints and the belt's
+    # velocity-controlled actuator; point contact is cheaper than hydroelastic here.
+    # Unsampled output ports (poses and contacts computed from the current state when
+    # read) spare every Python system a call each step. Figures: bench/README.md, "Measured".
     return MultibodyPlantConfig(
         time_step=0.01,
         discrete_contact_approximation="sap",

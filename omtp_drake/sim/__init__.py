@@ -1,8 +1,16 @@
 """Running the cell: what changes while it runs, between and across advances.
 
-Lives here: the driver and its world edits (``driver``), the part pool (``pool``),
-the runtime with the course's services and fault injection (``runtime``), the
-ledger of where every part is (``ledger``) and tf2's buffer with history (``tf``).
+Modules (one job each):
+
+- ``runtime``: a scenario's cell, ready to run, with the course's services on it
+- ``driver``: the Simulator's owner: advances the cell and applies world edits between advances
+- ``part_sleep``: the world edit that puts resting parts to sleep and wakes touched ones
+- ``pool``: the part pool: which parts are parked, spawning and disposal
+- ``parts``: the course's part services on a running cell (spawn, knock, remove, read)
+- ``ledger``: where every part that entered the world is, now
+- ``faults``: a scenario's ``faults:`` applied while the cell runs, and what each did
+- ``tf``: tf2's buffer over a running station: frame poses and camera images with history
+- ``tf_poses``: the plant's named frames in the buffer's snapshots, and their poses at a time
 
 May import: ``omtp_drake.cell`` and everything below it (scenario, errors, assets).
 """

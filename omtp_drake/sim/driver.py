@@ -38,8 +38,8 @@ from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
 from omtp_drake.sim.ledger import held_parts, locate
+from omtp_drake.sim.part_sleep import PartSleep
 from omtp_drake.sim.pool import PartPool
-from omtp_drake.sim.sleep import PartSleep
 
 if TYPE_CHECKING:
     from omtp_drake.cell.station import Station
@@ -138,10 +138,10 @@ class DeletionWall:
 
     Touching is geometric (SceneGraph's penetration query between the wall's and
     the parts' collision geometry): the plant's contact results would cost an extra
-    contact solve at every check (0.56 ms, against 0.03 ms). The query runs only
-    when a part's bounding sphere reaches one of the wall's boxes: on a busy belt
-    the query of the whole cell, with its many part-belt pairs, cost 245 us a
-    check, nearly always to find nothing (bench/README.md)."""
+    contact solve at every check. The query runs only when a part's bounding sphere
+    reaches one of the wall's boxes: on a busy belt the query of the whole cell,
+    with its many part-belt pairs, is costly and nearly always finds nothing
+    (figures: bench/README.md, "Measured")."""
 
     period = DISPOSAL_PERIOD
 

@@ -1,7 +1,10 @@
 """Looking at the cell: Meshcat views and replays, screenshots, the frame tree.
 
-Lives here: ``meshcat`` (views, recordings, frusta, detection markers),
-``browser`` (headless chromium screenshots of replays), ``tree`` (``view_frames``).
+Modules (one job each):
+
+- ``meshcat``: live views, recordings, frusta and detection markers in Meshcat
+- ``browser``: headless chromium screenshots of standalone replays
+- ``tree``: the frame tree as a picture (``view_frames``)
 
 May import: ``omtp_drake.sim``, ``omtp_drake.control`` and everything below them.
 """

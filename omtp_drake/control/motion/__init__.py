@@ -1,9 +1,16 @@
 """Collision-aware motion planning for one arm of the cell (a MoveIt-like back end).
 
-:class:`ArmPlanner` (:mod:`~omtp_drake.control.motion.planner`) is the one facade;
-the modules beside it hold one concept each: the collision model (``collision``),
-the planning scene's edits (``scene``), IK (``ik``), the OMPL search (``search``),
-Cartesian paths (``cartesian``) and TOPP-RA timing (``timing``).
+Modules (one job each):
+
+- ``planner``: ``ArmPlanner``, the one facade: collisions, plans, IK, Cartesian paths, timing
+- ``planner_kinematics``: ``ArmPlanner``'s kinematic queries (FK, IK, Cartesian paths), a base class
+- ``collision``: the collision model of one arm in the cell (``SceneGraphCollisionChecker``)
+- ``scene``: the planning scene: what the planner avoids besides the cell's own models
+- ``ik``: forward and inverse kinematics of one arm, IK with seeds
+- ``search``: the search for a collision-free joint path (OMPL's RRTConnect and simplifier)
+- ``cartesian``: straight-line tool motions, like MoveIt's ``compute_cartesian_path``
+- ``timing``: a rest-to-rest, time-optimal trajectory of a joint path (TOPP-RA)
+- ``formatting``: how the planner writes joints, poses and touching pairs in its messages
 
 Modules here import each other by module (``omtp_drake.control.motion.ik``), never
 through this package.

@@ -17,8 +17,8 @@ from pydrake.math import RigidTransform
 
 from omtp_drake.cell.poses import interpolate_pose
 from omtp_drake.control.motion.collision import CollisionModel
+from omtp_drake.control.motion.formatting import fmt_pairs, fmt_pose
 from omtp_drake.control.motion.ik import ArmKinematics
-from omtp_drake.control.motion.messages import fmt_pairs, fmt_pose
 from omtp_drake.errors import ConfigError
 
 _log = logging.getLogger(__name__)

@@ -35,7 +35,7 @@ from pydrake.planning import RobotDiagramBuilder, SceneGraphCollisionChecker
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.station import ArmHandles, add_cell_models
-from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
+from omtp_drake.control.motion.formatting import fmt_pairs, fmt_q
 from omtp_drake.control.motion.scene import PlanningScene
 from omtp_drake.errors import ConfigError, GoalInCollisionError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, Scenario

@@ -19,7 +19,7 @@ from pydrake.solvers import Solve
 
 from omtp_drake.cell import arms
 from omtp_drake.control.motion.collision import CollisionModel
-from omtp_drake.control.motion.messages import fmt_pose
+from omtp_drake.control.motion.formatting import fmt_pose
 from omtp_drake.errors import ConfigError, UnknownNameError, UnreachableError
 from omtp_drake.scenario import RobotConfig, Scenario
 

@@ -27,9 +27,9 @@ It is the one facade over the package's parts, one module per concept:
 - :mod:`~omtp_drake.control.motion.cartesian`: straight-line tool motions;
 - :mod:`~omtp_drake.control.motion.timing`: TOPP-RA time parameterization.
 
-Cost (2 cores, robot 2 at bin 1, bench/bench_planning.py): build about 0.25 s;
-a blocked move about 0.1-0.2 s, a free one about 10 ms; IK 3-60 ms; the first
-time parameterization imports TOPP-RA (scipy, about 0.7 s), later ones 10-40 ms.
+Building a planner and planning a blocked move take a noticeable fraction of a
+second; a free move, IK and timing take milliseconds (the first timing imports
+TOPP-RA and scipy). Figures: bench/README.md, "Measured".
 
 Notation: ``X_AB`` is the pose of frame B in frame A (W world, B the arm's base,
 E the tool frame, C the gripper's cup body, P a held part, O an obstacle);
@@ -51,8 +51,8 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
 from omtp_drake.control.motion.collision import CollisionModel, OtherPositions
+from omtp_drake.control.motion.formatting import fmt_pairs, fmt_q
 from omtp_drake.control.motion.ik import ArmKinematics
-from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
 from omtp_drake.control.motion.planner_kinematics import ArmKinematicsQueries
 from omtp_drake.control.motion.scene import PlanningScene
 from omtp_drake.control.motion.search import JointSearch, move_out

@@ -22,8 +22,8 @@ from pydrake.common import Parallelism
 from pydrake.planning import SceneGraphCollisionChecker
 
 from omtp_drake.control.motion.collision import CollisionModel
+from omtp_drake.control.motion.formatting import fmt_pairs, fmt_q
 from omtp_drake.control.motion.ik import ArmKinematics
-from omtp_drake.control.motion.messages import fmt_pairs, fmt_q
 from omtp_drake.errors import PlanningError, StartInCollisionError
 
 _log = logging.getLogger(__name__)

@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake.control.motion.messages import fmt_q
+from omtp_drake.control.motion.formatting import fmt_q
 from omtp_drake.errors import ConfigError, PlanningError
 
 #: Default joint acceleration limits (rad/s^2), pan ... wrist 3. The URDFs have

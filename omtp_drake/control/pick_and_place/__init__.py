@@ -1,22 +1,25 @@
 """Pick and place with differential IK: a state machine per robot.
 
-- :mod:`~omtp_drake.control.pick_and_place.records`: what the controller is doing
-  and has done (:class:`Mode`, :class:`ControlState`, :class:`PickRecord`,
-  :class:`PickFailure`, :class:`PickHistory`), plain values;
-- :mod:`~omtp_drake.control.pick_and_place.perception`: parts and the bin as the
-  logical cameras show them;
-- :mod:`~omtp_drake.control.pick_and_place.machine_io`: the state machine's plain
-  inputs (:class:`MachineInput`) and answers (:class:`Decision`);
-- :mod:`~omtp_drake.control.pick_and_place.recovery`: its tool paths and the ends
-  of failed attempts;
-- :mod:`~omtp_drake.control.pick_and_place.machine`: the pure state machine
-  (:class:`PickMachine`: plain inputs in, a :class:`Decision` out; no Drake system);
-- :mod:`~omtp_drake.control.pick_and_place.system`: the ``LeafSystem`` around it
-  (:class:`PickAndPlaceController`) and :func:`add_pick_and_place`.
+Modules (one job each):
+
+- ``controller_state``: what the controller is doing and has done, plain values (``Mode``,
+  ``ControlState``, ``PickRecord``, ``PickFailure``, ``PickHistory``)
+- ``perception``: parts and the bin as the logical cameras show them
+- ``machine_io``: the state machine's plain inputs (``MachineInput``) and answers (``Decision``)
+- ``recovery``: the machine's tool paths and the ends of failed attempts
+- ``machine``: the pure state machine (``PickMachine``: plain inputs in, a ``Decision`` out)
+- ``system``: the ``LeafSystem`` around it (``PickAndPlaceController``) and ``add_pick_and_place``
 
 Modules here import each other by module, never through this package.
 """
 
+from omtp_drake.control.pick_and_place.controller_state import (
+    ControlState,
+    Mode,
+    PickFailure,
+    PickHistory,
+    PickRecord,
+)
 from omtp_drake.control.pick_and_place.machine import (
     NO_IMAGE,
     Decision,
@@ -25,7 +28,6 @@ from omtp_drake.control.pick_and_place.machine import (
     bin_capacity,
     task_planner,
 )
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickHistory, PickRecord
 from omtp_drake.control.pick_and_place.system import (
     PickAndPlaceController,
     add_pick_and_place,

@@ -8,7 +8,7 @@ ended). It knows nothing of Drake systems: the
 :class:`~omtp_drake.control.pick_and_place.system.PickAndPlaceController` reads its
 ports into a MachineInput and writes the Decision into its state.
 
-Cycle (one handler per :class:`~omtp_drake.control.pick_and_place.records.Mode`)::
+Cycle (one handler per :class:`~omtp_drake.control.pick_and_place.controller_state.Mode`)::
 
     WAIT_PART -> APPROACH (above the part, tool down, yaw matched)
       -> DESCEND (straight down until the cup face meets the top face)
@@ -48,9 +48,9 @@ import numpy as np
 from pydrake.math import RigidTransform
 
 from omtp_drake.cell import arms
+from omtp_drake.control.pick_and_place.controller_state import ControlState, Mode, PickFailure, PickRecord
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, Decision, MachineInput
 from omtp_drake.control.pick_and_place.perception import Perception, Sighting
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickRecord
 from omtp_drake.control.pick_and_place.recovery import Moves, Recovery, Step, go
 from omtp_drake.control.pick_policy import PickPlanner
 from omtp_drake.control.tool_paths import Path, SegmentKind, hold, yaw_of

@@ -18,7 +18,7 @@ from pydrake.math import RigidTransform
 
 from omtp_drake.cell.logical_camera import LogicalCameraImage
 from omtp_drake.cell.suction import GripperState
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickRecord
+from omtp_drake.control.pick_and_place.controller_state import ControlState, Mode, PickRecord
 from omtp_drake.control.tool_paths import Path
 
 #: The image of a camera that has taken none (time NaN, nothing in view).

@@ -15,9 +15,15 @@ from typing import Optional
 
 from pydrake.math import RigidTransform
 
+from omtp_drake.control.pick_and_place.controller_state import (
+    ControlState,
+    Mode,
+    PickFailure,
+    PickRecord,
+    position_of,
+)
 from omtp_drake.control.pick_and_place.machine_io import MachineInput
 from omtp_drake.control.pick_and_place.perception import Perception, Sighting
-from omtp_drake.control.pick_and_place.records import ControlState, Mode, PickFailure, PickRecord, position_of
 from omtp_drake.control.pick_policy import PickPlanner
 from omtp_drake.control.tool_paths import Path
 from omtp_drake.scenario import BinConfig, TaskConfig

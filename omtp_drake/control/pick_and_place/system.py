@@ -38,9 +38,9 @@ from pydrake.systems.primitives import ConstantValueSource
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.suction import GripperState
+from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory
 from omtp_drake.control.pick_and_place.machine import PickMachine
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
-from omtp_drake.control.pick_and_place.records import ControlState, PickHistory
 from omtp_drake.control.tool_paths import Path
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import BinConfig, RobotConfig, TaskConfig
@@ -282,9 +282,9 @@ class PoseTable:
     from one :meth:`~omtp_drake.control.tool_paths.Path.poses` call. Mutable: the
     value of the controller's cache entry, refilled when the path changes.
 
-    The transforms are built in one loop when the table is filled (about 3 us each):
-    a lookup at DiffIK's rate then only indexes a list. A lookup that built its
-    transform cost 15 us a call in a run, between plant steps (bench/README.md)."""
+    The transforms are built in one loop when the table is filled: a lookup at
+    DiffIK's rate then only indexes a list, instead of building a transform between
+    plant steps (figures: bench/README.md, "Measured")."""
 
     def __init__(self) -> None:
         self.path: Optional[Path] = None

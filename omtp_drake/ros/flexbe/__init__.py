@@ -7,10 +7,24 @@ or from Python::
     from omtp_drake.ros.flexbe import run_behavior
     report = run_behavior("Conveyor Pick", ["examples/flexbe"], scenario="lecture7_flexbe")
 
-The engine (``flexbe_core``: Behavior, OperatableStateMachine, EventState,
-ConcurrencyContainer, PriorityContainer, Autonomy, Logger and the proxies) and
-``flexbe_states`` follow FlexBE's ROS 1 API; they live in this package and the
-ROS-named modules in ``omtp_drake/ros/shims`` re-export them during a run.
+The engine (``flexbe_core``) and ``flexbe_states`` follow FlexBE's ROS 1 API; they
+live in this package and the ROS-named modules in ``omtp_drake/ros/shims``
+re-export them during a run.
+
+Modules (one job each):
+
+- ``engine``: the state machine engine: EventState, OperatableStateMachine, Autonomy, Logger
+- ``containers``: ConcurrencyContainer and PriorityContainer
+- ``behavior``: Behavior: a name, parameters, contained behaviours and ``create()``
+- ``userdata``: the data a state machine hands from state to state
+- ``states``: ``flexbe_states``: the states FlexBE ships, with its parameters and outcomes
+- ``proxies``: FlexBE's proxies (``flexbe_core.proxy``) on the run's ROS session
+- ``topics``: ``rostopic``'s look-ups of a topic's type on the run's ROS session
+- ``context``: one run's clock, autonomy level, trace of states, log lines and proxies
+- ``workspace``: catkin workspaces: packages, importable Python, behaviour manifests
+- ``run``: ``run_behavior``: a behaviour of catkin workspaces on a cell, in simulated time
+- ``report``: the report of one ``flexbe-run``: outcome, trace, log lines, ledger, times
+- ``cli``: the ``flexbe-run`` command
 """
 
 from __future__ import annotations

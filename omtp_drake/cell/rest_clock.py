@@ -1,12 +1,12 @@
 """How long each part has been still: what lets a resting part fall asleep.
 
 A part at rest costs the contact solver and the geometry queries as much as a
-moving one: ``fill_bin`` cost 67 CPU ms per simulated second in its first 5 s
-and 112 in its last, as parts piled up in the bin (bench/README.md). A sleeping
+moving one, so a run slows down as parts pile up in a bin (figures:
+bench/README.md, "Measured"). A sleeping
 part has its floating joint locked, so the solver drops its degrees of freedom,
 and its pairs with what never moves filtered (physics engines do the same:
 Bullet's deactivation). Sleeping is a world edit, made between advances by
-:class:`omtp_drake.sim.sleep.PartSleep`; this module holds what it decides
+:class:`omtp_drake.sim.part_sleep.PartSleep`; this module holds what it decides
 with: :class:`RestClock`, the system whose state says since when each part has
 been still, and the station's record of which parts sleep (a locked joint away
 from the part's parking slot, :meth:`omtp_drake.cell.parts.PartStates.is_asleep`).

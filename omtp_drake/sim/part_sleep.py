@@ -1,12 +1,12 @@
 """Parts at rest fall asleep and wake when touched: a world edit of the driver.
 
 A sleeping part has its joint locked (the contact solver drops it) where it lies;
-see :mod:`omtp_drake.cell.sleep` and the scenario's :class:`SleepConfig`. At each
+see :mod:`omtp_drake.cell.rest_clock` and the scenario's :class:`SleepConfig`. At each
 check (``sleep.check_rate_hz``), :class:`PartSleep`:
 
 1. wakes every sleeping part that something that may move touches (an arm, a
    cup, the belt, a held part, a part that moved at the latest sample of the
-   :class:`~omtp_drake.cell.sleep.RestClock`) or that a gripper holds;
+   :class:`~omtp_drake.cell.rest_clock.RestClock`) or that a gripper holds;
 2. puts to sleep every awake part that has been still for ``sleep.rest_time``,
    that no gripper holds, and that lies on something (the floor, a bin, a
    still part) and touches nothing that may move.
