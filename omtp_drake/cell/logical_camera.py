@@ -213,26 +213,6 @@ class LogicalCamera(LeafSystem):
             prerequisites_of_calc={self.abstract_state_ticket(self._sample)},
         )
 
-    @staticmethod
-    def AddToDiagram(
-        builder: DiagramBuilder,
-        plant: MultibodyPlant,
-        scene_graph: SceneGraph,
-        frame: Frame,
-        config: LogicalCameraConfig,
-        *,
-        exclude: Sequence[ModelInstanceIndex] = (),
-        seed: int = 0,
-    ) -> "LogicalCamera":
-        """Adds a camera of ``config`` (checked where it was loaded: :meth:`Scenario.validate`
-        or :func:`add_logical_camera`) to ``builder`` and connects the plant's body poses."""
-        camera = LogicalCamera(
-            plant, scene_graph.model_inspector(), frame, config, exclude=exclude, seed=seed
-        )
-        builder.AddSystem(camera)
-        builder.Connect(plant.get_body_poses_output_port(), camera.body_poses_input_port())
-        return camera
-
     def body_poses_input_port(self) -> InputPort:
         """The ``body_poses`` input: the plant's body poses X_WB, by body index."""
         return self._body_poses_port
@@ -326,4 +306,7 @@ def add_logical_camera(
         ConfigError: invalid ``config`` or ``seed`` (nothing is added then).
     """
     config.validate()
-    return LogicalCamera.AddToDiagram(builder, plant, scene_graph, frame, config, exclude=exclude, seed=seed)
+    camera = LogicalCamera(plant, scene_graph.model_inspector(), frame, config, exclude=exclude, seed=seed)
+    builder.AddSystem(camera)
+    builder.Connect(plant.get_body_poses_output_port(), camera.body_poses_input_port())
+    return camera

@@ -64,7 +64,7 @@ from pydrake.systems.primitives import Demultiplexer
 from omtp_drake.cell import arms
 from omtp_drake.cell.cell_models import ArmHandles, CellModels, add_cell_models
 from omtp_drake.cell.conveyor import BeltGeometry, BreakBeam, ConveyorBelt
-from omtp_drake.cell.logical_camera import LogicalCamera
+from omtp_drake.cell.logical_camera import LogicalCamera, add_logical_camera
 from omtp_drake.cell.parts import PartStates
 from omtp_drake.cell.rest_clock import RestClock
 from omtp_drake.cell.suction import SuctionGripper
@@ -311,7 +311,7 @@ def _add_cameras(
     ``<camera>.image`` ports and the RGB-D views of those with ``rgbd``."""
     cameras: dict[str, LogicalCamera] = {}
     for cam in scenario.cameras:
-        cameras[cam.name] = LogicalCamera.AddToDiagram(  # cam was checked with the scenario
+        cameras[cam.name] = add_logical_camera(
             builder,
             plant,
             scene_graph,

@@ -12,12 +12,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from omtp_drake.errors import OmtpError
+from omtp_drake.ros.command import passed_on, print_line, show_logs
 from omtp_drake.ros.report import show_report
-
-
-def _out(text: str) -> None:
-    sys.stdout.write(text + "\n")
-    sys.stdout.flush()
 
 
 def cmd_ros_run(args: argparse.Namespace) -> int:
@@ -27,27 +23,17 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
     if args.sandbox is not None:
         from omtp_drake.ros.grade import run_isolated_script
 
-        return run_isolated_script(args, _out)
-    if not args.quiet:
-        logging.getLogger("rospy").setLevel(logging.INFO)
-        logging.getLogger("moveit_commander").setLevel(logging.INFO)
+        return run_isolated_script(args, print_line)
+    show_logs(args, "rospy", "moveit_commander")
     report = run_script(
         args.script,
         args.script_args,
-        scenario=args.scenario,
-        seed=args.seed,
-        timeout=args.timeout,
-        moveit=args.moveit,
-        meshcat=args.meshcat,
-        realtime=args.realtime,
-        record=args.record,
-        srdf=args.srdf,
-        moveit_config=args.moveit_config,
         calls=args.call or (),
-        settle=args.settle,
-        latency=args.latency,
+        **passed_on(
+            args, "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency"
+        ),
     )
-    return show_report(report, args.json, _out)
+    return show_report(report, args.json, print_line)
 
 
 def cmd_grade(args: argparse.Namespace) -> int:
@@ -68,18 +54,14 @@ def cmd_grade(args: argparse.Namespace) -> int:
     grades = grade_folder(
         args.folder,
         args.scenario,
-        workers=args.workers,
-        seed=args.seed,
-        timeout=args.timeout,
-        wall_timeout=args.wall_timeout,
         out=out,
         limits=limits_from_args(args),
-        sandbox=args.sandbox,
         options=class_options(args),
         flexbe=flexbe,
+        **passed_on(args, "workers seed timeout wall_timeout sandbox"),
     )
-    _out(format_grades(grades))
-    _out(f"results: {out}/ (runs/*.json, grades.csv, grades.png)")
+    print_line(format_grades(grades))
+    print_line(f"results: {out}/ (runs/*.json, grades.csv, grades.png)")
     return 0 if all(g.status == OK for g in grades) else 1
 
 

@@ -179,12 +179,12 @@ logdebug_throttle = _throttled(logging.DEBUG)
 
 
 def _once(level: int) -> Callable[..., None]:
+    """``log*_once``: ``log*_throttle`` with a period that never ends (and its record of the
+    messages logged at ``level``)."""
+    throttled = _throttled(level)
+
     def log(msg: Any, *args: Any) -> None:
-        session = current()
-        key = (level, str(msg))
-        if key not in session.throttle:
-            session.throttle[key] = session.time
-            _emit(level, msg, args)
+        throttled(math.inf, msg, *args)
 
     return log
 

@@ -150,21 +150,30 @@ class GazeboWorld:
         body = self.models.body(name)
         return body is not None, body
 
+    def reference(
+        self, name: str, response: Any, service: str, field: str, scoped: str = "link"
+    ) -> tuple[bool, Any]:
+        """:meth:`frame` of a request's reference entity ``name`` (its ``field``); when there is
+        none, ``response``'s status message says so as ``service`` does in Gazebo (forgot to
+        scope the ``scoped``?)."""
+        found, frame = self.frame(name)
+        if not found:
+            response.status_message = (
+                f"{service}: reference {field} not found, did you forget to scope the {scoped} by model name?"
+            )
+        return found, frame
+
     def get_model_state(self, request: Any) -> Any:
         response: Any = GetModelState._response_class()
         body = self.models.body(request.model_name) if "::" not in request.model_name else None
         if body is None:
-            _log.error("GetModelState: model [%s] does not exist", request.model_name)
-            response.status_message = "GetModelState: model does not exist"
-            return response
+            return self._no_model(response, "GetModelState", request.model_name)
         count = self._get_count[request.model_name] = self._get_count.get(request.model_name, 0) + 1
         response.header = Header(seq=count, stamp=Time(self.cell.time), frame_id=request.relative_entity_name)
-        found, frame = self.frame(request.relative_entity_name)
+        found, frame = self.reference(
+            request.relative_entity_name, response, "GetModelState", "relative_entity_name", "body"
+        )
         if not found:
-            response.status_message = (
-                "GetModelState: reference relative_entity_name not found, did you forget to scope the "
-                "body by model name?"
-            )
             return response
         X, v, w = self.models.relative(body, frame)
         response.pose, response.twist = pose_msg(X), twist_msg(v, w)
@@ -179,12 +188,8 @@ class GazeboWorld:
                 "GetLinkState: link not found, did you forget to scope the link by model name?"
             )
             return response
-        found, frame = self.frame(request.reference_frame)
+        found, frame = self.reference(request.reference_frame, response, "GetLinkState", "reference_frame")
         if not found:
-            response.status_message = (
-                "GetLinkState: reference reference_frame not found, did you forget to scope the link by "
-                "model name?"
-            )
             return response
         X, v, w = self.models.relative(body, frame)
         response.link_state = LinkState(
@@ -200,9 +205,9 @@ class GazeboWorld:
         state = request.model_state
         response: Any = SetModelState._response_class()
         if state.model_name not in self.models.names():
-            _log.error("Updating ModelState: model [%s] does not exist", state.model_name)
-            response.status_message = "SetModelState: model does not exist"
-            return response
+            return self._no_model(
+                response, "SetModelState", state.model_name, logged_as="Updating ModelState"
+            )
         self._parts_only("/gazebo/set_model_state", "moves", state.model_name)
         found, frame = self.frame(state.reference_frame)
         if not found:
@@ -218,6 +223,14 @@ class GazeboWorld:
         response.success, response.status_message = True, "SetModelState: set model state done"
         return response
 
+    @staticmethod
+    def _no_model(response: Any, service: str, model: str, logged_as: str = "") -> Any:
+        """``response`` for a ``model`` the world does not have: Gazebo's error line (as
+        ``logged_as``, else ``service``) and status message."""
+        _log.error("%s: model [%s] does not exist", logged_as or service, model)
+        response.status_message = f"{service}: model does not exist"
+        return response
+
     def _parts_only(self, service: str, verb: str, model: str) -> None:
         """One error for a model that is not a part (the arms are welded and servoed here)."""
         if model not in self.models.parts:
@@ -230,9 +243,7 @@ class GazeboWorld:
     def delete_model(self, request: Any) -> Any:
         response: Any = DeleteModel._response_class()
         if request.model_name not in self.models.names():
-            _log.error("DeleteModel: model [%s] does not exist", request.model_name)
-            response.status_message = "DeleteModel: model does not exist"
-            return response
+            return self._no_model(response, "DeleteModel", request.model_name)
         self._parts_only("/gazebo/delete_model", "deletes", request.model_name)
         part = self.models.part_of[request.model_name]
         self.cell.remove_part(part)
@@ -253,7 +264,7 @@ class GazeboWorld:
         )
 
     def services(self) -> list[Service]:
-        spawner = PartSpawner(self.cell, self.models, self.frame)
+        spawner = PartSpawner(self.cell, self.models, self.reference)
         return [
             Service("/gazebo/get_model_state", GetModelState, self.get_model_state),
             Service("/gazebo/set_model_state", SetModelState, self.set_model_state),

@@ -78,12 +78,14 @@ def model_xml_problem(xml: str) -> Optional[str]:
 
 class PartSpawner:
     """Gazebo's spawn services and reset_world on ``cell``: ``models`` are its Gazebo
-    models, ``frame(name)`` answers (found, its body) for a reference frame."""
+    models, ``reference(name, response, service, field)`` answers (found, its body) for a
+    request's reference frame and, when there is none, says so in the response (as
+    :meth:`GazeboWorld.reference <omtp_drake.ros.gazebo.GazeboWorld.reference>`)."""
 
-    def __init__(self, cell: Cell, models: GazeboModels, frame: Callable[[str], tuple[bool, Any]]):
+    def __init__(self, cell: Cell, models: GazeboModels, reference: Callable[..., tuple[bool, Any]]):
         self.cell = cell
         self.models = models
-        self.frame = frame
+        self.reference = reference
         #: index of a spawn among the pool's spawns -> the pose given (spawns of these services).
         self._given: dict[int, RigidTransform] = {}
 
@@ -103,12 +105,8 @@ class PartSpawner:
             _log.error("SpawnModel: Failure - model name %s already exist.", request.model_name)
             response.status_message = "SpawnModel: Failure - model already exists."
             return response
-        found, frame = self.frame(request.reference_frame)
+        found, frame = self.reference(request.reference_frame, response, "SpawnModel", "reference_frame")
         if not found:
-            response.status_message = (
-                "SpawnModel: reference reference_frame not found, did you forget to scope the link by model "
-                "name?"
-            )
             return response
         X_WP = rigid(request.initial_pose, "initial_pose")
         if frame is not None:

@@ -32,11 +32,11 @@ import itertools
 import logging
 import math
 import traceback
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Optional
 
-from omtp_drake.errors import SimulationError
+from omtp_drake.ros.current import CurrentStack
 
 if TYPE_CHECKING:
     from omtp_drake.ros.cell_services import Service
@@ -53,7 +53,10 @@ _log = logging.getLogger("rospy")
 #: passes: a busy-wait loop lets time flow, as wall time flows under ROS.
 BUSY_POLLS_PER_TICK = 100
 
-_CURRENT: list[Session] = []
+_SESSIONS: CurrentStack[Session] = CurrentStack(
+    "no ROS session: the ROS names of omtp_drake work inside "
+    "`omtp-drake ros-run SCRIPT.py --scenario NAME` (or omtp_drake.ros.run_script)"
+)
 
 
 class ShutdownError(Exception):
@@ -63,22 +66,12 @@ class ShutdownError(Exception):
 
 def current() -> Session:
     """The session of the running script (a clear error outside ``ros-run``)."""
-    if not _CURRENT:
-        raise SimulationError(
-            "no ROS session: the ROS names of omtp_drake work inside "
-            "`omtp-drake ros-run SCRIPT.py --scenario NAME` (or omtp_drake.ros.run_script)"
-        )
-    return _CURRENT[-1]
+    return _SESSIONS.current()
 
 
-@contextlib.contextmanager
-def active(session: Session) -> Iterator[Session]:
+def active(session: Session) -> contextlib.AbstractContextManager[Session]:
     """Makes ``session`` the current one for the ``with`` block."""
-    _CURRENT.append(session)
-    try:
-        yield session
-    finally:
-        _CURRENT.remove(session)
+    return _SESSIONS.active(session)
 
 
 @dataclass(eq=False)

@@ -35,6 +35,8 @@ from omtp_drake.control.pick_and_place import ControlState
 from omtp_drake.errors import ConfigError, StateError
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
     from omtp_drake.sim.runtime import FactoryRuntime
     from omtp_drake.tasks.run import TaskResult, TaskRun
 
@@ -219,6 +221,15 @@ def plot_tracking_error(rec: RunRecording | RunRecorder) -> Figure:
     return fig
 
 
+def _label_part_counts(ax: Axes, ylabel: str, title: str, legend: str) -> None:
+    """Labels ``ax``, numbers of parts (whole numbers) over simulated time, its legend at ``legend``."""
+    ax.set_xlabel("simulated time [s]")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.yaxis.get_major_locator().set_params(integer=True)
+    ax.legend(loc=legend)
+
+
 def plot_detections(rec: RunRecording | RunRecorder) -> Figure:
     """Number of parts each logical camera reports over time (one step line per camera)."""
     rec = _recording(rec)
@@ -228,11 +239,7 @@ def plot_detections(rec: RunRecording | RunRecorder) -> Figure:
     for k, (camera, counts) in enumerate(sorted(rec.detections.items())):
         # A small offset per camera keeps overlapping lines visible.
         ax.step(rec.t, np.asarray(counts) + 0.04 * k, where="post", label=camera)
-    ax.set_xlabel("simulated time [s]")
-    ax.set_ylabel("parts in view")
-    ax.set_title("logical cameras: parts reported")
-    ax.yaxis.get_major_locator().set_params(integer=True)
-    ax.legend(loc="upper right")
+    _label_part_counts(ax, "parts in view", "logical cameras: parts reported", "upper right")
     return fig
 
 
@@ -304,11 +311,7 @@ def plot_ledger(rec: RunRecording | RunRecorder) -> Figure:
         labels=[k.replace("in_bin:", "in ") for k in keys],
         step="post",
     )
-    ax.set_xlabel("simulated time [s]")
-    ax.set_ylabel("parts")
-    ax.set_title("ledger: where the spawned parts are")
-    ax.yaxis.get_major_locator().set_params(integer=True)
-    ax.legend(loc="upper left")
+    _label_part_counts(ax, "parts", "ledger: where the spawned parts are", "upper left")
     return fig
 
 

@@ -3,40 +3,24 @@
 from __future__ import annotations
 
 import argparse
-import logging
-import sys
 
+from omtp_drake.ros.command import passed_on, print_line, show_logs
 from omtp_drake.ros.flexbe.context import AUTONOMY_LEVELS
 from omtp_drake.ros.report import show_report
-
-
-def _out(text: str) -> None:
-    sys.stdout.write(text + "\n")
-    sys.stdout.flush()
 
 
 def cmd_flexbe_run(args: argparse.Namespace) -> int:
     """``flexbe-run``: exit 0 when the behaviour reached an outcome cleanly."""
     from omtp_drake.ros.flexbe.run import parse_params, run_behavior
 
-    if not args.quiet:
-        for name in ("flexbe", "rospy", "moveit_commander"):
-            logging.getLogger(name).setLevel(logging.INFO)
+    show_logs(args, "flexbe", "rospy", "moveit_commander")
     report = run_behavior(
         args.behavior,
         args.workspace,
-        scenario=args.scenario,
-        srdf=args.srdf,
-        moveit_config=args.moveit_config,
-        timeout=args.timeout,
-        autonomy=args.autonomy,
         params=parse_params(args.param),
-        seed=args.seed,
-        meshcat=args.meshcat,
-        record=args.record,
-        python2=args.python2,
+        **passed_on(args, "scenario srdf moveit_config timeout autonomy seed meshcat record python2"),
     )
-    return show_report(report, args.json, _out)
+    return show_report(report, args.json, print_line)
 
 
 def add_commands(sub: argparse._SubParsersAction) -> None:

@@ -15,11 +15,11 @@ from __future__ import annotations
 
 import contextlib
 import logging
-from collections.abc import Iterator
 from dataclasses import dataclass, field
 from typing import Any, Optional, Protocol
 
 from omtp_drake.errors import SimulationError
+from omtp_drake.ros.current import CurrentStack
 
 _log = logging.getLogger("flexbe")
 
@@ -147,25 +147,18 @@ class FlexbeRun:
         return entry
 
 
-_RUNS: list[FlexbeRun] = []
+_RUNS: CurrentStack[FlexbeRun] = CurrentStack(
+    "no FlexBE run: flexbe_core works inside `omtp-drake flexbe-run BEHAVIOR --workspace DIR "
+    "--scenario NAME` (or omtp_drake.ros.flexbe.run_behavior, or "
+    "omtp_drake.ros.flexbe.context.active_run)"
+)
 
 
 def current_run() -> FlexbeRun:
     """The running behaviour's run (a clear error outside one)."""
-    if not _RUNS:
-        raise SimulationError(
-            "no FlexBE run: flexbe_core works inside `omtp-drake flexbe-run BEHAVIOR --workspace DIR "
-            "--scenario NAME` (or omtp_drake.ros.flexbe.run_behavior, or "
-            "omtp_drake.ros.flexbe.context.active_run)"
-        )
-    return _RUNS[-1]
+    return _RUNS.current()
 
 
-@contextlib.contextmanager
-def active_run(run: FlexbeRun) -> Iterator[FlexbeRun]:
+def active_run(run: FlexbeRun) -> contextlib.AbstractContextManager[FlexbeRun]:
     """Makes ``run`` the current one for the ``with`` block."""
-    _RUNS.append(run)
-    try:
-        yield run
-    finally:
-        _RUNS.remove(run)
+    return _RUNS.active(run)

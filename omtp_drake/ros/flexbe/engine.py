@@ -22,6 +22,7 @@ The semantics are FlexBE's (``flexbe_core`` of ROS 1 Noetic):
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, ClassVar, Optional
 
 from omtp_drake.errors import SimulationError
@@ -42,6 +43,17 @@ class Autonomy:
     Full = 3
 
 
+def _logging_at(severity: int, local: bool = False) -> Callable[..., None]:
+    """A ``Logger.log*`` function: ``text % args`` (``text`` alone without args) at
+    ``severity``, through :meth:`Logger.log` or, ``local``, :meth:`Logger.local`."""
+
+    def log_at(text: Any, *args: Any) -> None:
+        message = str(text) % args if args else str(text)
+        (Logger.local if local else Logger.log)(message, severity)
+
+    return log_at
+
+
 class Logger:
     """FlexBE's behaviour logger: lines with a severity, in the run's report."""
 
@@ -59,37 +71,13 @@ class Logger:
     def local(text: Any, severity: int) -> None:
         current_run().log(str(text), int(severity))
 
-    @staticmethod
-    def _format(text: Any, args: tuple) -> str:
-        return str(text) % args if args else str(text)
-
-    @staticmethod
-    def logdebug(text: Any, *args: Any) -> None:
-        Logger.log(Logger._format(text, args), Logger.REPORT_DEBUG)
-
-    @staticmethod
-    def loginfo(text: Any, *args: Any) -> None:
-        Logger.log(Logger._format(text, args), Logger.REPORT_INFO)
-
-    @staticmethod
-    def logwarn(text: Any, *args: Any) -> None:
-        Logger.log(Logger._format(text, args), Logger.REPORT_WARN)
-
-    @staticmethod
-    def loghint(text: Any, *args: Any) -> None:
-        Logger.log(Logger._format(text, args), Logger.REPORT_HINT)
-
-    @staticmethod
-    def logerr(text: Any, *args: Any) -> None:
-        Logger.log(Logger._format(text, args), Logger.REPORT_ERROR)
-
-    @staticmethod
-    def localinfo(text: Any, *args: Any) -> None:
-        Logger.local(Logger._format(text, args), Logger.REPORT_INFO)
-
-    @staticmethod
-    def localdebug(text: Any, *args: Any) -> None:
-        Logger.local(Logger._format(text, args), Logger.REPORT_DEBUG)
+    logdebug = staticmethod(_logging_at(REPORT_DEBUG))
+    loginfo = staticmethod(_logging_at(REPORT_INFO))
+    logwarn = staticmethod(_logging_at(REPORT_WARN))
+    loghint = staticmethod(_logging_at(REPORT_HINT))
+    logerr = staticmethod(_logging_at(REPORT_ERROR))
+    localinfo = staticmethod(_logging_at(REPORT_INFO, local=True))
+    localdebug = staticmethod(_logging_at(REPORT_DEBUG, local=True))
 
 
 def _unique(keys: Any) -> list[str]:

@@ -13,6 +13,7 @@ naming the ones that do, and calling it raises ValueError.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any, Optional
 
 from omtp_drake.ros import exceptions, service
@@ -22,12 +23,26 @@ from omtp_drake.ros.flexbe.engine import Logger
 from omtp_drake.ros.session import current
 
 
+def _set_up_each(topics: Optional[dict[str, Any]], set_up: Callable[..., None], *options: Any) -> None:
+    """A proxy's constructor: ``set_up(topic, msg_type, *options)`` for each ``{topic: msg_type}``."""
+    for topic, msg_type in (topics or {}).items():
+        set_up(topic, msg_type, *options)
+
+
+def _share(cache: dict[str, Any], topic: str, make: Callable[[], Any]) -> bool:
+    """Puts ``make()`` in the run's ``cache`` under ``topic`` unless one is there (all proxies of
+    a run share one per topic); whether it made one."""
+    if topic in cache:
+        return False
+    cache[topic] = make()
+    return True
+
+
 class ProxySubscriberCached:
     """Subscribes topics and caches their last message (and a buffer on request)."""
 
     def __init__(self, topics: Optional[dict[str, Any]] = None):
-        for topic, msg_type in (topics or {}).items():
-            self.subscribe(topic, msg_type)
+        _set_up_each(topics, self.subscribe)
 
     @staticmethod
     def _topics() -> dict[str, dict[str, Any]]:
@@ -35,12 +50,15 @@ class ProxySubscriberCached:
 
     def subscribe(self, topic: str, msg_type: Any, callback: Any = None, buffered: bool = False) -> None:
         topics = self._topics()
-        if topic not in topics:
-            entry: dict[str, Any] = {"last_msg": None, "buffered": buffered, "msg_queue": [], "callbacks": []}
-            entry["subscriber"] = rospy_topics.Subscriber(topic, msg_type, self._callback, topic)
-            topics[topic] = entry
+        _share(topics, topic, lambda: self._entry(topic, msg_type, buffered))
         if callback is not None:
             topics[topic]["callbacks"].append(callback)
+
+    def _entry(self, topic: str, msg_type: Any, buffered: bool) -> dict[str, Any]:
+        """A topic's cache entry: its last message, buffer, callbacks and subscriber."""
+        entry: dict[str, Any] = {"last_msg": None, "buffered": buffered, "msg_queue": [], "callbacks": []}
+        entry["subscriber"] = rospy_topics.Subscriber(topic, msg_type, self._callback, topic)
+        return entry
 
     def _callback(self, msg: Any, topic: str) -> None:
         entry = self._topics().get(topic)
@@ -110,15 +128,16 @@ class ProxyPublisher:
     """Publishers by topic, shared by all states."""
 
     def __init__(self, topics: Optional[dict[str, Any]] = None, _latch: bool = False, _queue_size: int = 100):
-        for topic, msg_type in (topics or {}).items():
-            self.createPublisher(topic, msg_type, _latch, _queue_size)
+        _set_up_each(topics, self.createPublisher, _latch, _queue_size)
 
     def createPublisher(  # noqa: N802 (FlexBE's name)
         self, topic: str, msg_type: Any, _latch: bool = False, _queue_size: int = 100
     ) -> None:
-        publishers = current_run().publishers
-        if topic not in publishers:
-            publishers[topic] = rospy_topics.Publisher(topic, msg_type, latch=_latch, queue_size=_queue_size)
+        _share(
+            current_run().publishers,
+            topic,
+            lambda: rospy_topics.Publisher(topic, msg_type, latch=_latch, queue_size=_queue_size),
+        )
 
     def is_available(self, topic: str) -> bool:
         return topic in current_run().publishers
@@ -141,15 +160,12 @@ class ProxyServiceCaller:
     def __init__(
         self, topics: Optional[dict[str, Any]] = None, persistent: bool = False, wait_duration: float = 10
     ):
-        for topic, msg_type in (topics or {}).items():
-            self.setupService(topic, msg_type, persistent, wait_duration)
+        _set_up_each(topics, self.setupService, persistent, wait_duration)
 
     def setupService(  # noqa: N802 (FlexBE's name)
         self, topic: str, msg_type: Any, persistent: bool = False, wait_duration: float = 10
     ) -> None:
-        services = current_run().services
-        if topic not in services:
-            services[topic] = service.ServiceProxy(topic, msg_type, persistent)
+        if _share(current_run().services, topic, lambda: service.ServiceProxy(topic, msg_type, persistent)):
             self._check_service_available(topic)
 
     def is_available(self, topic: str) -> bool:
@@ -178,26 +194,27 @@ class ProxyActionClient:
     """Action clients by name: ``send_goal(topic, goal)``, then ``has_result`` / ``get_result``."""
 
     def __init__(self, topics: Optional[dict[str, Any]] = None, wait_duration: float = 10):
-        for topic, msg_type in (topics or {}).items():
-            self.setupClient(topic, msg_type, wait_duration)
+        _set_up_each(topics, self.setupClient, wait_duration)
 
     def setupClient(self, topic: str, msg_type: Any, wait_duration: float = 10) -> None:  # noqa: N802
+        _share(current_run().actions, topic, lambda: self._new_client(topic, msg_type))
+
+    @staticmethod
+    def _new_client(topic: str, msg_type: Any) -> Any:
+        """The action client of ``topic``, or None (logged as FlexBE's time-out) when the cell has none."""
         from omtp_drake.errors import NotSupportedError
         from omtp_drake.ros.actions import SimpleActionClient
         from omtp_drake.ros.move_group import MoveGroupClient, is_move_group
 
-        actions = current_run().actions
-        if topic in actions:
-            return
         try:
-            actions[topic] = (
+            return (
                 MoveGroupClient(topic)
                 if is_move_group(topic, msg_type)
                 else SimpleActionClient(topic, msg_type)
             )
         except NotSupportedError as e:
-            actions[topic] = None
             Logger.logerr(f"Action client {topic} timed out! ({e})")
+            return None
 
     def _client(self, topic: str) -> Any:
         client = current_run().actions.get(topic)

@@ -80,48 +80,50 @@ class DecisionState(EventState):
         return outcome if outcome in self.outcomes else None
 
 
-class CalculationState(EventState):
-    """``output_value = calculation(input_value)`` (computed when entered); ``done``."""
-
-    def __init__(self, calculation: Callable[[Any], Any]):
-        super().__init__(outcomes=["done"], input_keys=["input_value"], output_keys=["output_value"])
-        self._calculation = calculation
-        self._result: Any = None
-
-    def on_enter(self, userdata: Any) -> None:
-        if self._calculation is None:
-            Logger.logwarn("Passed no calculation!")
-            return
-        try:
-            self._result = self._calculation(userdata.input_value)
-        except Exception as e:
-            Logger.logwarn(f"Failed to execute calculation function!\n{e}")
-
-    def execute(self, userdata: Any) -> Optional[str]:
-        userdata.output_value = self._result
-        return "done"
-
-
-class FlexibleCalculationState(EventState):
-    """``output_value = calculation(**{key: userdata[key]})`` over ``input_keys``; ``done``."""
+class _Calculation(EventState):
+    """``output_value`` computed by ``calculation`` when entered (from the userdata by :meth:`_calculate`);
+    ``done``. FlexBE's warnings when there is no calculation or it raises."""
 
     def __init__(self, calculation: Callable[..., Any], input_keys: list[str]):
         super().__init__(outcomes=["done"], input_keys=input_keys, output_keys=["output_value"])
         self._calculation = calculation
         self._result: Any = None
 
+    def _calculate(self, userdata: Any) -> Any:
+        raise NotImplementedError
+
     def on_enter(self, userdata: Any) -> None:
         if self._calculation is None:
             Logger.logwarn("Passed no calculation!")
             return
         try:
-            self._result = self._calculation(**{key: userdata[key] for key in self.input_keys})
+            self._result = self._calculate(userdata)
         except Exception as e:
             Logger.logwarn(f"Failed to execute calculation function!\n{e}")
 
     def execute(self, userdata: Any) -> Optional[str]:
         userdata.output_value = self._result
         return "done"
+
+
+class CalculationState(_Calculation):
+    """``output_value = calculation(input_value)`` (computed when entered); ``done``."""
+
+    def __init__(self, calculation: Callable[[Any], Any]):
+        super().__init__(calculation, ["input_value"])
+
+    def _calculate(self, userdata: Any) -> Any:
+        return self._calculation(userdata.input_value)
+
+
+class FlexibleCalculationState(_Calculation):
+    """``output_value = calculation(**{key: userdata[key]})`` over ``input_keys``; ``done``."""
+
+    def __init__(self, calculation: Callable[..., Any], input_keys: list[str]):
+        super().__init__(calculation, input_keys)
+
+    def _calculate(self, userdata: Any) -> Any:
+        return self._calculation(**{key: userdata[key] for key in self.input_keys})
 
 
 class CheckConditionState(EventState):
