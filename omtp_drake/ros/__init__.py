@@ -36,6 +36,7 @@ rospy:
 - ``messages``: ROS 1 messages and services as plain classes (std, geometry, sensor)
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
+- ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
 - ``latency``: the simulated time a call takes (planning, a trajectory's start, a service)
 
 moveit_commander and MoveIt:
@@ -78,6 +79,7 @@ running scripts:
 - ``runner``: ``ros-run``: an unmodified course script on a cell, in simulated time
 - ``report``: the report of one ``ros-run``: times, ledger, collisions, the script's exception
 - ``cli``: the ``ros-run`` and ``grade`` commands
+- ``command``: what the ROS commands share: output lines, log levels, passed-on options
 - ``setup_steps``: the slides' set-up steps before a script (``--call``, ``--settle``)
 - ``py2``: course code written for Melodic's Python 2.7
 - ``grade``: ``grade``: every script of a folder run on a scenario, isolated
