@@ -267,7 +267,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
 
     p = sub.add_parser("demo", help="the main demo: robot 2 fills bin 1 (fill_bin)")
     p.add_argument("--parts", type=int, default=None, help="parts to place (default 10)")
-    p.add_argument("--seed", type=int, default=None)
+    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
     _add_view_options(p)
     _add_progress_options(p)
     p.set_defaults(func=cmd_demo)
@@ -317,6 +317,19 @@ def _add_replay_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_screenshot)
 
 
+def _add_simulate_first_option(p: argparse.ArgumentParser, note: str = "") -> None:
+    """``--time T``: the commands that look at the cell simulate it, arms holding
+    their initial pose, to T s first."""
+    p.add_argument(
+        "--time",
+        type=float,
+        default=0.5,
+        metavar="T",
+        help="simulate (arms holding their initial pose) to T s first (default 0.5)"
+        + (f"; {note}" if note else ""),
+    )
+
+
 def _add_tf_echo_command(sub: argparse._SubParsersAction) -> None:
     """Registers ``omtp-drake tf-echo``: a frame's pose in another, like ROS tf_echo."""
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
@@ -330,14 +343,7 @@ def _add_tf_echo_command(sub: argparse._SubParsersAction) -> None:
         metavar="ROBOT=POSE",
         help="arm at a named pose (default Home), e.g. robot1=R1Up",
     )
-    p.add_argument(
-        "--time",
-        type=float,
-        default=0.5,
-        metavar="T",
-        help="simulate the arms holding still to T s first (default 0.5: the "
-        "cameras have images; their detected-model frames are looked up too)",
-    )
+    _add_simulate_first_option(p, "the cameras have images then; detected-model frames are looked up too")
     p.add_argument("--json", action="store_true", help="print JSON")
     p.set_defaults(func=cmd_tf_echo)
 
@@ -348,13 +354,7 @@ def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("camera", help="what a logical camera sees, like rostopic echo")
     p.add_argument("scenario", metavar="SCENARIO")
     p.add_argument("--camera", required=True, metavar="NAME", help="e.g. logical_camera_1")
-    p.add_argument(
-        "--time",
-        type=float,
-        default=0.5,
-        metavar="T",
-        help="simulate (arms holding their initial pose) to T s first (default 0.5)",
-    )
+    _add_simulate_first_option(p)
     p.add_argument(
         "--json", action="store_true", help="print JSON (keys time, camera_name, camera_pose, models)"
     )
@@ -374,13 +374,7 @@ def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="output stem; FILE.pdf and FILE.png are written (default: frames)",
     )
-    p.add_argument(
-        "--time",
-        type=float,
-        default=0.5,
-        metavar="T",
-        help="simulate (arms holding their initial pose) to T s first (default 0.5)",
-    )
+    _add_simulate_first_option(p)
     p.set_defaults(func=cmd_frames)
 
 

@@ -12,7 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from omtp_drake.errors import OmtpError
-from omtp_drake.ros.command import passed_on, print_line, show_logs
+from omtp_drake.ros.command import add_shared_options, passed_on, print_line, show_logs
 from omtp_drake.ros.report import show_report
 
 
@@ -78,8 +78,7 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     )
     p.add_argument("script", metavar="SCRIPT.py")
     p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
-    p.add_argument("--scenario", required=True, metavar="NAME|FILE")
-    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    add_shared_options(p, "--scenario --seed")
     p.add_argument(
         "--timeout",
         type=float,
@@ -94,10 +93,9 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
         help="MoveIt's Python API version: the shape of plan() (default noetic)",
     )
     _add_course_options(p)
-    p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
+    add_shared_options(p, "--meshcat")
     p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
-    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
-    p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
+    add_shared_options(p, "--record --json")
     p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
     p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall s (with --sandbox)")
     add_isolation_flags(p, sandbox_default=None)
@@ -108,16 +106,7 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
 def _add_course_options(p: argparse.ArgumentParser) -> None:
     """ros-run's options for the course's set-up: the student's MoveIt config, the slides'
     set-up calls, the time a script's calls take."""
-    p.add_argument(
-        "--srdf",
-        metavar="FILE",
-        help="the move groups, named states and end effectors of this SRDF (a student's omtp.srdf)",
-    )
-    p.add_argument(
-        "--moveit-config",
-        metavar="DIR",
-        help="a MoveIt config package: its config/*.srdf and config/joint_limits.yaml",
-    )
+    add_shared_options(p, "--srdf --moveit-config")
     p.add_argument(
         "--call",
         action="append",
@@ -155,9 +144,9 @@ def _add_grade(sub: argparse._SubParsersAction, ros_run: argparse.ArgumentParser
         "report and output in OUT/runs/.",
     )
     p.add_argument("folder", metavar="DIR")
-    p.add_argument("--scenario", required=True, metavar="NAME|FILE")
+    add_shared_options(p, "--scenario")
     p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: cores)")
-    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    add_shared_options(p, "--seed")
     p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds per script")
     p.add_argument("--wall-timeout", type=float, default=900.0, metavar="S", help="wall seconds per script")
     p.add_argument("--out", default=None, metavar="DIR", help="results folder (default grade_<DIR>)")

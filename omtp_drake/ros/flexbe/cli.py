@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from omtp_drake.ros.command import passed_on, print_line, show_logs
+from omtp_drake.ros.command import add_shared_options, passed_on, print_line, show_logs
 from omtp_drake.ros.flexbe.context import AUTONOMY_LEVELS
 from omtp_drake.ros.report import show_report
 
@@ -36,24 +36,13 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--workspace", action="append", required=True, metavar="DIR", help="a catkin src folder (repeatable)"
     )
-    p.add_argument("--scenario", required=True, metavar="NAME|FILE")
-    p.add_argument(
-        "--srdf", metavar="FILE", help="the student's SRDF: groups, named states (default: the cell's)"
-    )
-    p.add_argument(
-        "--moveit-config",
-        metavar="DIR",
-        help="a MoveIt config package: its config/*.srdf and joint_limits.yaml",
-    )
+    add_shared_options(p, "--scenario --srdf --moveit-config")
     p.add_argument(
         "--timeout", type=float, default=600.0, metavar="S", help="simulated seconds (default 600)"
     )
     p.add_argument("--autonomy", choices=list(AUTONOMY_LEVELS), default="full", help="default full")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="a behaviour parameter")
-    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
-    p.add_argument("--json", metavar="FILE", help="write the run's report as JSON")
-    p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
-    p.add_argument("--meshcat", action="store_true", help="show the run in a live Meshcat view")
+    add_shared_options(p, "--seed --json --record --meshcat")
     p.add_argument(
         "--python2",
         action="store_true",
