@@ -90,7 +90,7 @@ class WeldSuctionGripper(SuctionGripper):
     no system may write), which re-checks the touch, writes the constraints at
     the part's current pose and only then reports ``attached``. Without
     :func:`sync_weld` a decided attach stays pending (a warning is logged after
-    1 s). Measured: no snap (0.2 um), about 10 um drift carrying 1 kg at 1 m/s.
+    1 s). The hold does not snap the part and drifts by micrometres (see the module doc).
 
     The driver's API (used by :func:`sync_weld`): :attr:`constraints`,
     :meth:`pending_part`, :meth:`complete_attach`, :meth:`cancel_attach`,
