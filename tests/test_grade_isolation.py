@@ -332,3 +332,24 @@ def test_a_checkout_or_venv_under_tmp_stays_readable_in_bubblewrap(tmp_path, mon
     assert str((tmp_path / "clone").resolve()) in binds
     assert str(venv.resolve()) not in binds  # inside the clone: shown with it
     assert command.index("--tmpfs") < command.index("--ro-bind", command.index("--tmpfs"))
+
+
+def test_the_guard_writes_how_many_processes_a_run_leaves_at_its_exit(tmp_path):
+    """Inside bubblewrap the run's leftovers die with it, so the run counts them itself."""
+    import subprocess
+    import sys
+
+    from omtp_drake.ros.guard import ENV
+
+    count = tmp_path / "count"
+    settings = {"limits": asdict(Limits()), "writable": [str(tmp_path)], "script": "x.py",
+                "parent": 0, "in_namespace": False, "exit_count": str(count)}
+    code = ("from omtp_drake.ros.guard import install_from_env; install_from_env()\n"
+            "import subprocess\n"
+            "kids = [subprocess.Popen(['sleep', '29.5071']) for _ in range(2)]\n")
+    env = {**os.environ, ENV: json.dumps(settings)}
+    subprocess.run([sys.executable, "-c", code], env=env, check=True, start_new_session=True)
+    try:
+        assert count.read_text() == "2"
+    finally:
+        subprocess.run(["pkill", "-f", "sleep 29.5071"], check=False)

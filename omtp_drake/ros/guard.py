@@ -10,6 +10,9 @@ before anything of the script runs:
   and ``RLIMIT_NPROC`` where it counts only this run's processes: inside
   bubblewrap's user namespace);
 - asks the kernel to kill it when its parent (the grader) dies;
+- at its exit, writes how many processes it leaves running to the settings'
+  ``exit_count`` file (a sandbox that ends with the run kills them before
+  the grader could count them from outside);
 - installs a Python audit hook, armed when the script's own code starts, that
   refuses (``PermissionError``, message starting with :data:`REFUSED`) a file
   written, created, moved or deleted outside the writable folders, a network
@@ -22,11 +25,12 @@ guard; with bubblewrap the kernel refuses the same things, whatever the way.
 
 from __future__ import annotations
 
+import atexit
 import json
 import os
 import resource
 import sys
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 #: How every refusal's message begins (the grader finds them in the report).
@@ -132,6 +136,46 @@ class Guard:
             self._refuse(f"signal to process {pid} (not one of the script's processes)")
 
 
+def process_table() -> dict[int, tuple[int, int, int]]:
+    """pid -> (parent pid, session id, start time) of every process but zombies (from /proc)."""
+    table = {}
+    for entry in os.scandir("/proc"):
+        if not entry.name.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry.name}/stat", "rb") as f:
+                stat = f.read()
+        except OSError:
+            continue
+        fields = stat[stat.rfind(b")") + 2 :].split()
+        if fields[0] != b"Z":
+            table[int(entry.name)] = (int(fields[1]), int(fields[3]), int(fields[19]))
+    return table
+
+
+def descendants(roots: Iterable[int], table: dict[int, tuple[int, int, int]]) -> set[int]:
+    """The pids below ``roots`` in ``table`` (:func:`process_table`): children, their children..."""
+    found: set[int] = set()
+    level = set(roots)
+    while level:
+        level = {p for p, (ppid, _, _) in table.items() if ppid in level} - found
+        found |= level
+    return found
+
+
+def _count_at_exit(path: str) -> None:
+    """At this process's exit, how many processes it leaves running, written to ``path``."""
+
+    def write() -> None:
+        try:
+            with open(path, "w") as f:
+                f.write(str(len(descendants([os.getpid()], process_table()))))
+        except OSError:
+            pass  # the run's folder is gone or full: the grader counts from outside
+
+    atexit.register(write)
+
+
 def _ancestors() -> set[int]:
     """The pids of this process's parent, its parent's parent... (the grader, bubblewrap's init)."""
     found: set[int] = set()
@@ -156,4 +200,6 @@ def install_from_env() -> None:
     if settings.get("parent"):  # inside bubblewrap, its --die-with-parent does it
         _die_with_parent(int(settings["parent"]))
     set_limits(settings["limits"], in_namespace=bool(settings.get("in_namespace")))
+    if settings.get("exit_count"):
+        _count_at_exit(settings["exit_count"])
     sys.addaudithook(Guard(settings["writable"], settings["script"]))

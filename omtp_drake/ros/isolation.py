@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import IO, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.guard import ENV
+from omtp_drake.ros.guard import ENV, descendants, process_table
 
 _log = logging.getLogger(__name__)
 
@@ -42,6 +42,8 @@ BWRAP = "/usr/bin/bwrap"
 SANDBOXES = ("auto", "bwrap", "none")
 #: Seconds between two looks at the run's processes.
 _POLL_S = 0.05
+#: The file in the run's folder where its guard writes how many processes it leaves at its exit.
+EXIT_COUNT_FILE = ".processes_at_exit"
 #: Processes bubblewrap adds (its own, and the namespace's init).
 _BWRAP_PROCESSES = 2
 
@@ -185,6 +187,7 @@ def guarded_command(
         "script": str(script),
         "parent": 0 if sandbox == "bwrap" else os.getpid(),
         "in_namespace": sandbox == "bwrap",
+        "exit_count": str(work / EXIT_COUNT_FILE),
     }
     env = dict(os.environ)
     env.update(
@@ -240,15 +243,16 @@ def run_isolated(
     reader.start()
     outcome = Outcome(None, None, 0.0, stdout=streams[0], stderr=streams[1])
     own = _BWRAP_PROCESSES if sandbox == "bwrap" else 0
-    seen = {p: t for p, (_, _, t) in _process_table().items() if p == proc.pid}
+    seen = {p: t for p, (_, _, t) in process_table().items() if p == proc.pid}
     left = 0
     try:
         left = _watch(proc, seen, outcome, limits.processes + own, start + wall_timeout, own)
     finally:
         outcome.left_running = _kill_all(proc, seen)
         if sandbox == "bwrap" and not (outcome.timed_out or outcome.process_limit):
-            # The namespace's processes die with the run's own: counted at the last look.
-            outcome.left_running = max(outcome.left_running, left)
+            # The namespace's processes die with the run's own: counted by the run at its
+            # exit (the guard), and at the grader's last look.
+            outcome.left_running = max(outcome.left_running, left, _counted_at_exit(env))
         outcome.wall_s = time.monotonic() - start
         outcome.peak_processes -= own
         reader.join(timeout=5.0)
@@ -263,6 +267,15 @@ def run_isolated(
     return outcome
 
 
+def _counted_at_exit(env: dict[str, str]) -> int:
+    """How many processes the run left running, as its guard wrote at its exit (0: not written)."""
+    path = Path(json.loads(env[ENV])["exit_count"]) if ENV in env else None
+    try:
+        return int(path.read_text()) if path is not None else 0
+    except (OSError, ValueError):
+        return 0
+
+
 def _watch(
     proc: subprocess.Popen, seen: dict[int, int], outcome: Outcome, most: int, deadline: float, own: int
 ) -> int:
@@ -271,7 +284,7 @@ def _watch(
     besides the sandbox's ``own`` and the run's main one there were at the last look."""
     left, main = 0, proc.pid if own == 0 else 0
     while proc.poll() is None:
-        table = _process_table()
+        table = process_table()
         tree = _run_processes(proc.pid, seen, table)
         seen.update(tree)
         if not main:  # the first process under the sandbox's own chain is the run's
@@ -327,41 +340,16 @@ def _copy_capped(pipes: tuple[IO[bytes], IO[bytes]], logs: tuple[StreamLog, Stre
             f.close()
 
 
-def _process_table() -> dict[int, tuple[int, int, int]]:
-    """pid -> (parent pid, session id, start time) of every process but zombies."""
-    table = {}
-    for entry in os.scandir("/proc"):
-        if not entry.name.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry.name}/stat", "rb") as f:
-                stat = f.read()
-        except OSError:
-            continue
-        fields = stat[stat.rfind(b")") + 2 :].split()
-        if fields[0] != b"Z":
-            table[int(entry.name)] = (int(fields[1]), int(fields[3]), int(fields[19]))
-    return table
-
-
 def _run_processes(
     root: int, seen: dict[int, int], table: Optional[dict[int, tuple[int, int, int]]] = None
 ) -> dict[int, int]:
     """pid -> start time of the live processes of the run: descendants of ``root`` and of
     any process seen before (the same process: same start time), and every process of
     ``root``'s session."""
-    table = _process_table() if table is None else table
+    table = process_table() if table is None else table
     found = {p: t for p, (_, sid, t) in table.items() if sid == root}
     found.update({p: t for p, t in seen.items() if p in table and table[p][2] == t})
-    children: dict[int, list[int]] = {}
-    for pid, (ppid, _, _) in table.items():
-        children.setdefault(ppid, []).append(pid)
-    todo = list(found)
-    while todo:
-        for child in children.get(todo.pop(), []):
-            if child not in found:
-                found[child] = table[child][2]
-                todo.append(child)
+    found.update({p: table[p][2] for p in descendants(found, table)})
     return found
 
 
@@ -391,7 +379,7 @@ def _kill_all(proc: subprocess.Popen, seen: dict[int, int]) -> int:
 
 def kill_session(session: int) -> int:
     """SIGKILLs every process of the session ``session`` (a run whose grader died); how many."""
-    victims = [p for p, (_, sid, _) in _process_table().items() if sid == session]
+    victims = [p for p, (_, sid, _) in process_table().items() if sid == session]
     for pid in victims:
         try:
             os.kill(pid, signal.SIGKILL)
