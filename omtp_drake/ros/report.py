@@ -58,25 +58,17 @@ class RosReport:
 
     @property
     def in_bins(self) -> int:
+        """Parts in any bin at the end."""
         return sum(self.ledger["in_bin"].values())
 
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
 
-    @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> RosReport:
-        return cls(**data)
-
     def summary(self) -> str:
-        ledger = self.ledger
-        bins = ", ".join(f"{k} {v}" for k, v in ledger["in_bin"].items()) or "no bins"
-        held = sum(ledger["held"].values())
         lines = [
             f"{self.script} on {self.scenario} (seed {self.seed}): {self.sim_time_s:.1f} s simulated "
             f"in {self.wall_time_s:.1f} s",
-            f"parts: spawned {ledger['spawned']}; in bins: {bins}; on floor {ledger['on_floor']}, "
-            f"on belt {ledger['on_belt']}, elsewhere {ledger['elsewhere']}, held {held}, "
-            f"disposed {ledger['disposed']}",
+            ledger_line(self.ledger),
         ]
         if self.python2:
             lines.append("python 2: the script ran as its 2to3 translation (Melodic)")
@@ -89,6 +81,17 @@ class RosReport:
             lines += ["script traceback (most recent call last):"] + [f"  {t}" for t in self.traceback]
             lines.append(f"exception: {self.exception}")
         return "\n".join(lines)
+
+
+def ledger_line(ledger: dict[str, Any]) -> str:
+    """``parts: spawned N; in bins: ...; on floor ..., held ..., disposed ...``: where a
+    run's parts are (``Ledger.to_dict()``), as the ROS commands' reports print it."""
+    bins = ", ".join(f"{k} {v}" for k, v in ledger["in_bin"].items()) or "no bins"
+    return (
+        f"parts: spawned {ledger['spawned']}; in bins: {bins}; on floor {ledger['on_floor']}, "
+        f"on belt {ledger['on_belt']}, elsewhere {ledger['elsewhere']}, held {sum(ledger['held'].values())}, "
+        f"disposed {ledger['disposed']}"
+    )
 
 
 def describe_script_exception(e: BaseException, script: Path) -> str:

@@ -9,6 +9,8 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import Any, Optional
 
+from omtp_drake.ros.report import ledger_line
+
 
 @dataclass
 class FlexbeReport:
@@ -53,19 +55,12 @@ class FlexbeReport:
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
 
-    @classmethod
-    def from_dict(cls, data: dict[str, Any]) -> FlexbeReport:
-        return cls(**data)
-
     def summary(self) -> str:
-        ledger = self.ledger
-        bins = ", ".join(f"{k} {v}" for k, v in ledger["in_bin"].items()) or "no bins"
         lines = [
             f"behaviour {self.behavior!r} on {self.scenario} (seed {self.seed}, autonomy {self.autonomy}): "
             f"outcome {self.outcome or 'none'}; "
             f"{self.sim_time_s:.1f} s simulated in {self.wall_time_s:.1f} s",
-            f"parts: spawned {ledger['spawned']}; in bins: {bins}; on floor {ledger['on_floor']}, "
-            f"on belt {ledger['on_belt']}, held {sum(ledger['held'].values())}",
+            ledger_line(self.ledger),
             "states:",
         ]
         for entry in self.trace:
