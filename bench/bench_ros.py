@@ -1,5 +1,4 @@
-"""What ros-run costs: the assignment-4 ROS example against the same logic on ``Cell``,
-and ``grade`` throughput.
+"""What ros-run costs: the assignment-4 ROS example against the same logic on ``Cell``.
 
 1. ``examples/ros/lecture6_assignment4.py`` (PARTS parts) through ``run_script``, against
    :func:`cell_logic`: the same moves, waits and services written on the ``Cell`` API
@@ -7,17 +6,16 @@ and ``grade`` throughput.
    onto the part, wait 0.3 s, R2Home, R2Place, vacuum off, wait 0.5 s, R2Home). Printed:
    wall time of each (best of the repeats, interleaved), the simulated time they covered,
    the parts they put in bin 1 and the overhead of ros-run in percent. Target: <= 10 %.
-2. ``grade`` of N copies of the assignment-3 example on W workers: runs per minute.
+
+``grade``'s throughput (a class of copies on W workers) is ``bench_grade.py``'s.
 
 No pass/fail; numbers only.
 
-    python bench/bench_ros.py [--parts 1] [--repeats 3] [--grade 20] [--workers 2]
+    python bench/bench_ros.py [--parts 1] [--repeats 3]
 """
 
 import argparse
 import logging
-import shutil
-import tempfile
 import time
 from pathlib import Path
 
@@ -25,7 +23,6 @@ import numpy as np
 
 from omtp_drake import Cell
 from omtp_drake.ros import run_script
-from omtp_drake.ros.grade import grade_folder
 
 logging.getLogger("drake").setLevel(logging.ERROR)
 logging.getLogger("omtp_drake").setLevel(logging.WARNING)
@@ -83,32 +80,12 @@ def bench_overhead(parts: int, repeats: int) -> None:
     print(f"ros-run overhead over Cell: {overhead:+.1f} % (target <= 10 %)")
 
 
-def bench_grade(scripts: int, workers: int) -> None:
-    with tempfile.TemporaryDirectory() as tmp:
-        folder = Path(tmp) / "submissions"
-        folder.mkdir()
-        for i in range(scripts):
-            shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / f"student_{i:02d}.py")
-        start = time.perf_counter()
-        grades = grade_folder(folder, "lecture6_assignment3", workers=workers)
-        wall = time.perf_counter() - start
-    ok = sum(g.status == "ok" for g in grades)
-    print(
-        f"grade: {scripts} scripts on {workers} workers in {wall:.1f} s wall ({ok} ok): "
-        f"{60 * scripts / wall:.1f} runs per minute (cluster start included)"
-    )
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--parts", type=int, default=1)
     parser.add_argument("--repeats", type=int, default=3)
-    parser.add_argument("--grade", type=int, default=20, metavar="N", help="scripts to grade (0: skip)")
-    parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     bench_overhead(args.parts, args.repeats)
-    if args.grade:
-        bench_grade(args.grade, args.workers)
 
 
 if __name__ == "__main__":
