@@ -9,6 +9,7 @@ from __future__ import annotations
 import difflib
 import math
 from collections.abc import Iterable
+from typing import Any
 
 
 class OmtpError(Exception):
@@ -95,6 +96,17 @@ def check_rate(what: str, value: float) -> None:
     """ConfigError unless ``0 < value <= MAX_RATE_HZ`` (NaN and inf are refused)."""
     if not 0 < value <= MAX_RATE_HZ:
         raise ConfigError(f"{what} must be in (0, {MAX_RATE_HZ:g}] Hz, got {value}")
+
+
+def check_positive(what: str, value: Any) -> float:
+    """``value`` as a finite number > 0, or ConfigError naming ``what``."""
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{what} must be a number > 0, got {value!r}") from None
+    if not (number > 0 and math.isfinite(number)):
+        raise ConfigError(f"{what} must be a finite number > 0, got {value!r}")
+    return number
 
 
 def check_duration(what: str, value: float) -> float:

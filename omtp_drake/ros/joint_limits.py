@@ -10,14 +10,13 @@ MoveGroupCommander's starting scaling factors, as in MoveIt. Position limits
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Optional
 
 import numpy as np
 
-from omtp_drake.errors import ConfigError, NotSupportedError
+from omtp_drake.errors import ConfigError, NotSupportedError, check_positive
 from omtp_drake.ros.srdf import CellTree, bad_name
 
 _LIMIT_KEYS = (
@@ -79,14 +78,14 @@ def load_joint_limits(text: str, tree: CellTree, source: str) -> JointLimits:
                 "ros-run; the planner keeps the arm's position limits (set it false)"
             )
         if limits.get("has_velocity_limits"):
-            velocity[joint] = _positive(limits.get("max_velocity"), f"{source}: {joint}.max_velocity")
+            velocity[joint] = check_positive(f"{source}: {joint}.max_velocity", limits.get("max_velocity"))
         if limits.get("has_acceleration_limits"):
             what = f"{source}: {joint}.max_acceleration"
-            acceleration[joint] = _positive(limits.get("max_acceleration"), what)
+            acceleration[joint] = check_positive(what, limits.get("max_acceleration"))
     scales = {}
     for key in ("default_velocity_scaling_factor", "default_acceleration_scaling_factor"):
         if key in data:
-            scales[key] = _positive(data[key], f"{source}: {key}")
+            scales[key] = check_positive(f"{source}: {key}", data[key])
             if scales[key] > 1:
                 raise ConfigError(f"{source}: {key} must be in (0, 1], got {scales[key]}")
     return JointLimits(
@@ -96,13 +95,3 @@ def load_joint_limits(text: str, tree: CellTree, source: str) -> JointLimits:
         scales.get("default_acceleration_scaling_factor"),
         data,
     )
-
-
-def _positive(value: Any, what: str) -> float:
-    try:
-        number = float(value)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{what} must be a number > 0, got {value!r}") from None
-    if not (number > 0 and math.isfinite(number)):
-        raise ConfigError(f"{what} must be a finite number > 0, got {value!r}")
-    return number

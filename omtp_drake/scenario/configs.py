@@ -14,7 +14,7 @@ from pydrake.common.schema import Transform
 from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.assets import UR_MODELS, model_dimensions
-from omtp_drake.errors import MAX_RATE_HZ, ConfigError, UnknownNameError, check_rate
+from omtp_drake.errors import MAX_RATE_HZ, ConfigError, UnknownNameError, check_positive, check_rate
 
 #: The cell's floor: a square of this half width (m) about the world origin
 #: (the original's 20.1 m plane); nothing may start outside it or below it.
@@ -345,7 +345,5 @@ class SleepConfig:
 
     def validate(self) -> None:
         for key in ("linear_speed", "angular_speed", "rest_time"):
-            value = getattr(self, key)
-            if not (value > 0 and math.isfinite(value)):
-                raise ConfigError(f"sleep.{key} must be a finite number > 0, got {value}")
+            check_positive(f"sleep.{key}", getattr(self, key))
         check_rate("sleep.check_rate_hz", self.check_rate_hz)
