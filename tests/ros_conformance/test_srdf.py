@@ -177,6 +177,11 @@ def test_moveit_config_params_and_bad_joint(course_run, tmp_path):
     )
     with pytest.raises(ConfigError, match="'robot2_elbo_joint'; closest: robot2_elbow_joint"):
         course_run(script, scenario=A4, moveit_config=package)
+    (package / "config" / "joint_limits.yaml").write_text(
+        "joint_limits:\n  robot2_elbow_joint:\n    has_velocity_limits: true\n    max_velocity: -1\n"
+    )
+    with pytest.raises(ConfigError, match=r"elbow_joint.max_velocity must be a finite number > 0, got -1"):
+        course_run(script, scenario=A4, moveit_config=package)
 
 
 def test_cli_flags_reach_the_run(tmp_path, capsys):
