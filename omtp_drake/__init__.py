@@ -13,6 +13,7 @@ is held and checked by tests/test_layering.py):
 
 - ``errors``: one exception hierarchy for every user-facing error
 - ``assets``: model files: the project's xacro sources and the classic UR arms
+- ``workspace``: a student's own ROS workspace: packages and Gazebo models by name
 - ``scenario``: the typed schema of ``diagrams/*.yaml`` and its loader
 - ``cell``: what the factory is made of, as Drake systems and models
 - ``sim``: running the cell: the driver, its world edits, the part pool and services

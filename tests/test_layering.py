@@ -22,6 +22,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "omtp_drake"
 LAYERS = {
     "errors": 0,
     "assets": 1,
+    "workspace": 1,
     "scenario": 2,
     "cell": 3,
     "sim": 4,
