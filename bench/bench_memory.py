@@ -75,7 +75,7 @@ def _iteration(loop: str):
         import contextlib
         import io
 
-        from omtp_drake.ros.runner import run_script
+        from omtp_drake.ros import run_script
 
         def session() -> None:
             with contextlib.redirect_stdout(io.StringIO()):

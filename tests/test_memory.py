@@ -9,6 +9,7 @@ nothing here is timed.
 from __future__ import annotations
 
 import gc
+import sys
 import weakref
 from pathlib import Path
 
@@ -83,6 +84,41 @@ def test_run_task_frees_its_cell_and_keeps_its_result():
     assert _alive(refs) == []
     assert result.sim_time_s == pytest.approx(1.0)
     assert result.ledger.balanced
+
+
+_SCRIPT = """\
+import rospy
+from omtp_gazebo.msg import LogicalCameraImage
+
+seen = []
+rospy.init_node("memory_check")
+rospy.Subscriber("/omtp/logical_camera_2", LogicalCameraImage, seen.append)
+rospy.sleep(0.5)
+print("images", len(seen))
+"""
+
+
+def test_a_finished_ros_session_frees_its_cell(tmp_path, monkeypatch, capsys):
+    from omtp_drake.ros import run_script
+    from omtp_drake.ros.run import runner
+
+    refs: dict[str, weakref.ref] = {}
+
+    class WatchedCell(Cell):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            refs.update(_cell_refs(self.runtime), cell=weakref.ref(self))
+
+    monkeypatch.setattr(runner, "Cell", WatchedCell)
+    script = tmp_path / "watch_camera.py"
+    script.write_text(_SCRIPT)
+    report = run_script(script, scenario="lecture6_assignment3", timeout=5.0)
+    assert report.exception is None
+    out = capsys.readouterr().out
+    assert int(out.split("images ")[1].split()[0]) > 0  # the subscriber got the camera's images
+    assert report.ledger  # read before the cell was freed
+    assert _alive(refs) == []
+    assert "rospy" not in sys.modules
 
 
 def test_twenty_cell_builds_do_not_grow_memory():
