@@ -24,6 +24,7 @@ is held and checked by tests/test_layering.py):
 - ``ros``: the course's ROS 1 scripts and FlexBE behaviours, unchanged, on the cell
 - ``demos``: ready-made runs of the factory for the command line
 - ``bench_command``: ``omtp-drake bench``'s link to the benchmarks in ``bench/``
+- ``ros2``: the cell as ROS 2 nodes over DDS, for rclpy code, ``ros2`` tools and rviz2
 - ``cli``: the ``omtp-drake`` command line
 """
 

@@ -33,7 +33,8 @@ LAYERS = {
     "ros": 8,
     "demos": 8,
     "bench_command": 8,
-    "cli": 9,
+    "ros2": 9,
+    "cli": 10,
 }
 
 

@@ -1,0 +1,128 @@
+"""``omtp-drake ros2``: a scenario's cell as a ROS 2 node until its time is up or
+Ctrl-C (registered with :func:`add_commands`).
+
+Without ``--realtime`` the cell runs as fast as it can, ``/clock`` leading every
+message (peers with ``use_sim_time`` follow it); with it, the simulator is paced
+to the wall clock for a person watching in rviz2. ``--timeout S`` ends the run
+after S simulated seconds, as ``ros-run``'s does. Ctrl-C (SIGINT) and SIGTERM end
+it between two steps: the node leaves the graph and the process exits with 0.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import signal
+import threading
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Optional
+
+from omtp_drake.errors import ConfigError, check_duration
+from omtp_drake.ros.command import print_line
+from omtp_drake.ros2.network import MAX_DOMAIN_ID, Ros2Network, choose_network, import_rclpy
+
+
+@dataclass(frozen=True)
+class Ros2RunOptions:
+    """How ``omtp-drake ros2`` runs a cell.
+
+    Attributes:
+        scenario: the scenario's name or YAML path.
+        seed: overrides the scenario's seed.
+        timeout: simulated seconds to run (None: until stopped).
+        realtime: pace to the wall clock.
+        meshcat: serve a Meshcat view too.
+    """
+
+    scenario: str
+    seed: Optional[int] = None
+    timeout: Optional[float] = None
+    realtime: bool = False
+    meshcat: bool = False
+
+    def __post_init__(self) -> None:
+        if self.timeout is not None:
+            check_duration("--timeout", self.timeout)
+
+
+@contextlib.contextmanager
+def _stop_on_signals() -> Iterator[threading.Event]:
+    """An event set by SIGINT or SIGTERM while the block runs (their handlers restored after)."""
+    stop = threading.Event()
+
+    def handler(signum: int, frame: object) -> None:
+        stop.set()
+
+    previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield stop
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+
+
+def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str], None]) -> float:
+    """Runs the cell of ``options`` as a ROS 2 node on ``network`` until its timeout
+    or a signal; ``say`` gets the lines to show. Returns the simulated time reached."""
+    from dataclasses import replace
+
+    from omtp_drake.ros2.bridge import NODE_NAME, Ros2Cell
+    from omtp_drake.scenario import as_scenario
+    from omtp_drake.script import Cell
+
+    import_rclpy()  # before the cell is built: a missing extra is said at once
+    scenario = as_scenario(options.scenario)
+    if options.seed is not None:
+        scenario = replace(scenario, seed=options.seed)
+    with _stop_on_signals() as stop:
+        with Cell(scenario, realtime=options.realtime, meshcat=options.meshcat) as cell:
+            with Ros2Cell(cell, network) as node:
+                say(
+                    f"omtp-drake ros2: {scenario.name} as node /{NODE_NAME} on {network.describe()}; "
+                    f"join it with: export {' '.join(f'{k}={v}' for k, v in network.environment().items())}"
+                )
+                if cell.url:
+                    say(f"Meshcat: {cell.url}")
+                end = options.timeout
+                while not stop.is_set() and (end is None or cell.time < end - 1e-9):
+                    node.step(min(0.01, end - cell.time) if end is not None else 0.01)
+                say(f"omtp-drake ros2: stopped at t={cell.time:.2f} s (simulated)")
+                return cell.time
+
+
+def cmd_ros2(args: argparse.Namespace) -> int:
+    options = Ros2RunOptions(
+        args.scenario, seed=args.seed, timeout=args.timeout, realtime=args.realtime, meshcat=args.meshcat
+    )
+    if args.domain_id is not None and not 0 <= args.domain_id <= MAX_DOMAIN_ID:
+        raise ConfigError(f"--domain-id must be in 0..{MAX_DOMAIN_ID}, got {args.domain_id}")
+    run_ros2(options, choose_network(args.domain_id, subnet=args.network), print_line)
+    return 0
+
+
+def add_commands(sub: argparse._SubParsersAction) -> None:
+    """Registers ``omtp-drake ros2``."""
+    p = sub.add_parser(
+        "ros2",
+        help="run a scenario's cell as ROS 2 nodes over DDS (the ros2 extra): /clock, /joint_states, "
+        "/robot_description, cameras, /set_joint_trajectory, gripper and belt services",
+    )
+    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
+    p.add_argument("--timeout", type=float, default=None, metavar="S", help="end after S simulated seconds")
+    p.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
+    p.add_argument("--meshcat", action="store_true", help="also serve a live Meshcat view")
+    p.add_argument(
+        "--domain-id",
+        type=int,
+        default=None,
+        metavar="N",
+        help="ROS_DOMAIN_ID (0-101; default: $ROS_DOMAIN_ID, else one chosen and printed)",
+    )
+    p.add_argument(
+        "--network",
+        action="store_true",
+        help="let DDS discovery reach other machines of the local network (default: this machine only)",
+    )
+    p.set_defaults(func=cmd_ros2)
