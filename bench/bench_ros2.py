@@ -115,6 +115,7 @@ def run(kind: str, seconds: float, scenario: Path, realtime: bool = False) -> di
                     [sys.executable, __file__, "--listen", out], start_new_session=True
                 )
                 _wait_for_subscribers(node)
+            cell.runtime.simulator.ResetStatistics()  # realtime pacing counts from here
             start = time.perf_counter()
             end = cell.time + seconds
             while cell.time < end - 1e-9:
@@ -152,6 +153,7 @@ def _wait_for_subscribers(node) -> None:
 def topic_table(result: dict) -> None:
     head = ("sent", "recv", "msg/s", "KiB")
     print(f"{'topic':36s} " + " ".join(f"{h:>7s}" for h in head) + " latency ms: p50     p95     max")
+    missing: list[str] = []
     for topic in TOPICS:
         sent = {s: w for s, w in result["sent"][topic]}
         recv = result["seen"][topic]
@@ -160,8 +162,13 @@ def topic_table(result: dict) -> None:
         rate = (len(recv) - 1) / span if len(recv) > 1 else float("nan")
         size = result["sizes"].get(topic, 0) / 1024
         p50, p95, top = np.percentile(latency, [50, 95, 100]) if len(latency) else (np.nan,) * 3
+        lost = sorted(set(sent) - {s for s, _ in recv})
+        if lost:
+            missing.append(f"{topic}: {len(lost)} lost, first at {lost[0]:.2f} s, last at {lost[-1]:.2f} s")
         counts = f"{len(sent):7d} {len(recv):7d} {rate:7.1f} {size:7.1f}"
         print(f"{topic:36s} {counts} {p50:15.2f} {p95:7.2f} {top:7.2f}")
+    for line in missing:
+        print("  " + line)
 
 
 def main() -> None:

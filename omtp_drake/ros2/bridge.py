@@ -19,6 +19,7 @@ Typical use (what ``omtp-drake ros2`` does)::
 from __future__ import annotations
 
 import logging
+import re
 import threading
 from typing import TYPE_CHECKING, Any
 
@@ -47,6 +48,13 @@ def joint_map(cell: Cell) -> dict[str, tuple[str, int]]:
     }
 
 
+def urdf_for_ros2(cell: Cell) -> str:
+    """The cell's URDF (:func:`~omtp_drake.ros.description.robot_description`) with its
+    meshes' absolute paths as ``file://`` URIs, the form rviz2 and robot_state_publisher
+    resolve (a bare path is no URI to ROS 2's resource retriever)."""
+    return re.sub(r'filename="/', 'filename="file:///', robot_description(cell))
+
+
 def fixed_links(cell: Cell) -> set[str]:
     """The cell's links welded to the world (no joint moves them), and ``world``."""
     plant = cell.station.plant
@@ -68,6 +76,8 @@ class Ros2Cell:
 
         self.cell = cell
         self.network = network
+        #: The URDF ``/robot_description`` carries.
+        self.description = urdf_for_ros2(cell)
         network.apply()
         self._context = rclpy.Context()
         rclpy.init(

@@ -16,6 +16,7 @@ import signal
 import threading
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Optional
 
 from omtp_drake.errors import ConfigError, check_duration
@@ -33,6 +34,8 @@ class Ros2RunOptions:
         timeout: simulated seconds to run (None: until stopped).
         realtime: pace to the wall clock.
         meshcat: serve a Meshcat view too.
+        urdf: also write the URDF the node publishes to this file (for a peer's
+            robot_state_publisher, which reads it as a parameter).
     """
 
     scenario: str
@@ -40,6 +43,7 @@ class Ros2RunOptions:
     timeout: Optional[float] = None
     realtime: bool = False
     meshcat: bool = False
+    urdf: Optional[str] = None
 
     def __post_init__(self) -> None:
         if self.timeout is not None:
@@ -82,8 +86,13 @@ def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str],
                     f"omtp-drake ros2: {scenario.name} as node /{NODE_NAME} on {network.describe()}; "
                     f"join it with: export {' '.join(f'{k}={v}' for k, v in network.environment().items())}"
                 )
+                if options.urdf:
+                    Path(options.urdf).write_text(node.description)
+                    say(f"URDF written to {options.urdf}")
                 if cell.url:
                     say(f"Meshcat: {cell.url}")
+                # Realtime pacing counts from here, not from when the cell was built.
+                cell.runtime.simulator.ResetStatistics()
                 end = options.timeout
                 while not stop.is_set() and (end is None or cell.time < end - 1e-9):
                     node.step(min(0.01, end - cell.time) if end is not None else 0.01)
@@ -93,7 +102,12 @@ def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str],
 
 def cmd_ros2(args: argparse.Namespace) -> int:
     options = Ros2RunOptions(
-        args.scenario, seed=args.seed, timeout=args.timeout, realtime=args.realtime, meshcat=args.meshcat
+        args.scenario,
+        seed=args.seed,
+        timeout=args.timeout,
+        realtime=args.realtime,
+        meshcat=args.meshcat,
+        urdf=args.urdf,
     )
     if args.domain_id is not None and not 0 <= args.domain_id <= MAX_DOMAIN_ID:
         raise ConfigError(f"--domain-id must be in 0..{MAX_DOMAIN_ID}, got {args.domain_id}")
@@ -113,6 +127,12 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--timeout", type=float, default=None, metavar="S", help="end after S simulated seconds")
     p.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")
     p.add_argument("--meshcat", action="store_true", help="also serve a live Meshcat view")
+    p.add_argument(
+        "--urdf",
+        default=None,
+        metavar="FILE",
+        help="write the published URDF there (for robot_state_publisher)",
+    )
     p.add_argument(
         "--domain-id",
         type=int,

@@ -43,6 +43,12 @@ if TYPE_CHECKING:
 
 #: ``/joint_states`` and the grippers' state: the course's controllers' state rate.
 JOINT_STATE_RATE_HZ = 50.0
+#: Seconds of ``/clock`` and ``/joint_states`` a reliable publisher keeps for a subscriber
+#: that lags (KEEP_LAST: older ones are dropped). A subscriber process on a busy 2-core
+#: machine stalled up to 0.2 s (bench_ros2.py); with 0.1 s queues it lost 7 % of /clock.
+QUEUE_S = 1
+#: Images and clouds kept for a lagging subscriber (0.5 s at 10 Hz; a cloud is 1 MB at 320 x 213).
+IMAGE_QUEUE = 5
 
 
 class Periodic:
@@ -73,8 +79,8 @@ class CellTopics:
         self._node = node
         self._cell = cell
         self._joints = joints
-        self._clock = node.create_publisher(Clock, "/clock", 10)
-        self._joint_states = node.create_publisher(JointState, "/joint_states", 10)
+        self._clock = node.create_publisher(Clock, "/clock", QUEUE_S * 100)
+        self._joint_states = node.create_publisher(JointState, "/joint_states", QUEUE_S * 50)
         latched = QoSProfile(
             depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
         )
@@ -148,11 +154,11 @@ class RgbdTopics:
         self._name = name
         self._frame = f"{name}_optical_frame"
         self._info = camera_info(config)
-        self._image = node.create_publisher(Image, f"/{name}/image_raw", 2)
-        self._image_info = node.create_publisher(CameraInfo, f"/{name}/camera_info", 2)
-        self._depth = node.create_publisher(Image, f"/{name}/depth/image_raw", 2)
-        self._depth_info = node.create_publisher(CameraInfo, f"/{name}/depth/camera_info", 2)
-        self._points = node.create_publisher(PointCloud2, f"/{name}/points", 2)
+        self._image = node.create_publisher(Image, f"/{name}/image_raw", IMAGE_QUEUE)
+        self._image_info = node.create_publisher(CameraInfo, f"/{name}/camera_info", IMAGE_QUEUE)
+        self._depth = node.create_publisher(Image, f"/{name}/depth/image_raw", IMAGE_QUEUE)
+        self._depth_info = node.create_publisher(CameraInfo, f"/{name}/depth/camera_info", IMAGE_QUEUE)
+        self._points = node.create_publisher(PointCloud2, f"/{name}/points", IMAGE_QUEUE)
         self._all = (self._image, self._image_info, self._depth, self._depth_info, self._points)
 
     def __call__(self, t: float) -> None:
