@@ -270,3 +270,20 @@ def test_set_joint_trajectory_follows_gazebos_plugin():
         parse_trajectory(_msg("robot1_wrist_3_link", ["a_pan"], []), 0.0, JOINTS, set())
     with pytest.raises(UnknownNameError, match="slider_joint"):
         parse_trajectory(_msg("map", ["slider_joint"], []), 0.0, JOINTS, set())
+
+
+def test_set_joint_values_puts_the_arm_there_and_holds_it():
+    """Gazebo's SetPosition: the arm is there at once, at rest, and its servo keeps it there."""
+    from omtp_drake.errors import UnreachableError
+    from omtp_drake.script import Cell
+
+    q = [0.4, -1.4, 1.2, -1.4, -1.57, 0.2]
+    with Cell("lecture6_assignment1") as cell:
+        arm = cell.arm("robot1")
+        arm.set_joint_values(q)
+        assert np.allclose(arm.joint_values(), q, atol=1e-12)
+        cell.wait(1.0)
+        assert np.allclose(arm.joint_values(), q, atol=1e-3)
+        with pytest.raises(UnreachableError, match="outside the joint limits"):
+            arm.set_joint_values([0.0, 0.0, 10.0, 0.0, 0.0, 0.0])
+        assert np.allclose(arm.joint_values(), q, atol=1e-3)  # nothing half-done

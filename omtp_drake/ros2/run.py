@@ -15,13 +15,16 @@ import contextlib
 import signal
 import threading
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.ros.command import print_line
 from omtp_drake.ros2.network import MAX_DOMAIN_ID, Ros2Network, choose_network, import_rclpy
+
+if TYPE_CHECKING:
+    from omtp_drake.script import Cell
 
 
 @dataclass(frozen=True)
@@ -49,6 +52,17 @@ class Ros2RunOptions:
         if self.timeout is not None:
             check_duration("--timeout", self.timeout)
 
+    def cell(self) -> Cell:
+        """The cell to run (the one place a new option of ``Cell``, e.g. a robot of
+        the user's own, is passed on)."""
+        from omtp_drake.scenario import as_scenario
+        from omtp_drake.script import Cell
+
+        scenario = as_scenario(self.scenario)
+        if self.seed is not None:
+            scenario = replace(scenario, seed=self.seed)
+        return Cell(scenario, realtime=self.realtime, meshcat=self.meshcat)
+
 
 @contextlib.contextmanager
 def _stop_on_signals() -> Iterator[threading.Event]:
@@ -69,21 +83,14 @@ def _stop_on_signals() -> Iterator[threading.Event]:
 def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str], None]) -> float:
     """Runs the cell of ``options`` as a ROS 2 node on ``network`` until its timeout
     or a signal; ``say`` gets the lines to show. Returns the simulated time reached."""
-    from dataclasses import replace
-
     from omtp_drake.ros2.bridge import NODE_NAME, Ros2Cell
-    from omtp_drake.scenario import as_scenario
-    from omtp_drake.script import Cell
 
     import_rclpy()  # before the cell is built: a missing extra is said at once
-    scenario = as_scenario(options.scenario)
-    if options.seed is not None:
-        scenario = replace(scenario, seed=options.seed)
     with _stop_on_signals() as stop:
-        with Cell(scenario, realtime=options.realtime, meshcat=options.meshcat) as cell:
+        with options.cell() as cell:
             with Ros2Cell(cell, network) as node:
                 say(
-                    f"omtp-drake ros2: {scenario.name} as node /{NODE_NAME} on {network.describe()}; "
+                    f"omtp-drake ros2: {cell.scenario.name} as node /{NODE_NAME} on {network.describe()}; "
                     f"join it with: export {' '.join(f'{k}={v}' for k, v in network.environment().items())}"
                 )
                 if options.urdf:
