@@ -126,6 +126,11 @@ def test_a_students_rclpy_node_drives_and_watches_the_cell(tmp_path):
     _check_trajectory(seen["trajectory"])
     _check_cloud(seen["cloud"], scenario)
     assert seen["gripper"]["success"] is True and seen["gripper"]["message"].startswith("vacuum on")
+    assert seen["conveyor"] == {"success": True, "message": "conveyor power 100"}
+    _check_logical_camera(seen["logical_camera"])
+    urdf = seen["description"]
+    assert urdf.startswith("<?xml") and 'name="omtp"' in urdf and 'filename="file:///' in urdf
+    assert all(f'name="robot1_{j}_joint"' in urdf for j in ("shoulder_pan", "elbow", "wrist_3"))
 
 
 def _check_clock_and_joints(seen: dict) -> None:
@@ -154,6 +159,19 @@ def _check_trajectory(trajectory: dict) -> None:
     assert all(np.max(np.abs(q - trajectory["first"])) > 0.1 for q in before)
     assert all(np.max(np.abs(q - trajectory["first"])) < 1e-3 for q in first), first
     assert all(np.max(np.abs(q - trajectory["second"])) < 1e-3 for q in second), second
+
+
+def _check_logical_camera(camera: dict) -> None:
+    """Camera 1 reports the part (among the cell's models) where it rests, in the camera's frame."""
+    from omtp_drake.scenario import load_scenario
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    assert camera["frame_id"] == "logical_camera_1_frame"
+    assert "object_1" in camera["labels"]
+    runtime = FactoryRuntime(load_scenario("lecture6_assignment1"))
+    runtime.advance_to(0.5)
+    p_CM = runtime.camera_image("logical_camera_1").pose_of("object_1").pose.translation()
+    assert min(np.linalg.norm(np.array(camera["positions"]) - p_CM, axis=1)) < 0.01
 
 
 def _check_cloud(cloud: dict, scenario: Path) -> None:

@@ -92,12 +92,8 @@ class Ros2Cell:
                 parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
             )
             joints = joint_map(cell)
-            self.topics = CellTopics(
-                self.node,
-                cell,
-                [(name, robot) for name, (robot, _) in joints.items()],
-                robot_description(cell),
-            )
+            names = [(name, robot) for name, (robot, _) in joints.items()]
+            self.topics = CellTopics(self.node, cell, names, self.description)
             self.commands = CellCommands(self.node, cell, joints, fixed_links(cell))
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)

@@ -15,12 +15,16 @@ import time
 import numpy as np
 import rclpy
 from builtin_interfaces.msg import Duration, Time
+from geometry_msgs.msg import PoseArray
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, QoSProfile
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, PointCloud2
+from std_msgs.msg import String
 from std_srvs.srv import SetBool
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+from visualization_msgs.msg import MarkerArray
 
 JOINTS = [
     "robot1_shoulder_pan_joint",
@@ -48,8 +52,18 @@ class Student(Node):
         self.create_subscription(Clock, "/clock", lambda m: self.clocks.append(seconds(m.clock)), 10)
         self.create_subscription(JointState, "/joint_states", self.joint_states.append, 100)
         self.create_subscription(PointCloud2, "/logical_camera_1/points", self.clouds.append, 2)
+        self.descriptions = []
+        self.camera = []
+        self.markers = []
+        latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.create_subscription(
+            String, "/robot_description", lambda m: self.descriptions.append(m.data), latched
+        )
+        self.create_subscription(PoseArray, "/omtp/logical_camera_1/poses", self.camera.append, 10)
+        self.create_subscription(MarkerArray, "/omtp/logical_camera_1/markers", self.markers.append, 10)
         self.trajectory = self.create_publisher(JointTrajectory, "/set_joint_trajectory", 1)
         self.gripper = self.create_client(SetBool, "/gripper1/control")
+        self.conveyor = self.create_client(SetBool, "/omtp/conveyor/control")
 
     def wait_for(self, what, condition):
         end = time.monotonic() + PATIENCE
@@ -102,11 +116,20 @@ class Student(Node):
         ]
         return {"start": start, "first": FIRST, "second": SECOND, "states": states}
 
-    def grip(self):
-        self.wait_for("/gripper1/control", lambda: self.gripper.wait_for_service(timeout_sec=0.1))
-        future = self.gripper.call_async(SetBool.Request(data=True))
-        self.wait_for("gripper answer", future.done)
+    def call(self, client, on):
+        self.wait_for(client.srv_name, lambda: client.wait_for_service(timeout_sec=0.1))
+        future = client.call_async(SetBool.Request(data=on))
+        self.wait_for(f"{client.srv_name} answer", future.done)
         return {"success": future.result().success, "message": future.result().message}
+
+    def logical_camera(self):
+        self.wait_for("logical camera poses and markers", lambda: self.camera and self.markers)
+        poses = self.camera[-1]
+        return {
+            "frame_id": poses.header.frame_id,
+            "positions": [[p.position.x, p.position.y, p.position.z] for p in poses.poses],
+            "labels": [m.text for m in self.markers[-1].markers if m.text],
+        }
 
 
 def main(out):
@@ -115,13 +138,17 @@ def main(out):
     try:
         node.wait_for("clock", lambda: len(node.clocks) >= 5)
         node.wait_for("joint states", lambda: node.joint_states)
+        node.wait_for("robot description", lambda: node.descriptions)
         seen = {
             "clocks": node.clocks[:50],
             "now": node.get_clock().now().nanoseconds * 1e-9,
             "joints_before": node.robot1(node.joint_states[-1]),
             "cloud": node.cloud(),
             "trajectory": node.set_joints(),
-            "gripper": node.grip(),
+            "gripper": node.call(node.gripper, True),
+            "conveyor": node.call(node.conveyor, True),
+            "logical_camera": node.logical_camera(),
+            "description": node.descriptions[0] if node.descriptions else "",
         }
     finally:
         node.destroy_node()
