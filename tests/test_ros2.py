@@ -239,9 +239,10 @@ def test_without_the_extra_the_command_names_it(tmp_path):
 
 
 @needs_ros2
-def test_timeout_ends_the_run_at_that_simulated_time():
+@pytest.mark.parametrize("pace", [[], ["--realtime"]], ids=["fast", "realtime"])
+def test_timeout_ends_the_run_at_that_simulated_time(pace):
     done = subprocess.run(
-        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--timeout", "0.25"],
+        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--timeout", "0.25", *pace],
         env=_loopback_env(_domain()),
         capture_output=True,
         text=True,

@@ -11,8 +11,8 @@ topic                                         type                              
 ``/<camera>/depth/image_raw``                 ``sensor_msgs/Image`` (``32FC1``, m)       camera's rate
 ``/<camera>/depth/camera_info``               ``sensor_msgs/CameraInfo``                 camera's rate
 ``/<camera>/points``                          ``sensor_msgs/PointCloud2``                camera's rate
-``/omtp/<camera>/poses``                      ``geometry_msgs/PoseArray``                camera's rate
-``/omtp/<camera>/markers``                    ``visualization_msgs/MarkerArray``         camera's rate
+``/omtp/<camera>/poses``                      ``geometry_msgs/PoseArray``                each image
+``/omtp/<camera>/markers``                    ``visualization_msgs/MarkerArray``         each image
 ``/gripperN/attached``                        ``std_msgs/Bool``                          50 Hz
 ============================================  =========================================  ==============
 
@@ -20,9 +20,11 @@ topic                                         type                              
 in the scenario), in the camera's optical frame ``<camera>_optical_frame``, the
 names of Gazebo's depth camera plugin; they render only while someone subscribes
 (the plugin is lazy too). The ``/omtp/<camera>`` topics exist for every logical
-camera, in its frame ``<camera>_frame``. ``/robot_description`` is published as
-robot_state_publisher does (reliable, transient local, depth 1), so a late rviz2 or
-robot_state_publisher gets it. Every topic is reliable: any subscriber's QoS matches.
+camera, in its frame ``<camera>_frame``, stamped with the image's time (Drake samples
+at t when it steps on from t: the image goes out after the step that starts at t).
+``/robot_description`` is published as robot_state_publisher does (reliable,
+transient local, depth 1), so a late rviz2 or robot_state_publisher gets it. Every
+topic is reliable: any subscriber's QoS matches.
 
 Joint names are the URDF's (``robot1_shoulder_pan_joint``...), so the user's own
 robot_state_publisher turns ``/joint_states`` and ``/robot_description`` into tf.
@@ -86,7 +88,9 @@ class CellTopics:
         )
         self._description = node.create_publisher(String, "/robot_description", latched)
         self._description.publish(String(data=description))
-        self._due: list[Periodic] = [Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_joint_states)]
+        self._due: list[Callable[[float], None]] = [
+            Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_joint_states)
+        ]
         self._grippers: dict[str, Any] = {}
         self._bool = Bool
         from omtp_drake.ros.cell_services import gripper_plugins
@@ -95,8 +99,8 @@ class CellTopics:
             self._grippers[robot] = node.create_publisher(Bool, f"/{plugin}/attached", 10)
         self._due.append(Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_grippers))
         for config in cell.scenario.cameras:
-            logical = LogicalCameraTopics(node, cell, config.name)
-            self._due.append(Periodic(1.0 / config.update_rate_hz, logical))
+            # Polled every step: each new image goes out at the first step after its sample.
+            self._due.append(LogicalCameraTopics(node, cell, config.name))
             if config.rgbd:
                 self._due.append(Periodic(1.0 / config.update_rate_hz, RgbdTopics(node, cell, config)))
 
