@@ -172,6 +172,9 @@ def _check_logical_camera(camera: dict) -> None:
     runtime.advance_to(0.5)
     p_CM = runtime.camera_image("logical_camera_1").pose_of("object_1").pose.translation()
     assert min(np.linalg.norm(np.array(camera["positions"]) - p_CM, axis=1)) < 0.01
+    # /omtp/parts: the one part, resting on the belt, in world.
+    assert camera["parts_frame"] == "world" and len(camera["parts"]) == 1
+    assert np.allclose(camera["parts"][0], [*PART_XY, PART_TOP_Z - 0.1], atol=0.01), camera["parts"]
 
 
 def _check_cloud(cloud: dict, scenario: Path) -> None:

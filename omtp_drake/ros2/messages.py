@@ -163,43 +163,39 @@ def logical_pose_array(image: LogicalCameraImage) -> PoseArray:
 
 
 def logical_markers(image: LogicalCameraImage, part_sizes: dict[str, float]) -> MarkerArray:
-    """rviz2's view of a logical camera image: first a DELETEALL (what left the view
-    goes), then per model a cube at its origin (a part: its size, green; any other
-    model: :data:`MARKER_SIZE`, grey) and its name above it."""
-    h = header(image.time, image.frame)
-    markers = [Marker(header=h, ns=image.camera_name, action=Marker.DELETEALL)]
-    for i, model in enumerate(image.models):
-        size = part_sizes.get(model.name, MARKER_SIZE)
-        part = model.name in part_sizes
-        color = ColorRGBA(r=0.1, g=0.8, b=0.2, a=0.8) if part else ColorRGBA(r=0.6, g=0.6, b=0.6, a=0.5)
-        markers.append(
-            Marker(
-                header=h,
-                ns=image.camera_name,
-                id=2 * i,
-                type=Marker.CUBE,
-                action=Marker.ADD,
-                pose=pose(model.X_CM),
-                scale=Vector3(x=size, y=size, z=size),
-                color=color,
-            )
+    """rviz2's view of a logical camera image (see :func:`model_markers`): parts green
+    at their size, other models grey at :data:`MARKER_SIZE`."""
+    models = [(m.name or m.type, m.X_CM, part_sizes.get(m.name)) for m in image.models]
+    return model_markers(header(image.time, image.frame), image.camera_name, models)
+
+
+def model_markers(
+    h: Header, ns: str, models: Sequence[tuple[str, RigidTransform, float | None]]
+) -> MarkerArray:
+    """First a DELETEALL (what is gone goes), then per (name, pose, part size or None)
+    a cube at the pose (a part: its size, green; else :data:`MARKER_SIZE`, grey) and
+    its name above it."""
+    markers = [Marker(header=h, ns=ns, action=Marker.DELETEALL)]
+    for i, (name, X, part_size) in enumerate(models):
+        size = part_size if part_size is not None else MARKER_SIZE
+        color = (
+            ColorRGBA(r=0.1, g=0.8, b=0.2, a=0.8)
+            if part_size is not None
+            else ColorRGBA(r=0.6, g=0.6, b=0.6, a=0.5)
         )
-        label = pose(model.X_CM)
-        label.position.z += size / 2 + 0.03
-        markers.append(
-            Marker(
-                header=h,
-                ns=image.camera_name,
-                id=2 * i + 1,
-                type=Marker.TEXT_VIEW_FACING,
-                action=Marker.ADD,
-                pose=label,
-                scale=Vector3(z=0.04),
-                color=ColorRGBA(r=1.0, g=1.0, b=1.0, a=1.0),
-                text=model.name or model.type,
-            )
-        )
+        cube = Marker(header=h, ns=ns, id=2 * i, type=Marker.CUBE, action=Marker.ADD, pose=pose(X))
+        cube.scale, cube.color = Vector3(x=size, y=size, z=size), color
+        label = Marker(header=h, ns=ns, id=2 * i + 1, type=Marker.TEXT_VIEW_FACING, action=Marker.ADD)
+        label.pose = pose(X)
+        label.pose.position.z += size / 2 + 0.03
+        label.scale, label.color, label.text = Vector3(z=0.04), ColorRGBA(r=1.0, g=1.0, b=1.0, a=1.0), name
+        markers += [cube, label]
     return MarkerArray(markers=markers)
+
+
+def part_poses(t: float, poses: Sequence[RigidTransform]) -> PoseArray:
+    """Parts' poses in the world frame."""
+    return PoseArray(header=header(t, "world"), poses=[pose(X) for X in poses])
 
 
 def duration_seconds(sec: int, nanosec: int) -> float:

@@ -14,6 +14,8 @@ topic                                         type                              
 ``/omtp/<camera>/poses``                      ``geometry_msgs/PoseArray``                each image
 ``/omtp/<camera>/markers``                    ``visualization_msgs/MarkerArray``         each image
 ``/gripperN/attached``                        ``std_msgs/Bool``                          50 Hz
+``/omtp/parts/poses``                         ``geometry_msgs/PoseArray``                10 Hz
+``/omtp/parts/markers``                       ``visualization_msgs/MarkerArray``         10 Hz
 ============================================  =========================================  ==============
 
 ``<camera>`` topics exist for the logical cameras with an RGB-D view (``rgbd: true``
@@ -25,6 +27,9 @@ at t when it steps on from t: the image goes out after the step that starts at t
 ``/robot_description`` is published as robot_state_publisher does (reliable,
 transient local, depth 1), so a late rviz2 or robot_state_publisher gets it. Every
 topic is reliable: any subscriber's QoS matches.
+
+``/omtp/parts`` are the parts in the world (ground truth, as Gazebo's model states;
+they are no links of the URDF), in ``world``, in the order of the markers' names.
 
 Joint names are the URDF's (``robot1_shoulder_pan_joint``...), so the user's own
 robot_state_publisher turns ``/joint_states`` and ``/robot_description`` into tf.
@@ -45,6 +50,8 @@ if TYPE_CHECKING:
 
 #: ``/joint_states`` and the grippers' state: the course's controllers' state rate.
 JOINT_STATE_RATE_HZ = 50.0
+#: ``/omtp/parts``: the logical cameras' default rate.
+PARTS_RATE_HZ = 10.0
 #: Seconds of ``/clock`` and ``/joint_states`` a reliable publisher keeps for a subscriber
 #: that lags (KEEP_LAST: older ones are dropped). A subscriber process on a busy 2-core
 #: machine stalled up to 0.2 s (bench_ros2.py); with 0.1 s queues it lost 7 % of /clock.
@@ -98,6 +105,7 @@ class CellTopics:
         for robot, plugin in gripper_plugins(cell).items():
             self._grippers[robot] = node.create_publisher(Bool, f"/{plugin}/attached", 10)
         self._due.append(Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_grippers))
+        self._due.append(Periodic(1.0 / PARTS_RATE_HZ, PartsTopics(node, cell)))
         for config in cell.scenario.cameras:
             # Polled every step: each new image goes out at the first step after its sample.
             self._due.append(LogicalCameraTopics(node, cell, config.name))
@@ -144,6 +152,27 @@ class LogicalCameraTopics:
         if self._markers.get_subscription_count() > 0:
             sizes = {name: self._cell.scenario.part_size(name) for name in self._cell.station.parts}
             self._markers.publish(messages.logical_markers(image, sizes))
+
+
+class PartsTopics:
+    """``/omtp/parts/poses`` and ``/markers``: every part in the world, in ``world``."""
+
+    def __init__(self, node: Any, cell: Cell):
+        from geometry_msgs.msg import PoseArray
+        from visualization_msgs.msg import MarkerArray
+
+        self._cell = cell
+        self._poses = node.create_publisher(PoseArray, "/omtp/parts/poses", 10)
+        self._markers = node.create_publisher(MarkerArray, "/omtp/parts/markers", 10)
+
+    def __call__(self, t: float) -> None:
+        cell = self._cell
+        names = cell.runtime.parts_in_world()
+        poses = [cell.part_pose(name) for name in names]
+        self._poses.publish(messages.part_poses(t, poses))
+        if self._markers.get_subscription_count() > 0:
+            models = [(n, X, cell.scenario.part_size(n)) for n, X in zip(names, poses)]
+            self._markers.publish(messages.model_markers(messages.header(t, "world"), "parts", models))
 
 
 class RgbdTopics:

@@ -61,6 +61,8 @@ class Student(Node):
         )
         self.create_subscription(PoseArray, "/omtp/logical_camera_1/poses", self.camera.append, 10)
         self.create_subscription(MarkerArray, "/omtp/logical_camera_1/markers", self.markers.append, 10)
+        self.parts = []
+        self.create_subscription(PoseArray, "/omtp/parts/poses", self.parts.append, 10)
         self.trajectory = self.create_publisher(JointTrajectory, "/set_joint_trajectory", 1)
         self.gripper = self.create_client(SetBool, "/gripper1/control")
         self.conveyor = self.create_client(SetBool, "/omtp/conveyor/control")
@@ -123,12 +125,14 @@ class Student(Node):
         return {"success": future.result().success, "message": future.result().message}
 
     def logical_camera(self):
-        self.wait_for("logical camera poses and markers", lambda: self.camera and self.markers)
+        self.wait_for("camera poses, markers, parts", lambda: self.camera and self.markers and self.parts)
         poses = self.camera[-1]
         return {
             "frame_id": poses.header.frame_id,
             "positions": [[p.position.x, p.position.y, p.position.z] for p in poses.poses],
             "labels": [m.text for m in self.markers[-1].markers if m.text],
+            "parts": [[p.position.x, p.position.y, p.position.z] for p in self.parts[-1].poses],
+            "parts_frame": self.parts[-1].header.frame_id,
         }
 
 
