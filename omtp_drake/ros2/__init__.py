@@ -3,12 +3,12 @@ rviz2 talk to (``omtp-drake ros2``; needs the ``ros2`` extra: rclpy and Fast DDS
 
 In simulated time: ``/clock``, ``/joint_states``, ``/robot_description`` (latched, as
 robot_state_publisher publishes it), the RGB-D cameras' ``image_raw``, ``camera_info``,
-``depth/image_raw`` and ``points``, the logical cameras and the parts as poses and
-rviz2 markers;
-``/set_joint_trajectory`` as Gazebo's joint pose trajectory plugin; the grippers and
-the belt as ``std_srvs/SetBool`` services. No ``/tf``: ``tf2_msgs`` is no PyPI
-package; a peer's robot_state_publisher makes tf from ``/joint_states`` and
-``/robot_description``.
+``depth/image_raw`` and ``points``, the logical cameras and the parts as poses and rviz2
+markers; ``/set_joint_trajectory`` as Gazebo's joint pose trajectory plugin; the grippers
+and the belt as ``std_srvs/SetBool`` services. No ``/tf``: no ``tf2_msgs`` wheel is on
+PyPI, the wheels there ship no C headers to build one against, and rclpy has no runtime
+type support in Python; a peer's robot_state_publisher makes tf from ``/joint_states``
+and ``/robot_description``.
 
 Modules (one job each):
 

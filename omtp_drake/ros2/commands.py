@@ -49,6 +49,7 @@ class CellCommands:
     each joint name to (arm, index), ``fixed_links`` are the links no joint moves."""
 
     def __init__(self, node: Any, cell: Cell, joints: dict[str, tuple[str, int]], fixed_links: set[str]):
+        from rcl_interfaces.msg import ParameterDescriptor
         from std_srvs.srv import SetBool
         from trajectory_msgs.msg import JointTrajectory
 
@@ -66,7 +67,10 @@ class CellCommands:
         for robot, plugin in gripper_plugins(cell).items():
             node.create_service(SetBool, f"/{plugin}/control", self._gripper_service(robot))
         if cell.station.conveyor is not None:
-            node.declare_parameter("conveyor_power", DEFAULT_CONVEYOR_POWER)
+            # Dynamic typing: `ros2 param set /omtp_cell conveyor_power 50` sends an integer.
+            node.declare_parameter(
+                "conveyor_power", DEFAULT_CONVEYOR_POWER, ParameterDescriptor(dynamic_typing=True)
+            )
             node.create_service(SetBool, "/omtp/conveyor/control", self._conveyor_service)
 
     # ------------------------------------------------------------ the cell's thread
@@ -162,7 +166,14 @@ class CellCommands:
         return control
 
     def _conveyor_service(self, request: Any, response: Any) -> Any:
-        power = float(self._node.get_parameter("conveyor_power").value) if request.data else 0.0
+        value = self._node.get_parameter("conveyor_power").value
+        if request.data and not isinstance(value, (int, float)):
+            response.success, response.message = (
+                False,
+                f"parameter conveyor_power must be a number, got {value!r}",
+            )
+            return response
+        power = float(value) if request.data else 0.0
 
         def switch() -> str:
             self._cell.set_conveyor_power(power)
