@@ -9,7 +9,8 @@ RGB-D view (320 x 213, 10 Hz), stepped as ``omtp-drake ros2`` steps (10 ms):
 3. ``ros2+sub``: the same with a subscriber process on /clock, /joint_states, the
    logical camera's poses and the RGB-D topics (image_raw, depth/image_raw, points).
 
-Printed: wall milliseconds per simulated second of each (the best of the repeats),
+Printed: wall and CPU milliseconds per simulated second of each (the best of the
+repeats; CPU time of the cell's process, all its threads: less swayed by other load),
 the cost of ROS 2 per simulated second (2 - 1: publishing; 3 - 1: publishing with a
 subscriber, rendering the RGB-D view included), and for every run 3, per topic: messages
 sent and received, messages per wall second, size, and latency from ``publish`` in
@@ -103,10 +104,10 @@ def run(kind: str, seconds: float, scenario: Path, realtime: bool = False) -> di
     listener, out = None, None
     with Cell(str(scenario), realtime=realtime) as cell:
         if kind == "bare":
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             while cell.time < seconds - 1e-9:
                 cell.runtime.advance_to(cell.time + 0.01)
-            return {"wall": time.perf_counter() - start}
+            return {"wall": time.perf_counter() - start, "cpu": time.process_time() - cpu}
         with Ros2Cell(cell, network) as node:
             sent: dict[str, list] = {topic: [] for topic in TOPICS}
             for publisher in node.node.publishers:
@@ -119,19 +120,19 @@ def run(kind: str, seconds: float, scenario: Path, realtime: bool = False) -> di
                 )
                 _wait_for_subscribers(node)
             cell.runtime.simulator.ResetStatistics()  # realtime pacing counts from here
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             end = cell.time + seconds
             while cell.time < end - 1e-9:
                 node.step()
-            wall = time.perf_counter() - start
+            wall, cpu = time.perf_counter() - start, time.process_time() - cpu
             if listener is None:
-                return {"wall": wall}
+                return {"wall": wall, "cpu": cpu}
             time.sleep(3.0)  # the subscriber works off what it has queued
             listener.send_signal(signal.SIGINT)
             listener.wait(timeout=60)
     received = json.loads(Path(out).read_text())
     os.unlink(out)
-    return {"wall": wall, "sent": sent, **received}
+    return {"wall": wall, "cpu": cpu, "sent": sent, **received}
 
 
 def _record(publisher, log: list) -> None:
@@ -190,11 +191,17 @@ def main() -> None:
         for kind, results in runs.items():
             results.append(run(kind, args.seconds, scenario, realtime=args.realtime and kind == "ros2+sub"))
     per_s = {kind: min(r["wall"] for r in results) / args.seconds for kind, results in runs.items()}
+    cpu_s = {kind: min(r["cpu"] for r in results) / args.seconds for kind, results in runs.items()}
     print(f"{args.seconds:g} simulated s, best of {args.repeats}, ROS_DOMAIN_ID={DOMAIN}, loopback")
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     for kind, wall in per_s.items():
-        extra = f"  ({1e3 * (wall - per_s['bare']):+.0f} ms per simulated s)" if kind != "bare" else ""
-        print(f"  {kind:9s} {1e3 * wall:7.0f} wall ms per simulated s{extra}")
+        cpu = cpu_s[kind]
+        extra = (
+            f"  ({1e3 * (wall - per_s['bare']):+.0f} wall, {1e3 * (cpu - cpu_s['bare']):+.0f} CPU ms)"
+            if kind != "bare"
+            else ""
+        )
+        print(f"  {kind:9s} {1e3 * wall:7.0f} wall ms, {1e3 * cpu:5.0f} CPU ms per simulated s{extra}")
     pace = "paced to the wall clock" if args.realtime else "as fast as it runs"
     for i, result in enumerate(runs["ros2+sub"]):
         ms = 1e3 * result["wall"] / args.seconds

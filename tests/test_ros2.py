@@ -13,8 +13,10 @@ from __future__ import annotations
 import json
 import os
 import signal
+import socket
 import subprocess
 import sys
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -49,9 +51,26 @@ needs_ros2 = pytest.mark.skipif(
 )
 
 
-def _domain() -> int:
-    """A domain of this test process's own (xdist workers and other runs differ by pid)."""
-    return 1 + (os.getpid() * 7) % 101
+@pytest.fixture
+def domain() -> Iterator[int]:
+    """A ROS 2 domain no other test of this machine holds while this one runs: the first
+    free one from a pid-based start (xdist workers, other runs), held by binding an
+    abstract Unix socket named after it (Linux; it leaves no file behind)."""
+    start = os.getpid() % 101
+    for i in range(101):
+        candidate = 1 + (start + i) % 101
+        holder = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        try:
+            holder.bind(f"\0omtp_drake_test_ros2_domain_{candidate}")
+        except OSError:
+            holder.close()
+            continue
+        try:
+            yield candidate
+        finally:
+            holder.close()
+        return
+    pytest.fail("every ROS 2 domain 1..101 is held by another test")
 
 
 def _loopback_env(domain: int) -> dict[str, str]:
@@ -87,11 +106,11 @@ def _end(process: subprocess.Popen) -> None:
 
 
 @needs_ros2
-def test_a_students_rclpy_node_drives_and_watches_the_cell(tmp_path):
+def test_a_students_rclpy_node_drives_and_watches_the_cell(tmp_path, domain):
     scenario = tmp_path / "rgbd.yaml"
     scenario.write_text(RGBD_SCENARIO)
     out = tmp_path / "seen.json"
-    env = _loopback_env(_domain())
+    env = _loopback_env(domain)
     shm_before = _dds_files()
     cell = subprocess.Popen(
         [sys.executable, "-m", "omtp_drake.cli", "ros2", str(scenario), "--domain-id", env["ROS_DOMAIN_ID"]],
@@ -243,10 +262,10 @@ def test_without_the_extra_the_command_names_it(tmp_path):
 
 @needs_ros2
 @pytest.mark.parametrize("pace", [[], ["--realtime"]], ids=["fast", "realtime"])
-def test_timeout_ends_the_run_at_that_simulated_time(pace):
+def test_timeout_ends_the_run_at_that_simulated_time(pace, domain):
     done = subprocess.run(
         [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--timeout", "0.25", *pace],
-        env=_loopback_env(_domain()),
+        env=_loopback_env(domain),
         capture_output=True,
         text=True,
         timeout=PATIENCE,
