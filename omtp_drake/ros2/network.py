@@ -44,7 +44,8 @@ class Ros2Network:
     def __post_init__(self) -> None:
         if not (isinstance(self.domain_id, int) and 0 <= self.domain_id <= MAX_DOMAIN_ID):
             raise ConfigError(
-                f"ROS_DOMAIN_ID must be an integer in 0..{MAX_DOMAIN_ID}, got {self.domain_id!r}"
+                f"ROS_DOMAIN_ID (--domain-id) must be an integer in 0..{MAX_DOMAIN_ID}, "
+                f"got {self.domain_id!r}"
             )
 
     @property

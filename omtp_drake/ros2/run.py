@@ -19,9 +19,9 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
-from omtp_drake.errors import ConfigError, check_duration
+from omtp_drake.errors import check_duration
 from omtp_drake.ros.command import print_line
-from omtp_drake.ros2.network import MAX_DOMAIN_ID, Ros2Network, choose_network, import_rclpy
+from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -116,8 +116,6 @@ def cmd_ros2(args: argparse.Namespace) -> int:
         meshcat=args.meshcat,
         urdf=args.urdf,
     )
-    if args.domain_id is not None and not 0 <= args.domain_id <= MAX_DOMAIN_ID:
-        raise ConfigError(f"--domain-id must be in 0..{MAX_DOMAIN_ID}, got {args.domain_id}")
     run_ros2(options, choose_network(args.domain_id, subnet=args.network), print_line)
     return 0
 
