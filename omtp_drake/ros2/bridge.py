@@ -18,7 +18,6 @@ Typical use (what ``omtp-drake ros2`` does)::
 
 from __future__ import annotations
 
-import logging
 import re
 import threading
 from typing import TYPE_CHECKING, Any
@@ -31,8 +30,6 @@ from omtp_drake.ros2.topics import CellTopics
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
-
-_log = logging.getLogger(__name__)
 
 #: The node's name (Gazebo's is ``/gazebo``; one node serves the whole cell here).
 NODE_NAME = "omtp_cell"

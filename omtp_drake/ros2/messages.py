@@ -20,7 +20,6 @@ This module imports the message packages: import it after
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -196,12 +195,3 @@ def model_markers(
 def part_poses(t: float, poses: Sequence[RigidTransform]) -> PoseArray:
     """Parts' poses in the world frame."""
     return PoseArray(header=header(t, "world"), poses=[pose(X) for X in poses])
-
-
-def duration_seconds(sec: int, nanosec: int) -> float:
-    """A ROS 2 ``Duration`` or ``Time`` (its two fields) in seconds."""
-    return float(sec) + float(nanosec) * 1e-9
-
-
-def finite(values: Sequence[float]) -> bool:
-    return all(math.isfinite(float(v)) for v in values)
