@@ -35,6 +35,7 @@ LAYERS = {
     "demos": 8,
     "bench_command": 8,
     "grading": 9,
+    "ros2": 9,
     "cli": 10,
 }
 

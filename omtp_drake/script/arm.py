@@ -240,6 +240,12 @@ class Arm:
             return MoveResult(start, start + plan.duration, False, q_now)
         return self._motion.run(plan, until)
 
+    def set_joint_values(self, q: Sequence[float] | np.ndarray) -> None:
+        """Puts the arm at ``q`` at once and holds it there: a teleport, as Gazebo's
+        ``Joint::SetPosition`` (``gazebo_ros_joint_pose_trajectory``), with no motion,
+        no plan and no contact check. Raises UnreachableError outside the joint limits."""
+        self._motion.teleport(_joint_goal(q, self.config))
+
     # ------------------------------------------------------------ helpers
 
     def _frame(self, frame: str) -> str:
