@@ -22,8 +22,8 @@ import re
 import threading
 from typing import TYPE_CHECKING, Any
 
-from omtp_drake.ros._core import JOINT_NAMES
-from omtp_drake.ros.description import robot_description
+from omtp_drake.ros.comm._core import JOINT_NAMES
+from omtp_drake.ros.moveit.description import robot_description
 from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
 from omtp_drake.ros2.topics import CellTopics
@@ -46,7 +46,7 @@ def joint_map(cell: Cell) -> dict[str, tuple[str, int]]:
 
 
 def urdf_for_ros2(cell: Cell) -> str:
-    """The cell's URDF (:func:`~omtp_drake.ros.description.robot_description`) with its
+    """The cell's URDF (:func:`~omtp_drake.ros.moveit.description.robot_description`) with its
     meshes' absolute paths as ``file://`` URIs, the form rviz2 and robot_state_publisher
     resolve (a bare path is no URI to ROS 2's resource retriever)."""
     return re.sub(r'filename="/', 'filename="file:///', robot_description(cell))

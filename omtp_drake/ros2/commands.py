@@ -53,7 +53,7 @@ class CellCommands:
         from std_srvs.srv import SetBool
         from trajectory_msgs.msg import JointTrajectory
 
-        from omtp_drake.ros.cell_services import gripper_plugins
+        from omtp_drake.ros.gazebo.cell_services import gripper_plugins
 
         self._node = node
         self._cell = cell

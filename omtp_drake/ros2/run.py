@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
 from omtp_drake.errors import check_duration
-from omtp_drake.ros.command import print_line
+from omtp_drake.ros.run.command import print_line
 from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:

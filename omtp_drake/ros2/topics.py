@@ -100,7 +100,7 @@ class CellTopics:
         ]
         self._grippers: dict[str, Any] = {}
         self._bool = Bool
-        from omtp_drake.ros.cell_services import gripper_plugins
+        from omtp_drake.ros.gazebo.cell_services import gripper_plugins
 
         for robot, plugin in gripper_plugins(cell).items():
             self._grippers[robot] = node.create_publisher(Bool, f"/{plugin}/attached", 10)
