@@ -46,9 +46,14 @@ moveit_commander and MoveIt:
 - ``robot``: RobotCommander and ``roscpp_initialize``
 - ``planning_scene``: PlanningSceneInterface
 - ``actions``: the ``execute_trajectory`` action client and GoalStatus
+- ``move_group_node``: the ``move_group`` node on a run: its config and its services
 - ``move_group``: the ``/move_group`` action on the cell's planner
+- ``moveit_bounds``: MoveIt's joint-bounds rules for a plan's start and joint goals
 - ``ik_service``: the ``/compute_ik`` service on the cell's planner
-- ``moveit_interfaces``: moveit_msgs types of ``/move_group`` and ``/compute_ik``
+- ``fk_service``: the ``/compute_fk`` service on the cell's model
+- ``cartesian_service``: the ``/compute_cartesian_path`` service on the cell's planner
+- ``moveit_interfaces``: moveit_msgs types of ``/move_group`` and its kinematics services
+- ``moveit_python``: moveit_python's MoveGroupInterface and PlanningSceneInterface
 - ``srdf``: the semantic robot description (SRDF) on the cell's arms
 - ``joint_limits``: a MoveIt config package's ``joint_limits.yaml``
 - ``moveit_config``: a student's MoveIt config on a run (``--srdf``, ``--moveit-config``)
@@ -58,6 +63,7 @@ moveit_commander and MoveIt:
 tf:
 
 - ``tf``: tf2_ros and tf2_geometry_msgs on the cell's tf buffer
+- ``tf_listener``: ROS 1 tf's TransformListener on the cell's tf buffer
 - ``transformations``: the helpers of ``tf.transformations`` that course scripts use
 - ``convert``: ROS geometry messages to and from Drake's RigidTransform
 
@@ -73,6 +79,7 @@ the course's Gazebo world:
 - ``spawner``: the course's part spawner, wired as the scenario's launch file wires it
 - ``world_plugins``: the world's ROS plugins (Gazebo's API, the spawner) attached to a run
 - ``graph``: what those plugins use of a run's ROS graph (the Session as a protocol)
+- ``move_base_interfaces``: move_base_msgs' action types (no ``/move_base``, as in the course's cell)
 
 running scripts:
 

@@ -28,9 +28,6 @@ if TYPE_CHECKING:
 
 _log = logging.getLogger("moveit_commander")
 
-#: MoveIt's code for a goal it cannot use.
-INVALID_GOAL_CONSTRAINTS = -23
-
 
 def _joint_names(robot: str) -> list[str]:
     return [f"{robot}_{name}" for name in JOINT_NAMES]
@@ -76,7 +73,7 @@ def compute_ik(cell: Cell, request: Any) -> GetPositionIKResponse:
         _log.error(
             "compute_ik: %r is no end-effector link of %s; links: %s", link, ik.group_name, list(links)
         )
-        response.error_code = MoveItErrorCodes(INVALID_GOAL_CONSTRAINTS)
+        response.error_code = MoveItErrorCodes(MoveItErrorCodes.INVALID_GOAL_CONSTRAINTS)
         return response
     try:
         X_WE = _ik_target(cell, ik.pose_stamped)
