@@ -75,13 +75,17 @@ class TurnPickSM(Behavior):
 \t\t\tOperatableStateMachine.add('stop feeder', FeederState(start=False),
 \t\t\t\ttransitions={'succeeded': 'wait for beam', 'failed': 'failed'},
 \t\t\t\tautonomy={'succeeded': Autonomy.Off, 'failed': Autonomy.Off})
-\t\t\tOperatableStateMachine.add('wait for beam', SubscriberState(topic="/break_beam_sensor", blocking=True, clear=True),
+\t\t\tOperatableStateMachine.add('wait for beam',
+\t\t\t\tSubscriberState(topic="/break_beam_sensor", blocking=True, clear=True),
 \t\t\t\ttransitions={'received': 'beam?', 'unavailable': 'failed'},
 \t\t\t\tautonomy={'received': Autonomy.Off, 'unavailable': Autonomy.Off}, remapping={'message': 'beam'})
-\t\t\tOperatableStateMachine.add('beam?', DecisionState(outcomes=["yes", "no"], conditions=lambda m: "yes" if m.object_detected else "no"),
+\t\t\tOperatableStateMachine.add('beam?',
+\t\t\t\tDecisionState(outcomes=["yes", "no"], conditions=lambda m: "yes" if m.object_detected else "no"),
 \t\t\t\ttransitions={'yes': 'detect part', 'no': 'wait for beam'},
 \t\t\t\tautonomy={'yes': Autonomy.Off, 'no': Autonomy.Off}, remapping={'input_value': 'beam'})
-\t\t\tOperatableStateMachine.add('detect part', PartPoseState(ref_frame="world", camera_topic="/omtp/logical_camera", camera_frame="logical_camera_frame"),
+\t\t\tOperatableStateMachine.add('detect part',
+\t\t\t\tPartPoseState(ref_frame="world", camera_topic="/omtp/logical_camera",
+\t\t\t\t\tcamera_frame="logical_camera_frame"),
 \t\t\t\ttransitions={'continue': 'grasp ik', 'failed': 'failed'},
 \t\t\t\tautonomy={'continue': Autonomy.Off, 'failed': Autonomy.Off}, remapping={'pose': 'part_pose'})
 \t\t\tOperatableStateMachine.add('grasp ik', GraspIKState(group="robot1", offset=0.16, tool_link=tool_link),
@@ -101,8 +105,10 @@ class TurnPickSM(Behavior):
 \t\t\tOperatableStateMachine.add('attach', WaitState(wait_time=0.3),
 \t\t\t\ttransitions={'done': 'home'}, autonomy={'done': Autonomy.Off})
 \t\t\tOperatableStateMachine.add('home', NamedPoseState(config_name="R1Home", move_group="robot1"),
-\t\t\t\ttransitions={'reached': 'finished', 'planning_failed': 'failed', 'control_failed': 'failed', 'param_error': 'failed'},
-\t\t\t\tautonomy={'reached': Autonomy.Off, 'planning_failed': Autonomy.Off, 'control_failed': Autonomy.Off, 'param_error': Autonomy.Off})
+\t\t\t\ttransitions={'reached': 'finished', 'planning_failed': 'failed', 'control_failed': 'failed',
+\t\t\t\t\t'param_error': 'failed'},
+\t\t\t\tautonomy={'reached': Autonomy.Off, 'planning_failed': Autonomy.Off, 'control_failed': Autonomy.Off,
+\t\t\t\t\t'param_error': Autonomy.Off})
 \t\treturn _state_machine
 """
 
@@ -119,7 +125,9 @@ def _workspace(src: Path) -> Path:
 
 
 def test_a_grasp_with_the_wrist_at_pi_then_a_joint_goal(tmp_path):
-    report = run_behavior("Turn Pick", [EXAMPLE, _workspace(tmp_path / "src")], scenario=SCENARIO, timeout=60.0)
+    report = run_behavior(
+        "Turn Pick", [EXAMPLE, _workspace(tmp_path / "src")], scenario=SCENARIO, timeout=60.0
+    )
     assert report.outcome == "finished", report.summary()
     done = [(t["state"], t["outcome"]) for t in report.trace]
     assert ("/grasp", "reached") in done and done[-1] == ("/home", "reached")

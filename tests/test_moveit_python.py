@@ -5,15 +5,8 @@ down onto the part, execute_trajectory), and the services' and interfaces' answe
 
 from __future__ import annotations
 
-import json
-import math
-import textwrap
 from pathlib import Path
 
-import numpy as np
-import pytest
-
-from omtp_drake.ros import run_script
 from omtp_drake.ros.flexbe import run_behavior
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -72,7 +65,8 @@ class ApproachDynState(EventState):
 \t\tself._client = ProxyActionClient({self._action_topic: MoveGroupAction})
 \t\tself._fk = ProxyServiceCaller({self._fk_topic: GetPositionFK})
 \t\tself._path = ProxyServiceCaller({self._path_topic: GetCartesianPath})
-\t\tself._traj_client = actionlib.SimpleActionClient('execute_trajectory', moveit_msgs.msg.ExecuteTrajectoryAction)
+\t\tself._traj_client = actionlib.SimpleActionClient('execute_trajectory',
+\t\t\tmoveit_msgs.msg.ExecuteTrajectoryAction)
 \t\tself._traj_client.wait_for_server()
 \t\tself._outcome = None
 
@@ -93,7 +87,8 @@ class ApproachDynState(EventState):
 \t\t\tself._outcome = 'planning_failed'
 \t\t\treturn
 \t\tgrasp = fk_result.pose_stamped[0]
-\t\tLogger.loginfo('grasp at %.3f %.3f %.3f' % (grasp.pose.position.x, grasp.pose.position.y, grasp.pose.position.z))
+\t\tp = grasp.pose.position
+\t\tLogger.loginfo('grasp at %.3f %.3f %.3f' % (p.x, p.y, p.z))
 
 \t\tpre_grasp = copy.deepcopy(grasp)
 \t\tpre_grasp.pose.position.z += self._approach
@@ -105,7 +100,8 @@ class ApproachDynState(EventState):
 \t\t\treturn
 
 \t\tpath_request = GetCartesianPathRequest()
-\t\tpath_request.start_state.joint_state = rospy.wait_for_message(self._group + '/joint_states', sensor_msgs.msg.JointState)
+\t\tpath_request.start_state.joint_state = rospy.wait_for_message(self._group + '/joint_states',
+\t\t\tsensor_msgs.msg.JointState)
 \t\tpath_request.header.stamp = rospy.Time.now()
 \t\tpath_request.header.frame_id = 'world'
 \t\tpath_request.group_name = self._group
@@ -115,7 +111,8 @@ class ApproachDynState(EventState):
 \t\tpath_request.avoid_collisions = True
 \t\tpath_request.waypoints.append(grasp.pose)
 \t\tpath = self._path.call(self._path_topic, path_request)
-\t\tLogger.loginfo('path fraction %.2f, %d points' % (path.fraction, len(path.solution.joint_trajectory.points)))
+\t\tpoints = path.solution.joint_trajectory.points
+\t\tLogger.loginfo('path fraction %.2f, %d points' % (path.fraction, len(points)))
 \t\tif path.fraction < 1.0:
 \t\t\tself._outcome = 'planning_failed'
 \t\t\treturn
@@ -171,13 +168,17 @@ class DynPickSM(Behavior):
 \t\t\tOperatableStateMachine.add('stop feeder', FeederState(start=False),
 \t\t\t\ttransitions={'succeeded': 'wait for beam', 'failed': 'failed'},
 \t\t\t\tautonomy={'succeeded': Autonomy.Off, 'failed': Autonomy.Off})
-\t\t\tOperatableStateMachine.add('wait for beam', SubscriberState(topic="/break_beam_sensor", blocking=True, clear=True),
+\t\t\tOperatableStateMachine.add('wait for beam',
+\t\t\t\tSubscriberState(topic="/break_beam_sensor", blocking=True, clear=True),
 \t\t\t\ttransitions={'received': 'beam?', 'unavailable': 'failed'},
 \t\t\t\tautonomy={'received': Autonomy.Off, 'unavailable': Autonomy.Off}, remapping={'message': 'beam'})
-\t\t\tOperatableStateMachine.add('beam?', DecisionState(outcomes=["yes", "no"], conditions=lambda m: "yes" if m.object_detected else "no"),
+\t\t\tOperatableStateMachine.add('beam?',
+\t\t\t\tDecisionState(outcomes=["yes", "no"], conditions=lambda m: "yes" if m.object_detected else "no"),
 \t\t\t\ttransitions={'yes': 'detect part', 'no': 'wait for beam'},
 \t\t\t\tautonomy={'yes': Autonomy.Off, 'no': Autonomy.Off}, remapping={'input_value': 'beam'})
-\t\t\tOperatableStateMachine.add('detect part', PartPoseState(ref_frame="world", camera_topic="/omtp/logical_camera", camera_frame="logical_camera_frame"),
+\t\t\tOperatableStateMachine.add('detect part',
+\t\t\t\tPartPoseState(ref_frame="world", camera_topic="/omtp/logical_camera",
+\t\t\t\t\tcamera_frame="logical_camera_frame"),
 \t\t\t\ttransitions={'continue': 'grasp ik', 'failed': 'failed'},
 \t\t\t\tautonomy={'continue': Autonomy.Off, 'failed': Autonomy.Off}, remapping={'pose': 'part_pose'})
 \t\t\tOperatableStateMachine.add('grasp ik', GraspIKState(group="robot1", offset=0.16, tool_link=tool_link),
@@ -187,15 +188,18 @@ class DynPickSM(Behavior):
 \t\t\tOperatableStateMachine.add('gripper on', GripperState(enable=True, service_name="/gripper1/control"),
 \t\t\t\ttransitions={'continue': 'approach', 'failed': 'failed'},
 \t\t\t\tautonomy={'continue': Autonomy.Off, 'failed': Autonomy.Off})
-\t\t\tOperatableStateMachine.add('approach', ApproachDynState(move_group="robot1", approach=0.3, tool_link=tool_link),
+\t\t\tOperatableStateMachine.add('approach',
+\t\t\t\tApproachDynState(move_group="robot1", approach=0.3, tool_link=tool_link),
 \t\t\t\ttransitions={'reached': 'attach', 'planning_failed': 'failed', 'control_failed': 'failed'},
 \t\t\t\tautonomy={'reached': Autonomy.Off, 'planning_failed': Autonomy.Off, 'control_failed': Autonomy.Off},
 \t\t\t\tremapping={'joint_values': 'joint_values', 'joint_names': 'joint_names'})
 \t\t\tOperatableStateMachine.add('attach', WaitState(wait_time=0.3),
 \t\t\t\ttransitions={'done': 'home'}, autonomy={'done': Autonomy.Off})
 \t\t\tOperatableStateMachine.add('home', NamedPoseState(config_name="R1Home", move_group="robot1"),
-\t\t\t\ttransitions={'reached': 'finished', 'planning_failed': 'failed', 'control_failed': 'failed', 'param_error': 'failed'},
-\t\t\t\tautonomy={'reached': Autonomy.Off, 'planning_failed': Autonomy.Off, 'control_failed': Autonomy.Off, 'param_error': Autonomy.Off})
+\t\t\t\ttransitions={'reached': 'finished', 'planning_failed': 'failed', 'control_failed': 'failed',
+\t\t\t\t\t'param_error': 'failed'},
+\t\t\t\tautonomy={'reached': Autonomy.Off, 'planning_failed': Autonomy.Off, 'control_failed': Autonomy.Off,
+\t\t\t\t\t'param_error': Autonomy.Off})
 \t\treturn _state_machine
 """
 
