@@ -5,8 +5,14 @@ down onto the part, execute_trajectory), and the services' and interfaces' answe
 
 from __future__ import annotations
 
+import json
+import textwrap
 from pathlib import Path
 
+import numpy as np
+import pytest
+
+from omtp_drake.ros import run_script
 from omtp_drake.ros.flexbe import run_behavior
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -243,3 +249,195 @@ def test_a_moveit_to_joints_dyn_style_state_picks_the_part(tmp_path):
     assert any(t.startswith("path fraction 1.00, ") for t in texts), texts
     # The part the beam stopped is on the cup, carried home.
     assert report.ledger["held"]["robot1"] == 1 and report.ledger["parts"] == {"object_1": "held:robot1"}
+
+
+SERVICES_SCRIPT = """
+    import copy, json, sys
+    import rospy, tf2_ros
+    from geometry_msgs.msg import Pose
+    from moveit_msgs.msg import RobotState
+    from moveit_msgs.srv import GetCartesianPath, GetCartesianPathRequest, GetPositionFK, GetPositionFKRequest
+    from sensor_msgs.msg import JointState
+
+    rospy.init_node('kinematics_services')
+    fk = rospy.ServiceProxy('/compute_fk', GetPositionFK)
+    path = rospy.ServiceProxy('/compute_cartesian_path', GetCartesianPath)
+    buffer = tf2_ros.Buffer()
+    out = {}
+
+    def xyz(p):
+        return [p.position.x, p.position.y, p.position.z]
+
+    cup = buffer.lookup_transform('world', 'vacuum_gripper1_suction_cup', rospy.Time(0)).transform.translation
+    out['tf_cup'] = [cup.x, cup.y, cup.z]
+    req = GetPositionFKRequest(fk_link_names=['vacuum_gripper1_suction_cup', 'robot1_tool0', 'no_link'])
+    res = fk(req)
+    out['now'] = [res.error_code.val, res.fk_link_names, xyz(res.pose_stamped[0].pose),
+                  res.pose_stamped[0].header.frame_id]
+    state = RobotState()
+    state.joint_state.name = ['robot1_shoulder_pan_joint', 'robot1_wrist_3_joint']
+    state.joint_state.position = [0.5, 3.2]  # FK does not check the bounds
+    req = GetPositionFKRequest(fk_link_names=['vacuum_gripper1_suction_cup'], robot_state=state)
+    out['turned_world'] = xyz(fk(req).pose_stamped[0].pose)
+    req.header.frame_id = 'robot1_base_link'
+    res = fk(req)
+    base = buffer.lookup_transform('world', 'robot1_base_link', rospy.Time(0)).transform.translation
+    answer = res.pose_stamped[0]
+    out['turned_base'] = [res.error_code.val, answer.header.frame_id, xyz(answer.pose),
+                          [base.x, base.y, base.z]]
+    req.header.frame_id = 'nowhere'
+    out['bad_frame'] = fk(req).error_code.val
+    out['no_links'] = fk(GetPositionFKRequest()).error_code.val
+    state.joint_state.name = ['robot9_elbow_joint']
+    state.joint_state.position = [0.0]
+    try:
+        fk(GetPositionFKRequest(fk_link_names=['robot1_tool0'], robot_state=state))
+    except rospy.ServiceException as e:
+        out['bad_joint'] = str(e)
+
+    def cartesian(waypoints, frame='world', group='robot1', link='vacuum_gripper1_suction_cup', step=0.01):
+        c = GetCartesianPathRequest(group_name=group, link_name=link, max_step=step, avoid_collisions=True)
+        c.header.frame_id = frame
+        c.start_state.joint_state = rospy.wait_for_message('/robot1/joint_states', JointState)
+        c.waypoints = waypoints
+        return path(c)
+
+    down = Pose()
+    down.position.x, down.position.y, down.position.z = cup.x, cup.y, cup.z - 0.1
+    now = buffer.lookup_transform('world', 'vacuum_gripper1_suction_cup', rospy.Time(0))
+    down.orientation = now.transform.rotation
+    res = cartesian([down])
+    points = res.solution.joint_trajectory.points
+    end = RobotState()
+    end.joint_state.name = res.solution.joint_trajectory.joint_names
+    end.joint_state.position = points[-1].positions
+    end_cup = fk(GetPositionFKRequest(fk_link_names=['vacuum_gripper1_suction_cup'], robot_state=end))
+    out['down'] = [res.error_code.val, res.fraction, list(res.start_state.joint_state.position),
+                   list(points[0].positions), xyz(end_cup.pose_stamped[0].pose),
+                   points[-1].time_from_start.to_sec(), list(points[-1].positions)]
+    in_base = copy.deepcopy(down)
+    in_base.position.x -= base.x
+    in_base.position.y -= base.y
+    in_base.position.z -= base.z
+    res = cartesian([in_base], frame='robot1_base_link')  # the base frame is not turned in this cell
+    last = res.solution.joint_trajectory.points[-1]
+    out['in_base'] = [res.error_code.val, res.fraction, list(last.positions)]
+    far = copy.deepcopy(down)
+    far.position.z += 5.0
+    res = cartesian([down, far])
+    out['far'] = [res.error_code.val, res.fraction]
+    out['errors'] = [cartesian([down], group='robot7').error_code.val,
+                     cartesian([down], step=0.0).error_code.val,
+                     cartesian([down], link='no_link').error_code.val,
+                     cartesian([down], frame='nowhere').error_code.val]
+    res = cartesian([])
+    out['empty'] = [res.error_code.val, res.fraction, len(res.solution.joint_trajectory.points)]
+    json.dump(out, open(sys.argv[1], 'w'))
+"""
+
+
+def test_compute_fk_and_compute_cartesian_path(tmp_path):
+    script = tmp_path / "kinematics_services.py"
+    script.write_text(textwrap.dedent(SERVICES_SCRIPT))
+    out = tmp_path / "out.json"
+    report = run_script(script, [str(out)], scenario=SCENARIO, timeout=30.0)
+    assert report.ok, report.summary()
+    r = json.loads(out.read_text())
+    code, links, cup, frame = r["now"]
+    assert code == -18 and links == ["vacuum_gripper1_suction_cup", "robot1_tool0"]  # INVALID_LINK_NAME
+    assert cup == pytest.approx(r["tf_cup"], abs=1e-9) and frame == "world"
+    code, frame, in_base, base = r["turned_base"]
+    assert code == 1 and frame == "robot1_base_link"
+    assert np.add(in_base, base) == pytest.approx(r["turned_world"], abs=1e-9)
+    assert r["turned_world"] != pytest.approx(r["tf_cup"], abs=1e-2)  # the given joints, not the arm's
+    assert r["bad_frame"] == -21 and r["no_links"] == -18  # FRAME_TRANSFORM_FAILURE, INVALID_LINK_NAME
+    assert r["bad_joint"].startswith(
+        "service [/compute_fk] failed: Variable 'robot9_elbow_joint' is not known"
+    )
+    code, fraction, start, first, end, duration, down_last = r["down"]
+    assert code == 1 and fraction == 1.0 and first == pytest.approx(start, abs=1e-12)
+    assert end == pytest.approx(np.add(r["tf_cup"], [0, 0, -0.1]), abs=1e-3) and duration > 0.1 / 0.25
+    code, fraction, last = r["in_base"]
+    assert code == 1 and fraction == 1.0 and last == pytest.approx(down_last, abs=1e-6)
+    code, fraction = r["far"]
+    # Only part of it: the cell's fraction is of the steps (MoveIt's counts waypoints); both are < 1.
+    assert code == 1 and 0.02 < fraction < 0.5
+    assert r["errors"] == [
+        -15,
+        99999,
+        99999,
+        -21,
+    ]  # INVALID_GROUP_NAME, FAILURE, FAILURE, FRAME_TRANSFORM_FAILURE
+    assert r["empty"] == [1, 0.0, 0]
+
+
+INTERFACES_SCRIPT = """
+    import json, sys
+    import rospy
+    from moveit_msgs.srv import GetPositionFK, GetPositionFKRequest
+    from moveit_msgs.msg import RobotState
+    from moveit_python import MoveGroupInterface, PlanningSceneInterface
+    from sensor_msgs.msg import JointState
+
+    rospy.init_node('moveit_python_probe')
+    names = ['robot1_shoulder_pan_joint', 'robot1_shoulder_lift_joint', 'robot1_elbow_joint',
+             'robot1_wrist_1_joint', 'robot1_wrist_2_joint', 'robot1_wrist_3_joint']
+    target = [0.3, -1.2, 1.4, -1.8, -1.5708, 0.2]
+    move = MoveGroupInterface('robot1', 'world')
+    scene = PlanningSceneInterface('world')
+    out = {}
+    state = RobotState()
+    state.joint_state.name, state.joint_state.position = names, target
+    fk = rospy.ServiceProxy('/compute_fk', GetPositionFK)
+    answer = fk(GetPositionFKRequest(fk_link_names=['vacuum_gripper1_suction_cup'], robot_state=state))
+    cup = answer.pose_stamped[0]
+    p = cup.pose.position
+    scene.addBox('crate', 0.2, 0.2, 0.2, p.x, p.y, p.z)
+    out['known'] = scene.getKnownCollisionObjects()
+    result = move.moveToJointPosition(names, target, tolerance=0.01, unknown_option=1)
+    out['blocked'] = result.error_code.val
+    scene.removeCollisionObject('crate')
+    scene.removeCollisionObject('never_added')
+    out['after_remove'] = scene.getKnownCollisionObjects()
+    result = move.moveToJointPosition(names, target, plan_only=True)
+    out['plan_only'] = [result.error_code.val, len(result.planned_trajectory.joint_trajectory.points),
+                        len(result.executed_trajectory.joint_trajectory.points)]
+    out['wait_false'] = move.moveToJointPosition(names, target, wait=False)
+    move.get_move_action().wait_for_result()
+    at = rospy.wait_for_message('/robot1/joint_states', JointState).position
+    out['reached'] = [move.get_move_action().get_result().error_code.val, at]
+    cup.pose.position.z += 0.1
+    out['pose'] = move.moveToPose(cup, 'vacuum_gripper1_suction_cup').error_code.val
+    scene.attachBox('tool_box', 0.05, 0.05, 0.05, 0.0, 0.0, 0.05, 'vacuum_gripper1_suction_cup')
+    out['attached'] = scene.getKnownAttachedObjects()
+    scene.removeAttachedObject('tool_box')
+    out['detached'] = [scene.getKnownAttachedObjects(), scene.getKnownCollisionObjects()]
+    scene.setColor('crate', 1.0, 0.0, 0.0)
+    scene.sendColors()
+    scene.waitForSync()
+    try:
+        scene.addSphere('ball', 0.1, 0.0, 0.0, 1.0)
+    except Exception as e:
+        out['sphere'] = '%s: %s' % (type(e).__name__, e)
+    json.dump(out, open(sys.argv[1], 'w'))
+"""
+
+
+def test_moveit_python_interfaces(tmp_path):
+    script = tmp_path / "moveit_python_probe.py"
+    script.write_text(textwrap.dedent(INTERFACES_SCRIPT))
+    out = tmp_path / "out.json"
+    report = run_script(script, [str(out)], scenario=SCENARIO, timeout=60.0)
+    assert report.ok, report.summary()
+    r = json.loads(out.read_text())
+    assert r["known"] == ["crate"] and r["blocked"] == -12  # GOAL_IN_COLLISION
+    assert r["after_remove"] == []
+    assert r["plan_only"][0] == 1 and r["plan_only"][1] >= 2 and r["plan_only"][2] == 0
+    assert r["wait_false"] is None
+    code, at = r["reached"]
+    assert code == 1 and at == pytest.approx([0.3, -1.2, 1.4, -1.8, -1.5708, 0.2], abs=2e-3)
+    assert r["pose"] == 1
+    assert r["attached"] == ["tool_box"] and r["detached"] == [[], []]
+    assert r["sphere"].startswith(
+        "NotSupportedError: moveit_python PlanningSceneInterface.addSphere is not supported"
+    )
