@@ -188,7 +188,7 @@ class MoveGroupCommander(MoveGroupTargets):
         except PlanningError as e:
             _log.error("%s: planning failed: %s", self._name, e)
             return None, _error_code(e), wall.perf_counter() - began
-        return with_prefix(plan, q_actual), MoveItErrorCodes.SUCCESS, wall.perf_counter() - began
+        return with_prefix(plan, q_actual, q_start), MoveItErrorCodes.SUCCESS, wall.perf_counter() - began
 
     def _retime(self, plan: Plan) -> Plan:
         """``plan`` timed again with the acceleration scaling factor and joint_limits.yaml's
@@ -320,7 +320,7 @@ class MoveGroupCommander(MoveGroupTargets):
             joint_limits=arm_joint_limits(self._session, self._robot, self._arm.planner),
             start=q_start,
         )
-        return with_prefix(plan, start) if plan.fraction > 0 else plan
+        return with_prefix(plan, start, q_start)
 
 
 def _cartesian_args(args: tuple, kwargs: dict) -> tuple[float, bool]:

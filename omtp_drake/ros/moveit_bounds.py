@@ -99,14 +99,15 @@ def fix_start(session: Session, bounds: JointBounds, q: np.ndarray) -> np.ndarra
     return np.clip(q, bounds.lower, bounds.upper)
 
 
-def with_prefix(plan: Plan, q_actual: np.ndarray) -> Plan:
-    """``plan`` (from a fixed start) beginning at the actual start ``q_actual``, as
-    MoveIt's prefix waypoint (unchanged when they are the same)."""
+def with_prefix(plan: Plan, q_actual: np.ndarray, q_fixed: np.ndarray) -> Plan:
+    """``plan``, made from the start ``q_fixed`` that :func:`fix_start` gave for
+    ``q_actual``, beginning at ``q_actual`` as MoveIt's prefix waypoint (unchanged when
+    nothing was fixed)."""
+    if np.array_equal(q_fixed, q_actual):
+        return plan
     trajectory = plan.trajectory
     t0 = trajectory.start_time()
     q_first = trajectory.value(t0).ravel()
-    if np.array_equal(q_first, q_actual):
-        return plan
     segments = max(1, len(plan.path) - 1)
     dt = min(START_STATE_MAX_DT, (trajectory.end_time() - t0) / segments) or 1e-3
     zero = np.zeros((len(q_first), 2))
