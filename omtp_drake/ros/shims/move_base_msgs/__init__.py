@@ -1,6 +1,6 @@
 """move_base_msgs of omtp-drake ros-run (the cell has no /move_base server)."""
 
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 from . import msg
 

@@ -1,7 +1,8 @@
 """moveit_msgs.srv of omtp-drake ros-run: move_group's kinematics services
 (``/compute_ik``, ``/compute_fk``, ``/compute_cartesian_path``)."""
 
-from omtp_drake.ros.moveit_interfaces import (
+from omtp_drake.ros.comm.unsupported import module_getattr
+from omtp_drake.ros.moveit.interfaces import (
     GetCartesianPath,
     GetCartesianPathRequest,
     GetCartesianPathResponse,
@@ -12,7 +13,6 @@ from omtp_drake.ros.moveit_interfaces import (
     GetPositionIKRequest,
     GetPositionIKResponse,
 )
-from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
     "GetCartesianPath",

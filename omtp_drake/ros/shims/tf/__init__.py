@@ -1,7 +1,7 @@
 """tf (ROS 1's old tf) of omtp-drake ros-run: its transformations helpers and
 TransformListener (on the cell's frames)."""
 
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 from . import listener, transformations
 from .listener import TransformListener
