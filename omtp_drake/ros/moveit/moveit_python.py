@@ -177,18 +177,20 @@ def _log_unsupported(method: str, kwargs: dict[str, Any], supported: tuple[str, 
             _log.info("%s: unsupported argument: %s", method, name)
 
 
+def _pose_at(x: float, y: float, z: float) -> Any:
+    """A Pose at ``x, y, z``, not turned."""
+    pose = Pose()
+    pose.position.x, pose.position.y, pose.position.z = float(x), float(y), float(z)
+    pose.orientation.w = 1.0
+    return pose
+
+
 class PlanningSceneInterface:
     """moveit_python.PlanningSceneInterface on the cell's planning scene (see the module doc)."""
 
     def __init__(self, frame: str, ns: str = "", init_from_service: bool = True):
         self._fixed_frame = frame
         self._colors: dict[str, tuple[float, float, float, float]] = {}
-
-    def _pose(self, x: float, y: float, z: float, frame: str) -> Any:
-        pose = Pose()
-        pose.position.x, pose.position.y, pose.position.z = float(x), float(y), float(z)
-        pose.orientation.w = 1.0
-        return PoseStamped(header=Header(frame_id=frame), pose=pose)
 
     def addBox(  # noqa: N802 (moveit_python's names)
         self,
@@ -202,11 +204,8 @@ class PlanningSceneInterface:
         use_service: bool = True,
         frame_id: Optional[str] = None,
     ) -> None:
-        stamped = self._pose(x, y, z, frame_id or self._fixed_frame)
-        try:
-            scene_of_run().add_box(name, world_pose_of(stamped, "addBox"), [size_x, size_y, size_z])
-        except OmtpError as e:
-            raise MoveItCommanderException(str(e)) from None
+        box = SolidPrimitive(type=SolidPrimitive.BOX, dimensions=[size_x, size_y, size_z])
+        self.addSolidPrimitive(name, box, _pose_at(x, y, z), use_service, frame_id)
 
     def addCube(  # noqa: N802
         self,
@@ -216,13 +215,14 @@ class PlanningSceneInterface:
         y: float,
         z: float,
         use_service: bool = True,
-        frame_id: Optional[str] = None,
+        frame_id: Any = None,
     ) -> None:
         self.addBox(name, size, size, size, x, y, z, use_service, frame_id)
 
     def addSolidPrimitive(  # noqa: N802
         self, name: str, solid: Any, pose: Any, use_service: bool = True, frame_id: Optional[str] = None
     ) -> None:
+        """Adds a BOX ``solid`` at ``pose`` in ``frame_id`` (default: the interface's frame)."""
         if solid.type != SolidPrimitive.BOX:
             not_supported(
                 f"addSolidPrimitive of shape type {solid.type}",
@@ -249,10 +249,11 @@ class PlanningSceneInterface:
         weight: float = 0.0,
         use_service: bool = True,
     ) -> None:
+        """Attaches a box at ``x, y, z`` in ``link_name`` (a gripper's link) to that gripper."""
+        stamped = PoseStamped(header=Header(frame_id=link_name), pose=_pose_at(x, y, z))
         try:
-            robot = robot_of_link(link_name)
-            X_WO = world_pose_of(self._pose(x, y, z, link_name), "attachBox")
-            scene_of_run().attach_box(robot, name, X_WO, [size_x, size_y, size_z])
+            X_WO = world_pose_of(stamped, "attachBox")
+            scene_of_run().attach_box(robot_of_link(link_name), name, X_WO, [size_x, size_y, size_z])
         except OmtpError as e:
             raise MoveItCommanderException(str(e)) from None
 
