@@ -103,7 +103,15 @@ class TurnPickSM(Behavior):
 \t\t\t\tautonomy={'reached': Autonomy.Off, 'planning_failed': Autonomy.Off, 'control_failed': Autonomy.Off},
 \t\t\t\tremapping={'joint_values': 'joint_values', 'joint_names': 'joint_names'})
 \t\t\tOperatableStateMachine.add('attach', WaitState(wait_time=0.3),
-\t\t\t\ttransitions={'done': 'home'}, autonomy={'done': Autonomy.Off})
+\t\t\t\ttransitions={'done': 'lift ik'}, autonomy={'done': Autonomy.Off})
+\t\t\tOperatableStateMachine.add('lift ik', GraspIKState(group="robot1", offset=0.5, tool_link=tool_link),
+\t\t\t\ttransitions={'continue': 'lift', 'failed': 'failed'},
+\t\t\t\tautonomy={'continue': Autonomy.Off, 'failed': Autonomy.Off},
+\t\t\t\tremapping={'pose': 'part_pose', 'joint_values': 'joint_values', 'joint_names': 'joint_names'})
+\t\t\tOperatableStateMachine.add('lift', MoveJointsState(move_group="robot1"),
+\t\t\t\ttransitions={'reached': 'home', 'planning_failed': 'failed', 'control_failed': 'failed'},
+\t\t\t\tautonomy={'reached': Autonomy.Off, 'planning_failed': Autonomy.Off, 'control_failed': Autonomy.Off},
+\t\t\t\tremapping={'joint_values': 'joint_values', 'joint_names': 'joint_names'})
 \t\t\tOperatableStateMachine.add('home', NamedPoseState(config_name="R1Home", move_group="robot1"),
 \t\t\t\ttransitions={'reached': 'finished', 'planning_failed': 'failed', 'control_failed': 'failed',
 \t\t\t\t\t'param_error': 'failed'},
@@ -131,6 +139,8 @@ def test_a_grasp_with_the_wrist_at_pi_then_a_joint_goal(tmp_path):
     assert report.outcome == "finished", report.summary()
     done = [(t["state"], t["outcome"]) for t in report.trace]
     assert ("/grasp", "reached") in done and done[-1] == ("/home", "reached")
+    # IK seeded with the wrist measured beyond pi, then a joint goal from there.
+    assert ("/lift ik", "continue") in done and ("/lift", "reached") in done
     assert report.ledger["held"]["robot1"] == 1 and report.ledger["parts"] == {"object_1": "held:robot1"}
     # MoveIt's JointConstraint: a goal beyond the bound by more than its tolerance (0) is put
     # on the bound, with its warning; the report lists it.
@@ -140,7 +150,7 @@ def test_a_grasp_with_the_wrist_at_pi_then_a_joint_goal(tmp_path):
         for line in report.bounds_fixed
     ), report.bounds_fixed
     # The grasp leaves the wrist measured a hair above pi (3.141602 rad): MoveIt's
-    # FixStartStateBounds plans "home" from the bound, and the report says so.
+    # FixStartStateBounds plans the lift from the bound, and the report says so.
     assert any(
         "Starting state is just outside bounds (joint 'robot1_wrist_3_joint' at 3.1416" in line
         and line.endswith("Assuming within bounds.")
@@ -153,6 +163,7 @@ START_SCRIPT = """
     import json, sys
     import actionlib, rospy
     from moveit_msgs.msg import Constraints, JointConstraint, MoveGroupAction, MoveGroupGoal
+    from moveit_msgs.srv import GetPositionIK, GetPositionIKRequest
     from sensor_msgs.msg import JointState
 
     rospy.init_node('start_state_probe')
@@ -174,6 +185,18 @@ START_SCRIPT = """
         points = result.planned_trajectory.joint_trajectory.points
         out[repr(wrist)] = [result.error_code.val, [p.positions[5] for p in points[:2]],
                             result.trajectory_start.joint_state.position[5]]
+    # An IK request seeded beyond the bound (MoveIt's solvers start from any seed).
+    ik = rospy.ServiceProxy('/compute_ik', GetPositionIK)
+    request = GetPositionIKRequest()
+    request.ik_request.group_name = 'robot1'
+    request.ik_request.robot_state.joint_state.name = ['robot1_wrist_3_joint']
+    request.ik_request.robot_state.joint_state.position = [3.1416]
+    request.ik_request.pose_stamped.header.frame_id = 'world'
+    request.ik_request.pose_stamped.pose.position.x = 0.9
+    request.ik_request.pose_stamped.pose.position.y = 2.0
+    request.ik_request.pose_stamped.pose.position.z = 1.4
+    request.ik_request.pose_stamped.pose.orientation.x = 1.0
+    out['ik_seed_beyond'] = ik(request).error_code.val
     # Executing a plan that starts somewhere else than the arm is refused by MoveIt's
     # trajectory execution (the start deviates from the current state).
     goal.request.start_state.joint_state.position = [3.1416]
@@ -202,6 +225,7 @@ def test_start_states_outside_the_bounds(tmp_path):
     # Beyond it, on either side: OMPL's invalid start, START_STATE_INVALID.
     assert r[repr(3.1416 + 0.11)] == [-26, [], pytest.approx(3.1416 + 0.11)]
     assert r[repr(-3.1416 - 0.2)][0] == -26
+    assert r["ik_seed_beyond"] == 1
     assert r["execute"] == -4 and r["wrist"] == pytest.approx(0.0, abs=1e-3)  # CONTROL_FAILED, not moved
     fixed = [line for line in report.bounds_fixed if "Starting state is just outside bounds" in line]
     assert len(fixed) == 3  # 3.1416 twice (plan only, then execute) and 3.2316

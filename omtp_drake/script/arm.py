@@ -278,9 +278,14 @@ class Arm:
         return q
 
     def _other_arms(self) -> dict[str, np.ndarray]:
+        """The other arms' measured positions, within their joint limits (a wrist measured a
+        hair beyond its limit is on it: they only place the other arms' bodies)."""
+        station = self._runtime.station
         return {
-            name: self._runtime.joint_positions(name)
-            for name in self._runtime.station.arms
+            name: np.clip(
+                self._runtime.joint_positions(name), -handles.config.joint_limit, handles.config.joint_limit
+            )
+            for name, handles in station.arms.items()
             if name != self.name
         }
 

@@ -34,12 +34,16 @@ def _joint_names(robot: str) -> list[str]:
 
 
 def _ik_seed(cell: Cell, robot: str, joint_state: JointState) -> np.ndarray:
-    q = np.array(cell.arm(robot).joint_values(), dtype=float)
+    """Where the arm is, with the request's joints set; within the joint bounds (a seed only:
+    MoveIt's solvers start from it wherever it is, a wrist measured a hair beyond pi too)."""
+    arm = cell.arm(robot)
+    q = np.array(arm.joint_values(), dtype=float)
     given = dict(zip(joint_state.name, joint_state.position))
     for i, name in enumerate(_joint_names(robot)):
         if name in given:
             q[i] = float(given[name])
-    return q
+    limit = arm.config.joint_limit
+    return np.clip(q, -limit, limit)
 
 
 def _ik_target(cell: Cell, pose: PoseStamped) -> Any:
