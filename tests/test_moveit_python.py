@@ -360,8 +360,8 @@ def test_compute_fk_and_compute_cartesian_path(tmp_path):
     code, fraction, last = r["in_base"]
     assert code == 1 and fraction == 1.0 and last == pytest.approx(down_last, abs=1e-6)
     code, fraction = r["far"]
-    # Only part of it: the cell's fraction is of the steps (MoveIt's counts waypoints); both are < 1.
-    assert code == 1 and 0.02 < fraction < 0.5
+    # MoveIt's fraction: the first waypoint reached (0.5) and part of the way to the second.
+    assert code == 1 and 0.5 < fraction < 0.75
     assert r["errors"] == [
         -15,
         99999,
@@ -437,7 +437,8 @@ def test_moveit_python_interfaces(tmp_path):
     code, at = r["reached"]
     assert code == 1 and at == pytest.approx([0.3, -1.2, 1.4, -1.8, -1.5708, 0.2], abs=2e-3)
     assert r["pose"] == 1
-    assert r["attached"] == ["tool_box"] and r["detached"] == [[], []]
+    # MoveIt puts a detached object back into the world.
+    assert r["attached"] == ["tool_box"] and r["detached"] == [[], ["tool_box"]]
     assert r["sphere"].startswith(
         "NotSupportedError: moveit_python PlanningSceneInterface.addSphere is not supported"
     )

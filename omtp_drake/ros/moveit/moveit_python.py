@@ -24,7 +24,8 @@ action's ``moveit_msgs/MoveGroupResult`` once the arm has stopped, else None
 planning scene (the one moveit_commander's interface edits): boxes at ``x, y, z``
 in ``frame`` (``addBox``, ``addCube``, ``addSolidPrimitive`` with a BOX), boxes
 attached to a gripper link at ``x, y, z`` in that link (``attachBox``), their
-removal, and the names it knows. Other shapes and meshes raise NotSupportedError;
+removal (a detached box goes back into the world, as in MoveIt) and the names it
+knows. Other shapes and meshes raise NotSupportedError;
 colours (``setColor``, ``sendColors``) are RViz's and change nothing here. Changes
 apply at once, so ``waitForSync`` returns at once.
 """
@@ -263,11 +264,10 @@ class PlanningSceneInterface:
             scene_of_run().remove(name)
 
     def removeAttachedObject(self, name: str, use_service: bool = True) -> None:  # noqa: N802
-        """Removes the attached box ``name`` (MoveIt's REMOVE of an attached object: it is gone)."""
+        """Detaches box ``name``: MoveIt puts a detached object back into the world, where it is."""
         scene = scene_of_run()
         if name in scene.attached():
             scene.detach(None, name)
-            scene.remove(name)
 
     def clear(self) -> None:
         for name in self.getKnownCollisionObjects():
