@@ -27,7 +27,9 @@ from omtp_drake.cell.parts import parking_pose
 from omtp_drake.scenario import RobotConfig, Scenario
 
 #: Reference poses of the fixed pieces of the cell (world frame).
-X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.575, 1.9, 0.925])
+#: The break beam's housing (its optical link, where the beam leaves, is 2.5 cm in front of
+#: it, at (1.575, 1.9, 0.925), as in the course's break_beam.urdf.xacro).
+X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.6, 1.9, 0.925])
 X_W_DELETION_WALL = RigidTransform(RollPitchYaw(0.0, 0.0, 1.5708), [1.2, -5.1, 1.425])
 #: Damping gain of the belt's velocity servo (N s/m).
 _BELT_KD = 1e4
@@ -120,9 +122,7 @@ def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:
         pedestal = _add_xacro(
             parser, "pedestal.urdf.xacro", {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height}
         )
-        _weld(
-            plant, f"{robot.name}_pedestal_link", RigidTransform(RollPitchYaw(0, 0, robot.yaw), [x, y, 0.0])
-        )
+        _weld(plant, f"{robot.name}_pedestal_link", RigidTransform([x, y, 0.0]))
         arm, gripper = arms.add_arm_models(parser, robot)
         _weld(plant, f"{robot.name}_base_link", arms.base_pose(robot))
         arm_handles[robot.name] = ArmHandles(robot, arm, gripper, pedestal)

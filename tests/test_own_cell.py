@@ -1,0 +1,169 @@
+"""A student's own cell: the course's launch files, world, xacro and Gazebo plugins, laid out
+as the course's catkin workspace (fixtures written here, ``tests/fixtures/catkin_ws``), built
+through the loader: the same cell as the built-in scenarios, frame by frame and in behaviour."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pydrake.multibody.tree import FrameIndex, JointIndex
+
+from omtp_drake.launch import own_cell, student_workspace
+from omtp_drake.launch.urdf_model import UrdfModel
+from omtp_drake.scenario import load_scenario
+from omtp_drake.sim.runtime import FactoryRuntime
+from omtp_drake.workspace import expand_xacro_in
+
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+WORKSPACE = FIXTURES / "catkin_ws" / "src"
+LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
+
+
+@pytest.fixture(scope="module")
+def course():
+    return own_cell(LAUNCH, workspace=[WORKSPACE], environ={})
+
+
+@pytest.fixture(scope="module")
+def built_in_frames():
+    """The built-in omtp_factory's frames in world, and its joints' positions (Home)."""
+    runtime = FactoryRuntime(load_scenario("omtp_factory"))
+    plant = runtime.station.plant
+    context = plant.GetMyContextFromRoot(runtime.context)
+    frames = {}
+    for i in range(plant.num_frames()):
+        frame = plant.get_frame(FrameIndex(i))
+        frames[frame.name()] = frame.CalcPoseInWorld(context)
+    q = {}
+    for i in range(plant.num_joints()):
+        joint = plant.get_joint(JointIndex(i))
+        if joint.num_positions() == 1:
+            q[joint.name()] = float(joint.GetOnePosition(context))
+    return frames, q
+
+
+def _scenario_fields(scenario):
+    return {
+        f.name: repr(getattr(scenario, f.name))
+        for f in dataclasses.fields(scenario)
+        if f.name not in ("name", "description")
+    }
+
+
+def test_the_course_launch_is_the_built_in_lecture6_assignment1(course):
+    """Same robots, cameras, bins, belt, beam, wall, gripper rule and spawner (wired behind
+    /spawn_object_once with the spawn_object_once node, as the course's launch wires it);
+    the built-in adds the part the slides' `rosservice call /spawn_object_once` spawns."""
+    built_in = dataclasses.replace(load_scenario("lecture6_assignment1"), parts=[])
+    assert _scenario_fields(course.scenario) == _scenario_fields(built_in)
+    assert course.scenario.spawner.start_service == "/spawn_object_once"
+    assert course.scenario.spawner.stop_node
+    assert course.scenario.cameras[0].name == "logical_camera_1"
+    assert course.moveit_config is None  # no omtp_moveit_config of the student's: the cell's own
+
+
+def _compare(frames, built_in, at_least):
+    common = sorted(set(frames) & set(built_in))
+    assert len(common) >= at_least, common
+    for name in common:
+        X_a, X_b = frames[name], built_in[name]
+        assert np.linalg.norm(X_a.translation() - X_b.translation()) < 1e-3, name
+        assert abs((X_a.rotation().inverse() @ X_b.rotation()).ToAngleAxis().angle()) < 1e-3, name
+    return common
+
+
+def test_every_frame_the_spawned_files_give_is_within_1_mm_of_the_built_in_cell(course, built_in_frames):
+    frames, q = built_in_frames
+    common = _compare(course.frames(q), frames, at_least=30)
+    for name in (
+        "robot1_tool0",
+        "vacuum_gripper2_suction_cup",
+        "bin_1_drop_point",
+        "break_beam_optical_link",
+        "break_beam_base_link",
+        "robot2_pedestal_link",
+        "robot1_wrist_3_link",
+    ):
+        assert name in common
+
+
+def test_lecture1_factory_urdf_puts_every_frame_where_the_built_in_cell_has_it(built_in_frames):
+    frames, q = built_in_frames
+    workspace = student_workspace([WORKSPACE], environ={})
+    text = expand_xacro_in(workspace, WORKSPACE / "omtp_support" / "urdf" / "omtp_factory.xacro")
+    model = UrdfModel.from_text(text, "omtp_factory.xacro")
+    assert model.root == "world"
+    _compare(model.link_poses(q), frames, at_least=30)
+
+
+def test_the_same_behaviour_on_a_fixed_seed(course):
+    """The loaded cell and the built-in one, the same part on the belt under camera 1: the
+    same camera images, beam, part poses and ledger after the belt ran."""
+    from omtp_drake.script import Cell
+
+    built_in = dataclasses.replace(load_scenario("lecture6_assignment1"), seed=11)
+    loaded = dataclasses.replace(course.scenario, seed=11, parts=built_in.parts)
+    records = []
+    for scenario in (loaded, built_in):
+        cell = Cell(scenario, auto_spawn=False)
+        try:
+            cell.wait(0.3)
+            seen_before = cell.camera("logical_camera_1").parts()
+            cell.set_conveyor_power(100.0)
+            cell.wait(4.0)
+            ledger = cell.ledger().to_dict()
+            record = (
+                {k: v.pose for k, v in seen_before.items()},
+                cell.break_beam(),
+                cell.part_pose("object_1").GetAsMatrix4(),
+                {k: v for k, v in ledger.items() if k != "time"},
+                cell.camera("logical_camera_2").image(),
+            )
+        finally:
+            cell.close()
+        records.append(record)
+    a, b = records
+    assert "object_1" in a[0]
+    assert repr(a[0]) == repr(b[0]) and a[1] == b[1] and repr(a[4]) == repr(b[4])
+    np.testing.assert_array_equal(a[2], b[2])
+    assert a[3] == b[3]
+    assert a[2][1, 3] < 1.8 - 0.5  # the belt carried the part downstream
+
+
+@pytest.fixture
+def students_workspace(tmp_path):
+    """The course's workspace with the student's assignment-4 edit: a bin next to robot 1."""
+    src = tmp_path / "catkin_ws" / "src"
+    shutil.copytree(WORKSPACE, src)
+    shutil.copy(
+        FIXTURES / "student_edits" / "spawn_static_world_objects.launch", src / "omtp_gazebo" / "launch"
+    )
+    return src
+
+
+def test_a_students_bin_next_to_robot_1_is_in_the_cell(students_workspace):
+    cell = own_cell(LAUNCH, workspace=[students_workspace], environ={})
+    bins = {b.name: b.xyz for b in cell.scenario.bins}
+    assert bins == {"bin_1": [-8.0, -2.2, 0.0], "bin_2": [-0.1, 2.5, 0.0]}
+
+
+def test_a_course_style_robot_1_script_drops_the_box_into_the_students_bin(students_workspace, tmp_path):
+    """ros-run --launch 'omtp_lecture6 lecture6_assignment1.launch' --workspace WS: the script
+    asks /spawn_object_once for a box, picks it under camera 1 and drops it into bin_2."""
+    from omtp_drake.ros.runner import run_script
+
+    cell = own_cell(LAUNCH, workspace=[students_workspace], environ={})
+    report = run_script(
+        FIXTURES / "student_edits" / "lecture6_assignment4_robot1.py",
+        scenario=cell.write(tmp_path),
+        timeout=120.0,
+    )
+    assert report.exception is None, report.traceback
+    assert report.ledger["in_bin"] == {"bin_1": 0, "bin_2": 1}
+    assert report.ledger["parts"] == {"object_1": "in_bin:bin_2"}
+    assert math.isfinite(report.sim_time_s)
