@@ -207,3 +207,12 @@ def test_values_are_typed_by_drakes_rules():
     """What Drake's loader converts (a quoted number, an int for a float) loads as that type."""
     scenario = scenario_from_dict({"seed": "7", "cameras": [{"name": "c", "far": 2}]})
     assert scenario.seed == 7 and isinstance(scenario.cameras[0].far, float)
+
+
+def test_a_robot_name_given_as_a_list_is_one_error_naming_the_file_and_value(tmp_path):
+    """Found by fuzzing: the ``base:`` merge looked items up by a list (TypeError)."""
+    path = tmp_path / "listed_name.yaml"
+    path.write_text("base: omtp_factory\nrobots:\n  - name: [robot1]\n    yaw: 0.1\n")
+    with pytest.raises(ScenarioError) as e:
+        load_scenario(path)
+    assert str(path) in str(e.value) and "['robot1']" in str(e.value) and "must be a string" in str(e.value)
