@@ -167,3 +167,39 @@ def test_a_course_style_robot_1_script_drops_the_box_into_the_students_bin(stude
     assert report.ledger["in_bin"] == {"bin_1": 0, "bin_2": 1}
     assert report.ledger["parts"] == {"object_1": "in_bin:bin_2"}
     assert math.isfinite(report.sim_time_s)
+
+
+def test_the_python_api_takes_the_launch_and_the_workspace():
+    from omtp_drake.script import Cell
+
+    with Cell(launch=LAUNCH, workspace=[WORKSPACE], auto_spawn=False) as cell:
+        assert [c.name for c in cell.scenario.cameras] == ["logical_camera_1", "logical_camera_2"]
+        cell.wait(0.2)
+        assert cell.break_beam() is False and cell.conveyor_power() == 0.0
+
+
+def test_commands_take_launch_and_workspace_instead_of_a_scenario(capsys):
+    from omtp_drake.cli import main
+
+    args = ["tf-echo", "--launch", LAUNCH, "--workspace", str(WORKSPACE), "world", "bin_1_drop_point"]
+    assert main(args) == 0
+    out, err = capsys.readouterr()
+    assert "- Translation: [-8.000, -2.200, 1.000]" in out
+    assert "omtp-drake: warning: " in err and "0.695 m high" in err  # the course's robot-2 pedestal
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (["tf-echo", "--launch", LAUNCH, "world", "bin_1_base_link"], "package 'omtp_lecture6' not found"),
+        (["tf-echo", "omtp_factory", "world", "x", "--launch", LAUNCH], "give one of a scenario"),
+        (["tf-echo", "world", "x"], "give a scenario (name or file), --launch"),
+        (["tf-echo", "omtp_factory", "world", "x", "--workspace", "/tmp"], "--workspace goes with --launch"),
+    ],
+)
+def test_command_option_errors_are_one_line_and_exit_2(capsys, argv, expected):
+    from omtp_drake.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert expected in err and err.count("\n") == 1

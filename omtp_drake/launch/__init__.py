@@ -8,7 +8,8 @@ in the student's workspace (:mod:`omtp_drake.workspace`), and turns them into th
 
 Modules (one job each):
 
-- ``own_cell``: ``own_cell``: the one door from --launch / --world / --workspace to a Scenario
+- ``own_cell``: ``own_cell``: a student's launch or world in their workspace, as a Scenario
+- ``options``: the commands' and ``Cell``'s cell options and ``chosen_cell``, the one door to a cell
 - ``roslaunch``: roslaunch's XML: args, includes, groups, params, rosparams, remaps, nodes
 - ``substitutions``: roslaunch's $(arg), $(find), $(env), $(optenv), $(dirname), $(anon), $(eval)
 - ``xml_lines``: XML with each element's line, for errors that name file and line
@@ -24,6 +25,14 @@ May import: ``omtp_drake.sim``, ``omtp_drake.cell``, ``omtp_drake.scenario``,
 ``omtp_drake.workspace`` and below.
 """
 
+from omtp_drake.launch.options import add_cell_options, chosen_cell, resolve_cell_options
 from omtp_drake.launch.own_cell import OwnCell, own_cell, student_workspace
 
-__all__ = ["OwnCell", "own_cell", "student_workspace"]
+__all__ = [
+    "OwnCell",
+    "add_cell_options",
+    "chosen_cell",
+    "own_cell",
+    "resolve_cell_options",
+    "student_workspace",
+]

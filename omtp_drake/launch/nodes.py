@@ -213,7 +213,6 @@ def _spawner(node: Node, launch: Launch) -> dict:
         "yaw": yaw,
         "yaw_variance": math.radians(float(item.get("yaw_placement_variance", 0.0))),
         "period": float(config.get("spawn_period", 1.0)),
-        "one_at_a_time": False,
         "start_service": node.remaps.get("/start_spawn", "/start_spawn"),
     }
     return spawner

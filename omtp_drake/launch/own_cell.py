@@ -123,7 +123,13 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
     if pieces.suction_checks is not None:
         document["suction"] = {"consecutive_checks": pieces.suction_checks}
     if mapping.spawner is not None:
-        document["spawner"] = {**mapping.spawner, "stop_node": mapping.stop_node}
+        # spawn_object_once.py is the course's one-part-at-a-time rule.
+        one_at_a_time = mapping.stop_node
+        document["spawner"] = {
+            **mapping.spawner,
+            "stop_node": mapping.stop_node,
+            "one_at_a_time": one_at_a_time,
+        }
         document["part_pool"] = SPAWNER_POOL
     elif mapping.stop_node:
         mapping.warnings.append(
