@@ -12,6 +12,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from omtp_drake.errors import OmtpError
+from omtp_drake.launch.options import add_cell_options, resolve_cell_options
 from omtp_drake.ros.command import add_shared_options, passed_on, print_line, show_logs
 from omtp_drake.ros.report import show_report
 
@@ -44,9 +45,11 @@ def cmd_grade(args: argparse.Namespace) -> int:
     from omtp_drake.ros.grade_table import format_grades
     from omtp_drake.ros.isolation import limits_from_args
 
-    if (args.workspace or args.python2 or args.behavior) and not args.flexbe:
+    own_files = args.launch or args.world  # their --workspace is the launch's or world's
+    if ((args.workspace and not own_files) or args.python2 or args.behavior) and not args.flexbe:
         raise OmtpError(
-            "--workspace, --python2 and --behavior go with --flexbe (a class of FlexBE workspaces)"
+            "--workspace, --python2 and --behavior go with --flexbe (a class of FlexBE workspaces), "
+            "--workspace also with --launch or --world"
         )
     grading = FlexbeGrading(shared_workspaces(args.workspace), args.python2, args.behavior)
     flexbe = grading if args.flexbe else None
@@ -78,7 +81,9 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     )
     p.add_argument("script", metavar="SCRIPT.py")
     p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
-    add_shared_options(p, "--scenario --seed")
+    add_shared_options(p, "--scenario")
+    add_cell_options(p)
+    add_shared_options(p, "--seed")
     p.add_argument(
         "--timeout",
         type=float,
@@ -145,6 +150,7 @@ def _add_grade(sub: argparse._SubParsersAction, ros_run: argparse.ArgumentParser
     )
     p.add_argument("folder", metavar="DIR")
     add_shared_options(p, "--scenario")
+    add_cell_options(p, workspace=False)
     p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: cores)")
     add_shared_options(p, "--seed")
     p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds per script")
@@ -162,7 +168,8 @@ def _add_grade(sub: argparse._SubParsersAction, ros_run: argparse.ArgumentParser
         action="append",
         default=[],
         metavar="DIR",
-        help="with --flexbe: a workspace every behaviour uses (the course's states; repeatable)",
+        help="with --flexbe: a workspace every behaviour uses (the course's states; repeatable); "
+        "with --launch or --world: where their packages are",
     )
     p.add_argument("--python2", action="store_true", help="with --flexbe: load the workspaces as Python 2")
     p.add_argument(
@@ -195,6 +202,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
     logging.getLogger("drake").setLevel(logging.ERROR)
     try:
+        resolve_cell_options(args, warn=lambda line: sys.stderr.write(f"omtp-drake: warning: {line}\n"))
         return args.func(args)
     except OmtpError as e:
         sys.stderr.write(f"omtp-drake: error: {e}\n")
