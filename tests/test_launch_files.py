@@ -251,3 +251,13 @@ def test_a_world_alone_gives_its_cameras_belt_and_wall(workspace):
     assert cameras["logical_camera_2"].position_noise_sigma == 0.002
     assert cameras["logical_camera_1"].xyz == [1.2, 1.8, 2.0]
     assert cell.scenario.conveyor is not None and cell.scenario.deletion_wall and not cell.scenario.robots
+
+
+def test_an_unknown_plugin_in_a_spawned_urdf_is_a_warning_line(workspace):
+    _edit(
+        workspace / "omtp_support/urdf/bin/bin.gazebo.xacro",
+        "<static>true</static>",
+        '<static>true</static>\n      <plugin name="weigher" filename="libBinScalePlugin.so"/>',
+    )
+    cell = own_cell(LAUNCH, workspace=[workspace], environ={})
+    assert any("Gazebo plugin libBinScalePlugin.so (weigher): not in the cell" in w for w in cell.warnings)

@@ -34,6 +34,8 @@ from omtp_drake.scenario import RobotConfig
 #: Length of the upper arm (the elbow joint's offset along the link) -> the arm model.
 UR_UPPER_ARMS = {"ur10": 0.612, "ur5": 0.425}
 _TOL = 1e-3
+#: The plugins a spawned URDF's pieces carry (read where their pieces are read).
+URDF_PLUGINS = ("suction", "break_beam", "controllers")
 
 
 @dataclass
@@ -77,6 +79,10 @@ def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where
             found = True
         elif link == "workcell":
             found = True
+    for reference, element in model.gazebo:
+        for plugin in plugins_in(element, where, reference):
+            if plugin.kind not in URDF_PLUGINS:
+                pieces.warnings.append(plugin.unknown_line())
     if not found:
         pieces.warnings.append(
             f"{where}: model {model.name!r} is none of the course's pieces (arm, pedestal, bin, break beam, "
