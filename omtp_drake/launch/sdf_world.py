@@ -88,10 +88,11 @@ def read_world(path: Path, workspace: Workspace) -> World:
     if world is None:
         raise WorkspaceError(f"{path}: not a Gazebo world (an <sdf> with a <world>)")
     out = World(path)
+    included: list[tuple[Path, Path]] = []
     for element in world:
         where = doc.where(element)
         if element.tag == "include":
-            model = _included(doc, element, workspace)
+            model = _included(doc, element, workspace, included)
             if model is not None:
                 out.models.append(model)
         elif element.tag == "model":
@@ -99,10 +100,13 @@ def read_world(path: Path, workspace: Workspace) -> World:
             out.models.append(world_model(element.get("name", ""), pose, element, where))
         elif element.tag not in IGNORED_WORLD_TAGS and element.tag != "plugin":
             raise WorkspaceError(f"{where}: <{element.tag}> in a world is not supported")
+    check_with_drake([d for d, _ in included], [f for _, f in included], workspace)
     return out
 
 
-def _included(doc: XmlFile, element: ET.Element, workspace: Workspace) -> WorldModel | None:
+def _included(
+    doc: XmlFile, element: ET.Element, workspace: Workspace, included: list[tuple[Path, Path]]
+) -> WorldModel | None:
     where = doc.where(element)
     uri = (element.findtext("uri") or "").strip()
     if not uri.startswith("model://"):
@@ -116,7 +120,7 @@ def _included(doc: XmlFile, element: ET.Element, workspace: Workspace) -> WorldM
     model = model_doc.root.find("model")
     if model is None:
         raise WorkspaceError(f"{sdf_file}: has no <model>")
-    _check_with_drake(sdf_file, workspace)
+    included.append((folder, sdf_file))
     pose = pose_values(element.findtext("pose") or model.findtext("pose"), where)
     placed = (element.findtext("name") or "").strip() or model.get("name", name)
     return world_model(placed, pose, model, str(sdf_file))
@@ -140,16 +144,35 @@ def _sdf_name(config: Path) -> str:
     return names[-1] if names else "model.sdf"
 
 
-def _check_with_drake(sdf_file: Path, workspace: Workspace) -> None:
-    """Drake's parser reads the model (one error naming the file if it refuses)."""
+def check_with_drake(model_dirs: list[Path], sdf_files: list[Path], workspace: Workspace) -> None:
+    """Drake's parser reads the models (folders with their SDF files): all in one parse (one
+    libsdformat session costs about as much as each model alone); if it refuses, each
+    alone, so the error names the file it refuses."""
+    if not model_dirs:
+        return
+    includes = "".join(
+        f"<include><uri>{folder}</uri><name>model_{i}</name></include>" for i, folder in enumerate(model_dirs)
+    )
+    world = f'<?xml version="1.0"?><sdf version="1.6"><world name="check">{includes}</world></sdf>'
+    if _drake_refusal(lambda parser: parser.AddModelsFromString(world, "sdf"), workspace) is None:
+        return
+    for sdf_file in sdf_files:
+        refusal = _drake_refusal(lambda parser, f=sdf_file: parser.AddModels(str(f)), workspace)
+        if refusal is not None:
+            raise WorkspaceError(f"{sdf_file}: Drake's SDF parser refuses it: {refusal}")
+    raise WorkspaceError(f"{', '.join(map(str, sdf_files))}: Drake's SDF parser refuses them together")
+
+
+def _drake_refusal(parse, workspace: Workspace) -> str | None:
+    """The first line of Drake's refusal of ``parse(parser)`` (None: it parsed)."""
     from pydrake.multibody.parsing import Parser
     from pydrake.multibody.plant import MultibodyPlant
 
-    plant = MultibodyPlant(0.0)
+    plant = MultibodyPlant(0.0)  # kept alive while the parser uses it
     parser = Parser(plant)
     parser.package_map().AddMap(workspace.package_map())
     try:
-        parser.AddModels(str(sdf_file))
+        parse(parser)
     except RuntimeError as e:
-        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        raise WorkspaceError(f"{sdf_file}: Drake's SDF parser refuses it: {first}") from None
+        return str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+    return None
