@@ -261,3 +261,16 @@ def test_an_unknown_plugin_in_a_spawned_urdf_is_a_warning_line(workspace):
     )
     cell = own_cell(LAUNCH, workspace=[workspace], environ={})
     assert any("Gazebo plugin libBinScalePlugin.so (weigher): not in the cell" in w for w in cell.warnings)
+
+
+def test_lecture7s_pick_demo_and_a_students_spawn_point(workspace):
+    """omtp_pick_demo.launch: the spawner of conveyor_object.yaml behind /start_spawn and the
+    break beam stopping the belt; lecture 7's edit of the spawn point moves the spawner."""
+    cell = own_cell("omtp_gazebo omtp_pick_demo.launch", workspace=[workspace], environ={})
+    spawner = cell.scenario.spawner
+    assert (spawner.xyz, spawner.period, spawner.start_service) == ([1.2, 2.5, 1.021], 3.0, "/start_spawn")
+    assert not spawner.stop_node and not spawner.one_at_a_time
+    assert cell.scenario.conveyor.stop_on_beam and cell.scenario.break_beam
+    _edit(workspace / "omtp_gazebo/config/conveyor_object.yaml", "[1.2, 2.5, 1.0]", "[1.3, 3.5, 1.0]")
+    moved = own_cell("omtp_gazebo omtp_pick_demo.launch", workspace=[workspace], environ={})
+    assert moved.scenario.spawner.xyz == [1.3, 3.5, 1.021]
