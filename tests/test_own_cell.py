@@ -203,3 +203,42 @@ def test_command_option_errors_are_one_line_and_exit_2(capsys, argv, expected):
     assert main(argv) == 2
     err = capsys.readouterr().err
     assert expected in err and err.count("\n") == 1
+
+
+def test_a_launchs_python_node_runs_unchanged_in_the_ros_run_session(tmp_path):
+    """The node starts as roslaunch starts it (its args, its name, its remappings) before the
+    script, and its subscriber keeps serving while the script runs."""
+    from omtp_drake.cli import main
+
+    src = tmp_path / "src"
+    shutil.copytree(WORKSPACE, src)
+    (src / "omtp_lecture6" / "scripts" / "echo_node.py").write_text(
+        "import sys\nimport rospy\nfrom std_msgs.msg import String\n\n"
+        "def on_ping(msg, pub):\n    pub.publish(String(data=msg.data + ' from ' + rospy.get_name()))\n\n"
+        "if __name__ == '__main__':\n    rospy.init_node('echo')\n"
+        "    pub = rospy.Publisher('answer', String, queue_size=1, latch=True)\n"
+        "    rospy.Subscriber('ping', String, on_ping, callback_args=pub)\n"
+        "    pub.publish(String(data='args ' + ' '.join(rospy.myargv()[1:])))\n    rospy.spin()\n"
+    )
+    launch = src / "omtp_lecture6" / "launch" / "lecture6_assignment1.launch"
+    launch.write_text(
+        launch.read_text().replace(
+            "</launch>",
+            '  <node name="my_echo" pkg="omtp_lecture6" type="echo_node.py" args="--speed 2">\n'
+            '    <remap from="answer" to="/echo_answer"/>\n  </node>\n</launch>',
+        )
+    )
+    script = tmp_path / "ask.py"
+    out = tmp_path / "heard.txt"
+    script.write_text(
+        "import sys\nimport rospy\nfrom std_msgs.msg import String\n"
+        "rospy.init_node('asker')\n"
+        "first = rospy.wait_for_message('/echo_answer', String, timeout=2.0).data\n"
+        "pub = rospy.Publisher('/ping', String, queue_size=1)\nrospy.sleep(0.5)\n"
+        "pub.publish(String(data='hello'))\n"
+        "second = rospy.wait_for_message('/echo_answer', String, timeout=2.0).data\n"
+        "open(sys.argv[1], 'w').write(first + '\\n' + second)\n"
+    )
+    argv = ["ros-run", str(script), str(out), "--launch", LAUNCH, "--workspace", str(src), "-q"]
+    assert main([*argv, "--timeout", "20"]) == 0
+    assert out.read_text().splitlines() == ["args --speed 2", "hello from /my_echo"]

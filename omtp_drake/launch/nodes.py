@@ -15,9 +15,12 @@ move_group, rviz, gazebo_ros/gzclient         states and tf, runs its controller
                                               MoveIt itself
 ============================================  =========================================
 
-The two ``omtp_utilities`` nodes are the course's: their behaviour is the scenario's
-``spawner.stop_node`` and ``conveyor.stop_on_beam`` (their files are not run). Any other
-node is one warning line.
+A Python node of the student's workspace (``omtp_utilities``' two, or their own) runs
+unchanged in ros-run's session, as roslaunch would start it (its args, name, namespace
+and remappings on its command line). For the commands without ROS, the course's two
+helpers are the scenario's ``spawner.stop_node`` and ``conveyor.stop_on_beam``; another
+Python node is a warning line there, and a node that is no Python file of the workspace
+(and none of those above) is a warning line everywhere.
 """
 
 from __future__ import annotations
@@ -54,6 +57,11 @@ CELL_NODES = {
     ("gazebo_ros", "gzclient"),
     ("tf", "static_transform_publisher"),
 }
+#: The course's helper nodes and the scenario flags that do their jobs without ROS.
+COURSE_HELPERS = {
+    ("omtp_utilities", "spawn_object_once.py"): "spawner.stop_node",
+    ("omtp_utilities", "breakbeam_conveyor_stop.py"): "conveyor.stop_on_beam",
+}
 #: The spawner's parts count (pool) when a launch runs the conveyor spawner.
 SPAWNER_POOL = 6
 
@@ -68,6 +76,36 @@ class NodeMapping:
     stop_node: bool = False
     stop_on_beam: bool = False
     warnings: list[str] = field(default_factory=list)
+    #: The workspace's own Python nodes, for ros-run to run in its session.
+    scripts: list[NodeScript] = field(default_factory=list)
+    #: Nodes that run only under ros-run (a warning line for the other commands).
+    ros_only: list[str] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class NodeScript:
+    """A Python node of the student's workspace, as roslaunch would start it: its file and
+    its command line (its args, ``__name:=``, ``__ns:=``, its remappings as ``from:=to``)."""
+
+    path: Path
+    argv: tuple[str, ...]
+    #: The scenario flag (``section.key``) that does this node's job without ROS ('' for none).
+    replaces: str = ""
+
+
+def _node_script(node: Node, workspace: Workspace) -> NodeScript | None:
+    """The node's file when it is a Python script of a workspace package (as rosrun finds it)."""
+    folder = workspace.packages.get(node.pkg)
+    if folder is None or not node.type.endswith(".py"):
+        return None
+    found = sorted(p for p in folder.rglob(node.type) if p.is_file())
+    if not found:
+        raise WorkspaceError(f"{node.where}: package {node.pkg} ({folder}) has no node {node.type}")
+    argv = [*shlex.split(node.args), f"__name:={node.name.rsplit('/', 1)[-1]}"]
+    if node.namespace.strip("/"):
+        argv.append(f"__ns:={node.namespace}")
+    argv += [f"{k}:={v}" for k, v in node.remaps.items()]
+    return NodeScript(found[0], tuple(argv), COURSE_HELPERS.get((node.pkg, node.type), ""))
 
 
 def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
@@ -80,15 +118,28 @@ def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
             _spawn(out, node, launch)
         elif key == ("omtp_gazebo", "conveyor_spawner_node"):
             out.spawner = _spawner(node, launch)
-        elif key == ("omtp_utilities", "spawn_object_once.py"):
-            out.stop_node = True
-        elif key == ("omtp_utilities", "breakbeam_conveyor_stop.py"):
-            out.stop_on_beam = True
         elif key not in CELL_NODES:
-            out.warnings.append(
-                f"{node.where}: node {node.pkg}/{node.type} ({node.name}) is not run by the cell"
-            )
+            _other_node(out, node, workspace)
     return out
+
+
+def _other_node(out: NodeMapping, node: Node, workspace: Workspace) -> None:
+    """A node of the student's workspace: the course's two helpers also as the scenario's
+    flags (for the commands without ROS); any Python node runs under ros-run; others warn."""
+    script = _node_script(node, workspace)
+    if script is not None:
+        out.scripts.append(script)
+    flag = COURSE_HELPERS.get((node.pkg, node.type))
+    if flag == "spawner.stop_node":
+        out.stop_node = True
+    elif flag == "conveyor.stop_on_beam":
+        out.stop_on_beam = True
+    elif script is not None:
+        out.ros_only.append(
+            f"{node.where}: node {node.pkg}/{node.type} ({node.name}) runs under ros-run only"
+        )
+    else:
+        out.warnings.append(f"{node.where}: node {node.pkg}/{node.type} ({node.name}) is not run by the cell")
 
 
 def _world(out: NodeMapping, node: Node, workspace: Workspace) -> None:

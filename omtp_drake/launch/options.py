@@ -7,7 +7,8 @@ workspace=...)``) and the commands; another source of a cell (a robot file) goes
 beside the launch and world here. :func:`add_cell_options` declares the options on a
 command's parser; :func:`resolve_cell_options` turns them into the scenario file the
 command loads (written to a temporary folder that lives as long as the command), and
-into the run's MoveIt config when the launch names the student's own.
+into the run's MoveIt config when the launch names the student's own, and for ros-run
+(``args.nodes``) into the workspace's Python nodes it runs in its session.
 """
 
 from __future__ import annotations
@@ -49,6 +50,13 @@ def chosen_cell(
     return own_cell(launch, world, workspace)
 
 
+def add_scenario_argument(p: argparse.ArgumentParser) -> None:
+    """SCENARIO (optional), or a student's own files instead: ``--launch`` / ``--world`` with
+    ``--workspace``."""
+    p.add_argument("scenario", metavar="SCENARIO", nargs="?", help="a scenario name or file")
+    add_cell_options(p)
+
+
 def add_cell_options(p: argparse.ArgumentParser, *, workspace: bool = True) -> None:
     """Declares ``--launch``, ``--world`` and ``--workspace`` on ``p`` (``workspace=False``: the
     command has its own ``--workspace`` of catkin folders, which the launch uses too)."""
@@ -75,7 +83,9 @@ def resolve_cell_options(args: argparse.Namespace, warn: Any = None) -> None:
     """With ``--launch`` or ``--world``: ``args.scenario`` becomes the file of their cell (and
     ``args.moveit_config`` the launch's own MoveIt config, unless given); each warning line
     goes to ``warn`` (default: the log). Without them: a scenario must be given."""
-    launch, world = getattr(args, "launch", None), getattr(args, "world", None)
+    if not hasattr(args, "launch"):
+        return  # a command that takes no cell
+    launch, world = args.launch, args.world
     if not (launch or world):
         if not getattr(args, "scenario", None):
             raise ConfigError(f"give {CHOICES}")
@@ -83,10 +93,14 @@ def resolve_cell_options(args: argparse.Namespace, warn: Any = None) -> None:
             chosen_cell(args.scenario, workspace=args.workspace)  # the error says why
         return
     cell = chosen_cell(args.scenario or None, launch=launch, world=world, workspace=args.workspace or ())
-    for line in cell.warnings:
+    # ros-run (not isolated) runs the workspace's nodes in its session; the others cannot.
+    with_nodes = getattr(args, "nodes", None) is not None and getattr(args, "sandbox", None) is None
+    for line in cell.warnings + ([] if with_nodes else cell.ros_only):
         (warn or _log.warning)(line)
     folder = tempfile.TemporaryDirectory(prefix="omtp_own_cell_")
     args._own_cell_folder = folder  # removed when the command ends
-    args.scenario = str(cell.write(folder.name))
+    args.scenario = str(cell.write(folder.name, with_nodes=with_nodes))
+    if with_nodes:
+        args.nodes = [(node.path, node.argv) for node in cell.nodes]
     if cell.moveit_config is not None and getattr(args, "moveit_config", "absent") is None:
         args.moveit_config = str(cell.moveit_config)

@@ -12,6 +12,7 @@ give. What the cell does not take is one :class:`~omtp_drake.errors.WorkspaceErr
 
 from __future__ import annotations
 
+import copy
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -20,7 +21,7 @@ from pathlib import Path
 from pydrake.math import RigidTransform
 
 from omtp_drake.errors import ConfigError, WorkspaceError
-from omtp_drake.launch.nodes import SPAWNER_POOL, NodeMapping, add_world, map_nodes
+from omtp_drake.launch.nodes import SPAWNER_POOL, NodeMapping, NodeScript, add_world, map_nodes
 from omtp_drake.launch.pieces import merge_pedestals
 from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec, read_launch
 from omtp_drake.launch.standins import standin_dirs
@@ -41,11 +42,22 @@ class OwnCell:
     models: list[tuple[UrdfModel, RigidTransform]] = field(default_factory=list)
     #: The scenario as plain data (what ``scenario_from_dict`` typed and checked).
     document: dict = field(default_factory=dict)
+    #: The workspace's Python nodes the launch starts (ros-run runs them in its session).
+    nodes: list[NodeScript] = field(default_factory=list)
+    #: The lines to warn with where the nodes do not run (the commands without ROS).
+    ros_only: list[str] = field(default_factory=list)
 
-    def write(self, folder: str | os.PathLike) -> Path:
-        """The scenario as a YAML file in ``folder`` (for the commands that take a file)."""
+    def write(self, folder: str | os.PathLike, *, with_nodes: bool = False) -> Path:
+        """The scenario as a YAML file in ``folder`` (for the commands that take a file).
+        ``with_nodes``: for a run that runs :attr:`nodes` themselves, so the scenario flags
+        that stand in for them are off."""
+        document = copy.deepcopy(self.document)
+        for node in self.nodes if with_nodes else ():
+            if node.replaces:
+                section, key = node.replaces.split(".")
+                document[section][key] = False
         path = Path(folder) / f"{self.scenario.name or 'own_cell'}.yaml"
-        path.write_text(scenario_text(self.document))
+        path.write_text(scenario_text(document))
         return path
 
     def frames(self, positions: Mapping[str, float] | None = None) -> dict[str, RigidTransform]:
@@ -101,7 +113,9 @@ def own_cell(
             raise
         raise WorkspaceError(f"{source}: {e}") from None
     warnings = mapping.pieces.warnings + mapping.world.warnings + mapping.warnings
-    return OwnCell(scenario, warnings, moveit, mapping.pieces.models, document)
+    return OwnCell(
+        scenario, warnings, moveit, mapping.pieces.models, document, mapping.scripts, mapping.ros_only
+    )
 
 
 def _document(mapping: NodeMapping, name: str, description: str) -> dict:

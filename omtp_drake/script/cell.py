@@ -97,7 +97,7 @@ class Cell:
         tf_cache: float = 30.0,
     ):
         own = chosen_cell(scenario, launch=launch, world=world, workspace=workspace)
-        for line in own.warnings:
+        for line in own.warnings + own.ros_only:
             _log.warning("%s", line)
         scenario = own.scenario
         self.scenario = scenario

@@ -116,6 +116,9 @@ class Session:
         self.node_name: Optional[str] = None
         #: How the script's node resolves names (set by ``init_node``; see omtp_drake.ros.comm.names).
         self.names: Optional[NodeNames] = None
+        #: A launch's node is starting (ros-run runs it up to its ``spin``, which returns at
+        #: once then; its subscribers, timers and services stay in the session).
+        self.starting_node = False
         self.shutdown_reason: Optional[str] = None
         self.callback_errors: list[str] = []
         self.collisions: list[str] = []
@@ -231,10 +234,26 @@ class Session:
         if queue_size is not None and (int(queue_size) != queue_size or queue_size < 0):
             raise ValueError(f"queue_size must be None or an integer >= 0, got {queue_size!r}")
         maxlen = None if queue_size in (None, 0) else int(queue_size)
+        if self.starting_node:
+            callback = self._in_node(callback)
         subscriber = SubscriberQueue(topic, callback, callback_args, collections.deque(maxlen=maxlen))
         self._subscribers[topic].append(subscriber)
         self.gazebo.on_subscribe(topic)
         return subscriber
+
+    def _in_node(self, callback: Callable[..., Any]) -> Callable[..., Any]:
+        """``callback`` run as the starting node's (its name and how it resolves names)."""
+        node = self.node_name, self.names
+
+        def as_node(*args: Any) -> Any:
+            saved = self.node_name, self.names
+            self.node_name, self.names = node
+            try:
+                return callback(*args)
+            finally:
+                self.node_name, self.names = saved
+
+        return as_node
 
     def unsubscribe(self, subscriber: SubscriberQueue) -> None:
         subscriber.active = False

@@ -22,6 +22,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         args.script,
         args.script_args,
         calls=args.call or (),
+        nodes=args.nodes,
         **passed_on(
             args, "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency"
         ),
@@ -42,6 +43,7 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
     add_shared_options(p, "--scenario")
     add_cell_options(p)
+    p.set_defaults(nodes=[])  # a launch's Python nodes (set with --launch)
     add_shared_options(p, "--seed")
     p.add_argument(
         "--timeout",
