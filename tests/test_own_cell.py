@@ -5,11 +5,13 @@ through the loader: the same cell as the built-in scenarios, frame by frame and 
 from __future__ import annotations
 
 import dataclasses
+import math
 import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
+from pydrake.math import RollPitchYaw
 from pydrake.multibody.tree import FrameIndex, JointIndex
 
 from omtp_drake.launch import own_cell, student_workspace
@@ -28,10 +30,9 @@ def course():
     return own_cell(LAUNCH, workspace=[WORKSPACE], environ={})
 
 
-@pytest.fixture(scope="module")
-def built_in_frames():
-    """The built-in omtp_factory's frames in world, and its joints' positions (Home)."""
-    runtime = FactoryRuntime(load_scenario("omtp_factory"))
+def _frames_and_joints(scenario):
+    """The frames of ``scenario``'s cell in world, and its joints' positions, at t = 0."""
+    runtime = FactoryRuntime(scenario)
     plant = runtime.station.plant
     context = plant.GetMyContextFromRoot(runtime.context)
     frames = {}
@@ -46,11 +47,17 @@ def built_in_frames():
     return frames, q
 
 
+@pytest.fixture(scope="module")
+def built_in_frames():
+    """The built-in omtp_factory's frames in world, and its joints' positions (Home)."""
+    return _frames_and_joints(load_scenario("omtp_factory"))
+
+
 def _scenario_fields(scenario):
     return {
         f.name: repr(getattr(scenario, f.name))
         for f in dataclasses.fields(scenario)
-        if f.name not in ("name", "description")
+        if f.name not in ("name", "description", "frames")
     }
 
 
@@ -60,6 +67,7 @@ def test_the_course_launch_is_the_built_in_lecture6_assignment1(course):
     the built-in adds the part the slides' `rosservice call /spawn_object_once` spawns."""
     built_in = dataclasses.replace(load_scenario("lecture6_assignment1"), parts=[])
     assert _scenario_fields(course.scenario) == _scenario_fields(built_in)
+    # (frames: the links of the files that none of the cell's pieces has; see below)
     assert course.scenario.spawner.start_service == "/spawn_object_once"
     assert course.scenario.spawner.stop_node
     assert course.scenario.cameras[0].name == "logical_camera_1"
@@ -89,6 +97,18 @@ def test_every_frame_the_spawned_files_give_is_within_1_mm_of_the_built_in_cell(
         "robot1_wrist_3_link",
     ):
         assert name in common
+
+
+def test_every_link_of_the_spawned_files_is_a_frame_of_the_cell_built_from_them(course):
+    """Links none of the cell's pieces has (the pedestals' and the workcell's world_interface,
+    the workcell, the break beam's world_interface) are the scenario's extra frames."""
+    frames, q = _frames_and_joints(course.scenario)
+    links = course.frames(q)
+    assert {"world_interface", "workcell", "break_beam_world_interface"} <= set(links)
+    missing = sorted(set(links) - set(frames))
+    assert not missing, missing
+    _compare(links, frames, at_least=len(links))
+    assert abs(RollPitchYaw(frames["workcell"].rotation()).yaw_angle() - math.pi / 2) < 1e-9
 
 
 def test_lecture1_factory_urdf_puts_every_frame_where_the_built_in_cell_has_it(built_in_frames):

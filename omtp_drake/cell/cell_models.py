@@ -24,6 +24,7 @@ from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.cell.parts import parking_pose
+from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import RobotConfig, Scenario
 
 #: Reference poses of the fixed pieces of the cell (world frame).
@@ -100,6 +101,7 @@ def add_cell_models(
     conveyor = _add_fixtures(parser, scenario)
     camera_instances = _add_camera_frames(parser, scenario)
     part_instances, pool = _add_parts(parser, scenario) if parts else ({}, [])
+    _add_extra_frames(plant, scenario)
     _filter_robot_collisions(plant, scene_graph, arm_handles)
     return CellModels(
         floor=floor,
@@ -111,6 +113,17 @@ def add_cell_models(
         parts=part_instances,
         pool=pool,
     )
+
+
+def _add_extra_frames(plant: MultibodyPlant, scenario: Scenario) -> None:
+    """The scenario's extra fixed frames, in order (a frame may hang on an earlier one); a
+    name the cell already has is left as the cell has it."""
+    for frame in scenario.frames:
+        if plant.HasFrameNamed(frame.name):
+            continue
+        if not plant.HasFrameNamed(frame.parent):
+            raise ConfigError(f"frames[{frame.name}].parent {frame.parent!r} is no frame of the cell")
+        plant.AddFrame(FixedOffsetFrame(frame.name, plant.GetFrameByName(frame.parent), frame.X_PF()))
 
 
 def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:

@@ -18,7 +18,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.nodes import SPAWNER_POOL, NodeMapping, NodeScript, add_world, map_nodes
@@ -118,6 +118,13 @@ def own_cell(
     )
 
 
+def _frame(name: str, X_WL: RigidTransform) -> dict:
+    """An extra frame of the scenario: a link fixed to the world where its file puts it."""
+    xyz = [round(float(v), 9) for v in X_WL.translation()]
+    rpy = [round(float(v), 9) for v in RollPitchYaw(X_WL.rotation()).vector()]
+    return {"name": name, "parent": "world", "xyz": xyz, "rpy": rpy}
+
+
 def _document(mapping: NodeMapping, name: str, description: str) -> dict:
     """The scenario document of what the nodes made of the cell."""
     pieces, world = mapping.pieces, mapping.world
@@ -129,6 +136,7 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
         "bins": pieces.bins,
         "break_beam": pieces.break_beam,
         "deletion_wall": world.deletion_wall,
+        "frames": [_frame(name, X_WL) for name, X_WL in pieces.frames.items()],
     }
     if world.conveyor is not None:
         document["conveyor"] = {**world.conveyor, "stop_on_beam": mapping.stop_on_beam}

@@ -50,12 +50,17 @@ class Pieces:
     warnings: list[str] = field(default_factory=list)
     #: The spawned URDF models and where they were placed (their links are tf frames).
     models: list[tuple[UrdfModel, RigidTransform]] = field(default_factory=list)
+    #: The links fixed to the world (their first placement), as the scenario's extra frames.
+    frames: dict[str, RigidTransform] = field(default_factory=dict)
 
 
 def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where: str, joints: dict) -> None:
     """Adds the pieces of ``model`` placed at ``X_WM`` (``joints``: spawn_model's ``-J``)."""
     X_M = model.link_poses()
     pieces.models.append((model, X_WM))
+    for link in model.static_links():
+        if link != "world":  # Gazebo's name for the world itself
+            pieces.frames.setdefault(link, X_WM @ X_M[link])
     found = False
     for joint in model.joint_names():
         if joint.endswith("shoulder_pan_joint"):

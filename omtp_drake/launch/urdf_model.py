@@ -101,6 +101,19 @@ class UrdfModel:
                 stack.append(joint.child)
         return poses
 
+    def static_links(self) -> list[str]:
+        """The links fixed to the root link (through fixed joints only), root included."""
+        fixed: dict[str, list[str]] = {}
+        for joint in self.joints.values():
+            if joint.type == "fixed":
+                fixed.setdefault(joint.parent, []).append(joint.child)
+        out, stack = [], [self.root]
+        while stack:
+            link = stack.pop()
+            out.append(link)
+            stack += fixed.get(link, [])
+        return out
+
     def joint_names(self, kind: str | None = None) -> list[str]:
         return [j.name for j in self.joints.values() if kind is None or j.type == kind]
 
