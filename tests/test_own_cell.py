@@ -262,3 +262,24 @@ def test_a_launchs_python_node_runs_unchanged_in_the_ros_run_session(tmp_path):
     argv = ["ros-run", str(script), str(out), "--launch", LAUNCH, "--workspace", str(src), "-q"]
     assert main([*argv, "--timeout", "20"]) == 0
     assert out.read_text().splitlines() == ["args --speed 2", "hello from /my_echo"]
+
+
+def test_a_node_that_loops_before_spinning_is_one_error(tmp_path, capsys):
+    from omtp_drake.cli import main
+
+    src = tmp_path / "src"
+    shutil.copytree(WORKSPACE, src)
+    (src / "omtp_lecture6" / "scripts" / "looper.py").write_text(
+        "import rospy\nrospy.init_node('looper')\nwhile not rospy.is_shutdown():\n    rospy.sleep(0.1)\n"
+    )
+    launch = src / "omtp_lecture6" / "launch" / "lecture6_assignment1.launch"
+    launch.write_text(
+        launch.read_text().replace(
+            "</launch>", '<node name="looper" pkg="omtp_lecture6" type="looper.py"/></launch>'
+        )
+    )
+    script = tmp_path / "noop.py"
+    script.write_text("import rospy\nrospy.init_node('noop')\n")
+    assert main(["ros-run", str(script), "--launch", LAUNCH, "--workspace", str(src), "-q"]) == 2
+    err = capsys.readouterr().err.splitlines()[-1]
+    assert "looper.py __name:=looper: failed to start" in err and "waits or sleeps before rospy.spin()" in err

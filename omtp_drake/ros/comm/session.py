@@ -36,6 +36,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Optional
 
+from omtp_drake.errors import NotSupportedError
 from omtp_drake.ros.comm.current import CurrentStack
 
 if TYPE_CHECKING:
@@ -171,6 +172,11 @@ class Session:
         """Advances to ``t_end`` (callbacks delivered between ticks), or until
         ``until()`` holds (checked after each delivery); returns whether it held.
         Raises ShutdownError if the session is or becomes shut down."""
+        if self.starting_node:
+            raise NotSupportedError(
+                "a launch's node waits or sleeps before rospy.spin(); ros-run starts a launch's nodes "
+                "one after another up to their spin(), so a node's loop must run in its callbacks or timers"
+            )
         while True:
             self.check_running()
             self.deliver(t_end)
