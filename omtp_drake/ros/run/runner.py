@@ -29,7 +29,7 @@ from omtp_drake.ros.comm._core import Cell, load_scenario
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.ros.comm.session import Session, active
-from omtp_drake.ros.moveit.config import install as install_moveit_config
+from omtp_drake.ros.moveit.node import start_move_group
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport, describe_script_exception
 from omtp_drake.ros.run.setup_steps import call_services
@@ -119,7 +119,7 @@ def run_script(
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
     session = Session(cell, timeout=timeout, moveit=moveit, latency=delays)
     try:
-        install_moveit_config(session, srdf, moveit_config)
+        start_move_group(session, srdf, moveit_config)
         _start_nodes(nodes, session)
         with active(session):
             call_services(session, calls)
@@ -201,6 +201,7 @@ def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: 
         exit_code=ending.exit_code,
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
+        bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
 
