@@ -283,3 +283,26 @@ def test_a_node_that_loops_before_spinning_is_one_error(tmp_path, capsys):
     assert main(["ros-run", str(script), "--launch", LAUNCH, "--workspace", str(src), "-q"]) == 2
     err = capsys.readouterr().err.splitlines()[-1]
     assert "looper.py __name:=looper: failed to start" in err and "waits or sleeps before rospy.spin()" in err
+
+
+def test_built_in_lecture6_assignment1_has_spawn_object_once_as_the_courses_launch(tmp_path):
+    """/spawn_object_once starts the belt's spawner (a box under camera 1 one period later);
+    the course's spawn_object_once node stops it while an object is in the world."""
+    from omtp_drake.ros.run.runner import run_script
+    from omtp_drake.scenario import scenario_document, scenario_text
+
+    script = tmp_path / "spawn.py"
+    script.write_text(
+        "import rospy\nfrom std_srvs.srv import Empty\nrospy.init_node('spawn')\n"
+        "rospy.ServiceProxy('/spawn_object_once', Empty)()\nrospy.sleep(2.0)\n"
+    )
+    with_part = run_script(script, scenario="lecture6_assignment1", timeout=10.0)
+    assert with_part.exception is None and with_part.ledger["parts"] == {
+        "object_1": "on_belt"
+    }  # the placed one
+    assert "object_1 is in the world" in with_part.empty_spawn_calls[0]
+    empty = tmp_path / "empty_belt.yaml"
+    empty.write_text(scenario_text({**scenario_document("lecture6_assignment1"), "parts": []}))
+    report = run_script(script, scenario=empty, timeout=10.0)
+    assert report.exception is None and report.ledger["spawned"] == 1 and not report.empty_spawn_calls
+    assert report.ledger["parts"] == {"object_1": "on_belt"}
