@@ -238,14 +238,17 @@ def test_a_launchs_python_node_runs_unchanged_in_the_ros_run_session(tmp_path):
         "if __name__ == '__main__':\n    rospy.init_node('echo')\n"
         "    pub = rospy.Publisher('answer', String, queue_size=1, latch=True)\n"
         "    rospy.Subscriber('ping', String, on_ping, callback_args=pub)\n"
-        "    pub.publish(String(data='args ' + ' '.join(rospy.myargv()[1:])))\n    rospy.spin()\n"
+        "    params = ' gain %s %s' % (rospy.get_param('~gain'), rospy.get_param('~limits/max'))\n"
+        "    pub.publish(String(data='args ' + ' '.join(rospy.myargv()[1:]) + params))\n"
+        "    rospy.spin()\n"
     )
     launch = src / "omtp_lecture6" / "launch" / "lecture6_assignment1.launch"
     launch.write_text(
         launch.read_text().replace(
             "</launch>",
             '  <node name="my_echo" pkg="omtp_lecture6" type="echo_node.py" args="--speed 2">\n'
-            '    <remap from="answer" to="/echo_answer"/>\n  </node>\n</launch>',
+            '    <remap from="answer" to="/echo_answer"/>\n    <param name="gain" value="0.5"/>\n'
+            "    <rosparam>limits: {max: 3}</rosparam>\n  </node>\n</launch>",
         )
     )
     script = tmp_path / "ask.py"
@@ -261,7 +264,7 @@ def test_a_launchs_python_node_runs_unchanged_in_the_ros_run_session(tmp_path):
     )
     argv = ["ros-run", str(script), str(out), "--launch", LAUNCH, "--workspace", str(src), "-q"]
     assert main([*argv, "--timeout", "20"]) == 0
-    assert out.read_text().splitlines() == ["args --speed 2", "hello from /my_echo"]
+    assert out.read_text().splitlines() == ["args --speed 2 gain 0.5 3", "hello from /my_echo"]
 
 
 def test_a_node_that_loops_before_spinning_is_one_error(tmp_path, capsys):

@@ -25,6 +25,7 @@ Python node is a warning line there, and a node that is no Python file of the wo
 
 from __future__ import annotations
 
+import json
 import math
 import shlex
 from dataclasses import dataclass, field
@@ -93,8 +94,10 @@ class NodeScript:
     replaces: str = ""
 
 
-def _node_script(node: Node, workspace: Workspace) -> NodeScript | None:
-    """The node's file when it is a Python script of a workspace package (as rosrun finds it)."""
+def _node_script(node: Node, launch: Launch, workspace: Workspace) -> NodeScript | None:
+    """The node's file when it is a Python script of a workspace package (as rosrun finds it).
+    Its private parameters (the launch's ``<param>``/``<rosparam>`` inside the node) go on
+    its command line as ``_name:=value`` (rospy puts those under ``~`` too)."""
     folder = workspace.packages.get(node.pkg)
     if folder is None or not node.type.endswith(".py"):
         return None
@@ -105,6 +108,12 @@ def _node_script(node: Node, workspace: Workspace) -> NodeScript | None:
     if node.namespace.strip("/"):
         argv.append(f"__ns:={node.namespace}")
     argv += [f"{k}:={v}" for k, v in node.remaps.items()]
+    try:
+        private = get_param(launch.params, node.name)
+    except KeyError:
+        private = {}
+    if isinstance(private, dict):
+        argv += [f"_{k}:={json.dumps(v)}" for k, v in private.items()]
     return NodeScript(found[0], tuple(argv), COURSE_HELPERS.get((node.pkg, node.type), ""))
 
 
@@ -119,14 +128,14 @@ def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
         elif key == ("omtp_gazebo", "conveyor_spawner_node"):
             out.spawner = _spawner(node, launch)
         elif key not in CELL_NODES:
-            _other_node(out, node, workspace)
+            _other_node(out, node, launch, workspace)
     return out
 
 
-def _other_node(out: NodeMapping, node: Node, workspace: Workspace) -> None:
+def _other_node(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -> None:
     """A node of the student's workspace: the course's two helpers also as the scenario's
     flags (for the commands without ROS); any Python node runs under ros-run; others warn."""
-    script = _node_script(node, workspace)
+    script = _node_script(node, launch, workspace)
     if script is not None:
         out.scripts.append(script)
     flag = COURSE_HELPERS.get((node.pkg, node.type))

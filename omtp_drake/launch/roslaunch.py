@@ -252,7 +252,8 @@ class _Reader:
         name = resolve(element.get("name"), ctx)
         if not name:
             raise ctx.fail("<param> needs a name")
-        full = join_name(namespace, name, private=private)
+        # Inside a <node>, a relative name is the node's private one (roslaunch's rule).
+        full = join_name(private or namespace, name, private=private)
         sources = [k for k in ("value", "textfile", "command", "binfile") if element.get(k) is not None]
         if len(sources) != 1:
             raise ctx.fail(f"<param name={name!r}> needs exactly one of value, textfile, command")
