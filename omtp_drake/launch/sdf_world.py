@@ -12,6 +12,7 @@ scene and the ground plane is the cell's floor, so both are read as known and le
 
 from __future__ import annotations
 
+import logging
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -171,8 +172,14 @@ def _drake_refusal(parse, workspace: Workspace) -> str | None:
     plant = MultibodyPlant(0.0)  # kept alive while the parser uses it
     parser = Parser(plant)
     parser.package_map().AddMap(workspace.package_map())
+    # Drake warns that it ignores <plugin>, <sensor> and <gravity>: those are read here.
+    drake_log = logging.getLogger("drake")
+    level = drake_log.level
+    drake_log.setLevel(max(level, logging.ERROR))
     try:
         parse(parser)
     except RuntimeError as e:
         return str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+    finally:
+        drake_log.setLevel(level)
     return None
