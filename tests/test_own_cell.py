@@ -309,3 +309,16 @@ def test_built_in_lecture6_assignment1_has_spawn_object_once_as_the_courses_laun
     report = run_script(script, scenario=empty, timeout=10.0)
     assert report.exception is None and report.ledger["spawned"] == 1 and not report.empty_spawn_calls
     assert report.ledger["parts"] == {"object_1": "on_belt"}
+
+
+def test_a_camera_the_student_places_elsewhere_is_there_in_the_cell(tmp_path):
+    src = tmp_path / "src"
+    shutil.copytree(WORKSPACE, src)
+    world = src / "omtp_gazebo" / "worlds" / "lecture6_assignment1.world"
+    world.write_text(world.read_text().replace("-8.3 -1.23 1.8 0 1.5708 0", "-8.0 -2.2 1.9 0 1.5708 0.3"))
+    cell = own_cell(LAUNCH, workspace=[src], environ={})
+    frames, _ = _frames_and_joints(cell.scenario)
+    X_WC = frames["logical_camera_2_frame"]
+    np.testing.assert_allclose(X_WC.translation(), [-8.0, -2.2, 1.9], atol=1e-9)
+    R_expected = RollPitchYaw([0.0, 1.5708, 0.3]).ToRotationMatrix().matrix()
+    np.testing.assert_allclose(X_WC.rotation().matrix(), R_expected, atol=1e-9)
