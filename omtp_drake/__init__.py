@@ -19,6 +19,7 @@ is held and checked by tests/test_layering.py):
 - ``sim``: running the cell: the driver, its world edits, the part pool and services
 - ``control``: deciding how the arms move: tool paths, pick and place, motion planning
 - ``viz``: looking at the cell: Meshcat views and replays, screenshots, the frame tree
+- ``launch``: a student's own cell: their launch files, worlds, URDF/xacro and Gazebo plugins
 - ``tasks``: a scenario's pick-and-place task, run and judged; plots of a run
 - ``script``: scripting the cell yourself: ``Cell`` and its arms, grippers and cameras
 - ``batch``: many runs in parallel on Dask, their records, summaries and plots

@@ -28,6 +28,7 @@ LAYERS = {
     "sim": 4,
     "control": 4,
     "viz": 5,
+    "launch": 5,
     "tasks": 6,
     "script": 6,
     "batch": 7,

@@ -135,13 +135,19 @@ def _read_yaml(path: Path) -> dict:
 
 def _check_unique_names(raw: dict, path: Path) -> None:
     """A name given twice in one list of one file is an error (merging by name is
-    for an item of a ``base:`` and the file that changes it)."""
+    for an item of a ``base:`` and the file that changes it), and so is a name that is
+    not a string (the merge looks items up by name)."""
     for key in _NAMED_LISTS:
         items = raw.get(key)
         if isinstance(items, _Tagged):
             items = items.value
         if not isinstance(items, list):
             continue
+        for item in items:
+            if isinstance(item, dict) and "name" in item and not isinstance(item["name"], str):
+                raise ScenarioError(
+                    f"{path}: {key}: name {item['name']!r} must be a string (a name like {key[:-1]}1)"
+                )
         names = [x["name"] for x in items if isinstance(x, dict) and isinstance(x.get("name"), str)]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:

@@ -27,6 +27,7 @@ from omtp_drake.scenario.configs import (
     RESERVED_NAMES,
     BinConfig,
     ConveyorConfig,
+    FrameConfig,
     PartConfig,
     RobotConfig,
     SleepConfig,
@@ -84,6 +85,9 @@ class Scenario:
     bins: list[BinConfig] = field(default_factory=list)
     #: Parts placed in the world at t = 0.
     parts: list[PartConfig] = field(default_factory=list)
+    #: Fixed frames beyond the pieces' own (a student's URDF links; a frame the cell
+    #: already has is left as the cell has it).
+    frames: list[FrameConfig] = field(default_factory=list)
     #: Parts pre-allocated for spawning (``object_k`` after the placed ones).
     part_pool: int = 0
     #: Edge length (m) and mass (kg) of the pool's parts (uniform cubes).
@@ -173,6 +177,10 @@ class Scenario:
         for part in self.parts:
             part.validate()
             names.append(part.name)
+        for frame in self.frames:
+            frame.validate()
+        if len({f.name for f in self.frames}) != len(self.frames):
+            raise ConfigError(f"frames: names must be unique, got {[f.name for f in self.frames]}")
         self.suction.validate()
         self.sleep.validate()
         self.ros_latency.validate()

@@ -35,6 +35,7 @@ avoided, as in MoveIt) in :mod:`omtp_drake.script.scene`.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Optional
@@ -45,7 +46,8 @@ from pydrake.systems.framework import DiagramBuilder
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
 from omtp_drake.errors import UnknownNameError, check_duration
-from omtp_drake.scenario import Scenario, as_scenario
+from omtp_drake.launch.options import chosen_cell
+from omtp_drake.scenario import Scenario
 from omtp_drake.script.arm import Arm
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
@@ -57,12 +59,19 @@ from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.sim.tf import TfBuffer
 from omtp_drake.viz.meshcat import add_visual_extras, save_recording, start_meshcat, start_recording, view_for
 
+_log = logging.getLogger("omtp_drake")
+
 
 class Cell:
     """A scenario's cell to script: arms, grippers, cameras, tf, parts, belt, beam.
 
     Args:
-        scenario: a scenario name, path or :class:`Scenario`.
+        scenario: a scenario name, path or :class:`Scenario`; or instead:
+        launch: a student's launch file, as roslaunch takes it (``'omtp_lecture6
+            lecture6_assignment1.launch paused:=false'``), or
+        world: a student's Gazebo world file,
+        workspace: with ``launch`` or ``world``: the folders (catkin ``src``, packages)
+            their packages and models are found in (:mod:`omtp_drake.launch`).
         auto_spawn: let the scenario's spawner spawn parts by itself (False: your
             own :meth:`spawn_part` calls, from t = 0).
         meshcat: serve a live Meshcat view (its URL is logged and in :attr:`url`).
@@ -78,15 +87,21 @@ class Cell:
 
     def __init__(
         self,
-        scenario: Scenario | str,
+        scenario: Scenario | str | None = None,
         *,
+        launch: Optional[str] = None,
+        world: Optional[str | Path] = None,
+        workspace: Sequence[str | Path] | str | Path = (),
         auto_spawn: bool = True,
         meshcat: bool = False,
         record: Optional[str | Path] = None,
         realtime: bool = False,
         tf_cache: float = 30.0,
     ):
-        scenario = as_scenario(scenario)
+        own = chosen_cell(scenario, launch=launch, world=world, workspace=workspace)
+        for line in own.warnings + own.ros_only:
+            _log.warning("%s", line)
+        scenario = own.scenario
         self.scenario = scenario
         self._record = Path(record) if record else None
         self.meshcat = start_meshcat(view_for(scenario)) if (meshcat or record) else None

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 
+from omtp_drake.launch.options import add_cell_options
 from omtp_drake.ros.run.command import add_shared_options, passed_on, print_line, show_logs
 from omtp_drake.ros.run.report import show_report
 
@@ -21,6 +22,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         args.script,
         args.script_args,
         calls=args.call or (),
+        nodes=args.nodes,
         **passed_on(
             args, "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency"
         ),
@@ -39,7 +41,10 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     )
     p.add_argument("script", metavar="SCRIPT.py")
     p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
-    add_shared_options(p, "--scenario --seed")
+    add_shared_options(p, "--scenario")
+    add_cell_options(p)
+    p.set_defaults(nodes=[])  # a launch's Python nodes (set with --launch)
+    add_shared_options(p, "--seed")
     p.add_argument(
         "--timeout",
         type=float,

@@ -86,6 +86,7 @@ def run_script(
     calls: Sequence[str] = (),
     settle: float = 0.0,
     latency: Optional[str | float] = None,
+    nodes: Sequence[tuple[str | Path, Sequence[str]]] = (),
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
@@ -96,6 +97,9 @@ def run_script(
     MoveIt config package (:mod:`omtp_drake.ros.moveit.config`; default: the cell's own).
     ``calls``, ``settle``: the set-up steps before the script (``rosservice call`` of
     each, then ``settle`` simulated seconds; see :mod:`omtp_drake.ros.run.setup_steps`).
+    ``nodes``: (file, command line) of the Python nodes a student's launch starts
+    (:mod:`omtp_drake.launch`): each runs first, up to its ``rospy.spin()``, and its
+    subscribers, timers and services serve the script's run.
     ``latency``: the simulated time planning, execution starts and service calls take
     (:func:`~omtp_drake.ros.comm.latency.resolve_latency`: None for the scenario's
     ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs).
@@ -116,6 +120,7 @@ def run_script(
     session = Session(cell, timeout=timeout, moveit=moveit, latency=delays)
     try:
         start_move_group(session, srdf, moveit_config)
+        _start_nodes(nodes, session)
         with active(session):
             call_services(session, calls)
             settle_cell(session, float(settle))
@@ -153,6 +158,30 @@ def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
     except Exception as e:  # the script's own error: reported, not raised
         ending.exception = e
     return ending
+
+
+def _start_nodes(nodes: Sequence[tuple[str | Path, Sequence[str]]], session: Session) -> None:
+    for node, argv in nodes:
+        _start_node(Path(node), argv, session)
+
+
+def _start_node(path: Path, argv: Sequence[str], session: Session) -> None:
+    """Runs a launch's node as ``__main__`` with its command line, up to its ``spin()``; a
+    node that fails to start is a ConfigError naming it (roslaunch would report it died)."""
+    code = script_code(path)
+    saved = session.node_name, session.names
+    session.node_name, session.names, session.starting_node = None, None, True
+    try:
+        with script_environment(path, argv), python2_imports([path.parent], code.python2), active(session):
+            run_as_main(code, path)
+    except SystemExit:
+        pass
+    except Exception as e:
+        raise ConfigError(f"node {path} {' '.join(argv)}: failed to start: {type(e).__name__}: {e}") from None
+    finally:
+        session.node_name, session.names = saved
+        session.starting_node = False
+    _log.info("node %s started", path.name)
 
 
 def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: Optional[Path]) -> RosReport:
