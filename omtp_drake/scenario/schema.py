@@ -37,6 +37,7 @@ from omtp_drake.scenario.configs import (
 )
 from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.latency import RosLatencyConfig
+from omtp_drake.scenario.models import ModelConfig
 from omtp_drake.scenario.suction import SuctionConfig
 
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
@@ -103,6 +104,8 @@ class Scenario:
     sleep: SleepConfig = field(default_factory=SleepConfig)
     #: Simulated time a ROS script's calls take under ``ros-run`` (planning, services...).
     ros_latency: RosLatencyConfig = field(default_factory=RosLatencyConfig)
+    #: Models from description files (a student's robot, a piece of the course's world).
+    models: list[ModelConfig] = field(default_factory=list)
 
     def part_size(self, name: str) -> float:
         """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
@@ -173,6 +176,9 @@ class Scenario:
         for part in self.parts:
             part.validate()
             names.append(part.name)
+        for model in self.models:
+            model.validate()
+            names.append(model.name)
         self.suction.validate()
         self.sleep.validate()
         self.ros_latency.validate()
