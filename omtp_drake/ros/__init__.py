@@ -34,6 +34,7 @@ rospy:
 - ``service``: ServiceProxy and ``wait_for_service``
 - ``exceptions``: rospy's exceptions (ROSException, ROSInterruptException...)
 - ``messages``: ROS 1 messages and services as plain classes (std, geometry, sensor)
+- ``image_messages``: sensor_msgs' images, camera info and point clouds, and ``read_points``
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
 - ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
@@ -65,6 +66,7 @@ the course's Gazebo world:
 
 - ``sensor_topics``: the cell's sensor topics (cameras, break beam, gripper state)
 - ``joint_state_topics``: the arms' joint states, by the course's controllers' names
+- ``model_topics``: a student's model's gazebo_ros plugins: joint states, set_joint_trajectory, camera topics
 - ``cell_services``: the cell's gripper and conveyor services, by the course's names
 - ``gazebo``: Gazebo's own ROS API under ``/gazebo``
 - ``gazebo_interfaces``: gazebo_msgs: the messages and services of Gazebo's ROS API

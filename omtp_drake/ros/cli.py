@@ -23,12 +23,17 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
     if args.sandbox is not None:
         from omtp_drake.ros.grade import run_isolated_script
 
+        if args.robot:
+            raise OmtpError("--robot does not go with --sandbox (an isolated run takes --scenario only)")
+
         return run_isolated_script(args, print_line)
     show_logs(args, "rospy", "moveit_commander")
     report = run_script(
         args.script,
         args.script_args,
         calls=args.call or (),
+        robot=args.robot,
+        workspace=getattr(args, "workspace", None) or (),
         **passed_on(
             args, "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency"
         ),
@@ -79,6 +84,7 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("script", metavar="SCRIPT.py")
     p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
     add_shared_options(p, "--scenario --seed")
+    _add_robot_option(p)
     p.add_argument(
         "--timeout",
         type=float,
@@ -101,6 +107,18 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     add_isolation_flags(p, sandbox_default=None)
     p.set_defaults(func=cmd_ros_run)
     return p
+
+
+def _add_robot_option(p: argparse.ArgumentParser) -> None:
+    """``--robot FILE``: a robot spawned as ``spawn_model`` does; with it ``--scenario`` is
+    optional (without one: Gazebo's empty world)."""
+    p.add_argument(
+        "--robot",
+        metavar="FILE.urdf[.xacro]|FILE.sdf",
+        help="spawn this robot (URDF, xacro or SDF) into the scenario, as spawn_model does; without "
+        "--scenario, into Gazebo's empty world (a ground plane)",
+    )
+    p._option_string_actions["--scenario"].required = False
 
 
 def _add_course_options(p: argparse.ArgumentParser) -> None:

@@ -34,6 +34,7 @@ from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
 from omtp_drake.ros.setup_steps import call_services
 from omtp_drake.ros.setup_steps import settle as settle_cell
+from omtp_drake.scenario import with_robot
 
 _log = logging.getLogger(__name__)
 
@@ -74,7 +75,9 @@ def run_script(
     script: str | Path,
     args: Sequence[str] = (),
     *,
-    scenario: str | Path,
+    scenario: Optional[str | Path] = None,
+    robot: Optional[str | Path] = None,
+    workspace: Sequence[str | Path] = (),
     seed: Optional[int] = None,
     timeout: Optional[float] = 600.0,
     moveit: str = "noetic",
@@ -88,6 +91,9 @@ def run_script(
     latency: Optional[str | float] = None,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
+
+    ``robot``: a URDF, xacro or SDF file spawned into the scenario (without one, into
+    Gazebo's empty world) as ``spawn_model`` does; ``workspace``: its packages' folders.
 
     ``timeout``: simulated seconds after which the ROS session shuts down
     (``rospy.is_shutdown()`` turns True, blocking calls raise
@@ -107,7 +113,11 @@ def run_script(
         raise ConfigError(f"--moveit {moveit!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
     if timeout is not None and not timeout > 0:
         raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
-    loaded = load_scenario(str(scenario))
+    loaded = load_scenario(str(scenario)) if scenario is not None else None
+    if robot is not None:
+        loaded = with_robot(loaded, robot, workspace)
+    if loaded is None:
+        raise ConfigError("ros-run needs --scenario NAME|FILE or --robot FILE")
     if seed is not None:
         loaded = dataclasses.replace(loaded, seed=int(seed))
     delays = resolve_latency(loaded.ros_latency, latency)

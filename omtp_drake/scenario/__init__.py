@@ -10,6 +10,7 @@ Modules (one job each):
 - ``models``: a model from a description file (URDF, xacro, SDF): name, pose, Gazebo tags
 - ``gazebo_tags``: a description's ``<gazebo>`` tags as typed settings: materials, friction, sensors, plugins
 - ``gazebo_parse``: reading those tags from URDF or SDF text
+- ``robot_world``: a scenario (or Gazebo's empty world) with a student's robot spawned in it
 - ``faults``: faults as data: what goes wrong in a run, when, and for how long
 - ``loader``: YAML, ``base:`` merges and Drake's typed load: the one place a file becomes a ``Scenario``
 - ``refusals``: a refused document said in one line (the key path, the valid keys, the closest name)
@@ -45,10 +46,12 @@ from omtp_drake.scenario.loader import (
 )
 from omtp_drake.scenario.models import ModelConfig, model_from_file, model_from_text
 from omtp_drake.scenario.refusals import closest_name, is_record, schema_fields, unwrap_optional
+from omtp_drake.scenario.robot_world import EMPTY_WORLD, with_robot
 from omtp_drake.scenario.schema import Scenario
 from omtp_drake.scenario.suction import SuctionConfig
 
 __all__ = [
+    "EMPTY_WORLD",
     "BinConfig",
     "BinGeometry",
     "ConveyorConfig",
@@ -79,4 +82,5 @@ __all__ = [
     "scenario_text",
     "schema_fields",
     "unwrap_optional",
+    "with_robot",
 ]

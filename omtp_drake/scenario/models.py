@@ -11,6 +11,7 @@ The cell loads it with Drake's Parser (:mod:`omtp_drake.cell.described_models`).
 
 import os
 import re
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Optional
@@ -74,7 +75,7 @@ def model_from_file(
     ``$(find)`` in ``workspace``), named ``name`` (default: the file's robot or model
     name), at ``xyz``/``rpy``; checked (ConfigError naming the file and the value)."""
     path = Path(path)
-    workspace = workspace or Workspace.from_dirs([], bundled=[_package_root(path)])
+    workspace = workspace or file_workspace(path)
     if path.suffix == ".sdf" or path.name.endswith(".world"):
         if not path.is_file():
             raise ConfigError(f"{path}: no such file")
@@ -118,10 +119,10 @@ def root_name_of(text: str, file: str) -> str:
     return name
 
 
-def _package_root(path: Path) -> Path:
-    """The folder above the package that holds ``path`` (its siblings are found too), else
-    ``path``'s folder: the workspace of a file given without ``--workspace``."""
-    for folder in path.resolve().parents:
-        if (folder / "package.xml").is_file():
-            return folder.parent
-    return path.resolve().parent
+def file_workspace(path: str | os.PathLike, dirs: Sequence[str | os.PathLike] = ()) -> Workspace:
+    """The workspace of the file ``path``: ``dirs`` (``--workspace``), ``ROS_PACKAGE_PATH``,
+    then the folder above the package holding ``path`` (the package and its siblings; the
+    file's own folder when it is in no package)."""
+    resolved = Path(path).resolve()
+    root = next((f.parent for f in resolved.parents if (f / "package.xml").is_file()), resolved.parent)
+    return Workspace.from_dirs(dirs, bundled=[root])

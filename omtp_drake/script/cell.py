@@ -44,8 +44,8 @@ from pydrake.systems.framework import DiagramBuilder
 
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
-from omtp_drake.errors import UnknownNameError, check_duration
-from omtp_drake.scenario import Scenario, as_scenario
+from omtp_drake.errors import ConfigError, NotSupportedError, UnknownNameError, check_duration
+from omtp_drake.scenario import Scenario, as_scenario, with_robot
 from omtp_drake.script.arm import Arm
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
@@ -62,7 +62,12 @@ class Cell:
     """A scenario's cell to script: arms, grippers, cameras, tf, parts, belt, beam.
 
     Args:
-        scenario: a scenario name, path or :class:`Scenario`.
+        scenario: a scenario name, path or :class:`Scenario` (None with ``robot``:
+            Gazebo's empty world).
+        robot: a URDF, xacro or SDF file: the robot spawned into the scenario, as
+            ``spawn_model`` does (its joints, sensors and gazebo_ros plugins; ``arm``,
+            ``gripper`` and MoveIt stay the scenario's UR arms').
+        workspace: folders of the packages the robot's file names (``$(find)``, ``package://``).
         auto_spawn: let the scenario's spawner spawn parts by itself (False: your
             own :meth:`spawn_part` calls, from t = 0).
         meshcat: serve a live Meshcat view (its URL is logged and in :attr:`url`).
@@ -76,15 +81,17 @@ class Cell:
 
     def __init__(
         self,
-        scenario: Scenario | str,
+        scenario: Optional[Scenario | str] = None,
         *,
+        robot: Optional[str | Path] = None,
+        workspace: Sequence[str | Path] = (),
         auto_spawn: bool = True,
         meshcat: bool = False,
         record: Optional[str | Path] = None,
         realtime: bool = False,
         tf_cache: float = 30.0,
     ):
-        scenario = as_scenario(scenario)
+        scenario = _cell_scenario(scenario, robot, workspace)
         self.scenario = scenario
         self._record = Path(record) if record else None
         self.meshcat = start_meshcat(view_for(scenario)) if (meshcat or record) else None
@@ -133,11 +140,19 @@ class Cell:
         return self.runtime.time
 
     def arm(self, name: str) -> Arm:
+        if name not in self._arms and name in self.station.models:
+            raise NotSupportedError(
+                f"robot {name!r} is a model from a description file: arm(), gripper() and MoveIt need "
+                f"one of the scenario's UR arms ({', '.join(self._arms) or 'none here'}); move its joints "
+                "with its gazebo_ros plugins (/set_joint_trajectory)"
+            )
         if name not in self._arms:
             raise UnknownNameError("robot", name, self._arms)
         return self._arms[name]
 
     def gripper(self, robot: str) -> Gripper:
+        if robot in self.station.models:
+            self.arm(robot)  # the error says what needs a UR arm
         self.station.suction_name(robot)  # the error lists the robots with grippers
         return Gripper(self.runtime, robot)
 
@@ -228,3 +243,17 @@ class Cell:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _cell_scenario(
+    scenario: Optional[Scenario | str], robot: Optional[str | Path], workspace: Sequence[str | Path]
+) -> Scenario:
+    """The scenario a Cell builds: ``scenario`` with ``robot`` spawned in it."""
+    if robot is None:
+        if scenario is None:
+            raise ConfigError("Cell needs a scenario (a name, path or Scenario) or a robot=FILE")
+        if workspace:
+            raise ConfigError("Cell(workspace=...) goes with robot=FILE")
+        return as_scenario(scenario)
+    base = as_scenario(scenario) if scenario is not None else None
+    return with_robot(base, robot, workspace)
