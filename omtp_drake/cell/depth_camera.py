@@ -159,11 +159,13 @@ def add_depth_camera(
     *,
     seed: int,
     key: int,
+    sampled: bool = True,
 ) -> DepthCamera:
     """Adds ``sensor`` (on a link of model ``instance``, named ``model``) to the diagram:
     the renderer if the SceneGraph lacks it, the sensor sampled at its rate, the noisy
     colour image and (a ``depth`` sensor) the point cloud. ``key`` tells the sensors'
-    noise apart."""
+    noise apart. ``sampled=False``: images rendered whenever read (a model viewed, not
+    simulated)."""
     camera = _camera(sensor)
     link = plant.GetBodyByName(sensor.link, instance)
     parent = plant.GetBodyFrameIdIfExists(link.index())
@@ -181,33 +183,40 @@ def add_depth_camera(
     rgbd = builder.AddNamedSystem(f"{sensor.name}.rgbd", RgbdSensor(parent, X_PO, color, depth))
     builder.Connect(scene_graph.get_query_output_port(), rgbd.query_object_input_port())
     period = 1.0 / sensor.rate
-    color_hold = builder.AddNamedSystem(
-        f"{sensor.name}.color_hold", ZeroOrderHold(period, Value(ImageRgba8U(info.width(), info.height())))
-    )
-    depth_hold = builder.AddNamedSystem(
-        f"{sensor.name}.depth_hold", ZeroOrderHold(period, Value(ImageDepth32F(info.width(), info.height())))
-    )
-    builder.Connect(rgbd.color_image_output_port(), color_hold.get_input_port())
-    builder.Connect(rgbd.depth_image_32F_output_port(), depth_hold.get_input_port())
-    color_out = color_hold.get_output_port()
+    color_out, depth_out = rgbd.color_image_output_port(), rgbd.depth_image_32F_output_port()
+    if sampled:
+        color_out, depth_out = _held(builder, sensor.name, info, period, color_out, depth_out)
     if camera.noise_type == "gaussian" and camera.noise_stddev > 0:
         noise = builder.AddNamedSystem(
             f"{sensor.name}.noise", ColorNoise(camera.noise_mean, camera.noise_stddev, period, seed, key)
         )
         builder.Connect(color_out, noise.get_input_port())
         color_out = noise.get_output_port()
-    handles = DepthCamera(
-        sensor, model, info, color_out, depth_hold.get_output_port(), rgbd.body_pose_in_world_output_port()
-    )
+    handles = DepthCamera(sensor, model, info, color_out, depth_out, rgbd.body_pose_in_world_output_port())
     if sensor.type == "depth":
         cloud = builder.AddNamedSystem(
             f"{sensor.name}.point_cloud",
             DepthImageToPointCloud(info, PixelType.kDepth32F, 1.0, BaseField.kXYZs | BaseField.kRGBs),
         )
-        builder.Connect(depth_hold.get_output_port(), cloud.depth_image_input_port())
+        builder.Connect(depth_out, cloud.depth_image_input_port())
         builder.Connect(color_out, cloud.color_image_input_port())
         handles.point_cloud = cloud.point_cloud_output_port()
     return handles
+
+
+def _held(
+    builder: DiagramBuilder, name: str, info: CameraInfo, period: float, color: OutputPort, depth: OutputPort
+) -> tuple[OutputPort, OutputPort]:
+    """The colour and depth images sampled every ``period`` s (zero-order holds)."""
+    color_hold = builder.AddNamedSystem(
+        f"{name}.color_hold", ZeroOrderHold(period, Value(ImageRgba8U(info.width(), info.height())))
+    )
+    depth_hold = builder.AddNamedSystem(
+        f"{name}.depth_hold", ZeroOrderHold(period, Value(ImageDepth32F(info.width(), info.height())))
+    )
+    builder.Connect(color, color_hold.get_input_port())
+    builder.Connect(depth, depth_hold.get_input_port())
+    return color_hold.get_output_port(), depth_hold.get_output_port()
 
 
 def show_point_cloud(builder: DiagramBuilder, meshcat: Meshcat, camera: DepthCamera) -> None:

@@ -1,0 +1,79 @@
+"""``omtp-drake view``: the tutorial robot's joints, frames, sensors and plugins as parsed
+(``--json``), its sliders, and a screenshot."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from pydrake.geometry import Meshcat
+
+from omtp_drake.cli import main
+from omtp_drake.scenario import model_from_file
+from omtp_drake.viz.browser import find_browser
+from omtp_drake.viz.model_view import build_model_view
+
+ROBOT = Path(__file__).parent / "fixtures" / "tutorial_ws" / "src" / "slider_arm_description" / "urdf"
+ROBOT = ROBOT / "slider_arm.urdf.xacro"
+
+
+@pytest.fixture(scope="module")
+def listed(tmp_path_factory):
+    out = tmp_path_factory.mktemp("view") / "model.json"
+    assert main(["view", str(ROBOT), "--json", str(out)]) == 0
+    return json.loads(out.read_text())
+
+
+def test_json_lists_the_joints_with_types_axes_and_limits(listed):
+    joints = {j["name"]: j for j in listed["joints"]}
+    assert {n: j["type"] for n, j in joints.items()} == {
+        "plate_joint": "fixed",
+        "slider_joint": "prismatic",
+        "arm_joint": "revolute",
+        "camera_joint": "fixed",
+        "camera_optical_joint": "fixed",
+    }
+    assert joints["slider_joint"]["axis"] == [1.0, 0.0, 0.0]
+    assert joints["slider_joint"]["limits"] == {
+        "lower": 0.0,
+        "upper": pytest.approx(1.6),
+        "velocity": 1.0,
+        "effort": 50.0,
+    }
+    assert joints["arm_joint"]["axis"] == [0.0, -1.0, 0.0]
+    assert joints["arm_joint"]["limits"]["upper"] == pytest.approx(np.pi / 2)
+    assert (joints["arm_joint"]["parent"], joints["arm_joint"]["child"]) == ("slider_link", "arm_link")
+
+
+def test_json_lists_links_frames_sensors_and_plugins(listed):
+    assert listed["links"] == ["base_link", "slider_link", "arm_link", "camera_link", "camera_link_optical"]
+    assert {"name": "camera_link_optical", "body": "camera_link_optical"} in listed["frames"]
+    (sensor,) = listed["sensors"]
+    assert (sensor["name"], sensor["type"], sensor["camera"]["width"]) == ("tip_camera", "depth", 640)
+    kinds = sorted(p["kind"] for p in listed["plugins"])
+    assert kinds == ["camera", "joint_pose_trajectory", "joint_state_publisher"]
+
+
+def test_a_slider_per_movable_joint_within_its_limits():
+    meshcat = Meshcat()
+    view = build_model_view(model_from_file(ROBOT, static=True), meshcat, {"arm_joint": 0.5})
+    assert sorted(meshcat.GetSliderNames()) == ["arm_joint", "slider_joint"]
+    assert meshcat.GetSliderValue("arm_joint") == pytest.approx(0.5)
+    view.publish()  # draws the images and the point cloud
+    assert meshcat.HasPath("/drake/tip_camera/points") and meshcat.HasPath("/images/tip_camera/depth")
+
+
+def test_a_position_outside_the_limits_is_one_error(capsys):
+    assert main(["view", str(ROBOT), "--screenshot", "x.png", "--position", "arm_joint=2.0"]) == 2
+    assert "joint 'arm_joint': position 2.0 is outside its limits" in capsys.readouterr().err
+
+
+@pytest.mark.skipif(find_browser() is None, reason="no chromium")
+def test_screenshot(tmp_path):
+    png = tmp_path / "view.png"
+    assert main(["view", str(ROBOT), "--screenshot", str(png), "--position", "slider_joint=0.8"]) == 0
+    from matplotlib.image import imread
+
+    image = imread(png)
+    assert image.shape[:2] == (800, 1280)
+    assert image[..., :3].std() > 0.05  # the model and panels, not an empty page
