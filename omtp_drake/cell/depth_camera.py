@@ -2,8 +2,9 @@
 
 :func:`add_depth_camera` turns a sensor of a description's ``<gazebo>`` tags
 (:class:`~omtp_drake.scenario.SensorConfig`, checked where it was read) into Drake's
-``RgbdSensor`` on the VTK renderer the logical cameras' views share
-(:mod:`omtp_drake.cell.rgbd`), sampled at the sensor's rate, its colour image with
+``RgbdSensor`` on a VTK renderer lit as Gazebo's worlds are (:data:`GAZEBO_LIGHTS`;
+the logical cameras' views of :mod:`omtp_drake.cell.rgbd` keep theirs), sampled at the
+sensor's rate, its colour image with
 the camera's Gaussian noise and, for a ``depth`` sensor, Drake's
 ``DepthImageToPointCloud`` of its depth and colour images.
 
@@ -47,8 +48,11 @@ from pydrake.geometry import (
     ColorRenderCamera,
     DepthRange,
     DepthRenderCamera,
+    LightParameter,
+    MakeRenderEngineVtk,
     Meshcat,
     RenderCameraCore,
+    RenderEngineVtkParams,
     SceneGraph,
 )
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -60,9 +64,26 @@ from pydrake.systems.primitives import ZeroOrderHold
 from pydrake.systems.sensors import CameraInfo, ImageDepth32F, ImageRgba8U, PixelType, RgbdSensor
 
 from omtp_drake.cell.logical_camera import X_CameraOptical
-from omtp_drake.cell.rgbd import RENDERER_NAME, add_renderer
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import SensorConfig
+
+#: The renderer of the models' Gazebo sensors (the logical cameras' views keep their own).
+GAZEBO_RENDERER = "gazebo_vtk"
+#: Gazebo's default world lighting: the sun (a directional light, world frame, its
+#: ``<direction>`` and diffuse 0.8) and the scene's ambient 0.4, here a light from the
+#: camera. Drake's default (one light along the camera's axis) leaves a floor seen by
+#: a level camera black.
+GAZEBO_LIGHTS = (
+    LightParameter(type="directional", frame="world", direction=[-0.5, 0.1, -0.9], intensity=0.8),
+    LightParameter(type="directional", frame="camera", direction=[0.0, 0.0, 1.0], intensity=0.4),
+)
+
+
+def add_gazebo_renderer(scene_graph: SceneGraph) -> None:
+    """Adds :data:`GAZEBO_RENDERER` (VTK, Gazebo's lighting) to ``scene_graph`` unless it has it."""
+    if not scene_graph.HasRenderer(GAZEBO_RENDERER):
+        params = RenderEngineVtkParams(lights=list(GAZEBO_LIGHTS), cast_shadows=False)
+        scene_graph.AddRenderer(GAZEBO_RENDERER, MakeRenderEngineVtk(params))
 
 
 def camera_info(sensor: SensorConfig, *, pixel_centres_at_integers: bool = True) -> CameraInfo:
@@ -126,12 +147,14 @@ class ColorNoise(LeafSystem):
         image: ImageRgba8U = self._input.Eval(context)
         index = int(math.floor(context.get_time() / self._period + 1e-6))
         rng = np.random.default_rng([*self._seed, index])
-        pixels = np.asarray(image.data, dtype=np.float64)
-        noise = rng.normal(self._mean * 255.0, self._stddev * 255.0, size=pixels[..., :3].shape)
+        pixels = np.asarray(image.data)
+        noise = rng.standard_normal(pixels[..., :3].shape, dtype=np.float32)
+        noise *= np.float32(self._stddev * 255.0)
+        noise += pixels[..., :3] + np.float32(self._mean * 255.0)
         noisy = ImageRgba8U(image.width(), image.height())
         data = noisy.mutable_data
-        data[..., :3] = np.clip(np.rint(pixels[..., :3] + noise), 0, 255).astype(np.uint8)
-        data[..., 3] = np.asarray(image.data)[..., 3]
+        data[..., :3] = np.clip(np.rint(noise), 0, 255)
+        data[..., 3] = pixels[..., 3]
         output.set_value(noisy)
 
 
@@ -174,10 +197,10 @@ def add_depth_camera(
     info = camera_info(sensor)
     render_info = camera_info(sensor, pixel_centres_at_integers=False)
     clipping = ClippingRange(camera.near, camera.far)
-    core = RenderCameraCore(RENDERER_NAME, render_info, clipping, RigidTransform())
+    core = RenderCameraCore(GAZEBO_RENDERER, render_info, clipping, RigidTransform())
     color = ColorRenderCamera(core, False)
     depth = DepthRenderCamera(core, DepthRange(*depth_range(sensor)))
-    add_renderer(scene_graph)
+    add_gazebo_renderer(scene_graph)
     X_LS = RigidTransform(RollPitchYaw(sensor.rpy), sensor.xyz)
     X_PO = X_LS @ X_CameraOptical()
     rgbd = builder.AddNamedSystem(f"{sensor.name}.rgbd", RgbdSensor(parent, X_PO, color, depth))
