@@ -77,3 +77,15 @@ def test_screenshot(tmp_path):
     image = imread(png)
     assert image.shape[:2] == (800, 1280)
     assert image[..., :3].std() > 0.05  # the model and panels, not an empty page
+
+
+def test_images_writes_the_camera_images_and_points(tmp_path):
+    args = ["view", str(ROBOT), "--images", str(tmp_path), "--position", "arm_joint=0.2"]
+    assert main(args) == 0
+    from matplotlib.image import imread
+
+    assert imread(tmp_path / "tip_camera_color.png").shape[:2] == (480, 640)
+    assert imread(tmp_path / "tip_camera_depth.png").shape[:2] == (480, 640)
+    lines = (tmp_path / "tip_camera_points.ply").read_text().splitlines()
+    count = int(next(line for line in lines if line.startswith("element vertex")).split()[-1])
+    assert count > 50_000 and len(lines) == count + 10  # the ground below the horizon

@@ -100,6 +100,8 @@ def test_the_depth_camera_sees_the_floor_and_the_plate(station):
     color = station.diagram.GetOutputPort("tip_camera.color_image").Eval(context)
     depth = station.diagram.GetOutputPort("tip_camera.depth_image").Eval(context)
     assert (color.width(), color.height(), depth.width(), depth.height()) == (640, 480, 640, 480)
+    # Lit as in Gazebo (the sun from above): the floor below the horizon is grey, not black.
+    assert np.asarray(color.data)[300:, :, :3].mean() > 60
     cloud = station.diagram.GetOutputPort("tip_camera.point_cloud").Eval(context)
     p_OP = cloud.xyzs()
     seen = np.isfinite(p_OP).all(axis=0)

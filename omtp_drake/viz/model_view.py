@@ -383,3 +383,44 @@ def run_view(view: ModelView, timeout: float) -> None:
     ``timeout`` wall seconds (inf: until stopped or interrupted)."""
     view.publish()
     view.sliders.Run(view.diagram, None if math.isinf(timeout) else timeout)
+
+
+def save_sensor_images(view: ModelView, folder: str | Path) -> list[Path]:
+    """Each camera sensor's images as the view shows them now: ``<sensor>_color.png``,
+    ``<sensor>_depth.png`` (depths as grey, 0 black to the 95th percentile white) and, for a depth
+    sensor, ``<sensor>_points.ply`` (its point cloud in its optical frame, with colours)."""
+    from matplotlib.image import imsave
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+
+    def value(port: Any) -> Any:
+        return port.Eval(port.get_system().GetMyContextFromRoot(view.context))
+
+    for name, camera in view.cameras.items():
+        color = np.asarray(value(camera.color_image).data)[..., :3]
+        written.append(folder / f"{name}_color.png")
+        imsave(written[-1], np.ascontiguousarray(color))
+        depth = np.asarray(value(camera.depth_image).data)[..., 0]
+        finite = np.isfinite(depth) & (depth > 0)
+        far = float(np.percentile(depth[finite], 95)) if finite.any() else 1.0
+        written.append(folder / f"{name}_depth.png")
+        imsave(written[-1], np.where(finite, depth, far), cmap="gray", vmin=0.0, vmax=far)
+        if camera.point_cloud is not None:
+            cloud = value(camera.point_cloud)
+            written.append(folder / f"{name}_points.ply")
+            _write_ply(written[-1], cloud.xyzs().T, cloud.rgbs().T)
+    return written
+
+
+def _write_ply(path: Path, xyz: np.ndarray, rgb: np.ndarray) -> None:
+    """An ASCII PLY of the finite points with their colours."""
+    keep = np.isfinite(xyz).all(axis=1)
+    header = (
+        f"ply\nformat ascii 1.0\nelement vertex {int(keep.sum())}\n"
+        "property float x\nproperty float y\nproperty float z\n"
+        "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n"
+    )
+    rows = [f"{x:.4f} {y:.4f} {z:.4f} {r} {g} {b}" for (x, y, z), (r, g, b) in zip(xyz[keep], rgb[keep])]
+    path.write_text(header + "\n".join(rows) + "\n")

@@ -2,7 +2,8 @@
 
 Registered on the main command line by :func:`add_view_command`. ``--json`` lists what
 was parsed (:func:`omtp_drake.viz.model_view.model_info`) instead of showing it;
-``--screenshot PNG`` writes a picture of the view and exits; otherwise the view runs
+``--screenshot PNG`` writes a picture of the view and ``--images DIR`` the sensors'
+images and point clouds, and exit; otherwise the view runs
 until Meshcat's Stop button, ``--timeout`` or Ctrl-C.
 """
 
@@ -49,7 +50,7 @@ def cmd_view(args: argparse.Namespace) -> int:
                 f.write(text + "\n")
         return 0
     from omtp_drake.viz.meshcat import start_meshcat
-    from omtp_drake.viz.model_view import build_model_view, run_view, screenshot_view
+    from omtp_drake.viz.model_view import build_model_view, run_view, save_sensor_images, screenshot_view
 
     positions = {}
     for text in args.position:
@@ -59,8 +60,12 @@ def cmd_view(args: argparse.Namespace) -> int:
         except ValueError:
             raise ConfigError(f"--position {text!r}: {value!r} is not a number") from None
     view = build_model_view(model, start_meshcat(), positions)
+    if args.images:
+        for path in save_sensor_images(view, args.images):
+            sys.stdout.write(f"{path}\n")
     if args.screenshot:
         sys.stdout.write(f"screenshot: {screenshot_view(view, args.screenshot)}\n")
+    if args.screenshot or args.images:
         return 0
     sys.stdout.write(f"Meshcat: {view.meshcat.web_url()} (a slider per joint; Stop or Ctrl-C to end)\n")
     sys.stdout.flush()
@@ -89,6 +94,11 @@ def add_view_command(sub: argparse._SubParsersAction) -> None:
         "--json", nargs="?", const="-", metavar="FILE", help="list links, joints, frames, sensors, plugins"
     )
     p.add_argument("--screenshot", metavar="PNG", help="write a PNG of the view and exit")
+    p.add_argument(
+        "--images",
+        metavar="DIR",
+        help="write each camera sensor's colour and depth images (PNG) and point cloud (PLY) there, and exit",
+    )
     p.add_argument(
         "--position", action="append", default=[], metavar="JOINT=VALUE", help="a joint's start position"
     )
