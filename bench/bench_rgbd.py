@@ -48,7 +48,7 @@ def _run(case: str, seconds: float) -> tuple[float, float]:
     """(CPU s, wall s) per simulated second of ``case`` (the build not counted)."""
     runtime = FactoryRuntime(_scenario(case != "no camera"))
     if case == "camera + topics":
-        from omtp_drake.ros.model_topics import CameraTopic
+        from omtp_drake.ros.gazebo.model_topics import CameraTopic
 
         class _Cell:  # what CameraTopic reads of a Cell
             station, time = runtime.station, 0.0

@@ -25,6 +25,7 @@ is held and checked by tests/test_layering.py):
 - ``ros``: the course's ROS 1 scripts and FlexBE behaviours, unchanged, on the cell
 - ``demos``: ready-made runs of the factory for the command line
 - ``bench_command``: ``omtp-drake bench``'s link to the benchmarks in ``bench/``
+- ``grading``: a class's ROS scripts or behaviours graded: each run isolated, one verdict each
 - ``cli``: the ``omtp-drake`` command line
 """
 

@@ -10,8 +10,8 @@ import pytest
 from pydrake.common.eigen_geometry import Quaternion
 from pydrake.math import RigidTransform
 
-from omtp_drake.ros.image_messages import PointCloud2, PointField, read_points
-from omtp_drake.ros.runner import run_script
+from omtp_drake.ros.comm.image_messages import PointCloud2, PointField, read_points
+from omtp_drake.ros.run.runner import run_script
 
 FIXTURE = Path(__file__).parent / "fixtures" / "tutorial_ws"
 ROBOT = FIXTURE / "src" / "slider_arm_description" / "urdf" / "slider_arm.urdf.xacro"

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import Any, Optional
 
-from omtp_drake.ros.report import ledger_line
+from omtp_drake.ros.run.report import ledger_line
 
 
 @dataclass
