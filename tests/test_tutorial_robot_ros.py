@@ -82,3 +82,20 @@ def test_an_unknown_plugin_is_one_warning_line(tmp_path, caplog):
     assert report.exception is None
     lines = [r.getMessage() for r in caplog.records if "libgazebo_ros_diff_drive.so" in r.getMessage()]
     assert lines == [f"{robot}: plugin 'drive' (libgazebo_ros_diff_drive.so) is not simulated; ignored"]
+
+
+def test_with_the_ur_arms_joint_states_has_both_publishers(tmp_path):
+    script = tmp_path / "echo.py"
+    out = tmp_path / "names.json"
+    script.write_text(
+        "import json, sys, rospy\nfrom sensor_msgs.msg import JointState\nrospy.init_node('echo')\n"
+        "names = set()\n"
+        "rospy.Subscriber('/joint_states', JointState, lambda m: names.add(tuple(m.name)), queue_size=10)\n"
+        "rospy.sleep(0.3)\n"
+        "json.dump(sorted(names), open(sys.argv[1], 'w'))\n"
+    )
+    report = run_script(script, [str(out)], scenario="omtp_factory", robot=ROBOT, timeout=10.0)
+    assert report.exception is None
+    names = json.loads(out.read_text())
+    assert ["slider_joint", "arm_joint"] in names
+    assert any(n[0] == "robot1_shoulder_pan_joint" for n in names)

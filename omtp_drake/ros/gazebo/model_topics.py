@@ -146,6 +146,22 @@ class CameraTopic(Source):
         )  # fmt: skip
 
 
+class Publishers(Source):
+    """Two publishers of one topic: each one's messages, in the order they come."""
+
+    def __init__(self, first: Source, second: Source):
+        if first.msg_class is not second.msg_class:
+            raise ConfigError(
+                f"two publishers of one topic with types {first.msg_class._type} and {second.msg_class._type}"
+            )
+        self.msg_class = first.msg_class
+        self.latch = first.latch or second.latch
+        self._sources = (first, second)
+
+    def poll(self) -> list[tuple[float, Any]]:
+        return sorted(self._sources[0].poll() + self._sources[1].poll(), key=lambda pair: pair[0])
+
+
 def _gazebo_depths(depth: np.ndarray) -> np.ndarray:
     """Drake's depths as gazebo_ros writes them: too close (0) is ``-inf``, too far ``+inf``."""
     out = np.array(depth, dtype=np.float32, copy=True)
@@ -174,13 +190,12 @@ def model_sources(cell: Cell) -> dict[str, Source]:
 
 
 def attach_model_plugins(session: Graph) -> None:
-    """The models' plugins on ``session``: their topics (a joint state topic the cell's
-    arms already publish stays the arms') and the trajectory subscriptions."""
+    """The models' plugins on ``session``: their topics and the trajectory subscriptions. A
+    topic the cell publishes already (the arms' ``/joint_states``) gets both publishers'
+    messages, as two ROS publishers on one topic."""
     for name, source in model_sources(session.cell).items():
-        if name in session.sources:
-            _log.warning("%s: published by the cell's arms already; the model's plugin is not heard", name)
-            continue
-        session.sources[name] = source
+        existing = session.sources.get(name)
+        session.sources[name] = source if existing is None else Publishers(existing, source)
     for edit in session.cell.runtime.driver.edits:
         if isinstance(edit, JointPoseTrajectory):
             session.subscribe(
