@@ -89,3 +89,45 @@ def test_images_writes_the_camera_images_and_points(tmp_path):
     lines = (tmp_path / "tip_camera_points.ply").read_text().splitlines()
     count = int(next(line for line in lines if line.startswith("element vertex")).split()[-1])
     assert count > 50_000 and len(lines) == count + 10  # the ground below the horizon
+
+
+SDF = """<?xml version="1.0"?>
+<sdf version="1.7"><model name="camera_box">
+  <link name="body"><pose>0 0 0.5 0 0 0</pose>
+    <inertial><mass>1</mass><inertia><ixx>0.1</ixx><iyy>0.1</iyy><izz>0.1</izz></inertia></inertial>
+    <visual name="v"><geometry><box><size>0.2 0.2 0.2</size></box></geometry></visual>
+    <sensor name="cam" type="camera"><update_rate>10</update_rate>
+      <camera><horizontal_fov>1.0</horizontal_fov><image><width>320</width><height>240</height></image>
+        <clip><near>0.15</near><far>20</far></clip></camera>
+      <plugin name="drv" filename="libgazebo_ros_camera.so"><camera_name>boxcam</camera_name></plugin>
+    </sensor></link>
+  <link name="lid"><pose>0 0 0.7 0 0 0</pose>
+    <inertial><mass>0.1</mass><inertia><ixx>0.01</ixx><iyy>0.01</iyy><izz>0.01</izz></inertia></inertial></link>
+  <joint name="hinge" type="revolute"><parent>body</parent><child>lid</child>
+    <axis><xyz>0 1 0</xyz><limit><lower>-1</lower><upper>1</upper></limit></axis></joint>
+</model></sdf>
+"""
+
+
+def test_an_sdf_model_with_a_camera(tmp_path, capsys):
+    path = tmp_path / "camera_box.sdf"
+    path.write_text(SDF)
+    assert main(["view", str(path), "--json"]) == 0
+    listed = json.loads(capsys.readouterr().out)
+    assert listed["links"] == ["body", "lid"]
+    assert [(j["name"], j["type"], j["axis"]) for j in listed["joints"]] == [
+        ("hinge", "revolute", [0.0, 1.0, 0.0])
+    ]
+    assert listed["sensors"][0]["ros_camera"]["camera_name"] == "boxcam"
+
+
+def test_a_plugin_value_out_of_range_exits_2_with_one_line(tmp_path, capsys):
+    path = tmp_path / "camera_box.sdf"
+    path.write_text(
+        SDF.replace("<horizontal_fov>1.0</horizontal_fov>", "<horizontal_fov>3.2</horizontal_fov>")
+    )
+    assert main(["view", str(path), "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert (
+        err.count("\n") == 0 and str(path) in err and "horizontal_fov must be in (0, pi) rad, got 3.2" in err
+    )

@@ -148,21 +148,39 @@ def _apply_gazebo_tags(root: ET.Element, model: ModelConfig) -> None:
 
 
 def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex) -> None:
-    """A model not fixed by its own description: welded at its pose when static, else
-    starting there (its root body floating)."""
-    if model.format != "urdf":
-        return
+    """A model not fixed by its own description: its root link welded at the model's pose
+    when static, else starting there (floating). An SDF ``<static>`` model Drake welds itself."""
     root = ET.fromstring(model.description)
-    if any(link.get("name") == "world" for link in root.findall("link")):
-        return
-    children = {child.get("link") for child in root.findall("joint/child")}
-    base: Optional[str] = next(
-        (link.get("name") for link in root.findall("link") if link.get("name") not in children), None
-    )
+    base = _root_link(root, model.format)
     if base is None:
         return
-    body = plant.GetBodyByName(base, instance)
+    name, X_ML = base
+    body = plant.GetBodyByName(name, instance)
+    X_WL = model_pose(model) @ X_ML
     if model.static:
-        plant.WeldFrames(plant.world_frame(), body.body_frame(), model_pose(model))
+        plant.WeldFrames(plant.world_frame(), body.body_frame(), X_WL)
     else:
-        plant.SetDefaultFloatingBaseBodyPose(body, model_pose(model))
+        plant.SetDefaultFloatingBaseBodyPose(body, X_WL)
+
+
+def _root_link(root: ET.Element, format: str) -> Optional[tuple[str, RigidTransform]]:
+    """The link no joint moves and its pose in the model (None: none, or fixed already:
+    a URDF ``world`` link, a link an SDF joint ties to ``world``, an SDF static model)."""
+    if format == "urdf":
+        links, children = root.findall("link"), {c.get("link") for c in root.findall("joint/child")}
+        if any(link.get("name") == "world" for link in links):
+            return None
+        free = [link.get("name", "") for link in links if link.get("name") not in children]
+        return (free[0], RigidTransform()) if free else None
+    model = root.find("model")
+    if model is None or (model.findtext("static") or "").strip() in ("true", "1"):
+        return None
+    joints = model.findall("joint")
+    if any((j.findtext("parent") or "").strip() == "world" for j in joints):
+        return None
+    children = {(j.findtext("child") or "").strip() for j in joints}
+    for link in model.findall("link"):
+        if link.get("name") not in children:
+            values = [float(v) for v in (link.findtext("pose") or "0 0 0 0 0 0").split()]
+            return link.get("name", ""), RigidTransform(RollPitchYaw(values[3:6]), values[:3])
+    return None

@@ -98,7 +98,9 @@ def model_info(model: ModelConfig) -> dict[str, Any]:
     """What ``view --json`` lists: links, joints (type, parent, child, axis, limits), frames
     (each with its parent), sensors and plugins, as parsed."""
     _, plant, _, instance = _plant_with(model)
+    # (not the weld that fixes the model's root for the view: it is in no file)
     joints = [plant.get_joint(j) for j in plant.GetJointIndices(instance)]
+    joints = [j for j in joints if not j.name().startswith("world_welds_to_")]
     frames = [plant.get_frame(f) for f in plant.GetFrameIndices(instance)]
     tags = model.gazebo
     return {
