@@ -187,3 +187,20 @@ def test_an_sdf_drake_refuses_is_one_error_naming_the_file(tmp_path):
     with pytest.raises(WorkspaceError, match=r"m\.sdf: Drake's parser refuses it: ") as error:
         build_station(Scenario(name="bad", models=[model]))
     assert "\n" not in str(error.value)
+
+
+def test_gazebo_material_and_friction_apply_in_the_simulation(station):
+    from pydrake.geometry import Role
+
+    inspector = station.scene_graph.model_inspector()
+
+    def geometries(link: str, role: Role) -> list:
+        body = station.plant.GetBodyByName(link)
+        return inspector.GetGeometries(station.plant.GetBodyFrameIdOrThrow(body.index()), role)
+
+    (arm,) = geometries("arm_link", Role.kIllustration)
+    rgba = inspector.GetIllustrationProperties(arm).GetProperty("phong", "diffuse")
+    assert (rgba.r(), rgba.g(), rgba.b()) == pytest.approx((1.0, 0.5088, 0.0468))  # Gazebo/Orange
+    (plate,) = geometries("base_link", Role.kProximity)
+    friction = inspector.GetProximityProperties(plate).GetProperty("material", "coulomb_friction")
+    assert (friction.static_friction(), friction.dynamic_friction()) == pytest.approx((0.8, 0.8))
