@@ -204,3 +204,14 @@ def test_gazebo_material_and_friction_apply_in_the_simulation(station):
     (plate,) = geometries("base_link", Role.kProximity)
     friction = inspector.GetProximityProperties(plate).GetProperty("material", "coulomb_friction")
     assert (friction.static_friction(), friction.dynamic_friction()) == pytest.approx((0.8, 0.8))
+
+
+def test_a_robot_file_is_a_scenario_for_the_inspecting_commands(capsys):
+    from omtp_drake.cli import main
+
+    assert main(["tf-echo", str(ROBOT), "world", "camera_link_optical", "--json"]) == 0
+    import json
+
+    out = json.loads(capsys.readouterr().out)
+    # camera_link is 0.8 m along the level arm, 0.11 m above it: x = -1 + 0.4 + 0.8, z = 0.08 + 0.12 + 0.11
+    assert out["translation"] == pytest.approx([0.2, 0.0, 0.31], abs=1e-3)
