@@ -82,6 +82,8 @@ def test_an_unknown_plugin_is_one_warning_line(tmp_path, caplog):
     assert report.exception is None
     lines = [r.getMessage() for r in caplog.records if "libgazebo_ros_diff_drive.so" in r.getMessage()]
     assert lines == [f"{robot}: plugin 'drive' (libgazebo_ros_diff_drive.so) is not simulated; ignored"]
+    assert report.ignored_plugins == lines
+    assert f"ignored plugin: {lines[0]}" in report.summary().splitlines()
 
 
 def test_with_the_ur_arms_joint_states_has_both_publishers(tmp_path):

@@ -29,6 +29,7 @@ from omtp_drake.ros.comm._core import Cell, load_scenario
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.ros.comm.session import Session, active
+from omtp_drake.ros.gazebo.model_topics import unknown_plugins
 from omtp_drake.ros.moveit.config import install as install_moveit_config
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport, describe_script_exception
@@ -182,6 +183,7 @@ def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: 
         exit_code=ending.exit_code,
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
+        ignored_plugins=unknown_plugins(cell),
         replay=str(replay) if replay else None,
     )
 
