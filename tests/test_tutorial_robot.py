@@ -215,3 +215,17 @@ def test_a_robot_file_is_a_scenario_for_the_inspecting_commands(capsys):
     out = json.loads(capsys.readouterr().out)
     # camera_link is 0.8 m along the level arm, 0.11 m above it: x = -1 + 0.4 + 0.8, z = 0.08 + 0.12 + 0.11
     assert out["translation"] == pytest.approx([0.2, 0.0, 0.31], abs=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        ({"description": "<robot name='x'><link"}, "not well-formed XML"),
+        ({"format": "sdf"}, "format 'sdf', but the description is URDF"),
+        ({"name": "has space"}, "model name 'has space' must be"),
+        ({"xyz": [0.0, 1.0]}, "xyz needs 3 numbers"),
+    ],
+)
+def test_a_bad_models_entry_is_one_error(robot, change, message):
+    with pytest.raises(ConfigError, match=message):
+        Scenario(name="bad", models=[dataclasses.replace(robot, **change)]).validate()

@@ -58,6 +58,9 @@ class ModelConfig:
                 raise ConfigError(f"{where}: {key} needs 3 numbers, got {getattr(self, key)!r}")
         if not self.description.strip():
             raise ConfigError(f"{where}: the description is empty")
+        found = description_format(self.description, where)
+        if found != self.format:
+            raise ConfigError(f"{where}: format {self.format!r}, but the description is {found.upper()}")
         self.gazebo.validate(where)
 
 
