@@ -274,10 +274,7 @@ def build_station(
     belt = _add_conveyor(builder, plant, scenario, models)
     beam = _add_break_beam(builder, plant, scenario, models, belt)
     grippers = _add_grippers(builder, plant, scenario, models, constraints)
-    cameras = _add_cameras(builder, plant, scene_graph, scenario, models)
-    depth_cameras = add_model_cameras(
-        builder, plant, scene_graph, models.described, scenario.models, seed=scenario.seed, meshcat=meshcat
-    )
+    cameras, depth_cameras = _add_cameras(builder, plant, scene_graph, scenario, models, meshcat)
     rest_clock = None
     if scenario.sleep.enabled and models.parts:
         rest_clock = RestClock.AddToDiagram(builder, plant, models.parts, scenario.sleep)
@@ -318,9 +315,11 @@ def _add_cameras(
     scene_graph: SceneGraph,
     scenario: Scenario,
     models: CellModels,
-) -> dict[str, LogicalCamera]:
+    meshcat: Optional[Meshcat],
+) -> tuple[dict[str, LogicalCamera], dict[str, DepthCamera]]:
     """The logical cameras (each blind to its own model and the floor), their
-    ``<camera>.image`` ports and the RGB-D views of those with ``rgbd``."""
+    ``<camera>.image`` ports and the RGB-D views of those with ``rgbd``; then the camera
+    and depth sensors of the scenario's models (:mod:`omtp_drake.cell.depth_camera`)."""
     cameras: dict[str, LogicalCamera] = {}
     for cam in scenario.cameras:
         cameras[cam.name] = add_logical_camera(
@@ -335,7 +334,10 @@ def _add_cameras(
         builder.ExportOutput(cameras[cam.name].image_output_port(), f"{cam.name}.image")
         if cam.rgbd:
             _add_rgbd_view(builder, plant, scene_graph, cameras[cam.name])
-    return cameras
+    depth_cameras = add_model_cameras(
+        builder, plant, scene_graph, models.described, scenario.models, seed=scenario.seed, meshcat=meshcat
+    )
+    return cameras, depth_cameras
 
 
 def _export_plant_ports(builder: DiagramBuilder, plant: MultibodyPlant, scene_graph: SceneGraph) -> None:

@@ -230,10 +230,8 @@ def panel_gltf(pixels: np.ndarray) -> str:
     uv = np.array([[0, 1], [1, 1], [1, 0], [0, 0]])
     blob = corners.astype(np.float32).tobytes() + uv.astype(np.float32).tobytes()
     blob += np.array([0, 1, 2, 0, 2, 3], dtype=np.uint16).tobytes()
-
-    def data(mime: str, raw: bytes) -> str:
-        return f"data:{mime};base64," + base64.b64encode(raw).decode()
-
+    png_uri = "data:image/png;base64," + base64.b64encode(png.getvalue()).decode()
+    blob_uri = "data:application/octet-stream;base64," + base64.b64encode(blob).decode()
     gltf = {
         "asset": {"version": "2.0"},
         "scene": 0,
@@ -251,8 +249,8 @@ def panel_gltf(pixels: np.ndarray) -> str:
             }
         ],
         "textures": [{"source": 0}],
-        "images": [{"uri": data("image/png", png.getvalue())}],
-        "buffers": [{"byteLength": len(blob), "uri": data("application/octet-stream", blob)}],
+        "images": [{"uri": png_uri}],
+        "buffers": [{"byteLength": len(blob), "uri": blob_uri}],
         "bufferViews": [
             {"buffer": 0, "byteOffset": 0, "byteLength": 48},
             {"buffer": 0, "byteOffset": 48, "byteLength": 32},

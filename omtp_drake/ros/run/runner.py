@@ -35,7 +35,7 @@ from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport, describe_script_exception
 from omtp_drake.ros.run.setup_steps import call_services
 from omtp_drake.ros.run.setup_steps import settle as settle_cell
-from omtp_drake.scenario import with_robot
+from omtp_drake.scenario import Scenario, with_robot
 
 _log = logging.getLogger(__name__)
 
@@ -114,13 +114,7 @@ def run_script(
         raise ConfigError(f"--moveit {moveit!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
     if timeout is not None and not timeout > 0:
         raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
-    loaded = load_scenario(str(scenario)) if scenario is not None else None
-    if robot is not None:
-        loaded = with_robot(loaded, robot, workspace)
-    if loaded is None:
-        raise ConfigError("ros-run needs --scenario NAME|FILE or --robot FILE")
-    if seed is not None:
-        loaded = dataclasses.replace(loaded, seed=int(seed))
+    loaded = _run_scenario(scenario, robot, workspace, seed)
     delays = resolve_latency(loaded.ros_latency, latency)
     start = time.perf_counter()
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
@@ -136,6 +130,21 @@ def run_script(
     ending = _run_main(path, args, session)
     replay = cell.close()
     return _report(path, session, ending, time.perf_counter() - start, replay)
+
+
+def _run_scenario(
+    scenario: Optional[str | Path],
+    robot: Optional[str | Path],
+    workspace: Sequence[str | Path],
+    seed: Optional[int],
+) -> Scenario:
+    """The run's scenario: ``scenario`` (or Gazebo's empty world) with ``robot`` in it, seeded ``seed``."""
+    loaded = load_scenario(str(scenario)) if scenario is not None else None
+    if robot is not None:
+        loaded = with_robot(loaded, robot, workspace)
+    if loaded is None:
+        raise ConfigError("ros-run needs --scenario NAME|FILE or --robot FILE")
+    return loaded if seed is None else dataclasses.replace(loaded, seed=int(seed))
 
 
 @dataclasses.dataclass
