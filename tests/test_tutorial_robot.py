@@ -229,3 +229,8 @@ def test_a_robot_file_is_a_scenario_for_the_inspecting_commands(capsys):
 def test_a_bad_models_entry_is_one_error(robot, change, message):
     with pytest.raises(ConfigError, match=message):
         Scenario(name="bad", models=[dataclasses.replace(robot, **change)]).validate()
+
+
+def test_a_missing_robot_file_is_one_error(tmp_path):
+    with pytest.raises(ConfigError, match=r"nope\.urdf\.xacro: no such file"):
+        model_from_file(tmp_path / "nope.urdf.xacro")

@@ -78,10 +78,10 @@ def model_from_file(
     ``$(find)`` in ``workspace``), named ``name`` (default: the file's robot or model
     name), at ``xyz``/``rpy``; checked (ConfigError naming the file and the value)."""
     path = Path(path)
+    if not path.is_file():
+        raise ConfigError(f"{path}: no such file")
     workspace = workspace or file_workspace(path)
     if path.suffix == ".sdf" or path.name.endswith(".world"):
-        if not path.is_file():
-            raise ConfigError(f"{path}: no such file")
         text = path.read_text()
     else:
         text = expand_xacro_in(workspace, path, args)
@@ -124,8 +124,8 @@ def root_name_of(text: str, file: str) -> str:
 
 def file_workspace(path: str | os.PathLike, dirs: Sequence[str | os.PathLike] = ()) -> Workspace:
     """The workspace of the file ``path``: ``dirs`` (``--workspace``), ``ROS_PACKAGE_PATH``,
-    then the folder above the package holding ``path`` (the package and its siblings; the
-    file's own folder when it is in no package)."""
+    then the package holding ``path`` (if any; nothing above it is crawled: other packages
+    come from ``dirs`` or ``ROS_PACKAGE_PATH``)."""
     resolved = Path(path).resolve()
-    root = next((f.parent for f in resolved.parents if (f / "package.xml").is_file()), resolved.parent)
-    return Workspace.from_dirs(dirs, bundled=[root])
+    roots = [f for f in resolved.parents if (f / "package.xml").is_file()][:1]
+    return Workspace.from_dirs(dirs, bundled=roots)
