@@ -13,6 +13,7 @@ Modules, one concept each:
 - ``messages``: ROS 1 messages and services as plain classes (std, geometry, sensor)
 - ``image_messages``: sensor_msgs' images, camera info and point clouds, and ``read_points``
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
+- ``nav_interfaces``: move_base_msgs' action types (no ``/move_base``, as in the course's cell)
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
 - ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
 - ``latency``: the simulated time a call takes (planning, a trajectory's start, a service)

@@ -39,7 +39,7 @@ from omtp_drake.ros.flexbe.context import (
 )
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
-from omtp_drake.ros.moveit.config import install as install_moveit_config
+from omtp_drake.ros.moveit.node import start_move_group
 from omtp_drake.ros.run.py2 import python2_imports
 from omtp_drake.ros.run.runner import SHIM_DIR, SHIM_PACKAGES
 
@@ -177,7 +177,7 @@ def run_behavior(
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record)
     session = Session(cell, timeout=timeout)
     try:
-        install_moveit_config(session, srdf, moveit_config)  # the params and the named states
+        start_move_group(session, srdf, moveit_config)  # the params, the named states, its services
     except Exception:
         cell.close()
         raise
@@ -225,6 +225,7 @@ def _report(
         failed_state=result.failed_state,
         traceback=_frames(error, roots) if error is not None else [],
         shutdown=session.shutdown_reason,
+        bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
 

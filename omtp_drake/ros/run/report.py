@@ -45,6 +45,8 @@ class RosReport:
     empty_spawn_calls: list[str] = field(default_factory=list)
     #: Gazebo plugins of the scenario's models that the cell does not run (one line each).
     ignored_plugins: list[str] = field(default_factory=list)
+    #: MoveIt's fixes of a start or goal just outside the joint bounds (its log lines).
+    bounds_fixed: list[str] = field(default_factory=list)
     replay: Optional[str] = None
 
     @property
@@ -78,6 +80,7 @@ class RosReport:
         lines += [f"bad callback: {c}" for c in self.callback_errors]
         lines += [f"spawn call: {c}" for c in self.empty_spawn_calls]
         lines += [f"ignored plugin: {p}" for p in self.ignored_plugins]
+        lines += [f"moveit bounds: {c}" for c in self.bounds_fixed]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")
         if self.exception:

@@ -30,7 +30,7 @@ from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.ros.comm.session import Session, active
 from omtp_drake.ros.gazebo.model_topics import unknown_plugins
-from omtp_drake.ros.moveit.config import install as install_moveit_config
+from omtp_drake.ros.moveit.node import start_move_group
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport, describe_script_exception
 from omtp_drake.ros.run.setup_steps import call_services
@@ -120,7 +120,7 @@ def run_script(
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
     session = Session(cell, timeout=timeout, moveit=moveit, latency=delays)
     try:
-        install_moveit_config(session, srdf, moveit_config)
+        start_move_group(session, srdf, moveit_config)
         with active(session):
             call_services(session, calls)
             settle_cell(session, float(settle))
@@ -193,6 +193,7 @@ def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: 
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
         ignored_plugins=unknown_plugins(cell),
+        bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
 
