@@ -243,9 +243,11 @@ def test_the_domain_comes_from_the_environment_when_not_given(monkeypatch):
     assert 1 <= choose_network().domain_id <= 101
 
 
-def test_without_the_extra_the_command_names_it(tmp_path):
-    """A Python whose rclpy cannot be imported: one error line naming the extra."""
-    blocker = tmp_path / "rclpy.py"
+@pytest.mark.parametrize("missing", ["rclpy", "builtin_interfaces"])
+def test_without_the_extra_the_command_names_it(tmp_path, missing):
+    """A Python whose rclpy (or a message package the bridge imports first) cannot be
+    imported: one error line naming the extra."""
+    blocker = tmp_path / f"{missing}.py"
     blocker.write_text("raise ImportError('librmw_fastrtps_cpp.so: cannot open shared object file')\n")
     env = dict(os.environ, PYTHONPATH=str(tmp_path))
     done = subprocess.run(

@@ -91,6 +91,7 @@ def import_rclpy() -> ModuleType:
     """rclpy, or one MissingExtraError naming the extra when it (or its middleware,
     Fast DDS, or a message package) is not installed."""
     try:
+        import builtin_interfaces.msg  # noqa: F401
         import geometry_msgs.msg  # noqa: F401
         import rclpy
         import rosgraph_msgs.msg  # noqa: F401

@@ -83,9 +83,9 @@ def _stop_on_signals() -> Iterator[threading.Event]:
 def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str], None]) -> float:
     """Runs the cell of ``options`` as a ROS 2 node on ``network`` until its timeout
     or a signal; ``say`` gets the lines to show. Returns the simulated time reached."""
+    import_rclpy()  # before anything imports a message package: a missing extra is said at once
     from omtp_drake.ros2.bridge import NODE_NAME, Ros2Cell
 
-    import_rclpy()  # before the cell is built: a missing extra is said at once
     with _stop_on_signals() as stop:
         with options.cell() as cell:
             with Ros2Cell(cell, network) as node:

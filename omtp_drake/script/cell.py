@@ -75,8 +75,10 @@ class Cell:
         realtime: pace the simulation at real time (for watching it live).
         tf_cache: how long (s) the tf buffer keeps its history.
 
-    Use it as a context manager (``with Cell(...) as cell:``) so the replay is
-    written at the end, or call :meth:`close`.
+    Use it as a context manager (``with Cell(...) as cell:``) or call :meth:`close`:
+    closing writes the replay and frees the cell (its diagram, plant and Contexts;
+    an unclosed cell stays in memory for the life of the process). A closed cell
+    refuses to run: build a new one.
     """
 
     def __init__(
@@ -126,6 +128,7 @@ class Cell:
             for name, c in commanders.items()
         }
         self._closed = False
+        self._final_ledger: Optional[Ledger] = None
 
     # ------------------------------------------------------------ handles
 
@@ -216,7 +219,8 @@ class Cell:
         return self.runtime.break_beam()[0]
 
     def ledger(self) -> Ledger:
-        return self.runtime.ledger()
+        """Where every part is (after :meth:`close`: where each was when it closed)."""
+        return self._final_ledger if self._final_ledger is not None else self.runtime.ledger()
 
     def faults(self) -> list[FaultReport]:
         """The scenario's faults that have struck so far: what, when, and their effect."""
@@ -230,13 +234,20 @@ class Cell:
     # ------------------------------------------------------------ the end
 
     def close(self) -> Optional[Path]:
-        """Writes the replay (with ``record``); returns its path."""
+        """Writes the replay (with ``record``) and returns its path; frees the cell
+        (:meth:`FactoryRuntime.close <omtp_drake.sim.runtime.FactoryRuntime.close>`).
+        Afterwards :attr:`time`, :meth:`ledger` and :meth:`faults` tell how it ended;
+        running it raises SimulationError. Closing twice is harmless."""
         if self._closed:
             return None
         self._closed = True
-        if self._record is not None and self.meshcat is not None:
-            return save_recording(self.station.visualizer, self.meshcat, self._record)
-        return None
+        try:
+            self._final_ledger = self.runtime.ledger()
+            if self._record is not None and self.meshcat is not None:
+                return save_recording(self.station.visualizer, self.meshcat, self._record)
+            return None
+        finally:
+            self.runtime.close()
 
     def __enter__(self) -> Cell:
         return self
