@@ -234,3 +234,21 @@ def test_a_bad_models_entry_is_one_error(robot, change, message):
 def test_a_missing_robot_file_is_one_error(tmp_path):
     with pytest.raises(ConfigError, match=r"nope\.urdf\.xacro: no such file"):
         model_from_file(tmp_path / "nope.urdf.xacro")
+
+
+def test_a_closed_cell_with_the_robot_is_freed():
+    import gc
+    import weakref
+
+    from omtp_drake.cell.lifetime import python_systems
+    from omtp_drake.script import Cell
+
+    with Cell(robot=ROBOT) as cell:
+        cell.wait(0.1)
+        refs = {s.get_name(): weakref.ref(s) for s in python_systems(cell.runtime.diagram)}
+        refs |= {"plant": weakref.ref(cell.station.plant), "context": weakref.ref(cell.runtime.context)}
+    assert "tip_camera.noise" in refs
+    del cell
+    gc.collect()
+    gc.collect()
+    assert sorted(name for name, ref in refs.items() if ref() is not None) == []

@@ -63,6 +63,7 @@ from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, Outpu
 from pydrake.systems.primitives import ZeroOrderHold
 from pydrake.systems.sensors import CameraInfo, ImageDepth32F, ImageRgba8U, PixelType, RgbdSensor
 
+from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.logical_camera import X_CameraOptical
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import SensorConfig
@@ -141,7 +142,8 @@ class ColorNoise(LeafSystem):
         self._mean, self._stddev, self._period = mean, stddev, period
         self._seed = [int(seed), int(key)]
         self._input = self.DeclareAbstractInputPort("color_image", Value(ImageRgba8U()))
-        self.DeclareAbstractOutputPort("color_image", lambda: Value(ImageRgba8U()), self._calc)
+        # C++ holds a port's calc: a weak one lets the system be freed (omtp_drake.cell.lifetime).
+        self.DeclareAbstractOutputPort("color_image", lambda: Value(ImageRgba8U()), weak_method(self._calc))
 
     def _calc(self, context: Context, output) -> None:
         image: ImageRgba8U = self._input.Eval(context)
