@@ -25,6 +25,7 @@ from omtp_drake.grading.cli import add_commands as add_ros_commands
 from omtp_drake.launch.options import add_scenario_argument, resolve_cell_options
 from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
 from omtp_drake.ros2.run import add_commands as add_ros2_commands
+from omtp_drake.viz.view_command import add_view_command
 
 if TYPE_CHECKING:
     from pydrake.systems.framework import Context
@@ -470,6 +471,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_ros_commands(sub)
     add_flexbe_commands(sub)
     add_ros2_commands(sub)
+    add_view_command(sub)
     return parser
 
 

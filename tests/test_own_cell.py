@@ -232,6 +232,7 @@ def test_a_launchs_python_node_runs_unchanged_in_the_ros_run_session(tmp_path):
 
     src = tmp_path / "src"
     shutil.copytree(WORKSPACE, src)
+    (src / "omtp_lecture6" / "scripts").mkdir(exist_ok=True)  # git keeps no empty folder
     (src / "omtp_lecture6" / "scripts" / "echo_node.py").write_text(
         "import sys\nimport rospy\nfrom std_msgs.msg import String\n\n"
         "def on_ping(msg, pub):\n    pub.publish(String(data=msg.data + ' from ' + rospy.get_name()))\n\n"

@@ -9,7 +9,7 @@ anything that needs the same cell in a plant of its own.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
@@ -23,6 +23,7 @@ from pydrake.systems.framework import Diagram
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
+from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.cell.parts import parking_pose
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import RobotConfig, Scenario
@@ -71,6 +72,8 @@ class CellModels:
     parts: dict[str, ModelInstanceIndex]
     #: Names of the pool's parts, in spawn order.
     pool: list[str]
+    #: The scenario's models from description files, by name.
+    described: dict[str, ModelInstanceIndex] = field(default_factory=dict)
 
 
 def _add_xacro(parser: Parser, file: str, args: dict | None = None) -> ModelInstanceIndex:
@@ -102,6 +105,7 @@ def add_cell_models(
     camera_instances = _add_camera_frames(parser, scenario)
     part_instances, pool = _add_parts(parser, scenario) if parts else ({}, [])
     _add_extra_frames(plant, scenario)
+    described = add_described_models(parser, scenario.models)
     _filter_robot_collisions(plant, scene_graph, arm_handles)
     return CellModels(
         floor=floor,
@@ -112,6 +116,7 @@ def add_cell_models(
         cameras=camera_instances,
         parts=part_instances,
         pool=pool,
+        described=described,
     )
 
 

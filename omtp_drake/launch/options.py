@@ -87,6 +87,8 @@ def resolve_cell_options(args: argparse.Namespace, warn: Any = None) -> None:
         return  # a command that takes no cell
     launch, world = args.launch, args.world
     if not (launch or world):
+        if getattr(args, "robot", None):
+            return  # the robot's own world, or the scenario's (its workspace is the robot's)
         if not getattr(args, "scenario", None):
             raise ConfigError(f"give {CHOICES}")
         if getattr(args, "workspace", None) and getattr(args, "cell_workspace_option", False):

@@ -303,7 +303,18 @@ def require_scenario(value: Any, who: str) -> Scenario:
 def as_scenario(scenario: "Scenario | str | Path") -> Scenario:
     """The one door of the public entry points (``Cell``, ``FactoryRuntime``,
     ``run_task``, ``run_batch``, the CLI): a :class:`Scenario` is passed through
-    as it is; a name or a path is loaded (and so validated) here."""
+    as it is; a name or a path is loaded (and so validated) here. A robot's URDF, xacro
+    or SDF file is that robot in Gazebo's empty world
+    (:func:`~omtp_drake.scenario.robot_world.with_robot`): ``omtp-drake tf-echo
+    robot.urdf.xacro world camera_link``."""
     if isinstance(scenario, Scenario):
         return scenario
+    if str(scenario).endswith(ROBOT_FILE_SUFFIXES):
+        from omtp_drake.scenario.robot_world import with_robot
+
+        return with_robot(None, scenario)
     return load_scenario(scenario)
+
+
+#: File names that are a robot's description, not a scenario.
+ROBOT_FILE_SUFFIXES = (".urdf", ".xacro", ".sdf")

@@ -38,6 +38,7 @@ from omtp_drake.scenario.configs import (
 )
 from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.latency import RosLatencyConfig
+from omtp_drake.scenario.models import ModelConfig
 from omtp_drake.scenario.suction import SuctionConfig
 
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
@@ -107,6 +108,8 @@ class Scenario:
     sleep: SleepConfig = field(default_factory=SleepConfig)
     #: Simulated time a ROS script's calls take under ``ros-run`` (planning, services...).
     ros_latency: RosLatencyConfig = field(default_factory=RosLatencyConfig)
+    #: Models from description files (a student's robot, a piece of the course's world).
+    models: list[ModelConfig] = field(default_factory=list)
 
     def part_size(self, name: str) -> float:
         """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
@@ -181,6 +184,9 @@ class Scenario:
             frame.validate()
         if len({f.name for f in self.frames}) != len(self.frames):
             raise ConfigError(f"frames: names must be unique, got {[f.name for f in self.frames]}")
+        for model in self.models:
+            model.validate()
+            names.append(model.name)
         self.suction.validate()
         self.sleep.validate()
         self.ros_latency.validate()

@@ -45,9 +45,9 @@ from pydrake.systems.framework import DiagramBuilder
 
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
-from omtp_drake.errors import UnknownNameError, check_duration
+from omtp_drake.errors import ConfigError, NotSupportedError, UnknownNameError, check_duration
 from omtp_drake.launch.options import chosen_cell
-from omtp_drake.scenario import Scenario
+from omtp_drake.scenario import Scenario, with_robot
 from omtp_drake.script.arm import Arm
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
@@ -69,9 +69,13 @@ class Cell:
         scenario: a scenario name, path or :class:`Scenario`; or instead:
         launch: a student's launch file, as roslaunch takes it (``'omtp_lecture6
             lecture6_assignment1.launch paused:=false'``), or
-        world: a student's Gazebo world file,
-        workspace: with ``launch`` or ``world``: the folders (catkin ``src``, packages)
-            their packages and models are found in (:mod:`omtp_drake.launch`).
+        world: a student's Gazebo world file (None of the three with ``robot``:
+            Gazebo's empty world).
+        robot: a URDF, xacro or SDF file: the robot spawned into that cell, as
+            ``spawn_model`` does (its joints, sensors and gazebo_ros plugins; ``arm``,
+            ``gripper`` and MoveIt stay the scenario's UR arms').
+        workspace: the folders (catkin ``src``, packages) where the launch, world or
+            robot file finds its packages and models (:mod:`omtp_drake.workspace`).
         auto_spawn: let the scenario's spawner spawn parts by itself (False: your
             own :meth:`spawn_part` calls, from t = 0).
         meshcat: serve a live Meshcat view (its URL is logged and in :attr:`url`).
@@ -91,6 +95,7 @@ class Cell:
         *,
         launch: Optional[str] = None,
         world: Optional[str | Path] = None,
+        robot: Optional[str | Path] = None,
         workspace: Sequence[str | Path] | str | Path = (),
         auto_spawn: bool = True,
         meshcat: bool = False,
@@ -98,10 +103,7 @@ class Cell:
         realtime: bool = False,
         tf_cache: float = 30.0,
     ):
-        own = chosen_cell(scenario, launch=launch, world=world, workspace=workspace)
-        for line in own.warnings + own.ros_only:
-            _log.warning("%s", line)
-        scenario = own.scenario
+        scenario = _cell_scenario(scenario, launch, world, robot, workspace)
         self.scenario = scenario
         self._record = Path(record) if record else None
         self.meshcat = start_meshcat(view_for(scenario)) if (meshcat or record) else None
@@ -151,11 +153,19 @@ class Cell:
         return self.runtime.time
 
     def arm(self, name: str) -> Arm:
+        if name not in self._arms and name in self.station.models:
+            raise NotSupportedError(
+                f"robot {name!r} is a model from a description file: arm(), gripper() and MoveIt need "
+                f"one of the scenario's UR arms ({', '.join(self._arms) or 'none here'}); move its joints "
+                "with its gazebo_ros plugins (/set_joint_trajectory)"
+            )
         if name not in self._arms:
             raise UnknownNameError("robot", name, self._arms)
         return self._arms[name]
 
     def gripper(self, robot: str) -> Gripper:
+        if robot in self.station.models:
+            self.arm(robot)  # the error says what needs a UR arm
         self.station.suction_name(robot)  # the error lists the robots with grippers
         return Gripper(self.runtime, robot)
 
@@ -254,3 +264,31 @@ class Cell:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _cell_scenario(
+    scenario: Scenario | str | None,
+    launch: Optional[str],
+    world: Optional[str | Path],
+    robot: Optional[str | Path],
+    workspace: Sequence[str | Path] | str | Path,
+) -> Scenario:
+    """The scenario a Cell builds: the cell of ``scenario``, ``launch`` or ``world`` (Gazebo's
+    empty world when none is given with a ``robot``), with ``robot`` spawned in it."""
+    base = None
+    if scenario is not None or launch or world:
+        own_files = bool(launch or world)
+        own = chosen_cell(scenario, launch=launch, world=world, workspace=workspace if own_files else ())
+        for line in own.warnings + own.ros_only:
+            _log.warning("%s", line)
+        base = own.scenario
+    if robot is None:
+        if base is None:
+            raise ConfigError(
+                "Cell needs a scenario (a name, path or Scenario), a launch=, a world= or a robot="
+            )
+        if workspace and not (launch or world):
+            raise ConfigError("Cell(workspace=...) goes with launch=, world= or robot=")
+        return base
+    folders = [workspace] if isinstance(workspace, (str, Path)) else list(workspace)
+    return with_robot(base, robot, folders)

@@ -29,11 +29,13 @@ from omtp_drake.ros.comm._core import Cell, load_scenario
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.ros.comm.session import Session, active
+from omtp_drake.ros.gazebo.model_topics import unknown_plugins
 from omtp_drake.ros.moveit.node import start_move_group
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport, describe_script_exception
 from omtp_drake.ros.run.setup_steps import call_services
 from omtp_drake.ros.run.setup_steps import settle as settle_cell
+from omtp_drake.scenario import Scenario, with_robot
 
 _log = logging.getLogger(__name__)
 
@@ -74,7 +76,9 @@ def run_script(
     script: str | Path,
     args: Sequence[str] = (),
     *,
-    scenario: str | Path,
+    scenario: Optional[str | Path] = None,
+    robot: Optional[str | Path] = None,
+    workspace: Sequence[str | Path] = (),
     seed: Optional[int] = None,
     timeout: Optional[float] = 600.0,
     moveit: str = "noetic",
@@ -89,6 +93,9 @@ def run_script(
     nodes: Sequence[tuple[str | Path, Sequence[str]]] = (),
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
+
+    ``robot``: a URDF, xacro or SDF file spawned into the scenario (without one, into
+    Gazebo's empty world) as ``spawn_model`` does; ``workspace``: its packages' folders.
 
     ``timeout``: simulated seconds after which the ROS session shuts down
     (``rospy.is_shutdown()`` turns True, blocking calls raise
@@ -111,9 +118,7 @@ def run_script(
         raise ConfigError(f"--moveit {moveit!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
     if timeout is not None and not timeout > 0:
         raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
-    loaded = load_scenario(str(scenario))
-    if seed is not None:
-        loaded = dataclasses.replace(loaded, seed=int(seed))
+    loaded = _run_scenario(scenario, robot, workspace, seed)
     delays = resolve_latency(loaded.ros_latency, latency)
     start = time.perf_counter()
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
@@ -130,6 +135,21 @@ def run_script(
     ending = _run_main(path, args, session)
     replay = cell.close()
     return _report(path, session, ending, time.perf_counter() - start, replay)
+
+
+def _run_scenario(
+    scenario: Optional[str | Path],
+    robot: Optional[str | Path],
+    workspace: Sequence[str | Path],
+    seed: Optional[int],
+) -> Scenario:
+    """The run's scenario: ``scenario`` (or Gazebo's empty world) with ``robot`` in it, seeded ``seed``."""
+    loaded = load_scenario(str(scenario)) if scenario is not None else None
+    if robot is not None:
+        loaded = with_robot(loaded, robot, workspace)
+    if loaded is None:
+        raise ConfigError("ros-run needs --scenario NAME|FILE or --robot FILE")
+    return loaded if seed is None else dataclasses.replace(loaded, seed=int(seed))
 
 
 @dataclasses.dataclass
@@ -201,6 +221,7 @@ def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: 
         exit_code=ending.exit_code,
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
+        ignored_plugins=unknown_plugins(cell),
         bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
