@@ -68,6 +68,7 @@ class Arm:
         commander: ArmCommander,
         scene: CellPlanningScene,
         step_hooks: list[Callable[[], None]],
+        step_stops: Sequence[Callable[[], float]] = (),
     ):
         self._runtime = runtime
         self._tf = tf
@@ -76,7 +77,7 @@ class Arm:
         self.config = runtime.station.arm(name).config
         self._planner: Optional[ArmPlanner] = None
         self._tool_frames = arms.tool_frame_names(self.config)
-        self._motion = MoveRunner(runtime, name, commander, scene, step_hooks)
+        self._motion = MoveRunner(runtime, name, commander, scene, step_hooks, step_stops)
 
     # ------------------------------------------------------------ state
 

@@ -114,8 +114,9 @@ class Cell:
         #: (MoveIt's planning scene: loose parts are not in it unless added).
         self.planning_scene = CellPlanningScene(self.runtime, self.tf)
         self._move_hooks: list[Callable[[], None]] = []
+        self._move_stops: list[Callable[[], float]] = []
         self._arms = {
-            name: Arm(self.runtime, self.tf, name, c, self.planning_scene, self._move_hooks)
+            name: Arm(self.runtime, self.tf, name, c, self.planning_scene, self._move_hooks, self._move_stops)
             for name, c in commanders.items()
         }
         self._closed = False
@@ -160,6 +161,12 @@ class Cell:
         arm moves (the ROS layer delivers topic callbacks there). The hook may make
         blocking calls itself; the move goes on from wherever they leave the cell."""
         self._move_hooks.append(hook)
+
+    def limit_move_steps(self, next_stop: Callable[[], float]) -> None:
+        """Every blocking move's next step ends no later than ``next_stop()`` (simulated
+        seconds; a time not after now is ignored), so that the work its step hooks do
+        for that time runs on time (the ROS layer's other script threads wake there)."""
+        self._move_stops.append(next_stop)
 
     def wait(self, seconds: float) -> None:
         """Lets the cell run for ``seconds`` of simulated time."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any, Optional
 
@@ -87,11 +87,13 @@ class MoveRunner:
         commander: ArmCommander,
         scene: CellPlanningScene,
         step_hooks: list[Callable[[], None]],
+        step_stops: Sequence[Callable[[], float]] = (),
     ):
         self._runtime = runtime
         self._commander = commander
         self._scene = scene
         self._step_hooks = step_hooks
+        self._step_stops = step_stops
         self.name = name
 
     def _joint_values(self) -> np.ndarray:
@@ -168,7 +170,7 @@ class MoveRunner:
         stopped = False
         next_contact_check = start + CONTACT_CHECK_PERIOD
         while runtime.time < end - 1e-9:
-            runtime.advance_to(min(end, runtime.time + period))
+            runtime.advance_to(self._step_end(min(end, runtime.time + period)))
             if runtime.time >= next_contact_check - 1e-9 or runtime.time >= end - 1e-9:
                 self._check_contacts()
                 next_contact_check = runtime.time + CONTACT_CHECK_PERIOD
@@ -184,10 +186,17 @@ class MoveRunner:
             and np.max(np.abs(self._joint_values() - goal)) > SETTLE_TOLERANCE
             and runtime.time < settle_end - 1e-9
         ):
-            runtime.advance_to(min(settle_end, runtime.time + GUARD_PERIOD))
+            runtime.advance_to(self._step_end(min(settle_end, runtime.time + GUARD_PERIOD)))
             self._check_contacts()
             self._between_steps()
         return MoveResult(start, runtime.time, stopped, self._joint_values())
+
+    def _step_end(self, t: float) -> float:
+        """``t``, or the earliest stop after now that the cell's step limits ask for
+        (see :meth:`Cell.limit_move_steps <omtp_drake.script.cell.Cell.limit_move_steps>`)."""
+        now = self._runtime.time
+        stops = [s for s in (stop() for stop in self._step_stops) if s > now + 1e-9]
+        return min([t, *stops])
 
     def _between_steps(self) -> None:
         """The cell's move-step hooks (see :meth:`Cell.on_move_step
