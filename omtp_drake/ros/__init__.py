@@ -36,6 +36,7 @@ rospy:
 - ``messages``: ROS 1 messages and services as plain classes (std, geometry, sensor)
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
+- ``threads``: a script's threads on the session's clock, taking turns (one runs at a time)
 - ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
 - ``latency``: the simulated time a call takes (planning, a trajectory's start, a service)
 
@@ -81,6 +82,7 @@ running scripts:
 - ``cli``: the ``ros-run`` and ``grade`` commands
 - ``command``: what the ROS commands share: output lines, log levels, passed-on options
 - ``setup_steps``: the slides' set-up steps before a script (``--call``, ``--settle``)
+- ``settling``: after a run, the cell runs on until its parts rest (``--settle-after``)
 - ``py2``: course code written for Melodic's Python 2.7
 - ``grade``: ``grade``: every script of a folder run on a scenario, isolated
 - ``grade_flexbe``: ``grade --flexbe``: a class's FlexBE behaviours, one workspace each

@@ -32,6 +32,7 @@ from omtp_drake.ros.moveit_config import install as install_moveit_config
 from omtp_drake.ros.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.report import RosReport, describe_script_exception
 from omtp_drake.ros.session import Session, active
+from omtp_drake.ros.settling import SETTLE_AFTER, Settled, check_settle_after, run_on
 from omtp_drake.ros.setup_steps import call_services
 from omtp_drake.ros.setup_steps import settle as settle_cell
 
@@ -86,6 +87,7 @@ def run_script(
     calls: Sequence[str] = (),
     settle: float = 0.0,
     latency: Optional[str | float] = None,
+    settle_after: float = SETTLE_AFTER,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
@@ -98,7 +100,9 @@ def run_script(
     each, then ``settle`` simulated seconds; see :mod:`omtp_drake.ros.setup_steps`).
     ``latency``: the simulated time planning, execution starts and service calls take
     (:func:`~omtp_drake.ros.latency.resolve_latency`: None for the scenario's
-    ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs).
+    ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs). ``settle_after``: after
+    the script, the cell runs on up to this long until its parts rest, and the report's
+    ledger is taken then (:mod:`omtp_drake.ros.settling`; 0: at the script's end).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -107,6 +111,7 @@ def run_script(
         raise ConfigError(f"--moveit {moveit!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
     if timeout is not None and not timeout > 0:
         raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
+    settle_s = check_settle_after(settle_after)
     loaded = load_scenario(str(scenario))
     if seed is not None:
         loaded = dataclasses.replace(loaded, seed=int(seed))
@@ -123,17 +128,22 @@ def run_script(
         cell.close()
         raise
     ending = _run_main(path, args, session)
-    replay = cell.close()
-    return _report(path, session, ending, time.perf_counter() - start, replay)
+    ending.end_time = cell.time
+    try:
+        settled = run_on(session, settle_s)
+    finally:
+        replay = cell.close()
+    return _report(path, session, ending, settled, time.perf_counter() - start, replay)
 
 
 @dataclasses.dataclass
 class _Ending:
-    """How a script's run ended: its exception (None: none), its exit code, Python 2."""
+    """How a script's run ended: its exception (None: none), its exit code, Python 2, when."""
 
     exception: Optional[BaseException] = None
     exit_code: int = 0
     python2: bool = False
+    end_time: float = 0.0
 
 
 def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
@@ -143,7 +153,12 @@ def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
         code = script_code(path)
         ending.python2 = code.python2
         # A Python 2 script's own modules (its folder's) load translated too.
-        with script_environment(path, args), python2_imports([path.parent], code.python2), active(session):
+        with (
+            script_environment(path, args),
+            python2_imports([path.parent], code.python2),
+            active(session),
+            session.threads.running(),  # the script's threads take turns with it
+        ):
             run_as_main(code, path)
     except SystemExit as e:
         ending.exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
@@ -155,17 +170,22 @@ def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
     return ending
 
 
-def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: Optional[Path]) -> RosReport:
+def _report(
+    path: Path, session: Session, ending: _Ending, settled: Settled, wall: float, replay: Optional[Path]
+) -> RosReport:
     cell, exception = session.cell, ending.exception
     return RosReport(
         script=path.name,
         scenario=cell.scenario.name,
         seed=cell.scenario.seed,
-        sim_time_s=cell.time,
+        sim_time_s=ending.end_time,
+        settle_s=settled.seconds,
+        at_rest=settled.at_rest,
         wall_time_s=wall,
         ledger=cell.ledger().to_dict(),
         collisions=list(session.collisions),
         callback_errors=list(session.callback_errors),
+        thread_errors=list(session.thread_errors),
         exception=describe_script_exception(exception, path) if exception is not None else None,
         traceback=_script_traceback(exception, path) if exception is not None else [],
         shutdown=session.shutdown_reason,

@@ -1,0 +1,114 @@
+"""rospy's threads: a script's ``threading.Thread`` calls services, sleeps and reads
+parameters in simulated time, taking turns with the main thread (one runs at a time),
+the same way every run."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+A4 = "lecture6_assignment4"
+#: rospy.sleep(0.25), then a GetModelState call that takes ros_latency.service (5 ms).
+WATCH_PERIOD = 0.25 + 0.005
+
+
+def _comparable(report):
+    data = report.to_dict() if hasattr(report, "to_dict") else dict(report)
+    return {k: v for k, v in data.items() if k not in ("wall_time_s", "replay")}
+
+
+def test_a_service_calling_thread_beside_moveit_moves_the_same_way_every_run(course_run, tmp_path):
+    report, data = course_run("gripper_watch_thread.py", scenario=A4, out_arg=True)
+    assert report.ok, report.summary()
+    assert report.ledger["in_bin"]["bin_1"] == 1 and report.ledger["parts"] == {"object_1": "in_bin:bin_1"}
+    calls = data["calls"]
+    # One call every 0.25 s of sleep plus the call's 5 ms, on time during the MoveIt moves too,
+    # until the main thread's last line; each answered (object_1 is in the world).
+    assert len(calls) == int(data["end"] / WATCH_PERIOD)
+    assert [t for t, _, _ in calls] == pytest.approx([WATCH_PERIOD * k for k in range(1, len(calls) + 1)])
+    assert all(success for _, success, _ in calls)
+    assert calls[-1][2] == pytest.approx(0.2, abs=0.05)  # the part lies in bin 1 (its centre ~0.2 m up)
+
+    # The same script again, as `omtp-drake ros-run` in its own process: the same run, a clean exit.
+    out, result = tmp_path / "again.json", tmp_path / "report.json"
+    script = str(Path(__file__).parent / "scripts" / "gripper_watch_thread.py")
+    done = subprocess.run(
+        [sys.executable, "-m", "omtp_drake.ros.cli", "ros-run", script, str(out), "--scenario", A4, "-q"]
+        + ["--json", str(result)],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "terminate called" not in done.stderr and "Traceback" not in done.stderr
+    assert json.loads(out.read_text()) == data
+    assert _comparable(json.loads(result.read_text())) == _comparable(report)
+
+
+def test_a_thread_ends_with_the_script_and_a_non_daemon_one_is_waited_for(course_run, tmp_path):
+    ended = tmp_path / "ended.json"
+    report, data = course_run(
+        f"""\
+        import json, sys, threading
+        import rospy
+        rospy.init_node("threads")
+        ticks = []
+
+        def ticker():
+            try:
+                while not rospy.is_shutdown():
+                    rospy.sleep(0.1)
+                    ticks.append(round(rospy.get_time(), 6))
+            except rospy.ROSInterruptException:
+                ticks.append("interrupted")
+            json.dump(ticks, open({str(ended)!r}, "w"))
+
+        def setter():
+            rospy.sleep(1.0)
+            rospy.set_param("/late", rospy.get_time())
+
+        threading.Thread(target=ticker, daemon=True).start()
+        late = threading.Thread(target=setter)
+        late.start()
+        late.join(0.25)  # simulated seconds, as rospy's clock
+        joined_at = rospy.get_time()
+        rospy.sleep(0.3)
+        json.dump({{"joined_at": joined_at, "alive": late.is_alive(), "now": rospy.get_time()}},
+                  open(sys.argv[1], "w"))
+        """,
+        scenario="lecture6_assignment3",
+        out_arg=True,
+    )
+    assert report.ok, report.summary()
+    assert data == {"joined_at": pytest.approx(0.25), "alive": True, "now": pytest.approx(0.55)}
+    # Python waits for the non-daemon thread: the run goes on to its end at 1.0 s.
+    assert report.sim_time_s == pytest.approx(1.0)
+    ticks = json.loads(ended.read_text())
+    # The daemon ticked every 0.1 s until then; at the script's end its sleep was interrupted.
+    assert ticks[:-1] == pytest.approx([0.1 * k for k in range(1, 11)])
+    assert ticks[-1] == "interrupted"
+
+
+def test_a_thread_that_raises_is_reported_and_the_main_thread_goes_on(course_run):
+    report, data = course_run(
+        """\
+        import json, sys, threading
+        import rospy
+        rospy.init_node("threads")
+
+        def broken():
+            rospy.sleep(0.2)
+            raise ValueError("no such part")
+
+        worker = threading.Thread(target=broken, name="watcher")
+        worker.start()
+        worker.join()
+        json.dump({"t": rospy.get_time()}, open(sys.argv[1], "w"))
+        """,
+        scenario="lecture6_assignment3",
+        out_arg=True,
+    )
+    assert data == {"t": pytest.approx(0.2)}
+    assert report.thread_errors == ["watcher: ValueError: no such part"]
+    assert not report.ok and "thread error: watcher: ValueError: no such part" in report.summary()
