@@ -112,3 +112,47 @@ def test_a_thread_that_raises_is_reported_and_the_main_thread_goes_on(course_run
     assert data == {"t": pytest.approx(0.2)}
     assert report.thread_errors == ["watcher: ValueError: no such part"]
     assert not report.ok and "thread error: watcher: ValueError: no such part" in report.summary()
+
+
+def test_threads_publish_subscribe_read_parameters_and_look_up_transforms(course_run):
+    """A thread echoes the main thread's messages on its own topic, reads a parameter and
+    waits for a transform with a timeout; the main thread counts the echoes: each comes at
+    the time its message was sent, in order."""
+    report, data = course_run(
+        """\
+        import json, sys, threading
+        import rospy, tf2_ros
+        from std_msgs.msg import Float64
+        rospy.init_node("echo")
+        rospy.set_param("~gain", 2.0)
+        out = {"echoes": []}
+
+        def echo_node():
+            gain = rospy.get_param("/echo/gain")
+            buffer = tf2_ros.Buffer()
+            tf2_ros.TransformListener(buffer)
+            bin_pose = buffer.lookup_transform("world", "bin_1_base_link", rospy.Time(0), rospy.Duration(1.0))
+            out["bin"] = [bin_pose.transform.translation.x, bin_pose.transform.translation.y]
+            echo = rospy.Publisher("/echo", Float64, queue_size=10)
+            rospy.Subscriber("/ping", Float64, lambda m: echo.publish(Float64(m.data * gain)))
+            rospy.spin()
+
+        threading.Thread(target=echo_node, daemon=True).start()
+        rospy.Subscriber("/echo", Float64, lambda m: out["echoes"].append([rospy.get_time(), m.data]))
+        ping = rospy.Publisher("/ping", Float64, queue_size=10)
+        rospy.sleep(0.5)
+        for k in range(1, 4):
+            ping.publish(Float64(k))
+            rospy.sleep(0.2)
+        json.dump(out, open(sys.argv[1], "w"))
+        """,
+        scenario="lecture6_assignment3",
+        out_arg=True,
+    )
+    assert report.ok, report.summary()
+    assert data["bin"] == pytest.approx([-8.0, -2.2], abs=1e-9)
+    assert [tuple(e) for e in data["echoes"]] == [
+        pytest.approx((0.5, 2.0)),
+        pytest.approx((0.7, 4.0)),
+        pytest.approx((0.9, 6.0)),
+    ]
