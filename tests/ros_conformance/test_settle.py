@@ -78,3 +78,20 @@ def test_a_bad_settle_after_is_one_clear_error(course_run, value):
     message = r"--settle-after must be finite simulated seconds >= 0 \(0: none\)"
     with pytest.raises(ConfigError, match=message):
         course_run("import rospy\n", scenario="lecture6_assignment3", settle_after=value)
+
+
+def test_settle_after_reaches_an_isolated_run(tmp_path):
+    """``ros-run --sandbox`` passes --settle-after on, 0 included (a 0 was dropped as unset)."""
+    script = tmp_path / "drop.py"
+    script.write_text(
+        "import rospy\nfrom std_srvs.srv import Empty\nrospy.init_node('drop')\n"
+        "rospy.ServiceProxy('/spawn_object_at_robot2', Empty)()\n"
+    )
+    result = tmp_path / "result.json"
+    argv = ["ros-run", str(script), "--scenario", "lecture6_assignment4", "--sandbox", "auto", "-q"]
+    assert main(argv + ["--settle-after", "0", "--json", str(result)]) == 0
+    report = json.loads(result.read_text())["report"]
+    assert report["settle_s"] == 0.0 and report["ledger"]["parts"]["object_1"].startswith("elsewhere")
+    assert main(argv + ["--json", str(result)]) == 0
+    report = json.loads(result.read_text())["report"]
+    assert report["at_rest"] and report["ledger"]["parts"] == {"object_1": "on_floor"}
