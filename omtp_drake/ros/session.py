@@ -170,7 +170,7 @@ class Session:
         """While a blocking move goes on: the callbacks due, then the other threads due."""
         self.deliver(self.time)
         self.threads.pass_on(self.time)
-        if self.threads.told_to_stop():
+        if self.threads.stop_here():
             raise ShutdownError("the script ended")
 
     def think(self, seconds: float) -> None:
@@ -213,10 +213,10 @@ class Session:
             self.deliver(self.time)
 
     def check_running(self) -> None:
+        if self.threads.stop_here():  # first: a thread told to stop is frozen at its next block
+            raise ShutdownError(self.shutdown_reason or "the script ended")
         if self.shutdown_reason is not None:
             raise ShutdownError(self.shutdown_reason)
-        if self.threads.told_to_stop():
-            raise ShutdownError("the script ended")
 
     def poll_shutdown(self) -> bool:
         """``rospy.is_shutdown()``: delivers the callbacks due; after

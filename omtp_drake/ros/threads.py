@@ -18,17 +18,19 @@ script's threads take turns, as coroutines on simulated time:
 - ``Thread.join`` between turns waits in simulated time (its ``timeout`` too).
 - When the script's main thread ends, its non-daemon threads run on (Python waits for
   them) until they end or the session shuts down. Then each daemon thread gets the
-  baton once more: its blocking call raises ``ROSInterruptException`` and
+  baton once more: its next blocking call raises ``ROSInterruptException`` and
   ``is_shutdown()`` is True, as at rospy's shutdown; a thread that blocks again after
-  that stays where it is, as a daemon thread does when Python exits.
+  that (it swallowed the interrupt) stays where it is, as a daemon thread does when
+  Python exits.
 
 A thread's uncaught exception is logged with its traceback and listed in the
 report (``thread_errors``); an interrupt at shutdown is its normal end.
 
 Not covered: script threads that wait on each other through ``threading.Event``,
-``Lock``, ``Condition`` or ``queue.Queue`` (only ``join``): the waiting thread keeps
-the baton and the run stands still. Threads that libraries start from other threads
-are not turns.
+``Lock``, ``Condition`` or ``queue.Queue`` (only ``join``), and a thread that loops
+without any ROS call (``while True: pass``; ``while not rospy.is_shutdown()`` is
+fine, polling lets time pass): the thread keeps the baton and the run stands still.
+Threads that libraries start from other threads are not turns.
 """
 
 from __future__ import annotations
@@ -73,9 +75,11 @@ class _Turn:
     wake_at: float = -math.inf
     until: Optional[Callable[[], bool]] = None
     ended: bool = False
-    #: Told to stop (the script's end): its blocking calls raise, ``is_shutdown()`` is True.
+    #: Told to stop (the script's end): its next blocking call raises, ``is_shutdown()`` is True.
     stopping: bool = False
-    #: Blocked again after it was told to stop: it never runs again.
+    #: That call raised; a blocking call after it freezes the thread.
+    interrupted: bool = False
+    #: Blocked again after it was interrupted: it never runs again.
     frozen: bool = False
 
 
@@ -120,12 +124,10 @@ class ScriptThreads:
         me = self._mine()
         if me is None:
             return False
-        if me.stopping:  # blocks again after it was told to stop: as a daemon at exit
-            me.frozen = True
-            following = self._next(me, due_only=False)
-            if following is not None:
-                following.go.set()
-            threading.Event().wait()
+        if me.stopping:
+            if me.interrupted:
+                self._freeze(me)
+            return False  # its caller raises (stop_here)
         if len(self._turns) < 2:
             return False
         due = self._next(me, due_only=True)
@@ -155,6 +157,25 @@ class ScriptThreads:
         """The calling thread was told to stop (the script ended)."""
         me = self._mine()
         return me is not None and me.stopping
+
+    def stop_here(self) -> bool:
+        """At a blocking point: True once when the calling thread was told to stop (the
+        caller raises rospy's interrupt); a thread that blocks again after that is frozen
+        here, as a daemon thread is when Python exits (this never returns then)."""
+        me = self._mine()
+        if me is None or not me.stopping:
+            return False
+        if me.interrupted:
+            self._freeze(me)
+        me.interrupted = True
+        return True
+
+    def _freeze(self, me: _Turn) -> None:
+        me.frozen = True
+        following = self._next(me, due_only=False)
+        if following is not None:
+            following.go.set()
+        threading.Event().wait()
 
     # ------------------------------------------------------------ threads
 

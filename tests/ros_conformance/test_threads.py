@@ -156,3 +156,25 @@ def test_threads_publish_subscribe_read_parameters_and_look_up_transforms(course
         pytest.approx((0.7, 4.0)),
         pytest.approx((0.9, 6.0)),
     ]
+
+
+def test_a_daemon_thread_that_swallows_the_interrupt_is_left_where_it_blocks(tmp_path):
+    """As a daemon thread at Python's exit: the run ends, the process exits cleanly."""
+    script = tmp_path / "stubborn.py"
+    script.write_text(
+        "import threading\nimport rospy\nrospy.init_node('stubborn')\n\n"
+        "def stubborn():\n    while True:\n        try:\n            rospy.sleep(0.1)\n"
+        "        except:\n            pass\n\n"
+        "threading.Thread(target=stubborn, daemon=True).start()\nrospy.sleep(0.35)\n"
+    )
+    result = tmp_path / "report.json"
+    done = subprocess.run(
+        [sys.executable, "-m", "omtp_drake.ros.cli", "ros-run", str(script)]
+        + ["--scenario", "lecture6_assignment3", "-q", "--json", str(result)],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert "terminate called" not in done.stderr
+    report = json.loads(result.read_text())
+    assert report["sim_time_s"] == pytest.approx(0.35) and report["thread_errors"] == []
