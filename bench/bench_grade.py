@@ -23,8 +23,8 @@ import tempfile
 import time
 from pathlib import Path
 
-from omtp_drake.ros.grade import GradeSettings, grade_folder, grade_one
-from omtp_drake.ros.isolation import Limits, bwrap_works, sandbox_prefix
+from omtp_drake.grading.grade import GradeSettings, grade_folder, grade_one
+from omtp_drake.grading.isolation import Limits, bwrap_works, sandbox_prefix
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "ros" / "lecture6_assignment3.py"
 SCENARIO = "lecture6_assignment3"
@@ -34,7 +34,7 @@ def bare(script: Path) -> None:
     command = [
         sys.executable,
         "-m",
-        "omtp_drake.ros.cli",
+        "omtp_drake.grading.cli",
         "ros-run",
         str(script),
         "--scenario",

@@ -13,6 +13,7 @@ is held and checked by tests/test_layering.py):
 
 - ``errors``: one exception hierarchy for every user-facing error
 - ``assets``: model files: the project's xacro sources and the classic UR arms
+- ``workspace``: a student's own ROS workspace: packages and Gazebo models by name
 - ``scenario``: the typed schema of ``diagrams/*.yaml`` and its loader
 - ``cell``: what the factory is made of, as Drake systems and models
 - ``sim``: running the cell: the driver, its world edits, the part pool and services
@@ -24,6 +25,7 @@ is held and checked by tests/test_layering.py):
 - ``ros``: the course's ROS 1 scripts and FlexBE behaviours, unchanged, on the cell
 - ``demos``: ready-made runs of the factory for the command line
 - ``bench_command``: ``omtp-drake bench``'s link to the benchmarks in ``bench/``
+- ``grading``: a class's ROS scripts or behaviours graded: each run isolated, one verdict each
 - ``cli``: the ``omtp-drake`` command line
 """
 

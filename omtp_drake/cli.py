@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, NoReturn
 import numpy as np
 
 from omtp_drake.errors import ConfigError, OmtpError
-from omtp_drake.ros.cli import add_commands as add_ros_commands
+from omtp_drake.grading.cli import add_commands as add_ros_commands
 from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
 
 if TYPE_CHECKING:

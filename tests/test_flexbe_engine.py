@@ -408,7 +408,7 @@ def test_behavior_parameters_and_sub_behaviours(run):
 
 
 def test_python2_indentation_reads_tabs_as_python_2():
-    from omtp_drake.ros.py2 import python2_indentation
+    from omtp_drake.ros.run.py2 import python2_indentation
 
     # Line 6 is the course's habit: tab, tab, space, tab (column 24 in Python 2, as line 5).
     source = (

@@ -8,9 +8,9 @@ import pytest
 from test_flexbe_run import BOOM, EXAMPLE, SCENARIO, _behavior_package
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.cli import main
-from omtp_drake.ros.grade import grade_folder
-from omtp_drake.ros.grade_flexbe import FlexbeGrading
+from omtp_drake.grading.cli import main
+from omtp_drake.grading.flexbe import FlexbeGrading
+from omtp_drake.grading.grade import grade_folder
 
 
 @pytest.fixture

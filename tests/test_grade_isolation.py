@@ -16,9 +16,9 @@ from pathlib import Path
 import pytest
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.cli import main
-from omtp_drake.ros.grade import grade_folder
-from omtp_drake.ros.isolation import Limits, bwrap_works
+from omtp_drake.grading.cli import main
+from omtp_drake.grading.grade import grade_folder
+from omtp_drake.grading.isolation import Limits, bwrap_works
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "ros"
 SCENARIO = "lecture6_assignment3"
@@ -275,7 +275,7 @@ def test_a_script_sees_its_own_copy_of_the_folder_only(tmp_path):
 
 
 def test_auto_falls_back_to_the_limits_with_one_warning_where_bubblewrap_fails(monkeypatch, caplog):
-    from omtp_drake.ros import isolation
+    from omtp_drake.grading import isolation
 
     monkeypatch.setattr(isolation, "BWRAP", str(Path(__file__).parent / "no_bwrap_here"))
     isolation.bwrap_works.cache_clear()
@@ -308,8 +308,8 @@ def test_auto_falls_back_to_the_limits_with_one_warning_where_bubblewrap_fails(m
     ],
 )  # fmt: skip
 def test_a_reports_verdict_is_named_for_what_happened(exception, exit_code, shutdown, verdict):
-    from omtp_drake.ros.isolation import Outcome
-    from omtp_drake.ros.verdicts import classify
+    from omtp_drake.grading.isolation import Outcome
+    from omtp_drake.grading.verdicts import classify
 
     report = {"exception": exception, "exit_code": exit_code, "shutdown": shutdown, "collisions": []}
     report["callback_errors"] = []
@@ -321,7 +321,7 @@ def test_a_checkout_or_venv_under_tmp_stays_readable_in_bubblewrap(tmp_path, mon
     is shown again read-only, once, under its outermost folder."""
     import sys
 
-    from omtp_drake.ros.isolation import sandbox_prefix
+    from omtp_drake.grading.isolation import sandbox_prefix
 
     venv = tmp_path / "clone" / ".venv"
     (venv / "bin").mkdir(parents=True)
@@ -339,12 +339,12 @@ def test_the_guard_writes_how_many_processes_a_run_leaves_at_its_exit(tmp_path):
     import subprocess
     import sys
 
-    from omtp_drake.ros.guard import ENV
+    from omtp_drake.grading.guard import ENV
 
     count = tmp_path / "count"
     settings = {"limits": asdict(Limits()), "writable": [str(tmp_path)], "script": "x.py",
                 "parent": 0, "in_namespace": False, "exit_count": str(count)}
-    code = ("from omtp_drake.ros.guard import install_from_env; install_from_env()\n"
+    code = ("from omtp_drake.grading.guard import install_from_env; install_from_env()\n"
             "import subprocess\n"
             "kids = [subprocess.Popen(['sleep', '29.5071']) for _ in range(2)]\n")
     env = {**os.environ, ENV: json.dumps(settings)}

@@ -5,9 +5,9 @@ import csv
 import pytest
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.cli import main
-from omtp_drake.ros.grade import grade_folder
-from omtp_drake.ros.grade_options import check_options, ros_run_flags
+from omtp_drake.grading.cli import main
+from omtp_drake.grading.grade import grade_folder
+from omtp_drake.grading.options import check_options, ros_run_flags
 
 #: Melodic's habit: plan() returns the trajectory, handed straight to execute().
 MELODIC = """

@@ -22,6 +22,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "omtp_drake"
 LAYERS = {
     "errors": 0,
     "assets": 1,
+    "workspace": 1,
     "scenario": 2,
     "cell": 3,
     "sim": 4,
@@ -33,7 +34,8 @@ LAYERS = {
     "ros": 8,
     "demos": 8,
     "bench_command": 8,
-    "cli": 9,
+    "grading": 9,
+    "cli": 10,
 }
 
 
@@ -185,3 +187,33 @@ def test_each_package_docstring_maps_exactly_its_modules(package):
     assert set(mapped) == members, (
         f"not in the map: {sorted(members - set(mapped))}; mapped but absent: {sorted(set(mapped) - members)}"
     )
+
+
+#: ``ros/``'s subpackages, one per ROS project it mirrors (see ``omtp_drake/ros/__init__.py``).
+ROS_SUBPACKAGES = {"comm", "moveit", "tf", "gazebo", "flexbe", "run", "shims"}
+
+
+def _outside_subpackages(ros: Path) -> list[str]:
+    """The Python files and folders directly in ``ros`` that are not one of its subpackages."""
+    stray = [p.name for p in ros.glob("*.py") if p.name != "__init__.py"]
+    stray += [
+        d.name for d in ros.iterdir() if d.is_dir() and d.name not in ROS_SUBPACKAGES and any(d.rglob("*.py"))
+    ]
+    return sorted(stray)
+
+
+def test_ros_holds_only_its_subpackages():
+    ros = PACKAGE / "ros"
+    folders = {d.name for d in ros.iterdir() if d.is_dir() and any(d.rglob("*.py"))}
+    assert folders == ROS_SUBPACKAGES, f"ros/'s subpackages changed: {sorted(folders ^ ROS_SUBPACKAGES)}"
+    assert not _outside_subpackages(ros), f"modules outside ros/'s subpackages: {_outside_subpackages(ros)}"
+
+
+def test_the_subpackage_check_finds_a_stray_module(tmp_path):
+    (tmp_path / "__init__.py").write_text("")
+    (tmp_path / "comm").mkdir()
+    (tmp_path / "comm" / "client.py").write_text("")
+    (tmp_path / "session.py").write_text("")
+    (tmp_path / "grading").mkdir()
+    (tmp_path / "grading" / "grade.py").write_text("")
+    assert _outside_subpackages(tmp_path) == ["grading", "session.py"]

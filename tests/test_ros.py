@@ -239,11 +239,11 @@ def test_the_scripts_own_modules_are_forgotten_after_the_run_and_the_projects_ke
     report, data = run(tmp_path, """
         import json, sys
         import helpers
-        import omtp_drake.ros.transformations
+        import omtp_drake.ros.tf.transformations
         json.dump(helpers.ANSWER, open(sys.argv[1], "w"))
     """)
     assert report.ok and data == 42
-    assert "helpers" not in sys.modules and "omtp_drake.ros.transformations" in sys.modules
+    assert "helpers" not in sys.modules and "omtp_drake.ros.tf.transformations" in sys.modules
 
 
 def test_a_latched_topic_gives_a_late_subscriber_its_last_message_once(tmp_path):

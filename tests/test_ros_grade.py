@@ -4,8 +4,8 @@ import csv
 import shutil
 from pathlib import Path
 
-from omtp_drake.ros.cli import main
-from omtp_drake.ros.grade import COLLISION, EXCEPTION, OK, grade_folder
+from omtp_drake.grading.cli import main
+from omtp_drake.grading.grade import COLLISION, EXCEPTION, OK, grade_folder
 
 #: A hand-made trajectory (not collision-checked, as in MoveIt) that swings the arm into the floor.
 CAROL = """

@@ -6,9 +6,9 @@ import math
 import pytest
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros import transformations
-from omtp_drake.ros.convert import rigid
-from omtp_drake.ros.messages import Point, Pose, Quaternion
+from omtp_drake.ros.comm.messages import Point, Pose, Quaternion
+from omtp_drake.ros.tf import transformations
+from omtp_drake.ros.tf.convert import rigid
 
 
 def test_a_zero_quaternion_is_refused_the_same_way_by_tf_and_by_messages():

@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from omtp_drake.ros.flexbe import run_behavior
-from omtp_drake.ros.py2 import python2_roots
+from omtp_drake.ros.run.py2 import python2_roots
 
 ROOT = Path(__file__).resolve().parents[2]
 MELODIC = Path(__file__).parent / "scripts" / "flexbe_melodic"

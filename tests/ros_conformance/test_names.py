@@ -4,7 +4,7 @@ canonical names, relative/private/global resolution, command-line remappings,
 
 import pytest
 
-from omtp_drake.ros.names import (
+from omtp_drake.ros.comm.names import (
     NodeNames,
     canonicalize,
     namespace_of,

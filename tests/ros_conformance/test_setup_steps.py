@@ -4,7 +4,7 @@
 import pytest
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.cli import main
+from omtp_drake.grading.cli import main
 
 
 def test_assignment3_after_the_slides_call_finds_the_part(course_run):

@@ -10,8 +10,8 @@ import pytest
 
 from omtp_drake.cell.arms import NAMED_POSES
 from omtp_drake.errors import ConfigError, NotSupportedError
+from omtp_drake.grading.cli import main as ros_cli
 from omtp_drake.ros import run_script
-from omtp_drake.ros.cli import main as ros_cli
 
 A4 = "lecture6_assignment4"
 JOINTS = ("shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint")

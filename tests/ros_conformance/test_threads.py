@@ -35,7 +35,7 @@ def test_a_service_calling_thread_beside_moveit_moves_the_same_way_every_run(cou
     out, result = tmp_path / "again.json", tmp_path / "report.json"
     script = str(Path(__file__).parent / "scripts" / "gripper_watch_thread.py")
     done = subprocess.run(
-        [sys.executable, "-m", "omtp_drake.ros.cli", "ros-run", script, str(out), "--scenario", A4, "-q"]
+        [sys.executable, "-m", "omtp_drake.grading.cli", "ros-run", script, str(out), "--scenario", A4, "-q"]
         + ["--json", str(result)],
         capture_output=True,
         text=True,
@@ -169,7 +169,7 @@ def test_a_daemon_thread_that_swallows_the_interrupt_is_left_where_it_blocks(tmp
     )
     result = tmp_path / "report.json"
     done = subprocess.run(
-        [sys.executable, "-m", "omtp_drake.ros.cli", "ros-run", str(script)]
+        [sys.executable, "-m", "omtp_drake.grading.cli", "ros-run", str(script)]
         + ["--scenario", "lecture6_assignment3", "-q", "--json", str(result)],
         capture_output=True,
         text=True,

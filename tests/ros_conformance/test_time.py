@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.latency import resolve_latency
+from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.scenario.latency import RosLatencyConfig
 
 SCENARIO = "lecture6_assignment4"
@@ -121,7 +121,7 @@ def test_a_bad_latency_in_the_scenario_is_refused(course_run, tmp_path):
 
 def test_ros_run_latency_flag(tmp_path):
     """``omtp-drake ros-run SCRIPT --latency ...``: the command line reaches the run."""
-    from omtp_drake.ros.cli import main
+    from omtp_drake.grading.cli import main
 
     script = Path(__file__).parent / "scripts" / "grip_then_go.py"
     out = tmp_path / "report.json"

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from omtp_drake.ros.command import add_shared_options, passed_on, print_line, show_logs
 from omtp_drake.ros.flexbe.context import AUTONOMY_LEVELS
-from omtp_drake.ros.report import show_report
+from omtp_drake.ros.run.command import add_shared_options, passed_on, print_line, show_logs
+from omtp_drake.ros.run.report import show_report
 
 
 def cmd_flexbe_run(args: argparse.Namespace) -> int:

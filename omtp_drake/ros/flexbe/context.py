@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from typing import Any, Optional, Protocol
 
 from omtp_drake.errors import SimulationError
-from omtp_drake.ros.current import CurrentStack
+from omtp_drake.ros.comm.current import CurrentStack
 
 _log = logging.getLogger("flexbe")
 

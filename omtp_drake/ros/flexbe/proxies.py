@@ -16,11 +16,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Optional
 
-from omtp_drake.ros import exceptions, service
-from omtp_drake.ros import topics as rospy_topics
+from omtp_drake.ros.comm import exceptions, service
+from omtp_drake.ros.comm import topics as rospy_topics
+from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.flexbe.context import current_run
 from omtp_drake.ros.flexbe.engine import Logger
-from omtp_drake.ros.session import current
 
 
 def _set_up_each(topics: Optional[dict[str, Any]], set_up: Callable[..., None], *options: Any) -> None:
@@ -203,8 +203,8 @@ class ProxyActionClient:
     def _new_client(topic: str, msg_type: Any) -> Any:
         """The action client of ``topic``, or None (logged as FlexBE's time-out) when the cell has none."""
         from omtp_drake.errors import NotSupportedError
-        from omtp_drake.ros.actions import SimpleActionClient
-        from omtp_drake.ros.move_group import MoveGroupClient, is_move_group
+        from omtp_drake.ros.moveit.actions import SimpleActionClient
+        from omtp_drake.ros.moveit.move_group import MoveGroupClient, is_move_group
 
         try:
             return (
@@ -279,7 +279,7 @@ class ProxyActionClient:
 
 def _trajectory_done(client: Any) -> bool:
     """Whether an ``execute_trajectory`` goal has ended (its motion's end has passed)."""
-    from omtp_drake.ros.actions import GoalStatus
+    from omtp_drake.ros.moveit.actions import GoalStatus
 
     if client.get_state() == GoalStatus.ACTIVE and current().time >= client._end - 1e-9:
         client.wait_for_result()  # at its end already: marks it succeeded, no time passes
@@ -292,12 +292,12 @@ class TfListener:
     xyzw)``), ``canTransform``, ``transformPose``, ``frameExists``."""
 
     def __init__(self) -> None:
-        from omtp_drake.ros.tf import Buffer
+        from omtp_drake.ros.tf.tf2 import Buffer
 
         self.buffer = Buffer()
 
     def waitForTransform(self, target: str, source: str, time: Any, timeout: Any) -> None:  # noqa: N802
-        from omtp_drake.ros.tf import TimeoutException
+        from omtp_drake.ros.tf.tf2 import TimeoutException
 
         if not self.buffer.can_transform(target, source, time, timeout):
             raise TimeoutException(f"no transform from {source} to {target} within the timeout")

@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import asdict, dataclass, field
 from typing import Any, Optional
 
-from omtp_drake.ros.report import ledger_line, settle_line
+from omtp_drake.ros.run.report import ledger_line, settle_line
 
 
 @dataclass
@@ -28,7 +28,7 @@ class FlexbeReport:
     #: ``Ledger.to_dict()``: parts per bin, on the floor, held..., once the cell settled.
     ledger: dict[str, Any]
     #: How long (simulated s) the cell ran on after the end before the ledger was taken,
-    #: and whether every part rested then (``omtp_drake.ros.settling``).
+    #: and whether every part rested then (``omtp_drake.ros.run.settling``).
     settle_s: float = 0.0
     at_rest: bool = False
     #: The workspaces whose modules loaded as their 2to3 translation (Python 2, Melodic).

@@ -26,8 +26,9 @@ from pathlib import Path
 from typing import Any, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros._core import Cell, load_scenario
-from omtp_drake.ros.exceptions import ROSInterruptException
+from omtp_drake.ros.comm._core import Cell, load_scenario
+from omtp_drake.ros.comm.exceptions import ROSInterruptException
+from omtp_drake.ros.comm.session import Session, ShutdownError, active
 from omtp_drake.ros.flexbe.context import (
     AUTONOMY_LEVELS,
     FlexbeRun,
@@ -38,11 +39,10 @@ from omtp_drake.ros.flexbe.context import (
 )
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
-from omtp_drake.ros.moveit_config import install as install_moveit_config
-from omtp_drake.ros.py2 import python2_imports, python2_roots
-from omtp_drake.ros.runner import SHIM_DIR, SHIM_PACKAGES
-from omtp_drake.ros.session import Session, ShutdownError, active
-from omtp_drake.ros.settling import SETTLE_AFTER, Settled, check_settle_after, run_on
+from omtp_drake.ros.moveit.config import install as install_moveit_config
+from omtp_drake.ros.run.py2 import python2_imports, python2_roots
+from omtp_drake.ros.run.runner import SHIM_DIR, SHIM_PACKAGES
+from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, run_on
 
 #: The node FlexBE's onboard engine runs behaviours in.
 ONBOARD_NODE = "behavior_onboard"
@@ -168,9 +168,9 @@ def run_behavior(
     ``scenario``'s cell; the run's report (see the module doc). ``srdf``,
     ``moveit_config``: the student's MoveIt config, as ``ros-run`` takes it. A workspace
     with a module that compiles only as Python 2 loads converted from Python 2
-    (:func:`~omtp_drake.ros.py2.python2_roots`); ``python2``: every workspace does.
+    (:func:`~omtp_drake.ros.run.py2.python2_roots`); ``python2``: every workspace does.
     ``settle_after``: after the outcome, the cell runs on up to this long until its parts
-    rest, and the report's ledger is taken then (:mod:`omtp_drake.ros.settling`)."""
+    rest, and the report's ledger is taken then (:mod:`omtp_drake.ros.run.settling`)."""
     if autonomy not in AUTONOMY_LEVELS:
         raise ConfigError(f"--autonomy {autonomy!r} is unknown; valid: {', '.join(AUTONOMY_LEVELS)}")
     if timeout is not None and not timeout > 0:

@@ -11,12 +11,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any, Optional
 
-from omtp_drake.ros.client import resolve_name
+from omtp_drake.ros.comm.client import resolve_name
+from omtp_drake.ros.comm.messages import Bool, Empty, String
 from omtp_drake.ros.flexbe.context import OperatorRequired, current_run
 from omtp_drake.ros.flexbe.engine import EventState, Logger
 from omtp_drake.ros.flexbe.proxies import ProxyPublisher, ProxySubscriberCached
 from omtp_drake.ros.flexbe.topics import get_topic_class
-from omtp_drake.ros.messages import Bool, Empty, String
 
 
 class LogState(EventState):

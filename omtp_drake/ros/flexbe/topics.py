@@ -11,9 +11,9 @@ from __future__ import annotations
 from typing import Any, Optional
 
 from omtp_drake.errors import SimulationError
-from omtp_drake.ros.client import resolve_name
+from omtp_drake.ros.comm.client import resolve_name
+from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.flexbe.context import current_run
-from omtp_drake.ros.session import current
 
 
 def _msg_class(topic: str) -> Optional[Any]:

@@ -2,10 +2,10 @@
 
 from typing import Any
 
-from omtp_drake.ros import actions
-from omtp_drake.ros.actions import GoalStatus
-from omtp_drake.ros.move_group import MoveGroupClient, is_move_group
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
+from omtp_drake.ros.moveit import actions
+from omtp_drake.ros.moveit.actions import GoalStatus
+from omtp_drake.ros.moveit.move_group import MoveGroupClient, is_move_group
 
 
 def SimpleActionClient(ns: str, ActionSpec: Any) -> Any:  # noqa: N802, N803 (actionlib's names)

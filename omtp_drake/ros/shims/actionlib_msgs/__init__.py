@@ -1,6 +1,6 @@
 """actionlib_msgs of omtp-drake ros-run."""
 
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 from . import msg
 

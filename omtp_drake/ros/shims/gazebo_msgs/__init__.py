@@ -1,6 +1,6 @@
 """gazebo_msgs of omtp-drake ros-run: Gazebo's ROS API messages and services."""
 
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 from . import msg, srv
 

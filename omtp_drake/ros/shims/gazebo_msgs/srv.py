@@ -1,6 +1,7 @@
 """gazebo_msgs.srv of omtp-drake ros-run."""
 
-from omtp_drake.ros.gazebo_interfaces import (
+from omtp_drake.ros.comm.unsupported import module_getattr
+from omtp_drake.ros.gazebo.interfaces import (
     DeleteModel,
     DeleteModelRequest,
     DeleteModelResponse,
@@ -17,7 +18,6 @@ from omtp_drake.ros.gazebo_interfaces import (
     SpawnModelRequest,
     SpawnModelResponse,
 )
-from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
     "DeleteModel",

@@ -1,6 +1,6 @@
 """geometry_msgs.msg of omtp-drake ros-run."""
 
-from omtp_drake.ros.messages import (
+from omtp_drake.ros.comm.messages import (
     Header,
     Point,
     Pose,
@@ -12,7 +12,7 @@ from omtp_drake.ros.messages import (
     Twist,
     Vector3,
 )
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 __all__ = [
     "Header",

@@ -1,9 +1,9 @@
 """moveit_commander of omtp-drake ros-run."""
 
-from omtp_drake.ros.moveit import MoveGroupCommander, MoveItCommanderException
-from omtp_drake.ros.planning_scene import PlanningSceneInterface
-from omtp_drake.ros.robot import RobotCommander, roscpp_initialize, roscpp_shutdown
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
+from omtp_drake.ros.moveit.commander import MoveGroupCommander, MoveItCommanderException
+from omtp_drake.ros.moveit.planning_scene import PlanningSceneInterface
+from omtp_drake.ros.moveit.robot import RobotCommander, roscpp_initialize, roscpp_shutdown
 
 from . import conversions
 

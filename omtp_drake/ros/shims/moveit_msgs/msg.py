@@ -1,6 +1,6 @@
 """moveit_msgs.msg of omtp-drake ros-run."""
 
-from omtp_drake.ros.interfaces import (
+from omtp_drake.ros.comm.interfaces import (
     AttachedCollisionObject,
     CollisionObject,
     DisplayTrajectory,
@@ -12,7 +12,8 @@ from omtp_drake.ros.interfaces import (
     RobotState,
     RobotTrajectory,
 )
-from omtp_drake.ros.moveit_interfaces import (
+from omtp_drake.ros.comm.unsupported import module_getattr
+from omtp_drake.ros.moveit.interfaces import (
     BoundingVolume,
     Constraints,
     JointConstraint,
@@ -28,7 +29,6 @@ from omtp_drake.ros.moveit_interfaces import (
     PositionIKRequest,
     WorkspaceParameters,
 )
-from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
     "AttachedCollisionObject",

@@ -1,6 +1,6 @@
 """omtp_gazebo of omtp-drake ros-run: the course cell's messages and services."""
 
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 from . import msg, srv
 

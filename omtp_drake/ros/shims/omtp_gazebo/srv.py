@@ -1,6 +1,6 @@
 """omtp_gazebo.srv of omtp-drake ros-run."""
 
-from omtp_drake.ros.interfaces import (
+from omtp_drake.ros.comm.interfaces import (
     ConveyorBeltControl,
     ConveyorBeltControlRequest,
     ConveyorBeltControlResponse,
@@ -8,7 +8,7 @@ from omtp_drake.ros.interfaces import (
     VacuumGripperControlRequest,
     VacuumGripperControlResponse,
 )
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 __all__ = [
     "ConveyorBeltControl",

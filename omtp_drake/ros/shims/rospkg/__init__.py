@@ -1,7 +1,7 @@
 """rospkg of omtp-drake flexbe-run: the packages of the run's catkin workspaces."""
 
+from omtp_drake.ros.comm.unsupported import module_getattr
 from omtp_drake.ros.flexbe.workspace import ResourceNotFound, RosPack
-from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = ["ResourceNotFound", "RosPack"]
 __getattr__ = module_getattr(__name__, __all__)

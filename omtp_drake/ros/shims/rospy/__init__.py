@@ -1,7 +1,7 @@
-"""rospy of omtp-drake ros-run: simulated time, topics, services, logging (omtp_drake.ros.client,
+"""rospy of omtp-drake ros-run: simulated time, topics, services, logging (omtp_drake.ros.comm.client,
 exceptions, rostime, service, topics)."""
 
-from omtp_drake.ros.client import (
+from omtp_drake.ros.comm.client import (
     delete_param,
     get_caller_id,
     get_name,
@@ -32,7 +32,7 @@ from omtp_drake.ros.client import (
     signal_shutdown,
     spin,
 )
-from omtp_drake.ros.exceptions import (
+from omtp_drake.ros.comm.exceptions import (
     ROSException,
     ROSInitException,
     ROSInterruptException,
@@ -40,25 +40,25 @@ from omtp_drake.ros.exceptions import (
     ROSTimeMovedBackwardsException,
     ServiceException,
 )
-from omtp_drake.ros.messages import Duration
-from omtp_drake.ros.rostime import (
+from omtp_drake.ros.comm.messages import Duration
+from omtp_drake.ros.comm.rostime import (
     Rate,
     Time,
     get_rostime,
     get_time,
     sleep,
 )
-from omtp_drake.ros.service import (
+from omtp_drake.ros.comm.service import (
     Service,
     ServiceProxy,
     wait_for_service,
 )
-from omtp_drake.ros.topics import (
+from omtp_drake.ros.comm.topics import (
     Publisher,
     Subscriber,
     wait_for_message,
 )
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 __all__ = [
     "Duration",

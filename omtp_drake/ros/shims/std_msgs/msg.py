@@ -1,7 +1,7 @@
 """std_msgs.msg of omtp-drake ros-run."""
 
-from omtp_drake.ros.messages import Bool, Empty, Float64, Header, Int32, String
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.messages import Bool, Empty, Float64, Header, Int32, String
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 __all__ = ["Bool", "Empty", "Float64", "Header", "Int32", "String"]
 __getattr__ = module_getattr(__name__, __all__)

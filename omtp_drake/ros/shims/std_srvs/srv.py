@@ -1,6 +1,6 @@
 """std_srvs.srv of omtp-drake ros-run."""
 
-from omtp_drake.ros.interfaces import (
+from omtp_drake.ros.comm.interfaces import (
     EmptyRequest,
     EmptyResponse,
     SetBool,
@@ -10,8 +10,8 @@ from omtp_drake.ros.interfaces import (
     TriggerRequest,
     TriggerResponse,
 )
-from omtp_drake.ros.interfaces import EmptyService as Empty
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.interfaces import EmptyService as Empty
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 __all__ = [
     "Empty",

@@ -1,6 +1,6 @@
 """tf (ROS 1's old tf) of omtp-drake ros-run: only its transformations helpers."""
 
-from omtp_drake.ros.unsupported import module_getattr
+from omtp_drake.ros.comm.unsupported import module_getattr
 
 from . import transformations
 

@@ -1,6 +1,7 @@
 """tf.transformations of omtp-drake ros-run."""
 
-from omtp_drake.ros.transformations import (
+from omtp_drake.ros.comm.unsupported import module_getattr
+from omtp_drake.ros.tf.transformations import (
     euler_from_quaternion,
     euler_matrix,
     quaternion_conjugate,
@@ -12,7 +13,6 @@ from omtp_drake.ros.transformations import (
     translation_from_matrix,
     translation_matrix,
 )
-from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
     "euler_from_quaternion",

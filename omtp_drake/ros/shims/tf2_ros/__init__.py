@@ -1,6 +1,7 @@
 """tf2_ros of omtp-drake ros-run: the cell's tf buffer."""
 
-from omtp_drake.ros.tf import (
+from omtp_drake.ros.comm.unsupported import module_getattr
+from omtp_drake.ros.tf.tf2 import (
     Buffer,
     ConnectivityException,
     ExtrapolationException,
@@ -10,7 +11,6 @@ from omtp_drake.ros.tf import (
     TransformException,
     TransformListener,
 )
-from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
     "Buffer",

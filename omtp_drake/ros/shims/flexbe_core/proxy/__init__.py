@@ -1,5 +1,6 @@
 """flexbe_core.proxy of omtp-drake flexbe-run: the proxies on the cell's topics, services and actions."""
 
+from omtp_drake.ros.comm.unsupported import module_getattr
 from omtp_drake.ros.flexbe.proxies import (
     ProxyActionClient,
     ProxyPublisher,
@@ -7,7 +8,6 @@ from omtp_drake.ros.flexbe.proxies import (
     ProxySubscriberCached,
     ProxyTransformListener,
 )
-from omtp_drake.ros.unsupported import module_getattr
 
 __all__ = [
     "ProxyActionClient",

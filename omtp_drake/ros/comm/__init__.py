@@ -1,0 +1,21 @@
+"""ros_comm's rospy on the cell: the node, names, parameters, simulated time, topics,
+services and messages, and the session a run's ROS calls act on.
+
+Modules, one concept each:
+
+- ``client``: the node, its names, shutdown, ``spin``, the parameter server and logging
+- ``names``: ROS graph names as rospy resolves them (canonical, relative, ``~private``, remaps)
+- ``params``: the parameter server's tree over the session's store of resolved names
+- ``rostime``: time, ``sleep`` and ``Rate`` on the cell's simulated clock
+- ``topics``: Publisher, Subscriber and ``wait_for_message``
+- ``service``: ServiceProxy and ``wait_for_service``
+- ``exceptions``: rospy's exceptions (ROSException, ROSInterruptException...)
+- ``messages``: ROS 1 messages and services as plain classes (std, geometry, sensor)
+- ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
+- ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
+- ``threads``: a script's threads on the session's clock, taking turns (one runs at a time)
+- ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
+- ``latency``: the simulated time a call takes (planning, a trajectory's start, a service)
+- ``unsupported``: one clear error for every ROS name this project does not provide
+- ``_core``: the one place the ROS layer imports the core from
+"""

@@ -1,0 +1,16 @@
+"""The course's Gazebo world: Gazebo's own ROS API, the cell's sensor topics, joint
+states and services, and the part spawner, as the course's launch files wire them.
+
+Modules, one concept each:
+
+- ``sensor_topics``: the cell's sensor topics (cameras, break beam, gripper state)
+- ``joint_state_topics``: the arms' joint states, by the course's controllers' names
+- ``cell_services``: the cell's gripper and conveyor services, by the course's names
+- ``ros_api``: Gazebo's own ROS API under ``/gazebo``
+- ``interfaces``: gazebo_msgs: the messages and services of Gazebo's ROS API
+- ``models``: the cell's Gazebo models as that API sees them: names, links, poses, twists
+- ``spawn``: ``/gazebo/spawn_urdf_model``, ``spawn_sdf_model`` and ``reset_world``
+- ``spawner``: the course's part spawner, wired as the scenario's launch file wires it
+- ``world_plugins``: the world's ROS plugins (Gazebo's API, the spawner) attached to a run
+- ``graph``: what those plugins use of a run's ROS graph (the Session as a protocol)
+"""

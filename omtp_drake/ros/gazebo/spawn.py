@@ -1,0 +1,151 @@
+"""``/gazebo/spawn_urdf_model``, ``/gazebo/spawn_sdf_model`` and ``/gazebo/reset_world``.
+
+The cell spawns the course's part only: the model the course's conveyor spawner
+sends (``createObjectURDF``: a ``<robot>`` with one link whose visual and
+collision meshes are ``package://omtp_gazebo/meshes/conveyor_objects/box.stl``),
+as URDF, or the same link as an SDF ``<model>``. It becomes the next parked part
+of the scenario's pool, named as asked, at ``initial_pose`` in
+``reference_frame``. Any other model XML raises one NotSupportedError saying
+what is supported. ``spawn_urdf_model`` refuses XML that is no URDF, as Gazebo
+does (the call fails: ServiceException).
+
+``reset_world`` puts every part in the world back where it entered the world
+(its scenario pose, or its spawn pose), at rest.
+"""
+
+from __future__ import annotations
+
+import logging
+import xml.etree.ElementTree as ET
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any, Optional
+
+import numpy as np
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.math import SpatialVelocity
+
+from omtp_drake.cell.parts import spawn_pose
+from omtp_drake.errors import NotSupportedError, OmtpError
+from omtp_drake.ros.comm.interfaces import EmptyService
+from omtp_drake.ros.gazebo.cell_services import Service, ServiceFailure
+from omtp_drake.ros.gazebo.interfaces import SpawnModel
+from omtp_drake.ros.tf.convert import rigid
+from omtp_drake.scenario import SpawnerConfig, check_in_cell
+
+if TYPE_CHECKING:
+    from omtp_drake.ros.gazebo.models import GazeboModels
+    from omtp_drake.script import Cell
+
+_log = logging.getLogger("rospy")
+
+#: The course's part mesh, as its spawner's configs name it.
+COURSE_PART_MESH = "package://omtp_gazebo/meshes/conveyor_objects/box.stl"
+
+
+def place_part(cell: Cell, part: str, X_WP: RigidTransform, v: Any = (0, 0, 0), w: Any = (0, 0, 0)) -> None:
+    """Part ``part`` (in the world) jumps to ``X_WP`` with velocity ``v``, ``w`` (world)."""
+    station, context = cell.station, cell.runtime.context
+    station.part_states.wake(context, part)
+    plant = station.plant
+    plant_context = plant.GetMyMutableContextFromRoot(context)
+    body = plant.GetBodyByName(part, station.parts[part])
+    plant.SetFreeBodyPose(plant_context, body, X_WP)
+    plant.SetFreeBodySpatialVelocity(
+        plant_context, body, SpatialVelocity(np.asarray(w, dtype=float), np.asarray(v, dtype=float))
+    )
+
+
+def model_xml_problem(xml: str) -> Optional[str]:
+    """None when ``xml`` is the course's part (URDF or SDF); else what it is instead."""
+    try:
+        root = ET.fromstring(xml.strip())
+    except ET.ParseError as e:
+        return f"XML that does not parse ({e})"
+    if root.tag == "robot":
+        links = root.findall("link")
+        meshes = [m.get("filename", "") for m in root.iter("mesh")]
+    elif root.tag == "sdf":
+        links = root.findall("model/link")
+        meshes = [(u.text or "").strip() for m in root.iter("mesh") for u in m.iter("uri")]
+    else:
+        return f"a <{root.tag}> document"
+    shapes = sorted({c.tag for g in root.iter("geometry") for c in g})
+    if len(links) != 1 or not meshes or any(m != COURSE_PART_MESH for m in meshes):
+        what = ", ".join(sorted(set(meshes))) or "shapes " + (", ".join(shapes) or "none")
+        return f"a <{root.tag}> model with {len(links)} link(s) and meshes {what}"
+    return None
+
+
+class PartSpawner:
+    """Gazebo's spawn services and reset_world on ``cell``: ``models`` are its Gazebo
+    models, ``reference(name, response, service, field)`` answers (found, its body) for a
+    request's reference frame and, when there is none, says so in the response (as
+    :meth:`GazeboWorld.reference <omtp_drake.ros.gazebo.ros_api.GazeboWorld.reference>`)."""
+
+    def __init__(self, cell: Cell, models: GazeboModels, reference: Callable[..., tuple[bool, Any]]):
+        self.cell = cell
+        self.models = models
+        self.reference = reference
+        #: index of a spawn among the pool's spawns -> the pose given (spawns of these services).
+        self._given: dict[int, RigidTransform] = {}
+
+    def spawn(self, request: Any, service: str) -> Any:
+        response: Any = SpawnModel._response_class()
+        if service.endswith("urdf_model") and "<robot" not in request.model_xml:
+            raise ServiceFailure("SpawnModel: Failure - entity format is invalid.")
+        problem = model_xml_problem(request.model_xml)
+        if problem is not None:
+            raise NotSupportedError(
+                f"{service}: this cell spawns the course's part only: a URDF <robot> (or SDF <model>) "
+                f"with one link whose meshes are {COURSE_PART_MESH}, as the course's conveyor spawner "
+                f"sends; got {problem}"
+            )
+        models = self.models
+        if request.model_name in models.names():
+            _log.error("SpawnModel: Failure - model name %s already exist.", request.model_name)
+            response.status_message = "SpawnModel: Failure - model already exists."
+            return response
+        found, frame = self.reference(request.reference_frame, response, "SpawnModel", "reference_frame")
+        if not found:
+            return response
+        X_WP = rigid(request.initial_pose, "initial_pose")
+        if frame is not None:
+            X_WP = models.pose(frame) @ X_WP
+        check_in_cell(f"{service} initial_pose", X_WP.translation())
+        pool = self.cell.runtime.pool
+        index = pool.spawn_count
+        try:
+            part = pool.spawn(self.cell.runtime.context, X_WP)
+        except OmtpError as e:
+            response.status_message = f"SpawnModel: Failure - {e}"
+            return response
+        self._given[index] = X_WP
+        if part != request.model_name:
+            models.rename_part(part, request.model_name)
+        response.success, response.status_message = True, "SpawnModel: Successfully spawned entity"
+        return response
+
+    def entry_pose(self, part: str) -> RigidTransform:
+        """Where part ``part`` entered the world: its last spawn's pose, or its scenario pose."""
+        spawns = [e.part for e in self.cell.runtime.pool.events if e.event == "spawn"]
+        index = max((k for k, p in enumerate(spawns) if p == part), default=None)
+        if index is None:
+            placed = next(p for p in self.cell.scenario.parts if p.name == part)
+            return RigidTransform(RollPitchYaw(placed.rpy), placed.xyz)
+        if index in self._given:
+            return self._given[index]
+        # A pool part spawned without a pose came from the scenario's spawner.
+        spawner = self.cell.scenario.spawner or SpawnerConfig()
+        return spawn_pose(spawner, self.cell.scenario.seed, index)
+
+    def reset_world(self, _request: Any) -> Any:
+        for part in self.cell.runtime.parts_in_world():
+            place_part(self.cell, part, self.entry_pose(part))
+        return EmptyService._response_class()
+
+    def services(self) -> list[Service]:
+        def handler(name: str) -> Callable[[Any], Any]:
+            return lambda request: self.spawn(request, name)
+
+        names = ("/gazebo/spawn_urdf_model", "/gazebo/spawn_sdf_model")
+        return [Service(name, SpawnModel, handler(name)) for name in names]
