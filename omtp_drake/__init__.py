@@ -26,6 +26,7 @@ is held and checked by tests/test_layering.py):
 - ``demos``: ready-made runs of the factory for the command line
 - ``bench_command``: ``omtp-drake bench``'s link to the benchmarks in ``bench/``
 - ``grading``: a class's ROS scripts or behaviours graded: each run isolated, one verdict each
+- ``ros2``: the cell as ROS 2 nodes over DDS, for rclpy code, ``ros2`` tools and rviz2
 - ``cli``: the ``omtp-drake`` command line
 """
 

@@ -22,6 +22,7 @@ import numpy as np
 from omtp_drake.errors import ConfigError, OmtpError
 from omtp_drake.grading.cli import add_commands as add_ros_commands
 from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
+from omtp_drake.ros2.run import add_commands as add_ros2_commands
 
 if TYPE_CHECKING:
     from pydrake.systems.framework import Context
@@ -462,6 +463,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_batch_command(sub)
     add_ros_commands(sub)
     add_flexbe_commands(sub)
+    add_ros2_commands(sub)
     return parser
 
 

@@ -167,3 +167,8 @@ class GoalInCollisionError(PlanningError):
 class UnreachableError(PlanningError):
     """A goal the arm cannot take: a pose out of its reach, or a pose or joint values
     only outside its joint limits (the message says by how much, or which joint)."""
+
+
+class MissingExtraError(OmtpError, ImportError):
+    """An optional part of the project needs packages that are not installed; the
+    message names the pyproject extra that installs them."""

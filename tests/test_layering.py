@@ -35,6 +35,7 @@ LAYERS = {
     "demos": 8,
     "bench_command": 8,
     "grading": 9,
+    "ros2": 9,
     "cli": 10,
 }
 
@@ -217,3 +218,17 @@ def test_the_subpackage_check_finds_a_stray_module(tmp_path):
     (tmp_path / "grading").mkdir()
     (tmp_path / "grading" / "grade.py").write_text("")
     assert _outside_subpackages(tmp_path) == ["grading", "session.py"]
+
+
+def test_every_import_of_omtp_drake_names_a_module_that_exists():
+    """An import of a moved or removed module fails here, not only when its function runs
+    (imports inside functions count too)."""
+    modules = _modules()
+    known = set(modules) | {"omtp_drake"}
+    stale = {
+        f"{name} imports {target}"
+        for name, path in modules.items()
+        for target in _imports(path, modules)
+        if target not in known
+    }
+    assert not stale, sorted(stale)

@@ -24,6 +24,7 @@ Modules (one job each):
 - ``suction_touch``: what touches the suction cup: the candidate parts and the touch rule
 - ``suction_holds``: the gripper's two ways of holding a part (weld, force) and their wiring
 - ``suction_constraints``: the weld hold's six distance constraints between the cup and a part
+- ``lifetime``: freeing a built cell: the cycles through our systems that Python's gc cannot collect
 
 May import: ``omtp_drake.scenario``, ``omtp_drake.errors``, ``omtp_drake.assets``.
 """

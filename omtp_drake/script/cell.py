@@ -50,6 +50,7 @@ from omtp_drake.script.arm import Arm
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
 from omtp_drake.script.devices import Camera, Gripper, wait_until
+from omtp_drake.script.motion import MoveSteps
 from omtp_drake.script.scene import CellPlanningScene, world_pose
 from omtp_drake.sim.faults import FaultReport
 from omtp_drake.sim.ledger import Ledger
@@ -70,8 +71,10 @@ class Cell:
         realtime: pace the simulation at real time (for watching it live).
         tf_cache: how long (s) the tf buffer keeps its history.
 
-    Use it as a context manager (``with Cell(...) as cell:``) so the replay is
-    written at the end, or call :meth:`close`.
+    Use it as a context manager (``with Cell(...) as cell:``) or call :meth:`close`:
+    closing writes the replay and frees the cell (its diagram, plant and Contexts;
+    an unclosed cell stays in memory for the life of the process). A closed cell
+    refuses to run: build a new one.
     """
 
     def __init__(
@@ -113,13 +116,13 @@ class Cell:
         #: What the arms' plans avoid besides the static cell and the other arm
         #: (MoveIt's planning scene: loose parts are not in it unless added).
         self.planning_scene = CellPlanningScene(self.runtime, self.tf)
-        self._move_hooks: list[Callable[[], None]] = []
-        self._move_stops: list[Callable[[], float]] = []
+        self._move_steps = MoveSteps()
         self._arms = {
-            name: Arm(self.runtime, self.tf, name, c, self.planning_scene, self._move_hooks, self._move_stops)
+            name: Arm(self.runtime, self.tf, name, c, self.planning_scene, self._move_steps)
             for name, c in commanders.items()
         }
         self._closed = False
+        self._final_ledger: Optional[Ledger] = None
 
     # ------------------------------------------------------------ handles
 
@@ -160,13 +163,13 @@ class Cell:
         simulated time, after the contact check), e.g. to run other work while an
         arm moves (the ROS layer delivers topic callbacks there). The hook may make
         blocking calls itself; the move goes on from wherever they leave the cell."""
-        self._move_hooks.append(hook)
+        self._move_steps.hooks.append(hook)
 
     def limit_move_steps(self, next_stop: Callable[[], float]) -> None:
         """Every blocking move's next step ends no later than ``next_stop()`` (simulated
         seconds; a time not after now is ignored), so that the work its step hooks do
         for that time runs on time (the ROS layer's other script threads wake there)."""
-        self._move_stops.append(next_stop)
+        self._move_steps.stops.append(next_stop)
 
     def wait(self, seconds: float) -> None:
         """Lets the cell run for ``seconds`` of simulated time."""
@@ -208,7 +211,8 @@ class Cell:
         return self.runtime.break_beam()[0]
 
     def ledger(self) -> Ledger:
-        return self.runtime.ledger()
+        """Where every part is (after :meth:`close`: where each was when it closed)."""
+        return self._final_ledger if self._final_ledger is not None else self.runtime.ledger()
 
     def faults(self) -> list[FaultReport]:
         """The scenario's faults that have struck so far: what, when, and their effect."""
@@ -222,13 +226,20 @@ class Cell:
     # ------------------------------------------------------------ the end
 
     def close(self) -> Optional[Path]:
-        """Writes the replay (with ``record``); returns its path."""
+        """Writes the replay (with ``record``) and returns its path; frees the cell
+        (:meth:`FactoryRuntime.close <omtp_drake.sim.runtime.FactoryRuntime.close>`).
+        Afterwards :attr:`time`, :meth:`ledger` and :meth:`faults` tell how it ended;
+        running it raises SimulationError. Closing twice is harmless."""
         if self._closed:
             return None
         self._closed = True
-        if self._record is not None and self.meshcat is not None:
-            return save_recording(self.station.visualizer, self.meshcat, self._record)
-        return None
+        try:
+            self._final_ledger = self.runtime.ledger()
+            if self._record is not None and self.meshcat is not None:
+                return save_recording(self.station.visualizer, self.meshcat, self._record)
+            return None
+        finally:
+            self.runtime.close()
 
     def __enter__(self) -> Cell:
         return self

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any, Optional
 
@@ -76,6 +76,21 @@ class MoveResult:
     q: np.ndarray = field(repr=False)
 
 
+@dataclass
+class MoveSteps:
+    """What a cell asks of every blocking move between its steps (see
+    :meth:`Cell.on_move_step <omtp_drake.script.cell.Cell.on_move_step>`).
+
+    Attributes:
+        hooks: called after each step.
+        stops: each gives a time (simulated s) the next step ends at the latest
+            (:meth:`Cell.limit_move_steps <omtp_drake.script.cell.Cell.limit_move_steps>`).
+    """
+
+    hooks: list[Callable[[], None]] = field(default_factory=list)
+    stops: list[Callable[[], float]] = field(default_factory=list)
+
+
 class MoveRunner:
     """An arm's motions in the running cell: a plan handed to its commander, run
     with its guard and contact checks, and stopped when the guard fires."""
@@ -86,14 +101,12 @@ class MoveRunner:
         name: str,
         commander: ArmCommander,
         scene: CellPlanningScene,
-        step_hooks: list[Callable[[], None]],
-        step_stops: Sequence[Callable[[], float]] = (),
+        steps: MoveSteps,
     ):
         self._runtime = runtime
         self._commander = commander
         self._scene = scene
-        self._step_hooks = step_hooks
-        self._step_stops = step_stops
+        self._steps = steps
         self.name = name
 
     def _joint_values(self) -> np.ndarray:
@@ -158,6 +171,12 @@ class MoveRunner:
         )
         return start
 
+    def teleport(self, q: np.ndarray) -> None:
+        """Puts the arm at rest at ``q`` now and commands it to hold there (no motion)."""
+        runtime = self._runtime
+        runtime.station.set_arm_positions(runtime.context, self.name, q)
+        self._commander.hold(self._commander.GetMyMutableContextFromRoot(runtime.context), q)
+
     def run(self, plan: Plan, until: Optional[Callable[[], bool]]) -> MoveResult:
         """Runs ``plan`` from now to its end (and until the arm has settled), or
         until ``until()`` holds; checks the arm's contacts on the way."""
@@ -195,13 +214,13 @@ class MoveRunner:
         """``t``, or the earliest stop after now that the cell's step limits ask for
         (see :meth:`Cell.limit_move_steps <omtp_drake.script.cell.Cell.limit_move_steps>`)."""
         now = self._runtime.time
-        stops = [s for s in (stop() for stop in self._step_stops) if s > now + 1e-9]
+        stops = [s for s in (stop() for stop in self._steps.stops) if s > now + 1e-9]
         return min([t, *stops])
 
     def _between_steps(self) -> None:
         """The cell's move-step hooks (see :meth:`Cell.on_move_step
         <omtp_drake.script.cell.Cell.on_move_step>`)."""
-        for hook in self._step_hooks:
+        for hook in self._steps.hooks:
             hook()
 
     def _stop(self, context: Context) -> None:

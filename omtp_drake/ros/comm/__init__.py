@@ -12,6 +12,7 @@ Modules, one concept each:
 - ``exceptions``: rospy's exceptions (ROSException, ROSInterruptException...)
 - ``messages``: ROS 1 messages and services as plain classes (std, geometry, sensor)
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
+- ``nav_interfaces``: move_base_msgs' action types (no ``/move_base``, as in the course's cell)
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
 - ``threads``: a script's threads on the session's clock, taking turns (one runs at a time)
 - ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)

@@ -168,12 +168,31 @@ class MoveItErrorCodes(Message):
     FAILURE: ClassVar[int] = 99999
     PLANNING_FAILED: ClassVar[int] = -1
     INVALID_MOTION_PLAN: ClassVar[int] = -2
+    MOTION_PLAN_INVALIDATED_BY_ENVIRONMENT_CHANGE: ClassVar[int] = -3
     CONTROL_FAILED: ClassVar[int] = -4
+    UNABLE_TO_AQUIRE_SENSOR_DATA: ClassVar[int] = -5
     TIMED_OUT: ClassVar[int] = -6
     PREEMPTED: ClassVar[int] = -7
     START_STATE_IN_COLLISION: ClassVar[int] = -10
+    START_STATE_VIOLATES_PATH_CONSTRAINTS: ClassVar[int] = -11
+    START_STATE_INVALID: ClassVar[int] = -26
     GOAL_IN_COLLISION: ClassVar[int] = -12
+    GOAL_VIOLATES_PATH_CONSTRAINTS: ClassVar[int] = -13
+    GOAL_CONSTRAINTS_VIOLATED: ClassVar[int] = -14
+    GOAL_STATE_INVALID: ClassVar[int] = -27
+    UNRECOGNIZED_GOAL_TYPE: ClassVar[int] = -28
     INVALID_GROUP_NAME: ClassVar[int] = -15
+    INVALID_GOAL_CONSTRAINTS: ClassVar[int] = -16
+    INVALID_ROBOT_STATE: ClassVar[int] = -17
+    INVALID_LINK_NAME: ClassVar[int] = -18
+    INVALID_OBJECT_NAME: ClassVar[int] = -19
+    FRAME_TRANSFORM_FAILURE: ClassVar[int] = -21
+    COLLISION_CHECKING_UNAVAILABLE: ClassVar[int] = -22
+    ROBOT_STATE_STALE: ClassVar[int] = -23
+    SENSOR_INFO_STALE: ClassVar[int] = -24
+    COMMUNICATION_FAILURE: ClassVar[int] = -25
+    CRASH: ClassVar[int] = -29
+    ABORT: ClassVar[int] = -30
     NO_IK_SOLUTION: ClassVar[int] = -31
 
 
@@ -196,21 +215,32 @@ class SolidPrimitive(Message):
     _type = "shape_msgs/SolidPrimitive"
     _defaults = (int, list)
     BOX: ClassVar[int] = 1
+    SPHERE: ClassVar[int] = 2
+    CYLINDER: ClassVar[int] = 3
+    CONE: ClassVar[int] = 4
+    BOX_X: ClassVar[int] = 0
+    BOX_Y: ClassVar[int] = 1
+    BOX_Z: ClassVar[int] = 2
+    SPHERE_RADIUS: ClassVar[int] = 0
 
 
 class CollisionObject(Message):
     """A box of the planning scene (``primitives[0]``, at ``primitive_poses[0]`` in
     ``header.frame_id``: ``world``, or the gripper's cup body when attached)."""
 
-    __slots__ = ("header", "id", "primitives", "primitive_poses")
+    __slots__ = ("header", "id", "primitives", "primitive_poses", "operation")
     _type = "moveit_msgs/CollisionObject"
-    _defaults = (Header, str, list, list)
+    _defaults = (Header, str, list, list, int)
+    ADD: ClassVar[int] = 0
+    REMOVE: ClassVar[int] = 1
+    APPEND: ClassVar[int] = 2
+    MOVE: ClassVar[int] = 3
 
 
 class AttachedCollisionObject(Message):
-    __slots__ = ("link_name", "object")
+    __slots__ = ("link_name", "object", "touch_links", "weight")
     _type = "moveit_msgs/AttachedCollisionObject"
-    _defaults = (str, CollisionObject)
+    _defaults = (str, CollisionObject, list, float)
 
 
 class DisplayTrajectory(Message):

@@ -303,6 +303,12 @@ class TransformStamped(Message):
     _defaults = (Header, str, Transform)
 
 
+class Pose2D(Message):
+    __slots__ = ("x", "y", "theta")
+    _type = "geometry_msgs/Pose2D"
+    _defaults = (float, float, float)
+
+
 class PoseArray(Message):
     __slots__ = ("header", "poses")
     _type = "geometry_msgs/PoseArray"

@@ -127,6 +127,8 @@ class Session:
         self.thread_errors: list[str] = []
         self.threads = ScriptThreads(self, (ShutdownError, KeyboardInterrupt))
         self.collisions: list[str] = []
+        #: MoveIt's fixes of a start or goal outside the joint bounds (omtp_drake.ros.moveit.bounds).
+        self.bounds_fixed: list[str] = []
         self._subscribers: dict[str, list[SubscriberQueue]] = collections.defaultdict(list)
         self._order = itertools.count()
         self._in_callback = 0

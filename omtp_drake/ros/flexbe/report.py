@@ -49,6 +49,8 @@ class FlexbeReport:
     traceback: list[str] = field(default_factory=list)
     #: Why the ROS session shut down (``--timeout``), if it did.
     shutdown: Optional[str] = None
+    #: MoveIt's fixes of a start or goal just outside the joint bounds (its log lines).
+    bounds_fixed: list[str] = field(default_factory=list)
     replay: Optional[str] = None
 
     @property
@@ -87,6 +89,7 @@ class FlexbeReport:
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
         lines += [f"thread error: {c}" for c in self.thread_errors]
+        lines += [f"moveit bounds: {c}" for c in self.bounds_fixed]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")
         if self.exception:

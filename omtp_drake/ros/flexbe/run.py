@@ -39,10 +39,10 @@ from omtp_drake.ros.flexbe.context import (
 )
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
-from omtp_drake.ros.moveit.config import install as install_moveit_config
+from omtp_drake.ros.moveit.node import start_move_group
 from omtp_drake.ros.run.py2 import python2_imports, python2_roots
 from omtp_drake.ros.run.runner import SHIM_DIR, SHIM_PACKAGES
-from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, run_on
+from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, finish
 
 #: The node FlexBE's onboard engine runs behaviours in.
 ONBOARD_NODE = "behavior_onboard"
@@ -122,7 +122,6 @@ class _Outcome:
     outcome: Optional[str] = None
     error: Optional[BaseException] = None
     failed_state: Optional[str] = None
-    end_time: float = 0.0
     #: The workspaces loaded as their Python 2 translation.
     python2: list[str] = dataclasses.field(default_factory=list)
 
@@ -186,7 +185,7 @@ def run_behavior(
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record)
     session = Session(cell, timeout=timeout)
     try:
-        install_moveit_config(session, srdf, moveit_config)  # the params and the named states
+        start_move_group(session, srdf, moveit_config)  # the params, the named states, its services
     except Exception:
         cell.close()
         raise
@@ -201,11 +200,8 @@ def run_behavior(
         session.threads.running(),  # threads a state starts take turns with the engine
     ):
         result = _spin(entry, params or {}, session)
-    result.end_time, result.python2 = cell.time, [str(r) for r in converted]
-    try:
-        settled = run_on(session, settle_s)
-    finally:
-        replay = cell.close()
+    result.python2 = [str(r) for r in converted]
+    settled, replay = finish(session, settle_s)
     return _report(
         entry.name, autonomy, session, run, result, spaces.roots, settled, time.perf_counter() - start, replay
     )
@@ -229,7 +225,7 @@ def _report(
         seed=cell.scenario.seed,
         autonomy=autonomy,
         outcome=result.outcome,
-        sim_time_s=result.end_time,
+        sim_time_s=settled.end,
         settle_s=settled.seconds,
         at_rest=settled.at_rest,
         python2=result.python2,
@@ -244,6 +240,7 @@ def _report(
         failed_state=result.failed_state,
         traceback=_frames(error, roots) if error is not None else [],
         shutdown=session.shutdown_reason,
+        bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
 

@@ -1,9 +1,12 @@
-"""moveit_msgs types of MoveIt's ``/move_group`` action and ``/compute_ik`` service.
+"""moveit_msgs types of MoveIt's ``/move_group`` action and its kinematics services
+(``/compute_ik``, ``/compute_fk``, ``/compute_cartesian_path``).
 
 Field names and order follow ``moveit_msgs`` (Noetic): ``MoveGroupGoal`` =
 ``MotionPlanRequest request`` + ``PlanningOptions planning_options``;
 ``Constraints`` hold joint, position and orientation constraints;
-``GetPositionIK`` takes a ``PositionIKRequest``. Fields this cell does not use
+``GetPositionIK`` takes a ``PositionIKRequest``; ``GetPositionFK`` and
+``GetCartesianPath`` are Noetic's (the Cartesian request's jump thresholds and
+Cartesian speed included). Fields this cell does not use
 (workspace bounds, visibility constraints, planning-scene diffs) are kept so
 scripts that set them still run; what they would change is not modelled.
 """
@@ -205,9 +208,79 @@ class GetPositionIK(ServiceType):
     _response_class = GetPositionIKResponse
 
 
+class GetPositionFKRequest(Message):
+    __slots__ = ("header", "fk_link_names", "robot_state")
+    _type = "moveit_msgs/GetPositionFKRequest"
+    _defaults = (Header, list, RobotState)
+
+
+class GetPositionFKResponse(Message):
+    __slots__ = ("pose_stamped", "fk_link_names", "error_code")
+    _type = "moveit_msgs/GetPositionFKResponse"
+    _defaults = (list, list, MoveItErrorCodes)
+
+
+class GetPositionFK(ServiceType):
+    _type = "moveit_msgs/GetPositionFK"
+    _request_class = GetPositionFKRequest
+    _response_class = GetPositionFKResponse
+
+
+class GetCartesianPathRequest(Message):
+    __slots__ = (
+        "header",
+        "start_state",
+        "group_name",
+        "link_name",
+        "waypoints",
+        "max_step",
+        "jump_threshold",
+        "prismatic_jump_threshold",
+        "revolute_jump_threshold",
+        "avoid_collisions",
+        "path_constraints",
+        "cartesian_speed_limited_link",
+        "max_cartesian_speed",
+    )
+    _type = "moveit_msgs/GetCartesianPathRequest"
+    _defaults = (
+        Header,
+        RobotState,
+        str,
+        str,
+        list,
+        float,
+        float,
+        float,
+        float,
+        bool,
+        Constraints,
+        str,
+        float,
+    )
+
+
+class GetCartesianPathResponse(Message):
+    __slots__ = ("start_state", "solution", "fraction", "error_code")
+    _type = "moveit_msgs/GetCartesianPathResponse"
+    _defaults = (RobotState, RobotTrajectory, float, MoveItErrorCodes)
+
+
+class GetCartesianPath(ServiceType):
+    _type = "moveit_msgs/GetCartesianPath"
+    _request_class = GetCartesianPathRequest
+    _response_class = GetCartesianPathResponse
+
+
 __all__ = [
     "BoundingVolume",
     "Constraints",
+    "GetCartesianPath",
+    "GetCartesianPathRequest",
+    "GetCartesianPathResponse",
+    "GetPositionFK",
+    "GetPositionFKRequest",
+    "GetPositionFKResponse",
     "GetPositionIK",
     "GetPositionIKRequest",
     "GetPositionIKResponse",

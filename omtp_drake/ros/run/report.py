@@ -50,6 +50,8 @@ class RosReport:
     python2: bool = False
     #: Spawner calls that spawned nothing (the course's spawner stays silent; each was logged).
     empty_spawn_calls: list[str] = field(default_factory=list)
+    #: MoveIt's fixes of a start or goal just outside the joint bounds (its log lines).
+    bounds_fixed: list[str] = field(default_factory=list)
     replay: Optional[str] = None
 
     @property
@@ -85,6 +87,7 @@ class RosReport:
         lines += [f"bad callback: {c}" for c in self.callback_errors]
         lines += [f"thread error: {c}" for c in self.thread_errors]
         lines += [f"spawn call: {c}" for c in self.empty_spawn_calls]
+        lines += [f"moveit bounds: {c}" for c in self.bounds_fixed]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")
         if self.exception:

@@ -29,10 +29,10 @@ from omtp_drake.ros.comm._core import Cell, load_scenario
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.ros.comm.session import Session, active
-from omtp_drake.ros.moveit.config import install as install_moveit_config
+from omtp_drake.ros.moveit.node import start_move_group
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport, describe_script_exception
-from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, run_on
+from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, finish
 from omtp_drake.ros.run.setup_steps import call_services
 from omtp_drake.ros.run.setup_steps import settle as settle_cell
 
@@ -120,7 +120,7 @@ def run_script(
     cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
     session = Session(cell, timeout=timeout, moveit=moveit, latency=delays)
     try:
-        install_moveit_config(session, srdf, moveit_config)
+        start_move_group(session, srdf, moveit_config)
         with active(session):
             call_services(session, calls)
             settle_cell(session, float(settle))
@@ -128,22 +128,17 @@ def run_script(
         cell.close()
         raise
     ending = _run_main(path, args, session)
-    ending.end_time = cell.time
-    try:
-        settled = run_on(session, settle_s)
-    finally:
-        replay = cell.close()
+    settled, replay = finish(session, settle_s)
     return _report(path, session, ending, settled, time.perf_counter() - start, replay)
 
 
 @dataclasses.dataclass
 class _Ending:
-    """How a script's run ended: its exception (None: none), its exit code, Python 2, when."""
+    """How a script's run ended: its exception (None: none), its exit code, Python 2."""
 
     exception: Optional[BaseException] = None
     exit_code: int = 0
     python2: bool = False
-    end_time: float = 0.0
 
 
 def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
@@ -178,7 +173,7 @@ def _report(
         script=path.name,
         scenario=cell.scenario.name,
         seed=cell.scenario.seed,
-        sim_time_s=ending.end_time,
+        sim_time_s=settled.end,
         settle_s=settled.seconds,
         at_rest=settled.at_rest,
         wall_time_s=wall,
@@ -192,6 +187,7 @@ def _report(
         exit_code=ending.exit_code,
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
+        bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
 

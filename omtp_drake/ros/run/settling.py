@@ -24,7 +24,8 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from pathlib import Path
+from typing import TYPE_CHECKING, Optional
 
 from omtp_drake.errors import ConfigError
 
@@ -38,8 +39,10 @@ _EPS = 1e-9
 
 @dataclass(frozen=True)
 class Settled:
-    """How the world ran on after a run: for how long (s), and whether every part rests."""
+    """How the world ran on after a run: when the run ended (simulated s), for how long it
+    ran on (s), and whether every part rests."""
 
+    end: float
     seconds: float
     at_rest: bool
 
@@ -58,17 +61,27 @@ def check_settle_after(seconds: float) -> float:
 def run_on(session: Session, seconds: float) -> Settled:
     """Runs ``session``'s cell on for up to ``seconds`` until its parts rest (module doc)."""
     cell = session.cell
-    if seconds <= 0 or session.gazebo.clock_stopped() is not None:
-        return Settled(0.0, False)
-    _stop_spawning(session)
     start = cell.time
+    if seconds <= 0 or session.gazebo.clock_stopped() is not None:
+        return Settled(start, 0.0, False)
+    _stop_spawning(session)
     limit = start + seconds
     rests = _rest_test(session, start)
     while cell.time < limit - _EPS:
         cell.runtime.advance_to(min(limit, cell.time + session.tick))
         if rests():
-            return Settled(cell.time - start, True)
-    return Settled(cell.time - start, rests())
+            return Settled(start, cell.time - start, True)
+    return Settled(start, cell.time - start, rests())
+
+
+def finish(session: Session, seconds: float) -> tuple[Settled, Optional[Path]]:
+    """A run's last step: the cell runs on (:func:`run_on`), then is closed, even when that
+    fails; how it ran on, and the replay file (None without ``--record``)."""
+    try:
+        settled = run_on(session, seconds)
+    finally:
+        replay = session.cell.close()
+    return settled, replay
 
 
 def _stop_spawning(session: Session) -> None:
