@@ -178,3 +178,82 @@ def test_a_daemon_thread_that_swallows_the_interrupt_is_left_where_it_blocks(tmp
     assert "terminate called" not in done.stderr
     report = json.loads(result.read_text())
     assert report["sim_time_s"] == pytest.approx(0.35) and report["thread_errors"] == []
+
+
+FLEXBE_THREAD_STATE = """\
+import threading
+
+import rospy
+from flexbe_core import EventState, Logger
+from omtp_gazebo.msg import ConveyorBeltState
+from omtp_gazebo.srv import ConveyorBeltControl
+
+
+class PulseBeltState(EventState):
+    '''Pulses the belt from a thread while the behaviour goes on.'''
+
+    def __init__(self):
+        super(PulseBeltState, self).__init__(outcomes=['started'])
+
+    def on_enter(self, userdata):
+        threading.Thread(target=self._pulse, daemon=True).start()
+
+    def _pulse(self):
+        belt = rospy.ServiceProxy('/omtp/conveyor/control', ConveyorBeltControl)
+        for power in (100, 0):
+            rospy.sleep(0.5)
+            belt(ConveyorBeltState(power=power))
+            Logger.loginfo('belt %d' % power)
+
+    def execute(self, userdata):
+        return 'started'
+"""
+
+FLEXBE_THREAD_BEHAVIOR = """\
+from flexbe_core import Behavior, Autonomy, OperatableStateMachine
+from flexbe_states.wait_state import WaitState
+from pulse_states.pulse_belt_state import PulseBeltState
+
+
+class PulseSM(Behavior):
+    def __init__(self):
+        super(PulseSM, self).__init__()
+        self.name = 'Pulse'
+
+    def create(self):
+        _state_machine = OperatableStateMachine(outcomes=['finished'])
+        with _state_machine:
+            OperatableStateMachine.add('pulse', PulseBeltState(), transitions={'started': 'wait'},
+                                       autonomy={'started': Autonomy.Off})
+            OperatableStateMachine.add('wait', WaitState(wait_time=2.0), transitions={'done': 'finished'},
+                                       autonomy={'done': Autonomy.Off})
+        return _state_machine
+"""
+
+
+def test_a_flexbe_state_that_starts_a_thread(tmp_path):
+    from omtp_drake.ros.flexbe import run_behavior
+
+    files = {
+        "pulse_states/src/pulse_states/pulse_belt_state.py": FLEXBE_THREAD_STATE,
+        "pulse_behaviors/src/pulse_behaviors/pulse_sm.py": FLEXBE_THREAD_BEHAVIOR,
+        "pulse_behaviors/manifest/pulse.xml": '<behavior name="Pulse">'
+        '<executable package_path="pulse_behaviors.pulse_sm" class="PulseSM" /></behavior>',
+    }
+    for package in ("pulse_states", "pulse_behaviors"):
+        (tmp_path / package / "src" / package).mkdir(parents=True)
+        (tmp_path / package / "src" / package / "__init__.py").write_text("")
+        (tmp_path / package / "package.xml").write_text(
+            f"<package format='2'><name>{package}</name><version>0.0.1</version><description>x</description>"
+            "<maintainer email='s@example.org'>s</maintainer><license>BSD</license></package>"
+        )
+    for rel, text in files.items():
+        (tmp_path / rel).parent.mkdir(parents=True, exist_ok=True)
+        (tmp_path / rel).write_text(text)
+    report = run_behavior("Pulse", [tmp_path], scenario="lecture7_flexbe", timeout=10.0)
+    assert report.outcome == "finished" and report.ok, report.summary()
+    pulses = [(x["time"], x["text"]) for x in report.logs if x["text"].startswith("belt")]
+    # Entered at 0 s (FlexBE's first tick); each pulse after 0.5 s of sleep and the call's 5 ms.
+    start = report.trace[0]["entered"]
+    assert [text for _, text in pulses] == ["belt 100", "belt 0"]
+    assert [t - start for t, _ in pulses] == pytest.approx([0.505, 1.01])
