@@ -62,7 +62,8 @@ def cell_logic(parts: int) -> tuple[float, float, int]:
 
 def ros_logic(parts: int) -> tuple[float, float, int]:
     start = time.perf_counter()
-    report = run_script(EXAMPLES / "lecture6_assignment4.py", [str(parts)], scenario=SCENARIO)
+    # settle_after=0: the same simulated span as the Cell run (which does not run on after its end).
+    report = run_script(EXAMPLES / "lecture6_assignment4.py", [str(parts)], scenario=SCENARIO, settle_after=0)
     if report.exception:
         raise RuntimeError(report.exception)
     return time.perf_counter() - start, report.sim_time_s, report.in_bins

@@ -246,7 +246,7 @@ def run_isolated_script(args: argparse.Namespace, out: Callable[[str], None]) ->
 def _ros_run_options(args: argparse.Namespace) -> dict[str, Any]:
     """The ros-run options given on ``ros-run --sandbox``'s command line, for its isolated run."""
     given = {name: getattr(args, name, None) for name in grade_options.ROS_RUN_OPTIONS}
-    given = {k: v for k, v in given.items() if v not in (None, [], 0.0)}
+    given = {k: v for k, v in given.items() if v not in (None, [])}  # a 0 is a value (--settle-after 0)
     return grade_options.check_options(given, "ros-run", Path.cwd())
 
 

@@ -95,6 +95,7 @@ ROS_RUN_OPTIONS: dict[str, RosRunOption] = {
     "call": RosRunOption("--call", _call, many=True),
     "settle": RosRunOption("--settle", _seconds),
     "latency": RosRunOption("--latency", _latency),
+    "settle_after": RosRunOption("--settle-after", _seconds),
 }
 
 

@@ -46,7 +46,7 @@ from omtp_drake.errors import (
 )
 from omtp_drake.scenario import RobotConfig
 from omtp_drake.script.arm_commander import ArmCommander
-from omtp_drake.script.motion import SETTLE_TIMEOUT, SETTLE_TOLERANCE, MoveResult, MoveRunner, Plan
+from omtp_drake.script.motion import SETTLE_TIMEOUT, SETTLE_TOLERANCE, MoveResult, MoveRunner, MoveSteps, Plan
 from omtp_drake.script.scene import CellPlanningScene, world_pose
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.sim.tf import TfBuffer
@@ -67,7 +67,7 @@ class Arm:
         name: str,
         commander: ArmCommander,
         scene: CellPlanningScene,
-        step_hooks: list[Callable[[], None]],
+        steps: MoveSteps,
     ):
         self._runtime = runtime
         self._tf = tf
@@ -76,7 +76,7 @@ class Arm:
         self.config = runtime.station.arm(name).config
         self._planner: Optional[ArmPlanner] = None
         self._tool_frames = arms.tool_frame_names(self.config)
-        self._motion = MoveRunner(runtime, name, commander, scene, step_hooks)
+        self._motion = MoveRunner(runtime, name, commander, scene, steps)
 
     # ------------------------------------------------------------ state
 

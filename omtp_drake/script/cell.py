@@ -52,6 +52,7 @@ from omtp_drake.script.arm import Arm
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
 from omtp_drake.script.devices import Camera, Gripper, wait_until
+from omtp_drake.script.motion import MoveSteps
 from omtp_drake.script.scene import CellPlanningScene, world_pose
 from omtp_drake.sim.faults import FaultReport
 from omtp_drake.sim.ledger import Ledger
@@ -132,9 +133,9 @@ class Cell:
         #: What the arms' plans avoid besides the static cell and the other arm
         #: (MoveIt's planning scene: loose parts are not in it unless added).
         self.planning_scene = CellPlanningScene(self.runtime, self.tf)
-        self._move_hooks: list[Callable[[], None]] = []
+        self._move_steps = MoveSteps()
         self._arms = {
-            name: Arm(self.runtime, self.tf, name, c, self.planning_scene, self._move_hooks)
+            name: Arm(self.runtime, self.tf, name, c, self.planning_scene, self._move_steps)
             for name, c in commanders.items()
         }
         self._closed = False
@@ -187,7 +188,13 @@ class Cell:
         simulated time, after the contact check), e.g. to run other work while an
         arm moves (the ROS layer delivers topic callbacks there). The hook may make
         blocking calls itself; the move goes on from wherever they leave the cell."""
-        self._move_hooks.append(hook)
+        self._move_steps.hooks.append(hook)
+
+    def limit_move_steps(self, next_stop: Callable[[], float]) -> None:
+        """Every blocking move's next step ends no later than ``next_stop()`` (simulated
+        seconds; a time not after now is ignored), so that the work its step hooks do
+        for that time runs on time (the ROS layer's other script threads wake there)."""
+        self._move_steps.stops.append(next_stop)
 
     def wait(self, seconds: float) -> None:
         """Lets the cell run for ``seconds`` of simulated time."""

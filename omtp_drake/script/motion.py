@@ -76,6 +76,21 @@ class MoveResult:
     q: np.ndarray = field(repr=False)
 
 
+@dataclass
+class MoveSteps:
+    """What a cell asks of every blocking move between its steps (see
+    :meth:`Cell.on_move_step <omtp_drake.script.cell.Cell.on_move_step>`).
+
+    Attributes:
+        hooks: called after each step.
+        stops: each gives a time (simulated s) the next step ends at the latest
+            (:meth:`Cell.limit_move_steps <omtp_drake.script.cell.Cell.limit_move_steps>`).
+    """
+
+    hooks: list[Callable[[], None]] = field(default_factory=list)
+    stops: list[Callable[[], float]] = field(default_factory=list)
+
+
 class MoveRunner:
     """An arm's motions in the running cell: a plan handed to its commander, run
     with its guard and contact checks, and stopped when the guard fires."""
@@ -86,12 +101,12 @@ class MoveRunner:
         name: str,
         commander: ArmCommander,
         scene: CellPlanningScene,
-        step_hooks: list[Callable[[], None]],
+        steps: MoveSteps,
     ):
         self._runtime = runtime
         self._commander = commander
         self._scene = scene
-        self._step_hooks = step_hooks
+        self._steps = steps
         self.name = name
 
     def _joint_values(self) -> np.ndarray:
@@ -174,7 +189,7 @@ class MoveRunner:
         stopped = False
         next_contact_check = start + CONTACT_CHECK_PERIOD
         while runtime.time < end - 1e-9:
-            runtime.advance_to(min(end, runtime.time + period))
+            runtime.advance_to(self._step_end(min(end, runtime.time + period)))
             if runtime.time >= next_contact_check - 1e-9 or runtime.time >= end - 1e-9:
                 self._check_contacts()
                 next_contact_check = runtime.time + CONTACT_CHECK_PERIOD
@@ -190,15 +205,22 @@ class MoveRunner:
             and np.max(np.abs(self._joint_values() - goal)) > SETTLE_TOLERANCE
             and runtime.time < settle_end - 1e-9
         ):
-            runtime.advance_to(min(settle_end, runtime.time + GUARD_PERIOD))
+            runtime.advance_to(self._step_end(min(settle_end, runtime.time + GUARD_PERIOD)))
             self._check_contacts()
             self._between_steps()
         return MoveResult(start, runtime.time, stopped, self._joint_values())
 
+    def _step_end(self, t: float) -> float:
+        """``t``, or the earliest stop after now that the cell's step limits ask for
+        (see :meth:`Cell.limit_move_steps <omtp_drake.script.cell.Cell.limit_move_steps>`)."""
+        now = self._runtime.time
+        stops = [s for s in (stop() for stop in self._steps.stops) if s > now + 1e-9]
+        return min([t, *stops])
+
     def _between_steps(self) -> None:
         """The cell's move-step hooks (see :meth:`Cell.on_move_step
         <omtp_drake.script.cell.Cell.on_move_step>`)."""
-        for hook in self._step_hooks:
+        for hook in self._steps.hooks:
             hook()
 
     def _stop(self, context: Context) -> None:

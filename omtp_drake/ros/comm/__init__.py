@@ -15,6 +15,7 @@ Modules, one concept each:
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
 - ``nav_interfaces``: move_base_msgs' action types (no ``/move_base``, as in the course's cell)
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
+- ``threads``: a script's threads on the session's clock, taking turns (one runs at a time)
 - ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
 - ``latency``: the simulated time a call takes (planning, a trajectory's start, a service)
 - ``unsupported``: one clear error for every ROS name this project does not provide

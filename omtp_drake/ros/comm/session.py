@@ -22,6 +22,10 @@ moves the arm, say) its own messages wait in its queue, the oldest dropped
 beyond ``queue_size`` as in rospy, and other subscribers' messages wait too.
 A callback that raises is logged with its traceback and recorded (rospy's
 "bad callback"), and delivery goes on.
+
+Threads. A script's own threads take turns with its main thread at those blocking
+calls, in simulated-time order (:mod:`omtp_drake.ros.comm.threads`, :attr:`Session.threads`):
+one runs at a time, so the cell is stepped by one thread at a time.
 """
 
 from __future__ import annotations
@@ -38,6 +42,7 @@ from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.errors import NotSupportedError
 from omtp_drake.ros.comm.current import CurrentStack
+from omtp_drake.ros.comm.threads import ScriptThreads
 
 if TYPE_CHECKING:
     from omtp_drake.ros.comm.names import NodeNames
@@ -122,6 +127,9 @@ class Session:
         self.starting_node = False
         self.shutdown_reason: Optional[str] = None
         self.callback_errors: list[str] = []
+        #: The script's threads that ended with an exception (``name: Type: message``).
+        self.thread_errors: list[str] = []
+        self.threads = ScriptThreads(self, (ShutdownError, KeyboardInterrupt))
         self.collisions: list[str] = []
         #: MoveIt's fixes of a start or goal outside the joint bounds (omtp_drake.ros.moveit.bounds).
         self.bounds_fixed: list[str] = []
@@ -151,7 +159,8 @@ class Session:
         #: id(RobotTrajectory) -> (it, its fingerprint, the plan): recent plans, run exactly.
         self.plans: collections.OrderedDict[int, tuple] = collections.OrderedDict()
         cell.runtime.on_tick(lambda _rt: self._poll_sources())
-        cell.on_move_step(lambda: self.deliver(self.time))  # callbacks while an arm moves, too
+        cell.on_move_step(self._between_move_steps)
+        cell.limit_move_steps(self.threads.next_wake)  # other threads wake on time during a move
 
     # ------------------------------------------------------------ time
 
@@ -162,6 +171,13 @@ class Session:
     @property
     def tick(self) -> float:
         return self.cell.runtime.tick
+
+    def _between_move_steps(self) -> None:
+        """While a blocking move goes on: the callbacks due, then the other threads due."""
+        self.deliver(self.time)
+        self.threads.pass_on(self.time)
+        if self.threads.stop_here():
+            raise ShutdownError("the script ended")
 
     def think(self, seconds: float) -> None:
         """A blocking call's own time (planning, a service round trip): ``seconds`` of
@@ -187,11 +203,13 @@ class Session:
                 return True
             if self.time >= t_end - 1e-9:
                 return False
+            if self.threads.pass_on(t_end, until):
+                continue  # other threads ran: time, messages and shutdown may have changed
             paused = self.gazebo.clock_stopped()
             if paused is not None:
                 self.shutdown(paused)
                 self.check_running()
-            step_end = min(t_end, self.time + self.tick)
+            step_end = min(t_end, self.time + self.tick, self.threads.next_wake())
             if self.timeout is not None and step_end >= self.timeout - 1e-9:
                 self.cell.runtime.advance_to(max(self.time, min(step_end, self.timeout)))
                 self.shutdown(f"--timeout of {self.timeout:g} s simulated time reached")
@@ -206,12 +224,16 @@ class Session:
             self.deliver(self.time)
 
     def check_running(self) -> None:
+        if self.threads.stop_here():  # first: a thread told to stop is frozen at its next block
+            raise ShutdownError(self.shutdown_reason or "the script ended")
         if self.shutdown_reason is not None:
             raise ShutdownError(self.shutdown_reason)
 
     def poll_shutdown(self) -> bool:
         """``rospy.is_shutdown()``: delivers the callbacks due; after
         BUSY_POLLS_PER_TICK polls without time moving, lets one tick pass."""
+        if self.threads.told_to_stop():
+            return True
         if self.shutdown_reason is None:
             if self.time != self._last_poll_time:
                 self._last_poll_time, self._busy_polls = self.time, 0

@@ -40,8 +40,9 @@ from omtp_drake.ros.flexbe.context import (
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
 from omtp_drake.ros.moveit.node import start_move_group
-from omtp_drake.ros.run.py2 import python2_imports
+from omtp_drake.ros.run.py2 import python2_imports, python2_roots
 from omtp_drake.ros.run.runner import SHIM_DIR, SHIM_PACKAGES
+from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, finish
 
 #: The node FlexBE's onboard engine runs behaviours in.
 ONBOARD_NODE = "behavior_onboard"
@@ -121,6 +122,8 @@ class _Outcome:
     outcome: Optional[str] = None
     error: Optional[BaseException] = None
     failed_state: Optional[str] = None
+    #: The workspaces loaded as their Python 2 translation.
+    python2: list[str] = dataclasses.field(default_factory=list)
 
 
 def _spin(entry: BehaviorEntry, params: dict[str, str], session: Session) -> _Outcome:
@@ -158,18 +161,23 @@ def run_behavior(
     meshcat: bool = False,
     record: Optional[str | Path] = None,
     python2: bool = False,
+    settle_after: float = SETTLE_AFTER,
 ) -> FlexbeReport:
     """Runs ``behavior`` (a manifest name or a ``*_sm.py`` path) of ``workspaces`` on
     ``scenario``'s cell; the run's report (see the module doc). ``srdf``,
-    ``moveit_config``: the student's MoveIt config, as ``ros-run`` takes it. ``python2``: the
-    workspaces' modules are converted from Python 2 as they load
-    (:mod:`omtp_drake.ros.run.py2`)."""
+    ``moveit_config``: the student's MoveIt config, as ``ros-run`` takes it. A workspace
+    with a module that compiles only as Python 2 loads converted from Python 2
+    (:func:`~omtp_drake.ros.run.py2.python2_roots`); ``python2``: every workspace does.
+    ``settle_after``: after the outcome, the cell runs on up to this long until its parts
+    rest, and the report's ledger is taken then (:mod:`omtp_drake.ros.run.settling`)."""
     if autonomy not in AUTONOMY_LEVELS:
         raise ConfigError(f"--autonomy {autonomy!r} is unknown; valid: {', '.join(AUTONOMY_LEVELS)}")
     if timeout is not None and not timeout > 0:
         raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
+    settle_s = check_settle_after(settle_after)
     spaces = Workspaces(workspaces)
     entry = spaces.find(behavior)
+    converted = list(spaces.roots) if python2 else python2_roots(spaces.roots)
     loaded = load_scenario(str(scenario))
     if seed is not None:
         loaded = dataclasses.replace(loaded, seed=int(seed))
@@ -185,15 +193,17 @@ def run_behavior(
     run = FlexbeRun(SessionClock(session), autonomy=AUTONOMY_LEVELS[autonomy], packages=dict(spaces.packages))
     with (
         workspace_environment(spaces.python_paths()),
-        python2_imports(spaces.roots, python2),
+        python2_imports(converted, bool(converted)),
         genpy_module_names(),
         active(session),
         active_run(run),
+        session.threads.running(),  # threads a state starts take turns with the engine
     ):
         result = _spin(entry, params or {}, session)
-    replay = cell.close()
+    result.python2 = [str(r) for r in converted]
+    settled, replay = finish(session, settle_s)
     return _report(
-        entry.name, autonomy, session, run, result, spaces.roots, time.perf_counter() - start, replay
+        entry.name, autonomy, session, run, result, spaces.roots, settled, time.perf_counter() - start, replay
     )
 
 
@@ -202,8 +212,9 @@ def _report(
     autonomy: str,
     session: Session,
     run: FlexbeRun,
-    result: Any,
+    result: _Outcome,
     roots: Sequence[Path],
+    settled: Settled,
     wall: float,
     replay: Optional[Path],
 ) -> FlexbeReport:
@@ -214,13 +225,17 @@ def _report(
         seed=cell.scenario.seed,
         autonomy=autonomy,
         outcome=result.outcome,
-        sim_time_s=cell.time,
+        sim_time_s=settled.end,
+        settle_s=settled.seconds,
+        at_rest=settled.at_rest,
+        python2=result.python2,
         wall_time_s=wall,
         ledger=cell.ledger().to_dict(),
         trace=[t.to_dict() for t in run.trace],
         logs=[line.to_dict() for line in run.logs],
         collisions=list(session.collisions),
         callback_errors=list(session.callback_errors),
+        thread_errors=list(session.thread_errors),
         exception=describe_error(error, roots) if error is not None else None,
         failed_state=result.failed_state,
         traceback=_frames(error, roots) if error is not None else [],
@@ -254,7 +269,7 @@ def describe_error(error: BaseException, roots: Sequence[Path]) -> str:
     if isinstance(error, SyntaxError) and error.filename:
         where = f" (at {Path(error.filename).name}:{error.lineno}, imported from{where.removeprefix(' (at')}"
         if _in_roots(error.filename, roots):
-            text += "; if the workspace is Python 2 code (ROS Melodic), run with --python2"
+            text += "; it compiles neither as Python 3 nor, through 2to3, as Python 2 (ROS Melodic)"
     if isinstance(error, ModuleNotFoundError) and error.name:
         text += (
             f"; neither the workspaces' packages nor omtp-drake's ROS packages "

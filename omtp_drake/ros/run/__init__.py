@@ -7,5 +7,6 @@ Modules, one concept each:
 - ``cli``: the ``ros-run`` command
 - ``command``: what the ROS commands share: output lines, log levels, passed-on options
 - ``setup_steps``: the slides' set-up steps before a script (``--call``, ``--settle``)
+- ``settling``: after a run, the cell runs on until its parts rest (``--settle-after``)
 - ``py2``: course code written for Melodic's Python 2.7
 """

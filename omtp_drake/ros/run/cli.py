@@ -26,7 +26,9 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         robot=args.robot,
         workspace=args.workspace or (),
         **passed_on(
-            args, "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency"
+            args,
+            "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency "
+            "settle_after",
         ),
     )
     return show_report(report, args.json, print_line)
@@ -100,6 +102,7 @@ def _add_course_options(p: argparse.ArgumentParser) -> None:
         metavar="S",
         help="let the cell run S simulated seconds after the calls, before the script (default 0)",
     )
+    add_shared_options(p, "--settle-after")
     p.add_argument(
         "--latency",
         default=None,

@@ -9,6 +9,8 @@ import logging
 import sys
 from typing import Any
 
+from omtp_drake.ros.run.settling import SETTLE_AFTER
+
 #: The options the ROS commands declare alike: flag -> ``add_argument``'s keywords.
 SHARED_OPTIONS: dict[str, dict[str, Any]] = {
     "--scenario": {
@@ -28,6 +30,13 @@ SHARED_OPTIONS: dict[str, dict[str, Any]] = {
     "--meshcat": {"action": "store_true", "help": "show the run in a live Meshcat view"},
     "--record": {"metavar": "HTML", "help": "write a standalone Meshcat replay"},
     "--json": {"metavar": "FILE", "help": "write the run's report as JSON"},
+    "--settle-after": {
+        "type": float,
+        "default": SETTLE_AFTER,
+        "metavar": "S",
+        "help": "after the end, let the cell run on until its parts rest, at most S simulated seconds, "
+        f"and take the report then (default {SETTLE_AFTER:g}; 0: at the end)",
+    },
 }
 
 

@@ -12,9 +12,10 @@ still points at the student's line. What 2to3 does not change stays Python 3:
 - ``ros-run``: :func:`script_code` compiles a script as it is and, only when that is
   a ``SyntaxError``, its translation (then the modules of the script's folder load
   translated too, :func:`python2_imports`).
-- ``flexbe-run --python2``: every module of the workspaces loads translated
-  (:func:`python2_imports`), since a Python 2 state may compile as Python 3 and
-  fail only when it runs.
+- ``flexbe-run``: a workspace with a module that compiles only as its translation
+  (:func:`python2_roots`) loads every module translated (:func:`python2_imports`),
+  since a Python 2 state may compile as Python 3 and fail only when it runs;
+  ``--python2`` does so for every workspace.
 """
 
 from __future__ import annotations
@@ -68,6 +69,41 @@ def script_code(path: Path) -> ScriptCode:
             raise error from None
     _log.warning("%s is Python 2 (ROS Melodic): running its 2to3 translation", path.name)
     return ScriptCode(code, python2=True)
+
+
+def _is_python2(path: Path) -> bool:
+    """``path`` does not compile as Python 3 and its 2to3 translation does."""
+    source = path.read_text(encoding="utf-8", errors="surrogateescape")
+    try:
+        compile(source, str(path), "exec", dont_inherit=True)
+        return False
+    except (SyntaxError, ValueError):
+        pass
+    translated = translate(source, path, in_package=True)
+    if translated is None:
+        return False
+    try:
+        compile(translated, str(path), "exec", dont_inherit=True)
+    except (SyntaxError, ValueError):
+        return False
+    return True
+
+
+def python2_roots(roots: Sequence[Path]) -> list[Path]:
+    """The folders of ``roots`` (catkin workspaces) that hold a Python 2 module: one that
+    does not compile as Python 3 while its 2to3 translation does."""
+    found = []
+    for root in roots:
+        modules = sorted(p for p in Path(root).rglob("*.py") if p.is_file())
+        python2 = next((m for m in modules if _is_python2(m)), None)
+        if python2 is not None:
+            _log.warning(
+                "%s is Python 2 (ROS Melodic): the modules of %s load as their 2to3 translation",
+                python2.name,
+                root,
+            )
+            found.append(Path(root))
+    return found
 
 
 def _string_continuation_lines(source: str) -> set[int]:

@@ -23,14 +23,21 @@ class RosReport:
     script: str
     scenario: str
     seed: int
+    #: Simulated time at the script's end.
     sim_time_s: float
     wall_time_s: float
-    #: ``Ledger.to_dict()``: parts per bin, on the floor, held...
+    #: ``Ledger.to_dict()``: parts per bin, on the floor, held..., once the cell settled.
     ledger: dict[str, Any]
+    #: How long (simulated s) the cell ran on after the end before the ledger was taken,
+    #: and whether every part rested then (``omtp_drake.ros.run.settling``).
+    settle_s: float = 0.0
+    at_rest: bool = False
     #: Moves stopped by the collision guard (their messages).
     collisions: list[str] = field(default_factory=list)
     #: Callbacks that raised (``topic: Type: message``); rospy logs and goes on.
     callback_errors: list[str] = field(default_factory=list)
+    #: The script's threads that ended with an exception (``name: Type: message``).
+    thread_errors: list[str] = field(default_factory=list)
     #: The script's uncaught exception, ``Type: message (at script.py:LINE in f)``.
     exception: Optional[str] = None
     #: The script's own frames of that exception's traceback.
@@ -51,11 +58,12 @@ class RosReport:
 
     @property
     def ok(self) -> bool:
-        """The script ended without an exception, a failed callback, a collision or a
-        failing exit code."""
+        """The script ended without an exception, a failed callback or thread, a collision
+        or a failing exit code."""
         return (
             self.exception is None
             and not self.callback_errors
+            and not self.thread_errors
             and not self.collisions
             and self.exit_code == 0
         )
@@ -72,12 +80,14 @@ class RosReport:
         lines = [
             f"{self.script} on {self.scenario} (seed {self.seed}): {self.sim_time_s:.1f} s simulated "
             f"in {self.wall_time_s:.1f} s",
+            *settle_line(self.settle_s, self.at_rest),
             ledger_line(self.ledger),
         ]
         if self.python2:
             lines.append("python 2: the script ran as its 2to3 translation (Melodic)")
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
+        lines += [f"thread error: {c}" for c in self.thread_errors]
         lines += [f"spawn call: {c}" for c in self.empty_spawn_calls]
         lines += [f"ignored plugin: {p}" for p in self.ignored_plugins]
         lines += [f"moveit bounds: {c}" for c in self.bounds_fixed]
@@ -98,6 +108,14 @@ def ledger_line(ledger: dict[str, Any]) -> str:
         f"on belt {ledger['on_belt']}, elsewhere {ledger['elsewhere']}, held {sum(ledger['held'].values())}, "
         f"disposed {ledger['disposed']}"
     )
+
+
+def settle_line(settle_s: float, at_rest: bool) -> list[str]:
+    """The line (none when it did not run on) saying how the cell ran on after the end."""
+    if settle_s <= 0:
+        return []
+    how = "every part at rest" if at_rest else "the --settle-after limit; not every part at rest"
+    return [f"settled: the cell ran on {settle_s:.2f} s after the end ({how})"]
 
 
 def describe_script_exception(e: BaseException, script: Path) -> str:

@@ -33,6 +33,7 @@ from omtp_drake.ros.gazebo.model_topics import unknown_plugins
 from omtp_drake.ros.moveit.node import start_move_group
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport, describe_script_exception
+from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, finish
 from omtp_drake.ros.run.setup_steps import call_services
 from omtp_drake.ros.run.setup_steps import settle as settle_cell
 from omtp_drake.scenario import Scenario, with_robot
@@ -91,6 +92,7 @@ def run_script(
     settle: float = 0.0,
     latency: Optional[str | float] = None,
     nodes: Sequence[tuple[str | Path, Sequence[str]]] = (),
+    settle_after: float = SETTLE_AFTER,
 ) -> RosReport:
     """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
 
@@ -109,7 +111,9 @@ def run_script(
     subscribers, timers and services serve the script's run.
     ``latency``: the simulated time planning, execution starts and service calls take
     (:func:`~omtp_drake.ros.comm.latency.resolve_latency`: None for the scenario's
-    ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs).
+    ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs). ``settle_after``: after
+    the script, the cell runs on up to this long until its parts rest, and the report's
+    ledger is taken then (:mod:`omtp_drake.ros.run.settling`; 0: at the script's end).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -118,6 +122,7 @@ def run_script(
         raise ConfigError(f"--moveit {moveit!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
     if timeout is not None and not timeout > 0:
         raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
+    settle_s = check_settle_after(settle_after)
     loaded = _run_scenario(scenario, robot, workspace, seed)
     delays = resolve_latency(loaded.ros_latency, latency)
     start = time.perf_counter()
@@ -133,8 +138,8 @@ def run_script(
         cell.close()
         raise
     ending = _run_main(path, args, session)
-    replay = cell.close()
-    return _report(path, session, ending, time.perf_counter() - start, replay)
+    settled, replay = finish(session, settle_s)
+    return _report(path, session, ending, settled, time.perf_counter() - start, replay)
 
 
 def _run_scenario(
@@ -168,7 +173,12 @@ def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
         code = script_code(path)
         ending.python2 = code.python2
         # A Python 2 script's own modules (its folder's) load translated too.
-        with script_environment(path, args), python2_imports([path.parent], code.python2), active(session):
+        with (
+            script_environment(path, args),
+            python2_imports([path.parent], code.python2),
+            active(session),
+            session.threads.running(),  # the script's threads take turns with it
+        ):
             run_as_main(code, path)
     except SystemExit as e:
         ending.exit_code = e.code if isinstance(e.code, int) else (0 if e.code is None else 1)
@@ -204,17 +214,22 @@ def _start_node(path: Path, argv: Sequence[str], session: Session) -> None:
     _log.info("node %s started", path.name)
 
 
-def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: Optional[Path]) -> RosReport:
+def _report(
+    path: Path, session: Session, ending: _Ending, settled: Settled, wall: float, replay: Optional[Path]
+) -> RosReport:
     cell, exception = session.cell, ending.exception
     return RosReport(
         script=path.name,
         scenario=cell.scenario.name,
         seed=cell.scenario.seed,
-        sim_time_s=cell.time,
+        sim_time_s=settled.end,
+        settle_s=settled.seconds,
+        at_rest=settled.at_rest,
         wall_time_s=wall,
         ledger=cell.ledger().to_dict(),
         collisions=list(session.collisions),
         callback_errors=list(session.callback_errors),
+        thread_errors=list(session.thread_errors),
         exception=describe_script_exception(exception, path) if exception is not None else None,
         traceback=_script_traceback(exception, path) if exception is not None else [],
         shutdown=session.shutdown_reason,
