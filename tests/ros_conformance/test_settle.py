@@ -95,3 +95,15 @@ def test_settle_after_reaches_an_isolated_run(tmp_path):
     assert main(argv + ["--json", str(result)]) == 0
     report = json.loads(result.read_text())["report"]
     assert report["at_rest"] and report["ledger"]["parts"] == {"object_1": "on_floor"}
+
+
+def test_a_world_without_parts_rests_at_once(tmp_path):
+    """The tutorial's robot alone in Gazebo's empty world: no part to wait for, so the report
+    is taken at the first tick after the end, not after the whole --settle-after."""
+    from omtp_drake.ros.run.runner import run_script
+
+    robot = ROOT / "tests" / "fixtures" / "tutorial_ws" / "src" / "slider_arm_description" / "urdf"
+    script = tmp_path / "hello.py"
+    script.write_text("import rospy\nrospy.init_node('hello')\nrospy.sleep(0.2)\n")
+    report = run_script(script, robot=robot / "slider_arm.urdf.xacro", timeout=5)
+    assert report.ok and report.at_rest and report.settle_s < 0.5, report.summary()

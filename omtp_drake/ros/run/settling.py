@@ -11,8 +11,9 @@ A part rests when it has been still for the scenario's ``sleep.rest_time`` (slow
 asleep, :mod:`omtp_drake.cell.rest_clock`), counted from the end at the earliest: a part
 held at the end may still be let go of. So the world runs on at least ``rest_time``
 (0.5 s by default); a part on a running belt never rests, so then it runs the whole
-``--settle-after``. A scenario whose parts never sleep (``sleep.enabled: false``) has no
-rest clock: the world runs the whole ``--settle-after``.
+``--settle-after``. A scenario whose parts never sleep (``sleep.enabled: false``, or a cell
+without parts, such as a robot alone in Gazebo's empty world) has no rest clock: the
+world runs the whole ``--settle-after`` unless it holds no part at all.
 
 Meanwhile the script's node is gone: no callbacks run, and no new parts come (the
 spawner is stopped, as by ``/stop_spawn``): the report counts the parts the run made.
@@ -93,11 +94,12 @@ def _stop_spawning(session: Session) -> None:
 
 
 def _rest_test(session: Session, start: float) -> Callable[[], bool]:
-    """A test of whether every part in the world rests now (never, without a rest clock)."""
+    """A test of whether every part in the world rests now (without a rest clock: whether
+    there is no part in the world)."""
     cell = session.cell
     clock = cell.station.rest_clock
-    if clock is None:
-        return lambda: False
+    if clock is None:  # parts never sleep: only a world without parts is known to rest
+        return lambda: not cell.runtime.parts_in_world()
     rest_time = cell.scenario.sleep.rest_time
     names = clock.part_names
 
