@@ -216,3 +216,30 @@ def test_the_subpackage_check_finds_a_stray_module(tmp_path):
     (tmp_path / "grading").mkdir()
     (tmp_path / "grading" / "grade.py").write_text("")
     assert _outside_subpackages(tmp_path) == ["grading", "session.py"]
+
+
+def _core_door_breaches(graph: dict[str, set[str]]) -> list[str]:
+    """Imports of a layer below ``ros`` by a ``ros`` module other than ``ros.comm._core``
+    (``errors`` aside: every layer raises its errors)."""
+    door = "omtp_drake.ros.comm._core"
+    return sorted(
+        f"{module} imports {target}"
+        for module, imported in graph.items()
+        if _unit(module) == "ros" and module != door and ".shims." not in module
+        for target in imported
+        if target != "omtp_drake" and _unit(target) not in ("ros", "errors")
+    )
+
+
+def test_ros_imports_the_core_through_its_one_door():
+    """``ros/comm/_core.py`` says it is the one place the ROS layer imports the core from."""
+    assert not _core_door_breaches(_graph())
+
+
+def test_the_door_check_finds_a_module_going_around_it():
+    graph = {
+        "omtp_drake.ros.comm._core": {"omtp_drake.script"},
+        "omtp_drake.ros.comm.session": {"omtp_drake.ros.comm._core", "omtp_drake.errors"},
+        "omtp_drake.ros.moveit.config": {"omtp_drake.cell.arms"},
+    }
+    assert _core_door_breaches(graph) == ["omtp_drake.ros.moveit.config imports omtp_drake.cell.arms"]

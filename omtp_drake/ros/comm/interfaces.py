@@ -1,4 +1,6 @@
-"""The course cell's own ROS interfaces: omtp_gazebo, std_srvs and moveit_msgs types.
+"""The course cell's own ROS interfaces: omtp_gazebo, std_srvs and moveit_msgs types,
+declared from their ``.msg`` / ``.srv`` / ``.action`` text (:mod:`omtp_drake.ros.comm.messages`'s
+factory).
 
 Messages follow the course's ``rosmsg show`` output (see
 ``shared/reference/omtp_factory.md`` section 9); services have a request and a
@@ -8,239 +10,89 @@ response class each, and the service class names both (``_request_class``,
 
 from __future__ import annotations
 
-from typing import ClassVar
+from omtp_drake.ros.comm.messages import Message, ServiceType, action, message, service
 
-from omtp_drake.ros.comm.messages import (
-    Header,
-    JointState,
-    JointTrajectory,
-    Message,
-    Pose,
-)
-
-
-class ServiceType:
-    """A service: its request and response message classes."""
-
-    _type: ClassVar[str] = ""
-    _request_class: ClassVar[type[Message]]
-    _response_class: ClassVar[type[Message]]
-
+__all__ = ["Message", "ServiceType"]
 
 # ----------------------------------------------------------------------------- omtp_gazebo
 
-
-class Model(Message):
-    """One model a logical camera sees: its type and its pose in the camera frame."""
-
-    __slots__ = ("type", "pose")
-    _type = "omtp_gazebo/Model"
-    _defaults = (str, Pose)
-
-
-class LogicalCameraImage(Message):
-    """What a logical camera sees (no header: scripts stamp it themselves)."""
-
-    __slots__ = ("models", "pose")
-    _type = "omtp_gazebo/LogicalCameraImage"
-    _defaults = (list, Pose)
-
-
-class ConveyorBeltState(Message):
-    __slots__ = ("power",)
-    _type = "omtp_gazebo/ConveyorBeltState"
-    _defaults = (float,)
-
-
-class VacuumGripperState(Message):
-    __slots__ = ("enabled", "attached")
-    _type = "omtp_gazebo/VacuumGripperState"
-    _defaults = (bool, bool)
-
-
-class Proximity(Message):
-    """The break beam's state (the proximity-ray plugin's message): whether something
-    is in the beam's range, and that range's limits (m)."""
-
-    __slots__ = ("header", "object_detected", "min_range", "max_range")
-    _type = "omtp_gazebo/Proximity"
-    _defaults = (Header, bool, float, float)
-
-
-class VacuumGripperControlRequest(Message):
-    __slots__ = ("enable",)
-    _type = "omtp_gazebo/VacuumGripperControlRequest"
-    _defaults = (bool,)
-
-
-class VacuumGripperControlResponse(Message):
-    __slots__ = ("success",)
-    _type = "omtp_gazebo/VacuumGripperControlResponse"
-    _defaults = (bool,)
-
-
-class VacuumGripperControl(ServiceType):
-    _type = "omtp_gazebo/VacuumGripperControl"
-    _request_class = VacuumGripperControlRequest
-    _response_class = VacuumGripperControlResponse
-
-
-class ConveyorBeltControlRequest(Message):
-    __slots__ = ("state",)
-    _type = "omtp_gazebo/ConveyorBeltControlRequest"
-    _defaults = (ConveyorBeltState,)
-
-
-class ConveyorBeltControlResponse(Message):
-    __slots__ = ("success",)
-    _type = "omtp_gazebo/ConveyorBeltControlResponse"
-    _defaults = (bool,)
-
-
-class ConveyorBeltControl(ServiceType):
-    _type = "omtp_gazebo/ConveyorBeltControl"
-    _request_class = ConveyorBeltControlRequest
-    _response_class = ConveyorBeltControlResponse
-
+Model = message(
+    "omtp_gazebo/Model",
+    "string type\ngeometry_msgs/Pose pose",
+    "One model a logical camera sees: its type and its pose in the camera frame.",
+)
+LogicalCameraImage = message(
+    "omtp_gazebo/LogicalCameraImage",
+    "Model[] models\ngeometry_msgs/Pose pose",
+    "What a logical camera sees (no header: scripts stamp it themselves).",
+)
+ConveyorBeltState = message("omtp_gazebo/ConveyorBeltState", "float64 power")
+VacuumGripperState = message("omtp_gazebo/VacuumGripperState", "bool enabled\nbool attached")
+Proximity = message(
+    "omtp_gazebo/Proximity",
+    "Header header\nbool object_detected\nfloat32 min_range\nfloat32 max_range",
+    "The break beam's state (the proximity-ray plugin's message): whether something is in the "
+    "beam's range, and that range's limits (m).",
+)
+VacuumGripperControl, VacuumGripperControlRequest, VacuumGripperControlResponse = service(
+    "omtp_gazebo/VacuumGripperControl", "bool enable\n---\nbool success"
+)
+ConveyorBeltControl, ConveyorBeltControlRequest, ConveyorBeltControlResponse = service(
+    "omtp_gazebo/ConveyorBeltControl", "ConveyorBeltState state\n---\nbool success"
+)
 
 # ----------------------------------------------------------------------------- std_srvs
 
-
-class EmptyRequest(Message):
-    __slots__ = ()
-    _type = "std_srvs/EmptyRequest"
-
-
-class EmptyResponse(Message):
-    __slots__ = ()
-    _type = "std_srvs/EmptyResponse"
-
-
-class EmptyService(ServiceType):
-    _type = "std_srvs/Empty"
-    _request_class = EmptyRequest
-    _response_class = EmptyResponse
-
-
-class TriggerRequest(Message):
-    __slots__ = ()
-    _type = "std_srvs/TriggerRequest"
-
-
-class TriggerResponse(Message):
-    __slots__ = ("success", "message")
-    _type = "std_srvs/TriggerResponse"
-    _defaults = (bool, str)
-
-
-class Trigger(ServiceType):
-    _type = "std_srvs/Trigger"
-    _request_class = TriggerRequest
-    _response_class = TriggerResponse
-
-
-class SetBoolRequest(Message):
-    __slots__ = ("data",)
-    _type = "std_srvs/SetBoolRequest"
-    _defaults = (bool,)
-
-
-class SetBoolResponse(Message):
-    __slots__ = ("success", "message")
-    _type = "std_srvs/SetBoolResponse"
-    _defaults = (bool, str)
-
-
-class SetBool(ServiceType):
-    _type = "std_srvs/SetBool"
-    _request_class = SetBoolRequest
-    _response_class = SetBoolResponse
-
+EmptyService, EmptyRequest, EmptyResponse = service("std_srvs/Empty", "---")
+Trigger, TriggerRequest, TriggerResponse = service("std_srvs/Trigger", "---\nbool success\nstring message")
+SetBool, SetBoolRequest, SetBoolResponse = service(
+    "std_srvs/SetBool", "bool data\n---\nbool success\nstring message"
+)
 
 # ----------------------------------------------------------------------------- moveit_msgs
 
-
-class MoveItErrorCodes(Message):
-    __slots__ = ("val",)
-    _type = "moveit_msgs/MoveItErrorCodes"
-    _defaults = (int,)
-    SUCCESS: ClassVar[int] = 1
-    FAILURE: ClassVar[int] = 99999
-    PLANNING_FAILED: ClassVar[int] = -1
-    INVALID_MOTION_PLAN: ClassVar[int] = -2
-    CONTROL_FAILED: ClassVar[int] = -4
-    TIMED_OUT: ClassVar[int] = -6
-    PREEMPTED: ClassVar[int] = -7
-    START_STATE_IN_COLLISION: ClassVar[int] = -10
-    GOAL_IN_COLLISION: ClassVar[int] = -12
-    INVALID_GROUP_NAME: ClassVar[int] = -15
-    NO_IK_SOLUTION: ClassVar[int] = -31
-
-
-class RobotTrajectory(Message):
-    """A planned motion: its joint trajectory (multi-DOF part unused)."""
-
-    __slots__ = ("joint_trajectory", "multi_dof_joint_trajectory")
-    _type = "moveit_msgs/RobotTrajectory"
-    _defaults = (JointTrajectory, JointTrajectory)
-
-
-class RobotState(Message):
-    __slots__ = ("joint_state", "is_diff")
-    _type = "moveit_msgs/RobotState"
-    _defaults = (JointState, bool)
-
-
-class SolidPrimitive(Message):
-    __slots__ = ("type", "dimensions")
-    _type = "shape_msgs/SolidPrimitive"
-    _defaults = (int, list)
-    BOX: ClassVar[int] = 1
-
-
-class CollisionObject(Message):
-    """A box of the planning scene (``primitives[0]``, at ``primitive_poses[0]`` in
-    ``header.frame_id``: ``world``, or the gripper's cup body when attached)."""
-
-    __slots__ = ("header", "id", "primitives", "primitive_poses")
-    _type = "moveit_msgs/CollisionObject"
-    _defaults = (Header, str, list, list)
-
-
-class AttachedCollisionObject(Message):
-    __slots__ = ("link_name", "object")
-    _type = "moveit_msgs/AttachedCollisionObject"
-    _defaults = (str, CollisionObject)
-
-
-class DisplayTrajectory(Message):
-    __slots__ = ("model_id", "trajectory", "trajectory_start")
-    _type = "moveit_msgs/DisplayTrajectory"
-    _defaults = (str, list, RobotState)
-
-
-class ExecuteTrajectoryGoal(Message):
-    __slots__ = ("trajectory",)
-    _type = "moveit_msgs/ExecuteTrajectoryGoal"
-    _defaults = (RobotTrajectory,)
-
-
-class ExecuteTrajectoryResult(Message):
-    __slots__ = ("error_code",)
-    _type = "moveit_msgs/ExecuteTrajectoryResult"
-    _defaults = (MoveItErrorCodes,)
-
-
-class ExecuteTrajectoryFeedback(Message):
-    __slots__ = ("state",)
-    _type = "moveit_msgs/ExecuteTrajectoryFeedback"
-    _defaults = (str,)
-
-
-class ExecuteTrajectoryAction(Message):
-    """The action type: ``SimpleActionClient('execute_trajectory', ExecuteTrajectoryAction)``."""
-
-    __slots__ = ()
-    _type = "moveit_msgs/ExecuteTrajectoryAction"
-    _goal_class: ClassVar[type[Message]] = ExecuteTrajectoryGoal
-    _result_class: ClassVar[type[Message]] = ExecuteTrajectoryResult
+MoveItErrorCodes = message(
+    "moveit_msgs/MoveItErrorCodes",
+    """
+    int32 val
+    int32 SUCCESS=1
+    int32 FAILURE=99999
+    int32 PLANNING_FAILED=-1
+    int32 INVALID_MOTION_PLAN=-2
+    int32 CONTROL_FAILED=-4
+    int32 TIMED_OUT=-6
+    int32 PREEMPTED=-7
+    int32 START_STATE_IN_COLLISION=-10
+    int32 GOAL_IN_COLLISION=-12
+    int32 INVALID_GROUP_NAME=-15
+    int32 NO_IK_SOLUTION=-31
+    """,
+)
+RobotTrajectory = message(
+    "moveit_msgs/RobotTrajectory",
+    # The multi-DOF part (trajectory_msgs/MultiDOFJointTrajectory in ROS) is unused: an empty
+    # joint trajectory stands in for it.
+    "trajectory_msgs/JointTrajectory joint_trajectory\n"
+    "trajectory_msgs/JointTrajectory multi_dof_joint_trajectory",
+    "A planned motion: its joint trajectory (multi-DOF part unused).",
+)
+RobotState = message("moveit_msgs/RobotState", "sensor_msgs/JointState joint_state\nbool is_diff")
+SolidPrimitive = message("shape_msgs/SolidPrimitive", "uint8 type\nfloat64[] dimensions\nuint8 BOX=1")
+CollisionObject = message(
+    "moveit_msgs/CollisionObject",
+    "Header header\nstring id\nshape_msgs/SolidPrimitive[] primitives\ngeometry_msgs/Pose[] primitive_poses",
+    "A box of the planning scene (``primitives[0]``, at ``primitive_poses[0]`` in ``header.frame_id``: "
+    "``world``, or the gripper's cup body when attached).",
+)
+AttachedCollisionObject = message(
+    "moveit_msgs/AttachedCollisionObject", "string link_name\nCollisionObject object"
+)
+DisplayTrajectory = message(
+    "moveit_msgs/DisplayTrajectory",
+    "string model_id\nRobotTrajectory[] trajectory\nRobotState trajectory_start",
+)
+ExecuteTrajectoryAction, ExecuteTrajectoryGoal, ExecuteTrajectoryResult, ExecuteTrajectoryFeedback = action(
+    "moveit_msgs/ExecuteTrajectory",
+    "RobotTrajectory trajectory\n---\nMoveItErrorCodes error_code\n---\nstring state",
+    "The action type: ``SimpleActionClient('execute_trajectory', ExecuteTrajectoryAction)``.",
+)

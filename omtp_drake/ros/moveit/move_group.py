@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.errors import OmtpError
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes, RobotState
 from omtp_drake.ros.comm.latency import delay_of
-from omtp_drake.ros.comm.messages import Header, JointState, Pose, PoseStamped
+from omtp_drake.ros.comm.messages import Header, JointState, Message, Pose, PoseStamped
 from omtp_drake.ros.comm.rostime import Time
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.moveit.commander import MoveGroupCommander, MoveItCommanderException
@@ -36,7 +36,7 @@ from omtp_drake.ros.moveit.interfaces import MoveGroupAction, MoveGroupResult
 from omtp_drake.ros.moveit.trajectories import joint_names, to_msg
 
 if TYPE_CHECKING:
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 _log = logging.getLogger("moveit_commander")
 
@@ -50,13 +50,13 @@ class GoalState:
     PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED, LOST = 0, 1, 2, 3, 4, 5, 9
 
 
-def _robot_state(cell: Cell, robot: str) -> RobotState:
+def _robot_state(cell: Cell, robot: str) -> Message:
     names = joint_names(robot)
     q = [float(x) for x in cell.arm(robot).joint_values()]
     return RobotState(joint_state=JointState(header=Header(stamp=Time.now()), name=names, position=q))
 
 
-def _pose_target(constraints: Any) -> tuple[PoseStamped, str]:
+def _pose_target(constraints: Any) -> tuple[Message, str]:
     """(target pose, link) of one position + orientation constraint pair."""
     position = constraints.position_constraints[0]
     region = position.constraint_region
@@ -166,7 +166,7 @@ class MoveGroupClient:
         self._poll()
         return self._state
 
-    def get_result(self) -> Optional[MoveGroupResult]:
+    def get_result(self) -> Optional[Message]:
         self._poll()
         return self._result if self.is_done() else None
 
