@@ -18,7 +18,9 @@ def cmd_flexbe_run(args: argparse.Namespace) -> int:
         args.behavior,
         args.workspace,
         params=parse_params(args.param),
-        **passed_on(args, "scenario srdf moveit_config timeout autonomy seed meshcat record python2"),
+        **passed_on(
+            args, "scenario srdf moveit_config timeout autonomy seed meshcat realtime record latency python2"
+        ),
     )
     return show_report(report, args.json, print_line)
 
@@ -42,7 +44,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--autonomy", choices=list(AUTONOMY_LEVELS), default="full", help="default full")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="a behaviour parameter")
-    add_shared_options(p, "--seed --json --record --meshcat")
+    add_shared_options(p, "--seed --json --record --meshcat --realtime --latency")
     p.add_argument(
         "--python2",
         action="store_true",

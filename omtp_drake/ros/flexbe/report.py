@@ -41,6 +41,10 @@ class FlexbeReport:
     #: Why the ROS session shut down (``--timeout``), if it did.
     shutdown: Optional[str] = None
     replay: Optional[str] = None
+    #: What the error is, as data (:func:`omtp_drake.errors.exception_kind`).
+    error: Optional[dict[str, Any]] = None
+    #: The session shut down at ``--timeout`` (``shutdown`` says so in words).
+    timed_out: bool = False
 
     @property
     def ok(self) -> bool:

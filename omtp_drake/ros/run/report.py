@@ -9,7 +9,6 @@ scenario and its seed.
 from __future__ import annotations
 
 import json
-import traceback
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -44,6 +43,10 @@ class RosReport:
     #: Spawner calls that spawned nothing (the course's spawner stays silent; each was logged).
     empty_spawn_calls: list[str] = field(default_factory=list)
     replay: Optional[str] = None
+    #: What the script's exception is, as data (:func:`omtp_drake.errors.exception_kind`).
+    error: Optional[dict[str, Any]] = None
+    #: The session shut down at ``--timeout`` (``shutdown`` says so in words).
+    timed_out: bool = False
 
     @property
     def ok(self) -> bool:
@@ -92,16 +95,6 @@ def ledger_line(ledger: dict[str, Any]) -> str:
         f"on belt {ledger['on_belt']}, elsewhere {ledger['elsewhere']}, held {sum(ledger['held'].values())}, "
         f"disposed {ledger['disposed']}"
     )
-
-
-def describe_script_exception(e: BaseException, script: Path) -> str:
-    """``Type: message (at script.py:LINE in function)``: the deepest frame in the script."""
-    text = " ".join(str(e).split())
-    where = ""
-    for frame in traceback.extract_tb(e.__traceback__):
-        if Path(frame.filename).resolve() == script:
-            where = f" (at {script.name}:{frame.lineno} in {frame.name})"
-    return f"{type(e).__name__}: {text[:500]}{where}"
 
 
 class _Shown(Protocol):

@@ -22,16 +22,14 @@ import sys
 import time
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Optional
+from typing import Any, Optional
 
-from omtp_drake.errors import ConfigError
-from omtp_drake.ros.comm._core import Cell, load_scenario
+from omtp_drake.errors import ConfigError, describe_exception, exception_frames, exception_kind
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
-from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.ros.comm.session import Session, active
-from omtp_drake.ros.moveit.config import install as install_moveit_config
+from omtp_drake.ros.run.bring_up import RunSettings, bring_up
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
-from omtp_drake.ros.run.report import RosReport, describe_script_exception
+from omtp_drake.ros.run.report import RosReport
 from omtp_drake.ros.run.setup_steps import call_services
 from omtp_drake.ros.run.setup_steps import settle as settle_cell
 
@@ -41,8 +39,6 @@ _log = logging.getLogger(__name__)
 SHIM_DIR = Path(__file__).resolve().parents[1] / "shims"
 #: The top-level names it provides.
 SHIM_PACKAGES = tuple(sorted(p.name for p in SHIM_DIR.iterdir() if (p / "__init__.py").is_file()))
-
-MOVEIT_VERSIONS = ("noetic", "melodic")
 
 
 @contextlib.contextmanager
@@ -74,48 +70,27 @@ def run_script(
     script: str | Path,
     args: Sequence[str] = (),
     *,
-    scenario: str | Path,
-    seed: Optional[int] = None,
-    timeout: Optional[float] = 600.0,
-    moveit: str = "noetic",
-    meshcat: bool = False,
-    realtime: bool = False,
-    record: Optional[str | Path] = None,
-    srdf: Optional[str | Path] = None,
-    moveit_config: Optional[str | Path] = None,
     calls: Sequence[str] = (),
     settle: float = 0.0,
-    latency: Optional[str | float] = None,
+    **settings: Any,
 ) -> RosReport:
-    """Runs ``script`` (with ``args``) on ``scenario``'s cell; the run's report.
+    """Runs ``script`` (with ``args``) on a scenario's cell; the run's report.
 
-    ``timeout``: simulated seconds after which the ROS session shuts down
-    (``rospy.is_shutdown()`` turns True, blocking calls raise
-    ROSInterruptException, ``spin`` returns). ``moveit``: ``noetic`` or ``melodic``
-    (the shape of ``plan()``). ``srdf``, ``moveit_config``: a student's SRDF file and
-    MoveIt config package (:mod:`omtp_drake.ros.moveit.config`; default: the cell's own).
-    ``calls``, ``settle``: the set-up steps before the script (``rosservice call`` of
-    each, then ``settle`` simulated seconds; see :mod:`omtp_drake.ros.run.setup_steps`).
-    ``latency``: the simulated time planning, execution starts and service calls take
-    (:func:`~omtp_drake.ros.comm.latency.resolve_latency`: None for the scenario's
-    ``ros_latency``, a factor on it, or ``NAME=SECONDS`` pairs).
+    ``settings``: the run's cell and session, as :class:`~omtp_drake.ros.run.bring_up.RunSettings`
+    names them (``scenario`` required; ``seed``, ``timeout``, ``moveit``, ``meshcat``,
+    ``realtime``, ``record``, ``srdf``, ``moveit_config``, ``latency``). At ``timeout``
+    simulated seconds the ROS session shuts down (``rospy.is_shutdown()`` turns True,
+    blocking calls raise ROSInterruptException, ``spin`` returns). ``calls``, ``settle``:
+    the set-up steps before the script (``rosservice call`` of each, then ``settle``
+    simulated seconds; see :mod:`omtp_drake.ros.run.setup_steps`).
     """
     path = Path(script).resolve()
     if not path.is_file():
         raise ConfigError(f"script {str(script)!r} does not exist")
-    if moveit not in MOVEIT_VERSIONS:
-        raise ConfigError(f"--moveit {moveit!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
-    if timeout is not None and not timeout > 0:
-        raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
-    loaded = load_scenario(str(scenario))
-    if seed is not None:
-        loaded = dataclasses.replace(loaded, seed=int(seed))
-    delays = resolve_latency(loaded.ros_latency, latency)
     start = time.perf_counter()
-    cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record, realtime=realtime)
-    session = Session(cell, timeout=timeout, moveit=moveit, latency=delays)
+    session = bring_up(RunSettings(**settings))
+    cell = session.cell
     try:
-        install_moveit_config(session, srdf, moveit_config)
         with active(session):
             call_services(session, calls)
             settle_cell(session, float(settle))
@@ -156,7 +131,7 @@ def _run_main(path: Path, args: Sequence[str], session: Session) -> _Ending:
 
 
 def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: Optional[Path]) -> RosReport:
-    cell, exception = session.cell, ending.exception
+    cell = session.cell
     return RosReport(
         script=path.name,
         scenario=cell.scenario.name,
@@ -166,24 +141,24 @@ def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: 
         ledger=cell.ledger().to_dict(),
         collisions=list(session.collisions),
         callback_errors=list(session.callback_errors),
-        exception=describe_script_exception(exception, path) if exception is not None else None,
-        traceback=_script_traceback(exception, path) if exception is not None else [],
         shutdown=session.shutdown_reason,
         exit_code=ending.exit_code,
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
         replay=str(replay) if replay else None,
+        timed_out=session.timed_out,
+        **_exception_fields(ending.exception, path),
     )
 
 
-def _script_traceback(exception: BaseException, script: Path) -> list[str]:
-    """``file:line in function: code`` of the traceback's frames in the script's folder."""
-    import traceback
-
-    frames = traceback.extract_tb(exception.__traceback__)
+def _exception_fields(exception: Optional[BaseException], script: Path) -> dict[str, Any]:
+    """The report's fields of the script's exception: told on one line at its deepest frame in
+    the script, the script folder's frames, and what it is as data."""
+    if exception is None:
+        return {}
     folder = str(script.parent)
-    return [
-        f"{Path(f.filename).name}:{f.lineno} in {f.name}: {(f.line or '').strip()}"
-        for f in frames
-        if f.filename.startswith(folder)
-    ]
+    return {
+        "exception": describe_exception(exception, lambda f: Path(f).resolve() == script),
+        "traceback": exception_frames(exception, lambda f: f.startswith(folder)),
+        "error": exception_kind(exception),
+    }
