@@ -399,7 +399,8 @@ def test_the_guard_records_its_refusals_an_uncaught_exception_and_the_processes_
     script = tmp_path / "x.py"
     script.write_text(
         "import subprocess\n"
-        "kids = [subprocess.Popen(['sleep', '29.5071']) for _ in range(2)]\n"
+        "quiet = {'stdout': subprocess.DEVNULL, 'stderr': subprocess.DEVNULL}\n"
+        "kids = [subprocess.Popen(['sleep', '29.5071'], **quiet) for _ in range(2)]\n"
         "open('kids', 'w').write(' '.join(str(k.pid) for k in kids))\n"
         "try:\n    open('/var/tmp/nope_29.5071', 'w')\nexcept PermissionError:\n    pass\n"
         "raise MemoryError\n"
