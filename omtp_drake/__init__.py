@@ -13,11 +13,13 @@ is held and checked by tests/test_layering.py):
 
 - ``errors``: one exception hierarchy for every user-facing error
 - ``assets``: model files: the project's xacro sources and the classic UR arms
+- ``workspace``: a student's own ROS workspace: packages and Gazebo models by name
 - ``scenario``: the typed schema of ``diagrams/*.yaml`` and its loader
 - ``cell``: what the factory is made of, as Drake systems and models
 - ``sim``: running the cell: the driver, its world edits, the part pool and services
 - ``control``: deciding how the arms move: tool paths, pick and place, motion planning
 - ``viz``: looking at the cell: Meshcat views and replays, screenshots, the frame tree
+- ``launch``: a student's own cell: their launch files, worlds, URDF/xacro and Gazebo plugins
 - ``tasks``: a scenario's pick-and-place task, run and judged; plots of a run
 - ``script``: scripting the cell yourself: ``Cell`` and its arms, grippers and cameras
 - ``batch``: many runs in parallel on Dask, their records, summaries and plots
@@ -25,6 +27,7 @@ is held and checked by tests/test_layering.py):
 - ``demos``: ready-made runs of the factory for the command line
 - ``bench_command``: ``omtp-drake bench``'s link to the benchmarks in ``bench/``
 - ``grading``: a class's ROS scripts or behaviours graded: each run isolated, one verdict each
+- ``ros2``: the cell as ROS 2 nodes over DDS, for rclpy code, ``ros2`` tools and rviz2
 - ``cli``: the ``omtp-drake`` command line
 """
 

@@ -1,8 +1,9 @@
 """The ``omtp-drake`` command line.
 
 Every command that takes SCENARIO accepts a name from ``diagrams/`` or the path
-of a scenario YAML file. Errors are printed as one line on stderr with exit
-code 2; no traceback.
+of a scenario YAML file, or instead a student's own files: ``--launch 'PKG
+FILE.launch [ARG:=VALUE ...]'`` or ``--world FILE.world`` with ``--workspace DIR``.
+Errors are printed as one line on stderr with exit code 2; no traceback.
 """
 
 from __future__ import annotations
@@ -21,7 +22,10 @@ import numpy as np
 
 from omtp_drake.errors import ConfigError, OmtpError
 from omtp_drake.grading.cli import add_commands as add_ros_commands
+from omtp_drake.launch.options import add_scenario_argument, resolve_cell_options
 from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
+from omtp_drake.ros2.run import add_commands as add_ros2_commands
+from omtp_drake.viz.view_command import add_view_command
 
 if TYPE_CHECKING:
     from pydrake.systems.framework import Context
@@ -237,6 +241,10 @@ def cmd_frames(args: argparse.Namespace) -> int:
     return 0
 
 
+def _warn(line: str) -> None:
+    print(f"omtp-drake: warning: {line}", file=sys.stderr)
+
+
 def _add_view_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--meshcat",
@@ -273,7 +281,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_demo)
 
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
-    p.add_argument("scenario", metavar="SCENARIO")
+    add_scenario_argument(p)
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
     p.add_argument(
         "--duration", type=float, default=None, help="simulated seconds at most (default 30 per part)"
@@ -333,7 +341,7 @@ def _add_simulate_first_option(p: argparse.ArgumentParser, note: str = "") -> No
 def _add_tf_echo_command(sub: argparse._SubParsersAction) -> None:
     """Registers ``omtp-drake tf-echo``: a frame's pose in another, like ROS tf_echo."""
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
-    p.add_argument("scenario", metavar="SCENARIO")
+    add_scenario_argument(p)
     p.add_argument("source", metavar="SOURCE")
     p.add_argument("target", metavar="TARGET")
     p.add_argument(
@@ -352,7 +360,7 @@ def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
     """Registers the commands that inspect the cell at a time, like ROS tools: tf-echo, camera, frames."""
     _add_tf_echo_command(sub)
     p = sub.add_parser("camera", help="what a logical camera sees, like rostopic echo")
-    p.add_argument("scenario", metavar="SCENARIO")
+    add_scenario_argument(p)
     p.add_argument("--camera", required=True, metavar="NAME", help="e.g. logical_camera_1")
     _add_simulate_first_option(p)
     p.add_argument(
@@ -366,7 +374,7 @@ def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_camera)
 
     p = sub.add_parser("frames", help="draw the frame tree (PDF and PNG), like ROS view_frames")
-    p.add_argument("scenario", metavar="SCENARIO")
+    add_scenario_argument(p)
     p.add_argument(
         "-o",
         "--output",
@@ -403,7 +411,7 @@ def _add_batch_command(sub: argparse._SubParsersAction) -> None:
         description="Every (seed, setting) is one run on a Dask cluster (local processes by default). "
         "Re-running with the same --out resumes.",
     )
-    p.add_argument("scenario", metavar="SCENARIO")
+    add_scenario_argument(p)
     p.add_argument("--seeds", required=True, metavar="A:B", help="seeds A..B-1 (e.g. 0:100), or 3,7,9")
     p.add_argument("--parts", type=int, default=None, help="parts to place per run")
     p.add_argument("--duration", type=float, default=None, help="simulated seconds at most per run")
@@ -462,6 +470,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_batch_command(sub)
     add_ros_commands(sub)
     add_flexbe_commands(sub)
+    add_ros2_commands(sub)
+    add_view_command(sub)
     return parser
 
 
@@ -478,6 +488,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.getLogger("drake").setLevel(logging.INFO if args.verbose else logging.ERROR)
     np.set_printoptions(precision=4, suppress=True)
     try:
+        resolve_cell_options(args, warn=_warn)
         return args.func(args)
     except OmtpError as e:
         print(f"omtp-drake: error: {e}", file=sys.stderr)

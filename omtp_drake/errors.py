@@ -78,6 +78,25 @@ class BenchmarkError(OmtpError):
     succeed, or no ``bench/`` next to the package (it runs from a source checkout)."""
 
 
+class WorkspaceError(ConfigError):
+    """A student's own file (URDF, xacro, SDF, world, launch file) or workspace folder
+    cannot be used; the message names the file (and line where known) and the value."""
+
+
+class MissingPackageError(WorkspaceError):
+    """A ROS package or Gazebo model that no workspace folder provides; the message
+    names it, the file that needs it and the flag that supplies it."""
+
+    def __init__(self, kind: str, name: str, needed_by: object, searched: str):
+        self.kind = kind
+        self.name = name
+        self.needed_by = str(needed_by)
+        super().__init__(
+            f"{self.needed_by}: {kind} {name!r} not found; add the folder that holds it with "
+            f"--workspace DIR (searched: {searched})"
+        )
+
+
 class BrowserError(OmtpError):
     """Headless chromium is missing, or did not render a replay in time."""
 
@@ -152,6 +171,11 @@ class GoalInCollisionError(PlanningError):
 class UnreachableError(PlanningError):
     """A goal the arm cannot take: a pose out of its reach, or a pose or joint values
     only outside its joint limits (the message says by how much, or which joint)."""
+
+
+class MissingExtraError(OmtpError, ImportError):
+    """An optional part of the project needs packages that are not installed; the
+    message names the pyproject extra that installs them."""
 
 
 # ----------------------------------------------------------------------------- exceptions told

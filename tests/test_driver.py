@@ -26,6 +26,7 @@ def test_named_pose_tour_runs_any_scenario_with_parts():
 def test_placed_parts_can_be_removed_and_are_disposed_by_the_wall():
     """Issue 10 bug 3: a part the scenario places is a part like any other."""
     scenario = load_scenario("lecture6_assignment1")  # object_1 placed on the belt
+    scenario.spawner = None  # placed parts only (the course's spawner would refill the belt)
     scenario.parts.append(PartConfig(name="crate_1", xyz=[1.2, -4.3, REST_Z]))
     rt = FactoryRuntime(scenario)
     assert rt.parts_in_world() == ["object_1", "crate_1"]

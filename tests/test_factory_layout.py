@@ -13,12 +13,14 @@ from omtp_drake.cell.frames import FrameTree
 LAYOUT = {
     "robot1_pedestal_link": ((0.5, 1.8, 0.0), (0, 0, 0)),
     "robot1_base_link": ((0.5, 1.8, 0.95), (0, 0, 0)),
-    "robot2_pedestal_link": ((-7.8, -1.5, 0.0), (0, 0, 1.57)),
+    # The course's robot_pedestal macro places the pedestal without the arm's yaw.
+    "robot2_pedestal_link": ((-7.8, -1.5, 0.0), (0, 0, 0)),
     "robot2_base_link": ((-7.8, -1.5, 0.70), (0, 0, 1.57)),
     "bin_1_base_link": ((-8.0, -2.2, 0.0), (0, 0, 0)),
     "bin_1_drop_point": ((-8.0, -2.2, 1.0), (0, 0, 0)),
     "logical_camera_1_frame": ((1.2, 1.8, 2.0), (0, 1.5708, 0)),
     "logical_camera_2_frame": ((-8.3, -1.23, 1.8), (0, 1.5708, 0)),
+    "break_beam_base_link": ((1.6, 1.9, 0.925), (0, 0, math.pi)),
     "break_beam_optical_link": ((1.575, 1.9, 0.925), None),
     "deletion_wall": ((1.2, -5.1, 1.425), (0, 0, 1.5708)),
 }

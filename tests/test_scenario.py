@@ -6,7 +6,14 @@ import yaml
 from omtp_drake.cell.station import build_station
 from omtp_drake.control.motion import ArmPlanner
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
-from omtp_drake.scenario import Scenario, as_scenario, load_scenario, scenario_from_dict, scenario_names
+from omtp_drake.scenario import (
+    Scenario,
+    as_scenario,
+    load_scenario,
+    scenario_document,
+    scenario_from_dict,
+    scenario_names,
+)
 
 
 def test_factory_scenario_contents():
@@ -207,3 +214,24 @@ def test_values_are_typed_by_drakes_rules():
     """What Drake's loader converts (a quoted number, an int for a float) loads as that type."""
     scenario = scenario_from_dict({"seed": "7", "cameras": [{"name": "c", "far": 2}]})
     assert scenario.seed == 7 and isinstance(scenario.cameras[0].far, float)
+
+
+def test_a_robot_name_given_as_a_list_is_one_error_naming_the_file_and_value(tmp_path):
+    """Found by fuzzing: the ``base:`` merge looked items up by a list (TypeError)."""
+    path = tmp_path / "listed_name.yaml"
+    path.write_text("base: omtp_factory\nrobots:\n  - name: [robot1]\n    yaw: 0.1\n")
+    with pytest.raises(ScenarioError) as e:
+        load_scenario(path)
+    assert str(path) in str(e.value) and "['robot1']" in str(e.value) and "must be a string" in str(e.value)
+
+
+def test_extra_frames_hang_on_cell_frames_and_an_unknown_parent_is_refused():
+    from omtp_drake.cell.frames import FrameTree
+
+    doc = {"base": "", "frames": [{"name": "camera_mount", "parent": "robot1_tool0", "xyz": [0, 0, 0.1]}]}
+    scenario = scenario_from_dict({**scenario_document("omtp_factory"), **doc})
+    station = build_station(scenario)
+    assert "camera_mount" in FrameTree(station.plant).names()
+    bad = {**scenario_document("omtp_factory"), "frames": [{"name": "camera_mount", "parent": "nowhere"}]}
+    with pytest.raises(ConfigError, match="parent 'nowhere' is no frame of the cell"):
+        build_station(scenario_from_dict(bad))

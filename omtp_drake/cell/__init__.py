@@ -4,6 +4,8 @@ Modules (one job each):
 
 - ``station``: ``build_station``: the whole cell as one Drake diagram
 - ``cell_models``: the cell's models in a plant, every model of a scenario welded at its pose
+- ``described_models``: models from description files (a student's URDF/SDF), placed as Gazebo spawns them
+- ``depth_camera``: a Gazebo camera or depth sensor as Drake's RGB-D rendering, with its point cloud
 - ``gazebo_models``: the cell's model instances under the names the course's Gazebo world gives them
 - ``arms``: the classic UR arms: the course's named poses, loading, position control
 - ``conveyor``: the conveyor belt and the break beam
@@ -24,6 +26,7 @@ Modules (one job each):
 - ``suction_touch``: what touches the suction cup: the candidate parts and the touch rule
 - ``suction_holds``: the gripper's two ways of holding a part (weld, force) and their wiring
 - ``suction_constraints``: the weld hold's six distance constraints between the cup and a part
+- ``lifetime``: freeing a built cell: the cycles through our systems that Python's gc cannot collect
 
 May import: ``omtp_drake.scenario``, ``omtp_drake.errors``, ``omtp_drake.assets``.
 """

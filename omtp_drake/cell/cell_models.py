@@ -9,7 +9,7 @@ anything that needs the same cell in a plant of its own.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Optional
 
 import numpy as np
@@ -23,11 +23,15 @@ from pydrake.systems.framework import Diagram
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
+from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.cell.parts import parking_pose
+from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import RobotConfig, Scenario
 
 #: Reference poses of the fixed pieces of the cell (world frame).
-X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.575, 1.9, 0.925])
+#: The break beam's housing (its optical link, where the beam leaves, is 2.5 cm in front of
+#: it, at (1.575, 1.9, 0.925), as in the course's break_beam.urdf.xacro).
+X_W_BREAK_BEAM = RigidTransform(RollPitchYaw(0.0, 0.0, np.pi), [1.6, 1.9, 0.925])
 X_W_DELETION_WALL = RigidTransform(RollPitchYaw(0.0, 0.0, 1.5708), [1.2, -5.1, 1.425])
 #: Damping gain of the belt's velocity servo (N s/m).
 _BELT_KD = 1e4
@@ -68,6 +72,8 @@ class CellModels:
     parts: dict[str, ModelInstanceIndex]
     #: Names of the pool's parts, in spawn order.
     pool: list[str]
+    #: The scenario's models from description files, by name.
+    described: dict[str, ModelInstanceIndex] = field(default_factory=dict)
 
 
 def _add_xacro(parser: Parser, file: str, args: dict | None = None) -> ModelInstanceIndex:
@@ -98,6 +104,8 @@ def add_cell_models(
     conveyor = _add_fixtures(parser, scenario)
     camera_instances = _add_camera_frames(parser, scenario)
     part_instances, pool = _add_parts(parser, scenario) if parts else ({}, [])
+    _add_extra_frames(plant, scenario)
+    described = add_described_models(parser, scenario.models)
     _filter_robot_collisions(plant, scene_graph, arm_handles)
     return CellModels(
         floor=floor,
@@ -108,7 +116,19 @@ def add_cell_models(
         cameras=camera_instances,
         parts=part_instances,
         pool=pool,
+        described=described,
     )
+
+
+def _add_extra_frames(plant: MultibodyPlant, scenario: Scenario) -> None:
+    """The scenario's extra fixed frames, in order (a frame may hang on an earlier one); a
+    name the cell already has is left as the cell has it."""
+    for frame in scenario.frames:
+        if plant.HasFrameNamed(frame.name):
+            continue
+        if not plant.HasFrameNamed(frame.parent):
+            raise ConfigError(f"frames[{frame.name}].parent {frame.parent!r} is no frame of the cell")
+        plant.AddFrame(FixedOffsetFrame(frame.name, plant.GetFrameByName(frame.parent), frame.X_PF()))
 
 
 def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:
@@ -120,9 +140,7 @@ def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:
         pedestal = _add_xacro(
             parser, "pedestal.urdf.xacro", {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height}
         )
-        _weld(
-            plant, f"{robot.name}_pedestal_link", RigidTransform(RollPitchYaw(0, 0, robot.yaw), [x, y, 0.0])
-        )
+        _weld(plant, f"{robot.name}_pedestal_link", RigidTransform([x, y, 0.0]))
         arm, gripper = arms.add_arm_models(parser, robot)
         _weld(plant, f"{robot.name}_base_link", arms.base_pose(robot))
         arm_handles[robot.name] = ArmHandles(robot, arm, gripper, pedestal)

@@ -23,6 +23,7 @@ from pydrake.multibody.tree import RigidBody
 from pydrake.systems.framework import BasicVector, Context, DiscreteValues, InputPort, LeafSystem, OutputPort
 
 from omtp_drake.assets import model_dimensions
+from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.parts import free_body_q_indices
 from omtp_drake.errors import ConfigError
 
@@ -109,13 +110,18 @@ class ConveyorBelt(LeafSystem):
             raise ConfigError(f"beam_check_rate_hz must be > 0, got {beam_check_rate_hz}")
         self._state = self.DeclareDiscreteState(np.array([initial_power, 0.0]))
         self._beam = self.DeclareVectorInputPort("beam", 2)
+        # C++ holds the calc callbacks: none may keep self (see cell.lifetime).
         self._desired_state_port = self.DeclareVectorOutputPort(
-            "desired_state", 2, self._calc_desired_state, prerequisites_of_calc={self.xd_ticket()}
+            "desired_state",
+            2,
+            weak_method(self._calc_desired_state),
+            prerequisites_of_calc={self.xd_ticket()},
         )
+        state = self._state
         self._power_port = self.DeclareVectorOutputPort(
             "power",
             1,
-            lambda c, out: out.SetAtIndex(0, c.get_discrete_state(self._state)[0]),
+            lambda c, out: out.SetAtIndex(0, c.get_discrete_state(state)[0]),
             prerequisites_of_calc={self.xd_ticket()},
         )
         self._stop_on_beam = stop_on_beam

@@ -49,6 +49,7 @@ from pydrake.systems.framework import Context, DiagramBuilder, InputPort, LeafSy
 
 from omtp_drake.cell.camera_candidates import CameraCandidates
 from omtp_drake.cell.camera_image import DetectedModel, LogicalCameraImage, model_type
+from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.occlusion import AllVisible, RayCastOcclusion
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario.camera import LogicalCameraConfig
@@ -203,13 +204,13 @@ class LogicalCamera(LeafSystem):
         self.DeclareInitializationUnrestrictedUpdateEvent(self._update)
         self.DeclarePeriodicUnrestrictedUpdateEvent(period, 0.0, self._update)
         self.DeclareForcedUnrestrictedUpdateEvent(self._update)
-        self._no_image = LogicalCameraImage(
+        self._no_image = no_image = LogicalCameraImage(
             time=math.nan, camera_name=config.name, X_WC=RigidTransform(), models=()
         )
-        self._image_port = self.DeclareAbstractOutputPort(
+        self._image_port = self.DeclareAbstractOutputPort(  # C++ holds the callbacks (see cell.lifetime)
             "image",
-            lambda: AbstractValue.Make(self._no_image),
-            self._calc_image,
+            lambda: AbstractValue.Make(no_image),
+            weak_method(self._calc_image),
             prerequisites_of_calc={self.abstract_state_ticket(self._sample)},
         )
 

@@ -33,6 +33,9 @@ port                           kind    meaning
 ``<camera>.color_image``       output  RGBA image (cameras with ``rgbd: true``)
 ``<camera>.depth_image``       output  depth image, m (cameras with ``rgbd: true``)
 ``<camera>.label_image``       output  label image, body index (``rgbd: true``)
+``<sensor>.color_image``       output  a model's camera sensor: RGBA, noisy (``depth_camera``)
+``<sensor>.depth_image``       output  a model's camera sensor: depth, m
+``<sensor>.point_cloud``       output  a model's depth sensor: points in its optical frame
 ``body_poses``                 output  world poses of every body
 ``contact_results``            output  the plant's contact results
 ``query_object``               output  SceneGraph's query object
@@ -64,6 +67,7 @@ from pydrake.systems.primitives import Demultiplexer
 from omtp_drake.cell import arms
 from omtp_drake.cell.cell_models import ArmHandles, CellModels, add_cell_models
 from omtp_drake.cell.conveyor import BeltGeometry, BreakBeam, ConveyorBelt
+from omtp_drake.cell.depth_camera import DepthCamera, add_model_cameras
 from omtp_drake.cell.logical_camera import LogicalCamera, add_logical_camera
 from omtp_drake.cell.parts import PartStates
 from omtp_drake.cell.rest_clock import RestClock
@@ -103,6 +107,9 @@ class Station:
     bin_anchors: dict[str, FixedOffsetFrame] = field(default_factory=dict)
     #: Since when each part has been still (None when the scenario's parts never sleep).
     rest_clock: Optional[RestClock] = None
+    #: The scenario's models from description files, and their camera and depth sensors.
+    models: dict[str, ModelInstanceIndex] = field(default_factory=dict)
+    depth_cameras: dict[str, DepthCamera] = field(default_factory=dict)
 
     def arm(self, name: str) -> ArmHandles:
         """Handles of the arm ``name`` (``robot1``...)."""
@@ -267,7 +274,7 @@ def build_station(
     belt = _add_conveyor(builder, plant, scenario, models)
     beam = _add_break_beam(builder, plant, scenario, models, belt)
     grippers = _add_grippers(builder, plant, scenario, models, constraints)
-    cameras = _add_cameras(builder, plant, scene_graph, scenario, models)
+    cameras, depth_cameras = _add_cameras(builder, plant, scene_graph, scenario, models, meshcat)
     rest_clock = None
     if scenario.sleep.enabled and models.parts:
         rest_clock = RestClock.AddToDiagram(builder, plant, models.parts, scenario.sleep)
@@ -297,6 +304,8 @@ def build_station(
         grippers=grippers,
         bin_anchors=models.bin_anchors,
         rest_clock=rest_clock,
+        models=models.described,
+        depth_cameras=depth_cameras,
     )
 
 
@@ -306,9 +315,11 @@ def _add_cameras(
     scene_graph: SceneGraph,
     scenario: Scenario,
     models: CellModels,
-) -> dict[str, LogicalCamera]:
+    meshcat: Optional[Meshcat],
+) -> tuple[dict[str, LogicalCamera], dict[str, DepthCamera]]:
     """The logical cameras (each blind to its own model and the floor), their
-    ``<camera>.image`` ports and the RGB-D views of those with ``rgbd``."""
+    ``<camera>.image`` ports and the RGB-D views of those with ``rgbd``; then the camera
+    and depth sensors of the scenario's models (:mod:`omtp_drake.cell.depth_camera`)."""
     cameras: dict[str, LogicalCamera] = {}
     for cam in scenario.cameras:
         cameras[cam.name] = add_logical_camera(
@@ -323,7 +334,10 @@ def _add_cameras(
         builder.ExportOutput(cameras[cam.name].image_output_port(), f"{cam.name}.image")
         if cam.rgbd:
             _add_rgbd_view(builder, plant, scene_graph, cameras[cam.name])
-    return cameras
+    depth_cameras = add_model_cameras(
+        builder, plant, scene_graph, models.described, scenario.models, seed=scenario.seed, meshcat=meshcat
+    )
+    return cameras, depth_cameras
 
 
 def _export_plant_ports(builder: DiagramBuilder, plant: MultibodyPlant, scene_graph: SceneGraph) -> None:

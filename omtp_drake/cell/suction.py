@@ -49,6 +49,7 @@ from pydrake.multibody.plant import (
 from pydrake.multibody.tree import BodyIndex, RigidBody
 from pydrake.systems.framework import Context, EventStatus, InputPort, LeafSystem, OutputPort, State
 
+from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.suction_touch import contact_points, part_body_indices, touching_part
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario.suction import SuctionConfig
@@ -202,7 +203,7 @@ class SuctionGripper(LeafSystem):
         self._state_port = self.DeclareAbstractOutputPort(
             "state",
             lambda: AbstractValue.Make(_IDLE),
-            self._calc_state,
+            weak_method(self._calc_state),  # C++ holds it (see cell.lifetime)
             prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
         )
 

@@ -60,6 +60,7 @@ from pydrake.multibody.plant import (
 from pydrake.multibody.tree import BodyIndex, RigidBody
 from pydrake.systems.framework import Context, DiagramBuilder, InputPort, OutputPort
 
+from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.suction import GripperMemory, GripperState, SuctionGripper
 from omtp_drake.cell.suction_constraints import SuctionConstraints
 from omtp_drake.errors import ConfigError, SimulationError, StateError
@@ -222,7 +223,7 @@ class ForceSuctionGripper(SuctionGripper):
         self._forces_port = self.DeclareAbstractOutputPort(
             "spatial_forces",
             lambda: AbstractValue.Make([ExternallyAppliedSpatialForce()]),
-            self._calc_forces,
+            weak_method(self._calc_forces),  # C++ holds it (see cell.lifetime)
             prerequisites_of_calc={
                 self.abstract_state_ticket(self._memory),
                 self.input_port_ticket(self._poses.get_index()),

@@ -347,3 +347,26 @@ class SleepConfig:
         for key in ("linear_speed", "angular_speed", "rest_time"):
             check_positive(f"sleep.{key}", getattr(self, key))
         check_rate("sleep.check_rate_hz", self.check_rate_hz)
+
+
+@dataclass
+class FrameConfig:
+    """A fixed frame of the cell beyond its pieces' own: a link of a student's URDF that
+    none of the cell's pieces has (``world_interface``, a camera mount...), so tf has it."""
+
+    name: str = "frame"
+    #: The frame it is fixed to (``world`` or any frame of the cell).
+    parent: str = "world"
+    xyz: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+    rpy: list[float] = field(default_factory=lambda: [0.0, 0.0, 0.0])
+
+    def validate(self) -> None:
+        """Raises :class:`ConfigError` naming the frame, the bad field and its value."""
+        check_len(f"frames[{self.name}].xyz", self.xyz, 3)
+        check_len(f"frames[{self.name}].rpy", self.rpy, 3)
+        if not self.parent:
+            raise ConfigError(f"frames[{self.name}].parent must name a frame (e.g. world)")
+
+    def X_PF(self) -> RigidTransform:
+        """The frame's pose in its parent."""
+        return RigidTransform(RollPitchYaw(self.rpy), self.xyz)

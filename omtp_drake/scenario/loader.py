@@ -135,13 +135,19 @@ def _read_yaml(path: Path) -> dict:
 
 def _check_unique_names(raw: dict, path: Path) -> None:
     """A name given twice in one list of one file is an error (merging by name is
-    for an item of a ``base:`` and the file that changes it)."""
+    for an item of a ``base:`` and the file that changes it), and so is a name that is
+    not a string (the merge looks items up by name)."""
     for key in _NAMED_LISTS:
         items = raw.get(key)
         if isinstance(items, _Tagged):
             items = items.value
         if not isinstance(items, list):
             continue
+        for item in items:
+            if isinstance(item, dict) and "name" in item and not isinstance(item["name"], str):
+                raise ScenarioError(
+                    f"{path}: {key}: name {item['name']!r} must be a string (a name like {key[:-1]}1)"
+                )
         names = [x["name"] for x in items if isinstance(x, dict) and isinstance(x.get("name"), str)]
         repeated = sorted({n for n in names if names.count(n) > 1})
         if repeated:
@@ -297,7 +303,18 @@ def require_scenario(value: Any, who: str) -> Scenario:
 def as_scenario(scenario: "Scenario | str | Path") -> Scenario:
     """The one door of the public entry points (``Cell``, ``FactoryRuntime``,
     ``run_task``, ``run_batch``, the CLI): a :class:`Scenario` is passed through
-    as it is; a name or a path is loaded (and so validated) here."""
+    as it is; a name or a path is loaded (and so validated) here. A robot's URDF, xacro
+    or SDF file is that robot in Gazebo's empty world
+    (:func:`~omtp_drake.scenario.robot_world.with_robot`): ``omtp-drake tf-echo
+    robot.urdf.xacro world camera_link``."""
     if isinstance(scenario, Scenario):
         return scenario
+    if str(scenario).endswith(ROBOT_FILE_SUFFIXES):
+        from omtp_drake.scenario.robot_world import with_robot
+
+        return with_robot(None, scenario)
     return load_scenario(scenario)
+
+
+#: File names that are a robot's description, not a scenario.
+ROBOT_FILE_SUFFIXES = (".urdf", ".xacro", ".sdf")

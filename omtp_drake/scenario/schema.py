@@ -27,6 +27,7 @@ from omtp_drake.scenario.configs import (
     RESERVED_NAMES,
     BinConfig,
     ConveyorConfig,
+    FrameConfig,
     PartConfig,
     RobotConfig,
     SleepConfig,
@@ -37,6 +38,7 @@ from omtp_drake.scenario.configs import (
 )
 from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.latency import RosLatencyConfig
+from omtp_drake.scenario.models import ModelConfig
 from omtp_drake.scenario.suction import SuctionConfig
 
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
@@ -84,6 +86,9 @@ class Scenario:
     bins: list[BinConfig] = field(default_factory=list)
     #: Parts placed in the world at t = 0.
     parts: list[PartConfig] = field(default_factory=list)
+    #: Fixed frames beyond the pieces' own (a student's URDF links; a frame the cell
+    #: already has is left as the cell has it).
+    frames: list[FrameConfig] = field(default_factory=list)
     #: Parts pre-allocated for spawning (``object_k`` after the placed ones).
     part_pool: int = 0
     #: Edge length (m) and mass (kg) of the pool's parts (uniform cubes).
@@ -103,6 +108,8 @@ class Scenario:
     sleep: SleepConfig = field(default_factory=SleepConfig)
     #: Simulated time a ROS script's calls take under ``ros-run`` (planning, services...).
     ros_latency: RosLatencyConfig = field(default_factory=RosLatencyConfig)
+    #: Models from description files (a student's robot, a piece of the course's world).
+    models: list[ModelConfig] = field(default_factory=list)
 
     def part_size(self, name: str) -> float:
         """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
@@ -173,6 +180,13 @@ class Scenario:
         for part in self.parts:
             part.validate()
             names.append(part.name)
+        for frame in self.frames:
+            frame.validate()
+        if len({f.name for f in self.frames}) != len(self.frames):
+            raise ConfigError(f"frames: names must be unique, got {[f.name for f in self.frames]}")
+        for model in self.models:
+            model.validate()
+            names.append(model.name)
         self.suction.validate()
         self.sleep.validate()
         self.ros_latency.validate()

@@ -10,7 +10,7 @@ Modules (one job each):
 - ``devices``: the cell's vacuum grippers and logical cameras (the course's services), and waiting
 - ``bins``: a bin for a script: where it is, its inner size, where a part can still go
 
-May import: ``omtp_drake.viz``, ``omtp_drake.sim``, ``omtp_drake.control`` and below.
+May import: ``omtp_drake.viz``, ``omtp_drake.launch``, ``omtp_drake.sim``, ``omtp_drake.control`` and below.
 (The ROS 1 layer, ``omtp_drake.ros``, sits beside this package and builds on it.)
 """
 

@@ -111,8 +111,11 @@ class Arm:
 
     # ------------------------------------------------------------ planning
 
-    def plan(self, target: Target, *, frame: str = "tip", speed: float = 1.0) -> Plan:
-        """A collision-free joint motion from where the arm is to ``target``:
+    def plan(
+        self, target: Target, *, frame: str = "tip", speed: float = 1.0, start: Optional[np.ndarray] = None
+    ) -> Plan:
+        """A collision-free joint motion from where the arm is (or from ``start``, six
+        joint values) to ``target``:
         a named pose (``Home``, ``R2Place``), six joint values, or a tool pose
         (``RigidTransform`` in world, or a :class:`PoseStamped` in any tf frame) for
         tool frame ``frame``. ``speed`` scales the joint velocity limits (0, 1].
@@ -125,8 +128,9 @@ class Arm:
         """
         speed = _check_fraction("speed", speed)
         planner, other_q = self._planning_scene(), self._other_arms()
-        q_goal = self._goal(target, frame, planner, other_q)
-        path = planner.plan(self.joint_values(), q_goal, other_q=other_q)
+        q_start = self.joint_values() if start is None else np.asarray(start, dtype=float)
+        q_goal = self._goal(target, frame, planner, other_q, q_start)
+        path = planner.plan(q_start, q_goal, other_q=other_q)
         trajectory = planner.time_parameterize(path, velocity_scale=speed)
         return Plan(trajectory, tuple(path), "joint")
 
@@ -140,6 +144,7 @@ class Arm:
         frame: str = "tip",
         speed: float = 0.25,
         joint_limits: Optional[tuple[Sequence[float], Sequence[float]]] = None,
+        start: Optional[np.ndarray] = None,
     ) -> Plan:
         """Straight lines of tool frame ``frame`` through the poses ``waypoints`` (world,
         or PoseStamped in any tf frame), in steps of ``max_step`` m, like MoveIt's
@@ -151,7 +156,8 @@ class Arm:
         obstacles). It unpacks as MoveIt's ``(plan, fraction)``; see
         :attr:`Plan.fraction`. ``speed``: the tool's speed limit along the lines (m/s);
         ``joint_limits``: (velocity, acceleration) limits of the six joints to time the
-        motion with (default: the arm's own)."""
+        motion with (default: the arm's own); ``start``: six joint values to start from
+        (default: where the arm is)."""
         if isinstance(waypoints, (RigidTransform, PoseStamped)):
             waypoints = [waypoints]
         poses = [world_pose(self._tf, X) for X in waypoints]
@@ -163,7 +169,7 @@ class Arm:
             )
         planner = self._planning_scene()
         path, fraction = planner.cartesian_path(
-            self.joint_values(),
+            self.joint_values() if start is None else np.asarray(start, dtype=float),
             poses,
             frame=frame,
             max_step=max_step,
@@ -240,6 +246,12 @@ class Arm:
             return MoveResult(start, start + plan.duration, False, q_now)
         return self._motion.run(plan, until)
 
+    def set_joint_values(self, q: Sequence[float] | np.ndarray) -> None:
+        """Puts the arm at ``q`` at once and holds it there: a teleport, as Gazebo's
+        ``Joint::SetPosition`` (``gazebo_ros_joint_pose_trajectory``), with no motion,
+        no plan and no contact check. Raises UnreachableError outside the joint limits."""
+        self._motion.teleport(_joint_goal(q, self.config))
+
     # ------------------------------------------------------------ helpers
 
     def _frame(self, frame: str) -> str:
@@ -248,14 +260,20 @@ class Arm:
         return self._tool_frames[frame]
 
     def _goal(
-        self, target: Target, frame: str, planner: ArmPlanner, other_q: dict[str, np.ndarray]
+        self,
+        target: Target,
+        frame: str,
+        planner: ArmPlanner,
+        other_q: dict[str, np.ndarray],
+        q_start: np.ndarray,
     ) -> np.ndarray:
-        """The joint positions of ``target`` (see :meth:`plan`), in ``planner``'s scene."""
+        """The joint positions of ``target`` (see :meth:`plan`), in ``planner``'s scene
+        (IK seeded from ``q_start``)."""
         if isinstance(target, str):
             return arms.named_pose(target, self.config)
         if isinstance(target, (RigidTransform, PoseStamped)):
             X_WE = world_pose(self._tf, target)
-            return planner.ik(X_WE, frame=frame, q_seed=self.joint_values(), other_q=other_q)
+            return planner.ik(X_WE, frame=frame, q_seed=q_start, other_q=other_q)
         q = _joint_goal(target, self.config)
         collisions = planner.collisions(q, other_q)
         if collisions:
@@ -266,9 +284,14 @@ class Arm:
         return q
 
     def _other_arms(self) -> dict[str, np.ndarray]:
+        """The other arms' measured positions, within their joint limits (a wrist measured a
+        hair beyond its limit is on it: they only place the other arms' bodies)."""
+        station = self._runtime.station
         return {
-            name: self._runtime.joint_positions(name)
-            for name in self._runtime.station.arms
+            name: np.clip(
+                self._runtime.joint_positions(name), -handles.config.joint_limit, handles.config.joint_limit
+            )
+            for name, handles in station.arms.items()
             if name != self.name
         }
 

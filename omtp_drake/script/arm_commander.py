@@ -79,6 +79,12 @@ class ArmCommander(LeafSystem):
         """The new command, from now on (the sampled position follows at the next sample)."""
         context.SetAbstractState(self._command, command)
 
+    def hold(self, context: Context, q: np.ndarray) -> None:
+        """Hold ``q`` from now, the sampled position too (not only from the next sample)."""
+        q = np.array(q, dtype=float)
+        context.SetAbstractState(self._command, JointCommand(q))
+        context.SetDiscreteState(self._q, q)
+
     def current(self, context: Context) -> JointCommand:
         return context.get_abstract_state(self._command).get_value()
 

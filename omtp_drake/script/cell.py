@@ -35,6 +35,7 @@ avoided, as in MoveIt) in :mod:`omtp_drake.script.scene`.
 
 from __future__ import annotations
 
+import logging
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Optional
@@ -44,8 +45,9 @@ from pydrake.systems.framework import DiagramBuilder
 
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
-from omtp_drake.errors import UnknownNameError, check_duration
-from omtp_drake.scenario import Scenario, as_scenario
+from omtp_drake.errors import ConfigError, NotSupportedError, UnknownNameError, check_duration
+from omtp_drake.launch.options import chosen_cell
+from omtp_drake.scenario import Scenario, with_robot
 from omtp_drake.script.arm import Arm
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
@@ -57,12 +59,23 @@ from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.sim.tf import TfBuffer
 from omtp_drake.viz.meshcat import add_visual_extras, save_recording, start_meshcat, start_recording, view_for
 
+_log = logging.getLogger("omtp_drake")
+
 
 class Cell:
     """A scenario's cell to script: arms, grippers, cameras, tf, parts, belt, beam.
 
     Args:
-        scenario: a scenario name, path or :class:`Scenario`.
+        scenario: a scenario name, path or :class:`Scenario`; or instead:
+        launch: a student's launch file, as roslaunch takes it (``'omtp_lecture6
+            lecture6_assignment1.launch paused:=false'``), or
+        world: a student's Gazebo world file (None of the three with ``robot``:
+            Gazebo's empty world).
+        robot: a URDF, xacro or SDF file: the robot spawned into that cell, as
+            ``spawn_model`` does (its joints, sensors and gazebo_ros plugins; ``arm``,
+            ``gripper`` and MoveIt stay the scenario's UR arms').
+        workspace: the folders (catkin ``src``, packages) where the launch, world or
+            robot file finds its packages and models (:mod:`omtp_drake.workspace`).
         auto_spawn: let the scenario's spawner spawn parts by itself (False: your
             own :meth:`spawn_part` calls, from t = 0).
         meshcat: serve a live Meshcat view (its URL is logged and in :attr:`url`).
@@ -70,21 +83,27 @@ class Cell:
         realtime: pace the simulation at real time (for watching it live).
         tf_cache: how long (s) the tf buffer keeps its history.
 
-    Use it as a context manager (``with Cell(...) as cell:``) so the replay is
-    written at the end, or call :meth:`close`.
+    Use it as a context manager (``with Cell(...) as cell:``) or call :meth:`close`:
+    closing writes the replay and frees the cell (its diagram, plant and Contexts;
+    an unclosed cell stays in memory for the life of the process). A closed cell
+    refuses to run: build a new one.
     """
 
     def __init__(
         self,
-        scenario: Scenario | str,
+        scenario: Scenario | str | None = None,
         *,
+        launch: Optional[str] = None,
+        world: Optional[str | Path] = None,
+        robot: Optional[str | Path] = None,
+        workspace: Sequence[str | Path] | str | Path = (),
         auto_spawn: bool = True,
         meshcat: bool = False,
         record: Optional[str | Path] = None,
         realtime: bool = False,
         tf_cache: float = 30.0,
     ):
-        scenario = as_scenario(scenario)
+        scenario = _cell_scenario(scenario, launch, world, robot, workspace)
         self.scenario = scenario
         self._record = Path(record) if record else None
         self.meshcat = start_meshcat(view_for(scenario)) if (meshcat or record) else None
@@ -119,6 +138,7 @@ class Cell:
             for name, c in commanders.items()
         }
         self._closed = False
+        self._final_ledger: Optional[Ledger] = None
 
     # ------------------------------------------------------------ handles
 
@@ -133,11 +153,19 @@ class Cell:
         return self.runtime.time
 
     def arm(self, name: str) -> Arm:
+        if name not in self._arms and name in self.station.models:
+            raise NotSupportedError(
+                f"robot {name!r} is a model from a description file: arm(), gripper() and MoveIt need "
+                f"one of the scenario's UR arms ({', '.join(self._arms) or 'none here'}); move its joints "
+                "with its gazebo_ros plugins (/set_joint_trajectory)"
+            )
         if name not in self._arms:
             raise UnknownNameError("robot", name, self._arms)
         return self._arms[name]
 
     def gripper(self, robot: str) -> Gripper:
+        if robot in self.station.models:
+            self.arm(robot)  # the error says what needs a UR arm
         self.station.suction_name(robot)  # the error lists the robots with grippers
         return Gripper(self.runtime, robot)
 
@@ -201,7 +229,8 @@ class Cell:
         return self.runtime.break_beam()[0]
 
     def ledger(self) -> Ledger:
-        return self.runtime.ledger()
+        """Where every part is (after :meth:`close`: where each was when it closed)."""
+        return self._final_ledger if self._final_ledger is not None else self.runtime.ledger()
 
     def faults(self) -> list[FaultReport]:
         """The scenario's faults that have struck so far: what, when, and their effect."""
@@ -215,16 +244,51 @@ class Cell:
     # ------------------------------------------------------------ the end
 
     def close(self) -> Optional[Path]:
-        """Writes the replay (with ``record``); returns its path."""
+        """Writes the replay (with ``record``) and returns its path; frees the cell
+        (:meth:`FactoryRuntime.close <omtp_drake.sim.runtime.FactoryRuntime.close>`).
+        Afterwards :attr:`time`, :meth:`ledger` and :meth:`faults` tell how it ended;
+        running it raises SimulationError. Closing twice is harmless."""
         if self._closed:
             return None
         self._closed = True
-        if self._record is not None and self.meshcat is not None:
-            return save_recording(self.station.visualizer, self.meshcat, self._record)
-        return None
+        try:
+            self._final_ledger = self.runtime.ledger()
+            if self._record is not None and self.meshcat is not None:
+                return save_recording(self.station.visualizer, self.meshcat, self._record)
+            return None
+        finally:
+            self.runtime.close()
 
     def __enter__(self) -> Cell:
         return self
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+def _cell_scenario(
+    scenario: Scenario | str | None,
+    launch: Optional[str],
+    world: Optional[str | Path],
+    robot: Optional[str | Path],
+    workspace: Sequence[str | Path] | str | Path,
+) -> Scenario:
+    """The scenario a Cell builds: the cell of ``scenario``, ``launch`` or ``world`` (Gazebo's
+    empty world when none is given with a ``robot``), with ``robot`` spawned in it."""
+    base = None
+    if scenario is not None or launch or world:
+        own_files = bool(launch or world)
+        own = chosen_cell(scenario, launch=launch, world=world, workspace=workspace if own_files else ())
+        for line in own.warnings + own.ros_only:
+            _log.warning("%s", line)
+        base = own.scenario
+    if robot is None:
+        if base is None:
+            raise ConfigError(
+                "Cell needs a scenario (a name, path or Scenario), a launch=, a world= or a robot="
+            )
+        if workspace and not (launch or world):
+            raise ConfigError("Cell(workspace=...) goes with launch=, world= or robot=")
+        return base
+    folders = [workspace] if isinstance(workspace, (str, Path)) else list(workspace)
+    return with_robot(base, robot, folders)

@@ -156,6 +156,12 @@ class MoveRunner:
         )
         return start
 
+    def teleport(self, q: np.ndarray) -> None:
+        """Puts the arm at rest at ``q`` now and commands it to hold there (no motion)."""
+        runtime = self._runtime
+        runtime.station.set_arm_positions(runtime.context, self.name, q)
+        self._commander.hold(self._commander.GetMyMutableContextFromRoot(runtime.context), q)
+
     def run(self, plan: Plan, until: Optional[Callable[[], bool]]) -> MoveResult:
         """Runs ``plan`` from now to its end (and until the arm has settled), or
         until ``until()`` holds; checks the arm's contacts on the way."""

@@ -37,6 +37,7 @@ from omtp_drake.cell.parts import free_body_q_indices, spawn_pose
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
+from omtp_drake.sim.joint_pose_trajectory import joint_pose_trajectories
 from omtp_drake.sim.ledger import held_parts, locate
 from omtp_drake.sim.part_sleep import PartSleep
 from omtp_drake.sim.pool import PartPool
@@ -338,7 +339,8 @@ def spawn(
 
 
 def world_edits(station: Station, pool: PartPool) -> list[WorldEdit]:
-    """The edits the station needs: sleep, weld sync, belt wrap, deletion wall, spawner.
+    """The edits the station needs: sleep, weld sync, belt wrap, deletion wall, spawner,
+    the models' joint pose trajectory plugins.
 
     Sleep comes first: a part a cup touches wakes before its weld is made."""
     edits: list[WorldEdit] = []
@@ -352,6 +354,7 @@ def world_edits(station: Station, pool: PartPool) -> list[WorldEdit]:
         edits.append(DeletionWall(station, pool))
     if station.scenario.spawner is not None:
         edits.append(AutoSpawner(station, pool))
+    edits += joint_pose_trajectories(station)
     return edits
 
 

@@ -33,6 +33,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.framework import Context, DiagramBuilder
 
 from omtp_drake.cell import arms
+from omtp_drake.cell.lifetime import release
 from omtp_drake.cell.logical_camera import LogicalCameraImage
 from omtp_drake.cell.station import Station, build_station
 from omtp_drake.cell.suction import GripperState
@@ -124,6 +125,20 @@ class FactoryRuntime(PartServices):
         self.faults = FaultInjector(self, scenario.faults) if scenario.faults else None
         if self.faults is not None:
             self.driver.every(self.faults.period, self.faults)
+        self._closed = False
+
+    def close(self) -> None:
+        """Frees the cell: its diagram, plant, Contexts and our systems (see
+        :mod:`omtp_drake.cell.lifetime`; without it a built cell stays in memory for
+        the life of the process). Afterwards the runtime refuses to advance or to
+        take images. Closing twice is harmless."""
+        if not self._closed:
+            self._closed = True
+            release(self.diagram)
+
+    def _check_open(self) -> None:
+        if self._closed:
+            raise SimulationError(f"this {self.scenario.name!r} cell is closed; build a new one to run again")
 
     # ------------------------------------------------------------------ time
 
@@ -137,6 +152,7 @@ class FactoryRuntime(PartServices):
 
     def advance_to(self, t: float) -> None:
         """Simulates until time ``t`` (the world edits happen when due)."""
+        self._check_open()
         self.driver.advance_to(float(t))
 
     def advance(self, dt: float) -> None:
@@ -278,6 +294,7 @@ class FactoryRuntime(PartServices):
         """Every logical camera takes its image now, at the current time (as it does at
         its sample times); nothing else changes. For reports of the state at a time T
         (an advance to T stops before the samples due at T are taken)."""
+        self._check_open()
         for camera in self.station.cameras.values():
             camera.ExecuteForcedEvents(camera.GetMyMutableContextFromRoot(self.context))
 

@@ -229,7 +229,12 @@ def prepare(scenario: Scenario | str, *, seed: Optional[int] = None, parts: Opti
 
 
 class TaskRun:
-    """A runtime with the task's controller, ready to advance (used by tests and notebooks)."""
+    """A runtime with the task's controller, ready to advance (used by tests and notebooks).
+
+    Use it as a context manager (``with TaskRun(...) as run:``) or call :meth:`close`
+    to free the cell when done (an unclosed run stays in memory for the life of the
+    process); a closed run refuses to advance.
+    """
 
     def __init__(self, scenario: Scenario, *, meshcat=None):
         self.scenario = scenario
@@ -246,6 +251,16 @@ class TaskRun:
         if conveyor is not None and conveyor.stop_on_beam and rt.station.break_beam is not None:
             rt.on_tick(_restart_belt_when_beam_clears)  # the counterpart of the beam's stop
         rt.on_tick(self._write_off_lost_parts)
+
+    def close(self) -> None:
+        """Frees the cell (:meth:`FactoryRuntime.close`); what was read from it stays valid."""
+        self.runtime.close()
+
+    def __enter__(self) -> TaskRun:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
 
     def _write_off_lost_parts(self, rt: FactoryRuntime) -> None:
         """A part the controller gave up on (lost, or fallen into the bin without a
@@ -299,29 +314,30 @@ def run_task(
     ``on_start(run)`` is called once before the first advance (e.g. to attach a
     :class:`omtp_drake.tasks.plots.RunRecorder`); ``on_chunk(run)`` after every chunk.
     With ``progress``, a progress bar shows simulated time and parts in the bin.
+    The run's cell is closed (freed) before this returns, also when it raises.
     """
     scenario = prepare(scenario, seed=seed, parts=parts)
     task = scenario.required_task()
     n = task.parts
     limit = check_duration("--duration", duration if duration is not None else 30.0 * n)
     viewer = start_meshcat(view_for(scenario)) if (meshcat or record) else None
-    run = TaskRun(scenario, meshcat=viewer)
-    rt = run.runtime
-    if record:
-        start_recording(rt.station.visualizer)
-    if viewer is not None:
-        add_visual_extras(rt, recording=bool(record))  # camera frusta, detection markers
-    if on_start is not None:
-        on_start(run)
-    bar = _progress_bar(scenario.name, limit) if progress else None
-    wall0 = time.perf_counter()
-    _advance_until_done(run, limit, chunk, on_chunk, bar)
-    wall = time.perf_counter() - wall0
-    if bar is not None:
-        bar.close()
-    if record:
-        save_recording(rt.station.visualizer, viewer, record)
-    return _result(run, wall)
+    with TaskRun(scenario, meshcat=viewer) as run:
+        rt = run.runtime
+        if record:
+            start_recording(rt.station.visualizer)
+        if viewer is not None:
+            add_visual_extras(rt, recording=bool(record))  # camera frusta, detection markers
+        if on_start is not None:
+            on_start(run)
+        bar = _progress_bar(scenario.name, limit) if progress else None
+        wall0 = time.perf_counter()
+        _advance_until_done(run, limit, chunk, on_chunk, bar)
+        wall = time.perf_counter() - wall0
+        if bar is not None:
+            bar.close()
+        if record:
+            save_recording(rt.station.visualizer, viewer, record)
+        return _result(run, wall)
 
 
 def _progress_bar(name: str, limit: float):

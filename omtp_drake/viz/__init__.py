@@ -5,6 +5,8 @@ Modules (one job each):
 - ``meshcat``: live views, recordings, frusta and detection markers in Meshcat
 - ``browser``: headless chromium screenshots of standalone replays
 - ``tree``: the frame tree as a picture (``view_frames``)
+- ``view_command``: the ``omtp-drake view`` command line
+- ``model_view``: ``omtp-drake view``: a description file's model with joint sliders, sensor images and points
 
 May import: ``omtp_drake.sim``, ``omtp_drake.control`` and everything below them.
 """

@@ -49,7 +49,7 @@ def cartesian_path(
     if jump_threshold is not None and jump_threshold <= 0:
         raise ConfigError(f"jump_threshold must be > 0 rad or None, got {jump_threshold}")
     tool = kinematics.frame(frame)
-    targets = _interpolate_poses(
+    targets, segments = _interpolate_poses(
         kinematics.forward_kinematics(q_start, frame),
         [RigidTransform(X) for X in waypoints],
         max_step,
@@ -74,7 +74,18 @@ def cartesian_path(
             )
             break
         path.append(q)
-    return path, (len(path) - 1) / len(targets)
+    return path, _fraction(len(path) - 1, segments)
+
+
+def _fraction(done: int, segments: list[int]) -> float:
+    """MoveIt's fraction of a Cartesian path: the waypoints reached, plus the reached share
+    of the segment it stopped in, over the number of waypoints (``done`` steps of
+    ``segments``, the steps of each waypoint's segment)."""
+    for i, steps in enumerate(segments):
+        if done < steps:
+            return (i + done / steps) / len(segments)
+        done -= steps
+    return 1.0
 
 
 def _why_stop(
@@ -107,10 +118,13 @@ def _why_stop(
 
 def _interpolate_poses(
     X_start: RigidTransform, waypoints: list[RigidTransform], max_step: float, max_rotation_step: float
-) -> list[RigidTransform]:
+) -> tuple[list[RigidTransform], list[int]]:
     """Poses along straight lines (slerped rotations) through ``waypoints``, at most
-    ``max_step`` m and ``max_rotation_step`` rad apart, ``X_start`` excluded."""
-    poses, previous = [], X_start
+    ``max_step`` m and ``max_rotation_step`` rad apart, ``X_start`` excluded; and how many
+    of them each waypoint's segment has."""
+    poses: list[RigidTransform] = []
+    segments: list[int] = []
+    previous = X_start
     for X in waypoints:
         p0, p1 = previous.translation(), X.translation()
         angle = previous.rotation().InvertAndCompose(X.rotation()).ToAngleAxis().angle()
@@ -121,5 +135,6 @@ def _interpolate_poses(
             math.ceil(angle / max_rotation_step - 1e-9),
         )
         poses += [interpolate_pose(previous, X, k / steps) for k in range(1, steps + 1)]
+        segments.append(steps)
         previous = X
-    return poses
+    return poses, segments

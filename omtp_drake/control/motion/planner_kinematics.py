@@ -106,8 +106,9 @@ class ArmKinematicsQueries:
         collides (on the joint segment from the previous step).
 
         Returns:
-            The joint path (starting with ``q_start``) and the fraction of the steps
-            achieved, 0...1 (1.0: the whole motion).
+            The joint path (starting with ``q_start``) and the fraction achieved, 0...1,
+            as MoveIt counts it: the waypoints reached plus the reached share of the
+            segment it stopped in, over the number of waypoints (1.0: the whole motion).
         """
         q_start = self._q(q_start)
         return cartesian_path(

@@ -37,6 +37,7 @@ from pydrake.systems.framework import (
 from pydrake.systems.primitives import ConstantValueSource
 
 from omtp_drake.cell import arms
+from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.suction import GripperState
 from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory
 from omtp_drake.control.pick_and_place.machine import PickMachine
@@ -121,7 +122,7 @@ class PickAndPlaceController(LeafSystem):
             description="arm model at the measured joints",
             value_producer=ValueProducer(
                 allocate=AbstractValue.Make(control_plant.CreateDefaultContext()).Clone,
-                calc=self._calc_scratch,
+                calc=weak_method(self._calc_scratch),
             ),
             prerequisites_of_calc={self.input_port_ticket(self._robot_state.get_index())},
         )
@@ -130,7 +131,7 @@ class PickAndPlaceController(LeafSystem):
         self._table = self.DeclareCacheEntry(
             description="desired tool poses at DiffIK's sample times",
             value_producer=ValueProducer(
-                allocate=AbstractValue.Make(PoseTable()).Clone, calc=self._calc_table
+                allocate=AbstractValue.Make(PoseTable()).Clone, calc=weak_method(self._calc_table)
             ),
             prerequisites_of_calc={self.abstract_state_ticket(self._control)},
         )
@@ -159,20 +160,21 @@ class PickAndPlaceController(LeafSystem):
         self._pose_port = self.DeclareAbstractOutputPort(
             "X_BE_desired",
             lambda: AbstractValue.Make(RigidTransform()),
-            self._calc_pose,
+            weak_method(self._calc_pose),
             prerequisites_of_calc=control_ticket
             | {self.time_ticket(), self.input_port_ticket(self._robot_state.get_index())},
         )
+        control_state = weak_method(self._control_state)  # C++ holds these callbacks
         self._use_robot_state_port = self.DeclareAbstractOutputPort(
             "use_robot_state",
             lambda: AbstractValue.Make(False),
-            lambda c, out: out.set_value(self._control_state(c).reset_ik),
+            lambda c, out: out.set_value(control_state(c).reset_ik),
             prerequisites_of_calc=control_ticket,
         )
         self._suction_port = self.DeclareVectorOutputPort(
             "suction_command",
             1,
-            lambda c, out: out.SetAtIndex(0, float(self._control_state(c).suction)),
+            lambda c, out: out.SetAtIndex(0, float(control_state(c).suction)),
             prerequisites_of_calc=control_ticket,
         )
         self._control_port = self.DeclareStateOutputPort("control", self._control)

@@ -11,7 +11,9 @@ Modules, one concept each:
 - ``service``: ServiceProxy and ``wait_for_service``
 - ``exceptions``: rospy's exceptions (ROSException, ROSInterruptException...)
 - ``messages``: ROS time; messages and services made from their ``.msg``/``.srv`` text (one factory)
+- ``image_messages``: sensor_msgs' images, camera info and point clouds, and ``read_points``
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
+- ``nav_interfaces``: move_base_msgs' action types (no ``/move_base``, as in the course's cell)
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown
 - ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
 - ``latency``: the simulated time a call takes (planning, a trajectory's start, a service)

@@ -92,8 +92,11 @@ def on_shutdown(hook: Callable[[], Any]) -> None:
 
 
 def spin() -> None:
-    """Runs the callbacks until shutdown (``signal_shutdown`` or ``--timeout``)."""
+    """Runs the callbacks until shutdown (``signal_shutdown`` or ``--timeout``); a launch's
+    node that is starting returns at once (its callbacks run as the script runs)."""
     session = current()
+    if session.starting_node:
+        return
     try:
         session.run_until(math.inf)
     except ShutdownError:

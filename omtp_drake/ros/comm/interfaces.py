@@ -59,12 +59,31 @@ MoveItErrorCodes = message(
     int32 FAILURE=99999
     int32 PLANNING_FAILED=-1
     int32 INVALID_MOTION_PLAN=-2
+    int32 MOTION_PLAN_INVALIDATED_BY_ENVIRONMENT_CHANGE=-3
     int32 CONTROL_FAILED=-4
+    int32 UNABLE_TO_AQUIRE_SENSOR_DATA=-5
     int32 TIMED_OUT=-6
     int32 PREEMPTED=-7
     int32 START_STATE_IN_COLLISION=-10
+    int32 START_STATE_VIOLATES_PATH_CONSTRAINTS=-11
+    int32 START_STATE_INVALID=-26
     int32 GOAL_IN_COLLISION=-12
+    int32 GOAL_VIOLATES_PATH_CONSTRAINTS=-13
+    int32 GOAL_CONSTRAINTS_VIOLATED=-14
+    int32 GOAL_STATE_INVALID=-27
+    int32 UNRECOGNIZED_GOAL_TYPE=-28
     int32 INVALID_GROUP_NAME=-15
+    int32 INVALID_GOAL_CONSTRAINTS=-16
+    int32 INVALID_ROBOT_STATE=-17
+    int32 INVALID_LINK_NAME=-18
+    int32 INVALID_OBJECT_NAME=-19
+    int32 FRAME_TRANSFORM_FAILURE=-21
+    int32 COLLISION_CHECKING_UNAVAILABLE=-22
+    int32 ROBOT_STATE_STALE=-23
+    int32 SENSOR_INFO_STALE=-24
+    int32 COMMUNICATION_FAILURE=-25
+    int32 CRASH=-29
+    int32 ABORT=-30
     int32 NO_IK_SOLUTION=-31
     """,
 )
@@ -77,15 +96,40 @@ RobotTrajectory = message(
     "A planned motion: its joint trajectory (multi-DOF part unused).",
 )
 RobotState = message("moveit_msgs/RobotState", "sensor_msgs/JointState joint_state\nbool is_diff")
-SolidPrimitive = message("shape_msgs/SolidPrimitive", "uint8 type\nfloat64[] dimensions\nuint8 BOX=1")
+SolidPrimitive = message(
+    "shape_msgs/SolidPrimitive",
+    """
+    uint8 type
+    float64[] dimensions
+    uint8 BOX=1
+    uint8 SPHERE=2
+    uint8 CYLINDER=3
+    uint8 CONE=4
+    uint8 BOX_X=0
+    uint8 BOX_Y=1
+    uint8 BOX_Z=2
+    uint8 SPHERE_RADIUS=0
+    """,
+)
 CollisionObject = message(
     "moveit_msgs/CollisionObject",
-    "Header header\nstring id\nshape_msgs/SolidPrimitive[] primitives\ngeometry_msgs/Pose[] primitive_poses",
+    """
+    Header header
+    string id
+    shape_msgs/SolidPrimitive[] primitives
+    geometry_msgs/Pose[] primitive_poses
+    byte operation
+    byte ADD=0
+    byte REMOVE=1
+    byte APPEND=2
+    byte MOVE=3
+    """,
     "A box of the planning scene (``primitives[0]``, at ``primitive_poses[0]`` in ``header.frame_id``: "
     "``world``, or the gripper's cup body when attached).",
 )
 AttachedCollisionObject = message(
-    "moveit_msgs/AttachedCollisionObject", "string link_name\nCollisionObject object"
+    "moveit_msgs/AttachedCollisionObject",
+    "string link_name\nCollisionObject object\nstring[] touch_links\nfloat64 weight",
 )
 DisplayTrajectory = message(
     "moveit_msgs/DisplayTrajectory",

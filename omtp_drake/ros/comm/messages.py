@@ -243,7 +243,8 @@ _BUILTIN: dict[str, Callable[[], Any]] = {
 def _field_type(package: str, name: str) -> Callable[[], Any]:
     """The default factory of a field of type ``name`` in a definition of ``package``."""
     if name.endswith("]"):
-        return list
+        # genpy reads a uint8[] (or char[]) as bytes, any other array as a list.
+        return bytes if name.split("[")[0] in ("uint8", "char") else list
     if name in _BUILTIN:
         return _BUILTIN[name]
     full = "std_msgs/Header" if name == "Header" else name if "/" in name else f"{package}/{name}"
@@ -363,6 +364,7 @@ Transform = message("geometry_msgs/Transform", "Vector3 translation\nQuaternion 
 TransformStamped = message(
     "geometry_msgs/TransformStamped", "Header header\nstring child_frame_id\nTransform transform"
 )
+Pose2D = message("geometry_msgs/Pose2D", "float64 x\nfloat64 y\nfloat64 theta")
 PoseArray = message("geometry_msgs/PoseArray", "Header header\nPose[] poses")
 
 # ----------------------------------------------------------------------------- sensor_msgs, trajectory_msgs

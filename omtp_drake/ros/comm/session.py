@@ -36,6 +36,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Optional
 
+from omtp_drake.errors import NotSupportedError
 from omtp_drake.ros.comm.current import CurrentStack
 
 if TYPE_CHECKING:
@@ -115,11 +116,16 @@ class Session:
         self.node_name: Optional[str] = None
         #: How the script's node resolves names (set by ``init_node``; see omtp_drake.ros.comm.names).
         self.names: Optional[NodeNames] = None
+        #: A launch's node is starting (ros-run runs it up to its ``spin``, which returns at
+        #: once then; its subscribers, timers and services stay in the session).
+        self.starting_node = False
         self.shutdown_reason: Optional[str] = None
         #: The session shut down because ``timeout`` was reached (not for another reason).
         self.timed_out = False
         self.callback_errors: list[str] = []
         self.collisions: list[str] = []
+        #: MoveIt's fixes of a start or goal outside the joint bounds (omtp_drake.ros.moveit.bounds).
+        self.bounds_fixed: list[str] = []
         self._subscribers: dict[str, list[SubscriberQueue]] = collections.defaultdict(list)
         self._order = itertools.count()
         self._in_callback = 0
@@ -169,6 +175,11 @@ class Session:
         """Advances to ``t_end`` (callbacks delivered between ticks), or until
         ``until()`` holds (checked after each delivery); returns whether it held.
         Raises ShutdownError if the session is or becomes shut down."""
+        if self.starting_node:
+            raise NotSupportedError(
+                "a launch's node waits or sleeps before rospy.spin(); ros-run starts a launch's nodes "
+                "one after another up to their spin(), so a node's loop must run in its callbacks or timers"
+            )
         while True:
             self.check_running()
             self.deliver(t_end)
@@ -238,10 +249,26 @@ class Session:
         if queue_size is not None and (int(queue_size) != queue_size or queue_size < 0):
             raise ValueError(f"queue_size must be None or an integer >= 0, got {queue_size!r}")
         maxlen = None if queue_size in (None, 0) else int(queue_size)
+        if self.starting_node:
+            callback = self._in_node(callback)
         subscriber = SubscriberQueue(topic, callback, callback_args, collections.deque(maxlen=maxlen))
         self._subscribers[topic].append(subscriber)
         self.gazebo.on_subscribe(topic)
         return subscriber
+
+    def _in_node(self, callback: Callable[..., Any]) -> Callable[..., Any]:
+        """``callback`` run as the starting node's (its name and how it resolves names)."""
+        node = self.node_name, self.names
+
+        def as_node(*args: Any) -> Any:
+            saved = self.node_name, self.names
+            self.node_name, self.names = node
+            try:
+                return callback(*args)
+            finally:
+                self.node_name, self.names = saved
+
+        return as_node
 
     def unsubscribe(self, subscriber: SubscriberQueue) -> None:
         subscriber.active = False

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from omtp_drake.launch.options import add_cell_options
 from omtp_drake.ros.flexbe.context import AUTONOMY_LEVELS
 from omtp_drake.ros.run.command import add_shared_options, passed_on, print_line, show_logs
 from omtp_drake.ros.run.report import show_report
@@ -18,6 +19,7 @@ def cmd_flexbe_run(args: argparse.Namespace) -> int:
         args.behavior,
         args.workspace,
         params=parse_params(args.param),
+        nodes=args.nodes,
         **passed_on(
             args, "scenario srdf moveit_config timeout autonomy seed meshcat realtime record latency python2"
         ),
@@ -38,7 +40,10 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--workspace", action="append", required=True, metavar="DIR", help="a catkin src folder (repeatable)"
     )
-    add_shared_options(p, "--scenario --srdf --moveit-config")
+    add_shared_options(p, "--scenario")
+    add_cell_options(p, workspace=False)
+    p.set_defaults(nodes=[])  # a launch's Python nodes (set with --launch), run in the session
+    add_shared_options(p, "--srdf --moveit-config")
     p.add_argument(
         "--timeout", type=float, default=600.0, metavar="S", help="simulated seconds (default 600)"
     )

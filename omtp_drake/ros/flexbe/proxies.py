@@ -21,6 +21,7 @@ from omtp_drake.ros.comm import topics as rospy_topics
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.flexbe.context import current_run
 from omtp_drake.ros.flexbe.engine import Logger
+from omtp_drake.ros.tf.listener import TransformListener
 
 
 def _set_up_each(topics: Optional[dict[str, Any]], set_up: Callable[..., None], *options: Any) -> None:
@@ -286,48 +287,14 @@ def _trajectory_done(client: Any) -> bool:
     return client.get_state() not in (GoalStatus.ACTIVE, GoalStatus.LOST)
 
 
-class TfListener:
-    """ROS 1 tf's ``TransformListener`` API (what FlexBE's proxy hands out) on the cell's
-    tf2 buffer: ``waitForTransform``, ``lookupTransform`` (``(translation, quaternion
-    xyzw)``), ``canTransform``, ``transformPose``, ``frameExists``."""
-
-    def __init__(self) -> None:
-        from omtp_drake.ros.tf.tf2 import Buffer
-
-        self.buffer = Buffer()
-
-    def waitForTransform(self, target: str, source: str, time: Any, timeout: Any) -> None:  # noqa: N802
-        from omtp_drake.ros.tf.tf2 import TimeoutException
-
-        if not self.buffer.can_transform(target, source, time, timeout):
-            raise TimeoutException(f"no transform from {source} to {target} within the timeout")
-
-    def canTransform(self, target: str, source: str, time: Any) -> bool:  # noqa: N802
-        return bool(self.buffer.can_transform(target, source, time))
-
-    def lookupTransform(self, target: str, source: str, time: Any) -> tuple[list[float], list[float]]:  # noqa: N802
-        t = self.buffer.lookup_transform(target, source, time).transform
-        return [t.translation.x, t.translation.y, t.translation.z], [
-            t.rotation.x,
-            t.rotation.y,
-            t.rotation.z,
-            t.rotation.w,
-        ]
-
-    def transformPose(self, target: str, pose: Any) -> Any:  # noqa: N802
-        return self.buffer.transform(pose, target)
-
-    def frameExists(self, frame: str) -> bool:  # noqa: N802
-        return frame.lstrip("/") in current().cell.tf.all_frame_names()
-
-
 class ProxyTransformListener:
-    """FlexBE's shared tf listener: ``listener()`` is a :class:`TfListener` on the cell's frames."""
+    """FlexBE's shared tf listener: ``listener()`` is ROS 1 tf's TransformListener
+    (:class:`omtp_drake.ros.tf.listener.TransformListener`) on the cell's frames."""
 
     def __init__(self) -> None:
         run = current_run()
         if run.transform_listener is None:
-            run.transform_listener = TfListener()
+            run.transform_listener = TransformListener()
 
     def listener(self) -> Any:
         return current_run().transform_listener

@@ -43,9 +43,10 @@ from omtp_drake.ros.flexbe.context import (
 )
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
+from omtp_drake.ros.gazebo.model_topics import unknown_plugins
 from omtp_drake.ros.run.bring_up import RunSettings, bring_up
+from omtp_drake.ros.run.environment import SHIM_DIR, SHIM_PACKAGES
 from omtp_drake.ros.run.py2 import python2_imports
-from omtp_drake.ros.run.runner import SHIM_DIR, SHIM_PACKAGES
 
 #: The node FlexBE's onboard engine runs behaviours in.
 ONBOARD_NODE = "behavior_onboard"
@@ -160,10 +161,10 @@ def run_behavior(
     """Runs ``behavior`` (a manifest name or a ``*_sm.py`` path) of ``workspaces`` on a
     scenario's cell; the run's report (see the module doc). The cell and its ROS session
     come up as ``ros-run``'s do, from ``settings``
-    (:class:`~omtp_drake.ros.run.bring_up.RunSettings`: ``scenario`` required; ``srdf``,
-    ``moveit_config``, ``timeout``, ``seed``, ``meshcat``, ``realtime``, ``record``,
-    ``latency``...). ``python2``: the workspaces' modules are converted from Python 2 as
-    they load (:mod:`omtp_drake.ros.run.py2`)."""
+    (:class:`~omtp_drake.ros.run.bring_up.RunSettings`: ``scenario`` or ``robot`` required;
+    ``srdf``, ``moveit_config``, ``timeout``, ``seed``, ``meshcat``, ``realtime``, ``record``,
+    ``latency``, a launch's ``nodes``...). ``python2``: the workspaces' modules are converted
+    from Python 2 as they load (:mod:`omtp_drake.ros.run.py2`)."""
     if autonomy not in AUTONOMY_LEVELS:
         raise ConfigError(f"--autonomy {autonomy!r} is unknown; valid: {', '.join(AUTONOMY_LEVELS)}")
     run_settings = RunSettings(**settings)
@@ -218,6 +219,8 @@ def _report(
         error=exception_kind(error) if error is not None else None,
         timed_out=session.timed_out,
         shutdown=session.shutdown_reason,
+        ignored_plugins=unknown_plugins(cell),
+        bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
 

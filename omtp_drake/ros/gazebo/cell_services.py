@@ -6,7 +6,7 @@
   (``/gazebo/...``): :mod:`omtp_drake.ros.gazebo.ros_api`.
 - ``/omtp/conveyor/control`` (``omtp_gazebo/ConveyorBeltControl``): belt power in
   [0, 100]; a power outside answers ``success: False`` and logs why.
-- ``/compute_ik`` (``moveit_msgs/GetPositionIK``): MoveIt's IK on the cell's planner.
+- move_group's services (``/compute_ik``...): :mod:`omtp_drake.ros.moveit.node`.
 
 A service exists only when the scenario has what it drives. A call takes the
 session's ``service`` latency before its handler runs (:mod:`omtp_drake.ros.comm.latency`).
@@ -86,17 +86,7 @@ def _conveyor_services(cell: Cell) -> list[Service]:
     return [Service("/omtp/conveyor/control", ConveyorBeltControl, control)]
 
 
-def _moveit_services(cell: Cell) -> list[Service]:
-    """MoveIt's services: ``/compute_ik`` (see omtp_drake.ros.moveit.ik_service)."""
-    from omtp_drake.ros.moveit.ik_service import compute_ik
-    from omtp_drake.ros.moveit.interfaces import GetPositionIK
-
-    if not cell.station.arms:
-        return []
-    return [Service("/compute_ik", GetPositionIK, lambda request: compute_ik(cell, request))]
-
-
 def cell_services(cell: Cell) -> dict[str, Service]:
     """Service name -> service, for everything ``cell``'s scenario has."""
-    services = _gripper_services(cell) + _conveyor_services(cell) + _moveit_services(cell)
+    services = _gripper_services(cell) + _conveyor_services(cell)
     return {s.name: s for s in services}

@@ -1,9 +1,10 @@
 """The course world's ROS plugins on a run's graph: Gazebo's own API and the spawner.
 
 :func:`attach_gazebo` is what the session calls once: it adds Gazebo's services
-and topics (:mod:`omtp_drake.ros.gazebo.ros_api`) and the spawner as the scenario's launch
-file wires it (:mod:`omtp_drake.ros.gazebo.spawner`), and holds the clock while physics
-is paused.
+and topics (:mod:`omtp_drake.ros.gazebo.ros_api`), the spawner as the scenario's launch
+file wires it (:mod:`omtp_drake.ros.gazebo.spawner`) and the gazebo_ros plugins of the
+scenario's models (:mod:`omtp_drake.ros.gazebo.model_topics`), and holds the clock while
+physics is paused.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 from omtp_drake.ros.comm.messages import Header
 from omtp_drake.ros.gazebo.interfaces import SetModelState
+from omtp_drake.ros.gazebo.model_topics import attach_model_plugins
 from omtp_drake.ros.gazebo.ros_api import SET_MODEL_STATE, GazeboWorld, PushedSource
 from omtp_drake.ros.gazebo.spawner import SPAWNED_PART, spawner_services
 
@@ -43,4 +45,5 @@ def attach_gazebo(session: Graph) -> GazeboWorld:
 
     # gazebo_ros subscribes to set_model_state too (queue 10): a ModelState published there moves the model.
     session.subscribe(SET_MODEL_STATE, teleport, (), 10)
+    attach_model_plugins(session)
     return world

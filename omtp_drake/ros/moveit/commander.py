@@ -56,6 +56,7 @@ from omtp_drake.ros.comm.messages import Header, Message, Pose, PoseStamped
 from omtp_drake.ros.comm.rostime import Time, _blocking
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.comm.unsupported import not_supported
+from omtp_drake.ros.moveit.bounds import StartStateInvalid, fix_start, with_prefix
 from omtp_drake.ros.moveit.config import arm_joint_limits, end_effector_link, semantics
 from omtp_drake.ros.moveit.targets import MoveGroupTargets, MoveItCommanderException
 from omtp_drake.ros.moveit.trajectories import from_msg, joint_names, to_msg
@@ -156,7 +157,9 @@ class MoveGroupCommander(MoveGroupTargets):
 
     # ------------------------------------------------------------ planning and moving
 
-    def _plan(self, joints: Any) -> tuple[Optional[Plan], int, float]:
+    def _plan(self, joints: Any, start: Optional[np.ndarray] = None) -> tuple[Optional[Plan], int, float]:
+        """(plan or None, MoveIt's error code, wall seconds) to the target, from where the
+        arm is (or ``start``), with MoveIt's start-state bounds fix (omtp_drake.ros.moveit.bounds)."""
         if joints is not None:
             if isinstance(joints, (Pose, PoseStamped)):
                 self.set_pose_target(joints)
@@ -169,18 +172,23 @@ class MoveGroupCommander(MoveGroupTargets):
                 f"{self._name}: no target set (set_named_target, set_pose_target...)"
             )
         kind, value = self._target
-        start = wall.perf_counter()
+        began = wall.perf_counter()
+        q_actual = self._arm.joint_values() if start is None else np.asarray(start, dtype=float)
+        try:
+            q_start = fix_start(self._session, self._bounds(), q_actual)
+        except StartStateInvalid:
+            return None, MoveItErrorCodes.START_STATE_INVALID, wall.perf_counter() - began
         try:
             if kind == "pose":
                 target, frame = value
-                plan = self._arm.plan(target, frame=frame, speed=self._velocity_scale)
+                plan = self._arm.plan(target, frame=frame, speed=self._velocity_scale, start=q_start)
             else:
-                plan = self._arm.plan(value, speed=self._velocity_scale)
+                plan = self._arm.plan(value, speed=self._velocity_scale, start=q_start)
             plan = self._retime(plan)
         except PlanningError as e:
             _log.error("%s: planning failed: %s", self._name, e)
-            return None, _error_code(e), wall.perf_counter() - start
-        return plan, MoveItErrorCodes.SUCCESS, wall.perf_counter() - start
+            return None, _error_code(e), wall.perf_counter() - began
+        return with_prefix(plan, q_actual, q_start), MoveItErrorCodes.SUCCESS, wall.perf_counter() - began
 
     def _retime(self, plan: Plan) -> Plan:
         """``plan`` timed again with the acceleration scaling factor and joint_limits.yaml's
@@ -293,16 +301,26 @@ class MoveGroupCommander(MoveGroupTargets):
             rigid(p, f"waypoint {i}") if not isinstance(p, RigidTransform) else p
             for i, p in enumerate(waypoints)
         ]
+        plan = self._cartesian(poses, step, jump_threshold, avoid, self._eef, self._arm.joint_values())
+        think("cartesian")
+        return to_msg(plan, self._robot, self._session), float(plan.fraction)
+
+    def _cartesian(
+        self, poses: list[RigidTransform], step: float, jump: float, avoid: bool, link: str, start: np.ndarray
+    ) -> Plan:
+        """Straight moves of ``link`` through world ``poses`` from joint values ``start``
+        (a start just outside the bounds fixed as for a plan; StartStateInvalid when farther)."""
+        q_start = fix_start(self._session, self._bounds(), start)
         plan = self._arm.compute_cartesian_path(
             poses,
             step,
-            jump_threshold,
+            jump,
             avoid,
-            frame=self._links[self._eef],
+            frame=self._links[link],
             joint_limits=arm_joint_limits(self._session, self._robot, self._arm.planner),
+            start=q_start,
         )
-        think("cartesian")
-        return to_msg(plan, self._robot, self._session), float(plan.fraction)
+        return with_prefix(plan, start, q_start)
 
 
 def _cartesian_args(args: tuple, kwargs: dict) -> tuple[float, bool]:

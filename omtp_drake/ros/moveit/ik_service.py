@@ -28,21 +28,22 @@ if TYPE_CHECKING:
 
 _log = logging.getLogger("moveit_commander")
 
-#: MoveIt's code for a goal it cannot use.
-INVALID_GOAL_CONSTRAINTS = -23
-
 
 def _joint_names(robot: str) -> list[str]:
     return [f"{robot}_{name}" for name in JOINT_NAMES]
 
 
 def _ik_seed(cell: Cell, robot: str, joint_state: Message) -> np.ndarray:
-    q = np.array(cell.arm(robot).joint_values(), dtype=float)
+    """Where the arm is, with the request's joints set; within the joint bounds (a seed only:
+    MoveIt's solvers start from it wherever it is, a wrist measured a hair beyond pi too)."""
+    arm = cell.arm(robot)
+    q = np.array(arm.joint_values(), dtype=float)
     given = dict(zip(joint_state.name, joint_state.position))
     for i, name in enumerate(_joint_names(robot)):
         if name in given:
             q[i] = float(given[name])
-    return q
+    limit = arm.config.joint_limit
+    return np.clip(q, -limit, limit)
 
 
 def _ik_target(cell: Cell, pose: Message) -> Any:
@@ -76,7 +77,7 @@ def compute_ik(cell: Cell, request: Any) -> Message:
         _log.error(
             "compute_ik: %r is no end-effector link of %s; links: %s", link, ik.group_name, list(links)
         )
-        response.error_code = MoveItErrorCodes(INVALID_GOAL_CONSTRAINTS)
+        response.error_code = MoveItErrorCodes(MoveItErrorCodes.INVALID_GOAL_CONSTRAINTS)
         return response
     try:
         X_WE = _ik_target(cell, ik.pose_stamped)

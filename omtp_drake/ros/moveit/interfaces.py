@@ -1,11 +1,13 @@
-"""moveit_msgs types of MoveIt's ``/move_group`` action and ``/compute_ik`` service,
-declared from their ``.msg`` / ``.srv`` / ``.action`` text (:mod:`omtp_drake.ros.comm.messages`'s
-factory).
+"""moveit_msgs types of MoveIt's ``/move_group`` action and its kinematics services
+(``/compute_ik``, ``/compute_fk``, ``/compute_cartesian_path``), declared from their
+``.msg`` / ``.srv`` / ``.action`` text (:mod:`omtp_drake.ros.comm.messages`'s factory).
 
 Field names and order follow ``moveit_msgs`` (Noetic): ``MoveGroupGoal`` =
 ``MotionPlanRequest request`` + ``PlanningOptions planning_options``;
 ``Constraints`` hold joint, position and orientation constraints;
-``GetPositionIK`` takes a ``PositionIKRequest``. Fields this cell does not use
+``GetPositionIK`` takes a ``PositionIKRequest``; ``GetPositionFK`` and
+``GetCartesianPath`` are Noetic's (the Cartesian request's jump thresholds and
+Cartesian speed included). Fields this cell does not use
 (workspace bounds, visibility constraints, planning-scene diffs) are kept so
 scripts that set them still run; what they would change is not modelled.
 """
@@ -126,4 +128,39 @@ PositionIKRequest = message(
 GetPositionIK, GetPositionIKRequest, GetPositionIKResponse = service(
     "moveit_msgs/GetPositionIK",
     "PositionIKRequest ik_request\n---\nRobotState solution\nMoveItErrorCodes error_code",
+)
+GetPositionFK, GetPositionFKRequest, GetPositionFKResponse = service(
+    "moveit_msgs/GetPositionFK",
+    """
+    Header header
+    string[] fk_link_names
+    RobotState robot_state
+    ---
+    geometry_msgs/PoseStamped[] pose_stamped
+    string[] fk_link_names
+    MoveItErrorCodes error_code
+    """,
+)
+GetCartesianPath, GetCartesianPathRequest, GetCartesianPathResponse = service(
+    "moveit_msgs/GetCartesianPath",
+    """
+    Header header
+    RobotState start_state
+    string group_name
+    string link_name
+    geometry_msgs/Pose[] waypoints
+    float64 max_step
+    float64 jump_threshold
+    float64 prismatic_jump_threshold
+    float64 revolute_jump_threshold
+    bool avoid_collisions
+    Constraints path_constraints
+    string cartesian_speed_limited_link
+    float64 max_cartesian_speed
+    ---
+    RobotState start_state
+    RobotTrajectory solution
+    float64 fraction
+    MoveItErrorCodes error_code
+    """,
 )

@@ -11,10 +11,16 @@ orientation constraint for one link (the group's end-effector links, as
 The plan is the same :class:`~omtp_drake.ros.moveit.commander.MoveGroupCommander` plan
 scripts get; with ``planning_options.plan_only`` the result comes at once with
 the planned trajectory, otherwise the arm executes it and the result comes when
-the motion has ended (``executed_trajectory`` = the planned one). Failures are
+the motion has ended (``executed_trajectory`` = the planned one). The plan starts
+from the request's ``start_state`` (where the arm is, with the joints it names set;
+a plan that does not start where the arm is cannot be executed: CONTROL_FAILED).
+Joint bounds are MoveIt's (:mod:`omtp_drake.ros.moveit.bounds`: a start just outside
+them is fixed, joint goals beyond them are put on them). Failures are
 error codes, as in MoveIt: PLANNING_FAILED, NO_IK_SOLUTION, GOAL_IN_COLLISION,
-START_STATE_IN_COLLISION, INVALID_GROUP_NAME, INVALID_GOAL_CONSTRAINTS (no or
-several constraint sets, a link that is no end effector), PREEMPTED (cancelled).
+START_STATE_IN_COLLISION, START_STATE_INVALID (outside the bounds by more than the
+bounds error), INVALID_GROUP_NAME, INVALID_GOAL_CONSTRAINTS (no or
+several constraint sets, a link that is no end effector, a negative tolerance),
+PREEMPTED (cancelled).
 Planning takes no simulated time.
 """
 
@@ -23,15 +29,17 @@ from __future__ import annotations
 import logging
 from typing import TYPE_CHECKING, Any, Optional
 
+import numpy as np
+
 from omtp_drake.errors import OmtpError
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes, RobotState
 from omtp_drake.ros.comm.latency import delay_of
 from omtp_drake.ros.comm.messages import Header, JointState, Message, Pose, PoseStamped
 from omtp_drake.ros.comm.rostime import Time
 from omtp_drake.ros.comm.session import current
+from omtp_drake.ros.moveit.bounds import goal_joints
 from omtp_drake.ros.moveit.commander import MoveGroupCommander, MoveItCommanderException
 from omtp_drake.ros.moveit.config import semantics
-from omtp_drake.ros.moveit.ik_service import INVALID_GOAL_CONSTRAINTS
 from omtp_drake.ros.moveit.interfaces import MoveGroupAction, MoveGroupResult
 from omtp_drake.ros.moveit.trajectories import joint_names, to_msg
 
@@ -50,10 +58,26 @@ class GoalState:
     PENDING, ACTIVE, PREEMPTED, SUCCEEDED, ABORTED, REJECTED, LOST = 0, 1, 2, 3, 4, 5, 9
 
 
-def _robot_state(cell: Cell, robot: str) -> Message:
+def start_joints(cell: Cell, robot: str, state: Any) -> np.ndarray:
+    """The arm's joint values a request starts from: where it is, with the joints a
+    ``moveit_msgs/RobotState`` names set to its values (MoveIt's start state; a joint
+    state whose names and positions differ in number is ignored, as MoveIt does)."""
+    q = np.array(cell.arm(robot).joint_values(), dtype=float)
+    joint_state = state.joint_state
+    if len(joint_state.name) != len(joint_state.position):
+        _log.error("Different number of names and positions in JointState message: start state ignored")
+        return q
+    given = dict(zip(joint_state.name, joint_state.position))
+    for i, name in enumerate(joint_names(robot)):
+        if name in given:
+            q[i] = float(given[name])
+    return q
+
+
+def _robot_state(robot: str, q: np.ndarray) -> Message:
     names = joint_names(robot)
-    q = [float(x) for x in cell.arm(robot).joint_values()]
-    return RobotState(joint_state=JointState(header=Header(stamp=Time.now()), name=names, position=q))
+    position = [float(x) for x in q]
+    return RobotState(joint_state=JointState(header=Header(stamp=Time.now()), name=names, position=position))
 
 
 def _pose_target(constraints: Any) -> tuple[Message, str]:
@@ -78,7 +102,11 @@ def set_goal(group: MoveGroupCommander, request: Any) -> None:
         )
     constraints = request.goal_constraints[0]
     if constraints.joint_constraints:
-        group.set_joint_value_target({c.joint_name: c.position for c in constraints.joint_constraints})
+        try:
+            goal = goal_joints(group._session, group._bounds(), constraints.joint_constraints)
+        except ValueError as e:
+            raise MoveItCommanderException(str(e)) from None
+        group.set_joint_value_target(goal)
     elif constraints.position_constraints:
         pose, link = _pose_target(constraints)
         group.set_pose_target(pose, link)
@@ -113,16 +141,17 @@ class MoveGroupClient:
             self._finish(result, MoveItErrorCodes.INVALID_GROUP_NAME, GoalState.ABORTED)
             return
         self._group = group = MoveGroupCommander(request.group_name)
-        result.trajectory_start = _robot_state(cell, group._robot)
+        q_start = start_joints(cell, group._robot, request.start_state)
+        result.trajectory_start = _robot_state(group._robot, q_start)
         try:
             group.set_max_velocity_scaling_factor(request.max_velocity_scaling_factor or 1.0)
             group.set_max_acceleration_scaling_factor(request.max_acceleration_scaling_factor or 1.0)
             set_goal(group, request)
         except (MoveItCommanderException, OmtpError) as e:
             _log.error("move_group: invalid goal: %s", e)
-            self._finish(result, INVALID_GOAL_CONSTRAINTS, GoalState.ABORTED)
+            self._finish(result, MoveItErrorCodes.INVALID_GOAL_CONSTRAINTS, GoalState.ABORTED)
             return
-        plan, code, _seconds = group._plan(None)
+        plan, code, _seconds = group._plan(None, start=q_start)
         result.planning_time = delay_of("plan")  # the session's planning latency, as go() takes it
         if plan is None:
             self._finish(result, code, GoalState.ABORTED)

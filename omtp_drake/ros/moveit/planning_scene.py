@@ -25,14 +25,15 @@ from omtp_drake.ros.tf.convert import pose_msg, rigid
 _log = logging.getLogger("moveit_commander")
 
 
-def _scene() -> Any:
+def scene_of_run() -> Any:
+    """The run's cell's planning scene (CellPlanningScene)."""
     scene = getattr(current().cell, "planning_scene", None)
     if scene is None:
         not_supported("PlanningSceneInterface on this cell", "its Cell has no planning_scene")
     return scene
 
 
-def _robot_of(link: Optional[str]) -> Optional[str]:
+def robot_of_link(link: Optional[str]) -> Optional[str]:
     """The robot whose gripper or tool link ``link`` is (None for None or "")."""
     if not link:
         return None
@@ -54,7 +55,8 @@ def _object_msg(name: str, box: Any, frame: str) -> Message:
     )
 
 
-def _world_pose(pose: Any, what: str) -> Any:
+def world_pose_of(pose: Any, what: str) -> Any:
+    """``X_W``: a PoseStamped (any tf frame, now) as a world pose; MoveItCommanderException otherwise."""
     if not isinstance(pose, PoseStamped):
         raise MoveItCommanderException(f"{what} takes a geometry_msgs PoseStamped, got {type(pose).__name__}")
     from omtp_drake.ros.comm._core import CorePoseStamped
@@ -72,13 +74,13 @@ class PlanningSceneInterface:
 
     def add_box(self, name: str, pose: Message, size: Any = (1, 1, 1)) -> None:
         try:
-            _scene().add_box(name, _world_pose(pose, "add_box"), [float(x) for x in size])
+            scene_of_run().add_box(name, world_pose_of(pose, "add_box"), [float(x) for x in size])
         except OmtpError as e:
             raise MoveItCommanderException(str(e)) from None
 
     def remove_world_object(self, name: Optional[str] = None) -> None:
         try:
-            _scene().remove(name)
+            scene_of_run().remove(name)
         except OmtpError as e:
             _log.warning("remove_world_object: %s", e)
 
@@ -90,12 +92,12 @@ class PlanningSceneInterface:
         size: Any = (1, 1, 1),
         touch_links: Any = (),
     ) -> None:
-        scene = _scene()
+        scene = scene_of_run()
         try:
             scene.attach_box(
-                _robot_of(link),
+                robot_of_link(link),
                 name,
-                None if pose is None else _world_pose(pose, "attach_box"),
+                None if pose is None else world_pose_of(pose, "attach_box"),
                 [float(x) for x in size],
             )
         except OmtpError as e:
@@ -103,17 +105,17 @@ class PlanningSceneInterface:
 
     def remove_attached_object(self, link: Optional[str] = None, name: Optional[str] = None) -> None:
         try:
-            _scene().detach(_robot_of(link), name)
+            scene_of_run().detach(robot_of_link(link), name)
         except OmtpError as e:
             _log.warning("remove_attached_object: %s", e)
 
     def get_known_object_names(self, with_type: bool = False) -> list[str]:
-        return _scene().names()
+        return scene_of_run().names()
 
     def get_attached_objects(self, object_ids: Any = ()) -> dict[str, Message]:
         cell = current().cell
         out = {}
-        for name, box in _scene().attached().items():
+        for name, box in scene_of_run().attached().items():
             if not object_ids or name in object_ids:
                 cup = f"{cell.arm(box.robot).config.gripper}_cup"
                 link = tool_frame_names(cell.arm(box.robot).config)["suction_cup"]
@@ -121,7 +123,7 @@ class PlanningSceneInterface:
         return out
 
     def get_objects(self, object_ids: Any = ()) -> dict[str, Message]:
-        objects = _scene().objects()
+        objects = scene_of_run().objects()
         return {
             k: _object_msg(k, v, "world") for k, v in objects.items() if not object_ids or k in object_ids
         }

@@ -20,6 +20,7 @@ from omtp_drake.errors import OmtpError
 from omtp_drake.ros.comm._core import Arm, CorePoseStamped, check_joint_positions
 from omtp_drake.ros.comm.messages import JointState, Pose, PoseStamped
 from omtp_drake.ros.comm.unsupported import not_supported
+from omtp_drake.ros.moveit.bounds import JointBounds, target_within
 from omtp_drake.ros.moveit.srdf import SemanticModel
 from omtp_drake.ros.moveit.trajectories import joint_names
 from omtp_drake.ros.tf.convert import pose_from_list, rigid
@@ -49,6 +50,10 @@ class MoveGroupTargets:
     _remembered: dict[str, np.ndarray]
     _velocity_scale: float
     _acceleration_scale: float
+
+    def _bounds(self) -> JointBounds:
+        """The group's joints and their position bounds."""
+        return JointBounds.symmetric(joint_names(self._robot), self._arm.config.joint_limit)
 
     def _short(self, link: str) -> str:
         link = link or self._eef
@@ -106,6 +111,10 @@ class MoveGroupTargets:
                 )
             current_q = self._arm.joint_values()
             values = [values.get(n, current_q[i]) for i, n in enumerate(names)]
+        try:
+            values = target_within(self._bounds(), values)
+        except (TypeError, ValueError):
+            pass  # no numbers: the check below says what is wrong
         try:
             return check_joint_positions(values, self._arm.config)
         except OmtpError as e:

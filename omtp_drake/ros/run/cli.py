@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 
+from omtp_drake.launch.options import add_cell_options
 from omtp_drake.ros.run.command import add_shared_options, passed_on, print_line, show_logs
 from omtp_drake.ros.run.report import show_report
 
@@ -21,6 +22,9 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         args.script,
         args.script_args,
         calls=args.call or (),
+        nodes=args.nodes,
+        robot=args.robot,
+        workspace=args.workspace or (),
         **passed_on(
             args, "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency"
         ),
@@ -39,7 +43,11 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     )
     p.add_argument("script", metavar="SCRIPT.py")
     p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
-    add_shared_options(p, "--scenario --seed")
+    add_shared_options(p, "--scenario")
+    add_cell_options(p)
+    p.set_defaults(nodes=[])  # a launch's Python nodes (set with --launch)
+    add_shared_options(p, "--seed")
+    _add_robot_option(p)
     p.add_argument(
         "--timeout",
         type=float,
@@ -60,6 +68,18 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
     p.set_defaults(func=cmd_ros_run)
     return p
+
+
+def _add_robot_option(p: argparse.ArgumentParser) -> None:
+    """``--robot FILE``: a robot spawned as ``spawn_model`` does; with it ``--scenario`` is
+    optional (without one: Gazebo's empty world)."""
+    p.add_argument(
+        "--robot",
+        metavar="FILE.urdf[.xacro]|FILE.sdf",
+        help="spawn this robot (URDF, xacro or SDF) into the scenario, as spawn_model does; without "
+        "--scenario, into Gazebo's empty world (a ground plane)",
+    )
+    p._option_string_actions["--scenario"].required = False
 
 
 def _add_course_options(p: argparse.ArgumentParser) -> None:

@@ -11,7 +11,10 @@ from typing import Any
 
 #: The options the ROS commands declare alike: flag -> ``add_argument``'s keywords.
 SHARED_OPTIONS: dict[str, dict[str, Any]] = {
-    "--scenario": {"required": True, "metavar": "NAME|FILE", "help": "the cell: a scenario name or file"},
+    "--scenario": {
+        "metavar": "NAME|FILE",
+        "help": "the cell: a scenario name or file (or --launch / --world with --workspace)",
+    },
     "--seed": {"type": int, "default": None, "help": "override the scenario's seed"},
     "--srdf": {
         "metavar": "FILE",

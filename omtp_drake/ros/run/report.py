@@ -42,6 +42,10 @@ class RosReport:
     python2: bool = False
     #: Spawner calls that spawned nothing (the course's spawner stays silent; each was logged).
     empty_spawn_calls: list[str] = field(default_factory=list)
+    #: Gazebo plugins of the scenario's models that the cell does not run (one line each).
+    ignored_plugins: list[str] = field(default_factory=list)
+    #: MoveIt's fixes of a start or goal just outside the joint bounds (its log lines).
+    bounds_fixed: list[str] = field(default_factory=list)
     replay: Optional[str] = None
     #: What the script's exception is, as data (:func:`omtp_drake.errors.exception_kind`).
     error: Optional[dict[str, Any]] = None
@@ -78,6 +82,8 @@ class RosReport:
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
         lines += [f"spawn call: {c}" for c in self.empty_spawn_calls]
+        lines += [f"ignored plugin: {p}" for p in self.ignored_plugins]
+        lines += [f"moveit bounds: {c}" for c in self.bounds_fixed]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")
         if self.exception:

@@ -14,56 +14,25 @@ come when the script (or a ``--call`` before it) asks; see :mod:`omtp_drake.ros.
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import logging
-import os
-import sys
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, Optional
 
 from omtp_drake.errors import ConfigError, describe_exception, exception_frames, exception_kind
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.session import Session, active
+from omtp_drake.ros.gazebo.model_topics import unknown_plugins
 from omtp_drake.ros.run.bring_up import RunSettings, bring_up
+from omtp_drake.ros.run.environment import script_environment
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
 from omtp_drake.ros.run.report import RosReport
 from omtp_drake.ros.run.setup_steps import call_services
 from omtp_drake.ros.run.setup_steps import settle as settle_cell
 
 _log = logging.getLogger(__name__)
-
-#: The folder of the ROS-named packages (put first on sys.path during a run only).
-SHIM_DIR = Path(__file__).resolve().parents[1] / "shims"
-#: The top-level names it provides.
-SHIM_PACKAGES = tuple(sorted(p.name for p in SHIM_DIR.iterdir() if (p / "__init__.py").is_file()))
-
-
-@contextlib.contextmanager
-def script_environment(script: Path, args: Sequence[str]) -> Iterator[None]:
-    """sys.argv, sys.path (the shims, then the script's folder) and sys.modules set
-    for ``script``; all three restored afterwards."""
-    saved_argv, saved_path = sys.argv[:], sys.path[:]
-    hidden = {n: m for n, m in sys.modules.items() if n.split(".")[0] in SHIM_PACKAGES}
-    for name in hidden:
-        del sys.modules[name]  # e.g. a real rospy imported before: the script gets ours
-    before = set(sys.modules)
-    sys.argv = [str(script), *args]
-    sys.path[:0] = [str(SHIM_DIR), str(script.parent)]
-    try:
-        yield
-    finally:
-        sys.argv, sys.path[:] = saved_argv, saved_path
-        folder = str(script.parent) + os.sep
-        for name in set(sys.modules) - before:
-            top = name.split(".")[0]
-            origin = str(getattr(sys.modules[name], "__file__", "") or "")
-            # The ROS names, and the script's own modules (not the project's, wherever it is).
-            if top in SHIM_PACKAGES or (top != "omtp_drake" and origin.startswith(folder)):
-                del sys.modules[name]
-        sys.modules.update(hidden)
 
 
 def run_script(
@@ -77,12 +46,13 @@ def run_script(
     """Runs ``script`` (with ``args``) on a scenario's cell; the run's report.
 
     ``settings``: the run's cell and session, as :class:`~omtp_drake.ros.run.bring_up.RunSettings`
-    names them (``scenario`` required; ``seed``, ``timeout``, ``moveit``, ``meshcat``,
-    ``realtime``, ``record``, ``srdf``, ``moveit_config``, ``latency``). At ``timeout``
-    simulated seconds the ROS session shuts down (``rospy.is_shutdown()`` turns True,
-    blocking calls raise ROSInterruptException, ``spin`` returns). ``calls``, ``settle``:
-    the set-up steps before the script (``rosservice call`` of each, then ``settle``
-    simulated seconds; see :mod:`omtp_drake.ros.run.setup_steps`).
+    names them (``scenario`` or ``robot`` required; ``workspace``, ``seed``, ``timeout``,
+    ``moveit``, ``meshcat``, ``realtime``, ``record``, ``srdf``, ``moveit_config``,
+    ``latency``, ``nodes``: a student's launch's Python nodes, started before the script and
+    serving its run). At ``timeout`` simulated seconds the ROS session shuts down
+    (``rospy.is_shutdown()`` turns True, blocking calls raise ROSInterruptException, ``spin``
+    returns). ``calls``, ``settle``: the set-up steps before the script (``rosservice call``
+    of each, then ``settle`` simulated seconds; see :mod:`omtp_drake.ros.run.setup_steps`).
     """
     path = Path(script).resolve()
     if not path.is_file():
@@ -145,6 +115,8 @@ def _report(path: Path, session: Session, ending: _Ending, wall: float, replay: 
         exit_code=ending.exit_code,
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
+        ignored_plugins=unknown_plugins(cell),
+        bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
         timed_out=session.timed_out,
         **_exception_fields(ending.exception, path),

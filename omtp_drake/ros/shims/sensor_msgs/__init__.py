@@ -2,7 +2,7 @@
 
 from omtp_drake.ros.comm.unsupported import module_getattr
 
-from . import msg
+from . import msg, point_cloud2
 
-__all__ = ["msg"]
+__all__ = ["msg", "point_cloud2"]
 __getattr__ = module_getattr(__name__, __all__)

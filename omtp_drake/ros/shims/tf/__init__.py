@@ -1,8 +1,10 @@
-"""tf (ROS 1's old tf) of omtp-drake ros-run: only its transformations helpers."""
+"""tf (ROS 1's old tf) of omtp-drake ros-run: its transformations helpers and
+TransformListener (on the cell's frames)."""
 
 from omtp_drake.ros.comm.unsupported import module_getattr
 
-from . import transformations
+from . import listener, transformations
+from .listener import TransformListener
 
-__all__ = ["transformations"]
+__all__ = ["TransformListener", "listener", "transformations"]
 __getattr__ = module_getattr(__name__, __all__)

@@ -1,0 +1,191 @@
+"""Models from description files in a plant: the scenario's ``models``, as Gazebo spawns them.
+
+:func:`add_described_models` adds each :class:`~omtp_drake.scenario.ModelConfig` with
+Drake's Parser, its ``package://`` and ``model://`` URIs resolved in the model's
+packages, and places it as ``spawn_model`` does: a URDF whose root is a ``world``
+link is fixed by its own joint, moved by the model's pose; any other model starts at
+the pose (welded there when ``static``). With ``gazebo_look`` (what the simulation
+shows, as Gazebo does) each link's Gazebo material colours its visuals and its
+``mu1``/``mu2`` set its collisions' friction; without it (the ``view`` command, as
+rviz does) the URDF's own colours stay. Every link becomes a body, hence a tf frame.
+"""
+
+from __future__ import annotations
+
+import logging
+import xml.etree.ElementTree as ET
+from typing import Optional
+
+from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.multibody.parsing import Parser
+from pydrake.multibody.plant import MultibodyPlant
+from pydrake.multibody.tree import ModelInstanceIndex
+
+from omtp_drake.errors import WorkspaceError
+from omtp_drake.scenario import ModelConfig
+
+_log = logging.getLogger(__name__)
+
+_DRAKE_NS = "http://drake.mit.edu"
+ET.register_namespace("drake", _DRAKE_NS)
+
+#: Diffuse colours of Gazebo's stock materials (``gazebo.material``), RGBA.
+GAZEBO_COLORS: dict[str, tuple[float, float, float, float]] = {
+    "Gazebo/White": (1.0, 1.0, 1.0, 1.0),
+    "Gazebo/Grey": (0.7, 0.7, 0.7, 1.0),
+    "Gazebo/DarkGrey": (0.175, 0.175, 0.175, 1.0),
+    "Gazebo/Black": (0.0, 0.0, 0.0, 1.0),
+    "Gazebo/FlatBlack": (0.1, 0.1, 0.1, 1.0),
+    "Gazebo/RedBright": (0.87, 0.26, 0.07, 1.0),
+    "Gazebo/SkyBlue": (0.0, 0.0, 1.0, 1.0),
+    "Gazebo/ZincYellow": (0.9725, 0.9529, 0.2078, 1.0),
+    "Gazebo/Gold": (0.8, 0.64869, 0.120759, 1.0),
+    "Gazebo/Red": (1.0, 0.0, 0.0, 1.0),
+    "Gazebo/Green": (0.0, 1.0, 0.0, 1.0),
+    "Gazebo/Blue": (0.0, 0.0, 1.0, 1.0),
+    "Gazebo/Yellow": (1.0, 1.0, 0.0, 1.0),
+    "Gazebo/Orange": (1.0, 0.5088, 0.0468, 1.0),
+    "Gazebo/Purple": (1.0, 0.0, 1.0, 1.0),
+    "Gazebo/Turquoise": (0.0, 1.0, 1.0, 1.0),
+}
+
+
+def add_described_models(
+    parser: Parser, models: list[ModelConfig], *, gazebo_look: bool = True
+) -> dict[str, ModelInstanceIndex]:
+    """Adds ``models`` to the parser's plant (not finalized); returns name -> instance.
+
+    Raises:
+        WorkspaceError: a description Drake refuses (the message names the file and
+            the parser's first line).
+    """
+    plant = parser.plant()
+    instances: dict[str, ModelInstanceIndex] = {}
+    for model in models:
+        text = prepared_description(model, gazebo_look=gazebo_look)
+        model_parser = Parser(plant)
+        package_map = model_parser.package_map()
+        for name, folder in model.packages.items():
+            if not package_map.Contains(name):
+                package_map.Add(name, folder)
+        try:
+            (instance,) = model_parser.AddModelsFromString(text, model.format)
+        except RuntimeError as e:
+            first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+            raise WorkspaceError(f"{model.file}: Drake's parser refuses it: {first}") from None
+        except ValueError:
+            raise WorkspaceError(f"{model.file}: it holds more than one model; give one per file") from None
+        instances[model.name] = instance
+        _place(plant, model, instance)
+    return instances
+
+
+def model_pose(model: ModelConfig) -> RigidTransform:
+    """``X_WM``: the model's pose in the world."""
+    return RigidTransform(RollPitchYaw(model.rpy), model.xyz)
+
+
+def prepared_description(model: ModelConfig, *, gazebo_look: bool) -> str:
+    """The description to parse: named as the model, a ``world`` link's joints moved by
+    the model's pose, and (``gazebo_look``) the Gazebo materials and friction applied."""
+    root = ET.fromstring(model.description)
+    if model.format == "sdf":
+        first = root.find("model")
+        if first is not None:
+            first.set("name", model.name)
+        return ET.tostring(root, encoding="unicode")
+    root.set("name", model.name)
+    X_WM = model_pose(model)
+    if not X_WM.IsExactlyIdentity():
+        for joint in root.findall("joint"):
+            parent = joint.find("parent")
+            if parent is not None and parent.get("link") == "world":
+                _set_origin(joint, X_WM @ _origin(joint))
+    if gazebo_look:
+        _apply_gazebo_tags(root, model)
+    return ET.tostring(root, encoding="unicode")
+
+
+def _origin(element: ET.Element) -> RigidTransform:
+    origin = element.find("origin")
+    if origin is None:
+        return RigidTransform()
+    xyz = [float(v) for v in origin.get("xyz", "0 0 0").split()]
+    rpy = [float(v) for v in origin.get("rpy", "0 0 0").split()]
+    return RigidTransform(RollPitchYaw(rpy), xyz)
+
+
+def _set_origin(element: ET.Element, X: RigidTransform) -> None:
+    origin = element.find("origin")
+    if origin is None:
+        origin = ET.SubElement(element, "origin")
+    origin.set("xyz", " ".join(repr(float(v)) for v in X.translation()))
+    origin.set("rpy", " ".join(repr(float(v)) for v in RollPitchYaw(X.rotation()).vector()))
+
+
+def _apply_gazebo_tags(root: ET.Element, model: ModelConfig) -> None:
+    links = {link.get("name"): link for link in root.findall("link")}
+    for material in model.gazebo.materials:
+        rgba = GAZEBO_COLORS.get(material.name)
+        link = links.get(material.link)
+        if rgba is None or link is None:
+            _log.warning(
+                "%s: Gazebo material %r on %r not shown (known: %s)",
+                model.file,
+                material.name,
+                material.link,
+                ", ".join(GAZEBO_COLORS),
+            )
+            continue
+        for visual in link.findall("visual"):
+            for old in visual.findall("material"):
+                visual.remove(old)
+            element = ET.SubElement(visual, "material", name=material.name.replace("/", "_"))
+            ET.SubElement(element, "color", rgba=" ".join(str(c) for c in rgba))
+    for friction in model.gazebo.frictions:
+        link = links.get(friction.link)
+        if link is None:
+            continue
+        for collision in link.findall("collision"):
+            props = ET.SubElement(collision, f"{{{_DRAKE_NS}}}proximity_properties")
+            ET.SubElement(props, f"{{{_DRAKE_NS}}}mu_dynamic", value=str(min(friction.mu1, friction.mu2)))
+            ET.SubElement(props, f"{{{_DRAKE_NS}}}mu_static", value=str(max(friction.mu1, friction.mu2)))
+
+
+def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex) -> None:
+    """A model not fixed by its own description: its root link welded at the model's pose
+    when static, else starting there (floating). An SDF ``<static>`` model Drake welds itself."""
+    root = ET.fromstring(model.description)
+    base = _root_link(root, model.format)
+    if base is None:
+        return
+    name, X_ML = base
+    body = plant.GetBodyByName(name, instance)
+    X_WL = model_pose(model) @ X_ML
+    if model.static:
+        plant.WeldFrames(plant.world_frame(), body.body_frame(), X_WL)
+    else:
+        plant.SetDefaultFloatingBaseBodyPose(body, X_WL)
+
+
+def _root_link(root: ET.Element, format: str) -> Optional[tuple[str, RigidTransform]]:
+    """The link no joint moves and its pose in the model (None: none, or fixed already:
+    a URDF ``world`` link, a link an SDF joint ties to ``world``, an SDF static model)."""
+    if format == "urdf":
+        links, children = root.findall("link"), {c.get("link") for c in root.findall("joint/child")}
+        if any(link.get("name") == "world" for link in links):
+            return None
+        free = [link.get("name", "") for link in links if link.get("name") not in children]
+        return (free[0], RigidTransform()) if free else None
+    model = root.find("model")
+    if model is None or (model.findtext("static") or "").strip() in ("true", "1"):
+        return None
+    joints = model.findall("joint")
+    if any((j.findtext("parent") or "").strip() == "world" for j in joints):
+        return None
+    children = {(j.findtext("child") or "").strip() for j in joints}
+    for link in model.findall("link"):
+        if link.get("name") not in children:
+            values = [float(v) for v in (link.findtext("pose") or "0 0 0 0 0 0").split()]
+            return link.get("name", ""), RigidTransform(RollPitchYaw(values[3:6]), values[:3])
+    return None

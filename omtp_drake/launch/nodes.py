@@ -1,0 +1,287 @@
+"""A launch's nodes, mapped to the cell.
+
+============================================  =========================================
+node (``pkg/type``)                           in the cell
+============================================  =========================================
+gazebo_ros/gzserver (``empty_world.launch``)  the world file's models (``world_name``)
+gazebo_ros/spawn_model                        the spawned model's pieces, at ``-x -y -z
+                                              -R -P -Y``, from ``-param`` or ``-file``
+omtp_gazebo/conveyor_spawner_node             the spawner: its ``spawner`` parameters
+                                              (rosparam), ``/start_spawn``'s remap
+omtp_utilities/spawn_object_once.py           the spawner's one-part-at-a-time node
+omtp_utilities/breakbeam_conveyor_stop.py     the belt stops when the beam breaks
+state publishers, controller spawners,        nothing to do: the cell publishes joint
+move_group, rviz, gazebo_ros/gzclient         states and tf, runs its controllers and
+                                              MoveIt itself
+============================================  =========================================
+
+A Python node of the student's workspace (``omtp_utilities``' two, or their own) runs
+unchanged in ros-run's session, as roslaunch would start it (its args, name, namespace
+and remappings on its command line). For the commands without ROS, the course's two
+helpers are the scenario's ``spawner.stop_node`` and ``conveyor.stop_on_beam``; another
+Python node is a warning line there, and a node that is no Python file of the workspace
+(and none of those above) is a warning line everywhere.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shlex
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from pydrake.math import RigidTransform, RollPitchYaw
+
+from omtp_drake.cell.conveyor import BeltGeometry
+from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.pieces import Pieces, add_urdf_model
+from omtp_drake.launch.roslaunch import Launch, Node, get_param
+from omtp_drake.launch.sdf_world import read_world, world_model
+from omtp_drake.launch.urdf_model import UrdfModel
+from omtp_drake.launch.world_pieces import WorldPieces, add_world_model
+from omtp_drake.launch.xml_lines import parse_xml
+from omtp_drake.workspace import Workspace
+
+#: Nodes the cell does itself (nothing to map).
+CELL_NODES = {
+    ("robot_state_publisher", "robot_state_publisher"),
+    ("robot_state_publisher", "state_publisher"),
+    ("joint_state_publisher", "joint_state_publisher"),
+    ("joint_state_publisher_gui", "joint_state_publisher_gui"),
+    ("controller_manager", "spawner"),
+    ("controller_manager", "controller_manager"),
+    ("moveit_ros_move_group", "move_group"),
+    ("rviz", "rviz"),
+    ("gazebo_ros", "gzclient"),
+    ("tf", "static_transform_publisher"),
+}
+#: The course's helper nodes and the scenario flags that do their jobs without ROS.
+COURSE_HELPERS = {
+    ("omtp_utilities", "spawn_object_once.py"): "spawner.stop_node",
+    ("omtp_utilities", "breakbeam_conveyor_stop.py"): "conveyor.stop_on_beam",
+}
+#: The spawner's parts count (pool) when a launch runs the conveyor spawner.
+SPAWNER_POOL = 6
+
+
+@dataclass
+class NodeMapping:
+    """What a launch's nodes make of the cell."""
+
+    pieces: Pieces = field(default_factory=Pieces)
+    world: WorldPieces = field(default_factory=WorldPieces)
+    spawner: dict | None = None
+    stop_node: bool = False
+    stop_on_beam: bool = False
+    warnings: list[str] = field(default_factory=list)
+    #: The workspace's own Python nodes, for ros-run to run in its session.
+    scripts: list[NodeScript] = field(default_factory=list)
+    #: Nodes that run only under ros-run (a warning line for the other commands).
+    ros_only: list[str] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class NodeScript:
+    """A Python node of the student's workspace, as roslaunch would start it: its file and
+    its command line (its args, ``__name:=``, ``__ns:=``, its remappings as ``from:=to``)."""
+
+    path: Path
+    argv: tuple[str, ...]
+    #: The scenario flag (``section.key``) that does this node's job without ROS ('' for none).
+    replaces: str = ""
+
+
+def _node_script(node: Node, launch: Launch, workspace: Workspace) -> NodeScript | None:
+    """The node's file when it is a Python script of a workspace package (as rosrun finds it).
+    Its private parameters (the launch's ``<param>``/``<rosparam>`` inside the node) go on
+    its command line as ``_name:=value`` (rospy puts those under ``~`` too)."""
+    folder = workspace.packages.get(node.pkg)
+    if folder is None or not node.type.endswith(".py"):
+        return None
+    found = sorted(p for p in folder.rglob(node.type) if p.is_file())
+    if not found:
+        raise WorkspaceError(f"{node.where}: package {node.pkg} ({folder}) has no node {node.type}")
+    argv = [*shlex.split(node.args), f"__name:={node.name.rsplit('/', 1)[-1]}"]
+    if node.namespace.strip("/"):
+        argv.append(f"__ns:={node.namespace}")
+    argv += [f"{k}:={v}" for k, v in node.remaps.items()]
+    try:
+        private = get_param(launch.params, node.name)
+    except KeyError:
+        private = {}
+    if isinstance(private, dict):
+        argv += [f"_{k}:={json.dumps(v)}" for k, v in private.items()]
+    return NodeScript(found[0], tuple(argv), COURSE_HELPERS.get((node.pkg, node.type), ""))
+
+
+def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
+    out = NodeMapping()
+    for node in launch.nodes:
+        key = (node.pkg, node.type)
+        if key == ("gazebo_ros", "gzserver"):
+            _world(out, node, workspace)
+        elif key == ("gazebo_ros", "spawn_model"):
+            _spawn(out, node, launch)
+        elif key == ("omtp_gazebo", "conveyor_spawner_node"):
+            out.spawner = _spawner(node, launch)
+        elif key not in CELL_NODES:
+            _other_node(out, node, launch, workspace)
+    return out
+
+
+def _other_node(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -> None:
+    """A node of the student's workspace: the course's two helpers also as the scenario's
+    flags (for the commands without ROS); any Python node runs under ros-run; others warn."""
+    script = _node_script(node, launch, workspace)
+    if script is not None:
+        out.scripts.append(script)
+    flag = COURSE_HELPERS.get((node.pkg, node.type))
+    if flag == "spawner.stop_node":
+        out.stop_node = True
+    elif flag == "conveyor.stop_on_beam":
+        out.stop_on_beam = True
+    elif script is not None:
+        out.ros_only.append(
+            f"{node.where}: node {node.pkg}/{node.type} ({node.name}) runs under ros-run and flexbe-run only"
+        )
+    else:
+        out.warnings.append(f"{node.where}: node {node.pkg}/{node.type} ({node.name}) is not run by the cell")
+
+
+def _world(out: NodeMapping, node: Node, workspace: Workspace) -> None:
+    files = [w for w in shlex.split(node.args) if not w.startswith("-")]
+    if len(files) != 1:
+        raise WorkspaceError(f"{node.where}: gzserver needs one world file, got args {node.args!r}")
+    path = Path(files[0])
+    if not path.is_absolute() or not path.is_file():
+        raise WorkspaceError(
+            f"{node.where}: world_name {files[0]!r} is not a world file (give $(find PKG)/...)"
+        )
+    add_world(out.world, path, workspace)
+
+
+def add_world(pieces: WorldPieces, path: Path, workspace: Workspace) -> None:
+    for model in read_world(path, workspace).models:
+        add_world_model(pieces, model)
+
+
+_POSE_FLAGS = {"-x": 0, "-y": 1, "-z": 2, "-R": 3, "-P": 4, "-Y": 5}
+
+
+def _spawn(out: NodeMapping, node: Node, launch: Launch) -> None:
+    """spawn_model's arguments (as gazebo_ros's spawn_model reads them)."""
+    words = shlex.split(node.args)
+    pose = [0.0] * 6
+    joints: dict[str, float] = {}
+    text = kind = source = name = ""
+    i = 0
+    while i < len(words):
+        word = words[i]
+        value = words[i + 1] if i + 1 < len(words) else None
+        if word in ("-urdf", "-sdf"):
+            kind, i = word[1:], i + 1
+            continue
+        if word in ("-unpause", "-wait"):
+            i += 1 if word == "-unpause" else 2
+            continue
+        if value is None:
+            raise WorkspaceError(f"{node.where}: spawn_model {word} needs a value")
+        if word in _POSE_FLAGS:
+            pose[_POSE_FLAGS[word]] = _float(value, node, word)
+        elif word == "-J":
+            joints[value] = _float(words[i + 2] if i + 2 < len(words) else "", node, f"-J {value}")
+            i += 1
+        elif word == "-model":
+            name = value
+        elif word == "-param":
+            source = f"{node.where} (-param {node.resolve(value)})"
+            text = _description(launch, node, value)
+        elif word == "-file":
+            source = f"{node.where} (-file {value})"
+            text = _read(Path(value), node)
+        elif word not in ("-reference_frame", "-gazebo_namespace", "-robot_namespace", "-database"):
+            raise WorkspaceError(f"{node.where}: spawn_model option {word!r} is not supported")
+        elif word != "-robot_namespace" and value not in ("", "world"):
+            raise WorkspaceError(f"{node.where}: spawn_model {word} {value!r} is not supported; valid: world")
+        i += 2
+    if not kind or not text or not name:
+        raise WorkspaceError(f"{node.where}: spawn_model needs -urdf or -sdf, -param or -file, and -model")
+    if kind == "urdf":
+        X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
+        add_urdf_model(out.pieces, UrdfModel.from_text(text, source), X_WM, source, joints)
+    else:
+        model = parse_xml(Path(source), text).root.find("model")
+        if model is None:
+            raise WorkspaceError(f"{source}: has no <model>")
+        add_world_model(out.world, world_model(name, tuple(pose), model, source))
+
+
+def _float(text: str, node: Node, what: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise WorkspaceError(f"{node.where}: spawn_model {what} {text!r} is not a number")
+    return value
+
+
+def _read(path: Path, node: Node) -> str:
+    if not path.is_file():
+        raise WorkspaceError(f"{node.where}: spawn_model -file {path}: no such file")
+    return path.read_text()
+
+
+def _description(launch: Launch, node: Node, name: str) -> str:
+    full = node.resolve(name)
+    try:
+        value = get_param(launch.params, full)
+    except KeyError:
+        raise WorkspaceError(f"{node.where}: spawn_model -param {full}: no such parameter is set") from None
+    if not isinstance(value, str):
+        raise WorkspaceError(f"{node.where}: spawn_model -param {full} is not a text")
+    return value
+
+
+def _spawner(node: Node, launch: Launch) -> dict:
+    """The scenario's spawner of the course's conveyor_spawner_node's ``spawner`` params."""
+    try:
+        config: Any = get_param(launch.params, node.resolve("~spawner"))
+    except KeyError:
+        raise WorkspaceError(f"{node.where}: conveyor_spawner_node has no ~spawner parameters") from None
+    where = f"{node.where} (~spawner)"
+    objects = config.get("objects") if isinstance(config, dict) else None
+    if not objects or not isinstance(objects, list) or not isinstance(objects[0], dict):
+        raise WorkspaceError(f"{where}: needs a list of objects")
+    if len(objects) != 1:
+        raise WorkspaceError(f"{where}: {len(objects)} objects; the cell spawns one kind of part (give one)")
+    frame = config.get("reference_frame", "world")
+    if frame != "world":
+        raise WorkspaceError(f"{where}: reference_frame {frame!r} is not supported; valid: world")
+    item = objects[0]
+    pose = item.get("initial_pose") or {}
+    xyz = np.array(pose.get("position", [0.0, 0.0, 0.0]), dtype=float)
+    yaw = float((pose.get("orientation") or [0.0, 0.0, 0.0])[2])
+    for key in ("lateral_placement_variance", "spawn_timing_variance"):
+        if float(item.get(key, 0.0)) != 0.0:
+            raise WorkspaceError(f"{where}: {key} {item[key]} is not supported; valid: 0")
+    spawner = {
+        "xyz": _resting(xyz).tolist(),
+        "yaw": yaw,
+        "yaw_variance": math.radians(float(item.get("yaw_placement_variance", 0.0))),
+        "period": float(config.get("spawn_period", 1.0)),
+        "start_service": node.remaps.get("/start_spawn", "/start_spawn"),
+    }
+    return spawner
+
+
+def _resting(p_W: np.ndarray, part_size: float = 0.2) -> np.ndarray:
+    """A spawn point over the belt, at most two parts' size above it: the part's centre
+    resting on the belt, as the built-in scenarios place the course's spawn points."""
+    belt = BeltGeometry.from_model()
+    if belt.over(p_W) and p_W[2] <= belt.top + 2 * part_size:
+        return np.array([p_W[0], p_W[1], round(belt.top + part_size / 2 + 0.001, 6)])
+    return p_W

@@ -1,0 +1,224 @@
+"""The course's pieces recognised in a spawned URDF, as the scenario's entries.
+
+A model ``spawn_model`` puts in the world is read for the pieces of the course's cell,
+by the link names the course's macros give (``omtp_support``'s ``robot_system``,
+``robot_pedestal``, ``bin``, ``break_beam``, ``workcell``; ``ur_description``'s arms):
+
+- an arm: joints ``<prefix>shoulder_pan_joint`` ... (a UR10 or a UR5 by its upper arm's
+  length), its base where the model puts ``<prefix>base_link``; a gripper: links
+  ``<g>base_link`` and ``<g>suction_cup`` on its ``tool0`` with a ROSVacuumGripperPlugin;
+- a pedestal: ``<prefix>pedestal_link`` (a box; its height);
+- a bin: ``<prefix>base_link`` with ``<prefix>drop_point``;
+- the break beam: ``<prefix>optical_link`` with a ray sensor and a ROSProximityRayPlugin;
+- the workcell (the conveyor's frame and the floor's meshes): a link ``workcell``.
+
+Every other model is one warning line (not dropped silently).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+from pydrake.math import RigidTransform, RollPitchYaw
+
+from omtp_drake.assets import model_dimensions
+from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
+from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.plugins import check_break_beam, plugins_in, suction_checks
+from omtp_drake.launch.urdf_model import UrdfModel
+from omtp_drake.scenario import RobotConfig
+
+#: Length of the upper arm (the elbow joint's offset along the link) -> the arm model.
+UR_UPPER_ARMS = {"ur10": 0.612, "ur5": 0.425}
+_TOL = 1e-3
+#: The plugins a spawned URDF's pieces carry (read where their pieces are read).
+URDF_PLUGINS = ("suction", "break_beam", "controllers")
+
+
+@dataclass
+class Pieces:
+    """What the spawned models add to the scenario, and the lines to warn with."""
+
+    robots: list[dict] = field(default_factory=list)
+    pedestals: dict[str, tuple[np.ndarray, float, str]] = field(default_factory=dict)
+    bins: list[dict] = field(default_factory=list)
+    break_beam: bool = False
+    suction_checks: int | None = None
+    warnings: list[str] = field(default_factory=list)
+    #: The spawned URDF models and where they were placed (their links are tf frames).
+    models: list[tuple[UrdfModel, RigidTransform]] = field(default_factory=list)
+    #: The links fixed to the world (their first placement), as the scenario's extra frames.
+    frames: dict[str, RigidTransform] = field(default_factory=dict)
+
+
+def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where: str, joints: dict) -> None:
+    """Adds the pieces of ``model`` placed at ``X_WM`` (``joints``: spawn_model's ``-J``)."""
+    X_M = model.link_poses()
+    pieces.models.append((model, X_WM))
+    for link in model.static_links():
+        if link != "world":  # Gazebo's name for the world itself
+            pieces.frames.setdefault(link, X_WM @ X_M[link])
+    found = False
+    for joint in model.joint_names():
+        if joint.endswith("shoulder_pan_joint"):
+            _add_robot(pieces, model, joint[: -len("shoulder_pan_joint")], X_WM, X_M, where, joints)
+            found = True
+    for link in model.links:
+        if link.endswith("pedestal_link"):
+            height = _box_height(model, link, where)
+            pieces.pedestals[link[: -len("pedestal_link")]] = (
+                (X_WM @ X_M[link]).translation(),
+                height,
+                where,
+            )
+            found = True
+        elif link.endswith("drop_point") and link[: -len("drop_point")] + "base_link" in X_M:
+            prefix = link[: -len("drop_point")]
+            pieces.bins.append(_placed(prefix.rstrip("_"), X_WM @ X_M[prefix + "base_link"], where))
+            found = True
+        elif link.endswith("optical_link"):
+            _add_break_beam(pieces, model, link, X_WM @ X_M[link], where)
+            found = True
+        elif link == "workcell":
+            found = True
+    for reference, element in model.gazebo:
+        for plugin in plugins_in(element, where, reference):
+            if plugin.kind not in URDF_PLUGINS:
+                pieces.warnings.append(plugin.unknown_line())
+    if not found:
+        pieces.warnings.append(
+            f"{where}: model {model.name!r} is none of the course's pieces (arm, pedestal, bin, break beam, "
+            "workcell); not added to the cell"
+        )
+
+
+def _yaw_only(X: RigidTransform, what: str, where: str) -> float:
+    roll, pitch, yaw = RollPitchYaw(X.rotation()).vector()
+    if abs(roll) > _TOL or abs(pitch) > _TOL:
+        raise WorkspaceError(
+            f"{where}: {what} is tilted (roll {roll:.4f}, pitch {pitch:.4f}); the cell stands it upright"
+        )
+    return float(yaw)
+
+
+def _placed(name: str, X_WB: RigidTransform, where: str) -> dict:
+    return {"name": name, "xyz": [float(v) for v in X_WB.translation()], "yaw": _yaw_only(X_WB, name, where)}
+
+
+def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joints: dict) -> None:
+    elbow = model.joints.get(prefix + "elbow_joint")
+    if elbow is None or prefix + "base_link" not in X_M or prefix + "tool0" not in X_M:
+        raise WorkspaceError(f"{where}: arm {prefix!r} lacks the UR links (base_link, elbow_joint, tool0)")
+    length = float(np.linalg.norm(elbow.X_PJ.translation()[[0, 2]]))
+    kinds = [k for k, v in UR_UPPER_ARMS.items() if abs(v - length) < _TOL]
+    if not kinds:
+        raise WorkspaceError(
+            f"{where}: arm {prefix!r} has an upper arm of {length:.4f} m; supported: "
+            + ", ".join(f"{k} ({v} m)" for k, v in UR_UPPER_ARMS.items())
+        )
+    name = prefix.rstrip("_")
+    X_WB = X_WM @ X_M[prefix + "base_link"]
+    digits = re.sub(r"\D", "", name)
+    robot = {
+        "name": name,
+        "model": kinds[0],
+        "xy": [float(v) for v in X_WB.translation()[:2]],
+        "pedestal_height": float(X_WB.translation()[2]),
+        "yaw": _yaw_only(X_WB, f"arm {name}", where),
+        "pose_prefix": f"R{digits}" if digits else RobotConfig().pose_prefix,
+        "initial_pose": RobotConfig().initial_pose,
+        "gripper": _gripper(pieces, model, prefix, where),
+    }
+    if any(j.startswith(prefix) for j in joints):
+        given = " ".join(f"-J {k} {v}" for k, v in joints.items())
+        pieces.warnings.append(
+            f"{where}: spawn_model {given}: the arm starts at its named pose "
+            f"{robot['pose_prefix']}{robot['initial_pose']} instead"
+        )
+    pieces.robots.append(robot)
+
+
+def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str) -> str:
+    """The gripper on the arm's tool0 (its name, '' for none); its plugin's attach rule."""
+    tool = prefix + "tool0"
+    for joint in model.joints.values():
+        if joint.parent == tool and joint.child.endswith("base_link"):
+            gripper = joint.child[: -len("base_link")]
+            if gripper + "suction_cup" not in model.links:
+                continue
+            plugins = [p for ref, g in model.gazebo for p in plugins_in(g, where, ref) if p.kind == "suction"]
+            if not plugins:
+                pieces.warnings.append(
+                    f"{where}: gripper {gripper.rstrip('_')!r} has no ROSVacuumGripperPlugin"
+                )
+            for plugin in plugins:
+                checks = suction_checks(plugin)
+                if pieces.suction_checks not in (None, checks):
+                    raise WorkspaceError(f"{where}: the grippers' attach_steps differ; the cell has one rule")
+                pieces.suction_checks = checks
+            return gripper.rstrip("_")
+    return ""
+
+
+def _box_height(model: UrdfModel, link: str, where: str) -> float:
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    box = element.find("collision/geometry/box") if element is not None else None
+    if box is None and element is not None:
+        box = element.find("visual/geometry/box")
+    if box is None:
+        raise WorkspaceError(f"{where}: pedestal {link!r} has no box to take its height from")
+    try:
+        return float(box.get("size", "").split()[2])
+    except (IndexError, ValueError):
+        raise WorkspaceError(
+            f"{where}: pedestal {link!r} box size {box.get('size')!r} needs 3 numbers"
+        ) from None
+
+
+def _add_break_beam(pieces: Pieces, model: UrdfModel, link: str, X_WO: RigidTransform, where: str) -> None:
+    plugins = [p for ref, g in model.gazebo if ref == link for p in plugins_in(g, where, ref)]
+    beams = [p for p in plugins if p.kind == "break_beam"]
+    if not beams:
+        pieces.warnings.append(f"{where}: {link!r} has no ROSProximityRayPlugin; no break beam added")
+        return
+    for plugin in beams:
+        check_break_beam(plugin)
+    X_WC = X_W_BREAK_BEAM @ RigidTransform(
+        [model_dimensions("break_beam.urdf.xacro")["optical_offset"], 0, 0]
+    )
+    p_error = float(np.linalg.norm(X_WO.translation() - X_WC.translation()))
+    angle = float(abs((X_WO.rotation().inverse() @ X_WC.rotation()).ToAngleAxis().angle()))
+    if p_error > _TOL or angle > _TOL:
+        raise WorkspaceError(
+            f"{where}: the break beam's {link} is at {np.round(X_WO.translation(), 4).tolist()}; "
+            f"the cell's beam leaves {np.round(X_WC.translation(), 4).tolist()} along world "
+            f"{np.round(X_WC.rotation().col(0), 3).tolist()} (moving it is not supported)"
+        )
+    pieces.break_beam = True
+
+
+def merge_pedestals(pieces: Pieces) -> None:
+    """Each pedestal stands under its arm; a pedestal whose height differs from the arm's
+    base height is one warning (the cell stands the arm on top of its pedestal)."""
+    by_name = {r["name"]: r for r in pieces.robots}
+    for prefix, (p_W, height, where) in pieces.pedestals.items():
+        robot = by_name.get(prefix.rstrip("_"))
+        if robot is None:
+            pieces.warnings.append(
+                f"{where}: pedestal {prefix}pedestal_link has no arm {prefix.rstrip('_')!r}"
+            )
+            continue
+        if float(np.hypot(*(np.asarray(robot["xy"]) - p_W[:2]))) > _TOL:
+            raise WorkspaceError(
+                f"{where}: pedestal {prefix}pedestal_link at {np.round(p_W[:2], 4).tolist()} is not under "
+                f"arm {robot['name']} at {robot['xy']}; the cell stands each arm on its pedestal"
+            )
+        if not math.isclose(height, robot["pedestal_height"], abs_tol=_TOL):
+            pieces.warnings.append(
+                f"{where}: pedestal {prefix}pedestal_link is {height:g} m high and arm {robot['name']} "
+                f"stands at {robot['pedestal_height']:g} m; the cell's pedestal reaches the arm"
+            )

@@ -1,0 +1,213 @@
+"""The course's Gazebo plugins, read from ``<gazebo>`` tags (URDF) and ``<plugin>`` /
+``<sensor>`` elements (SDF), as the cell's systems with the plugin's parameters.
+
+=============================  ====================================  ======================
+plugin (``filename``)          becomes                               parameters read
+=============================  ====================================  ======================
+ROSLogicalCameraPlugin         a logical camera (``cameras``)        the ``logical_camera``
+                                                                     sensor's near, far,
+                                                                     horizontal_fov,
+                                                                     aspect_ratio,
+                                                                     update_rate;
+                                                                     robotNamespace;
+                                                                     position/orientation
+                                                                     noise (gaussian)
+ROSVacuumGripperPlugin         the robot's suction gripper           grasp_check
+                                                                     attach_steps
+ROSProximityRayPlugin          the break beam                        the ray sensor's range
+                                                                     and update_rate
+ROSConveyorBeltPlugin          the conveyor                          power
+ObjectDisposalPlugin           the deletion wall                     update_rate
+gazebo_ros_control             the arms' controllers, joint states   --
+=============================  ====================================  ======================
+
+A value the plugin's counterpart cannot take is one WorkspaceError naming the file and
+the value; a plugin the cell has no counterpart for is one warning line (the caller
+lists them in its report).
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import PurePath
+from typing import Any
+
+from omtp_drake.cell.conveyor import BreakBeam
+from omtp_drake.errors import ConfigError, WorkspaceError
+from omtp_drake.scenario import ConveyorConfig, LogicalCameraConfig
+from omtp_drake.sim.driver import DISPOSAL_PERIOD
+
+#: Plugin library -> what it becomes in the cell.
+KINDS = {
+    "libROSLogicalCameraPlugin.so": "logical_camera",
+    "libROSVacuumGripperPlugin.so": "suction",
+    "libROSProximityRayPlugin.so": "break_beam",
+    "libROSConveyorBeltPlugin.so": "conveyor",
+    "libObjectDisposalPlugin.so": "deletion_wall",
+    "libgazebo_ros_control.so": "controllers",
+}
+#: The ROS namespace of the cell's logical cameras' topics (``/omtp/<camera>``).
+CAMERA_NAMESPACE = "omtp"
+
+
+@dataclass(frozen=True)
+class GazeboPlugin:
+    """One ``<plugin>``: its library, name, element, the sensor it sits in (if any),
+    the link it refers to ('' for the model) and where it was read."""
+
+    filename: str
+    name: str
+    element: ET.Element
+    sensor: ET.Element | None
+    link: str
+    where: str
+
+    @property
+    def kind(self) -> str | None:
+        return KINDS.get(PurePath(self.filename).name)
+
+    def text(self, path: str, default: str | None = None) -> str | None:
+        found = self.element.findtext(path)
+        return found.strip() if found is not None else default
+
+    def unknown_line(self) -> str:
+        return f"{self.where}: Gazebo plugin {self.filename} ({self.name}): not in the cell; ignored"
+
+
+def plugins_in(element: ET.Element, where: str, link: str = "") -> list[GazeboPlugin]:
+    """The plugins in ``element`` (a ``<gazebo>``, ``<model>`` or ``<link>``): its own and
+    its sensors'."""
+    found = []
+    for child in element:
+        if child.tag == "plugin":
+            found.append(
+                GazeboPlugin(child.get("filename", ""), child.get("name", ""), child, None, link, where)
+            )
+        elif child.tag == "sensor":
+            for plugin in child.findall("plugin"):
+                found.append(
+                    GazeboPlugin(
+                        plugin.get("filename", ""), plugin.get("name", ""), plugin, child, link, where
+                    )
+                )
+    return found
+
+
+def _number(text: str | None, where: str, what: str) -> float:
+    try:
+        value = float(text if text is not None else "nan")
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value):
+        raise WorkspaceError(f"{where}: {what} must be a number, got {text!r}")
+    return value
+
+
+def _noise_sigma(plugin: GazeboPlugin, tag: str) -> float:
+    noise = plugin.element.find(f"{tag}/noise")
+    if noise is None:
+        return 0.0
+    kind = (noise.findtext("type") or "").strip()
+    if kind != "gaussian":
+        raise WorkspaceError(f"{plugin.where}: {tag} type {kind!r} is not supported; valid: gaussian")
+    mean = _number(noise.findtext("mean", "0"), plugin.where, f"{tag} mean")
+    if mean != 0:
+        raise WorkspaceError(f"{plugin.where}: {tag} mean {mean} is not supported; valid: 0")
+    return _number(noise.findtext("stddev"), plugin.where, f"{tag} stddev")
+
+
+def logical_camera(plugin: GazeboPlugin, sensor: ET.Element, name: str, xyz, rpy) -> dict:
+    """The scenario's camera entry of a ROSLogicalCameraPlugin and its ``logical_camera``
+    sensor, at ``xyz``/``rpy`` in world."""
+    where = plugin.where
+    namespace = (plugin.text("robotNamespace", "/") or "/").strip("/")
+    if namespace != CAMERA_NAMESPACE:
+        raise WorkspaceError(
+            f"{where}: logical camera {name!r}: robotNamespace {namespace!r} is not supported; valid: "
+            f"{CAMERA_NAMESPACE} (the cell publishes /{CAMERA_NAMESPACE}/{name})"
+        )
+    values = sensor.find("logical_camera")
+    if values is None:
+        raise WorkspaceError(f"{where}: sensor {sensor.get('name')!r} has no <logical_camera> values")
+    entry: dict[str, Any] = {
+        "name": name,
+        "xyz": [float(v) for v in xyz],
+        "rpy": [float(v) for v in rpy],
+        "near": _number(values.findtext("near"), where, "near"),
+        "far": _number(values.findtext("far"), where, "far"),
+        "horizontal_fov": _number(values.findtext("horizontal_fov"), where, "horizontal_fov"),
+        "aspect_ratio": _number(values.findtext("aspect_ratio"), where, "aspect_ratio"),
+        "update_rate_hz": _number(sensor.findtext("update_rate", "10"), where, "update_rate"),
+        "position_noise_sigma": _noise_sigma(plugin, "position_noise"),
+        "orientation_noise_sigma": _noise_sigma(plugin, "orientation_noise"),
+    }
+    config = LogicalCameraConfig(**entry)
+    try:
+        config.validate()
+    except ConfigError as e:
+        raise WorkspaceError(f"{where}: {e}") from None
+    return entry
+
+
+def suction_checks(plugin: GazeboPlugin) -> int:
+    """The consecutive contact checks before a part attaches: the plugin attaches when its
+    counter exceeds ``attach_steps``, i.e. on check ``attach_steps + 1``."""
+    steps = _number(plugin.text("grasp_check/attach_steps", "1"), plugin.where, "grasp_check/attach_steps")
+    contacts = _number(plugin.text("grasp_check/min_contact_count", "1"), plugin.where, "min_contact_count")
+    if steps < 0 or not steps.is_integer():
+        raise WorkspaceError(
+            f"{plugin.where}: grasp_check/attach_steps must be an integer >= 0, got {steps:g}"
+        )
+    if contacts != 1:
+        raise WorkspaceError(
+            f"{plugin.where}: grasp_check/min_contact_count {contacts:g} is not supported; valid: 1"
+        )
+    return int(steps) + 1
+
+
+def conveyor_power(plugin: GazeboPlugin) -> float:
+    """The belt's power at start (ROSConveyorBeltPlugin ``power``, 0..100)."""
+    power = _number(plugin.text("power", "0"), plugin.where, "power")
+    try:
+        ConveyorConfig(power=power).validate()
+    except ConfigError as e:
+        raise WorkspaceError(f"{plugin.where}: ROSConveyorBeltPlugin {e}") from None
+    return power
+
+
+def _defaults_of(function) -> dict[str, float]:
+    return {
+        k: p.default for k, p in inspect.signature(function).parameters.items() if p.default is not p.empty
+    }
+
+
+def check_break_beam(plugin: GazeboPlugin) -> None:
+    """The ray sensor of a ROSProximityRayPlugin has the cell's beam's range and rate."""
+    sensor = plugin.sensor
+    if sensor is None:
+        raise WorkspaceError(f"{plugin.where}: ROSProximityRayPlugin must sit in a ray sensor")
+    cell = _defaults_of(BreakBeam.__init__)
+    read = {
+        "min_range": _number(sensor.findtext("ray/range/min"), plugin.where, "ray range min"),
+        "max_range": _number(sensor.findtext("ray/range/max"), plugin.where, "ray range max"),
+        "rate_hz": _number(sensor.findtext("update_rate", "10"), plugin.where, "update_rate"),
+    }
+    for key, value in read.items():
+        if abs(value - cell[key]) > 1e-9:
+            raise WorkspaceError(
+                f"{plugin.where}: break beam {key} {value:g} is not supported; the cell's beam has "
+                f"range ({cell['min_range']:g}, {cell['max_range']:g}) at {cell['rate_hz']:g} Hz"
+            )
+
+
+def check_deletion_wall(plugin: GazeboPlugin) -> None:
+    """An ObjectDisposalPlugin checks at the cell's rate (the course's 5 Hz)."""
+    rate = _number(plugin.text("update_rate", str(1 / DISPOSAL_PERIOD)), plugin.where, "update_rate")
+    if abs(rate * DISPOSAL_PERIOD - 1) > 1e-6:
+        raise WorkspaceError(
+            f"{plugin.where}: ObjectDisposalPlugin update_rate {rate:g} is not supported; valid: "
+            f"{1 / DISPOSAL_PERIOD:g} (the cell's deletion wall)"
+        )

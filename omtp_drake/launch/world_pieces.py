@@ -1,0 +1,99 @@
+"""The course's pieces recognised in a world's models (or a spawned SDF), as the
+scenario's entries: logical cameras, the conveyor, the deletion wall.
+
+A model with a ROSLogicalCameraPlugin and a ``logical_camera`` sensor is a camera
+named as Gazebo names the plugin's parent (the model's name in the world), at the
+model's pose; a ROSConveyorBeltPlugin is the belt (its ``link`` must lie where the
+cell's belt lies); an ObjectDisposalPlugin is the deletion wall (where the cell's
+wall stands). Any other plugin is one warning line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from pydrake.math import RigidTransform
+
+from omtp_drake.cell.cell_models import X_W_DELETION_WALL
+from omtp_drake.cell.conveyor import BeltGeometry
+from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.plugins import check_deletion_wall, conveyor_power, logical_camera
+from omtp_drake.launch.sdf_world import WorldModel, sdf_pose
+
+_TOL = 1e-3
+#: The belt's placement tolerance (m): the course's world turns the conveyor by -1.571
+#: (not -pi/2), which puts the 10 m belt's centre 1 mm off its line.
+_BELT_TOL = 5e-3
+
+
+@dataclass
+class WorldPieces:
+    cameras: list[dict] = field(default_factory=list)
+    conveyor: dict | None = None
+    deletion_wall: bool = False
+    warnings: list[str] = field(default_factory=list)
+
+
+def add_world_model(pieces: WorldPieces, model: WorldModel) -> None:
+    """Adds what ``model``'s plugins make of it (see module doc)."""
+    known = False
+    for plugin in model.plugins:
+        kind = plugin.kind
+        if kind == "logical_camera":
+            sensors = model.sensors("logical_camera")
+            if len(sensors) != 1:
+                raise WorkspaceError(
+                    f"{plugin.where}: a logical camera model needs one logical_camera sensor"
+                )
+            xyz, rpy = model.pose[:3], model.pose[3:]
+            pieces.cameras.append(logical_camera(plugin, sensors[0], model.name, xyz, rpy))
+        elif kind == "conveyor":
+            _check_belt(model, plugin.text("link", "") or "", plugin.where)
+            pieces.conveyor = {"power": conveyor_power(plugin)}
+        elif kind == "deletion_wall":
+            check_deletion_wall(plugin)
+            _check_at(model.X_WM, X_W_DELETION_WALL, "deletion wall", plugin.where)
+            pieces.deletion_wall = True
+        else:
+            pieces.warnings.append(plugin.unknown_line())
+            continue
+        known = True
+    if not known:
+        pieces.warnings.append(
+            f"{model.where}: model {model.name!r} has none of the course's plugins; not added"
+        )
+
+
+def _check_at(X_WA: RigidTransform, X_WC: RigidTransform, what: str, where: str) -> None:
+    p_error = float(np.linalg.norm(X_WA.translation() - X_WC.translation()))
+    angle = abs((X_WA.rotation().inverse() @ X_WC.rotation()).ToAngleAxis().angle())
+    if p_error > _TOL or angle > _TOL:
+        raise WorkspaceError(
+            f"{where}: the {what} is at {np.round(X_WA.translation(), 4).tolist()}; the cell's {what} is "
+            f"fixed at {X_WC.translation().tolist()} (moving it is not supported)"
+        )
+
+
+def _check_belt(model: WorldModel, link_path: str, where: str) -> None:
+    """The plugin's belt link (``model::nested::link``) lies on the cell's belt."""
+    names = link_path.split("::")[1:] if "::" in link_path else [link_path]
+    element, X = model.element, model.X_WM
+    for name in names[:-1]:
+        nested = element.find(f"model[@name='{name}']")
+        if nested is None:
+            raise WorkspaceError(f"{where}: ROSConveyorBeltPlugin link {link_path!r}: no model {name!r}")
+        element = nested
+        X = X @ sdf_pose(element.findtext("pose"), where)
+    link = element.find(f"link[@name='{names[-1]}']")
+    if link is None:
+        raise WorkspaceError(f"{where}: ROSConveyorBeltPlugin link {link_path!r} is not in the model")
+    X = X @ sdf_pose(link.findtext("pose"), where)
+    belt = BeltGeometry.from_model()
+    centre = np.array([belt.x, (belt.y_min + belt.y_max) / 2])
+    along_y = abs(abs(float(X.rotation().col(0)[1])) - 1.0) < _TOL
+    if float(np.linalg.norm(X.translation()[:2] - centre)) > _BELT_TOL or not along_y:
+        raise WorkspaceError(
+            f"{where}: the belt's link is at {np.round(X.translation()[:2], 4).tolist()}; the cell's belt "
+            f"runs along world y through {centre.tolist()} (moving it is not supported)"
+        )

@@ -1,0 +1,141 @@
+"""The cell as a ROS 2 node: :class:`Ros2Cell` puts a scripted
+:class:`~omtp_drake.script.Cell` on a DDS network and steps it in simulated time.
+
+One node, ``/omtp_cell``, in its own rclpy context (the domain and discovery range of
+:mod:`omtp_drake.ros2.network`), publishes the topics of
+:mod:`omtp_drake.ros2.topics` and serves the commands of
+:mod:`omtp_drake.ros2.commands`. rclpy's executor runs on a thread of its own, so
+that peers are answered while the cell steps; the cell itself only changes on the
+thread that calls :meth:`Ros2Cell.step`. Its parameter ``use_sim_time`` is true: the
+node's own clock is ``/clock`` too.
+
+Typical use (what ``omtp-drake ros2`` does)::
+
+    with Cell("lecture6_assignment1") as cell, Ros2Cell(cell, choose_network()) as node:
+        while cell.time < 30.0:
+            node.step()
+"""
+
+from __future__ import annotations
+
+import re
+import threading
+from typing import TYPE_CHECKING, Any
+
+from omtp_drake.ros.comm._core import JOINT_NAMES
+from omtp_drake.ros.moveit.description import robot_description
+from omtp_drake.ros2.commands import CellCommands
+from omtp_drake.ros2.network import Ros2Network, import_rclpy
+from omtp_drake.ros2.topics import CellTopics
+
+if TYPE_CHECKING:
+    from omtp_drake.script import Cell
+
+#: The node's name (Gazebo's is ``/gazebo``; one node serves the whole cell here).
+NODE_NAME = "omtp_cell"
+#: Simulated time between two steps (s): ``/clock``'s period, 100 Hz.
+STEP = 0.01
+
+
+def joint_map(cell: Cell) -> dict[str, tuple[str, int]]:
+    """The arms' joint names in the cell's URDF (``robot1_shoulder_pan_joint``) ->
+    (arm, index of the joint in the arm)."""
+    return {
+        f"{robot}_{joint}": (robot, i) for robot in cell.station.arms for i, joint in enumerate(JOINT_NAMES)
+    }
+
+
+def urdf_for_ros2(cell: Cell) -> str:
+    """The cell's URDF (:func:`~omtp_drake.ros.moveit.description.robot_description`) with its
+    meshes' absolute paths as ``file://`` URIs, the form rviz2 and robot_state_publisher
+    resolve (a bare path is no URI to ROS 2's resource retriever)."""
+    return re.sub(r'filename="/', 'filename="file:///', robot_description(cell))
+
+
+def fixed_links(cell: Cell) -> set[str]:
+    """The cell's links welded to the world (no joint moves them), and ``world``."""
+    plant = cell.station.plant
+    return {body.name() for body in plant.GetBodiesWeldedTo(plant.world_body())}
+
+
+class Ros2Cell:
+    """``cell`` as the ROS 2 node :data:`NODE_NAME` on ``network``.
+
+    Use it as a context manager, or call :meth:`close`: it stops the executor and
+    shuts its rclpy context down (nothing of it outlives the call).
+    """
+
+    def __init__(self, cell: Cell, network: Ros2Network):
+        rclpy = import_rclpy()
+        from rclpy.executors import SingleThreadedExecutor
+        from rclpy.parameter import Parameter
+        from rclpy.signals import SignalHandlerOptions
+
+        self.cell = cell
+        self.network = network
+        #: The URDF ``/robot_description`` carries.
+        self.description = urdf_for_ros2(cell)
+        network.apply()
+        self._context = rclpy.Context()
+        rclpy.init(
+            context=self._context,
+            domain_id=network.domain_id,
+            signal_handler_options=SignalHandlerOptions.NO,
+        )
+        try:
+            self.node = rclpy.create_node(
+                NODE_NAME,
+                context=self._context,
+                parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
+            )
+            joints = joint_map(cell)
+            names = [(name, robot) for name, (robot, _) in joints.items()]
+            self.topics = CellTopics(self.node, cell, names, self.description)
+            self.commands = CellCommands(self.node, cell, joints, fixed_links(cell))
+            self._executor = SingleThreadedExecutor(context=self._context)
+            self._executor.add_node(self.node)
+        except BaseException:
+            self._context.try_shutdown()
+            raise
+        self._thread = threading.Thread(target=self._spin, name="omtp_cell rclpy executor", daemon=True)
+        self._thread.start()
+        self._closed = False
+        self.topics.publish(cell.time)
+
+    def _spin(self) -> None:
+        from rclpy.executors import ExternalShutdownException
+
+        try:
+            self._executor.spin()
+        except ExternalShutdownException:
+            pass
+
+    def step(self, dt: float = STEP) -> None:
+        """Advances the cell by ``dt`` (less when a trajectory point is due sooner),
+        applies what peers asked for meanwhile, and publishes what is due."""
+        commands = self.commands
+        commands.run_pending()
+        end = self.cell.time + dt
+        due = commands.next_point_time()
+        if due is not None and self.cell.time < due < end:
+            end = due
+        self.cell.runtime.advance_to(end)
+        commands.run_pending()
+        self.topics.publish(self.cell.time)
+
+    def close(self) -> None:
+        """Stops the executor, destroys the node, shuts the context down."""
+        if self._closed:
+            return
+        self._closed = True
+        self.commands.stop()
+        self._executor.shutdown(timeout_sec=2.0)
+        self.node.destroy_node()
+        self._context.try_shutdown()
+        self._thread.join(timeout=5.0)
+
+    def __enter__(self) -> Ros2Cell:
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close()

@@ -1,0 +1,183 @@
+"""What a ROS 2 peer can tell the cell: ``/set_joint_trajectory``, the grippers and the belt.
+
+==============================  ==================================  =======================================
+name                            type                                does
+==============================  ==================================  =======================================
+``/set_joint_trajectory``       ``trajectory_msgs/JointTrajectory``  sets joints to its points (topic; see
+                                                                    :mod:`~omtp_drake.ros2.joint_pose_trajectory`)
+``/gripperN/control``           ``std_srvs/SetBool``                vacuum on (``data: true``) / off
+``/omtp/conveyor/control``      ``std_srvs/SetBool``                belt on at parameter ``conveyor_power``
+                                                                    (0-100, default 100) / off
+==============================  ==================================  =======================================
+
+The course's own service types (``omtp_gazebo/VacuumGripperControl``,
+``omtp_gazebo/ConveyorBeltControl``) are no PyPI packages, and a peer needs the
+type's package to call a service; ``std_srvs/SetBool`` has the same request (one
+flag; the belt's power is the node's parameter ``conveyor_power``, ``ros2 param
+set /omtp_cell conveyor_power 50``) and answers ``success`` as the course's do,
+with a ``message`` saying what happened (a gripper's held part).
+
+rclpy runs the callbacks on its executor thread; the cell runs on the caller's. A
+callback hands its work to the cell's thread (:meth:`CellCommands.run_pending`,
+called between steps) and a service waits for the result, so every change to the
+cell happens between two steps of the simulation, at a simulated time.
+"""
+
+from __future__ import annotations
+
+import logging
+import queue
+import threading
+from collections.abc import Callable
+from concurrent.futures import Future
+from typing import TYPE_CHECKING, Any, Optional
+
+from omtp_drake.errors import OmtpError
+from omtp_drake.ros2.joint_pose_trajectory import JointPoseTrajectory, arm_targets, parse_trajectory
+
+if TYPE_CHECKING:
+    from omtp_drake.script import Cell
+
+_log = logging.getLogger(__name__)
+
+#: The belt's power when ``/omtp/conveyor/control`` switches it on and the parameter is unset.
+DEFAULT_CONVEYOR_POWER = 100.0
+
+
+class CellCommands:
+    """The subscription and services above on ``node`` for ``cell``; ``joints`` maps
+    each joint name to (arm, index), ``fixed_links`` are the links no joint moves."""
+
+    def __init__(self, node: Any, cell: Cell, joints: dict[str, tuple[str, int]], fixed_links: set[str]):
+        from rcl_interfaces.msg import ParameterDescriptor
+        from std_srvs.srv import SetBool
+        from trajectory_msgs.msg import JointTrajectory
+
+        from omtp_drake.ros.gazebo.cell_services import gripper_plugins
+
+        self._node = node
+        self._cell = cell
+        self._joints = joints
+        self._fixed_links = fixed_links
+        self._work: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
+        self._stopped = threading.Event()
+        self._trajectory: Optional[JointPoseTrajectory] = None
+        self._next_point = 0
+        node.create_subscription(JointTrajectory, "/set_joint_trajectory", self._on_trajectory, 1)
+        for robot, plugin in gripper_plugins(cell).items():
+            node.create_service(SetBool, f"/{plugin}/control", self._gripper_service(robot))
+        if cell.station.conveyor is not None:
+            # Dynamic typing: `ros2 param set /omtp_cell conveyor_power 50` sends an integer.
+            node.declare_parameter(
+                "conveyor_power", DEFAULT_CONVEYOR_POWER, ParameterDescriptor(dynamic_typing=True)
+            )
+            node.create_service(SetBool, "/omtp/conveyor/control", self._conveyor_service)
+
+    # ------------------------------------------------------------ the cell's thread
+
+    def run_pending(self) -> None:
+        """Runs the work the callbacks handed over, then sets the trajectory's points
+        that are due (called between steps, on the cell's thread)."""
+        while True:
+            try:
+                work = self._work.get_nowait()
+            except queue.Empty:
+                break
+            work()
+        self._set_due_points()
+
+    def next_point_time(self) -> Optional[float]:
+        """When the trajectory's next point is due (None: no point left)."""
+        if self._trajectory is None or self._next_point >= len(self._trajectory.points):
+            return None
+        return self._trajectory.points[self._next_point].time
+
+    def stop(self) -> None:
+        """Services still waiting are answered with a failure (the cell stopped)."""
+        self._stopped.set()
+
+    def _set_due_points(self) -> None:
+        trajectory, t = self._trajectory, self._cell.time
+        while trajectory is not None and self._next_point < len(trajectory.points):
+            point = trajectory.points[self._next_point]
+            if point.time > t + 1e-9:
+                return
+            self._next_point += 1
+            if point.positions is None:
+                _log.error(
+                    "set_joint_trajectory: point[%d] has a different number of positions than the "
+                    "%d joints; skipped",
+                    self._next_point,
+                    len(trajectory.joints),
+                )
+                continue
+            current = {arm: self._cell.arm(arm).joint_values() for arm, _ in trajectory.joints}
+            try:
+                for arm, q in arm_targets(trajectory, point.positions, current).items():
+                    self._cell.arm(arm).set_joint_values(q)
+            except OmtpError as e:
+                _log.error("set_joint_trajectory: point[%d]: %s", self._next_point, e)
+
+    def _start_trajectory(self, msg: Any) -> None:
+        try:
+            self._trajectory = parse_trajectory(msg, self._cell.time, self._joints, self._fixed_links)
+        except OmtpError as e:
+            _log.error("set_joint_trajectory: %s; trajectory not set", e)
+            return
+        self._next_point = 0
+
+    # ------------------------------------------------------------ rclpy's thread
+
+    def _on_trajectory(self, msg: Any) -> None:
+        self._work.put(lambda: self._start_trajectory(msg))
+
+    def _call(self, work: Callable[[], str]) -> tuple[bool, str]:
+        """Runs ``work`` on the cell's thread; (success, its message) when it is done."""
+        done: Future[str] = Future()
+
+        def run() -> None:
+            try:
+                done.set_result(work())
+            except OmtpError as e:
+                done.set_exception(e)
+
+        self._work.put(run)
+        while not self._stopped.is_set():
+            try:
+                return True, done.result(timeout=0.1)
+            except TimeoutError:
+                continue
+            except OmtpError as e:
+                return False, str(e)
+        return False, "the cell stopped"
+
+    def _gripper_service(self, robot: str) -> Callable[[Any, Any], Any]:
+        gripper = self._cell.gripper(robot)
+
+        def control(request: Any, response: Any) -> Any:
+            def switch() -> str:
+                gripper.on() if request.data else gripper.off()
+                held = f"; holding {gripper.part}" if gripper.attached else ""
+                return f"vacuum {'on' if request.data else 'off'}{held}"
+
+            response.success, response.message = self._call(switch)
+            return response
+
+        return control
+
+    def _conveyor_service(self, request: Any, response: Any) -> Any:
+        value = self._node.get_parameter("conveyor_power").value
+        if request.data and not isinstance(value, (int, float)):
+            response.success, response.message = (
+                False,
+                f"parameter conveyor_power must be a number, got {value!r}",
+            )
+            return response
+        power = float(value) if request.data else 0.0
+
+        def switch() -> str:
+            self._cell.set_conveyor_power(power)
+            return f"conveyor power {power:g}"
+
+        response.success, response.message = self._call(switch)
+        return response

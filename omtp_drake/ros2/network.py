@@ -1,0 +1,108 @@
+"""Where the cell's ROS 2 nodes are heard: the DDS domain and the discovery range, and
+the middleware itself (rclpy on Fast DDS, the ``ros2`` extra).
+
+ROS 2 finds its peers by DDS discovery in a *domain* (``ROS_DOMAIN_ID``, 0-101 on
+Linux): nodes of different domains never hear each other, so each run gets its own
+(given with ``--domain-id``, else ``ROS_DOMAIN_ID`` from the environment, else one
+the command chooses and prints). Discovery stays on this machine's loopback by
+default (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, and ``ROS_LOCALHOST_ONLY=1``,
+its spelling before Jazzy); reaching other machines of the same network
+(``SUBNET``) is the user's explicit choice (``--network``).
+
+The settings are written to the process environment before rclpy initializes: the
+middleware reads them when it creates its participant.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from types import ModuleType
+from typing import Optional
+
+from omtp_drake.errors import ConfigError, MissingExtraError
+
+#: The largest domain id whose DDS ports are valid on Linux (the ROS 2 docs' range).
+MAX_DOMAIN_ID = 101
+
+#: What installs the middleware: the project's extra.
+INSTALL_HINT = 'pip install -e ".[ros2]"'
+
+
+@dataclass(frozen=True)
+class Ros2Network:
+    """The DDS domain and discovery range of a run.
+
+    Attributes:
+        domain_id: the ROS 2 domain (0-101).
+        subnet: discover peers on the local network too (False: this machine only).
+    """
+
+    domain_id: int
+    subnet: bool = False
+
+    def __post_init__(self) -> None:
+        if not (isinstance(self.domain_id, int) and 0 <= self.domain_id <= MAX_DOMAIN_ID):
+            raise ConfigError(
+                f"ROS_DOMAIN_ID (--domain-id) must be an integer in 0..{MAX_DOMAIN_ID}, "
+                f"got {self.domain_id!r}"
+            )
+
+    @property
+    def discovery_range(self) -> str:
+        return "SUBNET" if self.subnet else "LOCALHOST"
+
+    def environment(self) -> dict[str, str]:
+        """The variables that put a ROS 2 process (ours or a peer) on this network."""
+        return {
+            "ROS_DOMAIN_ID": str(self.domain_id),
+            "ROS_AUTOMATIC_DISCOVERY_RANGE": self.discovery_range,
+            "ROS_LOCALHOST_ONLY": "0" if self.subnet else "1",
+        }
+
+    def apply(self) -> None:
+        """Writes :meth:`environment` into this process's environment (before rclpy starts)."""
+        os.environ.update(self.environment())
+
+    def describe(self) -> str:
+        where = "this machine's network" if self.subnet else "this machine only (loopback)"
+        return f"ROS_DOMAIN_ID={self.domain_id}, discovery: {where}"
+
+
+def choose_network(domain_id: Optional[int] = None, *, subnet: bool = False) -> Ros2Network:
+    """The run's network: ``domain_id`` if given, else ``ROS_DOMAIN_ID`` from the
+    environment, else one from 1..101 picked by this process's id (two runs at once
+    on one machine rarely share it; give one to be sure)."""
+    if domain_id is None:
+        text = os.environ.get("ROS_DOMAIN_ID", "").strip()
+        if text:
+            try:
+                domain_id = int(text)
+            except ValueError:
+                raise ConfigError(
+                    f"ROS_DOMAIN_ID in the environment must be an integer in 0..{MAX_DOMAIN_ID}, got {text!r}"
+                ) from None
+        else:
+            domain_id = 1 + os.getpid() % MAX_DOMAIN_ID
+    return Ros2Network(domain_id, subnet)
+
+
+def import_rclpy() -> ModuleType:
+    """rclpy, or one MissingExtraError naming the extra when it (or its middleware,
+    Fast DDS, or a message package) is not installed."""
+    try:
+        import builtin_interfaces.msg  # noqa: F401
+        import geometry_msgs.msg  # noqa: F401
+        import rclpy
+        import rosgraph_msgs.msg  # noqa: F401
+        import sensor_msgs.msg  # noqa: F401
+        import std_msgs.msg  # noqa: F401
+        import std_srvs.srv  # noqa: F401
+        import trajectory_msgs.msg  # noqa: F401
+        import visualization_msgs.msg  # noqa: F401
+    except ImportError as e:  # a missing wheel, or rclpy without librmw_fastrtps_cpp.so
+        raise MissingExtraError(
+            f"ROS 2 (rclpy, Fast DDS and the message packages) is not installed: {e}; "
+            f"install the project's ros2 extra: {INSTALL_HINT}"
+        ) from None
+    return rclpy

@@ -1,0 +1,106 @@
+"""``omtp-drake view FILE.urdf[.xacro]|FILE.sdf``: the model in Meshcat with joint sliders.
+
+Registered on the main command line by :func:`add_view_command`. ``--json`` lists what
+was parsed (:func:`omtp_drake.viz.model_view.model_info`) instead of showing it;
+``--screenshot PNG`` writes a picture of the view and ``--images DIR`` the sensors'
+images and point clouds, and exit; otherwise the view runs
+until Meshcat's Stop button, ``--timeout`` or Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from typing import Any
+
+from omtp_drake.errors import ConfigError
+
+
+def view_model_config(args: argparse.Namespace) -> Any:
+    """The model ``view`` shows: the description file's (its packages found in
+    ``--workspace`` folders, ``ROS_PACKAGE_PATH`` and next to the file). A ``--launch``
+    source of models would be chosen here."""
+    from omtp_drake.scenario import model_from_file
+    from omtp_drake.scenario.models import file_workspace
+
+    args_map = dict(_pair(a, "--arg") for a in args.arg)
+    return model_from_file(args.file, file_workspace(args.file, args.workspace), static=True, args=args_map)
+
+
+def _pair(text: str, flag: str) -> tuple[str, str]:
+    name, sep, value = text.partition(":=") if ":=" in text else text.partition("=")
+    if not sep or not name:
+        raise ConfigError(f"{flag} {text!r}: give NAME:=VALUE (or NAME=VALUE)")
+    return name, value
+
+
+def cmd_view(args: argparse.Namespace) -> int:
+    """``view``: exit 0 when the model was shown (or listed)."""
+    model = view_model_config(args)
+    if args.json is not None:
+        from omtp_drake.viz.model_view import model_info
+
+        text = json.dumps(model_info(model), indent=2)
+        if args.json == "-":
+            sys.stdout.write(text + "\n")
+        else:
+            with open(args.json, "w") as f:
+                f.write(text + "\n")
+        return 0
+    from omtp_drake.viz.meshcat import start_meshcat
+    from omtp_drake.viz.model_view import build_model_view, run_view, save_sensor_images, screenshot_view
+
+    positions = {}
+    for text in args.position:
+        name, value = _pair(text, "--position")
+        try:
+            positions[name] = float(value)
+        except ValueError:
+            raise ConfigError(f"--position {text!r}: {value!r} is not a number") from None
+    view = build_model_view(model, start_meshcat(), positions)
+    if args.images:
+        for path in save_sensor_images(view, args.images):
+            sys.stdout.write(f"{path}\n")
+    if args.screenshot:
+        sys.stdout.write(f"screenshot: {screenshot_view(view, args.screenshot)}\n")
+    if args.screenshot or args.images:
+        return 0
+    sys.stdout.write(f"Meshcat: {view.meshcat.web_url()} (a slider per joint; Stop or Ctrl-C to end)\n")
+    sys.stdout.flush()
+    run_view(view, args.timeout)
+    return 0
+
+
+def add_view_command(sub: argparse._SubParsersAction) -> None:
+    """Registers ``omtp-drake view``."""
+    p = sub.add_parser(
+        "view",
+        help="show a URDF/xacro/SDF model in Meshcat, a slider per joint (rviz + joint_state_publisher_gui)",
+        description="Shows the model of FILE in Meshcat with a slider per movable joint, its camera "
+        "sensors' images and a depth camera's point cloud.",
+    )
+    p.add_argument("file", metavar="FILE.urdf[.xacro]|FILE.sdf")
+    p.add_argument(
+        "--workspace",
+        action="append",
+        default=[],
+        metavar="DIR",
+        help="a folder of ROS packages the file names ($(find PKG), package://); repeatable",
+    )
+    p.add_argument("--arg", action="append", default=[], metavar="NAME:=VALUE", help="a xacro argument")
+    p.add_argument(
+        "--json", nargs="?", const="-", metavar="FILE", help="list links, joints, frames, sensors, plugins"
+    )
+    p.add_argument("--screenshot", metavar="PNG", help="write a PNG of the view and exit")
+    p.add_argument(
+        "--images",
+        metavar="DIR",
+        help="write each camera sensor's colour and depth images (PNG) and point cloud (PLY) there, and exit",
+    )
+    p.add_argument(
+        "--position", action="append", default=[], metavar="JOINT=VALUE", help="a joint's start position"
+    )
+    p.add_argument("--timeout", type=float, default=math.inf, metavar="S", help="end after S wall seconds")
+    p.set_defaults(func=cmd_view)

@@ -1,0 +1,332 @@
+"""``omtp-drake ros2``: the cell in one process and a student's plain rclpy node in
+another (tests/ros2_scripts/student_node.py, nothing of ours imported), over Fast
+DDS on loopback in a domain of their own: /clock and /joint_states arrive, a
+JointTrajectory on /set_joint_trajectory sets robot1's joints as Gazebo's plugin
+does, /logical_camera_1/points lies on the part in view, the gripper's service
+answers. Every process ends and leaves nothing behind.
+
+Without the ``ros2`` extra these tests skip (and the command says which extra).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import socket
+import subprocess
+import sys
+from collections.abc import Iterator
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from omtp_drake.errors import ConfigError, MissingExtraError
+from omtp_drake.ros2.network import Ros2Network, choose_network
+
+SCRIPTS = Path(__file__).parent / "ros2_scripts"
+#: Upper bounds only (a slow machine passes as a fast one does): wall-clock seconds.
+PATIENCE = 600
+
+#: lecture6_assignment1 with camera 1's RGB-D view: it looks down at the 0.2 m part on the belt.
+RGBD_SCENARIO = """\
+base: lecture6_assignment1
+cameras: [{name: logical_camera_1, rgbd: true}]
+"""
+#: The part's top face (world z, m) and centre (x, y) in lecture6_assignment1.
+PART_TOP_Z = 1.121
+PART_XY = (1.2, 1.8)
+
+try:
+    from omtp_drake.ros2.network import import_rclpy
+
+    import_rclpy()
+    HAVE_ROS2 = True
+except MissingExtraError:
+    HAVE_ROS2 = False
+
+needs_ros2 = pytest.mark.skipif(
+    not HAVE_ROS2, reason='the ros2 extra is not installed: pip install -e ".[ros2]"'
+)
+
+
+@pytest.fixture
+def domain() -> Iterator[int]:
+    """A ROS 2 domain no other test of this machine holds while this one runs: the first
+    free one from a pid-based start (xdist workers, other runs), held by binding an
+    abstract Unix socket named after it (Linux; it leaves no file behind)."""
+    start = os.getpid() % 101
+    for i in range(101):
+        candidate = 1 + (start + i) % 101
+        holder = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        try:
+            holder.bind(f"\0omtp_drake_test_ros2_domain_{candidate}")
+        except OSError:
+            holder.close()
+            continue
+        try:
+            yield candidate
+        finally:
+            holder.close()
+        return
+    pytest.fail("every ROS 2 domain 1..101 is held by another test")
+
+
+def _loopback_env(domain: int) -> dict[str, str]:
+    env = dict(os.environ)
+    env.update(Ros2Network(domain).environment())
+    return env
+
+
+def _session_members(sid: int) -> list[int]:
+    """The processes still alive in session ``sid``."""
+    alive = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[3]) == sid and fields[0] != "Z":
+            alive.append(int(stat.parent.name))
+    return alive
+
+
+def _dds_files() -> set[str]:
+    """Fast DDS's shared-memory segments and locks in /dev/shm."""
+    shm = Path("/dev/shm")
+    return {p.name for p in shm.iterdir() if "fast" in p.name.lower()} if shm.is_dir() else set()
+
+
+def _end(process: subprocess.Popen) -> None:
+    """Stops ``process``'s whole session (it was started as its leader) and reaps it."""
+    if process.poll() is None:
+        os.killpg(process.pid, signal.SIGKILL)
+    process.wait(timeout=PATIENCE)
+
+
+@needs_ros2
+def test_a_students_rclpy_node_drives_and_watches_the_cell(tmp_path, domain):
+    scenario = tmp_path / "rgbd.yaml"
+    scenario.write_text(RGBD_SCENARIO)
+    out = tmp_path / "seen.json"
+    env = _loopback_env(domain)
+    shm_before = _dds_files()
+    cell = subprocess.Popen(
+        [sys.executable, "-m", "omtp_drake.cli", "ros2", str(scenario), "--domain-id", env["ROS_DOMAIN_ID"]],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    student = subprocess.Popen(
+        [sys.executable, str(SCRIPTS / "student_node.py"), str(out)],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        _, student_err = student.communicate(timeout=PATIENCE)
+        cell.send_signal(signal.SIGINT)  # Ctrl-C
+        cell_out, cell_err = cell.communicate(timeout=PATIENCE)
+    finally:
+        _end(student)
+        _end(cell)
+    assert student.returncode == 0, student_err[-3000:]
+    assert cell.returncode == 0, cell_err[-3000:]
+    assert f"ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']}" in cell_out and "stopped at t=" in cell_out
+    assert not _session_members(cell.pid) and not _session_members(student.pid)
+    assert _dds_files() <= shm_before, "Fast DDS left shared memory behind"
+    seen = json.loads(out.read_text())
+    _check_clock_and_joints(seen)
+    _check_trajectory(seen["trajectory"])
+    _check_cloud(seen["cloud"], scenario)
+    assert seen["gripper"]["success"] is True and seen["gripper"]["message"].startswith("vacuum on")
+    assert seen["conveyor"] == {"success": True, "message": "conveyor power 100"}
+    _check_logical_camera(seen["logical_camera"])
+    urdf = seen["description"]
+    assert urdf.startswith("<?xml") and 'name="omtp"' in urdf and 'filename="file:///' in urdf
+    assert all(f'name="robot1_{j}_joint"' in urdf for j in ("shoulder_pan", "elbow", "wrist_3"))
+
+
+def _check_clock_and_joints(seen: dict) -> None:
+    clocks = seen["clocks"]
+    assert clocks == sorted(clocks) and clocks[-1] > clocks[0], clocks[:10]
+    # /clock is published at every 10 ms step of simulated time.
+    assert np.allclose(np.round(np.array(clocks) / 0.01) * 0.01, clocks, atol=1e-6), clocks[:10]
+    assert seen["now"] > 0.0  # the node's clock is /clock (use_sim_time)
+    # robot1 starts at the scenario's initial pose.
+    from omtp_drake.cell import arms
+    from omtp_drake.scenario import load_scenario
+
+    robot = next(r for r in load_scenario("lecture6_assignment1").robots if r.name == "robot1")
+    assert np.allclose(seen["joints_before"], arms.named_pose(robot.initial_pose, robot), atol=2e-3)
+
+
+def _check_trajectory(trajectory: dict) -> None:
+    """Gazebo's rule: point 0 is set at header.stamp, point 1 its time_from_start (1 s)
+    later; the joints are there (to 1 mrad) from the first /joint_states sample after."""
+    start = trajectory["start"]
+    states = {round(t, 2): np.array(q) for t, q in trajectory["states"]}
+    before = [q for t, q in states.items() if t < start - 1e-6]
+    first = [q for t, q in states.items() if start + 0.02 <= t < start + 1.0 - 1e-6]
+    second = [q for t, q in states.items() if t >= start + 1.0 + 0.02]
+    assert before and first and second, sorted(states)
+    assert all(np.max(np.abs(q - trajectory["first"])) > 0.1 for q in before)
+    assert all(np.max(np.abs(q - trajectory["first"])) < 1e-3 for q in first), first
+    assert all(np.max(np.abs(q - trajectory["second"])) < 1e-3 for q in second), second
+
+
+def _check_logical_camera(camera: dict) -> None:
+    """Camera 1 reports the part (among the cell's models) where it rests, in the camera's frame."""
+    from omtp_drake.scenario import load_scenario
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    assert camera["frame_id"] == "logical_camera_1_frame"
+    assert "object_1" in camera["labels"]
+    runtime = FactoryRuntime(load_scenario("lecture6_assignment1"))
+    runtime.advance_to(0.5)
+    p_CM = runtime.camera_image("logical_camera_1").pose_of("object_1").pose.translation()
+    assert min(np.linalg.norm(np.array(camera["positions"]) - p_CM, axis=1)) < 0.01
+    # /omtp/parts: the one part, resting on the belt, in world.
+    assert camera["parts_frame"] == "world" and len(camera["parts"]) == 1
+    assert np.allclose(camera["parts"][0], [*PART_XY, PART_TOP_Z - 0.1], atol=0.01), camera["parts"]
+
+
+def _check_cloud(cloud: dict, scenario: Path) -> None:
+    """The points, in the camera's optical frame, lie on the part's top face in the world
+    and within 1 cm of the cell's geometry."""
+    from omtp_drake.cell.logical_camera import X_CameraOptical
+    from omtp_drake.scenario import load_scenario
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    assert cloud["frame_id"] == "logical_camera_1_optical_frame"
+    assert (cloud["height"], cloud["width"]) == (213, 320)
+    p_O = np.array(cloud["points"])
+    assert len(p_O) > 1000
+    runtime = FactoryRuntime(load_scenario(scenario))
+    runtime.advance_to(cloud["stamp"])
+    X_WO = runtime.camera_image("logical_camera_1").X_WC @ X_CameraOptical()
+    p_W = (X_WO.GetAsMatrix34() @ np.c_[p_O, np.ones(len(p_O))].T).T
+    assert np.all(np.abs(p_W[:, 2] - PART_TOP_Z) < 0.01), np.percentile(p_W[:, 2], [0, 50, 100])
+    assert np.all(np.abs(p_W[:, :2] - PART_XY) < 0.1 + 0.01)
+    plant = runtime.station.plant
+    query = plant.get_geometry_query_input_port().Eval(plant.GetMyContextFromRoot(runtime.context))
+    distance = [
+        min((abs(d.distance) for d in query.ComputeSignedDistanceToPoint(p, 0.05)), default=1.0) for p in p_W
+    ]
+    assert max(distance) < 0.01
+
+
+def test_the_network_stays_on_loopback_unless_asked():
+    network = choose_network(42)
+    assert network.environment() == {
+        "ROS_DOMAIN_ID": "42",
+        "ROS_AUTOMATIC_DISCOVERY_RANGE": "LOCALHOST",
+        "ROS_LOCALHOST_ONLY": "1",
+    }
+    assert choose_network(42, subnet=True).environment()["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "SUBNET"
+    with pytest.raises(ConfigError, match="0..101, got 102"):
+        Ros2Network(102)
+
+
+def test_the_domain_comes_from_the_environment_when_not_given(monkeypatch):
+    monkeypatch.setenv("ROS_DOMAIN_ID", "17")
+    assert choose_network().domain_id == 17
+    monkeypatch.setenv("ROS_DOMAIN_ID", "seventeen")
+    with pytest.raises(ConfigError, match="'seventeen'"):
+        choose_network()
+    monkeypatch.delenv("ROS_DOMAIN_ID")
+    assert 1 <= choose_network().domain_id <= 101
+
+
+@pytest.mark.parametrize("missing", ["rclpy", "builtin_interfaces"])
+def test_without_the_extra_the_command_names_it(tmp_path, missing):
+    """A Python whose rclpy (or a message package the bridge imports first) cannot be
+    imported: one error line naming the extra."""
+    blocker = tmp_path / f"{missing}.py"
+    blocker.write_text("raise ImportError('librmw_fastrtps_cpp.so: cannot open shared object file')\n")
+    env = dict(os.environ, PYTHONPATH=str(tmp_path))
+    done = subprocess.run(
+        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--timeout", "1"],
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=PATIENCE,
+    )
+    assert done.returncode == 2
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and "ros2 extra" in lines[0] and ".[ros2]" in lines[0], done.stderr
+
+
+@needs_ros2
+@pytest.mark.parametrize("pace", [[], ["--realtime"]], ids=["fast", "realtime"])
+def test_timeout_ends_the_run_at_that_simulated_time(pace, domain):
+    done = subprocess.run(
+        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--timeout", "0.25", *pace],
+        env=_loopback_env(domain),
+        capture_output=True,
+        text=True,
+        timeout=PATIENCE,
+    )
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "stopped at t=0.25 s" in done.stdout
+
+
+def _msg(frame: str, names: list[str], points: list[tuple[list[float], float]], stamp: float = 0.0):
+    """A stand-in for trajectory_msgs/JointTrajectory (the fields the plugin reads)."""
+    from types import SimpleNamespace as NS
+
+    def time(t: float) -> NS:
+        return NS(sec=int(t), nanosec=int(round((t % 1) * 1e9)))
+
+    return NS(
+        header=NS(frame_id=frame, stamp=time(stamp)),
+        joint_names=names,
+        points=[NS(positions=q, time_from_start=time(dt)) for q, dt in points],
+    )
+
+
+JOINTS = {"a_pan": ("robot1", 0), "a_lift": ("robot1", 1), "b_pan": ("robot2", 0)}
+
+
+def test_set_joint_trajectory_follows_gazebos_plugin():
+    from omtp_drake.errors import UnknownNameError
+    from omtp_drake.ros2.joint_pose_trajectory import arm_targets, parse_trajectory
+
+    msg = _msg("world", ["a_lift", "b_pan"], [([1.0, 2.0], 0.5), ([3.0], 0.25), ([4.0, 5.0], 0.0)], stamp=2.0)
+    trajectory = parse_trajectory(msg, now=1.0, joints=JOINTS, fixed_links={"robot1_base_link"})
+    # Point 0 at the stamp, each next one the previous one's time_from_start later.
+    assert [p.time for p in trajectory.points] == [2.0, 2.5, 2.75]
+    assert trajectory.points[1].positions is None  # wrong count: skipped when due
+    targets = arm_targets(trajectory, (1.0, 2.0), {"robot1": np.zeros(6), "robot2": np.ones(6)})
+    assert targets["robot1"].tolist() == [0, 1.0, 0, 0, 0, 0] and targets["robot2"][0] == 2.0
+    # A stamp in the past (or zero) starts it now.
+    assert parse_trajectory(msg, now=5.0, joints=JOINTS, fixed_links=set()).points[0].time == 5.0
+    assert parse_trajectory(_msg("robot1_base_link", ["a_pan"], []), 0.0, JOINTS, {"robot1_base_link"})
+    with pytest.raises(ConfigError, match="got ''.*valid: world, map"):
+        parse_trajectory(_msg("", ["a_pan"], []), 0.0, JOINTS, set())
+    with pytest.raises(ConfigError, match="'robot1_wrist_3_link'"):
+        parse_trajectory(_msg("robot1_wrist_3_link", ["a_pan"], []), 0.0, JOINTS, set())
+    with pytest.raises(UnknownNameError, match="slider_joint"):
+        parse_trajectory(_msg("map", ["slider_joint"], []), 0.0, JOINTS, set())
+
+
+def test_set_joint_values_puts_the_arm_there_and_holds_it():
+    """Gazebo's SetPosition: the arm is there at once, at rest, and its servo keeps it there."""
+    from omtp_drake.errors import UnreachableError
+    from omtp_drake.script import Cell
+
+    q = [0.4, -1.4, 1.2, -1.4, -1.57, 0.2]
+    with Cell("lecture6_assignment1") as cell:
+        arm = cell.arm("robot1")
+        arm.set_joint_values(q)
+        assert np.allclose(arm.joint_values(), q, atol=1e-12)
+        cell.wait(1.0)
+        assert np.allclose(arm.joint_values(), q, atol=1e-3)
+        with pytest.raises(UnreachableError, match="outside the joint limits"):
+            arm.set_joint_values([0.0, 0.0, 10.0, 0.0, 0.0, 0.0])
+        assert np.allclose(arm.joint_values(), q, atol=1e-3)  # nothing half-done
