@@ -273,6 +273,7 @@ def test_a_node_that_loops_before_spinning_is_one_error(tmp_path, capsys):
 
     src = tmp_path / "src"
     shutil.copytree(WORKSPACE, src)
+    (src / "omtp_lecture6" / "scripts").mkdir(exist_ok=True)  # git keeps no empty folder
     (src / "omtp_lecture6" / "scripts" / "looper.py").write_text(
         "import rospy\nrospy.init_node('looper')\nwhile not rospy.is_shutdown():\n    rospy.sleep(0.1)\n"
     )
