@@ -248,6 +248,46 @@ def test_a_behaviours_session_comes_up_as_ros_runs_with_its_latency(tmp_path, la
     assert json.loads(out.read_text())["took"] == pytest.approx(took, abs=1e-6)
 
 
+#: A state that hears a launch's node and finds move_group's services.
+NODE_STATE = """
+    import rospy
+    from flexbe_core import EventState
+    from std_msgs.msg import String
+
+
+    class ProbeState(EventState):
+        def __init__(self):
+            super(ProbeState, self).__init__(outcomes=['done'], output_keys=['report'])
+
+        def execute(self, userdata):
+            heard = rospy.wait_for_message('/node_says', String, timeout=1.0).data
+            for name in ('/compute_ik', '/compute_fk', '/compute_cartesian_path'):
+                rospy.wait_for_service(name, timeout=1.0)
+            userdata.report = {'heard': heard}
+            return 'done'
+"""
+
+
+def test_a_behaviours_session_starts_a_launchs_nodes_and_move_group_as_ros_runs(tmp_path):
+    """flexbe-run's session comes up as ros-run's: move_group's services, then a launch's
+    Python node (its command line) up to its spin(), serving the behaviour."""
+    src = tmp_path / "src"
+    _package(src, "probe_states", {"src/probe_states/probe_state.py": NODE_STATE})
+    _behavior_package(src, "probe_behaviors", "Probe", "probe_sm", "ProbeSM", PROBE_BEHAVIOR)
+    node = tmp_path / "talker.py"
+    node.write_text(
+        "import rospy\nfrom std_msgs.msg import String\nrospy.init_node('talker')\n"
+        "pub = rospy.Publisher('node_says', String, queue_size=1, latch=True)\n"
+        "pub.publish(String(data='hello ' + ' '.join(rospy.myargv()[1:])))\nrospy.spin()\n"
+    )
+    out = tmp_path / "probe.json"
+    params = {"out": str(out)}
+    nodes = [(node, ["--from", "launch"])]
+    report = run_behavior("Probe", [src], scenario=SCENARIO, timeout=5.0, params=params, nodes=nodes)
+    assert report.outcome == "finished", report.exception
+    assert json.loads(out.read_text()) == {"heard": "hello --from launch"}
+
+
 def test_flexbe_runs_latency_is_checked_as_ros_runs(tmp_path):
     with pytest.raises(ConfigError, match="--latency: unknown delay 'think'"):
         run_behavior("Conveyor Pick", [EXAMPLE], scenario=SCENARIO, latency="think=1")
