@@ -8,8 +8,10 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Iterable
-from typing import Any
+import traceback
+from collections.abc import Callable, Iterable
+from pathlib import Path
+from typing import Any, Optional
 
 
 class OmtpError(Exception):
@@ -128,14 +130,16 @@ def check_positive(what: str, value: Any) -> float:
     return number
 
 
-def check_duration(what: str, value: float) -> float:
-    """``value`` as a finite time > 0 s, or ConfigError naming ``what``."""
+def check_duration(what: str, value: Any, *, zero: bool = False) -> float:
+    """``value`` (seconds, or anything with ``to_sec()``: a rospy Duration) as a finite time
+    > 0 s (``>= 0`` with ``zero``), or ConfigError (a ValueError) naming ``what``: never inf
+    or nan."""
     try:
-        value = float(value)
+        value = float(value.to_sec() if hasattr(value, "to_sec") else value)
     except (TypeError, ValueError):
         raise ConfigError(f"{what} must be a time in seconds, got {value!r}") from None
-    if not (value > 0 and math.isfinite(value)):
-        raise ConfigError(f"{what} must be a finite time > 0 s, got {value!r}")
+    if not ((value >= 0 if zero else value > 0) and math.isfinite(value)):
+        raise ConfigError(f"{what} must be a finite time {'>=' if zero else '>'} 0 s, got {value!r}")
     return value
 
 
@@ -172,3 +176,53 @@ class UnreachableError(PlanningError):
 class MissingExtraError(OmtpError, ImportError):
     """An optional part of the project needs packages that are not installed; the
     message names the pyproject extra that installs them."""
+
+
+# ----------------------------------------------------------------------------- exceptions told
+
+
+def exception_place(e: BaseException, mine: Optional[Callable[[str], bool]] = None) -> str:
+    """`` (at file.py:LINE in function)``: the deepest frame of ``e``'s traceback, or the
+    deepest whose file ``mine`` accepts (``""`` when none is)."""
+    frames = [f for f in traceback.extract_tb(e.__traceback__) if mine is None or mine(f.filename)]
+    if not frames:
+        return ""
+    frame = frames[-1]
+    return f" (at {Path(frame.filename).name}:{frame.lineno} in {frame.name})"
+
+
+def describe_exception(
+    e: BaseException,
+    mine: Optional[Callable[[str], bool]] = None,
+    *,
+    place: Optional[str] = None,
+    hint: str = "",
+) -> str:
+    """``Type: message (at file.py:LINE in function)`` on one line: the message cut at 500
+    characters, then ``hint`` (what to do about it), then ``place`` (default: as
+    :func:`exception_place` chooses it with ``mine``)."""
+    text = " ".join(str(e).split())
+    where = exception_place(e, mine) if place is None else place
+    return f"{type(e).__name__}: {text[:500]}{hint}{where}"
+
+
+def exception_frames(e: BaseException, mine: Callable[[str], bool]) -> list[str]:
+    """``file.py:LINE in function: code`` of the frames of ``e``'s traceback whose file ``mine``
+    accepts (a script's own, a workspace's), outermost first."""
+    return [
+        f"{Path(f.filename).name}:{f.lineno} in {f.name}: {(f.line or '').strip()}"
+        for f in traceback.extract_tb(e.__traceback__)
+        if mine(f.filename)
+    ]
+
+
+def exception_kind(e: BaseException) -> dict[str, Any]:
+    """What ``e`` is, as data for whoever judges a run (never its message): ``type``, the
+    names of its classes (``kinds``, most derived first) and its ``errno`` (None unless an
+    OSError with one)."""
+    return {
+        "type": type(e).__name__,
+        "kinds": [c.__name__ for c in type(e).__mro__ if c is not object],
+        "errno": e.errno if isinstance(e, OSError) else None,
+        "filename": str(e.filename) if isinstance(e, OSError) and e.filename is not None else None,
+    }

@@ -212,6 +212,87 @@ def test_proxies_against_the_cells_topics_and_services(tmp_path):
     assert report.ledger["on_belt"] == 0 and report.sim_time_s < 1.0
 
 
+
+#: A state that times one service call (the Probe behaviour saves its report).
+TIMED_CALL_STATE = """
+    import rospy
+    from flexbe_core import EventState
+    from flexbe_core.proxy import ProxyServiceCaller
+    from omtp_gazebo.srv import ConveyorBeltControl, ConveyorBeltControlRequest
+
+
+    class ProbeState(EventState):
+        def __init__(self):
+            super(ProbeState, self).__init__(outcomes=['done'], output_keys=['report'])
+            self._srv = ProxyServiceCaller({'/omtp/conveyor/control': ConveyorBeltControl})
+
+        def execute(self, userdata):
+            before = rospy.get_time()
+            self._srv.call('/omtp/conveyor/control', ConveyorBeltControlRequest())
+            userdata.report = {'took': rospy.get_time() - before}
+            return 'done'
+"""
+
+
+@pytest.mark.parametrize("latency, took", [(0, 0.0), ("service=0.25", 0.25), (None, 0.005)])
+def test_a_behaviours_session_comes_up_as_ros_runs_with_its_latency(tmp_path, latency, took):
+    """flexbe-run brings its cell and session up as ros-run does: --latency (default: the
+    scenario's ros_latency, 5 ms a service call) reaches the behaviour's service calls."""
+    src = tmp_path / "src"
+    _package(src, "probe_states", {"src/probe_states/probe_state.py": TIMED_CALL_STATE})
+    _behavior_package(src, "probe_behaviors", "Probe", "probe_sm", "ProbeSM", PROBE_BEHAVIOR)
+    out = tmp_path / "probe.json"
+    params = {"out": str(out)}
+    report = run_behavior("Probe", [src], scenario=SCENARIO, timeout=5.0, params=params, latency=latency)
+    assert report.outcome == "finished", report.exception
+    assert json.loads(out.read_text())["took"] == pytest.approx(took, abs=1e-6)
+
+
+#: A state that hears a launch's node and finds move_group's services.
+NODE_STATE = """
+    import rospy
+    from flexbe_core import EventState
+    from std_msgs.msg import String
+
+
+    class ProbeState(EventState):
+        def __init__(self):
+            super(ProbeState, self).__init__(outcomes=['done'], output_keys=['report'])
+
+        def execute(self, userdata):
+            heard = rospy.wait_for_message('/node_says', String, timeout=1.0).data
+            for name in ('/compute_ik', '/compute_fk', '/compute_cartesian_path'):
+                rospy.wait_for_service(name, timeout=1.0)
+            userdata.report = {'heard': heard}
+            return 'done'
+"""
+
+
+def test_a_behaviours_session_starts_a_launchs_nodes_and_move_group_as_ros_runs(tmp_path):
+    """flexbe-run's session comes up as ros-run's: move_group's services, then a launch's
+    Python node (its command line) up to its spin(), serving the behaviour."""
+    src = tmp_path / "src"
+    _package(src, "probe_states", {"src/probe_states/probe_state.py": NODE_STATE})
+    _behavior_package(src, "probe_behaviors", "Probe", "probe_sm", "ProbeSM", PROBE_BEHAVIOR)
+    node = tmp_path / "talker.py"
+    node.write_text(
+        "import rospy\nfrom std_msgs.msg import String\nrospy.init_node('talker')\n"
+        "pub = rospy.Publisher('node_says', String, queue_size=1, latch=True)\n"
+        "pub.publish(String(data='hello ' + ' '.join(rospy.myargv()[1:])))\nrospy.spin()\n"
+    )
+    out = tmp_path / "probe.json"
+    params = {"out": str(out)}
+    nodes = [(node, ["--from", "launch"])]
+    report = run_behavior("Probe", [src], scenario=SCENARIO, timeout=5.0, params=params, nodes=nodes)
+    assert report.outcome == "finished", report.exception
+    assert json.loads(out.read_text()) == {"heard": "hello --from launch"}
+
+
+def test_flexbe_runs_latency_is_checked_as_ros_runs(tmp_path):
+    with pytest.raises(ConfigError, match="--latency: unknown delay 'think'"):
+        run_behavior("Conveyor Pick", [EXAMPLE], scenario=SCENARIO, latency="think=1")
+
+
 MOVE_GROUP_SCRIPT = """
     import json, sys
     import actionlib, rospy

@@ -144,3 +144,19 @@ def test_ros_run_sandbox_passes_the_course_options_on(tmp_path, capsys):
     assert "start 0.50" in out and "verdict: ok" in out
     assert main(argv) == 1  # without the student's SRDF there is no "high"
     assert "MoveItCommanderException" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("bad", [float("inf"), float("nan"), -1.0])
+def test_every_duration_of_a_run_refuses_inf_nan_and_negatives(tmp_path, bad):
+    """One check of a duration (errors.check_duration): a hand-written ``> 0`` took inf."""
+    from omtp_drake.ros import run_script
+
+    settle = rf"settle \(simulated seconds\) must be a finite time >= 0 s, got {bad}"
+    with pytest.raises(ConfigError, match=settle):
+        check_options({"settle": bad}, "grade.yaml: a.py", tmp_path)
+    script = tmp_path / "a.py"
+    script.write_text("print('never runs')\n")
+    with pytest.raises(ConfigError, match=rf"--wall-timeout must be a finite time > 0 s, got {bad}"):
+        grade_folder(tmp_path, "lecture6_assignment3", workers=1, wall_timeout=bad)
+    with pytest.raises(ConfigError, match=rf"--timeout must be a finite time > 0 s, got {bad}"):
+        run_script(script, scenario="lecture6_assignment3", timeout=bad)

@@ -221,6 +221,44 @@ def test_the_subpackage_check_finds_a_stray_module(tmp_path):
     assert _outside_subpackages(tmp_path) == ["grading", "session.py"]
 
 
+#: Imports that go around the door on purpose: the commands' parsers (``ros/*/cli.py``) take
+#: the cell options every command shares (``--launch``, ``--world``) from ``launch.options``,
+#: as ``omtp_drake/cli.py`` does; through ``_core`` they would load Drake to parse a command line.
+_AROUND_THE_DOOR = {
+    ("omtp_drake.ros.run.cli", "omtp_drake.launch.options"),
+    ("omtp_drake.ros.flexbe.cli", "omtp_drake.launch.options"),
+}
+
+
+def _core_door_breaches(graph: dict[str, set[str]]) -> list[str]:
+    """Imports of a layer below ``ros`` by a ``ros`` module other than ``ros.comm._core``
+    (``errors`` aside: every layer raises its errors; :data:`_AROUND_THE_DOOR` aside)."""
+    door = "omtp_drake.ros.comm._core"
+    return sorted(
+        f"{module} imports {target}"
+        for module, imported in graph.items()
+        if _unit(module) == "ros" and module != door and ".shims." not in module
+        for target in imported
+        if target != "omtp_drake"
+        and _unit(target) not in ("ros", "errors")
+        and (module, target) not in _AROUND_THE_DOOR
+    )
+
+
+def test_ros_imports_the_core_through_its_one_door():
+    """``ros/comm/_core.py`` says it is the one place the ROS layer imports the core from."""
+    assert not _core_door_breaches(_graph())
+
+
+def test_the_door_check_finds_a_module_going_around_it():
+    graph = {
+        "omtp_drake.ros.comm._core": {"omtp_drake.script"},
+        "omtp_drake.ros.comm.session": {"omtp_drake.ros.comm._core", "omtp_drake.errors"},
+        "omtp_drake.ros.moveit.config": {"omtp_drake.cell.arms"},
+    }
+    assert _core_door_breaches(graph) == ["omtp_drake.ros.moveit.config imports omtp_drake.cell.arms"]
+
+
 def test_every_import_of_omtp_drake_names_a_module_that_exists():
     """An import of a moved or removed module fails here, not only when its function runs
     (imports inside functions count too)."""

@@ -45,3 +45,32 @@ def test_grade_runs_every_script_and_writes_one_row_each(tmp_path, capsys):
     assert (tmp_path / "out" / "grades.png").stat().st_size > 1000
     assert main(["grade", str(tmp_path / "nothing"), "--scenario", "lecture6_assignment3"]) == 2
     assert "grade needs a folder of scripts" in capsys.readouterr().err
+
+
+def test_the_grade_plot_never_writes_labels_over_each_other():
+    """Neighbouring bars with the same long verdict: every script's status is written once,
+    and no two labels of the plot share a pixel."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.text import Text
+
+    from omtp_drake.grading.table import Grade, plot_grades
+    from omtp_drake.grading.verdicts import SIM_TIMEOUT
+
+    statuses = [SIM_TIMEOUT] * 6 + [OK, "process limit", "process limit", EXCEPTION]
+    # Neighbours with the same status have the same height too (no parts in bins).
+    grades = [
+        Grade(f"student_{i:02d}.py", s, 0 if s == SIM_TIMEOUT else 1, {"sim_time_s": 5.0})
+        for i, s in enumerate(statuses)
+    ]
+    fig = plot_grades(grades)
+    canvas = FigureCanvasAgg(fig)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    texts = [t for t in fig.findobj(Text) if t.get_visible() and t.get_text()]
+    labelled = [t.get_text() for t in texts if t.get_text().startswith("student_")]
+    assert labelled == [f"{g.script}: {g.status}" for g in grades]
+    boxes = [(t.get_text(), t.get_window_extent(renderer)) for t in texts]
+    overlapping = [
+        (a, b) for i, (a, box_a) in enumerate(boxes) for b, box_b in boxes[i + 1 :] if box_a.overlaps(box_b)
+    ]
+    assert not overlapping, overlapping

@@ -33,10 +33,10 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional, Union
 
 from omtp_drake.batch.run_records import CRASHED, ERROR, FINISHED, RunRecord
-from omtp_drake.batch.sandbox import RunFunction, describe_exception, run_in_child, simulate, thread_sandbox
+from omtp_drake.batch.sandbox import RunFunction, run_in_child, simulate, thread_sandbox
 from omtp_drake.batch.store import ResultStore
 from omtp_drake.batch.sweep import BatchPlan, RunSpec, plan_batch
-from omtp_drake.errors import ConfigError, check_duration
+from omtp_drake.errors import ConfigError, check_duration, describe_exception
 
 # dask is imported where used: importing this module stays cheap (the
 # ``omtp-drake batch`` command is registered in omtp_drake.cli).

@@ -24,11 +24,11 @@ import tempfile
 import threading
 import time
 from collections.abc import Callable
-from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn, Optional
 
 from omtp_drake.batch.run_records import CRASHED, ERROR, FINISHED, TIMEOUT
 from omtp_drake.batch.sweep import RunSpec
+from omtp_drake.errors import describe_exception
 
 if TYPE_CHECKING:
     from omtp_drake.scenario import Scenario
@@ -189,19 +189,6 @@ def _child(payload: bytes, r: int, w: int, err_fd: int) -> NoReturn:
             except Exception:
                 pass
         os._exit(code)
-
-
-def describe_exception(e: BaseException) -> str:
-    """``Type: message (at file:line in function)``, on one line."""
-    text = " ".join(str(e).split())
-    where = ""
-    tb = e.__traceback__
-    while tb is not None and tb.tb_next is not None:
-        tb = tb.tb_next
-    if tb is not None:
-        code = tb.tb_frame.f_code
-        where = f" (at {Path(code.co_filename).name}:{tb.tb_lineno} in {code.co_name})"
-    return f"{type(e).__name__}: {text[:500]}{where}"
 
 
 class Sandbox:

@@ -27,7 +27,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional
 
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.grading import flexbe as grade_flexbe
 from omtp_drake.grading import options as grade_options
 from omtp_drake.grading.flexbe import FlexbeGrading
@@ -36,6 +36,7 @@ from omtp_drake.grading.isolation import (
     guarded_command,
     kill_session,
     limits_from_args,
+    refusals,
     resolve_sandbox,
     run_isolated,
 )
@@ -46,7 +47,6 @@ from omtp_drake.grading.verdicts import (
     OK,
     WORKER_DIED,
     classify,
-    refusals,
 )
 
 if TYPE_CHECKING:
@@ -124,7 +124,7 @@ def grade_one(
     status, message = classify(outcome, report, tail, settings.limits, settings.wall_timeout)
     if status == OK and report is not None and "outcome" in report:  # a behaviour's outcome
         message = f"outcome {report['outcome']}" + (f"; {message}" if message else "")
-    refused = refusals((report or {}).get("exception") or "", tail)
+    refused = refusals(outcome, (report or {}).get("error"), tail)
     isolation = {"sandbox": settings.sandbox, "limits": asdict(settings.limits), **asdict(outcome)}
     isolation["options"] = dict(options or {})
     in_bins = sum(report["ledger"]["in_bin"].values()) if report else 0
@@ -223,8 +223,7 @@ def run_isolated_script(args: argparse.Namespace, out: Callable[[str], None]) ->
     scenario = str(Path(args.scenario).resolve()) if Path(args.scenario).is_file() else str(args.scenario)
     if mode == "bwrap":
         _warm_cache(scenario)
-    if not args.wall_timeout > 0:
-        raise ConfigError(f"--wall-timeout must be > 0 s, got {args.wall_timeout}")
+    check_duration("--wall-timeout", args.wall_timeout)
     settings = GradeSettings(
         scenario, args.seed, args.timeout, args.wall_timeout, limits_from_args(args), mode
     )
@@ -293,8 +292,7 @@ def grade_folder(
     load_scenario(scenario)  # a bad name fails before any worker starts
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
         raise ConfigError(f"--workers must be an integer >= 1, got {workers!r}")
-    if not wall_timeout > 0:
-        raise ConfigError(f"--wall-timeout must be > 0 s, got {wall_timeout}")
+    wall_timeout = check_duration("--wall-timeout", wall_timeout)
     limits = limits or Limits()
     limits.check()
     class_values = grade_options.check_options(options or {}, "grade", Path.cwd())
@@ -375,7 +373,7 @@ def _clean_up_after(script: Path, logs: Path) -> None:
 
 
 def _grade_of(future: Any, script: Path, settings: GradeSettings, logs: Path) -> Grade:
-    from omtp_drake.batch.sandbox import describe_exception
+    from omtp_drake.errors import describe_exception
 
     try:
         return future.result()

@@ -10,13 +10,15 @@ before anything of the script runs:
   and ``RLIMIT_NPROC`` where it counts only this run's processes: inside
   bubblewrap's user namespace);
 - asks the kernel to kill it when its parent (the grader) dies;
-- at its exit, writes how many processes it leaves running to the settings'
-  ``exit_count`` file (a sandbox that ends with the run kills them before
-  the grader could count them from outside);
+- keeps its records for the grader, one JSON object a line, in the settings'
+  ``records`` file (in the run's folder): each refusal (``{"refused": event, "what": ...}``), an
+  exception nothing caught (``{"uncaught": exception_kind}``) and, at its exit,
+  how many processes it leaves running (``{"left_running": n}``: a sandbox that
+  ends with the run kills them before the grader could count them from outside);
 - installs a Python audit hook, armed when the script's own code starts, that
-  refuses (``PermissionError``, message starting with :data:`REFUSED`) a file
-  written, created, moved or deleted outside the writable folders, a network
-  connection, and a signal to a process outside the run's session.
+  refuses (``PermissionError``, message starting with :data:`REFUSED`, and a
+  record) a file written, created, moved or deleted outside the writable
+  folders, a network connection, and a signal to a process outside the run's session.
 
 The hook sees what the script does through Python; a script that goes through
 ``ctypes`` or another program gets past it. Without bubblewrap it is the only
@@ -31,7 +33,7 @@ import os
 import resource
 import sys
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import Any, Optional
 
 #: How every refusal's message begins (the grader finds them in the report).
 REFUSED = "refused by the grading sandbox"
@@ -80,15 +82,51 @@ def _die_with_parent(parent: int) -> None:
         os._exit(137)
 
 
+class Records:
+    """The guard's records for the grader: JSON lines appended to the file at ``path``
+    (created with the first record, inside the run's folder; none: dropped)."""
+
+    def __init__(self, path: Optional[str]):
+        self.path = path
+        self._fd = -1
+
+    def add(self, **record: Any) -> None:
+        if not self.path:
+            return
+        try:
+            if self._fd < 0:
+                self._fd = os.open(self.path, os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o600)
+            os.write(self._fd, (json.dumps(record) + "\n").encode())
+        except OSError:
+            pass  # the run's folder is gone or full: the grader goes without
+
+
+def read_records(path: str | os.PathLike[str]) -> list[dict[str, Any]]:
+    """The records a run's guard kept at ``path`` (none when it wrote none)."""
+    try:
+        with open(path) as f:
+            lines = f.read().splitlines()
+    except OSError:
+        return []
+    records = []
+    for line in lines:
+        try:
+            records.append(json.loads(line))
+        except ValueError:
+            continue  # a line cut by the run's death
+    return records
+
+
 class Guard:
     """The audit hook (see the module doc); ``armed`` once the script's code runs."""
 
-    def __init__(self, writable: Sequence[str], script: str):
+    def __init__(self, writable: Sequence[str], script: str, records: Optional[Records] = None):
         self.writable = [os.path.realpath(p) for p in writable] + ["/dev/null"]
         self.script = os.path.realpath(script)
         self.armed = False
         self.session = os.getsid(0)
         self.ancestors = _ancestors()
+        self.records = records or Records(None)
 
     def _inside(self, path: Any) -> bool:
         if isinstance(path, int):
@@ -98,7 +136,8 @@ class Guard:
         real = os.path.realpath(os.fspath(path))
         return any(real == w or real.startswith(w.rstrip("/") + "/") for w in self.writable)
 
-    def _refuse(self, what: str) -> None:
+    def _refuse(self, event: str, what: str) -> None:
+        self.records.add(refused=event, what=what)
         raise PermissionError(f"{REFUSED}: {what}")
 
     def __call__(self, event: str, args: tuple) -> None:
@@ -111,15 +150,15 @@ class Guard:
             writes = any(c in (mode or "") for c in "wax+") if isinstance(mode, str) else False
             writes = writes or bool((flags or 0) & _WRITE_FLAGS)
             if writes and path is not None and not self._inside(path):
-                self._refuse(f"write to {os.fsdecode(path)} (outside the script's folder)")
+                self._refuse(event, f"write to {os.fsdecode(path)} (outside the script's folder)")
         elif event in _PATH_EVENTS:
             for i in _PATH_EVENTS[event]:
                 if i < len(args) and args[i] is not None and not self._inside(args[i]):
                     self._refuse(
-                        f"{event.split('.')[-1]} {os.fsdecode(args[i])} (outside the script's folder)"
+                        event, f"{event.split('.')[-1]} {os.fsdecode(args[i])} (outside the script's folder)"
                     )
         elif event in _NETWORK_EVENTS:
-            self._refuse(f"network {event.split('.')[-1]} to {args[1]!r}")
+            self._refuse(event, f"network {event.split('.')[-1]} to {args[1]!r}")
         elif event in ("os.kill", "os.killpg"):
             self._check_signal(event, int(args[0]))
 
@@ -133,7 +172,7 @@ class Guard:
             except OSError:
                 ok = True  # no such process: the kernel answers
         if not ok:
-            self._refuse(f"signal to process {pid} (not one of the script's processes)")
+            self._refuse(event, f"signal to process {pid} (not one of the script's processes)")
 
 
 def process_table() -> dict[int, tuple[int, int, int]]:
@@ -163,17 +202,19 @@ def descendants(roots: Iterable[int], table: dict[int, tuple[int, int, int]]) ->
     return found
 
 
-def _count_at_exit(path: str) -> None:
-    """At this process's exit, how many processes it leaves running, written to ``path``."""
+def _record_exit(records: Records) -> None:
+    """Records an exception nothing caught, and at this process's exit how many processes
+    it leaves running."""
+    from omtp_drake.errors import exception_kind
 
-    def write() -> None:
-        try:
-            with open(path, "w") as f:
-                f.write(str(len(descendants([os.getpid()], process_table()))))
-        except OSError:
-            pass  # the run's folder is gone or full: the grader counts from outside
+    previous = sys.excepthook
 
-    atexit.register(write)
+    def uncaught(kind: type[BaseException], value: BaseException, tb: Any) -> None:
+        records.add(uncaught=exception_kind(value))
+        previous(kind, value, tb)
+
+    sys.excepthook = uncaught
+    atexit.register(lambda: records.add(left_running=len(descendants([os.getpid()], process_table()))))
 
 
 def _ancestors() -> set[int]:
@@ -200,6 +241,6 @@ def install_from_env() -> None:
     if settings.get("parent"):  # inside bubblewrap, its --die-with-parent does it
         _die_with_parent(int(settings["parent"]))
     set_limits(settings["limits"], in_namespace=bool(settings.get("in_namespace")))
-    if settings.get("exit_count"):
-        _count_at_exit(settings["exit_count"])
-    sys.addaudithook(Guard(settings["writable"], settings["script"]))
+    records = Records(settings.get("records"))
+    _record_exit(records)
+    sys.addaudithook(Guard(settings["writable"], settings["script"], records))

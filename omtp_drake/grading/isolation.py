@@ -18,10 +18,12 @@ at the wall timeout, and always when the run ends: no process outlives it.
 from __future__ import annotations
 
 import argparse
+import errno
 import functools
 import json
 import logging
 import os
+import re
 import select
 import signal
 import subprocess
@@ -31,10 +33,10 @@ import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import IO, Optional
+from typing import IO, Any, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.grading.guard import ENV, descendants, process_table
+from omtp_drake.grading.guard import ENV, descendants, process_table, read_records
 
 _log = logging.getLogger(__name__)
 
@@ -42,8 +44,9 @@ BWRAP = "/usr/bin/bwrap"
 SANDBOXES = ("auto", "bwrap", "none")
 #: Seconds between two looks at the run's processes.
 _POLL_S = 0.05
-#: The file in the run's folder where its guard writes how many processes it leaves at its exit.
-EXIT_COUNT_FILE = ".processes_at_exit"
+#: The file in the run's folder where its guard keeps its records (refusals, an uncaught
+#: exception, the processes it leaves at its exit; see :mod:`omtp_drake.grading.guard`).
+RECORDS_FILE = ".guard_records.jsonl"
 #: Processes bubblewrap adds (its own, and the namespace's init).
 _BWRAP_PROCESSES = 2
 
@@ -96,6 +99,11 @@ class Outcome:
     left_running: int = 0
     stdout: StreamLog = field(default_factory=lambda: StreamLog(""))
     stderr: StreamLog = field(default_factory=lambda: StreamLog(""))
+    #: What the guard refused, one record each: ``{"refused": audit event, "what": ...}``.
+    refused: list[dict[str, Any]] = field(default_factory=list)
+    #: The exception nothing in the run caught, as its guard recorded it
+    #: (:func:`omtp_drake.errors.exception_kind`); None: none.
+    uncaught: Optional[dict[str, Any]] = None
 
 
 @functools.cache
@@ -187,7 +195,7 @@ def guarded_command(
         "script": str(script),
         "parent": 0 if sandbox == "bwrap" else os.getpid(),
         "in_namespace": sandbox == "bwrap",
-        "exit_count": str(work / EXIT_COUNT_FILE),
+        "records": str(work / RECORDS_FILE),
     }
     env = dict(os.environ)
     env.update(
@@ -248,11 +256,13 @@ def run_isolated(
     try:
         left = _watch(proc, seen, outcome, limits.processes + own, start + wall_timeout, own)
     finally:
-        outcome.left_running = _kill_all(proc, seen)
+        # Left over: besides the run's main process (and, under bubblewrap, the namespace's init).
+        outcome.left_running = max(0, _kill_all(proc, seen) - own)
+        at_exit = _read_guard_records(env, outcome)
         if sandbox == "bwrap" and not (outcome.timed_out or outcome.process_limit):
             # The namespace's processes die with the run's own: counted by the run at its
             # exit (the guard), and at the grader's last look.
-            outcome.left_running = max(outcome.left_running, left, _counted_at_exit(env))
+            outcome.left_running = max(outcome.left_running, left, at_exit)
         outcome.wall_s = time.monotonic() - start
         outcome.peak_processes -= own
         reader.join(timeout=5.0)
@@ -267,13 +277,19 @@ def run_isolated(
     return outcome
 
 
-def _counted_at_exit(env: dict[str, str]) -> int:
-    """How many processes the run left running, as its guard wrote at its exit (0: not written)."""
-    path = Path(json.loads(env[ENV])["exit_count"]) if ENV in env else None
-    try:
-        return int(path.read_text()) if path is not None else 0
-    except (OSError, ValueError):
-        return 0
+def _read_guard_records(env: dict[str, str], outcome: Outcome) -> int:
+    """The run's guard's records into ``outcome`` (its refusals, an uncaught exception); how
+    many processes the run left running at its exit (0: not recorded)."""
+    left = 0
+    path = json.loads(env[ENV]).get("records") if ENV in env else None
+    for record in read_records(path) if path else []:
+        if "refused" in record:
+            outcome.refused.append(record)
+        elif "uncaught" in record:
+            outcome.uncaught = record["uncaught"]
+        elif "left_running" in record:
+            left = int(record["left_running"])
+    return left
 
 
 def _watch(
@@ -423,3 +439,23 @@ def limits_from_args(args: argparse.Namespace) -> Limits:
     limits = Limits(**{field_name: getattr(args, field_name) for _, field_name, _, _ in _LIMIT_FLAGS})
     limits.check()
     return limits
+
+
+#: The errnos of the kernel's refusals inside bubblewrap: a read-only file system, no network.
+_READ_ONLY, _NO_NETWORK = errno.EROFS, (errno.ENETUNREACH, errno.EADDRNOTAVAIL, errno.EAFNOSUPPORT)
+#: How another program (a shell, ``touch``) says the kernel refused a write: its output is the
+#: only trace of it (no record, no exception of the run's own).
+_PROGRAM_READ_ONLY = re.compile(r"(/[^\s:'\"]*): Read-only file system")
+
+
+def refusals(outcome: Outcome, error: Optional[dict[str, Any]], stderr_tail: str) -> str:
+    """What the sandbox refused the run, on one line: the guard's records, the kernel's
+    refusal the run's exception is (``error``: its errno), and writes other programs the
+    run started said were refused (in ``stderr_tail``)."""
+    found = [r["what"] for r in outcome.refused]
+    if error and error.get("errno") == _READ_ONLY:
+        found.append(f"write to {error.get('filename') or '?'} (read-only)")
+    if error and error.get("errno") in _NO_NETWORK:
+        found.append(f"network ({os.strerror(error['errno'])})")
+    found += [f"write to {m.group(1)} (read-only)" for m in _PROGRAM_READ_ONLY.finditer(stderr_tail)]
+    return "; ".join(dict.fromkeys(found))

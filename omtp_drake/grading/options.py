@@ -21,7 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, check_duration
 
 #: The per-script overrides file of a class folder.
 OVERRIDES_FILE = "grade.yaml"
@@ -40,7 +40,7 @@ class RosRunOption:
 
 
 def _moveit_version(value: Any, _base: Path) -> str:
-    from omtp_drake.ros.run.runner import MOVEIT_VERSIONS
+    from omtp_drake.ros.run.bring_up import MOVEIT_VERSIONS
 
     if value not in MOVEIT_VERSIONS:
         raise ConfigError(f"{value!r} is unknown; valid: {', '.join(MOVEIT_VERSIONS)}")
@@ -62,13 +62,7 @@ def _folder(value: Any, base: Path) -> str:
 
 
 def _seconds(value: Any, _base: Path) -> float:
-    try:
-        seconds = float(value)
-    except (TypeError, ValueError):
-        raise ConfigError(f"{value!r} is not a number of seconds") from None
-    if not seconds >= 0:
-        raise ConfigError(f"{value!r} must be >= 0 simulated seconds")
-    return seconds
+    return check_duration("(simulated seconds)", value, zero=True)
 
 
 def _latency(value: Any, _base: Path) -> str:

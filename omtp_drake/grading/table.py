@@ -21,12 +21,29 @@ from omtp_drake.grading.verdicts import (
     OUTPUT_CUT,
     PROCESS_LIMIT,
     SIM_TIMEOUT,
+    VERDICTS,
     WALL_TIMEOUT,
     WORKER_DIED,
 )
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+#: Each verdict's colour in the plot.
+_COLOURS = {
+    OK: "tab:green",
+    OUTPUT_CUT: "tab:olive",
+    SIM_TIMEOUT: "tab:cyan",
+    EXCEPTION: "tab:red",
+    COLLISION: "tab:orange",
+    EXITED_EARLY: "tab:pink",
+    WALL_TIMEOUT: "tab:gray",
+    CPU_LIMIT: "tab:brown",
+    MEMORY_LIMIT: "tab:purple",
+    PROCESS_LIMIT: "tab:blue",
+    KILLED: "k",
+    WORKER_DIED: "k",
+}
 
 
 @dataclass
@@ -111,34 +128,25 @@ def format_grades(grades: list[Grade]) -> str:
 
 
 def plot_grades(grades: list[Grade]) -> Figure:
-    """Parts in bins (bars coloured by status) and simulated time per script."""
+    """Parts in bins (bars coloured by status, a legend of the statuses) and simulated time
+    per script. Each script's status is written once, under its bar with its name, upright
+    (one line per bar, so neighbouring labels never overlap, whatever they say)."""
     from matplotlib.figure import Figure
+    from matplotlib.patches import Patch
 
-    colours = {
-        OK: "tab:green",
-        OUTPUT_CUT: "tab:olive",
-        SIM_TIMEOUT: "tab:cyan",
-        EXCEPTION: "tab:red",
-        COLLISION: "tab:orange",
-        EXITED_EARLY: "tab:pink",
-        WALL_TIMEOUT: "tab:gray",
-        CPU_LIMIT: "tab:brown",
-        MEMORY_LIMIT: "tab:purple",
-        PROCESS_LIMIT: "tab:blue",
-        KILLED: "k",
-        WORKER_DIED: "k",
-    }
-    fig = Figure(figsize=(max(6.0, 0.5 * len(grades) + 2), 6), layout="constrained")
+    fig = Figure(figsize=(max(6.0, 0.5 * len(grades) + 2), 7), layout="constrained")
     top, bottom = fig.subplots(2, 1, sharex=True)
     x = range(len(grades))
-    top.bar(x, [g.in_bins for g in grades], color=[colours[g.status] for g in grades])
-    for xi, g in zip(x, grades):  # the status on every bar (a failed script may have none)
-        top.annotate(g.status, (xi, g.in_bins), ha="center", va="bottom", fontsize=8, color=colours[g.status])
+    top.bar(x, [g.in_bins for g in grades], color=[_COLOURS[g.status] for g in grades])
+    shown = [s for s in VERDICTS if any(g.status == s for g in grades)]
+    top.legend(handles=[Patch(color=_COLOURS[s], label=s) for s in shown], fontsize=8, loc="upper left")
     top.set_ylim(0, max(g.in_bins for g in grades) + 1)
     top.yaxis.get_major_locator().set_params(integer=True)
     top.set_ylabel("parts in bins")
     top.set_title("Parts in bins per script")
     bottom.bar(x, [(g.report or {}).get("sim_time_s", 0.0) for g in grades], color="tab:blue")
     bottom.set_ylabel("simulated time [s]")
-    bottom.set_xticks(list(x), [g.script for g in grades], rotation=60, ha="right", fontsize=8)
+    bottom.set_xticks(list(x), [f"{g.script}: {g.status}" for g in grades], rotation=90, fontsize=8)
+    for label, g in zip(bottom.get_xticklabels(), grades):
+        label.set_color(_COLOURS[g.status])
     return fig

@@ -1,18 +1,21 @@
 """A graded run's verdict, named for what happened, from how it ended and its report.
 
-:func:`classify` reads the isolated run's :class:`~omtp_drake.grading.isolation.Outcome`
-(the wall timeout, the process limit, the signal it died of, its exit code, the
-output cut), the report ``ros-run`` wrote (absent when the process did not end
-on its own) and the end of its stderr; :func:`refusals` finds what the sandbox
-refused in the same texts.
+:func:`classify` decides from typed fields only, never from a message's text: the
+isolated run's :class:`~omtp_drake.grading.isolation.Outcome` (the wall timeout, the
+process limit, the signal it died of, its exit code, the output cut, the exception
+its guard saw nothing catch) and the report ``ros-run`` or ``flexbe-run`` wrote
+(absent when the process did not end on its own): its ``error`` (the exception's
+classes and errno, :func:`omtp_drake.errors.exception_kind`), ``callback_errors``,
+``collisions``, ``exit_code`` and ``timed_out``. Messages (the report's exception, the
+end of stderr) only go into the verdict's words.
 """
 
 from __future__ import annotations
 
-import re
+import errno
+import signal
 from typing import Any, Optional
 
-from omtp_drake.grading.guard import REFUSED
 from omtp_drake.grading.isolation import Limits, Outcome
 
 OK = "ok"
@@ -43,22 +46,29 @@ VERDICTS = (
     WORKER_DIED,
 )
 
-_MEMORY = ("MemoryError", "std::bad_alloc", "Cannot allocate memory")
-_FORK_REFUSED = "[Errno 11] Resource temporarily unavailable"
+
+def _out_of_memory(error: Optional[dict[str, Any]]) -> bool:
+    """The exception (:func:`~omtp_drake.errors.exception_kind`) is the memory limit's:
+    a MemoryError (C++'s ``std::bad_alloc`` arrives as one) or an OSError ENOMEM."""
+    return error is not None and ("MemoryError" in error["kinds"] or error.get("errno") == errno.ENOMEM)
+
+
+def _fork_refused(error: Optional[dict[str, Any]]) -> bool:
+    """The exception is a new process refused at the process limit (EAGAIN from fork)."""
+    return error is not None and error.get("errno") == errno.EAGAIN
 
 
 def classify(
     outcome: Outcome, report: Optional[dict[str, Any]], stderr_tail: str, limits: Limits, wall_timeout: float
 ) -> tuple[str, str]:
-    """(verdict, message) of one run."""
-    exception = (report or {}).get("exception") or ""
+    """(verdict, message) of one run; ``stderr_tail`` only goes into the message."""
     if outcome.process_limit:
         status, message = PROCESS_LIMIT, f"more than {limits.processes} processes (all killed)"
-    elif any(m in exception for m in _MEMORY):  # however long its process then took to exit
-        status, message = _from_report(report or {}, limits)
+    elif report is not None and _out_of_memory(report.get("error")):  # however long its exit then took
+        status, message = _from_report(report, limits)
     elif outcome.timed_out:
         status, message = WALL_TIMEOUT, f"over {wall_timeout:g} s wall time (killed)"
-    elif outcome.signal == "SIGXCPU":
+    elif outcome.signal == signal.Signals.SIGXCPU.name:
         status, message = CPU_LIMIT, f"over {limits.cpu_s} CPU seconds (killed by SIGXCPU)"
     elif report is None:
         status, message = _without_report(outcome, stderr_tail, limits)
@@ -77,7 +87,7 @@ def classify(
 
 def _without_report(outcome: Outcome, stderr_tail: str, limits: Limits) -> tuple[str, str]:
     tail = f": {stderr_tail}" if stderr_tail else ""
-    if any(m in stderr_tail for m in _MEMORY):
+    if _out_of_memory(outcome.uncaught):
         return MEMORY_LIMIT, f"over the memory limit of {limits.memory_mb} MB{tail}"
     if outcome.signal:
         return KILLED, f"killed by {outcome.signal}{tail}"
@@ -85,37 +95,20 @@ def _without_report(outcome: Outcome, stderr_tail: str, limits: Limits) -> tuple
 
 
 def _from_report(report: dict[str, Any], limits: Limits) -> tuple[str, str]:
-    exception = report.get("exception") or ""
-    if report.get("callback_errors") and not exception:
-        exception = f"bad callback: {report['callback_errors'][0]}"
+    exception, error = report.get("exception"), report.get("error")
     if exception:
-        if any(m in exception for m in _MEMORY):
+        if _out_of_memory(error):
             return MEMORY_LIMIT, f"over the memory limit of {limits.memory_mb} MB ({exception})"
-        if _FORK_REFUSED in exception:
+        if _fork_refused(error):
             return PROCESS_LIMIT, f"a new process refused at the limit of {limits.processes} ({exception})"
         return EXCEPTION, exception
+    if report.get("callback_errors"):
+        return EXCEPTION, f"bad callback: {report['callback_errors'][0]}"
     if report.get("collisions"):
         return COLLISION, report["collisions"][0]
     if report.get("exit_code"):
         return EXITED_EARLY, f"the script's exit code {report['exit_code']} (SystemExit)"
     shutdown = report.get("shutdown") or ""
-    if shutdown.startswith("--timeout"):
+    if report.get("timed_out"):
         return SIM_TIMEOUT, shutdown
     return OK, shutdown
-
-
-_EROFS = re.compile(r"\[Errno 30\] Read-only file system: '([^']*)'")
-_EROFS_PROGRAM = re.compile(r"(/[^\s:'\"]*): Read-only file system")  # a program's message (sh, touch)
-_NETWORK = re.compile(r"\[Errno (101|99|97)\] [^(|;]*")
-
-
-def refusals(*texts: str) -> str:
-    """What the sandbox refused, as found in ``texts`` (the report's exception, stderr)."""
-    found: list[str] = []
-    for text in texts:
-        for m in re.finditer(re.escape(REFUSED) + r": ([^|;\n]*?\))", text):
-            found.append(m.group(1).strip())
-        found += [f"write to {m.group(1)} (read-only)" for m in _EROFS.finditer(text)]
-        found += [f"write to {m.group(1)} (read-only)" for m in _EROFS_PROGRAM.finditer(text)]
-        found += [f"network ({m.group(0).strip()})" for m in _NETWORK.finditer(text)]
-    return "; ".join(dict.fromkeys(found))

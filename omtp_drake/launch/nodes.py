@@ -145,7 +145,7 @@ def _other_node(out: NodeMapping, node: Node, launch: Launch, workspace: Workspa
         out.stop_on_beam = True
     elif script is not None:
         out.ros_only.append(
-            f"{node.where}: node {node.pkg}/{node.type} ({node.name}) runs under ros-run only"
+            f"{node.where}: node {node.pkg}/{node.type} ({node.name}) runs under ros-run and flexbe-run only"
         )
     else:
         out.warnings.append(f"{node.where}: node {node.pkg}/{node.type} ({node.name}) is not run by the cell")

@@ -95,7 +95,7 @@ def resolve_cell_options(args: argparse.Namespace, warn: Any = None) -> None:
             chosen_cell(args.scenario, workspace=args.workspace)  # the error says why
         return
     cell = chosen_cell(args.scenario or None, launch=launch, world=world, workspace=args.workspace or ())
-    # ros-run (not isolated) runs the workspace's nodes in its session; the others cannot.
+    # ros-run and flexbe-run (not isolated) run the workspace's nodes in their session; the others cannot.
     with_nodes = getattr(args, "nodes", None) is not None and getattr(args, "sandbox", None) is None
     for line in cell.warnings + ([] if with_nodes else cell.ros_only):
         (warn or _log.warning)(line)

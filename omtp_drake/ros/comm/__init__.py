@@ -10,7 +10,7 @@ Modules, one concept each:
 - ``topics``: Publisher, Subscriber and ``wait_for_message``
 - ``service``: ServiceProxy and ``wait_for_service``
 - ``exceptions``: rospy's exceptions (ROSException, ROSInterruptException...)
-- ``messages``: ROS 1 messages and services as plain classes (std, geometry, sensor)
+- ``messages``: ROS time; messages and services made from their ``.msg``/``.srv`` text (one factory)
 - ``image_messages``: sensor_msgs' images, camera info and point clouds, and ``read_points``
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
 - ``nav_interfaces``: move_base_msgs' action types (no ``/move_base``, as in the course's cell)
@@ -19,5 +19,5 @@ Modules, one concept each:
 - ``current``: the run a ROS call acts on (a stack of the session or FlexBE run in progress)
 - ``latency``: the simulated time a call takes (planning, a trajectory's start, a service)
 - ``unsupported``: one clear error for every ROS name this project does not provide
-- ``_core``: the one place the ROS layer imports the core from
+- ``_core``: the one place the ROS layer imports the core from (checked)
 """

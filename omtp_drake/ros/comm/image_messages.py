@@ -1,7 +1,8 @@
 """sensor_msgs' image messages: Image, CameraInfo, RegionOfInterest, PointField, PointCloud2.
 
-Field names, types and defaults as genpy generates them for ROS 1 (``uint8[]`` fields
-are ``bytes``), and ``sensor_msgs.point_cloud2.read_points``'s job for PointCloud2
+Declared from their ``.msg`` text (:mod:`omtp_drake.ros.comm.messages`'s factory): field
+names, types and defaults as genpy generates them for ROS 1 (``uint8[]`` fields are
+``bytes``), and ``sensor_msgs.point_cloud2.read_points``'s job for PointCloud2
 (:func:`read_points`).
 """
 
@@ -12,41 +13,65 @@ import struct
 from collections.abc import Iterator, Sequence
 from typing import Any, Optional
 
-from omtp_drake.ros.comm.messages import Header, Message
+from omtp_drake.ros.comm.messages import message
 
-
-class Image(Message):
-    __slots__ = ("header", "height", "width", "encoding", "is_bigendian", "step", "data")
-    _type = "sensor_msgs/Image"
-    _defaults = (Header, int, int, str, int, int, bytes)
-
-
-class RegionOfInterest(Message):
-    __slots__ = ("x_offset", "y_offset", "height", "width", "do_rectify")
-    _type = "sensor_msgs/RegionOfInterest"
-    _defaults = (int, int, int, int, bool)
-
-
-class CameraInfo(Message):
-    __slots__ = ("header", "height", "width", "distortion_model", "D", "K", "R", "P", "binning_x",
-                 "binning_y", "roi")  # fmt: skip
-    _type = "sensor_msgs/CameraInfo"
-    _defaults = (Header, int, int, str, list, list, list, list, int, int, RegionOfInterest)
-
-
-class PointField(Message):
-    __slots__ = ("name", "offset", "datatype", "count")
-    _type = "sensor_msgs/PointField"
-    _defaults = (str, int, int, int)
-
-    INT8, UINT8, INT16, UINT16, INT32, UINT32, FLOAT32, FLOAT64 = 1, 2, 3, 4, 5, 6, 7, 8
-
-
-class PointCloud2(Message):
-    __slots__ = ("header", "height", "width", "fields", "is_bigendian", "point_step", "row_step", "data",
-                 "is_dense")  # fmt: skip
-    _type = "sensor_msgs/PointCloud2"
-    _defaults = (Header, int, int, list, bool, int, int, bytes, bool)
+Image = message(
+    "sensor_msgs/Image",
+    "Header header\nuint32 height\nuint32 width\nstring encoding\nuint8 is_bigendian\nuint32 step\n"
+    "uint8[] data",
+)
+RegionOfInterest = message(
+    "sensor_msgs/RegionOfInterest",
+    "uint32 x_offset\nuint32 y_offset\nuint32 height\nuint32 width\nbool do_rectify",
+)
+CameraInfo = message(
+    "sensor_msgs/CameraInfo",
+    # The fixed-size K, R and P are empty lists until set (as the variable-size D).
+    """
+    Header header
+    uint32 height
+    uint32 width
+    string distortion_model
+    float64[] D
+    float64[9] K
+    float64[9] R
+    float64[12] P
+    uint32 binning_x
+    uint32 binning_y
+    RegionOfInterest roi
+    """,
+)
+PointField = message(
+    "sensor_msgs/PointField",
+    """
+    string name
+    uint32 offset
+    uint8 datatype
+    uint32 count
+    uint8 INT8=1
+    uint8 UINT8=2
+    uint8 INT16=3
+    uint8 UINT16=4
+    uint8 INT32=5
+    uint8 UINT32=6
+    uint8 FLOAT32=7
+    uint8 FLOAT64=8
+    """,
+)
+PointCloud2 = message(
+    "sensor_msgs/PointCloud2",
+    """
+    Header header
+    uint32 height
+    uint32 width
+    PointField[] fields
+    bool is_bigendian
+    uint32 point_step
+    uint32 row_step
+    uint8[] data
+    bool is_dense
+    """,
+)
 
 
 #: struct codes of PointField datatypes.
@@ -54,7 +79,7 @@ _CODES = {1: "b", 2: "B", 3: "h", 4: "H", 5: "i", 6: "I", 7: "f", 8: "d"}
 
 
 def read_points(
-    cloud: PointCloud2,
+    cloud: Any,
     field_names: Optional[Sequence[str]] = None,
     skip_nans: bool = False,
     uvs: Sequence[tuple[int, int]] = (),

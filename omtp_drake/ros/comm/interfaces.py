@@ -1,4 +1,6 @@
-"""The course cell's own ROS interfaces: omtp_gazebo, std_srvs and moveit_msgs types.
+"""The course cell's own ROS interfaces: omtp_gazebo, std_srvs and moveit_msgs types,
+declared from their ``.msg`` / ``.srv`` / ``.action`` text (:mod:`omtp_drake.ros.comm.messages`'s
+factory).
 
 Messages follow the course's ``rosmsg show`` output (see
 ``shared/reference/omtp_factory.md`` section 9); services have a request and a
@@ -8,269 +10,133 @@ response class each, and the service class names both (``_request_class``,
 
 from __future__ import annotations
 
-from typing import ClassVar
+from omtp_drake.ros.comm.messages import Message, ServiceType, action, message, service
 
-from omtp_drake.ros.comm.messages import (
-    Header,
-    JointState,
-    JointTrajectory,
-    Message,
-    Pose,
-)
-
-
-class ServiceType:
-    """A service: its request and response message classes."""
-
-    _type: ClassVar[str] = ""
-    _request_class: ClassVar[type[Message]]
-    _response_class: ClassVar[type[Message]]
-
+__all__ = ["Message", "ServiceType"]
 
 # ----------------------------------------------------------------------------- omtp_gazebo
 
-
-class Model(Message):
-    """One model a logical camera sees: its type and its pose in the camera frame."""
-
-    __slots__ = ("type", "pose")
-    _type = "omtp_gazebo/Model"
-    _defaults = (str, Pose)
-
-
-class LogicalCameraImage(Message):
-    """What a logical camera sees (no header: scripts stamp it themselves)."""
-
-    __slots__ = ("models", "pose")
-    _type = "omtp_gazebo/LogicalCameraImage"
-    _defaults = (list, Pose)
-
-
-class ConveyorBeltState(Message):
-    __slots__ = ("power",)
-    _type = "omtp_gazebo/ConveyorBeltState"
-    _defaults = (float,)
-
-
-class VacuumGripperState(Message):
-    __slots__ = ("enabled", "attached")
-    _type = "omtp_gazebo/VacuumGripperState"
-    _defaults = (bool, bool)
-
-
-class Proximity(Message):
-    """The break beam's state (the proximity-ray plugin's message): whether something
-    is in the beam's range, and that range's limits (m)."""
-
-    __slots__ = ("header", "object_detected", "min_range", "max_range")
-    _type = "omtp_gazebo/Proximity"
-    _defaults = (Header, bool, float, float)
-
-
-class VacuumGripperControlRequest(Message):
-    __slots__ = ("enable",)
-    _type = "omtp_gazebo/VacuumGripperControlRequest"
-    _defaults = (bool,)
-
-
-class VacuumGripperControlResponse(Message):
-    __slots__ = ("success",)
-    _type = "omtp_gazebo/VacuumGripperControlResponse"
-    _defaults = (bool,)
-
-
-class VacuumGripperControl(ServiceType):
-    _type = "omtp_gazebo/VacuumGripperControl"
-    _request_class = VacuumGripperControlRequest
-    _response_class = VacuumGripperControlResponse
-
-
-class ConveyorBeltControlRequest(Message):
-    __slots__ = ("state",)
-    _type = "omtp_gazebo/ConveyorBeltControlRequest"
-    _defaults = (ConveyorBeltState,)
-
-
-class ConveyorBeltControlResponse(Message):
-    __slots__ = ("success",)
-    _type = "omtp_gazebo/ConveyorBeltControlResponse"
-    _defaults = (bool,)
-
-
-class ConveyorBeltControl(ServiceType):
-    _type = "omtp_gazebo/ConveyorBeltControl"
-    _request_class = ConveyorBeltControlRequest
-    _response_class = ConveyorBeltControlResponse
-
+Model = message(
+    "omtp_gazebo/Model",
+    "string type\ngeometry_msgs/Pose pose",
+    "One model a logical camera sees: its type and its pose in the camera frame.",
+)
+LogicalCameraImage = message(
+    "omtp_gazebo/LogicalCameraImage",
+    "Model[] models\ngeometry_msgs/Pose pose",
+    "What a logical camera sees (no header: scripts stamp it themselves).",
+)
+ConveyorBeltState = message("omtp_gazebo/ConveyorBeltState", "float64 power")
+VacuumGripperState = message("omtp_gazebo/VacuumGripperState", "bool enabled\nbool attached")
+Proximity = message(
+    "omtp_gazebo/Proximity",
+    "Header header\nbool object_detected\nfloat32 min_range\nfloat32 max_range",
+    "The break beam's state (the proximity-ray plugin's message): whether something is in the "
+    "beam's range, and that range's limits (m).",
+)
+VacuumGripperControl, VacuumGripperControlRequest, VacuumGripperControlResponse = service(
+    "omtp_gazebo/VacuumGripperControl", "bool enable\n---\nbool success"
+)
+ConveyorBeltControl, ConveyorBeltControlRequest, ConveyorBeltControlResponse = service(
+    "omtp_gazebo/ConveyorBeltControl", "ConveyorBeltState state\n---\nbool success"
+)
 
 # ----------------------------------------------------------------------------- std_srvs
 
-
-class EmptyRequest(Message):
-    __slots__ = ()
-    _type = "std_srvs/EmptyRequest"
-
-
-class EmptyResponse(Message):
-    __slots__ = ()
-    _type = "std_srvs/EmptyResponse"
-
-
-class EmptyService(ServiceType):
-    _type = "std_srvs/Empty"
-    _request_class = EmptyRequest
-    _response_class = EmptyResponse
-
-
-class TriggerRequest(Message):
-    __slots__ = ()
-    _type = "std_srvs/TriggerRequest"
-
-
-class TriggerResponse(Message):
-    __slots__ = ("success", "message")
-    _type = "std_srvs/TriggerResponse"
-    _defaults = (bool, str)
-
-
-class Trigger(ServiceType):
-    _type = "std_srvs/Trigger"
-    _request_class = TriggerRequest
-    _response_class = TriggerResponse
-
-
-class SetBoolRequest(Message):
-    __slots__ = ("data",)
-    _type = "std_srvs/SetBoolRequest"
-    _defaults = (bool,)
-
-
-class SetBoolResponse(Message):
-    __slots__ = ("success", "message")
-    _type = "std_srvs/SetBoolResponse"
-    _defaults = (bool, str)
-
-
-class SetBool(ServiceType):
-    _type = "std_srvs/SetBool"
-    _request_class = SetBoolRequest
-    _response_class = SetBoolResponse
-
+EmptyService, EmptyRequest, EmptyResponse = service("std_srvs/Empty", "---")
+Trigger, TriggerRequest, TriggerResponse = service("std_srvs/Trigger", "---\nbool success\nstring message")
+SetBool, SetBoolRequest, SetBoolResponse = service(
+    "std_srvs/SetBool", "bool data\n---\nbool success\nstring message"
+)
 
 # ----------------------------------------------------------------------------- moveit_msgs
 
-
-class MoveItErrorCodes(Message):
-    __slots__ = ("val",)
-    _type = "moveit_msgs/MoveItErrorCodes"
-    _defaults = (int,)
-    SUCCESS: ClassVar[int] = 1
-    FAILURE: ClassVar[int] = 99999
-    PLANNING_FAILED: ClassVar[int] = -1
-    INVALID_MOTION_PLAN: ClassVar[int] = -2
-    MOTION_PLAN_INVALIDATED_BY_ENVIRONMENT_CHANGE: ClassVar[int] = -3
-    CONTROL_FAILED: ClassVar[int] = -4
-    UNABLE_TO_AQUIRE_SENSOR_DATA: ClassVar[int] = -5
-    TIMED_OUT: ClassVar[int] = -6
-    PREEMPTED: ClassVar[int] = -7
-    START_STATE_IN_COLLISION: ClassVar[int] = -10
-    START_STATE_VIOLATES_PATH_CONSTRAINTS: ClassVar[int] = -11
-    START_STATE_INVALID: ClassVar[int] = -26
-    GOAL_IN_COLLISION: ClassVar[int] = -12
-    GOAL_VIOLATES_PATH_CONSTRAINTS: ClassVar[int] = -13
-    GOAL_CONSTRAINTS_VIOLATED: ClassVar[int] = -14
-    GOAL_STATE_INVALID: ClassVar[int] = -27
-    UNRECOGNIZED_GOAL_TYPE: ClassVar[int] = -28
-    INVALID_GROUP_NAME: ClassVar[int] = -15
-    INVALID_GOAL_CONSTRAINTS: ClassVar[int] = -16
-    INVALID_ROBOT_STATE: ClassVar[int] = -17
-    INVALID_LINK_NAME: ClassVar[int] = -18
-    INVALID_OBJECT_NAME: ClassVar[int] = -19
-    FRAME_TRANSFORM_FAILURE: ClassVar[int] = -21
-    COLLISION_CHECKING_UNAVAILABLE: ClassVar[int] = -22
-    ROBOT_STATE_STALE: ClassVar[int] = -23
-    SENSOR_INFO_STALE: ClassVar[int] = -24
-    COMMUNICATION_FAILURE: ClassVar[int] = -25
-    CRASH: ClassVar[int] = -29
-    ABORT: ClassVar[int] = -30
-    NO_IK_SOLUTION: ClassVar[int] = -31
-
-
-class RobotTrajectory(Message):
-    """A planned motion: its joint trajectory (multi-DOF part unused)."""
-
-    __slots__ = ("joint_trajectory", "multi_dof_joint_trajectory")
-    _type = "moveit_msgs/RobotTrajectory"
-    _defaults = (JointTrajectory, JointTrajectory)
-
-
-class RobotState(Message):
-    __slots__ = ("joint_state", "is_diff")
-    _type = "moveit_msgs/RobotState"
-    _defaults = (JointState, bool)
-
-
-class SolidPrimitive(Message):
-    __slots__ = ("type", "dimensions")
-    _type = "shape_msgs/SolidPrimitive"
-    _defaults = (int, list)
-    BOX: ClassVar[int] = 1
-    SPHERE: ClassVar[int] = 2
-    CYLINDER: ClassVar[int] = 3
-    CONE: ClassVar[int] = 4
-    BOX_X: ClassVar[int] = 0
-    BOX_Y: ClassVar[int] = 1
-    BOX_Z: ClassVar[int] = 2
-    SPHERE_RADIUS: ClassVar[int] = 0
-
-
-class CollisionObject(Message):
-    """A box of the planning scene (``primitives[0]``, at ``primitive_poses[0]`` in
-    ``header.frame_id``: ``world``, or the gripper's cup body when attached)."""
-
-    __slots__ = ("header", "id", "primitives", "primitive_poses", "operation")
-    _type = "moveit_msgs/CollisionObject"
-    _defaults = (Header, str, list, list, int)
-    ADD: ClassVar[int] = 0
-    REMOVE: ClassVar[int] = 1
-    APPEND: ClassVar[int] = 2
-    MOVE: ClassVar[int] = 3
-
-
-class AttachedCollisionObject(Message):
-    __slots__ = ("link_name", "object", "touch_links", "weight")
-    _type = "moveit_msgs/AttachedCollisionObject"
-    _defaults = (str, CollisionObject, list, float)
-
-
-class DisplayTrajectory(Message):
-    __slots__ = ("model_id", "trajectory", "trajectory_start")
-    _type = "moveit_msgs/DisplayTrajectory"
-    _defaults = (str, list, RobotState)
-
-
-class ExecuteTrajectoryGoal(Message):
-    __slots__ = ("trajectory",)
-    _type = "moveit_msgs/ExecuteTrajectoryGoal"
-    _defaults = (RobotTrajectory,)
-
-
-class ExecuteTrajectoryResult(Message):
-    __slots__ = ("error_code",)
-    _type = "moveit_msgs/ExecuteTrajectoryResult"
-    _defaults = (MoveItErrorCodes,)
-
-
-class ExecuteTrajectoryFeedback(Message):
-    __slots__ = ("state",)
-    _type = "moveit_msgs/ExecuteTrajectoryFeedback"
-    _defaults = (str,)
-
-
-class ExecuteTrajectoryAction(Message):
-    """The action type: ``SimpleActionClient('execute_trajectory', ExecuteTrajectoryAction)``."""
-
-    __slots__ = ()
-    _type = "moveit_msgs/ExecuteTrajectoryAction"
-    _goal_class: ClassVar[type[Message]] = ExecuteTrajectoryGoal
-    _result_class: ClassVar[type[Message]] = ExecuteTrajectoryResult
+MoveItErrorCodes = message(
+    "moveit_msgs/MoveItErrorCodes",
+    """
+    int32 val
+    int32 SUCCESS=1
+    int32 FAILURE=99999
+    int32 PLANNING_FAILED=-1
+    int32 INVALID_MOTION_PLAN=-2
+    int32 MOTION_PLAN_INVALIDATED_BY_ENVIRONMENT_CHANGE=-3
+    int32 CONTROL_FAILED=-4
+    int32 UNABLE_TO_AQUIRE_SENSOR_DATA=-5
+    int32 TIMED_OUT=-6
+    int32 PREEMPTED=-7
+    int32 START_STATE_IN_COLLISION=-10
+    int32 START_STATE_VIOLATES_PATH_CONSTRAINTS=-11
+    int32 START_STATE_INVALID=-26
+    int32 GOAL_IN_COLLISION=-12
+    int32 GOAL_VIOLATES_PATH_CONSTRAINTS=-13
+    int32 GOAL_CONSTRAINTS_VIOLATED=-14
+    int32 GOAL_STATE_INVALID=-27
+    int32 UNRECOGNIZED_GOAL_TYPE=-28
+    int32 INVALID_GROUP_NAME=-15
+    int32 INVALID_GOAL_CONSTRAINTS=-16
+    int32 INVALID_ROBOT_STATE=-17
+    int32 INVALID_LINK_NAME=-18
+    int32 INVALID_OBJECT_NAME=-19
+    int32 FRAME_TRANSFORM_FAILURE=-21
+    int32 COLLISION_CHECKING_UNAVAILABLE=-22
+    int32 ROBOT_STATE_STALE=-23
+    int32 SENSOR_INFO_STALE=-24
+    int32 COMMUNICATION_FAILURE=-25
+    int32 CRASH=-29
+    int32 ABORT=-30
+    int32 NO_IK_SOLUTION=-31
+    """,
+)
+RobotTrajectory = message(
+    "moveit_msgs/RobotTrajectory",
+    # The multi-DOF part (trajectory_msgs/MultiDOFJointTrajectory in ROS) is unused: an empty
+    # joint trajectory stands in for it.
+    "trajectory_msgs/JointTrajectory joint_trajectory\n"
+    "trajectory_msgs/JointTrajectory multi_dof_joint_trajectory",
+    "A planned motion: its joint trajectory (multi-DOF part unused).",
+)
+RobotState = message("moveit_msgs/RobotState", "sensor_msgs/JointState joint_state\nbool is_diff")
+SolidPrimitive = message(
+    "shape_msgs/SolidPrimitive",
+    """
+    uint8 type
+    float64[] dimensions
+    uint8 BOX=1
+    uint8 SPHERE=2
+    uint8 CYLINDER=3
+    uint8 CONE=4
+    uint8 BOX_X=0
+    uint8 BOX_Y=1
+    uint8 BOX_Z=2
+    uint8 SPHERE_RADIUS=0
+    """,
+)
+CollisionObject = message(
+    "moveit_msgs/CollisionObject",
+    """
+    Header header
+    string id
+    shape_msgs/SolidPrimitive[] primitives
+    geometry_msgs/Pose[] primitive_poses
+    byte operation
+    byte ADD=0
+    byte REMOVE=1
+    byte APPEND=2
+    byte MOVE=3
+    """,
+    "A box of the planning scene (``primitives[0]``, at ``primitive_poses[0]`` in ``header.frame_id``: "
+    "``world``, or the gripper's cup body when attached).",
+)
+AttachedCollisionObject = message(
+    "moveit_msgs/AttachedCollisionObject",
+    "string link_name\nCollisionObject object\nstring[] touch_links\nfloat64 weight",
+)
+DisplayTrajectory = message(
+    "moveit_msgs/DisplayTrajectory",
+    "string model_id\nRobotTrajectory[] trajectory\nRobotState trajectory_start",
+)
+ExecuteTrajectoryAction, ExecuteTrajectoryGoal, ExecuteTrajectoryResult, ExecuteTrajectoryFeedback = action(
+    "moveit_msgs/ExecuteTrajectory",
+    "RobotTrajectory trajectory\n---\nMoveItErrorCodes error_code\n---\nstring state",
+    "The action type: ``SimpleActionClient('execute_trajectory', ExecuteTrajectoryAction)``.",
+)

@@ -18,7 +18,7 @@ import numpy as np
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
+from omtp_drake.ros.comm._core import RosLatencyConfig, latency_names
 
 if TYPE_CHECKING:
     from omtp_drake.ros.comm._core import Plan

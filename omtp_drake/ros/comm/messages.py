@@ -1,4 +1,7 @@
-"""ROS 1 messages and services as plain Python classes (genpy's shapes, no ROS needed).
+"""ROS 1 messages and services as plain Python classes (genpy's shapes, no ROS needed),
+made from their definitions: :func:`message`, :func:`service` and :func:`action` take
+the ``.msg`` / ``.srv`` / ``.action`` text (field types, names, constants) and make the
+classes, as genpy generates them from the same text.
 
 Every message class has ``__slots__`` (a misspelt field is an AttributeError, as
 with genpy), takes its fields positionally in declaration order or by keyword,
@@ -13,8 +16,9 @@ fields positionally (``proxy(True)``) or a request object.
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, Optional, cast
 
 from omtp_drake.errors import ConfigError
 
@@ -144,8 +148,16 @@ class Time(_TimeBase):
 # ----------------------------------------------------------------------------- messages
 
 
-class Message:
-    """A ROS message: fields in ``__slots__`` order, defaults from ``_defaults``."""
+class _MessageType(type):
+    if TYPE_CHECKING:
+
+        def __getattr__(cls, name: str) -> Any:
+            """A message class's constants (``MoveItErrorCodes.SUCCESS``), set from its definition."""
+
+
+class Message(metaclass=_MessageType):
+    """A ROS message: fields in ``__slots__`` order, defaults from ``_defaults`` (a class
+    made by :func:`message` from its definition; a hand-written subclass may set them)."""
 
     __slots__: ClassVar[tuple[str, ...]] = ()
     _type: ClassVar[str] = ""
@@ -212,125 +224,160 @@ def _yaml(value: Any, indent: str) -> str:
     return str(value)
 
 
-# std_msgs
+# ----------------------------------------------------------------------------- the factory
+
+#: The classes made so far, by type name (``geometry_msgs/Pose``): a definition names them.
+_TYPES: dict[str, type[Message]] = {}
+#: The default of a field of each built-in type, as genpy's.
+_BUILTIN: dict[str, Callable[[], Any]] = {
+    **dict.fromkeys(("bool",), bool),
+    **dict.fromkeys(("int8", "uint8", "int16", "uint16", "int32", "uint32", "int64", "uint64"), int),
+    **dict.fromkeys(("byte", "char"), int),
+    **dict.fromkeys(("float32", "float64"), float),
+    "string": str,
+    "time": Time,
+    "duration": Duration,
+}
 
 
-class Header(Message):
-    __slots__ = ("seq", "stamp", "frame_id")
-    _type = "std_msgs/Header"
-    _defaults = (int, Time, str)
+def _field_type(package: str, name: str) -> Callable[[], Any]:
+    """The default factory of a field of type ``name`` in a definition of ``package``."""
+    if name.endswith("]"):
+        # genpy reads a uint8[] (or char[]) as bytes, any other array as a list.
+        return bytes if name.split("[")[0] in ("uint8", "char") else list
+    if name in _BUILTIN:
+        return _BUILTIN[name]
+    full = "std_msgs/Header" if name == "Header" else name if "/" in name else f"{package}/{name}"
+    if full not in _TYPES:
+        raise NameError(f"a {package} definition names {full}, not defined yet (define or import it first)")
+    return _TYPES[full]
 
 
-class Empty(Message):
-    __slots__ = ()
-    _type = "std_msgs/Empty"
+def _parse(package: str, definition: str) -> tuple[list[str], list[Callable[[], Any]], dict[str, Any]]:
+    """(field names, their default factories, constants) of a ``.msg`` text."""
+    names: list[str] = []
+    defaults: list[Callable[[], Any]] = []
+    constants: dict[str, Any] = {}
+    for raw in definition.splitlines():
+        line = raw.split("#", 1)[0].strip()
+        if not line:
+            continue
+        kind, rest = line.split(None, 1)
+        if "=" in rest:
+            name, value = (x.strip() for x in rest.split("=", 1))
+            constants[name] = value if kind == "string" else float(value) if "float" in kind else int(value)
+        else:
+            names.append(rest.strip())
+            defaults.append(_field_type(package, kind))
+    return names, defaults, constants
 
 
-class Bool(Message):
-    __slots__ = ("data",)
-    _type = "std_msgs/Bool"
-    _defaults = (bool,)
+def _module() -> str:
+    """The module that called the factory (its classes' ``__module__``, as if written there)."""
+    return str(sys._getframe(2).f_globals["__name__"])
 
 
-class String(Message):
-    __slots__ = ("data",)
-    _type = "std_msgs/String"
-    _defaults = (str,)
+def message(
+    type_name: str,
+    definition: str = "",
+    doc: str = "",
+    module: str = "",
+    attributes: Optional[dict[str, Any]] = None,
+) -> type[Message]:
+    """The class of the message ``type_name`` (``pkg/Name``) whose ``.msg`` text is
+    ``definition``: its fields in order, their defaults from their types, its constants
+    (and ``attributes``, class attributes of this project's own)."""
+    package, name = type_name.split("/")
+    names, defaults, constants = _parse(package, definition)
+    namespace = {
+        "__slots__": tuple(names),
+        "_type": type_name,
+        "_defaults": tuple(defaults),
+        "__doc__": doc or f"``{type_name}``.",
+        "__module__": module or _module(),
+        **constants,
+        **(attributes or {}),
+    }
+    cls = cast("type[Message]", _MessageType(name, (Message,), namespace))
+    _TYPES[type_name] = cls
+    return cls
 
 
-class Float64(Message):
-    __slots__ = ("data",)
-    _type = "std_msgs/Float64"
-    _defaults = (float,)
+class ServiceType:
+    """A service: its request and response message classes."""
+
+    _type: ClassVar[str] = ""
+    _request_class: ClassVar[type[Message]]
+    _response_class: ClassVar[type[Message]]
 
 
-class Int32(Message):
-    __slots__ = ("data",)
-    _type = "std_msgs/Int32"
-    _defaults = (int,)
+def service(type_name: str, definition: str) -> tuple[type[ServiceType], type[Message], type[Message]]:
+    """(the service, its request, its response) of the ``.srv`` text ``definition`` (the
+    request's fields, ``---``, the response's)."""
+    request_text, response_text = definition.split("---")
+    module = _module()
+    request = message(f"{type_name}Request", request_text, module=module)
+    response = message(f"{type_name}Response", response_text, module=module)
+    namespace = {"_type": type_name, "_request_class": request, "_response_class": response}
+    return (
+        type(type_name.split("/")[1], (ServiceType,), {**namespace, "__module__": module}),
+        request,
+        response,
+    )
 
 
-# geometry_msgs
+def action(type_name: str, definition: str, doc: str = "") -> tuple[type[Message], ...]:
+    """(the action type, its goal, result and feedback) of the ``.action`` text ``definition``
+    (goal, ``---``, result, ``---``, feedback): ``SimpleActionClient(name, Action)`` takes the first."""
+    module = _module()
+    goal, result, feedback = (
+        message(f"{type_name}{part}", text, module=module)
+        for part, text in zip(("Goal", "Result", "Feedback"), definition.split("---"))
+    )
+    classes = {"_goal_class": goal, "_result_class": result, "_feedback_class": feedback}
+    kind = message(f"{type_name}Action", doc=doc, module=module, attributes=classes)
+    return kind, goal, result, feedback
 
 
-class Point(Message):
-    __slots__ = ("x", "y", "z")
-    _type = "geometry_msgs/Point"
-    _defaults = (float, float, float)
+# ----------------------------------------------------------------------------- std_msgs
 
+Header = message("std_msgs/Header", "uint32 seq\ntime stamp\nstring frame_id")
+Empty = message("std_msgs/Empty")
+Bool = message("std_msgs/Bool", "bool data")
+String = message("std_msgs/String", "string data")
+Float64 = message("std_msgs/Float64", "float64 data")
+Int32 = message("std_msgs/Int32", "int32 data")
 
-class Vector3(Message):
-    __slots__ = ("x", "y", "z")
-    _type = "geometry_msgs/Vector3"
-    _defaults = (float, float, float)
+# ----------------------------------------------------------------------------- geometry_msgs
 
+Point = message("geometry_msgs/Point", "float64 x\nfloat64 y\nfloat64 z")
+Vector3 = message("geometry_msgs/Vector3", "float64 x\nfloat64 y\nfloat64 z")
+Quaternion = message(
+    "geometry_msgs/Quaternion",
+    "float64 x\nfloat64 y\nfloat64 z\nfloat64 w",
+    "All zero by default, as in ROS (not the identity: set ``w = 1``).",
+)
+Pose = message("geometry_msgs/Pose", "Point position\nQuaternion orientation")
+PoseStamped = message("geometry_msgs/PoseStamped", "Header header\nPose pose")
+Twist = message("geometry_msgs/Twist", "Vector3 linear\nVector3 angular")
+Transform = message("geometry_msgs/Transform", "Vector3 translation\nQuaternion rotation")
+TransformStamped = message(
+    "geometry_msgs/TransformStamped", "Header header\nstring child_frame_id\nTransform transform"
+)
+Pose2D = message("geometry_msgs/Pose2D", "float64 x\nfloat64 y\nfloat64 theta")
+PoseArray = message("geometry_msgs/PoseArray", "Header header\nPose[] poses")
 
-class Quaternion(Message):
-    """All zero by default, as in ROS (not the identity: set ``w = 1``)."""
+# ----------------------------------------------------------------------------- sensor_msgs, trajectory_msgs
 
-    __slots__ = ("x", "y", "z", "w")
-    _type = "geometry_msgs/Quaternion"
-    _defaults = (float, float, float, float)
-
-
-class Pose(Message):
-    __slots__ = ("position", "orientation")
-    _type = "geometry_msgs/Pose"
-    _defaults = (Point, Quaternion)
-
-
-class PoseStamped(Message):
-    __slots__ = ("header", "pose")
-    _type = "geometry_msgs/PoseStamped"
-    _defaults = (Header, Pose)
-
-
-class Twist(Message):
-    __slots__ = ("linear", "angular")
-    _type = "geometry_msgs/Twist"
-    _defaults = (Vector3, Vector3)
-
-
-class Transform(Message):
-    __slots__ = ("translation", "rotation")
-    _type = "geometry_msgs/Transform"
-    _defaults = (Vector3, Quaternion)
-
-
-class TransformStamped(Message):
-    __slots__ = ("header", "child_frame_id", "transform")
-    _type = "geometry_msgs/TransformStamped"
-    _defaults = (Header, str, Transform)
-
-
-class Pose2D(Message):
-    __slots__ = ("x", "y", "theta")
-    _type = "geometry_msgs/Pose2D"
-    _defaults = (float, float, float)
-
-
-class PoseArray(Message):
-    __slots__ = ("header", "poses")
-    _type = "geometry_msgs/PoseArray"
-    _defaults = (Header, list)
-
-
-# sensor_msgs / trajectory_msgs
-
-
-class JointState(Message):
-    __slots__ = ("header", "name", "position", "velocity", "effort")
-    _type = "sensor_msgs/JointState"
-    _defaults = (Header, list, list, list, list)
-
-
-class JointTrajectoryPoint(Message):
-    __slots__ = ("positions", "velocities", "accelerations", "effort", "time_from_start")
-    _type = "trajectory_msgs/JointTrajectoryPoint"
-    _defaults = (list, list, list, list, Duration)
-
-
-class JointTrajectory(Message):
-    __slots__ = ("header", "joint_names", "points")
-    _type = "trajectory_msgs/JointTrajectory"
-    _defaults = (Header, list, list)
+JointState = message(
+    "sensor_msgs/JointState",
+    "Header header\nstring[] name\nfloat64[] position\nfloat64[] velocity\nfloat64[] effort",
+)
+JointTrajectoryPoint = message(
+    "trajectory_msgs/JointTrajectoryPoint",
+    "float64[] positions\nfloat64[] velocities\nfloat64[] accelerations\nfloat64[] effort\n"
+    "duration time_from_start",
+)
+JointTrajectory = message(
+    "trajectory_msgs/JointTrajectory", "Header header\nstring[] joint_names\nJointTrajectoryPoint[] points"
+)

@@ -8,34 +8,10 @@ action client is reported unavailable, as FlexBE reports it in the course's cell
 
 from __future__ import annotations
 
-from typing import ClassVar
+from omtp_drake.ros.comm.messages import action
 
-from omtp_drake.ros.comm.messages import Message, PoseStamped
-
-
-class MoveBaseGoal(Message):
-    __slots__ = ("target_pose",)
-    _type = "move_base_msgs/MoveBaseGoal"
-    _defaults = (PoseStamped,)
-
-
-class MoveBaseResult(Message):
-    __slots__ = ()
-    _type = "move_base_msgs/MoveBaseResult"
-    _defaults = ()
-
-
-class MoveBaseFeedback(Message):
-    __slots__ = ("base_position",)
-    _type = "move_base_msgs/MoveBaseFeedback"
-    _defaults = (PoseStamped,)
-
-
-class MoveBaseAction(Message):
-    """The action type: ``SimpleActionClient('move_base', MoveBaseAction)``."""
-
-    __slots__ = ()
-    _type = "move_base_msgs/MoveBaseAction"
-    _goal_class: ClassVar[type[Message]] = MoveBaseGoal
-    _result_class: ClassVar[type[Message]] = MoveBaseResult
-    _feedback_class: ClassVar[type[Message]] = MoveBaseFeedback
+MoveBaseAction, MoveBaseGoal, MoveBaseResult, MoveBaseFeedback = action(
+    "move_base_msgs/MoveBase",
+    "geometry_msgs/PoseStamped target_pose\n---\n---\ngeometry_msgs/PoseStamped base_position",
+    "The action type: ``SimpleActionClient('move_base', MoveBaseAction)``.",
+)

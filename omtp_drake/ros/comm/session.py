@@ -45,13 +45,12 @@ from omtp_drake.ros.comm.current import CurrentStack
 from omtp_drake.ros.comm.threads import ScriptThreads
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.comm._core import Cell, RosLatencyConfig
     from omtp_drake.ros.comm.names import NodeNames
     from omtp_drake.ros.gazebo.cell_services import Service
     from omtp_drake.ros.gazebo.sensor_topics import Source
     from omtp_drake.ros.moveit.joint_limits import JointLimits
     from omtp_drake.ros.moveit.srdf import SemanticModel
-    from omtp_drake.scenario.latency import RosLatencyConfig
-    from omtp_drake.script import Cell
 
 _log = logging.getLogger("rospy")
 
@@ -126,6 +125,8 @@ class Session:
         #: once then; its subscribers, timers and services stay in the session).
         self.starting_node = False
         self.shutdown_reason: Optional[str] = None
+        #: The session shut down because ``timeout`` was reached (not for another reason).
+        self.timed_out = False
         self.callback_errors: list[str] = []
         #: The script's threads that ended with an exception (``name: Type: message``).
         self.thread_errors: list[str] = []
@@ -212,14 +213,14 @@ class Session:
             step_end = min(t_end, self.time + self.tick, self.threads.next_wake())
             if self.timeout is not None and step_end >= self.timeout - 1e-9:
                 self.cell.runtime.advance_to(max(self.time, min(step_end, self.timeout)))
-                self.shutdown(f"--timeout of {self.timeout:g} s simulated time reached")
+                self._time_out()
                 self.check_running()
             self.cell.runtime.advance_to(step_end)
 
     def after_blocking_call(self) -> None:
         """What every blocking call ends with: the timeout, then the callbacks due."""
         if self.timeout is not None and self.time >= self.timeout - 1e-9:
-            self.shutdown(f"--timeout of {self.timeout:g} s simulated time reached")
+            self._time_out()
         if self.shutdown_reason is None:
             self.deliver(self.time)
 
@@ -245,6 +246,12 @@ class Session:
             else:
                 self.deliver(self.time)
         return self.shutdown_reason is not None
+
+    def _time_out(self) -> None:
+        """Shuts the session down at ``timeout`` (``timed_out`` records it as data)."""
+        if self.shutdown_reason is None:
+            self.timed_out = True
+        self.shutdown(f"--timeout of {self.timeout:g} s simulated time reached")
 
     def shutdown(self, reason: str) -> None:
         if self.shutdown_reason is None:
@@ -339,11 +346,3 @@ class Session:
         finally:
             self._in_callback -= 1
             subscriber.busy = False
-
-
-def finite_seconds(value: Any, what: str) -> float:
-    """``value`` (seconds, a Duration) as finite seconds >= 0."""
-    seconds = value.to_sec() if hasattr(value, "to_sec") else float(value)
-    if not (math.isfinite(seconds) and seconds >= 0):
-        raise ValueError(f"{what} must be finite seconds >= 0, got {value!r}")
-    return seconds

@@ -14,11 +14,12 @@ import math
 from collections.abc import Callable
 from typing import Any, Optional
 
+from omtp_drake.errors import check_duration
 from omtp_drake.ros.comm.client import resolve_name
 from omtp_drake.ros.comm.exceptions import ROSException, ROSSerializationException
 from omtp_drake.ros.comm.messages import Message
 from omtp_drake.ros.comm.rostime import _blocking
-from omtp_drake.ros.comm.session import current, finite_seconds
+from omtp_drake.ros.comm.session import current
 
 _log = logging.getLogger("rospy")
 
@@ -125,7 +126,7 @@ def wait_for_message(topic: str, topic_type: Any, timeout: Optional[float] = Non
     queue.busy = True  # read below, never delivered as a callback
     if name in session.latched:  # a latched topic's last message answers at once
         queue.queue.append(session.latched[name])
-    limit = math.inf if timeout is None else finite_seconds(timeout, "wait_for_message timeout")
+    limit = math.inf if timeout is None else check_duration("wait_for_message timeout", timeout, zero=True)
     try:
         with _blocking():
             if not session.run_until(session.time + limit, until=lambda: bool(queue.queue)):

@@ -19,8 +19,11 @@ def cmd_flexbe_run(args: argparse.Namespace) -> int:
         args.behavior,
         args.workspace,
         params=parse_params(args.param),
+        nodes=args.nodes,
         **passed_on(
-            args, "scenario srdf moveit_config timeout autonomy seed meshcat record python2 settle_after"
+            args,
+            "scenario srdf moveit_config timeout autonomy seed meshcat realtime record latency python2 "
+            "settle_after",
         ),
     )
     return show_report(report, args.json, print_line)
@@ -41,13 +44,14 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     )
     add_shared_options(p, "--scenario")
     add_cell_options(p, workspace=False)
+    p.set_defaults(nodes=[])  # a launch's Python nodes (set with --launch), run in the session
     add_shared_options(p, "--srdf --moveit-config")
     p.add_argument(
         "--timeout", type=float, default=600.0, metavar="S", help="simulated seconds (default 600)"
     )
     p.add_argument("--autonomy", choices=list(AUTONOMY_LEVELS), default="full", help="default full")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="a behaviour parameter")
-    add_shared_options(p, "--seed --json --record --meshcat --settle-after")
+    add_shared_options(p, "--seed --json --record --meshcat --realtime --latency --settle-after")
     p.add_argument(
         "--python2",
         action="store_true",

@@ -49,9 +49,15 @@ class FlexbeReport:
     traceback: list[str] = field(default_factory=list)
     #: Why the ROS session shut down (``--timeout``), if it did.
     shutdown: Optional[str] = None
+    #: Gazebo plugins of the scenario's models that the cell does not run (one line each).
+    ignored_plugins: list[str] = field(default_factory=list)
     #: MoveIt's fixes of a start or goal just outside the joint bounds (its log lines).
     bounds_fixed: list[str] = field(default_factory=list)
     replay: Optional[str] = None
+    #: What the error is, as data (:func:`omtp_drake.errors.exception_kind`).
+    error: Optional[dict[str, Any]] = None
+    #: The session shut down at ``--timeout`` (``shutdown`` says so in words).
+    timed_out: bool = False
 
     @property
     def ok(self) -> bool:
@@ -89,6 +95,7 @@ class FlexbeReport:
         lines += [f"collision: {c}" for c in self.collisions]
         lines += [f"bad callback: {c}" for c in self.callback_errors]
         lines += [f"thread error: {c}" for c in self.thread_errors]
+        lines += [f"ignored plugin: {p}" for p in self.ignored_plugins]
         lines += [f"moveit bounds: {c}" for c in self.bounds_fixed]
         if self.shutdown:
             lines.append(f"shutdown: {self.shutdown}")

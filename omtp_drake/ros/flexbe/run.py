@@ -20,13 +20,17 @@ import importlib
 import os
 import sys
 import time
-import traceback
 from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any, Optional
 
-from omtp_drake.errors import ConfigError
-from omtp_drake.ros.comm._core import Cell, load_scenario
+from omtp_drake.errors import (
+    ConfigError,
+    describe_exception,
+    exception_frames,
+    exception_kind,
+    exception_place,
+)
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.session import Session, ShutdownError, active
 from omtp_drake.ros.flexbe.context import (
@@ -39,9 +43,10 @@ from omtp_drake.ros.flexbe.context import (
 )
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
-from omtp_drake.ros.moveit.node import start_move_group
+from omtp_drake.ros.gazebo.model_topics import unknown_plugins
+from omtp_drake.ros.run.bring_up import RunSettings, bring_up
+from omtp_drake.ros.run.environment import SHIM_DIR, SHIM_PACKAGES
 from omtp_drake.ros.run.py2 import python2_imports, python2_roots
-from omtp_drake.ros.run.runner import SHIM_DIR, SHIM_PACKAGES
 from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, finish
 
 #: The node FlexBE's onboard engine runs behaviours in.
@@ -151,44 +156,31 @@ def run_behavior(
     behavior: str,
     workspaces: Sequence[str | Path],
     *,
-    scenario: str | Path,
-    srdf: Optional[str | Path] = None,
-    moveit_config: Optional[str | Path] = None,
-    timeout: Optional[float] = 600.0,
     autonomy: str = "full",
     params: Optional[dict[str, str]] = None,
-    seed: Optional[int] = None,
-    meshcat: bool = False,
-    record: Optional[str | Path] = None,
     python2: bool = False,
     settle_after: float = SETTLE_AFTER,
+    **settings: Any,
 ) -> FlexbeReport:
-    """Runs ``behavior`` (a manifest name or a ``*_sm.py`` path) of ``workspaces`` on
-    ``scenario``'s cell; the run's report (see the module doc). ``srdf``,
-    ``moveit_config``: the student's MoveIt config, as ``ros-run`` takes it. A workspace
-    with a module that compiles only as Python 2 loads converted from Python 2
-    (:func:`~omtp_drake.ros.run.py2.python2_roots`); ``python2``: every workspace does.
-    ``settle_after``: after the outcome, the cell runs on up to this long until its parts
-    rest, and the report's ledger is taken then (:mod:`omtp_drake.ros.run.settling`)."""
+    """Runs ``behavior`` (a manifest name or a ``*_sm.py`` path) of ``workspaces`` on a
+    scenario's cell; the run's report (see the module doc). The cell and its ROS session
+    come up as ``ros-run``'s do, from ``settings``
+    (:class:`~omtp_drake.ros.run.bring_up.RunSettings`: ``scenario`` or ``robot`` required;
+    ``srdf``, ``moveit_config``, ``timeout``, ``seed``, ``meshcat``, ``realtime``, ``record``,
+    ``latency``, a launch's ``nodes``...). A workspace with a module that compiles only as
+    Python 2 loads converted from Python 2 (:func:`~omtp_drake.ros.run.py2.python2_roots`);
+    ``python2``: every workspace does. ``settle_after``: after the outcome, the cell runs on
+    up to this long until its parts rest, and the report's ledger is taken then
+    (:mod:`omtp_drake.ros.run.settling`)."""
     if autonomy not in AUTONOMY_LEVELS:
         raise ConfigError(f"--autonomy {autonomy!r} is unknown; valid: {', '.join(AUTONOMY_LEVELS)}")
-    if timeout is not None and not timeout > 0:
-        raise ConfigError(f"--timeout must be > 0 simulated seconds, got {timeout}")
     settle_s = check_settle_after(settle_after)
+    run_settings = RunSettings(**settings)
     spaces = Workspaces(workspaces)
     entry = spaces.find(behavior)
     converted = list(spaces.roots) if python2 else python2_roots(spaces.roots)
-    loaded = load_scenario(str(scenario))
-    if seed is not None:
-        loaded = dataclasses.replace(loaded, seed=int(seed))
     start = time.perf_counter()
-    cell = Cell(loaded, auto_spawn=False, meshcat=meshcat, record=record)
-    session = Session(cell, timeout=timeout)
-    try:
-        start_move_group(session, srdf, moveit_config)  # the params, the named states, its services
-    except Exception:
-        cell.close()
-        raise
+    session = bring_up(run_settings)
     session.node_name = ONBOARD_NODE
     run = FlexbeRun(SessionClock(session), autonomy=AUTONOMY_LEVELS[autonomy], packages=dict(spaces.packages))
     with (
@@ -238,8 +230,11 @@ def _report(
         thread_errors=list(session.thread_errors),
         exception=describe_error(error, roots) if error is not None else None,
         failed_state=result.failed_state,
-        traceback=_frames(error, roots) if error is not None else [],
+        traceback=exception_frames(error, lambda f: _in_roots(f, roots)) if error is not None else [],
+        error=exception_kind(error) if error is not None else None,
+        timed_out=session.timed_out,
         shutdown=session.shutdown_reason,
+        ignored_plugins=unknown_plugins(cell),
         bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )
@@ -249,31 +244,19 @@ def _in_roots(filename: str, roots: Sequence[Path]) -> bool:
     return any(filename.startswith(str(r) + os.sep) for r in roots)
 
 
-def _frames(error: BaseException, roots: Sequence[Path]) -> list[str]:
-    frames = traceback.extract_tb(error.__traceback__)
-    return [
-        f"{Path(f.filename).name}:{f.lineno} in {f.name}: {(f.line or '').strip()}"
-        for f in frames
-        if _in_roots(f.filename, roots)
-    ]
-
-
 def describe_error(error: BaseException, roots: Sequence[Path]) -> str:
     """``Type: message (at file.py:LINE in function)``: the deepest workspace frame (or,
-    for a syntax error, the file and line that do not compile)."""
-    text = " ".join(str(error).split())
-    where = ""
-    for frame in traceback.extract_tb(error.__traceback__):
-        if _in_roots(frame.filename, roots):
-            where = f" (at {Path(frame.filename).name}:{frame.lineno} in {frame.name})"
+    for a syntax error, the file and line that do not compile), with what to do about
+    a Python 2 module or a missing package."""
+    where, hint = exception_place(error, lambda f: _in_roots(f, roots)), ""
     if isinstance(error, SyntaxError) and error.filename:
         where = f" (at {Path(error.filename).name}:{error.lineno}, imported from{where.removeprefix(' (at')}"
         if _in_roots(error.filename, roots):
-            text += "; it compiles neither as Python 3 nor, through 2to3, as Python 2 (ROS Melodic)"
+            hint = "; it compiles neither as Python 3 nor, through 2to3, as Python 2 (ROS Melodic)"
     if isinstance(error, ModuleNotFoundError) and error.name:
-        text += (
+        hint = (
             f"; neither the workspaces' packages nor omtp-drake's ROS packages "
             f"({', '.join(SHIM_PACKAGES)}) provide {error.name.split('.')[0]!r}: add the catkin src "
             "folder that holds it with --workspace"
         )
-    return f"{type(error).__name__}: {text[:800]}{where}"
+    return describe_exception(error, place=where, hint=hint)

@@ -28,7 +28,7 @@ from omtp_drake.ros.comm.interfaces import (
 )
 
 if TYPE_CHECKING:
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 _log = logging.getLogger("rospy")
 

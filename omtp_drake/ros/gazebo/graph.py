@@ -10,9 +10,9 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Optional, Protocol
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.comm._core import Cell
     from omtp_drake.ros.gazebo.cell_services import Service
     from omtp_drake.ros.gazebo.sensor_topics import Source
-    from omtp_drake.script import Cell
 
 
 class Graph(Protocol):

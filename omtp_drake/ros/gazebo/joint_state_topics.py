@@ -15,7 +15,7 @@ from omtp_drake.ros.comm.messages import Header, JointState, Time
 from omtp_drake.ros.gazebo.sensor_topics import Source
 
 if TYPE_CHECKING:
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 #: The course's joint trajectory controllers publish their state at 50 Hz: the cap here.
 JOINT_STATE_RATE_HZ = 50.0

@@ -30,16 +30,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from omtp_drake.errors import ConfigError
+from omtp_drake.ros.comm._core import JointPoseTrajectory, PosePoint
 from omtp_drake.ros.comm.image_messages import CameraInfo, Image, PointCloud2, PointField
-from omtp_drake.ros.comm.messages import Header, JointState, JointTrajectory, Time
+from omtp_drake.ros.comm.messages import Header, JointState, Message, Time
 from omtp_drake.ros.gazebo.joint_state_topics import PeriodicSource
 from omtp_drake.ros.gazebo.sensor_topics import Source
-from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
 
 if TYPE_CHECKING:
-    from omtp_drake.cell.depth_camera import DepthCamera
+    from omtp_drake.ros.comm._core import Cell, DepthCamera
     from omtp_drake.ros.gazebo.graph import Graph
-    from omtp_drake.script import Cell
 
 _log = logging.getLogger("gazebo")
 
@@ -105,17 +104,17 @@ class CameraTopic(Source):
         context = station.diagram.GetMyContextFromRoot(self._cell.runtime.context)
         return station.diagram.GetOutputPort(f"{self._camera.config.name}.{name}").Eval(context)
 
-    def _image(self, header: Header) -> Image:
+    def _image(self, header: Message) -> Message:
         rgb = np.ascontiguousarray(np.asarray(self._port("color_image").data)[..., :3])
         h, w = rgb.shape[:2]
         return Image(header=header, height=h, width=w, encoding="rgb8", step=3 * w, data=rgb.tobytes())
 
-    def _depth(self, header: Header) -> Image:
+    def _depth(self, header: Message) -> Message:
         depth = _gazebo_depths(np.asarray(self._port("depth_image").data)[..., 0])
         h, w = depth.shape
         return Image(header=header, height=h, width=w, encoding="32FC1", step=4 * w, data=depth.tobytes())
 
-    def _info(self, header: Header) -> CameraInfo:
+    def _info(self, header: Message) -> Message:
         info = self._camera.info
         w, h, f = info.width(), info.height(), info.focal_x()
         cx, cy = (w + 1) / 2.0, (h + 1) / 2.0
@@ -127,7 +126,7 @@ class CameraTopic(Source):
 
     _depth_info = _info
 
-    def _points(self, header: Header) -> PointCloud2:
+    def _points(self, header: Message) -> Message:
         depth = np.asarray(self._port("depth_image").data)[..., 0]
         xyz = np.array(self._port("point_cloud").xyzs().T, dtype=np.float32)  # (N, 3), pixel order
         rgb = np.asarray(self._port("color_image").data)[..., :3].reshape(-1, 3).astype(np.uint32)
@@ -206,7 +205,7 @@ def attach_model_plugins(session: Graph) -> None:
 
 
 def _on_trajectory(session: Graph, edit: JointPoseTrajectory):
-    def callback(message: JointTrajectory) -> None:
+    def callback(message: Any) -> None:
         points = [
             PosePoint(tuple(float(q) for q in p.positions), _seconds(p.time_from_start))
             for p in message.points

@@ -23,7 +23,7 @@ from omtp_drake.ros.comm._core import gazebo_models
 if TYPE_CHECKING:
     from pydrake.multibody.tree import Body
 
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 #: A part's one link, as the course's spawner's URDF (``createObjectURDF("box", ...)``) names it.
 PART_LINK = "box_base_link"

@@ -35,7 +35,7 @@ import numpy as np
 
 from omtp_drake.errors import NotSupportedError
 from omtp_drake.ros.comm.interfaces import EmptyService
-from omtp_drake.ros.comm.messages import Header, Time, Twist, Vector3
+from omtp_drake.ros.comm.messages import Header, Message, Time, Twist, Vector3
 from omtp_drake.ros.gazebo.cell_services import Service
 from omtp_drake.ros.gazebo.interfaces import (
     DeleteModel,
@@ -72,7 +72,7 @@ class PushedSource(Source):
         return []
 
 
-def twist_msg(v: np.ndarray, w: np.ndarray) -> Twist:
+def twist_msg(v: np.ndarray, w: np.ndarray) -> Message:
     return Twist(Vector3(*map(float, v)), Vector3(*map(float, w)))
 
 
@@ -126,10 +126,10 @@ class GazeboWorld:
 
     # ------------------------------------------------------------ topics
 
-    def model_states(self) -> ModelStates:
+    def model_states(self) -> Message:
         return self._states(ModelStates(), self.models.models())
 
-    def link_states(self) -> LinkStates:
+    def link_states(self) -> Message:
         return self._states(LinkStates(), self.models.links())
 
     def _states(self, msg: Any, entities: list[tuple[str, Any]]) -> Any:

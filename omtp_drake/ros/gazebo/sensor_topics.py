@@ -28,15 +28,14 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING, Any, Optional
 
-from omtp_drake.cell.gazebo_camera import GazeboCameraView
+from omtp_drake.ros.comm._core import GazeboCameraView
 from omtp_drake.ros.comm.interfaces import LogicalCameraImage, Model, Proximity, VacuumGripperState
-from omtp_drake.ros.comm.messages import Header, Time
+from omtp_drake.ros.comm.messages import Header, Message, Time
 from omtp_drake.ros.gazebo.cell_services import gripper_plugins
 from omtp_drake.ros.tf.convert import pose_msg
 
 if TYPE_CHECKING:
-    from omtp_drake.cell.conveyor import BreakBeam
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import BreakBeam, Cell
 
 #: The lecture's single-camera topic and frame.
 SINGLE_CAMERA_TOPIC = "/omtp/logical_camera"
@@ -78,7 +77,7 @@ class CameraSource(Source):
         return [(image.time, camera_message(image))]
 
 
-def camera_message(image: Any) -> LogicalCameraImage:
+def camera_message(image: Any) -> Message:
     """A logical camera image as the course's message (types and poses in the camera frame)."""
     return LogicalCameraImage(
         models=[Model(type=m.type, pose=pose_msg(m.X_CM)) for m in image.models], pose=pose_msg(image.X_WC)

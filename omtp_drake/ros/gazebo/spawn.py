@@ -24,17 +24,16 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 
-from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.errors import NotSupportedError, OmtpError
+from omtp_drake.ros.comm._core import SpawnerConfig, check_in_cell, spawn_pose
 from omtp_drake.ros.comm.interfaces import EmptyService
 from omtp_drake.ros.gazebo.cell_services import Service, ServiceFailure
 from omtp_drake.ros.gazebo.interfaces import SpawnModel
 from omtp_drake.ros.tf.convert import rigid
-from omtp_drake.scenario import SpawnerConfig, check_in_cell
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.comm._core import Cell
     from omtp_drake.ros.gazebo.models import GazeboModels
-    from omtp_drake.script import Cell
 
 _log = logging.getLogger("rospy")
 

@@ -35,15 +35,15 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from omtp_drake.errors import OmtpError, SimulationError
+from omtp_drake.ros.comm._core import spawn
 from omtp_drake.ros.comm.interfaces import EmptyService
 from omtp_drake.ros.comm.messages import Header, Time
 from omtp_drake.ros.gazebo.cell_services import Service, ServiceFailure
-from omtp_drake.sim.driver import spawn
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.comm._core import SpawnerConfig
     from omtp_drake.ros.gazebo.graph import Graph
     from omtp_drake.ros.gazebo.ros_api import GazeboWorld
-    from omtp_drake.scenario import SpawnerConfig
 
 _log = logging.getLogger("rospy")
 

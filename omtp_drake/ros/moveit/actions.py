@@ -10,6 +10,7 @@ from typing import Any, Optional
 
 from omtp_drake.ros.comm.client import resolve_name
 from omtp_drake.ros.comm.interfaces import ExecuteTrajectoryAction, ExecuteTrajectoryResult, MoveItErrorCodes
+from omtp_drake.ros.comm.messages import Message
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.comm.unsupported import not_supported
 from omtp_drake.ros.moveit.commander import MoveGroupCommander, MoveItCommanderException
@@ -47,7 +48,7 @@ class SimpleActionClient:
         self._session = current()
         self._state = GoalStatus.LOST
         self._end = 0.0
-        self._result: Optional[ExecuteTrajectoryResult] = None
+        self._result: Optional[Message] = None
         self._group: Optional[MoveGroupCommander] = None
 
     def wait_for_server(self, timeout: Any = None) -> bool:
@@ -90,7 +91,7 @@ class SimpleActionClient:
     def get_state(self) -> int:
         return self._state
 
-    def get_result(self) -> Optional[ExecuteTrajectoryResult]:
+    def get_result(self) -> Optional[Message]:
         return self._result
 
     def cancel_goal(self) -> None:

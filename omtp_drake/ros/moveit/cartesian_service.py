@@ -27,7 +27,7 @@ from omtp_drake.errors import OmtpError
 from omtp_drake.ros.comm._core import CorePoseStamped
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes, RobotState
 from omtp_drake.ros.comm.latency import think
-from omtp_drake.ros.comm.messages import Header, JointState, Time
+from omtp_drake.ros.comm.messages import Header, JointState, Message, Time
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.comm.unsupported import not_supported
 from omtp_drake.ros.moveit.bounds import StartStateInvalid
@@ -58,7 +58,7 @@ def _failure(response: Any, code: int, why: str) -> Any:
     return response
 
 
-def compute_cartesian_path(request: Any) -> GetCartesianPathResponse:
+def compute_cartesian_path(request: Any) -> Message:
     """The ``/compute_cartesian_path`` handler (see the module doc)."""
     session = current()
     response: Any = GetCartesianPathResponse()

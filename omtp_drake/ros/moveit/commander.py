@@ -52,7 +52,7 @@ from omtp_drake.ros.comm._core import (
 )
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes, RobotTrajectory
 from omtp_drake.ros.comm.latency import delay_of, delayed, pass_time, think
-from omtp_drake.ros.comm.messages import Header, Pose, PoseStamped
+from omtp_drake.ros.comm.messages import Header, Message, Pose, PoseStamped
 from omtp_drake.ros.comm.rostime import Time, _blocking
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.comm.unsupported import not_supported
@@ -145,7 +145,7 @@ class MoveGroupCommander(MoveGroupTargets):
     def get_current_joint_values(self) -> list[float]:
         return [float(x) for x in self._arm.joint_values()]
 
-    def get_current_pose(self, end_effector_link: str = "") -> PoseStamped:
+    def get_current_pose(self, end_effector_link: str = "") -> Message:
         X_WE = self._arm.tool_pose(self._short(end_effector_link))
         return PoseStamped(Header(stamp=Time.now(), frame_id="world"), pose_msg(X_WE))
 
@@ -287,7 +287,7 @@ class MoveGroupCommander(MoveGroupTargets):
 
     def compute_cartesian_path(
         self, waypoints: Any, eef_step: float, *args: Any, **kwargs: Any
-    ) -> tuple[RobotTrajectory, float]:
+    ) -> tuple[Message, float]:
         """``(plan, fraction)`` of straight tool moves through ``waypoints`` (Poses in world):
         MoveIt's ``(waypoints, eef_step, jump_threshold, avoid_collisions=True)`` and the
         1.1.15+ ``(waypoints, eef_step, avoid_collisions=True)``. ``avoid_collisions``

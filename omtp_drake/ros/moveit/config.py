@@ -29,8 +29,8 @@ from omtp_drake.ros.moveit.joint_limits import load_joint_limits
 from omtp_drake.ros.moveit.srdf import CellTree, SemanticModel, default_semantic, parse_srdf
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.comm._core import Cell
     from omtp_drake.ros.comm.session import Session
-    from omtp_drake.script import Cell
 
 _log = logging.getLogger("moveit_commander")
 
@@ -93,7 +93,7 @@ def install(
     """Gives ``session`` its semantics (returned) and joint limits and sets
     ``/robot_description``, ``/robot_description_semantic`` and
     ``/robot_description_planning/...`` (see the module doc)."""
-    from omtp_drake.cell.arms import NAMED_POSES
+    from omtp_drake.ros.comm._core import NAMED_POSES
     from omtp_drake.ros.moveit.description import robot_description
 
     cell = session.cell

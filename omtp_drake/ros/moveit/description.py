@@ -17,10 +17,10 @@ from typing import TYPE_CHECKING
 
 from pydrake.math import RollPitchYaw
 
-from omtp_drake.assets import MODELS_DIR, expand_xacro, ur_urdf
+from omtp_drake.ros.comm._core import MODELS_DIR, expand_xacro, ur_urdf
 
 if TYPE_CHECKING:
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 _DRAKE_NS = "http://drake.mit.edu"
 

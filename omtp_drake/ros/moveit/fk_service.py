@@ -22,13 +22,13 @@ from pydrake.math import RigidTransform
 from omtp_drake.errors import OmtpError
 from omtp_drake.ros.comm._core import CorePoseStamped
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes
-from omtp_drake.ros.comm.messages import Header, PoseStamped, Time
+from omtp_drake.ros.comm.messages import Header, Message, PoseStamped, Time
 from omtp_drake.ros.gazebo.cell_services import ServiceFailure
 from omtp_drake.ros.moveit.interfaces import GetPositionFKResponse
 from omtp_drake.ros.tf.convert import pose_msg
 
 if TYPE_CHECKING:
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 _log = logging.getLogger("moveit_commander")
 
@@ -55,7 +55,7 @@ def _frame_pose(cell: Cell, frame: str) -> RigidTransform:
     return cell.world_pose(CorePoseStamped(frame, None, RigidTransform()))
 
 
-def compute_fk(cell: Cell, request: Any) -> GetPositionFKResponse:
+def compute_fk(cell: Cell, request: Any) -> Message:
     """The ``/compute_fk`` handler (see the module doc)."""
     response: Any = GetPositionFKResponse()
     if not request.fk_link_names:

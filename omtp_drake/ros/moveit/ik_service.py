@@ -19,12 +19,12 @@ import numpy as np
 from omtp_drake.errors import GoalInCollisionError, PlanningError
 from omtp_drake.ros.comm._core import JOINT_NAMES, CorePoseStamped, tool_frame_names
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes, RobotState
-from omtp_drake.ros.comm.messages import Header, JointState, PoseStamped, Time
+from omtp_drake.ros.comm.messages import Header, JointState, Message, Time
 from omtp_drake.ros.moveit.interfaces import GetPositionIKResponse
 from omtp_drake.ros.tf.convert import rigid
 
 if TYPE_CHECKING:
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 _log = logging.getLogger("moveit_commander")
 
@@ -33,7 +33,7 @@ def _joint_names(robot: str) -> list[str]:
     return [f"{robot}_{name}" for name in JOINT_NAMES]
 
 
-def _ik_seed(cell: Cell, robot: str, joint_state: JointState) -> np.ndarray:
+def _ik_seed(cell: Cell, robot: str, joint_state: Message) -> np.ndarray:
     """Where the arm is, with the request's joints set; within the joint bounds (a seed only:
     MoveIt's solvers start from it wherever it is, a wrist measured a hair beyond pi too)."""
     arm = cell.arm(robot)
@@ -46,7 +46,7 @@ def _ik_seed(cell: Cell, robot: str, joint_state: JointState) -> np.ndarray:
     return np.clip(q, -limit, limit)
 
 
-def _ik_target(cell: Cell, pose: PoseStamped) -> Any:
+def _ik_target(cell: Cell, pose: Message) -> Any:
     X = rigid(pose.pose, "compute_ik pose_stamped")
     frame = pose.header.frame_id.lstrip("/") or "world"
     if frame == "world":
@@ -62,7 +62,7 @@ def _ik_error_code(error: PlanningError) -> int:
     return MoveItErrorCodes.NO_IK_SOLUTION
 
 
-def compute_ik(cell: Cell, request: Any) -> GetPositionIKResponse:
+def compute_ik(cell: Cell, request: Any) -> Message:
     """The ``/compute_ik`` handler (see the module doc)."""
     ik = request.ik_request
     response: Any = GetPositionIKResponse()

@@ -1,5 +1,6 @@
 """moveit_msgs types of MoveIt's ``/move_group`` action and its kinematics services
-(``/compute_ik``, ``/compute_fk``, ``/compute_cartesian_path``).
+(``/compute_ik``, ``/compute_fk``, ``/compute_cartesian_path``), declared from their
+``.msg`` / ``.srv`` / ``.action`` text (:mod:`omtp_drake.ros.comm.messages`'s factory).
 
 Field names and order follow ``moveit_msgs`` (Noetic): ``MoveGroupGoal`` =
 ``MotionPlanRequest request`` + ``PlanningOptions planning_options``;
@@ -13,289 +14,153 @@ scripts that set them still run; what they would change is not modelled.
 
 from __future__ import annotations
 
-from typing import ClassVar
+import omtp_drake.ros.comm.interfaces  # noqa: F401  (defines RobotState, MoveItErrorCodes... named here)
+from omtp_drake.ros.comm.messages import action, message, service
 
-from omtp_drake.ros.comm.interfaces import (
-    MoveItErrorCodes,
-    RobotState,
-    RobotTrajectory,
-    ServiceType,
-    SolidPrimitive,
+JointConstraint = message(
+    "moveit_msgs/JointConstraint",
+    "string joint_name\nfloat64 position\nfloat64 tolerance_above\nfloat64 tolerance_below\nfloat64 weight",
 )
-from omtp_drake.ros.comm.messages import Duration, Header, Message, Pose, PoseStamped, Quaternion, Vector3
-
-
-class JointConstraint(Message):
-    __slots__ = ("joint_name", "position", "tolerance_above", "tolerance_below", "weight")
-    _type = "moveit_msgs/JointConstraint"
-    _defaults = (str, float, float, float, float)
-
-
-class BoundingVolume(Message):
-    __slots__ = ("primitives", "primitive_poses", "meshes", "mesh_poses")
-    _type = "moveit_msgs/BoundingVolume"
-    _defaults = (list, list, list, list)
-
-
-class PositionConstraint(Message):
-    __slots__ = ("header", "link_name", "target_point_offset", "constraint_region", "weight")
-    _type = "moveit_msgs/PositionConstraint"
-    _defaults = (Header, str, Vector3, BoundingVolume, float)
-
-
-class OrientationConstraint(Message):
-    __slots__ = (
-        "header",
-        "orientation",
-        "link_name",
-        "absolute_x_axis_tolerance",
-        "absolute_y_axis_tolerance",
-        "absolute_z_axis_tolerance",
-        "parameterization",
-        "weight",
-    )
-    _type = "moveit_msgs/OrientationConstraint"
-    _defaults = (Header, Quaternion, str, float, float, float, int, float)
-    XYZ_EULER_ANGLES: ClassVar[int] = 0
-    ROTATION_VECTOR: ClassVar[int] = 1
-
-
-class Constraints(Message):
-    __slots__ = (
-        "name",
-        "joint_constraints",
-        "position_constraints",
-        "orientation_constraints",
-        "visibility_constraints",
-    )
-    _type = "moveit_msgs/Constraints"
-    _defaults = (str, list, list, list, list)
-
-
-class WorkspaceParameters(Message):
-    __slots__ = ("header", "min_corner", "max_corner")
-    _type = "moveit_msgs/WorkspaceParameters"
-    _defaults = (Header, Vector3, Vector3)
-
-
-class MotionPlanRequest(Message):
-    __slots__ = (
-        "workspace_parameters",
-        "start_state",
-        "goal_constraints",
-        "path_constraints",
-        "trajectory_constraints",
-        "reference_trajectories",
-        "pipeline_id",
-        "planner_id",
-        "group_name",
-        "num_planning_attempts",
-        "allowed_planning_time",
-        "max_velocity_scaling_factor",
-        "max_acceleration_scaling_factor",
-        "cartesian_speed_end_effector_link",
-        "max_cartesian_speed",
-    )
-    _type = "moveit_msgs/MotionPlanRequest"
-    _defaults = (
-        WorkspaceParameters,
-        RobotState,
-        list,
-        Constraints,
-        list,
-        list,
-        str,
-        str,
-        str,
-        int,
-        float,
-        float,
-        float,
-        str,
-        float,
-    )
-
-
-class PlanningScene(Message):
-    """A planning-scene diff (kept as given; the cell's scene is ``PlanningSceneInterface``'s)."""
-
-    __slots__ = ("name", "robot_state", "is_diff")
-    _type = "moveit_msgs/PlanningScene"
-    _defaults = (str, RobotState, bool)
-
-
-class PlanningOptions(Message):
-    __slots__ = (
-        "planning_scene_diff",
-        "plan_only",
-        "look_around",
-        "look_around_attempts",
-        "max_safe_execution_cost",
-        "replan",
-        "replan_attempts",
-        "replan_delay",
-    )
-    _type = "moveit_msgs/PlanningOptions"
-    _defaults = (PlanningScene, bool, bool, int, float, bool, int, float)
-
-
-class MoveGroupGoal(Message):
-    __slots__ = ("request", "planning_options")
-    _type = "moveit_msgs/MoveGroupGoal"
-    _defaults = (MotionPlanRequest, PlanningOptions)
-
-
-class MoveGroupResult(Message):
-    __slots__ = (
-        "error_code",
-        "trajectory_start",
-        "planned_trajectory",
-        "executed_trajectory",
-        "planning_time",
-    )
-    _type = "moveit_msgs/MoveGroupResult"
-    _defaults = (MoveItErrorCodes, RobotState, RobotTrajectory, RobotTrajectory, float)
-
-
-class MoveGroupFeedback(Message):
-    __slots__ = ("state",)
-    _type = "moveit_msgs/MoveGroupFeedback"
-    _defaults = (str,)
-
-
-class MoveGroupAction(Message):
-    """The action type: ``SimpleActionClient('move_group', MoveGroupAction)``."""
-
-    __slots__ = ()
-    _type = "moveit_msgs/MoveGroupAction"
-    _goal_class: ClassVar[type[Message]] = MoveGroupGoal
-    _result_class: ClassVar[type[Message]] = MoveGroupResult
-    _feedback_class: ClassVar[type[Message]] = MoveGroupFeedback
-
-
-class PositionIKRequest(Message):
-    __slots__ = (
-        "group_name",
-        "robot_state",
-        "constraints",
-        "avoid_collisions",
-        "ik_link_name",
-        "pose_stamped",
-        "ik_link_names",
-        "pose_stamped_vector",
-        "timeout",
-        "attempts",
-    )
-    _type = "moveit_msgs/PositionIKRequest"
-    _defaults = (str, RobotState, Constraints, bool, str, PoseStamped, list, list, Duration, int)
-
-
-class GetPositionIKRequest(Message):
-    __slots__ = ("ik_request",)
-    _type = "moveit_msgs/GetPositionIKRequest"
-    _defaults = (PositionIKRequest,)
-
-
-class GetPositionIKResponse(Message):
-    __slots__ = ("solution", "error_code")
-    _type = "moveit_msgs/GetPositionIKResponse"
-    _defaults = (RobotState, MoveItErrorCodes)
-
-
-class GetPositionIK(ServiceType):
-    _type = "moveit_msgs/GetPositionIK"
-    _request_class = GetPositionIKRequest
-    _response_class = GetPositionIKResponse
-
-
-class GetPositionFKRequest(Message):
-    __slots__ = ("header", "fk_link_names", "robot_state")
-    _type = "moveit_msgs/GetPositionFKRequest"
-    _defaults = (Header, list, RobotState)
-
-
-class GetPositionFKResponse(Message):
-    __slots__ = ("pose_stamped", "fk_link_names", "error_code")
-    _type = "moveit_msgs/GetPositionFKResponse"
-    _defaults = (list, list, MoveItErrorCodes)
-
-
-class GetPositionFK(ServiceType):
-    _type = "moveit_msgs/GetPositionFK"
-    _request_class = GetPositionFKRequest
-    _response_class = GetPositionFKResponse
-
-
-class GetCartesianPathRequest(Message):
-    __slots__ = (
-        "header",
-        "start_state",
-        "group_name",
-        "link_name",
-        "waypoints",
-        "max_step",
-        "jump_threshold",
-        "prismatic_jump_threshold",
-        "revolute_jump_threshold",
-        "avoid_collisions",
-        "path_constraints",
-        "cartesian_speed_limited_link",
-        "max_cartesian_speed",
-    )
-    _type = "moveit_msgs/GetCartesianPathRequest"
-    _defaults = (
-        Header,
-        RobotState,
-        str,
-        str,
-        list,
-        float,
-        float,
-        float,
-        float,
-        bool,
-        Constraints,
-        str,
-        float,
-    )
-
-
-class GetCartesianPathResponse(Message):
-    __slots__ = ("start_state", "solution", "fraction", "error_code")
-    _type = "moveit_msgs/GetCartesianPathResponse"
-    _defaults = (RobotState, RobotTrajectory, float, MoveItErrorCodes)
-
-
-class GetCartesianPath(ServiceType):
-    _type = "moveit_msgs/GetCartesianPath"
-    _request_class = GetCartesianPathRequest
-    _response_class = GetCartesianPathResponse
-
-
-__all__ = [
-    "BoundingVolume",
-    "Constraints",
-    "GetCartesianPath",
-    "GetCartesianPathRequest",
-    "GetCartesianPathResponse",
-    "GetPositionFK",
-    "GetPositionFKRequest",
-    "GetPositionFKResponse",
-    "GetPositionIK",
-    "GetPositionIKRequest",
-    "GetPositionIKResponse",
-    "JointConstraint",
-    "MotionPlanRequest",
-    "MoveGroupAction",
-    "MoveGroupFeedback",
-    "MoveGroupGoal",
-    "MoveGroupResult",
-    "OrientationConstraint",
-    "PlanningOptions",
-    "PlanningScene",
-    "Pose",
-    "PositionConstraint",
-    "PositionIKRequest",
-    "SolidPrimitive",
-    "WorkspaceParameters",
-]
+BoundingVolume = message(
+    "moveit_msgs/BoundingVolume",
+    "shape_msgs/SolidPrimitive[] primitives\ngeometry_msgs/Pose[] primitive_poses\n"
+    "shape_msgs/Mesh[] meshes\ngeometry_msgs/Pose[] mesh_poses",
+)
+PositionConstraint = message(
+    "moveit_msgs/PositionConstraint",
+    "Header header\nstring link_name\ngeometry_msgs/Vector3 target_point_offset\n"
+    "BoundingVolume constraint_region\nfloat64 weight",
+)
+OrientationConstraint = message(
+    "moveit_msgs/OrientationConstraint",
+    """
+    Header header
+    geometry_msgs/Quaternion orientation
+    string link_name
+    float64 absolute_x_axis_tolerance
+    float64 absolute_y_axis_tolerance
+    float64 absolute_z_axis_tolerance
+    uint8 parameterization
+    float64 weight
+    uint8 XYZ_EULER_ANGLES=0
+    uint8 ROTATION_VECTOR=1
+    """,
+)
+Constraints = message(
+    "moveit_msgs/Constraints",
+    "string name\nJointConstraint[] joint_constraints\nPositionConstraint[] position_constraints\n"
+    "OrientationConstraint[] orientation_constraints\nVisibilityConstraint[] visibility_constraints",
+)
+WorkspaceParameters = message(
+    "moveit_msgs/WorkspaceParameters",
+    "Header header\ngeometry_msgs/Vector3 min_corner\ngeometry_msgs/Vector3 max_corner",
+)
+MotionPlanRequest = message(
+    "moveit_msgs/MotionPlanRequest",
+    """
+    WorkspaceParameters workspace_parameters
+    RobotState start_state
+    Constraints[] goal_constraints
+    Constraints path_constraints
+    TrajectoryConstraints[] trajectory_constraints
+    GenericTrajectory[] reference_trajectories
+    string pipeline_id
+    string planner_id
+    string group_name
+    int32 num_planning_attempts
+    float64 allowed_planning_time
+    float64 max_velocity_scaling_factor
+    float64 max_acceleration_scaling_factor
+    string cartesian_speed_end_effector_link
+    float64 max_cartesian_speed
+    """,
+)
+PlanningScene = message(
+    "moveit_msgs/PlanningScene",
+    # The fields a diff of this cell can carry; the rest of a planning scene is not modelled.
+    "string name\nRobotState robot_state\nbool is_diff",
+    "A planning-scene diff (kept as given; the cell's scene is ``PlanningSceneInterface``'s).",
+)
+PlanningOptions = message(
+    "moveit_msgs/PlanningOptions",
+    """
+    PlanningScene planning_scene_diff
+    bool plan_only
+    bool look_around
+    int32 look_around_attempts
+    float64 max_safe_execution_cost
+    bool replan
+    int32 replan_attempts
+    float64 replan_delay
+    """,
+)
+MoveGroupAction, MoveGroupGoal, MoveGroupResult, MoveGroupFeedback = action(
+    "moveit_msgs/MoveGroup",
+    """
+    MotionPlanRequest request
+    PlanningOptions planning_options
+    ---
+    MoveItErrorCodes error_code
+    RobotState trajectory_start
+    RobotTrajectory planned_trajectory
+    RobotTrajectory executed_trajectory
+    float64 planning_time
+    ---
+    string state
+    """,
+    "The action type: ``SimpleActionClient('move_group', MoveGroupAction)``.",
+)
+PositionIKRequest = message(
+    "moveit_msgs/PositionIKRequest",
+    """
+    string group_name
+    RobotState robot_state
+    Constraints constraints
+    bool avoid_collisions
+    string ik_link_name
+    geometry_msgs/PoseStamped pose_stamped
+    string[] ik_link_names
+    geometry_msgs/PoseStamped[] pose_stamped_vector
+    duration timeout
+    int32 attempts
+    """,
+)
+GetPositionIK, GetPositionIKRequest, GetPositionIKResponse = service(
+    "moveit_msgs/GetPositionIK",
+    "PositionIKRequest ik_request\n---\nRobotState solution\nMoveItErrorCodes error_code",
+)
+GetPositionFK, GetPositionFKRequest, GetPositionFKResponse = service(
+    "moveit_msgs/GetPositionFK",
+    """
+    Header header
+    string[] fk_link_names
+    RobotState robot_state
+    ---
+    geometry_msgs/PoseStamped[] pose_stamped
+    string[] fk_link_names
+    MoveItErrorCodes error_code
+    """,
+)
+GetCartesianPath, GetCartesianPathRequest, GetCartesianPathResponse = service(
+    "moveit_msgs/GetCartesianPath",
+    """
+    Header header
+    RobotState start_state
+    string group_name
+    string link_name
+    geometry_msgs/Pose[] waypoints
+    float64 max_step
+    float64 jump_threshold
+    float64 prismatic_jump_threshold
+    float64 revolute_jump_threshold
+    bool avoid_collisions
+    Constraints path_constraints
+    string cartesian_speed_limited_link
+    float64 max_cartesian_speed
+    ---
+    RobotState start_state
+    RobotTrajectory solution
+    float64 fraction
+    MoveItErrorCodes error_code
+    """,
+)

@@ -34,7 +34,7 @@ import numpy as np
 from omtp_drake.errors import OmtpError
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes, RobotState
 from omtp_drake.ros.comm.latency import delay_of
-from omtp_drake.ros.comm.messages import Header, JointState, Pose, PoseStamped
+from omtp_drake.ros.comm.messages import Header, JointState, Message, Pose, PoseStamped
 from omtp_drake.ros.comm.rostime import Time
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.moveit.bounds import goal_joints
@@ -44,7 +44,7 @@ from omtp_drake.ros.moveit.interfaces import MoveGroupAction, MoveGroupResult
 from omtp_drake.ros.moveit.trajectories import joint_names, to_msg
 
 if TYPE_CHECKING:
-    from omtp_drake.script import Cell
+    from omtp_drake.ros.comm._core import Cell
 
 _log = logging.getLogger("moveit_commander")
 
@@ -74,13 +74,13 @@ def start_joints(cell: Cell, robot: str, state: Any) -> np.ndarray:
     return q
 
 
-def _robot_state(robot: str, q: np.ndarray) -> RobotState:
+def _robot_state(robot: str, q: np.ndarray) -> Message:
     names = joint_names(robot)
     position = [float(x) for x in q]
     return RobotState(joint_state=JointState(header=Header(stamp=Time.now()), name=names, position=position))
 
 
-def _pose_target(constraints: Any) -> tuple[PoseStamped, str]:
+def _pose_target(constraints: Any) -> tuple[Message, str]:
     """(target pose, link) of one position + orientation constraint pair."""
     position = constraints.position_constraints[0]
     region = position.constraint_region
@@ -195,7 +195,7 @@ class MoveGroupClient:
         self._poll()
         return self._state
 
-    def get_result(self) -> Optional[MoveGroupResult]:
+    def get_result(self) -> Optional[Message]:
         self._poll()
         return self._result if self.is_done() else None
 

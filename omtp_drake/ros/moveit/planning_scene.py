@@ -15,7 +15,7 @@ from typing import Any, Optional
 from omtp_drake.errors import OmtpError
 from omtp_drake.ros.comm._core import tool_frame_names
 from omtp_drake.ros.comm.interfaces import AttachedCollisionObject, CollisionObject, SolidPrimitive
-from omtp_drake.ros.comm.messages import Header, PoseStamped
+from omtp_drake.ros.comm.messages import Header, Message, PoseStamped
 from omtp_drake.ros.comm.rostime import Time
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.comm.unsupported import not_supported
@@ -45,7 +45,7 @@ def robot_of_link(link: Optional[str]) -> Optional[str]:
     raise MoveItCommanderException(f"{link!r} is no end-effector link; links: {', '.join(links)}")
 
 
-def _object_msg(name: str, box: Any, frame: str) -> CollisionObject:
+def _object_msg(name: str, box: Any, frame: str) -> Message:
     primitive = SolidPrimitive(type=SolidPrimitive.BOX, dimensions=list(box.size))
     return CollisionObject(
         header=Header(stamp=Time.now(), frame_id=frame),
@@ -72,7 +72,7 @@ class PlanningSceneInterface:
     def __init__(self, ns: str = "", synchronous: bool = False, service_timeout: float = 5.0):
         self._session = current()
 
-    def add_box(self, name: str, pose: PoseStamped, size: Any = (1, 1, 1)) -> None:
+    def add_box(self, name: str, pose: Message, size: Any = (1, 1, 1)) -> None:
         try:
             scene_of_run().add_box(name, world_pose_of(pose, "add_box"), [float(x) for x in size])
         except OmtpError as e:
@@ -88,7 +88,7 @@ class PlanningSceneInterface:
         self,
         link: str,
         name: str,
-        pose: Optional[PoseStamped] = None,
+        pose: Optional[Message] = None,
         size: Any = (1, 1, 1),
         touch_links: Any = (),
     ) -> None:
@@ -112,7 +112,7 @@ class PlanningSceneInterface:
     def get_known_object_names(self, with_type: bool = False) -> list[str]:
         return scene_of_run().names()
 
-    def get_attached_objects(self, object_ids: Any = ()) -> dict[str, AttachedCollisionObject]:
+    def get_attached_objects(self, object_ids: Any = ()) -> dict[str, Message]:
         cell = current().cell
         out = {}
         for name, box in scene_of_run().attached().items():
@@ -122,7 +122,7 @@ class PlanningSceneInterface:
                 out[name] = AttachedCollisionObject(link_name=link, object=_object_msg(name, box, cup))
         return out
 
-    def get_objects(self, object_ids: Any = ()) -> dict[str, CollisionObject]:
+    def get_objects(self, object_ids: Any = ()) -> dict[str, Message]:
         objects = scene_of_run().objects()
         return {
             k: _object_msg(k, v, "world") for k, v in objects.items() if not object_ids or k in object_ids

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Any
 
 from omtp_drake.ros.comm.interfaces import RobotState
-from omtp_drake.ros.comm.messages import Header, JointState
+from omtp_drake.ros.comm.messages import Header, JointState, Message
 from omtp_drake.ros.comm.rostime import Time
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.comm.unsupported import not_supported
@@ -42,7 +42,7 @@ class RobotCommander:
     def get_planning_frame(self) -> str:
         return "world"
 
-    def get_current_state(self) -> RobotState:
+    def get_current_state(self) -> Message:
         names: list[str] = []
         positions: list[float] = []
         for robot in self._session.cell.station.arms:

@@ -17,7 +17,14 @@ from pydrake.trajectories import PiecewisePolynomial
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros.comm._core import JOINT_NAMES, Plan
 from omtp_drake.ros.comm.interfaces import RobotTrajectory
-from omtp_drake.ros.comm.messages import Duration, Header, JointTrajectory, JointTrajectoryPoint, Time
+from omtp_drake.ros.comm.messages import (
+    Duration,
+    Header,
+    JointTrajectory,
+    JointTrajectoryPoint,
+    Message,
+    Time,
+)
 
 if TYPE_CHECKING:
     from omtp_drake.ros.comm.session import Session
@@ -31,18 +38,18 @@ def joint_names(robot: str) -> list[str]:
     return [f"{robot}_{name}" for name in JOINT_NAMES]
 
 
-def _fingerprint(msg: RobotTrajectory) -> tuple:
+def _fingerprint(msg: Message) -> tuple:
     points = msg.joint_trajectory.points
     return tuple(joint_names_tuple(msg)) + tuple(
         (p.time_from_start.to_nsec(), tuple(p.positions), tuple(p.velocities)) for p in points
     )
 
 
-def joint_names_tuple(msg: RobotTrajectory) -> tuple[str, ...]:
+def joint_names_tuple(msg: Message) -> tuple[str, ...]:
     return tuple(msg.joint_trajectory.joint_names)
 
 
-def to_msg(plan: Plan, robot: str, session: Session) -> RobotTrajectory:
+def to_msg(plan: Plan, robot: str, session: Session) -> Message:
     """``plan`` as a RobotTrajectory (remembered, so executing it runs ``plan`` exactly)."""
     trajectory = plan.trajectory
     t0 = trajectory.start_time()

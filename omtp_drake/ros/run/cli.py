@@ -65,7 +65,7 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     )
     _add_course_options(p)
     add_shared_options(p, "--meshcat")
-    p.add_argument("--realtime", action="store_true", help="pace the simulation at real time")
+    add_shared_options(p, "--realtime")
     add_shared_options(p, "--record --json")
     p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
     p.set_defaults(func=cmd_ros_run)
@@ -102,15 +102,7 @@ def _add_course_options(p: argparse.ArgumentParser) -> None:
         metavar="S",
         help="let the cell run S simulated seconds after the calls, before the script (default 0)",
     )
-    add_shared_options(p, "--settle-after")
-    p.add_argument(
-        "--latency",
-        default=None,
-        metavar="SPEC",
-        help="simulated time planning, trajectory starts and service calls take: a factor on the "
-        "scenario's ros_latency (0: none, as a cell that stands still while a script thinks) or "
-        "NAME=SECONDS,... with names plan, execute, cartesian, service (default: the scenario's)",
-    )
+    add_shared_options(p, "--settle-after --latency")
 
 
 def add_commands(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:

@@ -28,6 +28,14 @@ SHARED_OPTIONS: dict[str, dict[str, Any]] = {
         "help": "a MoveIt config package: its config/*.srdf and config/joint_limits.yaml",
     },
     "--meshcat": {"action": "store_true", "help": "show the run in a live Meshcat view"},
+    "--realtime": {"action": "store_true", "help": "pace the simulation at real time"},
+    "--latency": {
+        "default": None,
+        "metavar": "SPEC",
+        "help": "simulated time planning, trajectory starts and service calls take: a factor on the "
+        "scenario's ros_latency (0: none, as a cell that stands still while a script thinks) or "
+        "NAME=SECONDS,... with names plan, execute, cartesian, service (default: the scenario's)",
+    },
     "--record": {"metavar": "HTML", "help": "write a standalone Meshcat replay"},
     "--json": {"metavar": "FILE", "help": "write the run's report as JSON"},
     "--settle-after": {

@@ -9,7 +9,6 @@ scenario and its seed.
 from __future__ import annotations
 
 import json
-import traceback
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -55,6 +54,10 @@ class RosReport:
     #: MoveIt's fixes of a start or goal just outside the joint bounds (its log lines).
     bounds_fixed: list[str] = field(default_factory=list)
     replay: Optional[str] = None
+    #: What the script's exception is, as data (:func:`omtp_drake.errors.exception_kind`).
+    error: Optional[dict[str, Any]] = None
+    #: The session shut down at ``--timeout`` (``shutdown`` says so in words).
+    timed_out: bool = False
 
     @property
     def ok(self) -> bool:
@@ -116,16 +119,6 @@ def settle_line(settle_s: float, at_rest: bool) -> list[str]:
         return []
     how = "every part at rest" if at_rest else "the --settle-after limit; not every part at rest"
     return [f"settled: the cell ran on {settle_s:.2f} s after the end ({how})"]
-
-
-def describe_script_exception(e: BaseException, script: Path) -> str:
-    """``Type: message (at script.py:LINE in function)``: the deepest frame in the script."""
-    text = " ".join(str(e).split())
-    where = ""
-    for frame in traceback.extract_tb(e.__traceback__):
-        if Path(frame.filename).resolve() == script:
-            where = f" (at {script.name}:{frame.lineno} in {frame.name})"
-    return f"{type(e).__name__}: {text[:500]}{where}"
 
 
 class _Shown(Protocol):

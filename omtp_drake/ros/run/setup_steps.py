@@ -14,13 +14,12 @@ bad field or a failed call is a ConfigError, before the script runs.
 from __future__ import annotations
 
 import logging
-import math
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
 import yaml
 
-from omtp_drake.errors import ConfigError
+from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.ros.comm.messages import Message
 from omtp_drake.ros.comm.names import resolve
 from omtp_drake.ros.gazebo.cell_services import ServiceFailure
@@ -88,8 +87,7 @@ def call_services(session: Session, calls: Sequence[str]) -> None:
 
 def settle(session: Session, seconds: float) -> None:
     """Lets the cell run ``seconds`` of simulated time before the script."""
-    if not (math.isfinite(seconds) and seconds >= 0):
-        raise ConfigError(f"--settle must be finite simulated seconds >= 0, got {seconds}")
+    seconds = check_duration("--settle", seconds, zero=True)
     if session.timeout is not None and seconds >= session.timeout:
         raise ConfigError(f"--settle {seconds:g} s leaves no time of --timeout {session.timeout:g} s")
     if seconds > 0:

@@ -10,17 +10,17 @@ from pydrake.common.eigen_geometry import Quaternion as DrakeQuaternion
 from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.comm.messages import Point, Pose, Quaternion, Transform, Vector3
+from omtp_drake.ros.comm.messages import Message, Point, Pose, Quaternion, Transform, Vector3
 
 
-def pose_msg(X: RigidTransform) -> Pose:
+def pose_msg(X: RigidTransform) -> Message:
     """``X`` as a geometry_msgs/Pose."""
     q = X.rotation().ToQuaternion()
     p = X.translation()
     return Pose(Point(*map(float, p)), Quaternion(float(q.x()), float(q.y()), float(q.z()), float(q.w())))
 
 
-def transform_msg(X: RigidTransform) -> Transform:
+def transform_msg(X: RigidTransform) -> Message:
     """``X`` as a geometry_msgs/Transform."""
     pose = pose_msg(X)
     p, q = pose.position, pose.orientation
@@ -69,12 +69,12 @@ def pose_from_list(values: Sequence[float], what: str = "pose") -> RigidTransfor
     )
 
 
-def pose_to_list(pose: Pose) -> list[float]:
+def pose_to_list(pose: Message) -> list[float]:
     """moveit_commander.conversions.pose_to_list: ``[x, y, z, qx, qy, qz, qw]``."""
     p, q = pose.position, pose.orientation
     return [p.x, p.y, p.z, q.x, q.y, q.z, q.w]
 
 
-def list_to_pose(values: Sequence[float]) -> Pose:
+def list_to_pose(values: Sequence[float]) -> Message:
     """moveit_commander.conversions.list_to_pose (6 or 7 numbers, as pose_from_list)."""
     return pose_msg(pose_from_list(values))

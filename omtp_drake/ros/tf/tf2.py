@@ -15,7 +15,7 @@ import copy
 from typing import Any, Optional
 
 from omtp_drake.errors import FrameError, UnknownNameError
-from omtp_drake.ros.comm.messages import Header, PoseStamped, Time, TransformStamped
+from omtp_drake.ros.comm.messages import Header, Message, PoseStamped, Time, TransformStamped
 from omtp_drake.ros.comm.rostime import _blocking
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.gazebo.sensor_topics import SINGLE_CAMERA_FRAME, single_camera
@@ -103,7 +103,7 @@ class Buffer:
 
     def lookup_transform(
         self, target_frame: str, source_frame: str, time: Any, timeout: Any = None
-    ) -> TransformStamped:
+    ) -> Message:
         self._wait(target_frame, source_frame, time, timeout)
         stamped = self._lookup(target_frame, source_frame, time)
         header = Header(stamp=Time(stamped.time), frame_id=str(target_frame).lstrip("/"))
@@ -162,7 +162,7 @@ class TransformListener:
         pass
 
 
-def do_transform_pose(pose: PoseStamped, transform: TransformStamped) -> PoseStamped:
+def do_transform_pose(pose: Message, transform: Message) -> Message:
     """tf2_geometry_msgs.do_transform_pose: ``transform`` applied to ``pose`` (X_TS @ X_SP)."""
     X_TP = rigid(transform.transform, "transform") @ rigid(pose.pose, "pose")
     return PoseStamped(header=copy.deepcopy(transform.header), pose=pose_msg(X_TP))
