@@ -15,11 +15,11 @@ import math
 import re
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
 import numpy as np
 
+from omtp_drake.batch.command import add_batch_command, add_progress_options, show_progress
 from omtp_drake.errors import ConfigError, OmtpError
 from omtp_drake.grading.cli import add_commands as add_ros_commands
 from omtp_drake.launch.options import add_scenario_argument, resolve_cell_options
@@ -51,14 +51,6 @@ def cmd_scenarios(args: argparse.Namespace) -> int:
     for name in scenario_names():
         print(f"{name:28s} {load_scenario(name).description}")
     return 0
-
-
-def _progress(args: argparse.Namespace) -> bool:
-    """A progress bar only on a terminal (a log gets no carriage-return lines):
-    ``--progress`` asks for one anyway, ``-q`` for none."""
-    if getattr(args, "quiet", False):
-        return False
-    return bool(getattr(args, "progress", False)) or sys.stderr.isatty()
 
 
 def _run_and_report(args: argparse.Namespace, scenario: str, *, progress: bool) -> int:
@@ -113,12 +105,12 @@ def _serve(meshcat) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    return _run_and_report(args, args.scenario, progress=_progress(args))
+    return _run_and_report(args, args.scenario, progress=show_progress(args))
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main demo: the fill-a-bin challenge."""
-    return _run_and_report(args, "fill_bin", progress=_progress(args))
+    return _run_and_report(args, "fill_bin", progress=show_progress(args))
 
 
 def cmd_screenshot(args: argparse.Namespace) -> int:
@@ -150,35 +142,6 @@ def cmd_bench(args: argparse.Namespace) -> int:
     )
     print(report.table())
     return 0
-
-
-def cmd_batch(args: argparse.Namespace) -> int:
-    """``omtp-drake batch``: exit 0 when every run succeeded, 1 otherwise."""
-    from omtp_drake.batch import format_summary, parse_seeds, parse_sets, run_batch, summarize
-
-    seeds = parse_seeds(args.seeds)
-    sweep = parse_sets(args.set)
-    out = args.out
-    if out is None:
-        out = f"batch_{Path(str(args.scenario)).stem}"
-    records = run_batch(
-        args.scenario,
-        seeds,
-        settings=sweep,
-        parts=args.parts,
-        duration=args.duration,
-        workers=args.workers,
-        scheduler=args.scheduler,
-        timeout=args.timeout,
-        out=out,
-        progress=_progress(args),
-    )
-    resumed = sum(r.resumed for r in records)
-    if resumed:
-        print(f"resumed: {resumed} of {len(records)} runs were done already in {out}/ and were skipped")
-    print(format_summary(summarize(records)))
-    print(f"results: {out}/ (runs/*.json, runs.csv, summary.json, success_rate.png, cycle_times.png)")
-    return 0 if all(r.success for r in records) else 1
 
 
 def _simulated_station(
@@ -260,14 +223,6 @@ def _add_view_options(p: argparse.ArgumentParser) -> None:
     p.add_argument("--record", metavar="HTML", help="write a standalone Meshcat replay")
 
 
-def _add_progress_options(p: argparse.ArgumentParser) -> None:
-    """``-q/--quiet`` and ``--progress`` (read by :func:`_progress`)."""
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
-    p.add_argument(
-        "--progress", action="store_true", help="a progress bar even when stderr is not a terminal"
-    )
-
-
 def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     """Registers the commands that list scenarios and run their tasks: scenarios, demo, run."""
     p = sub.add_parser("scenarios", help="list the scenario names")
@@ -277,7 +232,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--parts", type=int, default=None, help="parts to place (default 10)")
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
     _add_view_options(p)
-    _add_progress_options(p)
+    add_progress_options(p)
     p.set_defaults(func=cmd_demo)
 
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
@@ -289,7 +244,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--parts", type=int, default=None, help="parts to place")
     _add_view_options(p)
     p.add_argument("--json", metavar="FILE", help="write the result as JSON")
-    _add_progress_options(p)
+    add_progress_options(p)
     p.set_defaults(func=cmd_run)
 
 
@@ -403,39 +358,6 @@ def _add_bench_command(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_bench)
 
 
-def _add_batch_command(sub: argparse._SubParsersAction) -> None:
-    """Registers ``omtp-drake batch``: a scenario's task over seeds and settings on Dask."""
-    p = sub.add_parser(
-        "batch",
-        help="run a scenario's task over seeds and settings on Dask: success rates, cycle times",
-        description="Every (seed, setting) is one run on a Dask cluster (local processes by default). "
-        "Re-running with the same --out resumes.",
-    )
-    add_scenario_argument(p)
-    p.add_argument("--seeds", required=True, metavar="A:B", help="seeds A..B-1 (e.g. 0:100), or 3,7,9")
-    p.add_argument("--parts", type=int, default=None, help="parts to place per run")
-    p.add_argument("--duration", type=float, default=None, help="simulated seconds at most per run")
-    p.add_argument(
-        "--set",
-        action="append",
-        default=[],
-        metavar="KEY=V1,V2",
-        help="sweep a scenario field, e.g. task.max_tool_speed=0.6,0.8 or "
-        "cameras.logical_camera_2.position_noise_sigma=0,0.001 (repeatable; the grid is every combination)",
-    )
-    where = p.add_mutually_exclusive_group()
-    where.add_argument(
-        "--workers", type=int, default=None, metavar="N", help="local worker processes (default: core count)"
-    )
-    where.add_argument("--scheduler", metavar="ADDRESS", help="an existing Dask scheduler, tcp://host:8786")
-    p.add_argument(
-        "--timeout", type=float, default=None, metavar="S", help="wall seconds per run (default: none)"
-    )
-    p.add_argument("--out", default=None, metavar="DIR", help="results folder (default: batch_<scenario>)")
-    _add_progress_options(p)
-    p.set_defaults(func=cmd_batch)
-
-
 class _Parser(argparse.ArgumentParser):
     """argparse whose errors are one line (exit 2), like every other error of the CLI."""
 
@@ -467,7 +389,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_replay_commands(sub)
     _add_inspect_commands(sub)
     _add_bench_command(sub)
-    _add_batch_command(sub)
+    add_batch_command(sub)
     add_ros_commands(sub)
     add_flexbe_commands(sub)
     add_ros2_commands(sub)

@@ -9,8 +9,9 @@ Modules (one job each):
 - ``cluster``: the Dask cluster and ``run_batch``
 - ``summary``: what a batch adds up to per setting (success rate, cycle times, failures)
 - ``plots``: a batch's figures: success rate per setting and cycle-time histograms
+- ``command``: ``omtp-drake batch`` and the progress-bar options of the task commands
 
-May import: ``omtp_drake.tasks`` and everything below it.
+May import: ``omtp_drake.tasks`` and everything below it (``launch``: a batch of a student's own cell).
 """
 
 from omtp_drake.batch.cluster import connect, default_workers, run_batch

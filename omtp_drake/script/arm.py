@@ -127,7 +127,7 @@ class Arm:
                 which and names the bodies).
         """
         speed = _check_fraction("speed", speed)
-        planner, other_q = self._planning_scene(), self._other_arms()
+        planner, other_q = self._planning_scene(), other_arm_positions(self._runtime, self.name)
         q_start = self.joint_values() if start is None else np.asarray(start, dtype=float)
         q_goal = self._goal(target, frame, planner, other_q, q_start)
         path = planner.plan(q_start, q_goal, other_q=other_q)
@@ -175,7 +175,7 @@ class Arm:
             max_step=max_step,
             jump_threshold=float(jump_threshold) or None,
             avoid_collisions=bool(avoid_collisions),
-            other_q=self._other_arms(),
+            other_q=other_arm_positions(self._runtime, self.name),
         )
         velocity, acceleration = joint_limits if joint_limits is not None else (None, None)
         trajectory = planner.time_parameterize(
@@ -283,18 +283,6 @@ class Arm:
             )
         return q
 
-    def _other_arms(self) -> dict[str, np.ndarray]:
-        """The other arms' measured positions, within their joint limits (a wrist measured a
-        hair beyond its limit is on it: they only place the other arms' bodies)."""
-        station = self._runtime.station
-        return {
-            name: np.clip(
-                self._runtime.joint_positions(name), -handles.config.joint_limit, handles.config.joint_limit
-            )
-            for name, handles in station.arms.items()
-            if name != self.name
-        }
-
     def _planning_scene(self) -> ArmPlanner:
         """The planner with the cell's planning scene (MoveIt's semantics): its boxes
         as obstacles, named; on the gripper, the held part and the boxes attached to
@@ -358,3 +346,15 @@ def _limit_tool_speed(
     slopes = np.column_stack([trajectory.EvalDerivative(t, 1).ravel() / scale for t in breaks])
     new_times = [t0 + (t - t0) * scale for t in breaks]
     return PiecewisePolynomial.CubicHermite(new_times, knots, slopes)
+
+
+def other_arm_positions(runtime: FactoryRuntime, name: str) -> dict[str, np.ndarray]:
+    """The measured positions of the arms other than ``name``, within their joint limits (a
+    wrist measured a hair beyond its limit is on it: they only place the other arms' bodies)."""
+    return {
+        other: np.clip(
+            runtime.joint_positions(other), -handles.config.joint_limit, handles.config.joint_limit
+        )
+        for other, handles in runtime.station.arms.items()
+        if other != name
+    }

@@ -18,7 +18,7 @@ from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
 from omtp_drake.script import Cell
-from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan
+from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
 from omtp_drake.sim.driver import spawn
 from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
 
@@ -47,6 +47,7 @@ __all__ = [
     "latency_names",
     "load_scenario",
     "named_pose",
+    "other_arm_positions",
     "spawn",
     "spawn_pose",
     "tool_down",

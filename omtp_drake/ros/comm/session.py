@@ -91,6 +91,35 @@ class SubscriberQueue:
     active: bool = True
 
 
+def _cell_graph(cell: Cell) -> tuple[dict[str, Source], dict[str, Service]]:
+    """The topics and services of ``cell``'s own systems (arms, cameras, beam, grippers,
+    belt), as the course's Gazebo plugins name them; tf's camera frames follow the models
+    the camera topics list."""
+    from omtp_drake.ros.gazebo.cell_services import cell_services
+    from omtp_drake.ros.gazebo.joint_state_topics import joint_state_sources
+    from omtp_drake.ros.gazebo.sensor_topics import camera_views, cell_sources
+
+    views = camera_views(cell)
+    cell.tf.use_images(lambda camera, context: views[camera].image(context))
+    return {**joint_state_sources(cell), **cell_sources(cell, views)}, cell_services(cell)
+
+
+def _as_node(session: Session, callback: Callable[..., Any]) -> Callable[..., Any]:
+    """``callback`` run as the node starting in ``session`` now (its name and how it
+    resolves names), whenever it is called later."""
+    node = session.node_name, session.names
+
+    def as_node(*args: Any) -> Any:
+        saved = session.node_name, session.names
+        session.node_name, session.names = node
+        try:
+            return callback(*args)
+        finally:
+            session.node_name, session.names = saved
+
+    return as_node
+
+
 class Session:
     """The ROS graph of one script on ``cell`` (see the module doc).
 
@@ -109,9 +138,6 @@ class Session:
         moveit: str = "noetic",
         latency: Optional[RosLatencyConfig] = None,
     ):
-        from omtp_drake.ros.gazebo.cell_services import cell_services
-        from omtp_drake.ros.gazebo.joint_state_topics import joint_state_sources
-        from omtp_drake.ros.gazebo.sensor_topics import camera_views, cell_sources
         from omtp_drake.ros.gazebo.world_plugins import attach_gazebo
 
         self.cell = cell
@@ -139,13 +165,9 @@ class Session:
         self._in_callback = 0
         self._busy_polls = 0
         self._last_poll_time = -1.0
-        views = camera_views(cell)
-        # tf's camera frames follow the models the camera topics list.
-        cell.tf.use_images(lambda camera, context: views[camera].image(context))
-        self.sources: dict[str, Source] = {**joint_state_sources(cell), **cell_sources(cell, views)}
-        self.services: dict[str, Service] = cell_services(cell)
         #: Spawner calls that spawned nothing (their warnings).
         self.empty_spawn_calls: list[str] = []
+        self.sources, self.services = _cell_graph(cell)
         self.gazebo = attach_gazebo(self)  # Gazebo's own topics and services, and the spawner
         self._on_shutdown: list[Callable[[], Any]] = []
         #: The parameter server, topics scripts publish, latched messages, log throttles.
@@ -272,25 +294,11 @@ class Session:
             raise ValueError(f"queue_size must be None or an integer >= 0, got {queue_size!r}")
         maxlen = None if queue_size in (None, 0) else int(queue_size)
         if self.starting_node:
-            callback = self._in_node(callback)
+            callback = _as_node(self, callback)
         subscriber = SubscriberQueue(topic, callback, callback_args, collections.deque(maxlen=maxlen))
         self._subscribers[topic].append(subscriber)
         self.gazebo.on_subscribe(topic)
         return subscriber
-
-    def _in_node(self, callback: Callable[..., Any]) -> Callable[..., Any]:
-        """``callback`` run as the starting node's (its name and how it resolves names)."""
-        node = self.node_name, self.names
-
-        def as_node(*args: Any) -> Any:
-            saved = self.node_name, self.names
-            self.node_name, self.names = node
-            try:
-                return callback(*args)
-            finally:
-                self.node_name, self.names = saved
-
-        return as_node
 
     def unsubscribe(self, subscriber: SubscriberQueue) -> None:
         subscriber.active = False

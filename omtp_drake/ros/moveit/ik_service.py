@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from omtp_drake.errors import GoalInCollisionError, PlanningError
-from omtp_drake.ros.comm._core import JOINT_NAMES, CorePoseStamped, tool_frame_names
+from omtp_drake.ros.comm._core import JOINT_NAMES, CorePoseStamped, other_arm_positions, tool_frame_names
 from omtp_drake.ros.comm.interfaces import MoveItErrorCodes, RobotState
 from omtp_drake.ros.comm.messages import Header, JointState, Message, Time
 from omtp_drake.ros.moveit.interfaces import GetPositionIKResponse
@@ -85,7 +85,7 @@ def compute_ik(cell: Cell, request: Any) -> Message:
             X_WE,
             frame=links[link],
             q_seed=_ik_seed(cell, ik.group_name, ik.robot_state.joint_state),
-            other_q=arm._other_arms(),
+            other_q=other_arm_positions(cell.runtime, arm.name),
             check_collisions=bool(ik.avoid_collisions),
         )
     except PlanningError as e:
