@@ -100,7 +100,7 @@ print("images", len(seen))
 
 def test_a_finished_ros_session_frees_its_cell(tmp_path, monkeypatch, capsys):
     from omtp_drake.ros import run_script
-    from omtp_drake.ros.run import runner
+    from omtp_drake.ros.run import bring_up
 
     refs: dict[str, weakref.ref] = {}
 
@@ -109,7 +109,7 @@ def test_a_finished_ros_session_frees_its_cell(tmp_path, monkeypatch, capsys):
             super().__init__(*args, **kwargs)
             refs.update(_cell_refs(self.runtime), cell=weakref.ref(self))
 
-    monkeypatch.setattr(runner, "Cell", WatchedCell)
+    monkeypatch.setattr(bring_up, "Cell", WatchedCell)  # ros-run and flexbe-run build their cell there
     script = tmp_path / "watch_camera.py"
     script.write_text(_SCRIPT)
     report = run_script(script, scenario="lecture6_assignment3", timeout=5.0)
