@@ -131,3 +131,25 @@ def test_a_plugin_value_out_of_range_exits_2_with_one_line(tmp_path, capsys):
     assert (
         err.count("\n") == 0 and str(path) in err and "horizontal_fov must be in (0, pi) rad, got 3.2" in err
     )
+
+
+def test_a_launchs_robot_description_is_viewed_as_rviz_shows_it(tmp_path, listed):
+    """``view --launch``: the URDF a display launch loads on /robot_description (rviz's
+    default), the same joints as viewing the file itself."""
+    out = tmp_path / "launch.json"
+    workspace = str(ROBOT.parents[3])
+    launch = "slider_arm_description display.launch gui:=false"
+    assert main(["view", "--launch", launch, "--workspace", workspace, "--json", str(out)]) == 0
+    from_launch = json.loads(out.read_text())
+    assert from_launch["joints"] == listed["joints"] and from_launch["links"] == listed["links"]
+
+
+def test_a_launch_without_that_parameter_names_the_ones_it_has(capsys):
+    workspace = str(ROBOT.parents[3])
+    launch = "slider_arm_description display.launch"
+    args = ["--workspace", workspace, "--param", "robot2_description", "--json"]
+    code = main(["view", "--launch", launch, *args])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert code == 2 and len(err) == 1
+    assert "display.launch: loads no robot description on /robot2_description" in err[0]
+    assert "description parameters: /robot_description" in err[0]

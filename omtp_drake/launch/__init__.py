@@ -19,6 +19,7 @@ Modules (one job each):
 - ``sdf_world``: a Gazebo world's models (includes by model://, poses, names), checked by Drake's parser
 - ``world_pieces``: the course's pieces in a world's models: cameras, the belt, the deletion wall
 - ``plugins``: the course's Gazebo plugins and their parameters, as the cell's systems take them
+- ``description``: the robot description a launch loads (``view --launch``, as rviz shows it)
 - ``standins``: the project's stand-ins for the packages the course's files need and no student has
 
 May import: ``omtp_drake.sim``, ``omtp_drake.cell``, ``omtp_drake.scenario``,

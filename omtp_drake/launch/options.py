@@ -83,8 +83,8 @@ def resolve_cell_options(args: argparse.Namespace, warn: Any = None) -> None:
     """With ``--launch`` or ``--world``: ``args.scenario`` becomes the file of their cell (and
     ``args.moveit_config`` the launch's own MoveIt config, unless given); each warning line
     goes to ``warn`` (default: the log). Without them: a scenario must be given."""
-    if not hasattr(args, "launch"):
-        return  # a command that takes no cell
+    if not hasattr(args, "cell_workspace_option"):
+        return  # a command that takes no cell (add_cell_options was not called on its parser)
     launch, world = args.launch, args.world
     if not (launch or world):
         if getattr(args, "robot", None):

@@ -13,6 +13,7 @@ import argparse
 import json
 import math
 import sys
+from collections.abc import Callable
 from typing import Any
 
 from omtp_drake.errors import ConfigError
@@ -20,11 +21,17 @@ from omtp_drake.errors import ConfigError
 
 def view_model_config(args: argparse.Namespace) -> Any:
     """The model ``view`` shows: the description file's (its packages found in
-    ``--workspace`` folders, ``ROS_PACKAGE_PATH`` and next to the file). A ``--launch``
-    source of models would be chosen here."""
+    ``--workspace`` folders, ``ROS_PACKAGE_PATH`` and next to the file), or the robot
+    description a ``--launch`` loads on ``--param`` (rviz's ``robot_description``)."""
     from omtp_drake.scenario import model_from_file
     from omtp_drake.scenario.models import file_workspace
 
+    if (args.file is None) == (args.launch is None):
+        raise ConfigError(
+            "view: give FILE.urdf[.xacro]|FILE.sdf or --launch 'PKG FILE.launch [ARG:=VALUE ...]'"
+        )
+    if args.launch is not None:
+        return args.launch_description(args.launch, args.workspace, args.param)
     args_map = dict(_pair(a, "--arg") for a in args.arg)
     return model_from_file(args.file, file_workspace(args.file, args.workspace), static=True, args=args_map)
 
@@ -73,15 +80,28 @@ def cmd_view(args: argparse.Namespace) -> int:
     return 0
 
 
-def add_view_command(sub: argparse._SubParsersAction) -> None:
-    """Registers ``omtp-drake view``."""
+def add_view_command(sub: argparse._SubParsersAction, launch_description: Callable[..., Any]) -> None:
+    """Registers ``omtp-drake view``; ``launch_description(spec, workspace, param)`` gives the
+    model a ``--launch`` loads (:func:`omtp_drake.launch.description.launch_description`,
+    a layer above this one)."""
     p = sub.add_parser(
         "view",
         help="show a URDF/xacro/SDF model in Meshcat, a slider per joint (rviz + joint_state_publisher_gui)",
         description="Shows the model of FILE in Meshcat with a slider per movable joint, its camera "
         "sensors' images and a depth camera's point cloud.",
     )
-    p.add_argument("file", metavar="FILE.urdf[.xacro]|FILE.sdf")
+    p.add_argument("file", metavar="FILE.urdf[.xacro]|FILE.sdf", nargs="?")
+    p.add_argument(
+        "--launch",
+        metavar="'PKG FILE.launch [ARG:=VALUE ...]'",
+        help="the robot description a launch file loads (as roslaunch takes it), instead of FILE",
+    )
+    p.add_argument(
+        "--param",
+        default="/robot_description",
+        metavar="NAME",
+        help="with --launch: the parameter holding the description (default /robot_description, as rviz)",
+    )
     p.add_argument(
         "--workspace",
         action="append",
@@ -103,4 +123,4 @@ def add_view_command(sub: argparse._SubParsersAction) -> None:
         "--position", action="append", default=[], metavar="JOINT=VALUE", help="a joint's start position"
     )
     p.add_argument("--timeout", type=float, default=math.inf, metavar="S", help="end after S wall seconds")
-    p.set_defaults(func=cmd_view)
+    p.set_defaults(func=cmd_view, launch_description=launch_description)

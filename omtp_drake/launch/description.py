@@ -1,0 +1,61 @@
+"""The robot description a student's launch file loads, for ``omtp-drake view --launch``.
+
+rviz's RobotModel display (and ``joint_state_publisher_gui``) show the URDF on the
+parameter ``robot_description``; the course's lecture-1 launch loads the factory's
+xacro there (``<param name="robot_description" command="$(find xacro)/xacro ..."/>``).
+:func:`launch_description` reads the launch as ``roslaunch`` would and returns that
+parameter's model, its ``package://`` and ``model://`` URIs found in the workspace.
+"""
+
+from __future__ import annotations
+
+import os
+import xml.etree.ElementTree as ET
+from collections.abc import Iterator, Mapping, Sequence
+from typing import Any
+
+from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.own_cell import student_workspace
+from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec, read_launch
+from omtp_drake.scenario import ModelConfig, model_from_text
+
+#: The parameter rviz's RobotModel display reads by default.
+ROBOT_DESCRIPTION = "/robot_description"
+
+
+def launch_description(
+    spec: str, workspace: Sequence[str | os.PathLike] = (), param: str = ROBOT_DESCRIPTION
+) -> ModelConfig:
+    """The model on parameter ``param`` of the launch ``spec`` (``'PKG FILE.launch
+    [ARG:=VALUE ...]'``) in ``workspace``; WorkspaceError naming the launch and the
+    description parameters it has when ``param`` is not one of them."""
+    ws = student_workspace(workspace)
+    pkg, file, args = parse_launch_spec(spec)
+    path = find_launch_file(ws, pkg, file)
+    params = read_launch(path, args, ws).params
+    name = "/" + param.strip("/")
+    descriptions = {k: v for k, v in _flat(params) if isinstance(v, str) and _is_description(v)}
+    if name not in descriptions:
+        valid = ", ".join(sorted(descriptions)) or "none"
+        raise WorkspaceError(f"{path}: loads no robot description on {name}; description parameters: {valid}")
+    return model_from_text(descriptions[name], f"{path} ({name})", ws, static=True)
+
+
+def _flat(params: Mapping[str, Any], prefix: str = "") -> Iterator[tuple[str, Any]]:
+    """(full name, value) of every parameter of the nested ``params``."""
+    for key, value in params.items():
+        name = f"{prefix}/{key}"
+        if isinstance(value, Mapping):
+            yield from _flat(value, name)
+        else:
+            yield name, value
+
+
+def _is_description(text: str) -> bool:
+    """Whether ``text`` is a URDF or SDF document (its root element ``robot`` or ``sdf``)."""
+    if not text.lstrip().startswith("<"):
+        return False
+    try:
+        return ET.fromstring(text).tag in ("robot", "sdf")
+    except ET.ParseError:
+        return False
