@@ -4,6 +4,7 @@ Modules (one job each):
 
 - ``runtime``: a scenario's cell, ready to run, with the course's services on it
 - ``driver``: the Simulator's owner: advances the cell and applies world edits between advances
+- ``gripper_events``: the world edit that runs a gripper's rule when something happens, and its weld
 - ``part_sleep``: the world edit that puts resting parts to sleep and wakes touched ones
 - ``pool``: the part pool: which parts are parked, spawning and disposal
 - ``parts``: the course's part services on a running cell (spawn, knock, remove, read)

@@ -1,0 +1,157 @@
+"""The vacuum grippers' events: a world edit of the driver that runs a gripper's rule
+when something happens, and makes and removes a weld gripper's constraints.
+
+The course's plugin looks at its command at every physics update; the result of
+that look changes only when the command changes, when a contact check is due
+(0.1 s after the last, ``updateRate``), when an injected fault begins or ends, and
+(weld backend) one plant step after a check decided an attach. So a gripper whose
+command services give (a script, ROS, FlexBE; its station input is free) never
+polls: :meth:`GripperEvents.command` and :meth:`GripperEvents.fault` schedule its
+rule (:meth:`~omtp_drake.cell.suction.SuctionGripper.poll`) at the plant step at or
+after the call, and while it is enabled the driver stops at each check that is due.
+A gripper whose command a controller of the diagram writes polls it itself, one
+plant step after each of the controller's updates
+(:class:`~omtp_drake.cell.suction.CommandPolling`); the driver stops one step after
+a check of it that may decide an attach, to make the weld. An idle gripper costs
+nothing.
+
+The constraints (:func:`~omtp_drake.cell.suction_holds.sync_weld`) follow each weld
+gripper's state at every stop of the driver: one plant step after a check decided
+an attach or a service's disable released a part, and at least every
+``IDLE_SYNC_PERIOD`` (a release the controller commands, or a fault's, is made at
+the next of those).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
+from pydrake.systems.framework import Context
+
+from omtp_drake.cell.suction import SuctionGripper
+from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
+from omtp_drake.errors import ConfigError
+
+if TYPE_CHECKING:
+    from omtp_drake.cell.station import Station
+
+#: Times closer than this (s) are the same time.
+_EPS = 1e-9
+#: At least how often weld constraints follow the grippers' states [s]: a release
+#: the controller commands (or a fault) is made within that time.
+IDLE_SYNC_PERIOD = 0.05
+
+
+class GripperEvents:
+    """The grippers' rule runs and weld syncs between advances (module doc).
+
+    A world edit (``period``: the weld's idle sync) with events of its own: the
+    driver stops at :meth:`next_time` too, and calls :meth:`before_advance` before
+    each advance (after the edits and callbacks at that time, where the gripper's
+    periodic poll used to run)."""
+
+    def __init__(self, station: Station):
+        self._plant = station.plant
+        self._grippers: dict[str, SuctionGripper] = dict(station.grippers)
+        self._welds = [g for g in self._grippers.values() if isinstance(g, WeldSuctionGripper)]
+        self.period = IDLE_SYNC_PERIOD if self._welds else math.inf
+        #: Grippers commanded by services (their rule runs here); the others poll.
+        self._served: set[str] = {r for r, g in self._grippers.items() if g.polling is None}
+        #: Times at which a gripper's rule is due (robot -> times), and weld syncs.
+        self._runs: dict[str, list[float]] = {r: [] for r in self._grippers}
+        self._syncs: list[float] = []
+
+    def serve(self, robots: Iterable[str]) -> None:
+        """``robots``' grippers are commanded by services (their command inputs are
+        free): their checks are scheduled here, whether or not they also poll."""
+        self._served.update(robots)
+
+    def check_driven(self, robots: Iterable[str]) -> None:
+        """``robots``' gripper commands are written by a system of the diagram: each
+        must poll (ConfigError otherwise: it would never see its command)."""
+        deaf = sorted(r for r in robots if self._grippers[r].polling is None)
+        if deaf:
+            raise ConfigError(
+                f"the gripper command of {', '.join(deaf)} is connected to a system of the diagram, "
+                "but the station built the gripper for service commands (no polling); only the "
+                "scenario's task robot's gripper is driven by a controller"
+            )
+
+    # ------------------------------------------------------------------ services
+
+    def command(self, root_context: Context, robot: str) -> None:
+        """``robot``'s command input was just set: its rule runs at the plant step at or
+        after now (where the plugin's next physics update would see it)."""
+        gripper = self._grippers[robot]
+        self._runs[robot].append(gripper.step_at_or_after(root_context.get_time()))
+
+    def fault(self, root_context: Context, robot: str, until: float) -> None:
+        """``robot``'s vacuum just failed until ``until``: its rule runs at the plant steps
+        at or after now and at or after ``until``."""
+        gripper = self._grippers[robot]
+        self._runs[robot] += [
+            gripper.step_at_or_after(root_context.get_time()),
+            gripper.step_at_or_after(until),
+        ]
+
+    # ------------------------------------------------------------------ the driver's
+
+    def next_time(self, root_context: Context) -> float:
+        """The next time (after now) one of these events is due."""
+        now = root_context.get_time()
+        times = [t for runs in self._runs.values() for t in runs] + self._syncs
+        for robot, gripper in self._grippers.items():
+            context = gripper.GetMyContextFromRoot(root_context)
+            if robot in self._served:
+                if gripper.get_state(context).enabled:
+                    times.append(gripper.step_at_or_after(gripper.next_check(context)))
+            elif isinstance(gripper, WeldSuctionGripper) and self._may_decide(gripper, context):
+                check = gripper.poll_at_or_after(max(gripper.next_check(context), now))
+                times.append(gripper.step_at_or_after(check + gripper.step))
+        return min((t for t in times if t > now + _EPS), default=math.inf)
+
+    @staticmethod
+    def _may_decide(gripper: WeldSuctionGripper, context: Context) -> bool:
+        """Whether the gripper's next check may decide an attach: enabled (by its
+        command now), not holding, none pending."""
+        if not gripper.command_input_port().Eval(context)[0] > 0.5:
+            return False
+        return not gripper.get_state(context).attached and not gripper.pending_part(context)
+
+    def before_advance(self, root_context: Context) -> None:
+        """Runs each gripper's rule that is due now: a command, a fault's start or end,
+        a served gripper's check; schedules the weld sync one step later where the
+        rule decided an attach or a disable released a part."""
+        now = root_context.get_time()
+        for robot, gripper in self._grippers.items():
+            runs = self._runs[robot]
+            due = any(t <= now + _EPS for t in runs)
+            if due:
+                self._runs[robot] = [t for t in runs if t > now + _EPS]
+            context = gripper.GetMyMutableContextFromRoot(root_context)
+            if robot in self._served and gripper.get_state(context).enabled:
+                due = due or gripper.step_at_or_after(gripper.next_check(context)) <= now + _EPS
+            if not due:
+                continue
+            gripper.poll(context)
+            if isinstance(gripper, WeldSuctionGripper) and self._needs_sync(gripper, context, root_context):
+                self._syncs.append(gripper.step_at_or_after(now + gripper.step))
+
+    def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
+        """After a rule run: an attach is pending, or the command's disable released a
+        held part (a fault's release waits for the idle sync, as a controller's)."""
+        if gripper.pending_part(context):
+            return True
+        if gripper.get_state(context).attached or gripper.command_input_port().Eval(context)[0] > 0.5:
+            return False
+        plant_context = self._plant.GetMyContextFromRoot(root_context)
+        return gripper.constraints.held_body(self._plant, plant_context) is not None
+
+    def __call__(self, root_context: Context) -> None:
+        """At a stop: the weld constraints follow the grippers' states."""
+        now = root_context.get_time()
+        self._syncs = [t for t in self._syncs if t > now + _EPS]
+        for gripper in self._welds:
+            sync_weld(gripper, self._plant, root_context)
