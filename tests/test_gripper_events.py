@@ -119,3 +119,34 @@ def test_a_gripper_command_written_by_an_undeclared_system_is_refused():
     task = scenario.required_task()
     with pytest.raises(ConfigError, match="robot2 is connected to a system of the diagram"):
         FactoryRuntime(scenario, extend=lambda builder, station: add_pick_and_place(builder, station, task))
+
+
+def test_a_vacuum_failure_drops_at_once_and_the_weld_goes_at_the_next_idle_sync():
+    """The task's controller holds a part; the vacuum fails at a tick: the gripper lets go
+    at its next poll (its controller's update at the tick still sees the part held, as
+    beside the per-step poll), the constraints at the next 50 ms sync, however finely the run is
+    advanced (the per-step poll did so in a run advanced by ticks, as the soak's, and one
+    step later in one advanced step by step), not at a stop the driver makes for an attach."""
+    from omtp_drake.tasks.run import TaskRun, prepare
+
+    run = TaskRun(prepare("fill_bin", seed=0))
+    rt = run.runtime
+    h = rt.station.plant.time_step()
+    gripper, plant = rt.station.grippers["robot2"], rt.station.plant
+
+    def held():
+        return gripper.constraints.held_body(plant, plant.GetMyContextFromRoot(rt.context))
+
+    while not rt.gripper_state("robot2").attached:
+        rt.advance_to(rt.time + 0.05)
+    rt.advance_to(round(rt.time + 0.3, 9))  # lifting, well past the attach
+    s = rt.time
+    rt.fail_vacuum("robot2", 0.5)
+    released = []
+    while rt.time < s + 0.1 - 1e-9:
+        rt.advance_to(round(rt.time + h, 9))
+        if held() is None and not released:
+            released.append(rt.time)
+        if abs(rt.time - (s + 2 * h)) < 1e-9:  # let go at its poll one step after the tick
+            assert not rt.gripper_state("robot2").attached
+    assert released == pytest.approx([s + 0.05])

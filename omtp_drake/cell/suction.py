@@ -126,8 +126,10 @@ class GripperMemory:
 
 _IDLE = GripperState(enabled=False, attached=False, part="", X_CP=None, since=math.nan)
 
-#: Times closer than this (s) are the same time.
+#: Times closer than this (s) are the same time; a poll this much before a check is
+#: due makes the check.
 _EPS = 1e-9
+CHECK_TOLERANCE = _EPS
 
 
 @dataclass(frozen=True)
@@ -144,6 +146,17 @@ class CommandPolling:
 
 #: Poll the command at every plant step (the plugin at every physics update).
 EVERY_STEP = CommandPolling()
+
+
+def _first_sample(offset: float, period: float, t: float) -> float:
+    """The first ``offset + k period`` (k >= 0, computed as Drake computes a periodic
+    event's times) that is >= ``t``, compared exactly."""
+    k = max(0, math.ceil((t - offset) / period - 1e-6))
+    while k > 0 and offset + (k - 1) * period >= t:
+        k -= 1
+    while offset + k * period < t:
+        k += 1
+    return offset + k * period
 
 
 class SuctionGripper(LeafSystem):
@@ -281,20 +294,24 @@ class SuctionGripper(LeafSystem):
         """The plant's step [s]: the rule runs at its multiples (the plugin's physics updates)."""
         return self._step
 
-    def step_at_or_after(self, t: float) -> float:
-        """The first plant step time at or after ``t`` (as Drake computes it: k h)."""
-        return math.ceil(t / self._step - 1e-6) * self._step
+    def step_at_or_after(self, t: float, tolerance: float = 0.0) -> float:
+        """The first plant step time ``k h`` (as Drake computes it) at or after ``t -
+        tolerance``. Without tolerance the comparison is exact: a step a rounding error
+        before ``t`` has already been taken when the simulator stops at ``t``."""
+        return _first_sample(0.0, self._step, t - tolerance)
 
-    def poll_at_or_after(self, t: float) -> float:
-        """The first of the gripper's own polls at or after ``t`` (inf without polling)."""
+    def poll_at_or_after(self, t: float, tolerance: float = 0.0) -> float:
+        """The first of the gripper's own polls at or after ``t - tolerance``, a poll a
+        rounding error before it included (inf without polling)."""
         if self._polling is None:
             return math.inf
         period, offset = self._polling.period, self._polling.offset
-        return offset + max(0, math.ceil((t - offset) / period - 1e-6)) * period
+        return offset + max(0, math.ceil((t - tolerance - offset) / period - 1e-6)) * period
 
     def next_check(self, context: Context) -> float:
         """When the next contact check is due if the gripper is enabled then:
-        ``1 / check_rate_hz`` after the last one (-inf: none yet, at once)."""
+        ``1 / check_rate_hz`` after the last one (-inf: none yet, at once); a poll
+        :data:`CHECK_TOLERANCE` before it checks."""
         return self._get_memory(context).last_check + self._check_period
 
     def poll(self, context: Context) -> None:
@@ -371,7 +388,7 @@ class SuctionGripper(LeafSystem):
             if not old.enabled and memory.streak_body < 0 and memory.pending_body < 0:
                 return memory  # idle already (an unused arm's gripper, most polls)
             return GripperMemory(replace(_IDLE, last_release=old.last_release), last_check=memory.last_check)
-        if t - memory.last_check < self._check_period - _EPS:
+        if t - memory.last_check < self._check_period - CHECK_TOLERANCE:
             return memory  # enabled, between two checks
         return replace(self._check_contact(context, memory, t), last_check=t)
 

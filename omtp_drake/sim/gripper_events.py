@@ -16,10 +16,10 @@ a check of it that may decide an attach, to make the weld. An idle gripper costs
 nothing.
 
 The constraints (:func:`~omtp_drake.cell.suction_holds.sync_weld`) follow each weld
-gripper's state at every stop of the driver: one plant step after a check decided
-an attach or a service's disable released a part, and at least every
-``IDLE_SYNC_PERIOD`` (a release the controller commands, or a fault's, is made at
-the next of those).
+gripper's state one plant step after a check decided an attach or a service's
+disable released a part, and every ``IDLE_SYNC_PERIOD`` (a release the controller
+commands, a fault's or a lost hold's is made at the next of those), where the
+per-step poll made them before.
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ from typing import TYPE_CHECKING
 
 from pydrake.systems.framework import Context
 
-from omtp_drake.cell.suction import SuctionGripper
+from omtp_drake.cell.suction import CHECK_TOLERANCE, SuctionGripper
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError
 
@@ -89,12 +89,13 @@ class GripperEvents:
 
     def fault(self, root_context: Context, robot: str, until: float) -> None:
         """``robot``'s vacuum just failed until ``until``: its rule runs at the plant steps
-        at or after now and at or after ``until``."""
+        at or after now and at or after ``until``. A gripper that polls sees the start
+        itself, at its next poll: events of the diagram due now (its controller's
+        update) still see the part held, as they did beside the per-step poll."""
         gripper = self._grippers[robot]
-        self._runs[robot] += [
-            gripper.step_at_or_after(root_context.get_time()),
-            gripper.step_at_or_after(until),
-        ]
+        if robot in self._served:
+            self._runs[robot].append(gripper.step_at_or_after(root_context.get_time()))
+        self._runs[robot].append(gripper.step_at_or_after(until))
 
     # ------------------------------------------------------------------ the driver's
 
@@ -104,13 +105,30 @@ class GripperEvents:
         times = [t for runs in self._runs.values() for t in runs] + self._syncs
         for robot, gripper in self._grippers.items():
             context = gripper.GetMyContextFromRoot(root_context)
-            if robot in self._served:
-                if gripper.get_state(context).enabled:
-                    times.append(gripper.step_at_or_after(gripper.next_check(context)))
-            elif isinstance(gripper, WeldSuctionGripper) and self._may_decide(gripper, context):
-                check = gripper.poll_at_or_after(max(gripper.next_check(context), now))
-                times.append(gripper.step_at_or_after(check + gripper.step))
+            driver = self._driver_check(robot, gripper, context)
+            times.append(driver)
+            # A check on the gripper's own poll that may decide an attach: the weld one
+            # step later (after a check the driver runs, before_advance schedules it).
+            polled = robot not in self._served and math.isinf(driver)
+            if polled and isinstance(gripper, WeldSuctionGripper) and self._may_decide(gripper, context):
+                check = max(
+                    gripper.poll_at_or_after(gripper.next_check(context), CHECK_TOLERANCE),
+                    gripper.poll_at_or_after(now),
+                )
+                times.append(_step_after(check, gripper.step))
         return min((t for t in times if t > now + _EPS), default=math.inf)
+
+    def _driver_check(self, robot: str, gripper: SuctionGripper, context: Context) -> float:
+        """When the driver runs the enabled gripper's next contact check (the plant step
+        at or after ``1 / check_rate_hz`` after the last): always for a gripper commanded
+        by services, and for a polling one when that step is not one of its polls (its
+        last check was the driver's: at a fault's end); inf otherwise."""
+        if not gripper.get_state(context).enabled:
+            return math.inf
+        due = gripper.step_at_or_after(gripper.next_check(context), CHECK_TOLERANCE)
+        if robot in self._served or abs(gripper.poll_at_or_after(due) - due) > _EPS:
+            return due
+        return math.inf
 
     @staticmethod
     def _may_decide(gripper: WeldSuctionGripper, context: Context) -> bool:
@@ -131,13 +149,12 @@ class GripperEvents:
             if due:
                 self._runs[robot] = [t for t in runs if t > now + _EPS]
             context = gripper.GetMyMutableContextFromRoot(root_context)
-            if robot in self._served and gripper.get_state(context).enabled:
-                due = due or gripper.step_at_or_after(gripper.next_check(context)) <= now + _EPS
+            due = due or self._driver_check(robot, gripper, context) <= now + _EPS
             if not due:
                 continue
             gripper.poll(context)
             if isinstance(gripper, WeldSuctionGripper) and self._needs_sync(gripper, context, root_context):
-                self._syncs.append(gripper.step_at_or_after(now + gripper.step))
+                self._syncs.append(_step_after(now, gripper.step))
 
     def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
         """After a rule run: an attach is pending, or the command's disable released a
@@ -150,8 +167,28 @@ class GripperEvents:
         return gripper.constraints.held_body(self._plant, plant_context) is not None
 
     def __call__(self, root_context: Context) -> None:
-        """At a stop: the weld constraints follow the grippers' states."""
+        """At a stop: the weld constraints follow the grippers' states: all of them at
+        the idle sync's period and one step after a service's rule run; at a stop one
+        step after a check, only a pending attach is made (a part a fault or a lost
+        hold let go is released at the idle sync, as a controller's disable)."""
         now = root_context.get_time()
+        scheduled = any(abs(t - now) <= _EPS for t in self._syncs)
         self._syncs = [t for t in self._syncs if t > now + _EPS]
+        every = scheduled or _is_multiple(now, self.period)
         for gripper in self._welds:
-            sync_weld(gripper, self._plant, root_context)
+            if every or gripper.pending_part(gripper.GetMyContextFromRoot(root_context)):
+                sync_weld(gripper, self._plant, root_context)
+
+
+def _step_after(t: float, step: float) -> float:
+    """The plant step after ``t``, as the driver computes its next stop (one step
+    after a rule's run, where the per-step poll's sync made the weld)."""
+    return (math.floor(t / step + _EPS) + 1) * step
+
+
+def _is_multiple(t: float, period: float) -> bool:
+    """Whether ``t`` is a multiple of ``period`` (as the driver decides it)."""
+    if math.isinf(period):
+        return False
+    k = round(t / period)
+    return abs(k * period - t) < _EPS * max(1.0, abs(t))
