@@ -150,7 +150,9 @@ EVERY_STEP = CommandPolling()
 
 def _first_sample(offset: float, period: float, t: float) -> float:
     """The first ``offset + k period`` (k >= 0, computed as Drake computes a periodic
-    event's times) that is >= ``t``, compared exactly."""
+    event's times) that is >= ``t``, compared exactly (``offset`` for ``t`` = -inf)."""
+    if t == -math.inf:
+        return offset
     k = max(0, math.ceil((t - offset) / period - 1e-6))
     while k > 0 and offset + (k - 1) * period >= t:
         k -= 1
@@ -306,6 +308,8 @@ class SuctionGripper(LeafSystem):
         if self._polling is None:
             return math.inf
         period, offset = self._polling.period, self._polling.offset
+        if t == -math.inf:
+            return offset
         return offset + max(0, math.ceil((t - tolerance - offset) / period - 1e-6)) * period
 
     def next_check(self, context: Context) -> float:
