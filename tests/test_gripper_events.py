@@ -103,8 +103,10 @@ def test_the_task_robots_gripper_polls_one_step_after_each_controller_update():
     others = [g.polling for robot, g in station.grippers.items() if robot != task.robot]
     assert others and all(p is None for p in others)
     # The polls: 0.01, 0.06, 0.11, ... (the controller updates at 0, 0.05, 0.1, ...).
+    from omtp_drake.sim.gripper_events import _poll_at_or_after
+
     gripper = station.grippers[task.robot]
-    np.testing.assert_allclose([gripper.poll_at_or_after(t) for t in (0.0, 0.01, 0.02, 0.5)],
+    np.testing.assert_allclose([_poll_at_or_after(gripper, t) for t in (0.0, 0.01, 0.02, 0.5)],
                                [0.01, 0.01, 0.06, 0.51])
 
 

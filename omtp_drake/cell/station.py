@@ -252,10 +252,8 @@ def build_station(
     :func:`omtp_drake.scenario.load_scenario`).
 
     With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
-    other systems, add ``station.diagram`` to a builder of your own. ``controlled``:
-    the robots whose gripper command a system of that diagram will write (the
-    task's controller); their grippers poll it (:func:`_gripper_polling`), the others
-    apply their rule when their owner runs it.
+    other systems, add ``station.diagram`` to a builder of your own; ``controlled``
+    names the robots whose gripper command one of them writes (:func:`_gripper_polling`).
     """
     require_scenario(scenario, "build_station").validate()
     builder = DiagramBuilder()

@@ -27,7 +27,7 @@ When the rule runs (:class:`CommandPolling`): a gripper used alone polls its com
 at every plant step (:data:`EVERY_STEP`); in the station, a gripper whose command a
 controller of the diagram writes polls it at that controller's rate, one plant step
 after each of its updates, and a gripper commanded by services (a script, ROS) does
-not poll at all: its owner runs the rule (:meth:`SuctionGripper.poll`) at the step
+not poll at all: its owner runs the rule (a forced event) at the step
 the command changes and when a check is due, so an idle gripper costs nothing
 (:class:`omtp_drake.sim.gripper_events.GripperEvents`).
 
@@ -143,22 +143,13 @@ class CommandPolling:
     period: float = 0.0
     offset: float = 0.0
 
+    def __post_init__(self) -> None:
+        if not (self.period >= 0 and self.offset >= 0):
+            raise ConfigError(f"gripper polling period and offset must be >= 0, got {self}")
+
 
 #: Poll the command at every plant step (the plugin at every physics update).
 EVERY_STEP = CommandPolling()
-
-
-def _first_sample(offset: float, period: float, t: float) -> float:
-    """The first ``offset + k period`` (k >= 0, computed as Drake computes a periodic
-    event's times) that is >= ``t``, compared exactly (``offset`` for ``t`` = -inf)."""
-    if t == -math.inf:
-        return offset
-    k = max(0, math.ceil((t - offset) / period - 1e-6))
-    while k > 0 and offset + (k - 1) * period >= t:
-        k -= 1
-    while offset + k * period < t:
-        k += 1
-    return offset + k * period
 
 
 class SuctionGripper(LeafSystem):
@@ -194,12 +185,10 @@ class SuctionGripper(LeafSystem):
       - ``state`` (:class:`GripperState`, :meth:`state_output_port`): depends
         on the state only.
 
-    State (abstract, updated by the rule: a periodic unrestricted event at the
-    polls of :attr:`polling`, or :meth:`poll` called by the owner of the simulator):
-    the reported :class:`GripperState`, the count of consecutive good checks and the
-    time of the last check (a contact check runs at a poll when the gripper is
-    enabled and ``1 / check_rate_hz`` has passed since the last one); discrete: the
-    end of an injected vacuum failure (:meth:`fail_vacuum`).
+    State (abstract; the rule, at the polls of :attr:`polling` or as a forced event
+    the owner runs): the :class:`GripperState`, the count of good checks and the time
+    of the last (a check runs at a poll of an enabled gripper ``1 / check_rate_hz``
+    after the last); discrete: the end of an injected vacuum failure.
 
     Frames: C is the cup body ``<gripper>_cup`` (origin at the cup face,
     like the frame ``<gripper>_tip``, tool0 + 0.0775 m; +Cz out of the tool;
@@ -234,12 +223,9 @@ class SuctionGripper(LeafSystem):
         self._names = {index: n for n, index in self._bodies.items()}
         self._cos_max = math.cos(math.radians(config.max_angle_deg))
         self._check_period = 1.0 / config.check_rate_hz
-        # The plugin looks at every physics update; here at a plant step (a
-        # continuous plant: every millisecond, Gazebo's default physics step).
+        # The plugin's physics update: a plant step (continuous plant: Gazebo's 1 ms).
         step = plant.time_step()
         self._step = min(step if step > 0 else 1e-3, self._check_period)
-        if polling is not None and not (polling.period >= 0 and polling.offset >= 0):
-            raise ConfigError(f"gripper {name!r}: polling period and offset must be >= 0, got {polling}")
         if polling is not None and polling.period == 0:
             polling = CommandPolling(self._step, polling.offset)
         self._polling = polling
@@ -255,6 +241,7 @@ class SuctionGripper(LeafSystem):
         self._fault = self.DeclareDiscreteState(np.array([-math.inf]))
         if polling is not None:
             self.DeclarePeriodicUnrestrictedUpdateEvent(polling.period, polling.offset, self._check)
+        self.DeclareForcedUnrestrictedUpdateEvent(self._check)  # the owner's runs of the rule
         self._state_port = self.DeclareAbstractOutputPort(
             "state",
             lambda: AbstractValue.Make(_IDLE),
@@ -288,44 +275,12 @@ class SuctionGripper(LeafSystem):
 
     @property
     def polling(self) -> Optional[CommandPolling]:
-        """When the gripper applies its rule by itself (None: only when :meth:`poll` is called)."""
+        """When it applies its rule by itself (None: when its owner runs its forced event)."""
         return self._polling
 
-    @property
-    def step(self) -> float:
-        """The plant's step [s]: the rule runs at its multiples (the plugin's physics updates)."""
-        return self._step
-
-    def step_at_or_after(self, t: float, tolerance: float = 0.0) -> float:
-        """The first plant step time ``k h`` (as Drake computes it) at or after ``t -
-        tolerance``. Without tolerance the comparison is exact: a step a rounding error
-        before ``t`` has already been taken when the simulator stops at ``t``."""
-        return _first_sample(0.0, self._step, t - tolerance)
-
-    def poll_at_or_after(self, t: float, tolerance: float = 0.0) -> float:
-        """The first of the gripper's own polls at or after ``t - tolerance``, a poll a
-        rounding error before it included (inf without polling)."""
-        if self._polling is None:
-            return math.inf
-        period, offset = self._polling.period, self._polling.offset
-        if t == -math.inf:
-            return offset
-        return offset + max(0, math.ceil((t - tolerance - offset) / period - 1e-6)) * period
-
     def next_check(self, context: Context) -> float:
-        """When the next contact check is due if the gripper is enabled then:
-        ``1 / check_rate_hz`` after the last one (-inf: none yet, at once); a poll
-        :data:`CHECK_TOLERANCE` before it checks."""
+        """When an enabled gripper's next contact check is due (-inf: none yet, at once)."""
         return self._get_memory(context).last_check + self._check_period
-
-    def poll(self, context: Context) -> None:
-        """Applies the rule now, in the gripper's own mutable ``context``, as a poll of
-        the plugin's update would: for an owner that runs it when the command changed,
-        a check is due or a fault began or ended (:attr:`polling` None)."""
-        memory = self._get_memory(context)
-        new = self._next(context, memory)
-        if new is not memory:
-            self._set_memory(context, new)
 
     @property
     def cup_body_index(self) -> BodyIndex:
@@ -353,8 +308,7 @@ class SuctionGripper(LeafSystem):
 
     def fail_vacuum(self, context: Context, until: float) -> None:
         """Fault injection: the vacuum fails until ``until`` (simulated time): a held
-        part is dropped at the next poll and nothing attaches, whatever the command
-        (a gripper without :attr:`polling`: its owner polls at the fault's start and end)."""
+        part is dropped at the next poll and nothing attaches, whatever the command."""
         context.SetDiscreteState(self._fault, np.array([float(until)]))
 
     def fault_until(self, context: Context) -> float:

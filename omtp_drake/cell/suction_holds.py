@@ -369,7 +369,7 @@ def add_suction_gripper(
     """Adds the vacuum gripper of ``config.backend`` named ``name`` and connects it to the plant.
 
     ``polling``: when it applies its rule by itself (:class:`~omtp_drake.cell.suction.CommandPolling`;
-    None: only when its owner calls :meth:`~omtp_drake.cell.suction.SuctionGripper.poll`).
+    None: only when its owner runs its forced event).
 
     ``weld`` needs the ``constraints`` declared for this cup before the plant was finalized
     (:func:`~omtp_drake.cell.suction_constraints.declare_suction_constraints`); ``force`` needs none.

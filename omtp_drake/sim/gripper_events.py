@@ -7,7 +7,7 @@ that look changes only when the command changes, when a contact check is due
 (weld backend) one plant step after a check decided an attach. So a gripper whose
 command services give (a script, ROS, FlexBE; its station input is free) never
 polls: :meth:`GripperEvents.command` and :meth:`GripperEvents.fault` schedule its
-rule (:meth:`~omtp_drake.cell.suction.SuctionGripper.poll`) at the plant step at or
+rule (its forced event, ``ExecuteForcedEvents``) at the plant step at or
 after the call, and while it is enabled the driver stops at each check that is due.
 A gripper whose command a controller of the diagram writes polls it itself, one
 plant step after each of the controller's updates
@@ -56,6 +56,7 @@ class GripperEvents:
         self._plant = station.plant
         self._grippers: dict[str, SuctionGripper] = dict(station.grippers)
         self._welds = [g for g in self._grippers.values() if isinstance(g, WeldSuctionGripper)]
+        self._step = station.plant.time_step()
         self.period = IDLE_SYNC_PERIOD if self._welds else math.inf
         #: Grippers commanded by services (their rule runs here); the others poll.
         self._served: set[str] = {r for r, g in self._grippers.items() if g.polling is None}
@@ -84,18 +85,16 @@ class GripperEvents:
     def command(self, root_context: Context, robot: str) -> None:
         """``robot``'s command input was just set: its rule runs at the plant step at or
         after now (where the plugin's next physics update would see it)."""
-        gripper = self._grippers[robot]
-        self._runs[robot].append(gripper.step_at_or_after(root_context.get_time()))
+        self._runs[robot].append(_step_at_or_after(self._step, root_context.get_time()))
 
     def fault(self, root_context: Context, robot: str, until: float) -> None:
         """``robot``'s vacuum just failed until ``until``: its rule runs at the plant steps
         at or after now and at or after ``until``. A gripper that polls sees the start
         itself, at its next poll: events of the diagram due now (its controller's
         update) still see the part held, as they did beside the per-step poll."""
-        gripper = self._grippers[robot]
         if robot in self._served:
-            self._runs[robot].append(gripper.step_at_or_after(root_context.get_time()))
-        self._runs[robot].append(gripper.step_at_or_after(until))
+            self._runs[robot].append(_step_at_or_after(self._step, root_context.get_time()))
+        self._runs[robot].append(_step_at_or_after(self._step, until))
 
     # ------------------------------------------------------------------ the driver's
 
@@ -112,10 +111,10 @@ class GripperEvents:
             polled = robot not in self._served and math.isinf(driver)
             if polled and isinstance(gripper, WeldSuctionGripper) and self._may_decide(gripper, context):
                 check = max(
-                    gripper.poll_at_or_after(gripper.next_check(context), CHECK_TOLERANCE),
-                    gripper.poll_at_or_after(now),
+                    _poll_at_or_after(gripper, gripper.next_check(context), CHECK_TOLERANCE),
+                    _poll_at_or_after(gripper, now),
                 )
-                times.append(_step_after(check, gripper.step))
+                times.append(_step_after(check, self._step))
         return min((t for t in times if t > now + _EPS), default=math.inf)
 
     def _driver_check(self, robot: str, gripper: SuctionGripper, context: Context) -> float:
@@ -125,8 +124,8 @@ class GripperEvents:
         last check was the driver's: at a fault's end); inf otherwise."""
         if not gripper.get_state(context).enabled:
             return math.inf
-        due = gripper.step_at_or_after(gripper.next_check(context), CHECK_TOLERANCE)
-        if robot in self._served or abs(gripper.poll_at_or_after(due) - due) > _EPS:
+        due = _step_at_or_after(self._step, gripper.next_check(context), CHECK_TOLERANCE)
+        if robot in self._served or abs(_poll_at_or_after(gripper, due) - due) > _EPS:
             return due
         return math.inf
 
@@ -152,9 +151,9 @@ class GripperEvents:
             due = due or self._driver_check(robot, gripper, context) <= now + _EPS
             if not due:
                 continue
-            gripper.poll(context)
+            gripper.ExecuteForcedEvents(context)
             if isinstance(gripper, WeldSuctionGripper) and self._needs_sync(gripper, context, root_context):
-                self._syncs.append(_step_after(now, gripper.step))
+                self._syncs.append(_step_after(now, self._step))
 
     def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
         """After a rule run: an attach is pending, or the command's disable released a
@@ -178,6 +177,37 @@ class GripperEvents:
         for gripper in self._welds:
             if every or gripper.pending_part(gripper.GetMyContextFromRoot(root_context)):
                 sync_weld(gripper, self._plant, root_context)
+
+
+def _step_at_or_after(step: float, t: float, tolerance: float = 0.0) -> float:
+    """The first plant step time ``k h`` (as Drake computes it) at or after ``t -
+    tolerance``. Without tolerance the comparison is exact: a step a rounding error
+    before ``t`` has already been taken when the simulator stops at ``t``."""
+    return _first_sample(0.0, step, t - tolerance)
+
+
+def _poll_at_or_after(gripper: SuctionGripper, t: float, tolerance: float = 0.0) -> float:
+    """The first of the gripper's own polls at or after ``t - tolerance``, a poll a
+    rounding error before it included (inf without polling)."""
+    if gripper.polling is None:
+        return math.inf
+    period, offset = gripper.polling.period, gripper.polling.offset
+    if t == -math.inf:
+        return offset
+    return offset + max(0, math.ceil((t - tolerance - offset) / period - 1e-6)) * period
+
+
+def _first_sample(offset: float, period: float, t: float) -> float:
+    """The first ``offset + k period`` (k >= 0, computed as Drake computes a periodic
+    event's times) that is >= ``t``, compared exactly (``offset`` for ``t`` = -inf)."""
+    if t == -math.inf:
+        return offset
+    k = max(0, math.ceil((t - offset) / period - 1e-6))
+    while k > 0 and offset + (k - 1) * period >= t:
+        k -= 1
+    while offset + k * period < t:
+        k += 1
+    return offset + k * period
 
 
 def _step_after(t: float, step: float) -> float:
