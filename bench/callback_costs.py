@@ -34,10 +34,11 @@ CALLBACKS = [
     ("omtp_drake.cell.logical_camera", "LogicalCamera", ["_calc_image"], True),
     ("omtp_drake.cell.rest_clock", "RestClock", ["_update"], False),
     ("omtp_drake.sim.part_sleep", "PartSleep", ["__call__"], False),
-    ("omtp_drake.sim.driver", "WeldSync", ["__call__"], False),
+    ("omtp_drake.sim.gripper_events", "GripperEvents", ["__call__", "before_advance", "next_time"], False),
     ("omtp_drake.sim.driver", "AutoSpawner", ["__call__"], False),
     ("omtp_drake.sim.driver", "DeletionWall", ["__call__"], False),
     ("omtp_drake.sim.driver", "BeltWrap", ["__call__"], False),
+    ("omtp_drake.script.arm_commander", "ArmCommander", ["_sample"], False),
 ]
 
 

@@ -6,8 +6,12 @@ Record a profile (py-spy samples Drake's C++ with --native), then split it:
         python -c "from omtp_drake.tasks.run import run_task; run_task('fill_bin')"
     python bench/profile_split.py fill_bin.raw
 
-Only samples inside ``run_task`` (the simulation, not imports or the build) count.
-Each sample goes to the first category, in the order below, one of its frames matches.
+(``profile_parts`` does both, for ``omtp-drake bench``'s profile rows.)
+
+The shares are of the samples inside the run: the driver's ``advance_to`` (the
+simulation). The rest of ``run_task`` (building the diagram, the result) is printed
+apart, as the build. Each sample of the run goes to the first category, in the
+order below, one of its frames matches.
 """
 
 from __future__ import annotations
@@ -15,6 +19,11 @@ from __future__ import annotations
 import argparse
 import collections
 import re
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
 #: (category, what it is, frame patterns), in priority order.
 CATEGORIES = [
@@ -39,18 +48,31 @@ CATEGORIES = [
 ]
 
 
-def split(path: str) -> tuple[int, collections.Counter]:
+#: A frame of the run: the driver advancing the simulation.
+RUN_FRAME = re.compile(r"advance_to \(.*omtp_drake/sim/driver\.py")
+
+
+def split(path: str) -> tuple[int, collections.Counter, int]:
+    """The samples inside the run, their count per category, and the samples of
+    ``run_task`` outside the run (the build)."""
     totals: collections.Counter = collections.Counter()
-    samples = 0
+    samples = build = 0
     for line in open(path):
         stack, _, count = line.rstrip().rpartition(" ")
         frames = stack.split(";")
         if not any("run_task" in f for f in frames):
             continue
         n = int(count)
+        if not any(RUN_FRAME.search(f) for f in frames):
+            build += n
+            continue
         samples += n
         totals[_category(frames)] += n
-    return samples, totals
+    return samples, totals, build
+
+
+#: What no category matches.
+OTHER = ("other (the task loop)", "run_task's own loop, the driver's stops, pybind11", [])
 
 
 def _category(frames: list[str]) -> str:
@@ -66,15 +88,37 @@ def _category(frames: list[str]) -> str:
     return "other (the task loop)"
 
 
+def profile_parts(scenario: str = "fill_bin", rate: int = 100) -> tuple[tuple[tuple[str, float], ...], str]:
+    """``scenario``'s task run in a child under ``py-spy record --native`` and split into
+    the parts of bench/profile_split.py: ((part, share of the run's samples), ...), and a
+    note (why there is no profile, or how many samples it has)."""
+    spy = shutil.which("py-spy") or str(Path(sys.executable).with_name("py-spy"))
+    if not Path(spy).is_file():
+        return (), "(no profile rows: py-spy is not installed; pip install py-spy)"
+    with tempfile.TemporaryDirectory() as folder:
+        raw = Path(folder) / "profile.raw"
+        code = f"from omtp_drake.tasks.run import run_task; run_task({scenario!r})"
+        command = [spy, "record", "--native", "-r", str(rate), "-f", "raw", "-o", str(raw)]
+        done = subprocess.run([*command, "--", sys.executable, "-c", code], capture_output=True, text=True)
+        if done.returncode != 0 or not raw.is_file():
+            return (), f"(no profile rows: py-spy failed: {done.stderr.strip().splitlines()[-1:]})"
+        samples, totals, build = split(str(raw))
+    if not samples:
+        return (), "(no profile rows: py-spy recorded no sample inside the run)"
+    names = [name for name, _, _ in CATEGORIES] + [OTHER[0]]
+    note = f"(profile: {samples} samples of {scenario}'s run at {rate} Hz, {build} more in its build)"
+    return tuple((name, totals[name] / samples) for name in names), note
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("profile", help="a py-spy --native -f raw file")
     args = parser.parse_args()
-    samples, totals = split(args.profile)
+    samples, totals, build = split(args.profile)
     print("| part | share | what |\n|---|---:|---|")
-    for name, what, _ in CATEGORIES + [("other (the task loop)", "run_task's own loop", [])]:
+    for name, what, _ in CATEGORIES + [OTHER]:
         print(f"| {name} | {100 * totals[name] / samples:.1f} % | {what} |")
-    print(f"\n({samples} samples inside run_task)")
+    print(f"\n({samples} samples inside the run; the build and the rest of run_task: {build} more)")
 
 
 if __name__ == "__main__":

@@ -92,8 +92,45 @@ def test_table_reports_the_full_run_over_the_same_motion_replayed():
                          replays=(ReplayTiming("fill_bin", replay=0.050, full=0.150),))
     row = rows(report)["fill_bin: CPU ms/s, full / same motion replayed"]
     assert report.replays[0].ratio == pytest.approx(3.0)
-    assert (row.measured, row.target, row.met) == ("150 / 50 = 3.00x", "<= 1.25x", False)
+    assert (row.measured, row.target, row.met) == ("150 / 50 = 3.00x", "<= 1.5x", False)
     assert "the same run's arm commands replayed" in report.table()
+    assert "fill_bin: wall ms/s, full / same motion replayed" not in rows(report)  # none measured
+
+
+def test_table_has_the_wall_ratio_and_a_row_per_profile_part():
+    report = SpeedReport(
+        cases=(), station_build_s=0.2, task_build_s=0.3, cycles=(5.0,), repeats=1,
+        replays=(ReplayTiming("fill_bin", replay=0.020, full=0.028, replay_wall=0.025, full_wall=0.040),),
+        profile=(("our Python", 0.04), ("simulator overhead", 0.12), ("DiffIK", 0.2)),
+        profile_note="(profile: 100 samples)")
+    table = rows(report)
+    wall = table["fill_bin: wall ms/s, full / same motion replayed"]
+    assert (wall.measured, wall.target, wall.met) == ("40 / 25 = 1.60x", "<= 1.5x", False)
+    assert table["fill_bin: CPU ms/s, full / same motion replayed"].met
+    ours = table["fill_bin profile (py-spy, of the run): our Python"]
+    sim = table["fill_bin profile (py-spy, of the run): simulator overhead"]
+    diffik = table["fill_bin profile (py-spy, of the run): DiffIK"]
+    assert (ours.measured, ours.target, ours.met) == ("4.0 %", "<= 5 %", True)
+    assert (sim.measured, sim.target, sim.met) == ("12.0 %", "<= 8 %", False)
+    assert (diffik.target, diffik.met) == ("", True)
+    assert "(profile: 100 samples)" in report.table()
+
+
+def test_profile_split_counts_the_run_and_prints_the_build_apart(tmp_path):
+    """A raw py-spy file: samples under the driver's advance_to are the run's, split into
+    the parts; the rest of run_task is the build."""
+    splitter = speed._profile_split_module()
+    run = "run_task (omtp_drake/tasks/run.py:300);advance_to (x/omtp_drake/sim/driver.py:380)"
+    raw = tmp_path / "p.raw"
+    raw.write_text(
+        f"{run};drake::multibody::SapSolver<double>::SolveWithGuess 3\n"
+        f"{run};_check (x/omtp_drake/cell/suction.py:10) 1\n"
+        "run_task (omtp_drake/tasks/run.py:300);build_station (x/omtp_drake/cell/station.py:1) 5\n"
+        "<module> (x.py:1) 7\n"
+    )
+    samples, totals, build = splitter.split(str(raw))
+    assert (samples, build) == (4, 5)
+    assert (totals["contact solve"], totals["our Python"]) == (3, 1)
 
 
 def test_replay_drives_the_bare_plant_with_recorded_commands():

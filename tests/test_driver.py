@@ -11,7 +11,8 @@ from omtp_drake.cell.parts import PARK_X0
 from omtp_drake.demos import named_pose_tour
 from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
 from omtp_drake.scenario import PartConfig, load_scenario
-from omtp_drake.sim.driver import BeltWrap, DeletionWall, Driver, WeldSync
+from omtp_drake.sim.driver import BeltWrap, DeletionWall, Driver
+from omtp_drake.sim.gripper_events import GripperEvents
 from omtp_drake.sim.runtime import FactoryRuntime
 
 REST_Z = 0.92 + 0.1 + 0.001  # belt top + half a 0.2 m part + the 1 mm corner spheres
@@ -60,7 +61,7 @@ def test_every_context_is_initialised_by_one_function():
 def test_the_driver_applies_each_edit_at_its_period():
     rt = FactoryRuntime("lecture7_conveyor")
     edits = {type(e) for e in rt.driver.edits}
-    assert {WeldSync, BeltWrap, DeletionWall} <= edits
+    assert {GripperEvents, BeltWrap, DeletionWall} <= edits
     calls = []
     rt.driver.every(0.3, lambda: calls.append(round(rt.time, 9)))
     rt.advance_to(1.0)

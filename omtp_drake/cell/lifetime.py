@@ -45,12 +45,13 @@ def weak_method(method: Callable[..., Any]) -> Callable[..., Any]:
 
 
 def python_systems(diagram: Diagram) -> Iterator[System]:
-    """The systems of ``diagram`` (in nested diagrams too) implemented in Python."""
+    """The systems of ``diagram`` (in nested diagrams too, and those diagrams themselves)
+    implemented in Python."""
     for system in diagram.GetSystems():
         if isinstance(system, Diagram):
             yield from python_systems(system)
-        elif not type(system).__module__.startswith("pydrake."):
-            yield system
+        if not type(system).__module__.startswith("pydrake."):
+            yield system  # a Python diagram too (its members hold its subsystems)
 
 
 def release(diagram: Diagram) -> None:

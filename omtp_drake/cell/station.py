@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import functools
 import logging
+from collections.abc import Collection
 from dataclasses import dataclass, field
 from typing import Optional
 
@@ -71,7 +72,7 @@ from omtp_drake.cell.depth_camera import DepthCamera, add_model_cameras
 from omtp_drake.cell.logical_camera import LogicalCamera, add_logical_camera
 from omtp_drake.cell.parts import PartStates
 from omtp_drake.cell.rest_clock import RestClock
-from omtp_drake.cell.suction import SuctionGripper
+from omtp_drake.cell.suction import EVERY_STEP, CommandPolling, SuctionGripper
 from omtp_drake.cell.suction_constraints import SuctionConstraints, declare_suction_constraints
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, add_suction_gripper, connect_spatial_forces
 from omtp_drake.errors import ConfigError, UnknownNameError
@@ -251,13 +252,15 @@ def build_station(
     scenario: Scenario,
     *,
     meshcat: Optional[Meshcat] = None,
+    controlled: Collection[str] = (),
 ) -> Station:
     """Builds the factory diagram described by ``scenario`` (validated here, once
     per build; a name or path becomes a Scenario in
     :func:`omtp_drake.scenario.load_scenario`).
 
     With ``meshcat``, a MeshcatVisualizer is added. To drive the station from
-    other systems, add ``station.diagram`` to a builder of your own.
+    other systems, add ``station.diagram`` to a builder of your own; ``controlled``
+    names the robots whose gripper command one of them writes (:func:`_gripper_polling`).
     """
     require_scenario(scenario, "build_station").validate()
     builder = DiagramBuilder()
@@ -273,7 +276,7 @@ def build_station(
         _add_arm_servo(builder, plant, handles, scenario.gravity)
     belt = _add_conveyor(builder, plant, scenario, models)
     beam = _add_break_beam(builder, plant, scenario, models, belt)
-    grippers = _add_grippers(builder, plant, scenario, models, constraints)
+    grippers = _add_grippers(builder, plant, scenario, models, constraints, controlled)
     cameras, depth_cameras = _add_cameras(builder, plant, scene_graph, scenario, models, meshcat)
     rest_clock = None
     if scenario.sleep.enabled and models.parts:
@@ -438,6 +441,7 @@ def _add_grippers(
     scenario: Scenario,
     models: CellModels,
     constraints: dict[str, SuctionConstraints],
+    controlled: Collection[str],
 ) -> dict[str, SuctionGripper]:
     """The vacuum grippers (only when there are parts to grip)."""
     grippers: dict[str, SuctionGripper] = {}
@@ -450,9 +454,35 @@ def _add_grippers(
         cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
         suction = suction_name(handles.config)
         grippers[name] = add_suction_gripper(
-            builder, plant, cup, part_bodies, scenario.suction, suction, constraints.get(name)
+            builder,
+            plant,
+            cup,
+            part_bodies,
+            scenario.suction,
+            suction,
+            constraints.get(name),
+            _gripper_polling(scenario, name, plant.time_step()) if name in controlled else None,
         )
         builder.ExportInput(grippers[name].command_input_port(), f"{suction}.command")
         builder.ExportOutput(grippers[name].state_output_port(), f"{suction}.state")
     connect_spatial_forces(builder, plant, list(grippers.values()))
     return grippers
+
+
+def _gripper_polling(scenario: Scenario, robot: str, time_step: float) -> CommandPolling:
+    """How the gripper of ``robot``, whose command a controller of the diagram writes,
+    polls it. The task's controller writes it at ``task.update_rate_hz``, so the
+    gripper looks one plant step after each update (when it would see the change at
+    every step), and its checks, a multiple of that period apart, fall on those looks;
+    if they do not (or for another controller), at every step. A gripper commanded by
+    services (a script, ROS) never looks by itself; the runtime applies its rule when
+    the command changes and when a check is due
+    (:class:`omtp_drake.sim.gripper_events.GripperEvents`)."""
+    task = scenario.task
+    if task is None or task.robot != robot:
+        return EVERY_STEP
+    period = 1.0 / task.update_rate_hz
+    checks = (1.0 / scenario.suction.check_rate_hz) / period
+    if abs(checks - round(checks)) > 1e-6 or round(checks) < 1:
+        return EVERY_STEP
+    return CommandPolling(period, time_step)

@@ -1,10 +1,10 @@
 """The vacuum (suction) gripper: enable / disable, attach on contact, release on disable.
 
 Behaviour (the course's gripper plugin, ``VacuumGripperPlugin``, on simulated
-time): the gripper looks at its command at every plant step (the plugin at every
-physics update). While enabled it checks for contact at once (the first step
-after it is enabled) and then every ``1 / check_rate_hz`` (0.1 s) after its last
-check, the plugin's update rate. A movable part touching the suction cup with
+time): the plugin looks at its command at every physics update; here the gripper
+applies its rule at the plant step at or after its command changed. While enabled
+it checks for contact at once (that first step) and then every ``1 / check_rate_hz``
+(0.1 s, the plugin's ``updateRate``) after its last check. A movable part touching the suction cup with
 the contact normal within ``max_angle_deg`` (18 deg) of the tool axis on
 ``consecutive_checks`` (2) consecutive checks is attached **at its current pose
 relative to the cup** (no snapping): 0.1 s after enabling a gripper pressed
@@ -22,6 +22,14 @@ Frames (monogram notation, ``X_AB`` is the pose of frame B in frame A):
   ``suction_cup`` (a cylinder, r = 0.02 m) lies behind the face (-Cz).
 * ``P``: a part's body frame (the centre of a cube part).
 * ``X_CP``: the part's pose in the cup, captured when it is attached.
+
+When the rule runs (:class:`CommandPolling`): a gripper used alone polls its command
+at every plant step (:data:`EVERY_STEP`); in the station, a gripper whose command a
+controller of the diagram writes polls it at that controller's rate, one plant step
+after each of its updates, and a gripper commanded by services (a script, ROS) does
+not poll at all: its owner runs the rule (a forced event) at the step
+the command changes and when a check is due, so an idle gripper costs nothing
+(:class:`omtp_drake.sim.gripper_events.GripperEvents`).
 
 The attach rule and the state live here (:class:`SuctionGripper`,
 :class:`GripperState`); the two ways of holding a part (``"weld"``: rigid
@@ -58,7 +66,14 @@ _log = logging.getLogger(__name__)
 
 #: The gripper's public names (``contact_points`` lives in
 #: :mod:`omtp_drake.cell.suction_touch` and is named here too, for its users).
-__all__ = ["GripperMemory", "GripperState", "SuctionGripper", "contact_points"]
+__all__ = [
+    "EVERY_STEP",
+    "CommandPolling",
+    "GripperMemory",
+    "GripperState",
+    "SuctionGripper",
+    "contact_points",
+]
 
 
 @dataclass(frozen=True)
@@ -112,6 +127,31 @@ class GripperMemory:
 
 _IDLE = GripperState(enabled=False, attached=False, part="", X_CP=None, since=math.nan)
 
+#: Times closer than this (s) are the same time; a poll this much before a check is
+#: due makes the check.
+_EPS = 1e-9
+CHECK_TOLERANCE = _EPS
+
+
+@dataclass(frozen=True)
+class CommandPolling:
+    """When a gripper applies its rule by itself: a periodic event of the diagram
+    every ``period`` s from ``offset``. ``period`` 0 means every plant step from
+    t = 0 (:data:`EVERY_STEP`: a gripper used alone, its command fixed by whoever runs
+    the simulator). A check falls on a poll, so ``1 / check_rate_hz`` should be a
+    multiple of ``period`` (then checks are 0.1 s apart, as the plugin's)."""
+
+    period: float = 0.0
+    offset: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not (self.period >= 0 and self.offset >= 0):
+            raise ConfigError(f"gripper polling period and offset must be >= 0, got {self}")
+
+
+#: Poll the command at every plant step (the plugin at every physics update).
+EVERY_STEP = CommandPolling()
+
 
 class SuctionGripper(LeafSystem):
     """A vacuum gripper on a cup body: the course's attach rule, at the course plugin's check times.
@@ -146,12 +186,10 @@ class SuctionGripper(LeafSystem):
       - ``state`` (:class:`GripperState`, :meth:`state_output_port`): depends
         on the state only.
 
-    State (abstract, updated by a periodic unrestricted event every plant step,
-    :attr:`poll_period`): the reported :class:`GripperState`, the count of
-    consecutive good checks and the time of the last check (a contact check runs
-    at a poll when the gripper is enabled and ``1 / check_rate_hz`` has passed
-    since the last one); discrete: the end of an injected vacuum failure
-    (:meth:`fail_vacuum`).
+    State (abstract; the rule, at the polls of :attr:`polling` or as a forced event
+    the owner runs): the :class:`GripperState`, the count of good checks and the time
+    of the last (a check runs at a poll of an enabled gripper ``1 / check_rate_hz``
+    after the last); discrete: the end of an injected vacuum failure.
 
     Frames: C is the cup body ``<gripper>_cup`` (origin at the cup face,
     like the frame ``<gripper>_tip``, tool0 + 0.0775 m; +Cz out of the tool;
@@ -174,6 +212,7 @@ class SuctionGripper(LeafSystem):
         part_bodies: Sequence[RigidBody],
         config: SuctionConfig,
         name: str = "suction",
+        polling: Optional[CommandPolling] = EVERY_STEP,
     ):
         super().__init__()
         if not plant.is_finalized():
@@ -185,10 +224,12 @@ class SuctionGripper(LeafSystem):
         self._names = {index: n for n, index in self._bodies.items()}
         self._cos_max = math.cos(math.radians(config.max_angle_deg))
         self._check_period = 1.0 / config.check_rate_hz
-        # The plugin looks at every physics update; here at every plant step (a
-        # continuous plant: every millisecond, Gazebo's default physics step).
+        # The plugin's physics update: a plant step (continuous plant: Gazebo's 1 ms).
         step = plant.time_step()
-        self._poll_period = min(step if step > 0 else 1e-3, self._check_period)
+        self._step = min(step if step > 0 else 1e-3, self._check_period)
+        if polling is not None and polling.period == 0:
+            polling = CommandPolling(self._step, polling.offset)
+        self._polling = polling
 
         self._command = self.DeclareVectorInputPort("command", 1)
         self._poses = self.DeclareAbstractInputPort("body_poses", AbstractValue.Make([RigidTransform()]))
@@ -199,7 +240,9 @@ class SuctionGripper(LeafSystem):
         # Fault injection: the vacuum fails (commands are ignored, nothing is held)
         # until this time; see fail_vacuum().
         self._fault = self.DeclareDiscreteState(np.array([-math.inf]))
-        self.DeclarePeriodicUnrestrictedUpdateEvent(self._poll_period, 0.0, self._check)
+        if polling is not None:
+            self.DeclarePeriodicUnrestrictedUpdateEvent(polling.period, polling.offset, self._check)
+        self.DeclareForcedUnrestrictedUpdateEvent(self._check)  # the owner's runs of the rule
         self._state_port = self.DeclareAbstractOutputPort(
             "state",
             lambda: AbstractValue.Make(_IDLE),
@@ -232,9 +275,13 @@ class SuctionGripper(LeafSystem):
         return self._config
 
     @property
-    def poll_period(self) -> float:
-        """How often the gripper looks at its command [s]: the plant's step."""
-        return self._poll_period
+    def polling(self) -> Optional[CommandPolling]:
+        """When it applies its rule by itself (None: when its owner runs its forced event)."""
+        return self._polling
+
+    def next_check(self, context: Context) -> float:
+        """When an enabled gripper's next contact check is due (-inf: none yet, at once)."""
+        return self._get_memory(context).last_check + self._check_period
 
     @property
     def cup_body_index(self) -> BodyIndex:
@@ -262,7 +309,7 @@ class SuctionGripper(LeafSystem):
 
     def fail_vacuum(self, context: Context, until: float) -> None:
         """Fault injection: the vacuum fails until ``until`` (simulated time): a held
-        part is dropped at the next poll (plant step) and nothing attaches, whatever the command."""
+        part is dropped at the next poll and nothing attaches, whatever the command."""
         context.SetDiscreteState(self._fault, np.array([float(until)]))
 
     def fault_until(self, context: Context) -> float:
@@ -300,7 +347,7 @@ class SuctionGripper(LeafSystem):
             if not old.enabled and memory.streak_body < 0 and memory.pending_body < 0:
                 return memory  # idle already (an unused arm's gripper, most polls)
             return GripperMemory(replace(_IDLE, last_release=old.last_release), last_check=memory.last_check)
-        if t - memory.last_check < self._check_period - 1e-9:
+        if t - memory.last_check < self._check_period - CHECK_TOLERANCE:
             return memory  # enabled, between two checks
         return replace(self._check_contact(context, memory, t), last_check=t)
 

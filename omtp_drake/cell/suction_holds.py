@@ -61,7 +61,7 @@ from pydrake.multibody.tree import BodyIndex, RigidBody
 from pydrake.systems.framework import Context, DiagramBuilder, InputPort, OutputPort
 
 from omtp_drake.cell.lifetime import weak_method
-from omtp_drake.cell.suction import GripperMemory, GripperState, SuctionGripper
+from omtp_drake.cell.suction import EVERY_STEP, CommandPolling, GripperMemory, GripperState, SuctionGripper
 from omtp_drake.cell.suction_constraints import SuctionConstraints
 from omtp_drake.errors import ConfigError, SimulationError, StateError
 from omtp_drake.scenario.suction import SuctionConfig
@@ -106,8 +106,9 @@ class WeldSuctionGripper(SuctionGripper):
         config: SuctionConfig,
         name: str,
         constraints: SuctionConstraints,
+        polling: Optional[CommandPolling] = EVERY_STEP,
     ):
-        super().__init__(plant, cup_body, part_bodies, config, name)
+        super().__init__(plant, cup_body, part_bodies, config, name, polling)
         if int(constraints.cup) != self._cup:
             raise ConfigError(
                 f"gripper {name!r}: the constraints belong to cup body "
@@ -214,8 +215,9 @@ class ForceSuctionGripper(SuctionGripper):
         part_bodies: Sequence[RigidBody],
         config: SuctionConfig,
         name: str = "suction",
+        polling: Optional[CommandPolling] = EVERY_STEP,
     ):
-        super().__init__(plant, cup_body, part_bodies, config, name)
+        super().__init__(plant, cup_body, part_bodies, config, name, polling)
         self._gains = {int(b.index()): _gains_for(b, config, plant.time_step()) for b in part_bodies}
         self._velocities = self.DeclareAbstractInputPort(
             "body_spatial_velocities", AbstractValue.Make([SpatialVelocity()])
@@ -363,8 +365,12 @@ def add_suction_gripper(
     config: SuctionConfig,
     name: str,
     constraints: Optional[SuctionConstraints] = None,
+    polling: Optional[CommandPolling] = EVERY_STEP,
 ) -> SuctionGripper:
     """Adds the vacuum gripper of ``config.backend`` named ``name`` and connects it to the plant.
+
+    ``polling``: when it applies its rule by itself (:class:`~omtp_drake.cell.suction.CommandPolling`;
+    None: only when its owner runs its forced event).
 
     ``weld`` needs the ``constraints`` declared for this cup before the plant was finalized
     (:func:`~omtp_drake.cell.suction_constraints.declare_suction_constraints`); ``force`` needs none.
@@ -379,9 +385,9 @@ def add_suction_gripper(
                 f"gripper {name!r}: the weld backend needs its constraints "
                 "(declare_suction_constraints before plant.Finalize())"
             )
-        gripper = WeldSuctionGripper(plant, cup_body, part_bodies, config, name, constraints)
+        gripper = WeldSuctionGripper(plant, cup_body, part_bodies, config, name, constraints, polling)
     else:
-        gripper = ForceSuctionGripper(plant, cup_body, part_bodies, config, name)
+        gripper = ForceSuctionGripper(plant, cup_body, part_bodies, config, name, polling)
     builder.AddNamedSystem(name, gripper)
     if isinstance(gripper, ForceSuctionGripper):
         builder.Connect(

@@ -8,12 +8,14 @@ between the simulator's advances.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.systems.framework import Context, DiscreteValues, LeafSystem, OutputPort
+from pydrake.systems.framework import Context, Diagram, DiagramBuilder, LeafSystem, OutputPort
+from pydrake.systems.primitives import LinearSystem, TrajectorySource
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
@@ -39,8 +41,17 @@ class JointCommand:
         return self.trajectory.value(tau).ravel()
 
 
-class ArmCommander(LeafSystem):
-    """Feeds an arm's position servo with a joint trajectory that a script sets.
+class _CommandMemory(LeafSystem):
+    """The command a script gave (abstract state, :class:`JointCommand`); no ports, no events."""
+
+    def __init__(self, q0: np.ndarray):
+        super().__init__()
+        self.index = self.DeclareAbstractState(AbstractValue.Make(JointCommand(q0)))
+
+
+class ArmCommander(Diagram):
+    """Feeds an arm's position servo with a joint trajectory that a script sets, all
+    in Drake's C++ between the script's calls: no Python per sample.
 
     .. pydrake_system::
 
@@ -48,36 +59,51 @@ class ArmCommander(LeafSystem):
         output_ports:
         - position
 
-    Output port ``position`` (vector, 6, :meth:`position_output_port`): the
-    trajectory sampled at ``rate_hz`` (the servo's command rate) and held, so
-    the servo reads a cached value between samples (no Python per plant step).
+    Output port ``position`` (vector, 6, :meth:`position_output_port`): the command
+    sampled at ``command_rate_hz`` (the servo's command rate) and held: a
+    ``TrajectorySource`` of the command's trajectory (shifted to start at its ``t0``,
+    held at its ends) into a discrete hold (a ``LinearSystem`` x+ = u, y = x, its
+    default state the initial pose).
 
-    State: abstract, the command (:class:`JointCommand`: a trajectory and its start
-    time, or a position to hold); discrete, the sampled position. A script sets a
-    new command between advances with :meth:`command`.
+    State: the command (:class:`JointCommand`, abstract, in the Context: what
+    :meth:`current` reads), and the sampled position (the hold's). :meth:`command`
+    sets a new command between advances; the ``TrajectorySource`` plays its
+    trajectory (Drake's ``UpdateTrajectory``: a copy of the Context's command, which
+    the source cannot read from the Context).
     """
 
     def __init__(self, robot: RobotConfig):
         super().__init__()
-        self.set_name(f"{robot.name}.commander")
         q0 = arms.named_pose(robot.initial_pose, robot)
-        self._command = self.DeclareAbstractState(AbstractValue.Make(JointCommand(q0)))
-        self._q = self.DeclareDiscreteState(q0)
-        self._position_port = self.DeclareStateOutputPort("position", self._q)
-        self.DeclarePeriodicDiscreteUpdateEvent(1.0 / robot.command_rate_hz, 0.0, self._sample)
-        self.DeclareInitializationDiscreteUpdateEvent(self._sample)
+        n = len(q0)
+        builder = DiagramBuilder()
+        self._source = builder.AddNamedSystem("trajectory", TrajectorySource(_played(JointCommand(q0))))
+        self._hold = builder.AddNamedSystem(
+            "sample",
+            LinearSystem(
+                np.zeros((n, n)),
+                np.eye(n),
+                np.eye(n),
+                np.zeros((n, n)),
+                time_period=1.0 / robot.command_rate_hz,
+            ),
+        )
+        self._hold.configure_default_state(q0)
+        self._memory = builder.AddNamedSystem("command", _CommandMemory(q0))
+        builder.Connect(self._source.get_output_port(), self._hold.get_input_port())
+        builder.ExportOutput(self._hold.get_output_port(), "position")
+        builder.BuildInto(self)
+        self.set_name(f"{robot.name}.commander")
 
     def position_output_port(self) -> OutputPort:
         """The ``position`` output: the sampled joint positions for the arm's servo."""
-        return self._position_port
-
-    def _sample(self, context: Context, discrete_state: DiscreteValues) -> None:
-        command: JointCommand = context.get_abstract_state(self._command).get_value()
-        discrete_state.set_value(self._q, command.at(context.get_time()))
+        return self.get_output_port(0)
 
     def command(self, context: Context, command: JointCommand) -> None:
         """The new command, from now on (the sampled position follows at the next sample)."""
-        context.SetAbstractState(self._command, command)
+        memory = self.GetMutableSubsystemContext(self._memory, context)
+        memory.SetAbstractState(self._memory.index, command)
+        self._source.UpdateTrajectory(_played(command))
 
     def hold(self, context: Context, q: np.ndarray) -> None:
         """Hold ``q`` from now, the sampled position too (not only from the next sample)."""
@@ -86,8 +112,18 @@ class ArmCommander(LeafSystem):
         context.SetDiscreteState(self._q, q)
 
     def current(self, context: Context) -> JointCommand:
-        return context.get_abstract_state(self._command).get_value()
+        memory = self.GetSubsystemContext(self._memory, context)
+        return memory.get_abstract_state(self._memory.index).get_value()
 
     def commanded_position(self, context: Context) -> np.ndarray:
         """The position the servo is being sent now."""
-        return context.get_discrete_state(self._q).value().copy()
+        return self.GetSubsystemContext(self._hold, context).get_discrete_state_vector().value().copy()
+
+
+def _played(command: JointCommand) -> PiecewisePolynomial:
+    """``command`` as the trajectory source plays it: on the simulator's time axis."""
+    if command.trajectory is None:
+        return PiecewisePolynomial(np.asarray(command.q, dtype=float).reshape(-1, 1))
+    played = copy.copy(command.trajectory)
+    played.shiftRight(command.t0)
+    return played

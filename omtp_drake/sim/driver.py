@@ -25,7 +25,7 @@ import logging
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Optional, Protocol
+from typing import TYPE_CHECKING, Optional, Protocol, runtime_checkable
 
 import numpy as np
 from pydrake.geometry import Box, Role, Sphere
@@ -34,9 +34,9 @@ from pydrake.systems.framework import Context, Diagram
 
 from omtp_drake.cell.conveyor import WRAP_TRAVEL
 from omtp_drake.cell.parts import free_body_q_indices, spawn_pose
-from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
+from omtp_drake.sim.gripper_events import GripperEvents
 from omtp_drake.sim.joint_pose_trajectory import joint_pose_trajectories
 from omtp_drake.sim.ledger import held_parts, locate
 from omtp_drake.sim.part_sleep import PartSleep
@@ -71,50 +71,15 @@ class WorldEdit(Protocol):
     def __call__(self, root_context: Context) -> None: ...
 
 
-#: How often weld constraints are synced while no gripper is about to attach or release.
-IDLE_SYNC_PERIOD = 0.05
+@runtime_checkable
+class EventSource(Protocol):
+    """A world edit with events of its own besides its period: the driver also stops
+    at :meth:`next_time` (and applies the edit there), and calls :meth:`before_advance`
+    right before each advance (after the edits and callbacks due at that time)."""
 
+    def next_time(self, root_context: Context) -> float: ...
 
-class WeldSync:
-    """Weld grippers: makes the plant's constraints follow each gripper's state
-    (:func:`omtp_drake.cell.suction_holds.sync_weld`).
-
-    At every gripper poll (plant step) while a gripper may attach or release soon
-    (enabled and not holding, an attach decided, disabled while holding, or
-    constraints left from a release), so an attach a check decides is made one step
-    later and a disable releases at once; every ``IDLE_SYNC_PERIOD`` otherwise (a
-    gripper idle or carrying: a release its controller commands inside a long
-    advance is made within that time)."""
-
-    def __init__(self, station: Station):
-        self._plant = station.plant
-        self._grippers = [g for g in station.grippers.values() if isinstance(g, WeldSuctionGripper)]
-        polls = [g.poll_period for g in self._grippers]
-        self._poll = min(polls) if polls else math.inf
-        self._context: Optional[Context] = None
-
-    @property
-    def period(self) -> float:
-        if not self._grippers:
-            return math.inf
-        if self._context is None or any(self._busy(g, self._context) for g in self._grippers):
-            return self._poll
-        return max(self._poll, IDLE_SYNC_PERIOD)
-
-    def _busy(self, gripper: WeldSuctionGripper, root_context: Context) -> bool:
-        context = gripper.GetMyContextFromRoot(root_context)
-        enabled = bool(gripper.command_input_port().Eval(context)[0] > 0.5)
-        if gripper.get_state(context).attached:
-            return not enabled
-        if enabled or gripper.pending_part(context):
-            return True
-        plant_context = self._plant.GetMyContextFromRoot(root_context)
-        return gripper.constraints.held_body(self._plant, plant_context) is not None
-
-    def __call__(self, root_context: Context) -> None:
-        self._context = root_context
-        for gripper in self._grippers:
-            sync_weld(gripper, self._plant, root_context)
+    def before_advance(self, root_context: Context) -> None: ...
 
 
 class BeltWrap:
@@ -339,15 +304,15 @@ def spawn(
 
 
 def world_edits(station: Station, pool: PartPool) -> list[WorldEdit]:
-    """The edits the station needs: sleep, weld sync, belt wrap, deletion wall, spawner,
-    the models' joint pose trajectory plugins.
+    """The edits the station needs: sleep, the grippers' events (weld sync), belt wrap,
+    deletion wall, spawner, the models' joint pose trajectory plugins.
 
     Sleep comes first: a part a cup touches wakes before its weld is made."""
     edits: list[WorldEdit] = []
     if station.rest_clock is not None:
         edits.append(PartSleep(station))
-    if any(isinstance(g, WeldSuctionGripper) for g in station.grippers.values()):
-        edits.append(WeldSync(station))
+    if station.grippers:
+        edits.append(GripperEvents(station))
     if station.conveyor is not None:
         edits.append(BeltWrap(station))
     if station.scenario.deletion_wall and station.parts:
@@ -368,8 +333,9 @@ class Driver:
     """Owns the Simulator of a diagram holding the station and applies the
     world edits between advances.
 
-    ``advance_to(t)`` stops at every time an edit or a callback is due (their
-    periods' multiples), applies what is due, and goes on. At construction the
+    ``advance_to(t)`` stops only at the times an edit or a callback is due (their
+    periods' multiples, and an :class:`EventSource`'s next event), applies what is
+    due, and goes on: between stops the diagram runs in Drake's C++. At construction the
     simulator is initialised and every edit applied once (t = 0 edits).
     """
 
@@ -380,6 +346,7 @@ class Driver:
         self.diagram = diagram
         self.context = context
         self.edits = list(edits)
+        self._sources = [e for e in self.edits if isinstance(e, EventSource)]
         self._callbacks: list[_Callback] = []
         self.simulator = Simulator(diagram, context)
         self.simulator.Initialize()
@@ -395,20 +362,26 @@ class Driver:
         self._callbacks.append(_Callback(callback, check_duration("callback period", period)))
 
     def advance_to(self, t: float) -> None:
-        """Simulates until time ``t``, applying the world edits when they are due."""
+        """Simulates until time ``t``, stopping only where an edit, an event or a
+        callback is due and applying what is due there."""
         if not math.isfinite(t):
             raise ConfigError(f"cannot advance to {t}: give a finite time")
         if t < self.time - _EPS:
             raise SimulationError(f"cannot go back in time: now {self.time:.3f} s, asked {t:.3f} s")
         while self.time < t - _EPS:
+            for source in self._sources:
+                source.before_advance(self.context)
+            now = self.time
+            events = [source.next_time(self.context) for source in self._sources]
             stop = min(
-                [t]
-                + [_next_multiple(self.time, e.period) for e in self.edits]
-                + [_next_multiple(self.time, c.period) for c in self._callbacks]
+                [t, *events]
+                + [_next_multiple(now, e.period) for e in self.edits]
+                + [_next_multiple(now, c.period) for c in self._callbacks]
             )
             self.simulator.AdvanceTo(stop)
+            due = {id(s) for s, e in zip(self._sources, events) if abs(self.time - e) < _EPS}
             for edit in self.edits:
-                if _is_multiple(self.time, edit.period):
+                if id(edit) in due or _is_multiple(self.time, edit.period):
                     edit(self.context)
             for callback in self._callbacks:
                 if _is_multiple(self.time, callback.period):

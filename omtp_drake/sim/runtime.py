@@ -41,6 +41,7 @@ from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError, ch
 from omtp_drake.scenario import Scenario, as_scenario
 from omtp_drake.sim.driver import AutoSpawner, Driver, world_edits
 from omtp_drake.sim.faults import FaultInjector
+from omtp_drake.sim.gripper_events import GripperEvents
 from omtp_drake.sim.parts import PartServices
 from omtp_drake.sim.pool import PartPool
 
@@ -53,20 +54,28 @@ Extension = Callable[[DiagramBuilder, Station], None]
 
 class ArmBlock:
     """Fault injection: arms whose joints are locked (blocked) until a time.
-    A world edit: it unlocks each arm when its time is up."""
+    A world edit with events of its own: it unlocks each arm at the first plant step
+    at or after its time (the driver need not stop otherwise)."""
+
+    period = math.inf
 
     def __init__(self, station: Station):
         self._station = station
+        self._step = station.plant.time_step()
         self.until: dict[str, float] = {}
-
-    @property
-    def period(self) -> float:
-        """10 ms while an arm is blocked; never otherwise (the driver need not stop)."""
-        return 0.01 if self.until else math.inf
 
     def block(self, root_context: Context, robot: str, until: float) -> None:
         self._station.set_arm_locked(root_context, robot, True)
         self.until[robot] = until
+
+    def next_time(self, root_context: Context) -> float:
+        """The plant step at or after the first arm's time is up (inf: none blocked)."""
+        if not self.until:
+            return math.inf
+        return math.ceil(min(self.until.values()) / self._step - 1e-6) * self._step
+
+    def before_advance(self, root_context: Context) -> None:
+        pass
 
     def __call__(self, root_context: Context) -> None:
         for robot, until in list(self.until.items()):
@@ -78,7 +87,12 @@ class ArmBlock:
 
 class FactoryRuntime(PartServices):
     """A scenario's cell, its Context and driver, and the course's services (the
-    part services are those of :class:`~omtp_drake.sim.parts.PartServices`)."""
+    part services are those of :class:`~omtp_drake.sim.parts.PartServices`).
+
+    ``extend`` adds systems around the station; ``controlled`` names the robots whose
+    gripper command they write (their grippers poll it; the others take the
+    services' commands as events, and one written by a system not named here is
+    refused)."""
 
     def __init__(
         self,
@@ -88,6 +102,7 @@ class FactoryRuntime(PartServices):
         tick: float = 0.05,
         extend: Optional[Extension] = None,
         auto_spawn: bool = True,
+        controlled: Sequence[str] = (),
     ):
         scenario = as_scenario(scenario)
         tick = check_duration("tick", tick)
@@ -95,7 +110,7 @@ class FactoryRuntime(PartServices):
             raise ConfigError(f"tick must be in (0, 1] s, got {tick}")
         self.scenario = scenario
         self.tick = tick
-        self.station = build_station(scenario, meshcat=meshcat)
+        self.station = build_station(scenario, meshcat=meshcat, controlled=controlled)
         builder = DiagramBuilder()
         builder.AddSystem(self.station.diagram)
         if extend is not None:
@@ -116,6 +131,13 @@ class FactoryRuntime(PartServices):
         edits = world_edits(self.station, self.pool)
         self._arm_block = ArmBlock(self.station)
         edits.append(self._arm_block)
+        self._gripper_events = next((e for e in edits if isinstance(e, GripperEvents)), None)
+        if self._gripper_events is not None:
+            commands = {r: f"{self.station.suction_name(r)}.command" for r in self.station.grippers}
+            self._gripper_events.serve(r for r, port in commands.items() if port in self._free_inputs)
+            self._gripper_events.check_driven(
+                r for r, port in commands.items() if port not in self._free_inputs
+            )
         spawner = next((e for e in edits if isinstance(e, AutoSpawner)), None)
         if spawner is not None:
             spawner.enabled = auto_spawn
@@ -215,7 +237,8 @@ class FactoryRuntime(PartServices):
         self._command_gripper(robot, 1.0)
 
     def disable_gripper(self, robot: str) -> None:
-        """Vacuum off: a held part is released at the next plant step and falls."""
+        """Vacuum off: a held part is released at the plant step at or after now, its
+        constraints one step later, and it falls."""
         self._command_gripper(robot, 0.0)
 
     def _command_gripper(self, robot: str, value: float) -> None:
@@ -223,6 +246,7 @@ class FactoryRuntime(PartServices):
         if port not in self._free_inputs:
             raise SimulationError(f"{port} is driven by a controller; use a fault injection instead")
         self.station.diagram.GetInputPort(port).FixValue(self._station_context, [value])
+        self._need(self._gripper_events, "gripper").command(self.context, robot)
 
     def gripper_state(self, robot: str) -> GripperState:
         """The gripper's GripperState: ``enabled``, ``attached``, ``part``."""
@@ -235,6 +259,7 @@ class FactoryRuntime(PartServices):
         gripper = self._gripper(robot)
         duration = check_duration("fail_vacuum duration", duration)
         gripper.fail_vacuum(gripper.GetMyMutableContextFromRoot(self.context), self.time + duration)
+        self._need(self._gripper_events, "gripper").fault(self.context, robot, self.time + duration)
 
     def black_out_camera(self, camera: str, duration: float) -> None:
         """Fault injection: ``camera`` publishes no image for ``duration`` s."""

@@ -244,7 +244,7 @@ class TaskRun:
         def extend(builder, station):
             added.append(add_pick_and_place(builder, station, task)[0])
 
-        self.runtime = FactoryRuntime(scenario, meshcat=meshcat, extend=extend)
+        self.runtime = FactoryRuntime(scenario, meshcat=meshcat, extend=extend, controlled=[task.robot])
         self.controller = added[0]
         rt = self.runtime
         conveyor = scenario.conveyor
