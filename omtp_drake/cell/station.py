@@ -283,11 +283,7 @@ def build_station(
         rest_clock = RestClock.AddToDiagram(builder, plant, models.parts, scenario.sleep)
 
     _export_plant_ports(builder, plant, scene_graph)
-    visualizer = None
-    if meshcat is not None:
-        visualizer = MeshcatVisualizer.AddToBuilder(
-            builder, scene_graph, meshcat, MeshcatVisualizerParams(role=Role.kIllustration)
-        )
+    visualizer = _add_visualizer(builder, scene_graph, meshcat)
 
     diagram = builder.Build()
     diagram.set_name("station")
@@ -309,6 +305,17 @@ def build_station(
         rest_clock=rest_clock,
         models=models.described,
         depth_cameras=depth_cameras,
+    )
+
+
+def _add_visualizer(
+    builder: DiagramBuilder, scene_graph: SceneGraph, meshcat: Optional[Meshcat]
+) -> Optional[MeshcatVisualizer]:
+    """Meshcat's view of the illustration geometry (none without ``meshcat``)."""
+    if meshcat is None:
+        return None
+    return MeshcatVisualizer.AddToBuilder(
+        builder, scene_graph, meshcat, MeshcatVisualizerParams(role=Role.kIllustration)
     )
 
 
