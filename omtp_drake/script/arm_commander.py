@@ -108,8 +108,8 @@ class ArmCommander(Diagram):
     def hold(self, context: Context, q: np.ndarray) -> None:
         """Hold ``q`` from now, the sampled position too (not only from the next sample)."""
         q = np.array(q, dtype=float)
-        context.SetAbstractState(self._command, JointCommand(q))
-        context.SetDiscreteState(self._q, q)
+        self.command(context, JointCommand(q))
+        self.GetMutableSubsystemContext(self._hold, context).SetDiscreteState(q)
 
     def current(self, context: Context) -> JointCommand:
         memory = self.GetSubsystemContext(self._memory, context)
