@@ -233,7 +233,7 @@ class ScriptThreads:
         if isinstance(error, self._interrupts) and (turn.stopping or self._clock.shutdown_reason):
             return  # rospy's interrupt at shutdown: the thread's normal end
         if isinstance(error, SystemExit):
-            return  # sys.exit() in a thread ends that thread only, silently
+            return  # SystemExit raised in a thread ends that thread only, silently
         name = turn.thread.name
         _log.error("Exception in thread %s:\n%s", name, "".join(traceback.format_exception(error)))
         self._clock.thread_errors.append(f"{name}: {type(error).__name__}: {' '.join(str(error).split())}")
