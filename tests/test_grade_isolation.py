@@ -197,7 +197,8 @@ def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox):
     folder = tmp_path / "class"
     folder.mkdir()
     tag = f"omtp-killer-{uuid.uuid4().hex[:8]}"
-    (folder / "a_killer.py").write_text(WORKER_KILLER.format(tag=tag))
+    killer_name = f"a_killer_{sandbox}"  # its own temp folders' names: the other sandbox's run may be on
+    (folder / f"{killer_name}.py").write_text(WORKER_KILLER.format(tag=tag))
     shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "b_honest.py")
     # The wall timeout: the killer's verdict under bubblewrap, far past the honest run's time
     # (about 5 s here: 6x).
@@ -214,7 +215,7 @@ def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox):
     assert len(list(csv.DictReader(open(tmp_path / "out" / "grades.csv")))) == 2
     assert sorted(p.suffix for p in (tmp_path / "out" / "runs").iterdir()) == [".json"] * 2 + [".txt"] * 4
     assert killer.isolation["sandbox"] == sandbox and not glob.glob(
-        f"{tempfile.gettempdir()}/omtp-grade-a_killer-*"
+        f"{tempfile.gettempdir()}/omtp-grade-{killer_name}-*"
     )
 
 
