@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from test_flexbe_run import _package  # one writer of a FlexBE workspace's catkin package
 
 from omtp_drake.ros import run_script
 from omtp_drake.ros.flexbe import run_behavior
@@ -18,11 +19,6 @@ from omtp_drake.ros.flexbe import run_behavior
 ROOT = Path(__file__).resolve().parents[1]
 EXAMPLE = ROOT / "examples" / "flexbe"
 SCENARIO = "lecture7_flexbe"
-
-PACKAGE_XML = """<?xml version="1.0"?>
-<package format="2"><name>{name}</name><version>0.0.1</version><description>test</description>
-<maintainer email="s@example.org">student</maintainer><license>BSD</license></package>
-"""
 
 # A student's state in the course's style (tabs, Python 2-compatible, moveit_python's star
 # import): FK of the grasp configuration, a pre-grasp pose above it with moveit_python,
@@ -215,16 +211,6 @@ MANIFEST = """<?xml version="1.0" encoding="UTF-8"?>
 </behavior>
 """
 
-
-def _package(src: Path, name: str, files: dict[str, str]) -> None:
-    folder = src / name
-    (folder / "src" / name).mkdir(parents=True)
-    (folder / "package.xml").write_text(PACKAGE_XML.format(name=name))
-    (folder / "src" / name / "__init__.py").write_text("")
-    for rel, text in files.items():
-        path = folder / rel
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text)
 
 
 def _dyn_workspace(src: Path) -> Path:
