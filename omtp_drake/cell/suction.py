@@ -284,6 +284,16 @@ class SuctionGripper(LeafSystem):
         return self._get_memory(context).last_check + self._check_period
 
     @property
+    def check_period(self) -> float:
+        """The time between two contact checks of an enabled gripper (``1 / check_rate_hz``)."""
+        return self._check_period
+
+    def memory(self, context: Context) -> GripperMemory:
+        """The gripper's abstract state in its own ``context`` (its state, its count of
+        good checks, the time of its last check): one read where several are needed."""
+        return self._get_memory(context)
+
+    @property
     def cup_body_index(self) -> BodyIndex:
         return BodyIndex(self._cup)
 
