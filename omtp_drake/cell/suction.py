@@ -281,12 +281,11 @@ class SuctionGripper(LeafSystem):
 
     def next_check(self, context: Context) -> float:
         """When an enabled gripper's next contact check is due (-inf: none yet, at once)."""
-        return self._get_memory(context).last_check + self._check_period
+        return self.next_check_after(self._get_memory(context))
 
-    @property
-    def check_period(self) -> float:
-        """The time between two contact checks of an enabled gripper (``1 / check_rate_hz``)."""
-        return self._check_period
+    def next_check_after(self, memory: GripperMemory) -> float:
+        """:meth:`next_check` for the gripper's ``memory`` (:meth:`memory`), read already."""
+        return memory.last_check + self._check_period
 
     def memory(self, context: Context) -> GripperMemory:
         """The gripper's abstract state in its own ``context`` (its state, its count of

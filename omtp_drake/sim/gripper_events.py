@@ -118,7 +118,7 @@ class GripperEvents:
             weld = isinstance(gripper, WeldSuctionGripper)
             if polled and weld and self._may_decide(gripper, context, memory):
                 check = max(
-                    _poll_at_or_after(gripper, memory.last_check + gripper.check_period, CHECK_TOLERANCE),
+                    _poll_at_or_after(gripper, gripper.next_check_after(memory), CHECK_TOLERANCE),
                     _poll_at_or_after(gripper, now),
                 )
                 sync = _step_after(check, self._step)
@@ -134,7 +134,7 @@ class GripperEvents:
         otherwise."""
         if not memory.state.enabled:
             return math.inf
-        due = _step_at_or_after(self._step, memory.last_check + gripper.check_period, CHECK_TOLERANCE)
+        due = _step_at_or_after(self._step, gripper.next_check_after(memory), CHECK_TOLERANCE)
         if robot in self._served or abs(_poll_at_or_after(gripper, due) - due) > _EPS:
             return due
         return math.inf
