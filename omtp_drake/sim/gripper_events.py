@@ -30,7 +30,13 @@ from typing import TYPE_CHECKING
 
 from pydrake.systems.framework import Context
 
-from omtp_drake.cell.suction import CHECK_TOLERANCE, GripperMemory, SuctionGripper
+from omtp_drake.cell.suction import (
+    CHECK_TOLERANCE,
+    GripperMemory,
+    SuctionGripper,
+    memory_of,
+    next_check_after,
+)
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError
 
@@ -108,7 +114,7 @@ class GripperEvents:
         first = _first_after(self._syncs, after, first)
         for robot, gripper in self._grippers.items():
             context = gripper.GetMyContextFromRoot(root_context)
-            memory = gripper.memory(context)
+            memory = memory_of(gripper, context)
             driver = self._driver_check(robot, gripper, memory)
             if after < driver < first:
                 first = driver
@@ -118,7 +124,7 @@ class GripperEvents:
             weld = isinstance(gripper, WeldSuctionGripper)
             if polled and weld and self._may_decide(gripper, context, memory):
                 check = max(
-                    _poll_at_or_after(gripper, gripper.next_check_after(memory), CHECK_TOLERANCE),
+                    _poll_at_or_after(gripper, next_check_after(gripper, memory), CHECK_TOLERANCE),
                     _poll_at_or_after(gripper, now),
                 )
                 sync = _step_after(check, self._step)
@@ -134,7 +140,7 @@ class GripperEvents:
         otherwise."""
         if not memory.state.enabled:
             return math.inf
-        due = _step_at_or_after(self._step, gripper.next_check_after(memory), CHECK_TOLERANCE)
+        due = _step_at_or_after(self._step, next_check_after(gripper, memory), CHECK_TOLERANCE)
         if robot in self._served or abs(_poll_at_or_after(gripper, due) - due) > _EPS:
             return due
         return math.inf
@@ -159,7 +165,7 @@ class GripperEvents:
             if due:
                 self._runs[robot] = [t for t in runs if t > after]
             context = gripper.GetMyMutableContextFromRoot(root_context)
-            due = due or self._driver_check(robot, gripper, gripper.memory(context)) <= after
+            due = due or self._driver_check(robot, gripper, memory_of(gripper, context)) <= after
             if not due:
                 continue
             gripper.ExecuteForcedEvents(context)
