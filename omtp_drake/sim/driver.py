@@ -393,7 +393,7 @@ class Driver:
         due = [s for s, e in zip(self._sources, events) if abs(now - e) < _EPS]
         tolerance = _EPS * max(1.0, abs(now))
         for edit in self.edits:
-            if any(edit is s for s in due) or _multiple_within(now, edit.period, tolerance):
+            if (due and any(edit is s for s in due)) or _multiple_within(now, edit.period, tolerance):
                 edit(context)
         for callback in self._callbacks:
             if _multiple_within(now, callback.period, tolerance):

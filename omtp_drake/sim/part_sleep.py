@@ -49,11 +49,12 @@ class PartSleep:
         self._rest_time = config.rest_time
         self._names = self._clock.part_names
         geometries = station.part_states.geometries
-        #: collision geometry -> its part's name, or "" (a body welded to the world);
-        #: any other (arms, cups, the belt, all of which may move) is absent: None.
-        self._owner: dict = dict.fromkeys(geometries.anchored, "")
+        #: collision geometry (its id's value) -> its part's name, or "" (a body welded to
+        #: the world); any other (arms, cups, the belt, all of which may move) is absent:
+        #: None. Keyed by int: hashing an int costs less than hashing a GeometryId.
+        self._owner: dict[int, str] = {g.get_value(): "" for g in geometries.anchored}
         for name, ids in geometries.parts.items():
-            self._owner.update(dict.fromkeys(ids, name))
+            self._owner.update((g.get_value(), name) for g in ids)
 
     def __call__(self, root_context: Context) -> None:
         t = root_context.get_time()
@@ -94,7 +95,7 @@ class PartSleep:
         touches: dict[str, set] = {}
         query = self._station.plant.get_geometry_query_input_port().Eval(plant_context)
         for pair in query.ComputePointPairPenetration():
-            a, b = owner(pair.id_A), owner(pair.id_B)
+            a, b = owner(pair.id_A.get_value()), owner(pair.id_B.get_value())
             if a:
                 touches.setdefault(a, set()).add(b)
             if b:
