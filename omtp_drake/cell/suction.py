@@ -73,6 +73,8 @@ __all__ = [
     "GripperState",
     "SuctionGripper",
     "contact_points",
+    "memory_of",
+    "next_check_after",
 ]
 
 
@@ -281,7 +283,7 @@ class SuctionGripper(LeafSystem):
 
     def next_check(self, context: Context) -> float:
         """When an enabled gripper's next contact check is due (-inf: none yet, at once)."""
-        return self._get_memory(context).last_check + self._check_period
+        return next_check_after(self, self._get_memory(context))
 
     @property
     def cup_body_index(self) -> BodyIndex:
@@ -403,3 +405,14 @@ class SuctionGripper(LeafSystem):
 
     def _set_memory(self, context: Context, memory: GripperMemory) -> None:
         context.SetAbstractState(self._memory, memory)
+
+
+def memory_of(gripper: SuctionGripper, context: Context) -> GripperMemory:
+    """``gripper``'s abstract state in its own ``context`` (its state, its count of good
+    checks, the time of its last check): one read where several are needed."""
+    return gripper._get_memory(context)
+
+
+def next_check_after(gripper: SuctionGripper, memory: GripperMemory) -> float:
+    """:meth:`SuctionGripper.next_check` for ``gripper``'s ``memory`` (:func:`memory_of`)."""
+    return memory.last_check + gripper._check_period

@@ -38,7 +38,7 @@ from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
 from omtp_drake.sim.gripper_events import GripperEvents
 from omtp_drake.sim.joint_pose_trajectory import joint_pose_trajectories
-from omtp_drake.sim.ledger import held_parts, locate
+from omtp_drake.sim.ledger import bin_of, held_parts, locate
 from omtp_drake.sim.part_sleep import PartSleep
 from omtp_drake.sim.pool import PartPool
 
@@ -237,15 +237,11 @@ class AutoSpawner:
             self.next_spawn = spawner.start_time if spawner is not None else math.inf
 
     def __call__(self, root_context: Context) -> None:
+        if not self.enabled:
+            return
         spawner = self.station.scenario.spawner
         t = root_context.get_time()
-        if (
-            not self.enabled
-            or spawner is None
-            or spawner.period <= 0
-            or t < self.next_spawn - _EPS
-            or self._enough(spawner)
-        ):
+        if spawner is None or spawner.period <= 0 or t < self.next_spawn - _EPS or self._enough(spawner):
             return
         if spawner.one_at_a_time and _any_loose(self.station, root_context, self.pool):
             return  # waits for a clear world
@@ -276,9 +272,9 @@ def _any_loose(station: Station, root_context: Context, pool: PartPool) -> bool:
     usually loose)."""
     if held_parts(station, root_context):
         return True
-    unheld: dict[str, str] = {}
+    written_off = pool.written_off
     return any(
-        n not in pool.written_off and locate(station, root_context, n, unheld)[0] != "in_bin"
+        n not in written_off and bin_of(station, root_context, n) is None
         for n in reversed(pool.in_world(root_context))
     )
 
@@ -368,34 +364,44 @@ class Driver:
             raise ConfigError(f"cannot advance to {t}: give a finite time")
         if t < self.time - _EPS:
             raise SimulationError(f"cannot go back in time: now {self.time:.3f} s, asked {t:.3f} s")
-        while self.time < t - _EPS:
-            for source in self._sources:
-                source.before_advance(self.context)
-            now = self.time
-            events = [source.next_time(self.context) for source in self._sources]
-            stop = min(
-                [t, *events]
-                + [_next_multiple(now, e.period) for e in self.edits]
-                + [_next_multiple(now, c.period) for c in self._callbacks]
-            )
-            self.simulator.AdvanceTo(stop)
-            due = {id(s) for s, e in zip(self._sources, events) if abs(self.time - e) < _EPS}
-            for edit in self.edits:
-                if id(edit) in due or _is_multiple(self.time, edit.period):
-                    edit(self.context)
-            for callback in self._callbacks:
-                if _is_multiple(self.time, callback.period):
-                    callback.function()
+        context, sources = self.context, self._sources
+        while context.get_time() < t - _EPS:
+            for source in sources:
+                source.before_advance(context)
+            events = [source.next_time(context) for source in sources]
+            self.simulator.AdvanceTo(self._next_stop(t, events))
+            self._apply_due(events)
+
+    def _next_stop(self, t: float, events: list[float]) -> float:
+        """The first of ``t``, the sources' ``events`` and the edits' and callbacks'
+        next multiples of their periods (in one loop: the driver's cost at each stop)."""
+        now = self.context.get_time()
+        stop = min(t, *events) if events else t
+        floor = math.floor
+        for period in [e.period for e in self.edits] + [c.period for c in self._callbacks]:
+            if period != math.inf:  # _next_multiple, inlined
+                multiple = (floor(now / period + _EPS) + 1) * period
+                if multiple < stop:
+                    stop = multiple
+        return stop
+
+    def _apply_due(self, events: list[float]) -> None:
+        """Applies the edits due now (their event, or a multiple of their period), then
+        the callbacks due now."""
+        context = self.context
+        now = context.get_time()
+        due = [s for s, e in zip(self._sources, events) if abs(now - e) < _EPS]
+        tolerance = _EPS * max(1.0, abs(now))
+        for edit in self.edits:
+            if (due and any(edit is s for s in due)) or _multiple_within(now, edit.period, tolerance):
+                edit(context)
+        for callback in self._callbacks:
+            if _multiple_within(now, callback.period, tolerance):
+                callback.function()
 
 
-def _next_multiple(t: float, period: float) -> float:
-    if math.isinf(period):
-        return math.inf
-    return (math.floor(t / period + _EPS) + 1) * period
-
-
-def _is_multiple(t: float, period: float) -> bool:
-    if math.isinf(period):
+def _multiple_within(t: float, period: float, tolerance: float) -> bool:
+    """Whether ``t`` is within ``tolerance`` of a multiple of ``period`` (never for inf)."""
+    if period == math.inf:
         return False
-    k = round(t / period)
-    return abs(k * period - t) < _EPS * max(1.0, abs(t))
+    return abs(round(t / period) * period - t) < tolerance

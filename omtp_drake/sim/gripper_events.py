@@ -30,7 +30,13 @@ from typing import TYPE_CHECKING
 
 from pydrake.systems.framework import Context
 
-from omtp_drake.cell.suction import CHECK_TOLERANCE, SuctionGripper
+from omtp_drake.cell.suction import (
+    CHECK_TOLERANCE,
+    GripperMemory,
+    SuctionGripper,
+    memory_of,
+    next_check_after,
+)
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, sync_weld
 from omtp_drake.errors import ConfigError
 
@@ -101,54 +107,65 @@ class GripperEvents:
     def next_time(self, root_context: Context) -> float:
         """The next time (after now) one of these events is due."""
         now = root_context.get_time()
-        times = [t for runs in self._runs.values() for t in runs] + self._syncs
+        after = now + _EPS
+        first = math.inf
+        for runs in self._runs.values():
+            first = _first_after(runs, after, first)
+        first = _first_after(self._syncs, after, first)
         for robot, gripper in self._grippers.items():
             context = gripper.GetMyContextFromRoot(root_context)
-            driver = self._driver_check(robot, gripper, context)
-            times.append(driver)
+            memory = memory_of(gripper, context)
+            driver = self._driver_check(robot, gripper, memory)
+            if after < driver < first:
+                first = driver
             # A check on the gripper's own poll that may decide an attach: the weld one
             # step later (after a check the driver runs, before_advance schedules it).
-            polled = robot not in self._served and math.isinf(driver)
-            if polled and isinstance(gripper, WeldSuctionGripper) and self._may_decide(gripper, context):
+            polled = robot not in self._served and driver == math.inf
+            weld = isinstance(gripper, WeldSuctionGripper)
+            if polled and weld and self._may_decide(gripper, context, memory):
                 check = max(
-                    _poll_at_or_after(gripper, gripper.next_check(context), CHECK_TOLERANCE),
+                    _poll_at_or_after(gripper, next_check_after(gripper, memory), CHECK_TOLERANCE),
                     _poll_at_or_after(gripper, now),
                 )
-                times.append(_step_after(check, self._step))
-        return min((t for t in times if t > now + _EPS), default=math.inf)
+                sync = _step_after(check, self._step)
+                if after < sync < first:
+                    first = sync
+        return first
 
-    def _driver_check(self, robot: str, gripper: SuctionGripper, context: Context) -> float:
+    def _driver_check(self, robot: str, gripper: SuctionGripper, memory: GripperMemory) -> float:
         """When the driver runs the enabled gripper's next contact check (the plant step
-        at or after ``1 / check_rate_hz`` after the last): always for a gripper commanded
-        by services, and for a polling one when that step is not one of its polls (its
-        last check was the driver's: at a fault's end); inf otherwise."""
-        if not gripper.get_state(context).enabled:
+        at or after ``1 / check_rate_hz`` after the last; ``memory``: the gripper's now):
+        always for a gripper commanded by services, and for a polling one when that step
+        is not one of its polls (its last check was the driver's: at a fault's end); inf
+        otherwise."""
+        if not memory.state.enabled:
             return math.inf
-        due = _step_at_or_after(self._step, gripper.next_check(context), CHECK_TOLERANCE)
+        due = _step_at_or_after(self._step, next_check_after(gripper, memory), CHECK_TOLERANCE)
         if robot in self._served or abs(_poll_at_or_after(gripper, due) - due) > _EPS:
             return due
         return math.inf
 
     @staticmethod
-    def _may_decide(gripper: WeldSuctionGripper, context: Context) -> bool:
-        """Whether the gripper's next check may decide an attach: enabled (by its
-        command now), not holding, none pending."""
-        if not gripper.command_input_port().Eval(context)[0] > 0.5:
+    def _may_decide(gripper: WeldSuctionGripper, context: Context, memory: GripperMemory) -> bool:
+        """Whether the gripper's next check may decide an attach: not holding, none
+        pending (``memory``: the gripper's now), enabled by its command now."""
+        if memory.state.attached or memory.pending_body >= 0:
             return False
-        return not gripper.get_state(context).attached and not gripper.pending_part(context)
+        return bool(gripper.command_input_port().Eval(context)[0] > 0.5)
 
     def before_advance(self, root_context: Context) -> None:
         """Runs each gripper's rule that is due now: a command, a fault's start or end,
         a served gripper's check; schedules the weld sync one step later where the
         rule decided an attach or a disable released a part."""
         now = root_context.get_time()
+        after = now + _EPS
         for robot, gripper in self._grippers.items():
             runs = self._runs[robot]
-            due = any(t <= now + _EPS for t in runs)
+            due = bool(runs) and any(t <= after for t in runs)
             if due:
-                self._runs[robot] = [t for t in runs if t > now + _EPS]
+                self._runs[robot] = [t for t in runs if t > after]
             context = gripper.GetMyMutableContextFromRoot(root_context)
-            due = due or self._driver_check(robot, gripper, context) <= now + _EPS
+            due = due or self._driver_check(robot, gripper, memory_of(gripper, context)) <= after
             if not due:
                 continue
             gripper.ExecuteForcedEvents(context)
@@ -171,12 +188,22 @@ class GripperEvents:
         step after a check, only a pending attach is made (a part a fault or a lost
         hold let go is released at the idle sync, as a controller's disable)."""
         now = root_context.get_time()
-        scheduled = any(abs(t - now) <= _EPS for t in self._syncs)
-        self._syncs = [t for t in self._syncs if t > now + _EPS]
+        scheduled = False
+        if self._syncs:
+            scheduled = any(abs(t - now) <= _EPS for t in self._syncs)
+            self._syncs = [t for t in self._syncs if t > now + _EPS]
         every = scheduled or _is_multiple(now, self.period)
         for gripper in self._welds:
             if every or gripper.pending_part(gripper.GetMyContextFromRoot(root_context)):
                 sync_weld(gripper, self._plant, root_context)
+
+
+def _first_after(times: list[float], after: float, first: float) -> float:
+    """The earliest of ``first`` and the ``times`` later than ``after``."""
+    for t in times:
+        if after < t < first:
+            first = t
+    return first
 
 
 def _step_at_or_after(step: float, t: float, tolerance: float = 0.0) -> float:

@@ -20,7 +20,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -98,13 +98,11 @@ def locate(station: Station, root_context: Context, name: str, held: dict[str, s
     for robot, part in held.items():
         if part == name:
             return "held", robot
-    plant = station.plant
-    plant_context = plant.GetMyContextFromRoot(root_context)
-    X_WP = plant.EvalBodyPoseInWorld(plant_context, plant.GetBodyByName(name, station.parts[name]))
+    X_WP = _pose(station, root_context, name)
     p = X_WP.translation()
-    for b in station.scenario.bins:
-        if b.contains(p, station.bin_pose(root_context, b.name)):
-            return "in_bin", b.name
+    in_bin = _bin_at(station, root_context, p)
+    if in_bin is not None:
+        return "in_bin", in_bin
     bottom = p[2] - _half_height(X_WP, station.scenario.part_size(name))
     belt = station.belt
     if belt is not None and belt.over(p) and bottom - belt.top < RESTING_GAP:
@@ -112,6 +110,28 @@ def locate(station: Station, root_context: Context, name: str, held: dict[str, s
     if bottom < RESTING_GAP:
         return "on_floor", ""
     return "elsewhere", "({:.3f}, {:.3f}, {:.3f})".format(*p)
+
+
+def bin_of(station: Station, root_context: Context, name: str) -> Optional[str]:
+    """The bin part ``name`` lies in (as :func:`locate` says ``"in_bin"``); None when none.
+    What the spawner asks of each part at its checks: the rest of :func:`locate` (the
+    belt, the floor) is not needed there."""
+    return _bin_at(station, root_context, _pose(station, root_context, name).translation())
+
+
+def _pose(station: Station, root_context: Context, name: str) -> RigidTransform:
+    """``X_WP``: where part ``name`` is now."""
+    plant = station.plant
+    plant_context = plant.GetMyContextFromRoot(root_context)
+    return plant.EvalBodyPoseInWorld(plant_context, plant.GetBodyByName(name, station.parts[name]))
+
+
+def _bin_at(station: Station, root_context: Context, p_W: np.ndarray) -> Optional[str]:
+    """The first of the scenario's bins that holds the point ``p_W``; None when none."""
+    for b in station.scenario.bins:
+        if b.contains(p_W, station.bin_pose(root_context, b.name)):
+            return b.name
+    return None
 
 
 def _half_height(X_WP: RigidTransform, size: float) -> float:

@@ -49,11 +49,12 @@ class PartSleep:
         self._rest_time = config.rest_time
         self._names = self._clock.part_names
         geometries = station.part_states.geometries
-        #: collision geometry -> its part's name, or "" (a body welded to the world);
-        #: any other (arms, cups, the belt, all of which may move) is absent: None.
-        self._owner: dict = dict.fromkeys(geometries.anchored, "")
+        #: collision geometry (its id's value) -> its part's name, or "" (a body welded to
+        #: the world); any other (arms, cups, the belt, all of which may move) is absent:
+        #: None. Keyed by int: hashing an int costs less than hashing a GeometryId.
+        self._owner: dict[int, str] = {g.get_value(): "" for g in geometries.anchored}
         for name, ids in geometries.parts.items():
-            self._owner.update(dict.fromkeys(ids, name))
+            self._owner.update((g.get_value(), name) for g in ids)
 
     def __call__(self, root_context: Context) -> None:
         t = root_context.get_time()
@@ -64,31 +65,43 @@ class PartSleep:
             return  # every part moved within rest_time (a locked part is still): nothing to do
         station, plant = self._station, self._station.plant
         plant_context = plant.GetMyMutableContextFromRoot(root_context)
-        parked, sleeping = station.part_states.locked(plant_context)
-        asleep = set(sleeping)
-        out = asleep.union(parked)
-        resting = {n for n, v in zip(self._names, since) if v <= latest and n not in out}
+        parked, asleep = station.part_states.locked(plant_context)
+        out = set(asleep).union(parked)
+        resting = [n for n, v in zip(self._names, since) if v <= latest and n not in out]
         if not asleep and not resting:
             return  # nothing may sleep or wake: no query
         held = set(held_parts(station, root_context).values())
-        resting -= held
+        if held:
+            resting = [n for n in resting if n not in held]
+            if not asleep and not resting:
+                return  # only held parts are still: none may sleep
         # What moves: arms, cups, the belt, held parts, and awake parts that moved
         # at the clock's latest sample. Whatever is welded to the world does not.
-        moving = held | {n for n, v in zip(self._names, since) if v == math.inf and n not in out}
-        touches: dict[str, set] = {}  # part -> owners of what it touches
-        query = plant.get_geometry_query_input_port().Eval(plant_context)
+        moving = held.union(n for n, v in zip(self._names, since) if v == math.inf and n not in out)
+        touches = self._touches(plant_context)
+        for name in sorted(asleep):
+            contacts = touches.get(name, _NOTHING)
+            if name in held or None in contacts or not moving.isdisjoint(contacts):
+                station.part_states.wake(root_context, name)
+                self._clock.restart(clock_context, name, t)
+        for name in sorted(resting):
+            contacts = touches.get(name, _NOTHING)
+            if contacts and None not in contacts and moving.isdisjoint(contacts):
+                station.part_states.sleep(root_context, name)
+
+    def _touches(self, plant_context: Context) -> dict[str, set]:
+        """part -> the owners of what it touches (SceneGraph's penetration query)."""
+        owner = self._owner.get
+        touches: dict[str, set] = {}
+        query = self._station.plant.get_geometry_query_input_port().Eval(plant_context)
         for pair in query.ComputePointPairPenetration():
-            a, b = self._owner.get(pair.id_A), self._owner.get(pair.id_B)
+            a, b = owner(pair.id_A.get_value()), owner(pair.id_B.get_value())
             if a:
                 touches.setdefault(a, set()).add(b)
             if b:
                 touches.setdefault(b, set()).add(a)
-        for name in sorted(asleep):
-            contacts = touches.get(name, set())
-            if name in held or None in contacts or contacts & moving:
-                station.part_states.wake(root_context, name)
-                self._clock.restart(clock_context, name, t)
-        for name in sorted(resting):
-            contacts = touches.get(name, set())
-            if contacts and None not in contacts and not contacts & moving:
-                station.part_states.sleep(root_context, name)
+        return touches
+
+
+#: No contacts.
+_NOTHING: frozenset = frozenset()
