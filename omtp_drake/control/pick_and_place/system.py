@@ -165,17 +165,17 @@ class PickAndPlaceController(LeafSystem):
             prerequisites_of_calc=control_ticket
             | {self.time_ticket(), self.input_port_ticket(self._robot_state.get_index())},
         )
-        control_state = weak_method(self._control_state)  # C++ holds these callbacks
+        control = self._control  # (C++ holds these callbacks: they must not hold self)
         self._use_robot_state_port = self.DeclareAbstractOutputPort(
             "use_robot_state",
             lambda: AbstractValue.Make(False),
-            lambda c, out: out.set_value(control_state(c).reset_ik),
+            lambda c, out: out.set_value(c.get_abstract_state(control).get_value().reset_ik),
             prerequisites_of_calc=control_ticket,
         )
         self._suction_port = self.DeclareVectorOutputPort(
             "suction_command",
             1,
-            lambda c, out: out.SetAtIndex(0, float(control_state(c).suction)),
+            lambda c, out: out.SetAtIndex(0, float(c.get_abstract_state(control).get_value().suction)),
             prerequisites_of_calc=control_ticket,
         )
         self._control_port = self.DeclareStateOutputPort("control", self._control)
