@@ -20,6 +20,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import Enum
+from functools import cached_property
 from typing import Optional, Union
 
 import numpy as np
@@ -238,8 +239,10 @@ class Path:
     def done(self, t: float) -> bool:
         return not self.segments or t >= self.end_time
 
-    @property
+    @cached_property
     def end_time(self) -> float:
+        """When the last segment ends (-inf for an empty path); asked at every
+        update of the controller, so worked out once (a path is immutable)."""
         return max(segment.t1 for segment in self.segments) if self.segments else -math.inf
 
 

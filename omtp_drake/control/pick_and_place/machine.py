@@ -40,7 +40,7 @@ part's origin (its centre), Bin the bin's origin.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import replace
 from typing import Optional
 
@@ -146,9 +146,15 @@ class PickMachine:
 
     # ------------------------------------------------------------- helpers
 
-    def _parts_seen(self, inputs: MachineInput, s: ControlState) -> Optional[list[Sighting]]:
-        others = (inputs.bin_image, *inputs.search_images)
-        return self._see.parts_seen(inputs.t, inputs.pick_image, others, inputs.bin_image, s.ignored)
+    def _parts_seen(self, inputs: MachineInput, s: ControlState) -> Optional[Iterator[Sighting]]:
+        """The parts to pick, one by one (see Perception.parts_seen); None: no fresh image."""
+        return self._see.parts_seen(
+            inputs.t,
+            inputs.pick_image,
+            lambda: (inputs.bin_image, *inputs.search_images),
+            lambda: inputs.bin_image,
+            s.ignored,
+        )
 
     # --------------------------------------------------------------- checks
 
@@ -163,7 +169,8 @@ class PickMachine:
         desired = inputs.X_WE_desired if inputs.X_WE_desired is not None else s.pose_at(t)
         error = 0.0
         if desired is not None and s.mode not in (Mode.DESCEND, Mode.ATTACH):
-            error = float(np.linalg.norm(desired.translation() - X_now.translation()))
+            d = desired.translation() - X_now.translation()
+            error = math.sqrt(d.dot(d))  # np.linalg.norm's very sum, without its checks
             if error > self._config.tracking_tolerance:
                 if math.isnan(s.bad_tracking_since):
                     s = replace(s, bad_tracking_since=t)
@@ -184,9 +191,10 @@ class PickMachine:
     def _wait_part(self, inputs: MachineInput, s: ControlState) -> Step:
         """Plan a pick as soon as a part is seen at rest (same pose in two images)."""
         t = inputs.t
-        seen = self._parts_seen(inputs, s)
-        if seen is None:
+        sightings = self._parts_seen(inputs, s)
+        if sightings is None:
             return s, None  # camera image missing: wait
+        seen = list(sightings)
         # The part being picked again, or the one seen last: is it still somewhere?
         tracked = s.part or (s.candidate if s.candidate not in s.ignored else "")
         mine = [x for x in seen if x[0] == tracked] if tracked else []

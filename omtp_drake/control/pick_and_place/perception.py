@@ -8,7 +8,7 @@ C a camera, P a part's origin (its centre), Bin the bin's origin.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import Optional
 
 import numpy as np
@@ -49,25 +49,39 @@ class Perception:
         self,
         t: float,
         pick: LogicalCameraImage,
-        others: Sequence[LogicalCameraImage],
-        bin_image: LogicalCameraImage,
+        others: Callable[[], Sequence[LogicalCameraImage]],
+        bin_image: Callable[[], LogicalCameraImage],
         ignored: Sequence[str],
-    ) -> Optional[list[Sighting]]:
+    ) -> Optional[Iterator[Sighting]]:
         """The parts to pick (not ``ignored``): those in the pick camera's image, then
         those the ``others`` (the bin camera's and the search cameras' images) see
         outside the bin (a part that missed it or fell on the way); None if the pick
-        camera's image is stale."""
+        camera's image is stale. The other images and the bin camera's (for where the
+        bin is) are read only once the pick camera's sightings are used up: a camera
+        computes its image when it is read, and most callers stop at the first
+        sighting that suits them."""
         if not self.fresh(pick, t):
             return None
+        return self._sightings(t, pick, others, bin_image, ignored)
+
+    def _sightings(
+        self,
+        t: float,
+        pick: LogicalCameraImage,
+        others: Callable[[], Sequence[LogicalCameraImage]],
+        bin_image: Callable[[], LogicalCameraImage],
+        ignored: Sequence[str],
+    ) -> Iterator[Sighting]:
+        """:meth:`parts_seen` of a fresh pick image, one sighting at a time."""
         part_type = self._config.part_type
-        seen = [
-            (m.name, pick.X_WC @ m.X_CM, pick.time)
-            for m in pick.models
-            if m.type == part_type and m.name and m.name not in ignored
-        ]
-        names = {name for name, _, _ in seen}
-        X_WBin = self.bin_pose(bin_image)
-        for other in others:
+        names = set()
+        for m in pick.models:
+            if m.type == part_type and m.name and m.name not in ignored:
+                names.add(m.name)
+                yield m.name, pick.X_WC @ m.X_CM, pick.time
+        images = others()
+        X_WBin = self.bin_pose(bin_image())
+        for other in images:
             if not self.fresh(other, t):
                 continue
             for m in other.models:
@@ -75,9 +89,8 @@ class Perception:
                     continue
                 X_WP = other.X_WC @ m.X_CM
                 if not self._bin.contains(X_WP.translation(), X_WBin):
-                    seen.append((m.name, X_WP, other.time))
                     names.add(m.name)
-        return seen
+                    yield m.name, X_WP, other.time
 
     def reachable(self, X_WP: RigidTransform, size: float) -> bool:
         """Can the tool reach the part's top face, tool down, and the approach above it?"""

@@ -109,6 +109,7 @@ class PickAndPlaceController(LeafSystem):
         super().__init__()
         config.validate()
         self._plant = control_plant
+        self._nq = control_plant.num_positions()
         self._tip = control_plant.GetFrameByName(f"{robot.gripper}_tip")
         self._X_WB = arms.base_pose(robot)
         self._X_BW = self._X_WB.inverse()
@@ -164,17 +165,17 @@ class PickAndPlaceController(LeafSystem):
             prerequisites_of_calc=control_ticket
             | {self.time_ticket(), self.input_port_ticket(self._robot_state.get_index())},
         )
-        control_state = weak_method(self._control_state)  # C++ holds these callbacks
+        control = self._control  # (C++ holds these callbacks: they must not hold self)
         self._use_robot_state_port = self.DeclareAbstractOutputPort(
             "use_robot_state",
             lambda: AbstractValue.Make(False),
-            lambda c, out: out.set_value(control_state(c).reset_ik),
+            lambda c, out: out.set_value(c.get_abstract_state(control).get_value().reset_ik),
             prerequisites_of_calc=control_ticket,
         )
         self._suction_port = self.DeclareVectorOutputPort(
             "suction_command",
             1,
-            lambda c, out: out.SetAtIndex(0, float(control_state(c).suction)),
+            lambda c, out: out.SetAtIndex(0, float(c.get_abstract_state(control).get_value().suction)),
             prerequisites_of_calc=control_ticket,
         )
         self._control_port = self.DeclareStateOutputPort("control", self._control)
@@ -228,20 +229,22 @@ class PickAndPlaceController(LeafSystem):
         return context.get_abstract_state(self._control).get_value()
 
     def _calc_scratch(self, context: Context, value: AbstractValue) -> None:
-        q = self._robot_state.Eval(context)[: self._plant.num_positions()]
-        self._plant.SetPositions(value.get_mutable_value(), q)
+        self._plant.SetPositions(value.get_mutable_value(), self._robot_state.Eval(context)[: self._nq])
 
     def _fk(self, context: Context) -> RigidTransform:
         """``X_WE`` at the measured joints."""
         return self._X_WB @ self._tip.CalcPoseInWorld(self._scratch.Eval(context))
 
     def _calc_table(self, context: Context, value: AbstractValue) -> None:
+        # Runs after every update (an update marks all of the state changed); the
+        # table is refilled only when the path is a new one.
         table: PoseTable = value.get_mutable_value()
-        path = self._control_state(context).path
-        if table.path is not path:  # the control state changed, and with it the path
+        path = context.get_abstract_state(self._control).get_value().path
+        if table.path is not path:
             table.fill(path, context.get_time(), self._diffik_period, self._X_BW)
 
     def _calc_pose(self, context: Context, output: AbstractValue) -> None:
+        # DiffIK asks at every one of its steps: a lookup in the table, as a rule.
         t = context.get_time()
         X_BE = self._table.Eval(context).pose(t)
         if X_BE is None:  # not a sample time of the table
@@ -257,13 +260,12 @@ class PickAndPlaceController(LeafSystem):
         machine; writes its decision."""
         s = self._control_state(context)
         t = context.get_time()
-        q = self._robot_state.Eval(context)[: self._plant.num_positions()]
         X_BE = self._table.Eval(context).pose(t)  # the path at t, as DiffIK gets it
         inputs = MachineInput(
             t=t,
             X_WE=self._fk(context),
             gripper=self._gripper.Eval(context),
-            q=tuple(q.tolist()),
+            q=tuple(self._robot_state.Eval(context)[: self._nq].tolist()),
             read_pick_image=lambda: self._image.Eval(context),
             read_bin_image=lambda: self._bin_image.Eval(context),
             read_search_images=lambda: tuple(port.Eval(context) for port in self._search_images),
@@ -311,10 +313,12 @@ class PoseTable:
     def pose(self, t: float) -> Optional[RigidTransform]:
         """``X_BE`` at ``t`` if ``t`` is one of the table's sample times (after its
         last, the path's end pose), else None."""
-        k = round(t / self._h)
-        if k < self._k0 or not self._X_BE or abs(t - k * self._h) > 1e-9:
+        h, X_BE = self._h, self._X_BE
+        k = round(t / h)
+        i = k - self._k0
+        if i < 0 or not X_BE or abs(t - k * h) > 1e-9:
             return None
-        return self._X_BE[min(k - self._k0, len(self._X_BE) - 1)]
+        return X_BE[i] if i < len(X_BE) else X_BE[-1]
 
     def __deepcopy__(self, memo: dict) -> PoseTable:
         return PoseTable()  # a cache: a cloned Context refills its own
