@@ -38,7 +38,6 @@ CALLBACKS = [
     ("omtp_drake.sim.driver", "AutoSpawner", ["__call__"], False),
     ("omtp_drake.sim.driver", "DeletionWall", ["__call__"], False),
     ("omtp_drake.sim.driver", "BeltWrap", ["__call__"], False),
-    ("omtp_drake.script.arm_commander", "ArmCommander", ["_sample"], False),
 ]
 
 
