@@ -25,9 +25,9 @@ from omtp_drake.grading.isolation import Limits, bwrap_works
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "ros"
 SCENARIO = "lecture6_assignment3"
 #: Limits the hogs hit at once, far from what an honest run needs, however slow or busy the
-#: machine: an honest run here takes 1.6-1.9 CPU s (most of it start-up; the spinner's, to
-#: TIMEOUT, the most), the CPU limit is 6 (over 3x: CPU seconds do not grow with a busy machine,
-#: only with a slower one); the busy loop reaches it whatever the machine's share of a core,
+#: machine: an honest run here takes 1.7-2.0 CPU s (most of it start-up; measured: alice 1.7,
+#: the spinner 2.0 to a 5 s timeout), the CPU limit is 6 (3x: CPU seconds do not grow with a busy
+#: machine, only with a slower one); the busy loop reaches it whatever the machine's share of a core,
 #: long before WALL_TIMEOUT. Each CPU second of the busy loop is a second of this test.
 LIMITS = Limits(memory_mb=1024, processes=12, cpu_s=6, open_files=256, output_kb=64)
 #: Simulated seconds per run: the honest scripts end before (alice at 1.55 s, bob at 0.2 s;
