@@ -106,7 +106,7 @@ def cache_dir() -> Path:
     return path
 
 
-def _write_atomic(path: Path, data: bytes) -> None:
+def write_atomic(path: Path, data: bytes) -> None:
     """Writes ``data`` so concurrent readers never see a half-written file."""
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name + ".")
     with os.fdopen(fd, "wb") as f:
@@ -139,14 +139,14 @@ def _convert_mesh(src: Path, dst: Path) -> None:
 
     if dst.suffix == ".obj":
         mesh = trimesh.load(src, force="mesh")
-        _write_atomic(dst, mesh.export(file_type="obj").encode())
+        write_atomic(dst, mesh.export(file_type="obj").encode())
         return
     scene = trimesh.load(src, force="scene")
     # glTF is y-up: Drake turns a glTF +90 deg about x when loading it, so
     # pre-rotate -90 deg about x to keep the link's own z-up geometry.
     scene.apply_transform(trimesh.transformations.rotation_matrix(-math.pi / 2, [1, 0, 0]))
     files = trimesh.exchange.gltf.export_gltf(scene, embed_buffers=True)
-    _write_atomic(dst, files["model.gltf"])
+    write_atomic(dst, files["model.gltf"])
 
 
 def _converted_meshes(model: str) -> Path:
@@ -192,7 +192,7 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
     _drop_world_and_ee_collision(root)
     _prefix_names(root, prefix, joint_limit)
     _point_meshes_to(root, meshes)
-    _write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
 
 
