@@ -60,6 +60,7 @@ from omtp_drake.cell.parts import PartStates
 from omtp_drake.cell.station import add_cell_models, build_station
 from omtp_drake.errors import BenchmarkError, ConfigError
 from omtp_drake.scenario import PartConfig, Scenario, load_scenario
+from omtp_drake.sim.heap import tune_heap
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.tasks.run import TaskResult, TaskRun, prepare, run_task
 
@@ -84,6 +85,7 @@ def bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> tu
     """The bare plant of ``scenario`` (see the module doc), initialized: each arm held
     at its initial pose, or replaying its commands from ``motion``. Also returns what
     the simulator needs kept alive (the servos' arm models)."""
+    tune_heap()  # as the driver does: the same heap for the full run and the bare plant
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlant(scenario.plant_config, builder)
     plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)

@@ -37,6 +37,7 @@ from omtp_drake.cell.parts import free_body_q_indices, spawn_pose
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
 from omtp_drake.sim.gripper_events import GripperEvents
+from omtp_drake.sim.heap import tune_heap
 from omtp_drake.sim.joint_pose_trajectory import joint_pose_trajectories
 from omtp_drake.sim.ledger import bin_of, held_parts, locate
 from omtp_drake.sim.part_sleep import PartSleep
@@ -344,6 +345,7 @@ class Driver:
         self.edits = list(edits)
         self._sources = [e for e in self.edits if isinstance(e, EventSource)]
         self._callbacks: list[_Callback] = []
+        tune_heap()  # (sim/heap.py: the step's memory reused, not faulted in again)
         self.simulator = Simulator(diagram, context)
         self.simulator.Initialize()
         for edit in self.edits:
