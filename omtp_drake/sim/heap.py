@@ -11,8 +11,9 @@ did that, until they came from the disk memo). Fixed thresholds make the step's
 memory reused from one step to the next in every process: about 400 faults a run
 (figures: bench/README.md, "Speed, round three").
 
-Only on glibc, and not where the user chose the thresholds (``MALLOC_MMAP_THRESHOLD_``
-or ``MALLOC_TRIM_THRESHOLD_`` in the environment).
+Only on glibc. It overrides glibc's ``MALLOC_*_THRESHOLD_`` variables, which Dask
+sets for its workers (a trim threshold of 64 kB, to give memory back: a batch run
+would fault at every step again); ``OMTP_DRAKE_HEAP=glibc`` keeps glibc's settings.
 """
 
 from __future__ import annotations
@@ -28,13 +29,15 @@ TRIM_THRESHOLD = 32 << 20
 
 #: glibc's mallopt parameters.
 _M_TRIM_THRESHOLD, _M_MMAP_THRESHOLD = -1, -3
-_USER_CHOICES = ("MALLOC_MMAP_THRESHOLD_", "MALLOC_TRIM_THRESHOLD_")
+#: The environment variable that keeps glibc's settings, and its value for that.
+OPT_OUT = ("OMTP_DRAKE_HEAP", "glibc")
 
 
 def tune_heap() -> bool:
     """Sets the thresholds (module doc) for this process; whether they were set (False
-    off glibc or where the environment chose them). Harmless to call again."""
-    if platform.libc_ver()[0] != "glibc" or any(name in os.environ for name in _USER_CHOICES):
+    off glibc or with :data:`OPT_OUT`). Harmless to call again."""
+    name, keep = OPT_OUT
+    if platform.libc_ver()[0] != "glibc" or os.environ.get(name) == keep:
         return False
     mallopt = ctypes.CDLL(None).mallopt
     mallopt.argtypes, mallopt.restype = (ctypes.c_int, ctypes.c_int), ctypes.c_int
