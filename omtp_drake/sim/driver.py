@@ -376,16 +376,10 @@ class Driver:
 
     def _next_stop(self, t: float, events: list[float]) -> float:
         """The first of ``t``, the sources' ``events`` and the edits' and callbacks'
-        next multiples of their periods (in one loop: the driver's cost at each stop)."""
+        next multiples of their periods."""
         now = self.context.get_time()
-        stop = min(t, *events) if events else t
-        floor = math.floor
-        for period in [e.period for e in self.edits] + [c.period for c in self._callbacks]:
-            if period != math.inf:  # _next_multiple, inlined
-                multiple = (floor(now / period + _EPS) + 1) * period
-                if multiple < stop:
-                    stop = multiple
-        return stop
+        periods = [e.period for e in self.edits] + [c.period for c in self._callbacks]
+        return min([t, *events] + [_next_multiple(now, period) for period in periods])
 
     def _apply_due(self, events: list[float]) -> None:
         """Applies the edits due now (their event, or a multiple of their period), then
@@ -395,11 +389,18 @@ class Driver:
         due = [s for s, e in zip(self._sources, events) if abs(now - e) < _EPS]
         tolerance = _EPS * max(1.0, abs(now))
         for edit in self.edits:
-            if (due and any(edit is s for s in due)) or _multiple_within(now, edit.period, tolerance):
+            if any(edit is s for s in due) or _multiple_within(now, edit.period, tolerance):
                 edit(context)
         for callback in self._callbacks:
             if _multiple_within(now, callback.period, tolerance):
                 callback.function()
+
+
+def _next_multiple(t: float, period: float) -> float:
+    """The first multiple of ``period`` after ``t`` (inf for an infinite period)."""
+    if period == math.inf:
+        return math.inf
+    return (math.floor(t / period + _EPS) + 1) * period
 
 
 def _multiple_within(t: float, period: float, tolerance: float) -> bool:

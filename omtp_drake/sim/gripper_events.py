@@ -161,7 +161,7 @@ class GripperEvents:
         after = now + _EPS
         for robot, gripper in self._grippers.items():
             runs = self._runs[robot]
-            due = bool(runs) and any(t <= after for t in runs)
+            due = any(t <= after for t in runs)
             if due:
                 self._runs[robot] = [t for t in runs if t > after]
             context = gripper.GetMyMutableContextFromRoot(root_context)
@@ -188,10 +188,8 @@ class GripperEvents:
         step after a check, only a pending attach is made (a part a fault or a lost
         hold let go is released at the idle sync, as a controller's disable)."""
         now = root_context.get_time()
-        scheduled = False
-        if self._syncs:
-            scheduled = any(abs(t - now) <= _EPS for t in self._syncs)
-            self._syncs = [t for t in self._syncs if t > now + _EPS]
+        scheduled = any(abs(t - now) <= _EPS for t in self._syncs)
+        self._syncs = [t for t in self._syncs if t > now + _EPS]
         every = scheduled or _is_multiple(now, self.period)
         for gripper in self._welds:
             if every or gripper.pending_part(gripper.GetMyContextFromRoot(root_context)):
