@@ -259,3 +259,32 @@ def test_the_docs_say_one_thing_about_the_tutorial_robot():
     ros2 = " ".join((ROOT / "docs" / "ros2.md").read_text().split())
     assert "not loadable here yet" not in ros2
     assert "`--robot [NAME=]FILE[@X,Y,Z[,R,P,Y]]`" in ros2 and "slider_arm.urdf.xacro" in ros2
+
+
+def _option_mentions() -> list[tuple[str, str, str]]:
+    """(file:line, command, option) of every option the text names beside a command:
+    backticked spans that start with a command's name (``run SCENARIO [--seed N]``,
+    ``grade --moveit melodic``, ``ros-run --latency F``), with or without ``omtp-drake``."""
+    commands = set(build_parser()._subparsers._group_actions[0].choices)  # type: ignore[union-attr]
+    out = []
+    for path in DOCS:
+        text = path.read_text()
+        for match in re.finditer(r"`(omtp-drake )?([a-z0-9-]+) ([^`]*)`", text):
+            if match.group(2) not in commands or (match.group(2) == "ros2" and not match.group(1)):
+                continue  # (`ros2 run ...` is ROS 2's own command line)
+            where = f"{path.relative_to(ROOT)}:{text.count(chr(10), 0, match.start()) + 1}"
+            for option in re.findall(r"(?<![\w-])(--?[a-zA-Z][\w-]*)", match.group(3)):
+                out.append((where, match.group(2), option))
+    return out
+
+
+def test_every_option_the_text_names_is_the_commands():
+    mentions = _option_mentions()
+    assert len(mentions) >= 100, len(mentions)
+    parsers = build_parser()._subparsers._group_actions[0].choices  # type: ignore[union-attr]
+    lacking = [
+        f"{where}: {command} {option}"
+        for where, command, option in mentions
+        if option not in {s for a in parsers[command]._actions for s in a.option_strings}
+    ]
+    assert not lacking, "the docs name options the commands lack:\n" + "\n".join(lacking)
