@@ -238,12 +238,15 @@ def test_each_distinct_command_runs_as_documented(doc, places, tmp_path, monkeyp
         assert "--timeout of 2 s simulated time reached" in out, out
 
 
-def test_own_files_commands_take_the_options_the_readme_lists():
-    """README's "Your own files": every command it names takes every option it lists."""
-    readme = (ROOT / "README.md").read_text()
-    section = readme[readme.index("## Your own files") :]
-    section = section[: section.index("\n## ", 5)]
-    sentence = section[section.index("Every command that") :]
+@pytest.mark.parametrize("doc", ["README.md", "docs/own_files.md"])
+def test_own_files_commands_take_the_options_the_text_lists(doc):
+    """"Your own files" (README's and docs/own_files.md): every command it names takes every
+    option it lists."""
+    text = (ROOT / doc).read_text()
+    section = text[text.index("## Your own files") :]
+    section = section[: section.index("\n## ", 5)] if "\n## " in section[5:] else section
+    sentence = " ".join(section.split())
+    sentence = sentence[sentence.index("Every command that") :]
     named = re.findall(r"`([a-z0-9][a-z0-9-]*)`", sentence[: sentence.index(")")])
     options = re.findall(r"^    (--[a-z]+)", section, re.M)
     assert len(named) >= 10 and {"--launch", "--world", "--robot", "--workspace", "--arg"} <= set(options)
