@@ -1,9 +1,10 @@
 """The ``omtp-drake`` command line.
 
-Every command that takes SCENARIO accepts a name from ``diagrams/`` or the path
-of a scenario YAML file, or instead a student's own files: ``--launch 'PKG
-FILE.launch [ARG:=VALUE ...]'`` or ``--world FILE.world`` with ``--workspace DIR``.
-Errors are printed as one line on stderr with exit code 2; no traceback.
+Every command that builds a cell takes the same cell options (SCENARIO or ``--scenario
+NAME|FILE``, ``--launch``, ``--world``, ``--robot``, ``--workspace``, ``--arg``), resolved
+by one function into a typed scenario (:mod:`omtp_drake.launch.options`); options go
+anywhere on a command's line. Errors are printed as one line on stderr with exit code 2;
+no traceback.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import math
 import re
 import sys
 from collections.abc import Sequence
-from typing import TYPE_CHECKING, NoReturn
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,7 +24,7 @@ from omtp_drake.batch.command import add_batch_command, add_progress_options, sh
 from omtp_drake.errors import ConfigError, OmtpError
 from omtp_drake.grading.cli import add_commands as add_ros_commands
 from omtp_drake.launch.description import launch_description
-from omtp_drake.launch.options import add_scenario_argument, resolve_cell_options
+from omtp_drake.launch.options import CommandParser, add_cell_options, resolve_cell_options
 from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
 from omtp_drake.ros2.run import add_commands as add_ros2_commands
 from omtp_drake.viz.view_command import add_view_command
@@ -32,6 +33,7 @@ if TYPE_CHECKING:
     from pydrake.systems.framework import Context
 
     from omtp_drake.cell.station import Station
+    from omtp_drake.scenario import Scenario
 
 _log = logging.getLogger("omtp_drake")
 
@@ -54,7 +56,7 @@ def cmd_scenarios(args: argparse.Namespace) -> int:
     return 0
 
 
-def _run_and_report(args: argparse.Namespace, scenario: str, *, progress: bool) -> int:
+def _run_and_report(args: argparse.Namespace, scenario: Scenario | str, *, progress: bool) -> int:
     """Runs ``scenario``'s task with the view options of ``args``; prints the result."""
     from omtp_drake.tasks.run import TaskRun, run_task
 
@@ -146,7 +148,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
 
 
 def _simulated_station(
-    scenario: str, time: float, poses: dict[str, str] | None = None, camera: str | None = None
+    scenario: Scenario, time: float, poses: dict[str, str] | None = None, camera: str | None = None
 ) -> tuple[Station, Context]:
     """(station, root context) of :func:`~omtp_drake.sim.runtime.runtime_at` at ``--time``."""
     from omtp_drake.sim.runtime import runtime_at
@@ -169,9 +171,7 @@ def cmd_tf_echo(args: argparse.Namespace) -> int:
 
 def cmd_camera(args: argparse.Namespace) -> int:
     if args.image:
-        from omtp_drake.scenario import load_scenario
-
-        scenario = load_scenario(args.scenario)
+        scenario = args.scenario
         config = next((c for c in scenario.cameras if c.name == args.camera), None)
         if config is not None and not config.rgbd:
             raise ConfigError(
@@ -237,7 +237,7 @@ def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_demo)
 
     p = sub.add_parser("run", help="run a scenario's pick-and-place task")
-    add_scenario_argument(p)
+    add_cell_options(p, positional=True)
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
     p.add_argument(
         "--duration", type=float, default=None, help="simulated seconds at most (default 30 per part)"
@@ -297,7 +297,7 @@ def _add_simulate_first_option(p: argparse.ArgumentParser, note: str = "") -> No
 def _add_tf_echo_command(sub: argparse._SubParsersAction) -> None:
     """Registers ``omtp-drake tf-echo``: a frame's pose in another, like ROS tf_echo."""
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
-    add_scenario_argument(p)
+    add_cell_options(p, positional=True)
     p.add_argument("source", metavar="SOURCE")
     p.add_argument("target", metavar="TARGET")
     p.add_argument(
@@ -316,7 +316,7 @@ def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
     """Registers the commands that inspect the cell at a time, like ROS tools: tf-echo, camera, frames."""
     _add_tf_echo_command(sub)
     p = sub.add_parser("camera", help="what a logical camera sees, like rostopic echo")
-    add_scenario_argument(p)
+    add_cell_options(p, positional=True)
     p.add_argument("--camera", required=True, metavar="NAME", help="e.g. logical_camera_1")
     _add_simulate_first_option(p)
     p.add_argument(
@@ -330,7 +330,7 @@ def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_camera)
 
     p = sub.add_parser("frames", help="draw the frame tree (PDF and PNG), like ROS view_frames")
-    add_scenario_argument(p)
+    add_cell_options(p, positional=True)
     p.add_argument(
         "-o",
         "--output",
@@ -359,13 +359,6 @@ def _add_bench_command(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_bench)
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse whose errors are one line (exit 2), like every other error of the CLI."""
-
-    def error(self, message: str) -> NoReturn:
-        self.exit(2, f"{self.prog}: error: {message}\n")
-
-
 def _values_that_look_like_options(argv: Sequence[str]) -> list[str]:
     """``--seeds -1:3`` as ``--seeds=-1:3``: a value that starts with a minus sign and
     a digit is the option's value (argparse would take it for an option and print its
@@ -383,7 +376,7 @@ def _values_that_look_like_options(argv: Sequence[str]) -> list[str]:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = _Parser(prog="omtp-drake", description="The OMTP factory cell simulated with Drake.")
+    parser = CommandParser(prog="omtp-drake", description="The OMTP factory cell simulated with Drake.")
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = parser.add_subparsers(dest="command", required=True)
     _add_task_commands(sub)

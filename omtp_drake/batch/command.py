@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
-from omtp_drake.launch.options import add_scenario_argument
+from omtp_drake.launch.options import add_cell_options
 
 
 def _say(text: str) -> None:
@@ -39,7 +38,7 @@ def cmd_batch(args: argparse.Namespace) -> int:
     sweep = parse_sets(args.set)
     out = args.out
     if out is None:
-        out = f"batch_{Path(str(args.scenario)).stem}"
+        out = f"batch_{args.scenario.name or 'cell'}"  # (a Scenario: the cell options resolved)
     records = run_batch(
         args.scenario,
         seeds,
@@ -68,7 +67,7 @@ def add_batch_command(sub: argparse._SubParsersAction) -> None:
         description="Every (seed, setting) is one run on a Dask cluster (local processes by default). "
         "Re-running with the same --out resumes.",
     )
-    add_scenario_argument(p)
+    add_cell_options(p, positional=True)
     p.add_argument("--seeds", required=True, metavar="A:B", help="seeds A..B-1 (e.g. 0:100), or 3,7,9")
     p.add_argument("--parts", type=int, default=None, help="parts to place per run")
     p.add_argument("--duration", type=float, default=None, help="simulated seconds at most per run")

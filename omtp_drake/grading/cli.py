@@ -14,7 +14,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from omtp_drake.errors import OmtpError
-from omtp_drake.launch.options import add_cell_options, resolve_cell_options
+from omtp_drake.launch.options import CommandParser, add_cell_options, resolve_cell_options
 from omtp_drake.ros.run.cli import add_commands as add_ros_run
 from omtp_drake.ros.run.cli import cmd_ros_run
 from omtp_drake.ros.run.command import add_shared_options, passed_on, print_line
@@ -24,9 +24,6 @@ def cmd_ros_run_isolable(args: argparse.Namespace) -> int:
     """``ros-run``, isolated when ``--sandbox`` is given."""
     if args.sandbox is not None:
         from omtp_drake.grading.grade import run_isolated_script
-
-        if args.robot:
-            raise OmtpError("--robot does not go with --sandbox (an isolated run takes --scenario only)")
 
         return run_isolated_script(args, print_line)
     return cmd_ros_run(args)
@@ -40,11 +37,11 @@ def cmd_grade(args: argparse.Namespace) -> int:
     from omtp_drake.grading.options import class_options
     from omtp_drake.grading.table import format_grades
 
-    own_files = args.launch or args.world  # their --workspace is the launch's or world's
+    own_files = args.launch or args.world or args.robot  # their --workspace is the cell's
     if ((args.workspace and not own_files) or args.python2 or args.behavior) and not args.flexbe:
         raise OmtpError(
             "--workspace, --python2 and --behavior go with --flexbe (a class of FlexBE workspaces), "
-            "--workspace also with --launch or --world"
+            "--workspace also with --launch, --world or --robot"
         )
     grading = FlexbeGrading(shared_workspaces(args.workspace), args.python2, args.behavior)
     flexbe = grading if args.flexbe else None
@@ -85,8 +82,8 @@ def _add_grade(sub: argparse._SubParsersAction, ros_run: argparse.ArgumentParser
         "report and output in OUT/runs/.",
     )
     p.add_argument("folder", metavar="DIR")
-    add_shared_options(p, "--scenario")
     add_cell_options(p, workspace=False)
+    p.set_defaults(cell_file=True)  # each script runs in another process, which loads the cell's file
     p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes (default: cores)")
     add_shared_options(p, "--seed")
     p.add_argument("--timeout", type=float, default=600.0, metavar="S", help="simulated seconds per script")
@@ -105,7 +102,7 @@ def _add_grade(sub: argparse._SubParsersAction, ros_run: argparse.ArgumentParser
         default=[],
         metavar="DIR",
         help="with --flexbe: a workspace every behaviour uses (the course's states; repeatable); "
-        "with --launch or --world: where their packages are",
+        "with --launch, --world or --robot: where their packages are",
     )
     p.add_argument("--python2", action="store_true", help="with --flexbe: load the workspaces as Python 2")
     p.add_argument(
@@ -130,7 +127,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     install_from_env()  # an isolated run's limits and guard (omtp_drake.grading.isolation), if it is one
     from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
 
-    parser = argparse.ArgumentParser(prog="omtp-drake", description="ROS scripts on the OMTP cell.")
+    parser = CommandParser(prog="omtp-drake", description="ROS scripts on the OMTP cell.")
     sub = parser.add_subparsers(dest="command", required=True)
     add_commands(sub)
     add_flexbe_commands(sub)  # grade --flexbe runs each behaviour as `flexbe-run` here

@@ -1,14 +1,23 @@
-"""The options every command that takes a cell shares: a scenario, or a student's own
-files (``--launch 'PKG FILE.launch [ARG:=VALUE ...]'`` or ``--world FILE.world``, with
-``--workspace DIR``, repeatable), and the one function that turns them into a cell.
+"""The cell options every command shares, and the one door from them to a typed ``Scenario``.
 
-:func:`chosen_cell` is that function for the Python API (``Cell(launch=...,
-workspace=...)``) and the commands; another source of a cell (a robot file) goes
-beside the launch and world here. :func:`add_cell_options` declares the options on a
-command's parser; :func:`resolve_cell_options` turns them into the scenario file the
-command loads (written to a temporary folder that lives as long as the command), and
-into the run's MoveIt config when the launch names the student's own, and for ros-run
-(``args.nodes``) into the workspace's Python nodes it runs in its session.
+Every command that builds a cell takes the same options (``omtp-drake COMMAND --help``):
+
+- ``SCENARIO`` (positional where the command has no other) or ``--scenario NAME|FILE``: a
+  scenario name of ``diagrams/``, a scenario YAML file, a robot's ``.urdf``/``.xacro``/``.sdf``
+  (that robot in Gazebo's empty world) or a Gazebo ``.world`` file;
+- ``--launch 'PKG FILE.launch [ARG:=VALUE ...]'`` or ``--world FILE.world``: a student's own cell;
+- ``--robot [NAME=]FILE[@X,Y,Z[,R,P,Y]]`` (repeatable): a robot spawned into that cell (or into
+  Gazebo's empty world) as ``spawn_model -file FILE -model NAME -x X -y Y -z Z -R R -P P -Y Y``;
+- ``--workspace DIR`` (repeatable): the folders their packages and models are found in;
+- ``--arg NAME:=VALUE`` (repeatable): an argument of the launch file (with ``--launch``), else
+  of the robot files' xacro.
+
+:func:`cell_of` is the resolver: those options in, an :class:`OwnCell` (the typed scenario, the
+warnings, a launch's nodes and MoveIt config) out; ``Cell(...)`` and every command go through it.
+:func:`add_cell_options` declares the options on a command's parser; :func:`resolve_cell_options`
+resolves them once, before the command runs, into ``args.scenario`` (a ``Scenario``; a file only
+for a command that hands it to another process: ``grade``, an isolated ``ros-run``).
+:class:`CommandParser` parses a command's line with options anywhere between its positionals.
 """
 
 from __future__ import annotations
@@ -16,19 +25,96 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+import shlex
 import tempfile
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, NoReturn, Optional
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.launch.own_cell import OwnCell, own_cell
-from omtp_drake.scenario import Scenario, as_scenario
+from omtp_drake.scenario import Scenario, as_scenario, scenario_from_dict
+from omtp_drake.scenario.loader import ROBOT_FILE_SUFFIXES
+from omtp_drake.scenario.robot_world import ROBOT_SYNTAX, RobotSpawn, parse_robot, with_robot
 
 _log = logging.getLogger("omtp_drake")
 
 #: What a command needs to be told, one of these.
-CHOICES = "a scenario (name or file), --launch 'PKG FILE.launch [ARG:=VALUE ...]' or --world FILE.world"
+CHOICES = (
+    "a scenario (name or file), --launch 'PKG FILE.launch [ARG:=VALUE ...]', --world FILE.world "
+    "or --robot FILE.urdf[.xacro]|FILE.sdf"
+)
+
+
+def parse_args_option(items: Sequence[str]) -> dict[str, str]:
+    """``--arg NAME:=VALUE`` (roslaunch's and xacro's words; ``NAME=VALUE`` too) as a mapping."""
+    out = {}
+    for text in items:
+        name, sep, value = text.partition(":=") if ":=" in text else text.partition("=")
+        if not sep or not name:
+            raise ConfigError(f"--arg {text!r}: give NAME:=VALUE")
+        out[name] = value
+    return out
+
+
+def cell_of(
+    scenario: Scenario | str | Path | None = None,
+    *,
+    launch: Optional[str] = None,
+    world: Optional[str | os.PathLike] = None,
+    robots: Sequence[RobotSpawn | str | os.PathLike] = (),
+    workspace: Sequence[str | os.PathLike] | str | os.PathLike = (),
+    args: Optional[dict[str, str]] = None,
+    with_nodes: bool = False,
+    strict_workspace: bool = True,
+) -> OwnCell:
+    """The cell of the options (see the module doc): the cell of at most one of ``scenario``,
+    ``launch`` and ``world`` (none: Gazebo's empty world, when ``robots`` are given), with
+    ``robots`` spawned in it. A ``scenario`` that is a robot file is that robot in the empty
+    world; one that is a ``.world`` file is that world. ``with_nodes``: the run starts the
+    launch's Python nodes itself, so the scenario's flags that stand in for them are off.
+    ``strict_workspace=False``: ``workspace`` is also the command's own (``flexbe-run``'s,
+    ``grade --flexbe``'s catkin folders), so a scenario without files of its own ignores it."""
+    folders = [workspace] if isinstance(workspace, (str, os.PathLike)) else list(workspace)
+    spawns = [r if isinstance(r, RobotSpawn) else parse_robot(os.fspath(r)) for r in robots]
+    if isinstance(scenario, (str, os.PathLike)) and str(scenario).endswith(ROBOT_FILE_SUFFIXES):
+        spawns.insert(0, RobotSpawn(os.fspath(scenario)))
+        scenario = None
+    elif isinstance(scenario, (str, os.PathLike)) and str(scenario).endswith(".world") and not world:
+        scenario, world = None, scenario
+    given = [
+        name for name, value in (("scenario", scenario), ("--launch", launch), ("--world", world)) if value
+    ]
+    if not (given or spawns):
+        raise ConfigError(f"give {CHOICES}")
+    if len(given) > 1:
+        raise ConfigError(f"give one of {CHOICES}; got {', '.join(given)}")
+    xacro_args = dict(args or {})
+    if launch and xacro_args:
+        launch = " ".join([launch, *(shlex.quote(f"{k}:={v}") for k, v in xacro_args.items())])
+        xacro_args = {}
+    elif xacro_args and not spawns:
+        raise ConfigError("--arg NAME:=VALUE goes with --launch (its args) or a robot file (its xacro args)")
+    if folders and not (launch or world or spawns) and strict_workspace:
+        raise ConfigError(
+            "--workspace goes with --launch, --world or a robot file (a scenario needs no workspace)"
+        )
+    if launch or world:
+        cell = own_cell(launch, world, folders)
+        if with_nodes and any(node.replaces for node in cell.nodes):
+            name = cell.scenario.name
+            cell.scenario = scenario_from_dict(cell.document_for(with_nodes=True), source=name, name=name)
+        base: Optional[Scenario] = cell.scenario
+    else:
+        cell, base = OwnCell(Scenario()), as_scenario(scenario) if scenario else None
+    for spawn in spawns:
+        base = with_robot(
+            base, spawn.file, folders, name=spawn.name, xyz=spawn.xyz, rpy=spawn.rpy, args=xacro_args
+        )
+    if base is None:  # (the check above makes sure one was given)
+        raise ConfigError(f"give {CHOICES}")
+    cell.scenario = base
+    return cell
 
 
 def chosen_cell(
@@ -39,70 +125,135 @@ def chosen_cell(
     workspace: Sequence[str | os.PathLike] | str | os.PathLike = (),
 ) -> OwnCell:
     """The cell of exactly one of ``scenario``, ``launch`` and ``world`` (``workspace``: the
-    folders a launch or world finds its packages and models in)."""
-    given = [name for name, value in (("scenario", scenario), ("launch", launch), ("world", world)) if value]
-    if len(given) != 1:
-        raise ConfigError(f"give one of {CHOICES}; got {', '.join(given) or 'none'}")
-    if scenario:
-        if workspace:
-            raise ConfigError("--workspace goes with --launch or --world (a scenario needs no workspace)")
-        return OwnCell(as_scenario(scenario))
-    return own_cell(launch, world, workspace)
+    folders a launch or world finds its packages and models in): :func:`cell_of` without robots."""
+    if not (scenario or launch or world):
+        raise ConfigError(f"give {CHOICES}")
+    return cell_of(scenario, launch=launch, world=world, workspace=workspace)
 
 
-def add_scenario_argument(p: argparse.ArgumentParser) -> None:
-    """SCENARIO (optional), or a student's own files instead: ``--launch`` / ``--world`` with
-    ``--workspace``."""
-    p.add_argument("scenario", metavar="SCENARIO", nargs="?", help="a scenario name or file")
-    add_cell_options(p)
-
-
-def add_cell_options(p: argparse.ArgumentParser, *, workspace: bool = True) -> None:
-    """Declares ``--launch``, ``--world`` and ``--workspace`` on ``p`` (``workspace=False``: the
-    command has its own ``--workspace`` of catkin folders, which the launch uses too)."""
+def add_cell_options(p: argparse.ArgumentParser, *, positional: bool = False, workspace: bool = True) -> None:
+    """Declares the cell options (see the module doc) on ``p``: ``positional``: SCENARIO as a
+    positional too (a command with no other positional); ``workspace=False``: the command has
+    its own ``--workspace`` of catkin folders, which the launch, world and robots use too."""
+    if positional:
+        p.add_argument(
+            "scenario", metavar="SCENARIO", nargs="?", help="a scenario name or file (or --scenario)"
+        )
+    p.add_argument(
+        "--scenario",
+        dest="scenario_option",
+        metavar="NAME|FILE",
+        help="the cell: a scenario name or YAML file, a robot's URDF/xacro/SDF file (in Gazebo's empty "
+        "world) or a Gazebo .world file",
+    )
     p.add_argument(
         "--launch",
         metavar="'PKG FILE.launch [ARG:=VALUE ...]'",
         help="the cell of a student's launch file (as roslaunch takes it), instead of a scenario",
     )
     p.add_argument("--world", metavar="FILE.world", help="the cell of a student's Gazebo world file")
-    p.set_defaults(cell_workspace_option=workspace)
-    if not workspace:
-        return
     p.add_argument(
-        "--workspace",
+        "--robot",
         action="append",
         default=[],
-        metavar="DIR",
-        help="a catkin/colcon src folder or a package the launch or world finds packages and models in "
-        "(repeatable; ROS_PACKAGE_PATH and GAZEBO_MODEL_PATH are read too)",
+        metavar=ROBOT_SYNTAX,
+        help="spawn this URDF, xacro or SDF robot into the cell (without a scenario, launch or world: "
+        "into Gazebo's empty world) as spawn_model -model NAME -x X -y Y -z Z -R R -P P -Y Y does "
+        "(m, rad; repeatable)",
     )
+    if workspace:
+        p.add_argument(
+            "--workspace",
+            action="append",
+            default=[],
+            metavar="DIR",
+            help="a catkin/colcon src folder or a package the launch, world or robot finds packages and "
+            "models in (repeatable; ROS_PACKAGE_PATH and GAZEBO_MODEL_PATH are read too)",
+        )
+    p.add_argument(
+        "--arg",
+        dest="cell_args",
+        action="append",
+        default=[],
+        metavar="NAME:=VALUE",
+        help="an argument of the --launch file, else of the robot files' xacro (repeatable)",
+    )
+    p.set_defaults(cell_workspace_option=workspace)
 
 
-def resolve_cell_options(args: argparse.Namespace, warn: Any = None) -> None:
-    """With ``--launch`` or ``--world``: ``args.scenario`` becomes the file of their cell (and
-    ``args.moveit_config`` the launch's own MoveIt config, unless given); each warning line
-    goes to ``warn`` (default: the log). Without them: a scenario must be given."""
+def resolve_cell_options(args: argparse.Namespace, warn: Optional[Callable[[str], Any]] = None) -> None:
+    """Resolves the cell options of ``args`` with :func:`cell_of`, once, before the command
+    runs: ``args.scenario`` becomes the typed ``Scenario`` (for a command that hands it to
+    another process, ``args.cell_file`` or an isolated run's ``args.sandbox``: the scenario's
+    name or file as given, or a file written for it that lives as long as the command);
+    ``args.moveit_config`` the launch's own MoveIt config, unless given; ``args.nodes`` (a
+    command that runs a launch's nodes in its session) those nodes. Each warning line goes
+    to ``warn`` (default: the log)."""
     if not hasattr(args, "cell_workspace_option"):
         return  # a command that takes no cell (add_cell_options was not called on its parser)
-    launch, world = args.launch, args.world
-    if not (launch or world):
-        if getattr(args, "robot", None):
-            return  # the robot's own world, or the scenario's (its workspace is the robot's)
-        if not getattr(args, "scenario", None):
-            raise ConfigError(f"give {CHOICES}")
-        if getattr(args, "workspace", None) and getattr(args, "cell_workspace_option", False):
-            chosen_cell(args.scenario, workspace=args.workspace)  # the error says why
-        return
-    cell = chosen_cell(args.scenario or None, launch=launch, world=world, workspace=args.workspace or ())
-    # ros-run and flexbe-run (not isolated) run the workspace's nodes in their session; the others cannot.
-    with_nodes = getattr(args, "nodes", None) is not None and getattr(args, "sandbox", None) is None
+    positional, option = getattr(args, "scenario", None), args.scenario_option
+    if positional and option and positional != option:
+        raise ConfigError(
+            f"the scenario is given twice ({positional!r} and --scenario {option!r}); give it once"
+        )
+    scenario = positional or option
+    isolated = getattr(args, "sandbox", None) is not None
+    with_nodes = getattr(args, "nodes", None) is not None and not isolated
+    cell = cell_of(
+        scenario,
+        launch=args.launch,
+        world=args.world,
+        robots=[parse_robot(r) for r in args.robot],
+        workspace=args.workspace or (),
+        args=parse_args_option(args.cell_args),
+        with_nodes=with_nodes,
+        strict_workspace=args.cell_workspace_option,
+    )
     for line in cell.warnings + ([] if with_nodes else cell.ros_only):
         (warn or _log.warning)(line)
-    folder = tempfile.TemporaryDirectory(prefix="omtp_own_cell_")
-    args._own_cell_folder = folder  # removed when the command ends
-    args.scenario = str(cell.write(folder.name, with_nodes=with_nodes))
     if with_nodes:
         args.nodes = [(node.path, node.argv) for node in cell.nodes]
     if cell.moveit_config is not None and getattr(args, "moveit_config", "absent") is None:
         args.moveit_config = str(cell.moveit_config)
+    args.scenario = cell.scenario
+    if getattr(args, "cell_file", False) or isolated:
+        own_files = (
+            args.launch
+            or args.world
+            or args.robot
+            or str(scenario).endswith((*ROBOT_FILE_SUFFIXES, ".world"))
+        )
+        plain = scenario and not own_files
+        args.scenario = str(scenario) if plain else str(_write(cell.scenario, args))
+
+
+def _write(scenario: Scenario, args: argparse.Namespace) -> Path:
+    """``scenario`` as a YAML file in a folder that lives as long as ``args`` (the command)."""
+    from pydrake.common.yaml import yaml_dump_typed
+
+    folder = tempfile.TemporaryDirectory(prefix="omtp_cell_")
+    args._cell_folder = folder  # removed when the command ends
+    path = Path(folder.name) / f"{scenario.name or 'cell'}.yaml"
+    path.write_text(yaml_dump_typed(scenario))
+    return path
+
+
+class CommandParser(argparse.ArgumentParser):
+    """argparse whose errors are one line (exit 2), like every other error of the CLI, and whose
+    commands take their options anywhere between their positionals (``tf-echo SCENARIO --time
+    1.5 SOURCE TARGET``), as :meth:`~argparse.ArgumentParser.parse_intermixed_args` parses them."""
+
+    _intermixing = False
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"{self.prog}: error: {message}\n")
+
+    def parse_known_args(self, args: Any = None, namespace: Any = None) -> Any:
+        whole = (argparse.PARSER, argparse.REMAINDER)
+        if self._intermixing or any(a.nargs in whole for a in self._get_positional_actions()):
+            return super().parse_known_args(args, namespace)
+        self._intermixing = True  # parse_known_intermixed_args calls parse_known_args twice
+        try:
+            return super().parse_known_intermixed_args(args, namespace)
+        finally:
+            self._intermixing = False

@@ -51,14 +51,18 @@ class OwnCell:
         """The scenario as a YAML file in ``folder`` (for the commands that take a file).
         ``with_nodes``: for a run that runs :attr:`nodes` themselves, so the scenario flags
         that stand in for them are off."""
+        path = Path(folder) / f"{self.scenario.name or 'own_cell'}.yaml"
+        path.write_text(scenario_text(self.document_for(with_nodes=with_nodes)))
+        return path
+
+    def document_for(self, *, with_nodes: bool = False) -> dict:
+        """:attr:`document`; ``with_nodes``: with the flags that stand in for :attr:`nodes` off."""
         document = copy.deepcopy(self.document)
         for node in self.nodes if with_nodes else ():
             if node.replaces:
                 section, key = node.replaces.split(".")
                 document[section][key] = False
-        path = Path(folder) / f"{self.scenario.name or 'own_cell'}.yaml"
-        path.write_text(scenario_text(document))
-        return path
+        return document
 
     def frames(self, positions: Mapping[str, float] | None = None) -> dict[str, RigidTransform]:
         """``X_WL`` of every link of the spawned URDF models, as their files place them, at

@@ -20,10 +20,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
 from omtp_drake.errors import check_duration
+from omtp_drake.launch.options import add_cell_options
 from omtp_drake.ros.run.command import print_line
 from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:
+    from omtp_drake.scenario import Scenario
     from omtp_drake.script import Cell
 
 
@@ -32,7 +34,7 @@ class Ros2RunOptions:
     """How ``omtp-drake ros2`` runs a cell.
 
     Attributes:
-        scenario: the scenario's name or YAML path.
+        scenario: the scenario (or its name or YAML path): the CLI's cell options resolved.
         seed: overrides the scenario's seed.
         timeout: simulated seconds to run (None: until stopped).
         realtime: pace to the wall clock.
@@ -41,7 +43,7 @@ class Ros2RunOptions:
             robot_state_publisher, which reads it as a parameter).
     """
 
-    scenario: str
+    scenario: Scenario | str
     seed: Optional[int] = None
     timeout: Optional[float] = None
     realtime: bool = False
@@ -127,7 +129,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         help="run a scenario's cell as ROS 2 nodes over DDS (the ros2 extra): /clock, /joint_states, "
         "/robot_description, cameras, /set_joint_trajectory, gripper and belt services",
     )
-    p.add_argument("scenario", metavar="SCENARIO")
+    add_cell_options(p, positional=True)
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
     p.add_argument("--timeout", type=float, default=None, metavar="S", help="end after S simulated seconds")
     p.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")

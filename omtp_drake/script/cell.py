@@ -36,6 +36,7 @@ avoided, as in MoveIt) in :mod:`omtp_drake.script.scene`.
 from __future__ import annotations
 
 import logging
+import os
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Optional
@@ -46,8 +47,9 @@ from pydrake.systems.framework import DiagramBuilder
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.station import Station
 from omtp_drake.errors import ConfigError, NotSupportedError, UnknownNameError, check_duration
-from omtp_drake.launch.options import chosen_cell
-from omtp_drake.scenario import Scenario, with_robot
+from omtp_drake.launch.options import cell_of
+from omtp_drake.scenario import Scenario
+from omtp_drake.scenario.robot_world import RobotSpawn
 from omtp_drake.script.arm import Arm
 from omtp_drake.script.arm_commander import ArmCommander
 from omtp_drake.script.bins import Bin
@@ -282,20 +284,10 @@ def _cell_scenario(
 ) -> Scenario:
     """The scenario a Cell builds: the cell of ``scenario``, ``launch`` or ``world`` (Gazebo's
     empty world when none is given with a ``robot``), with ``robot`` spawned in it."""
-    base = None
-    if scenario is not None or launch or world:
-        own_files = bool(launch or world)
-        own = chosen_cell(scenario, launch=launch, world=world, workspace=workspace if own_files else ())
-        for line in own.warnings + own.ros_only:
-            _log.warning("%s", line)
-        base = own.scenario
-    if robot is None:
-        if base is None:
-            raise ConfigError(
-                "Cell needs a scenario (a name, path or Scenario), a launch=, a world= or a robot="
-            )
-        if workspace and not (launch or world):
-            raise ConfigError("Cell(workspace=...) goes with launch=, world= or robot=")
-        return base
-    folders = [workspace] if isinstance(workspace, (str, Path)) else list(workspace)
-    return with_robot(base, robot, folders)
+    if scenario is None and not (launch or world or robot):
+        raise ConfigError("Cell needs a scenario (a name, path or Scenario), a launch=, a world= or a robot=")
+    spawns = [RobotSpawn(os.fspath(robot))] if robot else []
+    own = cell_of(scenario, launch=launch, world=world, robots=spawns, workspace=workspace)
+    for line in own.warnings + own.ros_only:
+        _log.warning("%s", line)
+    return own.scenario

@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import shlex
 import sys
 from collections.abc import Callable
 from typing import Any
@@ -25,15 +26,29 @@ def view_model_config(args: argparse.Namespace) -> Any:
     description a ``--launch`` loads on ``--param`` (rviz's ``robot_description``)."""
     from omtp_drake.scenario import model_from_file
     from omtp_drake.scenario.models import file_workspace
+    from omtp_drake.scenario.robot_world import RobotSpawn, parse_robot
 
-    if (args.file is None) == (args.launch is None):
+    given = [RobotSpawn(f) for f in (args.file, args.world) if f] + [parse_robot(r) for r in args.robot]
+    if len(given) + (args.launch is not None) != 1:
         raise ConfigError(
-            "view: give FILE.urdf[.xacro]|FILE.sdf or --launch 'PKG FILE.launch [ARG:=VALUE ...]'"
+            "view shows one model: give FILE.urdf[.xacro]|FILE.sdf|FILE.world (or --robot FILE, --world "
+            "FILE.world) or --launch 'PKG FILE.launch [ARG:=VALUE ...]'"
         )
-    if args.launch is not None:
-        return args.launch_description(args.launch, args.workspace, args.param)
     args_map = dict(_pair(a, "--arg") for a in args.arg)
-    return model_from_file(args.file, file_workspace(args.file, args.workspace), static=True, args=args_map)
+    if args.launch is not None:
+        if args_map:  # roslaunch's words: the launch's own args
+            args.launch += "".join(f" {shlex.quote(f'{name}:={value}')}" for name, value in args_map.items())
+        return args.launch_description(args.launch, args.workspace, args.param)
+    spawn = given[0]
+    return model_from_file(
+        spawn.file,
+        file_workspace(spawn.file, args.workspace),
+        name=spawn.name,
+        xyz=spawn.xyz,
+        rpy=spawn.rpy,
+        static=True,
+        args=args_map,
+    )
 
 
 def _pair(text: str, flag: str) -> tuple[str, str]:
@@ -90,7 +105,15 @@ def add_view_command(sub: argparse._SubParsersAction, launch_description: Callab
         description="Shows the model of FILE in Meshcat with a slider per movable joint, its camera "
         "sensors' images and a depth camera's point cloud.",
     )
-    p.add_argument("file", metavar="FILE.urdf[.xacro]|FILE.sdf", nargs="?")
+    p.add_argument("file", metavar="FILE.urdf[.xacro]|FILE.sdf|FILE.world", nargs="?")
+    p.add_argument("--world", metavar="FILE.world", help="a Gazebo world file, instead of FILE")
+    p.add_argument(
+        "--robot",
+        action="append",
+        default=[],
+        metavar="[NAME=]FILE[@X,Y,Z[,R,P,Y]]",
+        help="the model of a URDF, xacro or SDF file, instead of FILE, placed as spawn_model places it",
+    )
     p.add_argument(
         "--launch",
         metavar="'PKG FILE.launch [ARG:=VALUE ...]'",
@@ -109,7 +132,13 @@ def add_view_command(sub: argparse._SubParsersAction, launch_description: Callab
         metavar="DIR",
         help="a folder of ROS packages the file names ($(find PKG), package://); repeatable",
     )
-    p.add_argument("--arg", action="append", default=[], metavar="NAME:=VALUE", help="a xacro argument")
+    p.add_argument(
+        "--arg",
+        action="append",
+        default=[],
+        metavar="NAME:=VALUE",
+        help="an argument of the file's xacro, or of the --launch file (repeatable)",
+    )
     p.add_argument(
         "--json", nargs="?", const="-", metavar="FILE", help="list links, joints, frames, sensors, plugins"
     )

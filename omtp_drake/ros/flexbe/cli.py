@@ -20,6 +20,8 @@ def cmd_flexbe_run(args: argparse.Namespace) -> int:
         args.workspace,
         params=parse_params(args.param),
         nodes=args.nodes,
+        calls=args.call or (),
+        settle=args.settle,
         **passed_on(
             args,
             "scenario srdf moveit_config timeout autonomy seed meshcat realtime record latency python2 "
@@ -40,12 +42,15 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("behavior", metavar="BEHAVIOR")
     p.add_argument(
-        "--workspace", action="append", required=True, metavar="DIR", help="a catkin src folder (repeatable)"
+        "--workspace",
+        action="append",
+        required=True,
+        metavar="DIR",
+        help="a catkin src folder (repeatable); a --launch, --world or --robot finds its packages there too",
     )
-    add_shared_options(p, "--scenario")
     add_cell_options(p, workspace=False)
     p.set_defaults(nodes=[])  # a launch's Python nodes (set with --launch), run in the session
-    add_shared_options(p, "--srdf --moveit-config")
+    add_shared_options(p, "--srdf --moveit-config --call --settle")
     p.add_argument(
         "--timeout", type=float, default=600.0, metavar="S", help="simulated seconds (default 600)"
     )

@@ -48,6 +48,8 @@ from omtp_drake.ros.run.bring_up import RunSettings, bring_up
 from omtp_drake.ros.run.environment import SHIM_DIR, SHIM_PACKAGES
 from omtp_drake.ros.run.py2 import python2_imports, python2_roots
 from omtp_drake.ros.run.settling import SETTLE_AFTER, Settled, check_settle_after, finish
+from omtp_drake.ros.run.setup_steps import call_services
+from omtp_drake.ros.run.setup_steps import settle as settle_cell
 
 #: The node FlexBE's onboard engine runs behaviours in.
 ONBOARD_NODE = "behavior_onboard"
@@ -160,6 +162,8 @@ def run_behavior(
     params: Optional[dict[str, str]] = None,
     python2: bool = False,
     settle_after: float = SETTLE_AFTER,
+    calls: Sequence[str] = (),
+    settle: float = 0.0,
     **settings: Any,
 ) -> FlexbeReport:
     """Runs ``behavior`` (a manifest name or a ``*_sm.py`` path) of ``workspaces`` on a
@@ -171,7 +175,8 @@ def run_behavior(
     Python 2 loads converted from Python 2 (:func:`~omtp_drake.ros.run.py2.python2_roots`);
     ``python2``: every workspace does. ``settle_after``: after the outcome, the cell runs on
     up to this long until its parts rest, and the report's ledger is taken then
-    (:mod:`omtp_drake.ros.run.settling`)."""
+    (:mod:`omtp_drake.ros.run.settling`). ``calls``, ``settle``: the set-up steps before the
+    behaviour starts, as ``ros-run``'s (:mod:`omtp_drake.ros.run.setup_steps`)."""
     if autonomy not in AUTONOMY_LEVELS:
         raise ConfigError(f"--autonomy {autonomy!r} is unknown; valid: {', '.join(AUTONOMY_LEVELS)}")
     settle_s = check_settle_after(settle_after)
@@ -181,6 +186,13 @@ def run_behavior(
     converted = list(spaces.roots) if python2 else python2_roots(spaces.roots)
     start = time.perf_counter()
     session = bring_up(run_settings)
+    try:
+        with active(session):
+            call_services(session, calls)
+            settle_cell(session, float(settle))
+    except Exception:
+        session.cell.close()
+        raise
     session.node_name = ONBOARD_NODE
     run = FlexbeRun(SessionClock(session), autonomy=AUTONOMY_LEVELS[autonomy], packages=dict(spaces.packages))
     with (

@@ -38,8 +38,9 @@ class RunSettings:
     (and the keyword arguments of :func:`~omtp_drake.ros.run.runner.run_script` and
     :func:`~omtp_drake.ros.flexbe.run.run_behavior`), checked once by :func:`bring_up`."""
 
-    #: A scenario name of ``diagrams/`` or a scenario file (None: Gazebo's empty world, with ``robot``).
-    scenario: Optional[str | Path] = None
+    #: A Scenario, a scenario name of ``diagrams/`` or a scenario file (None: Gazebo's empty world,
+    #: with ``robot``).
+    scenario: Optional[Scenario | str | Path] = None
     #: A URDF, xacro or SDF file spawned into the scenario, as ``spawn_model`` does.
     robot: Optional[str | Path] = None
     #: The folders of the robot's packages.
@@ -91,7 +92,9 @@ def bring_up(settings: RunSettings) -> Session:
 
 def _scenario(settings: RunSettings) -> Scenario:
     """The run's scenario: ``scenario`` (or Gazebo's empty world) with ``robot`` in it, seeded."""
-    loaded = load_scenario(str(settings.scenario)) if settings.scenario is not None else None
+    loaded = settings.scenario
+    if loaded is not None and not isinstance(loaded, Scenario):
+        loaded = load_scenario(str(loaded))
     if settings.robot is not None:
         loaded = with_robot(loaded, settings.robot, settings.workspace)
     if loaded is None:

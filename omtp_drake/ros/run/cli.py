@@ -23,8 +23,6 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         args.script_args,
         calls=args.call or (),
         nodes=args.nodes,
-        robot=args.robot,
-        workspace=args.workspace or (),
         **passed_on(
             args,
             "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency "
@@ -45,11 +43,9 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     )
     p.add_argument("script", metavar="SCRIPT.py")
     p.add_argument("script_args", nargs="*", metavar="SCRIPT_ARGS", help="the script's own arguments")
-    add_shared_options(p, "--scenario")
     add_cell_options(p)
     p.set_defaults(nodes=[])  # a launch's Python nodes (set with --launch)
     add_shared_options(p, "--seed")
-    _add_robot_option(p)
     p.add_argument(
         "--timeout",
         type=float,
@@ -72,37 +68,11 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     return p
 
 
-def _add_robot_option(p: argparse.ArgumentParser) -> None:
-    """``--robot FILE``: a robot spawned as ``spawn_model`` does; with it ``--scenario`` is
-    optional (without one: Gazebo's empty world)."""
-    p.add_argument(
-        "--robot",
-        metavar="FILE.urdf[.xacro]|FILE.sdf",
-        help="spawn this robot (URDF, xacro or SDF) into the scenario, as spawn_model does; without "
-        "--scenario, into Gazebo's empty world (a ground plane)",
-    )
-    p._option_string_actions["--scenario"].required = False
-
-
 def _add_course_options(p: argparse.ArgumentParser) -> None:
     """ros-run's options for the course's set-up: the student's MoveIt config, the slides'
     set-up calls, the time a script's calls take."""
     add_shared_options(p, "--srdf --moveit-config")
-    p.add_argument(
-        "--call",
-        action="append",
-        metavar="'SERVICE [ARGS]'",
-        help="call SERVICE before the script, as `rosservice call SERVICE ARGS` (ARGS: its YAML, e.g. "
-        "'/gripper2/control {enable: true}'); repeat for several, in order",
-    )
-    p.add_argument(
-        "--settle",
-        type=float,
-        default=0.0,
-        metavar="S",
-        help="let the cell run S simulated seconds after the calls, before the script (default 0)",
-    )
-    add_shared_options(p, "--settle-after --latency")
+    add_shared_options(p, "--call --settle --settle-after --latency")
 
 
 def add_commands(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:

@@ -13,10 +13,6 @@ from omtp_drake.ros.run.settling import SETTLE_AFTER
 
 #: The options the ROS commands declare alike: flag -> ``add_argument``'s keywords.
 SHARED_OPTIONS: dict[str, dict[str, Any]] = {
-    "--scenario": {
-        "metavar": "NAME|FILE",
-        "help": "the cell: a scenario name or file (or --launch / --world with --workspace)",
-    },
     "--seed": {"type": int, "default": None, "help": "override the scenario's seed"},
     "--srdf": {
         "metavar": "FILE",
@@ -35,6 +31,18 @@ SHARED_OPTIONS: dict[str, dict[str, Any]] = {
         "help": "simulated time planning, trajectory starts and service calls take: a factor on the "
         "scenario's ros_latency (0: none, as a cell that stands still while a script thinks) or "
         "NAME=SECONDS,... with names plan, execute, cartesian, service (default: the scenario's)",
+    },
+    "--call": {
+        "action": "append",
+        "metavar": "'SERVICE [ARGS]'",
+        "help": "call SERVICE before the run starts, as `rosservice call SERVICE ARGS` (ARGS: its YAML, "
+        "e.g. '/gripper2/control {enable: true}'); repeat for several, in order",
+    },
+    "--settle": {
+        "type": float,
+        "default": 0.0,
+        "metavar": "S",
+        "help": "let the cell run S simulated seconds after the calls, before the run starts (default 0)",
     },
     "--record": {"metavar": "HTML", "help": "write a standalone Meshcat replay"},
     "--json": {"metavar": "FILE", "help": "write the run's report as JSON"},
