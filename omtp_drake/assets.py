@@ -140,13 +140,20 @@ def drake_mesh(src: Path, *, collision: bool) -> Path:
     if ext in (".obj", ".gltf"):
         return src
     target = ".gltf" if ext == ".glb" or (ext == ".dae" and not collision) else ".obj"
-    digest = hashlib.sha256(src.read_bytes()).hexdigest()[:24]
+    stat = src.stat()
+    digest = _content_hash(str(src), stat.st_mtime_ns, stat.st_size)
     dst = cache_dir() / "meshes" / f"{digest}-{ext[1:]}{target}"
     if not dst.exists():
         dst.parent.mkdir(parents=True, exist_ok=True)
         _log.info("converting %s -> %s", src, dst)
         convert_mesh(src, dst)
     return dst
+
+
+@functools.lru_cache(maxsize=4096)
+def _content_hash(path: str, mtime_ns: int, size: int) -> str:
+    """The hash of a file's bytes (remembered per path, modification time and size)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:24]
 
 
 def convert_mesh(src: Path, dst: Path) -> None:
