@@ -151,3 +151,19 @@ def test_the_meshes_are_converted_once_then_taken_from_the_cache(model, tmp_path
     assert converted == [] and second == first
     uris = [m.get("filename") for m in ET.fromstring(second).iter("mesh")]
     assert len(uris) == 24 and all(u.startswith(f"file://{tmp_path}/") for u in uris)
+
+
+def test_the_arm_stands_in_a_cell_and_says_what_needs_a_ur(independent_urdf):
+    from omtp_drake.errors import NotSupportedError
+    from omtp_drake.script import Cell
+
+    cell = Cell(robot=CELL, workspace=[SRC])
+    try:
+        cell.wait(0.05)
+        X_WB = cell.tf.lookup_transform("world", "fr7_link0", 0).transform
+        expected = _chain(independent_urdf, _positions())["fr7_link0"]
+        assert np.allclose(X_WB.GetAsMatrix4(), expected, atol=1e-3)
+        with pytest.raises(NotSupportedError, match="UR arms"):
+            cell.arm("fr7_cell")
+    finally:
+        cell.close()
