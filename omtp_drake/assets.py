@@ -205,7 +205,8 @@ def drake_ready_meshes(root: ET.Element, *, file: str, packages: Mapping[str, st
     ``<drake:rigid_hydroelastic/>`` (then its own triangles). A mesh nobody has (a
     package or file not found, a URL, another file type) is left out with its visual or
     collision, one warning naming the URI and the folders searched, and the model loads
-    without it, as Gazebo logs ``Unable to find uri`` and goes on.
+    without it, as Gazebo logs ``Unable to find uri`` and goes on; so is a file no mesh
+    reader can read (the warning says why).
     """
     warned: set[str] = set()
     for link in list(root.iter()):
@@ -214,20 +215,33 @@ def drake_ready_meshes(root: ET.Element, *, file: str, packages: Mapping[str, st
             if mesh is None:
                 continue
             uri = mesh.get("filename") if mesh.get("filename") is not None else mesh.findtext("uri")
-            src, searched = mesh_source((uri or "").strip(), packages, file)
-            if src is None or src.suffix.lower() not in MESH_EXTENSIONS:
+            found = _drake_file((uri or "").strip(), packages, file, collision=shape.tag == "collision")
+            if isinstance(found, str):
                 if uri not in warned:
                     warned.add(uri or "")
                     _log.warning(
-                        "%s: mesh %r not found (searched: %s); %s of %r left out, as Gazebo does",
-                        file, uri, searched, shape.tag, link.get("name"),
+                        "%s: mesh %r %s; %s of %r left out, as Gazebo does",
+                        file, uri, found, shape.tag, link.get("name"),
                     )  # fmt: skip
                 link.remove(shape)
                 continue
-            _point_mesh(mesh, drake_mesh(src, collision=shape.tag == "collision"))
+            _point_mesh(mesh, found)
             if shape.tag == "collision" and shape.find(_HYDRO_RIGID) is None:
                 if mesh.find(f"{{{_DRAKE_NS}}}declare_convex") is None:
                     ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+
+
+def _drake_file(uri: str, packages: Mapping[str, str], file: str, *, collision: bool) -> Path | str:
+    """The file Drake reads for a mesh URI, or why there is none."""
+    src, searched = mesh_source(uri, packages, file)
+    if src is None:
+        return f"not found (searched: {searched})"
+    if src.suffix.lower() not in MESH_EXTENSIONS:
+        return f"is a {src.suffix} file (meshes: {', '.join(MESH_EXTENSIONS)})"
+    try:
+        return drake_mesh(src, collision=collision)
+    except ConfigError as e:
+        return f"cannot be read ({e})"
 
 
 _HYDRO_RIGID = f"{{{_DRAKE_NS}}}proximity_properties/{{{_DRAKE_NS}}}rigid_hydroelastic"

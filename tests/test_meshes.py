@@ -71,6 +71,7 @@ URDF = """<robot name="r" xmlns:drake="http://drake.mit.edu"><link name="base">
   <visual><geometry><mesh filename="meshes/visual/hand.dae" scale="2 2 2"/></geometry></visual>
   <collision><geometry><mesh filename="file://meshes/collision/hand.stl"/></geometry></collision>
   <collision><geometry><mesh filename="meshes/collision/gone.stl"/></geometry></collision>
+  <visual><geometry><mesh filename="package://fr7_description/package.xml"/></geometry></visual>
   <collision><geometry><mesh filename="package://fr7_description/meshes/collision/link0.stl"/></geometry>
     <drake:proximity_properties><drake:rigid_hydroelastic/></drake:proximity_properties></collision>
   <visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>
@@ -83,9 +84,10 @@ def test_uris_resolve_and_a_missing_mesh_is_left_out_with_one_warning(caplog):
     with caplog.at_level(logging.WARNING, logger="omtp_drake.assets"):
         drake_ready_meshes(root, file=str(MESHES.parent / "robot.urdf"), packages=packages)
     warnings = [r.getMessage() for r in caplog.records]
-    assert len(warnings) == 2
+    assert len(warnings) == 3
     assert "'package://nobody/meshes/base.stl'" in warnings[0] and str(MESHES.parent.parent) in warnings[0]
     assert "'meshes/collision/gone.stl'" in warnings[1] and str(MESHES / "collision") in warnings[1]
+    assert "package.xml' is a .xml file (meshes: .stl, .dae, .obj, .gltf, .glb)" in warnings[2]
     link = root.find("link")
     (visual, box) = link.findall("visual")
     assert box.find("geometry/box") is not None
