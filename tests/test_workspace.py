@@ -167,3 +167,14 @@ def test_no_name_of_the_xacro_package_is_assigned_in_omtp_drake():
                 if isinstance(node.args[0], ast.Name) and node.args[0].id in names:
                     wrong.append(f"{path.relative_to(package)}:{node.lineno}")
     assert not wrong, wrong
+
+
+def test_a_find_result_in_the_description_names_the_package_folder(catkin_src: Path, tmp_path: Path):
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r"><link name="l"><visual><geometry>'
+        '<mesh filename="file://$(find omtp_support)/meshes/m.stl"/></geometry></visual></link></robot>'
+    )
+    urdf = expand_xacro_in(Workspace.from_dirs([catkin_src], environ={}), robot)
+    folder = (catkin_src / "omtp_course" / "omtp_support").resolve()
+    assert f'filename="file://{folder}/meshes/m.stl"' in urdf

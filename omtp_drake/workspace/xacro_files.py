@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import tempfile
 import threading
 from collections.abc import Mapping
@@ -56,7 +57,19 @@ def expand_xacro_in(
             doc = xacro.process_file(str(path), mappings=dict(args or {}))
         except Exception as e:
             raise _explained(workspace, path, e) from None
-    return doc.toprettyxml(indent="  ")
+    return _real_folders(doc.toprettyxml(indent="  "), prefix, workspace)
+
+
+def _real_folders(text: str, prefix: Path, workspace: Workspace) -> str:
+    """``text`` with each ``$(find PKG)`` result (``PREFIX/share/PKG``, a link) written as the
+    package's own folder, so the description names the student's files."""
+    share = re.escape(str(prefix / "share")) + r"/([A-Za-z0-9_-]+)(?=[/\s\"'<]|$)"
+
+    def folder(match: re.Match) -> str:
+        found = workspace.packages.get(match.group(1))
+        return str(Path(found).resolve()) if found is not None else match.group(0)
+
+    return re.sub(share, folder, text)
 
 
 def ament_prefix(workspace: Workspace) -> Path:
