@@ -39,7 +39,7 @@ MODELS_DIR = Path(__file__).resolve().parent.parent / "models"
 UR_MODELS = ("ur5", "ur10")
 
 # Bump when the conversion below changes, so stale caches are not reused.
-_CONVERTER_VERSION = "3"
+_CONVERTER_VERSION = "4"
 _DRAKE_NS = "http://drake.mit.edu"
 
 
@@ -115,6 +115,171 @@ def write_atomic(path: Path, data: bytes) -> None:
 
 
 # ----------------------------------------------------------------------------
+# Meshes as Drake reads them
+
+#: Mesh files a description may name (any case), as ROS packages and Gazebo models ship them.
+MESH_EXTENSIONS = (".stl", ".dae", ".obj", ".gltf", ".glb")
+
+#: URI schemes whose files are fetched from the internet by Gazebo (nobody has them offline).
+_ONLINE = ("http://", "https://")
+
+
+def drake_mesh(src: Path, *, collision: bool) -> Path:
+    """The file Drake 1.51 reads for the mesh file ``src``.
+
+    ``.obj`` and ``.gltf`` are read as they are. The rest is converted once and cached
+    by the source's content (the same bytes anywhere are one conversion): ``.stl`` ->
+    ``.obj``; ``.dae`` -> ``.gltf`` (a visual: colours and textures kept) or ``.obj`` (a
+    collision: one mesh, its nodes' transforms applied); ``.glb`` -> ``.gltf``. A
+    ``.dae``'s ``<unit meter>`` is applied, its ``<up_axis>`` is not (as Gazebo's
+    Collada loader does). Raises ConfigError for another file type.
+    """
+    ext = src.suffix.lower()
+    if ext not in MESH_EXTENSIONS:
+        raise UnknownNameError(f"mesh file type of {src}", src.suffix, MESH_EXTENSIONS)
+    if ext in (".obj", ".gltf"):
+        return src
+    target = ".gltf" if ext == ".glb" or (ext == ".dae" and not collision) else ".obj"
+    stat = src.stat()
+    digest = _content_hash(str(src), stat.st_mtime_ns, stat.st_size)
+    dst = cache_dir() / "meshes" / f"{digest}-{ext[1:]}{target}"
+    if not dst.exists():
+        dst.parent.mkdir(parents=True, exist_ok=True)
+        _log.info("converting %s -> %s", src, dst)
+        convert_mesh(src, dst)
+    return dst
+
+
+@functools.lru_cache(maxsize=4096)
+def _content_hash(path: str, mtime_ns: int, size: int) -> str:
+    """The hash of a file's bytes (remembered per path, modification time and size)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()[:24]
+
+
+def convert_mesh(src: Path, dst: Path) -> None:
+    """Writes ``src`` (``.stl``, ``.dae``, ``.glb``) as ``dst`` (``.obj`` or ``.gltf``)."""
+    import trimesh
+
+    ext = src.suffix.lower()
+    try:
+        scene = trimesh.load(str(src), file_type=ext[1:], force="scene")
+    except Exception as e:  # trimesh and pycollada raise many types for a broken file
+        raise ConfigError(f"{src}: not a readable {ext} mesh: {e}") from None
+    if not scene.geometry:
+        raise ConfigError(f"{src}: the {ext} file holds no mesh")
+    if ext == ".dae":
+        scene = scene.scaled(_collada_unit(src))
+    if dst.suffix == ".obj":
+        mesh = scene.to_mesh()
+        write_atomic(dst, mesh.export(file_type="obj", include_texture=False).encode())
+        return
+    if ext == ".dae":
+        # glTF is y-up: Drake turns a glTF +90 deg about x when loading it, so turn the
+        # z-up scene -90 deg about x first to keep the link's own geometry.
+        scene.apply_transform(trimesh.transformations.rotation_matrix(-math.pi / 2, [1, 0, 0]))
+    files = trimesh.exchange.gltf.export_gltf(scene, embed_buffers=True)
+    write_atomic(dst, files["model.gltf"])
+
+
+def _collada_unit(src: Path) -> float:
+    """Metres per unit of a Collada file (``<asset><unit meter=...>``; 1 without one)."""
+    for _, element in ET.iterparse(src):
+        if element.tag.rsplit("}", 1)[-1] == "unit":
+            try:
+                return float(element.get("meter", "1"))
+            except ValueError:
+                return 1.0
+        if element.tag.rsplit("}", 1)[-1] == "asset":
+            break
+    return 1.0
+
+
+def drake_ready_meshes(root: ET.Element, *, file: str, packages: Mapping[str, str]) -> None:
+    """Every mesh of the URDF or SDF ``root`` pointed (in place) at the file Drake reads.
+
+    Each ``<mesh filename=...>`` (URDF) or ``<mesh><uri>`` (SDF) is resolved as ROS and
+    Gazebo resolve it (``package://`` and ``model://`` in ``packages``, ``file://``,
+    absolute, or relative to ``file``'s folder), converted (:func:`drake_mesh`) and
+    written back as a ``file://`` URI; its scale stays. A collision mesh is declared
+    convex (Drake's point contact uses its convex hull) unless the collision asks for
+    ``<drake:rigid_hydroelastic/>`` (then its own triangles). A mesh nobody has (a
+    package or file not found, a URL, another file type) is left out with its visual or
+    collision, one warning naming the URI and the folders searched, and the model loads
+    without it, as Gazebo logs ``Unable to find uri`` and goes on; so is a file no mesh
+    reader can read (the warning says why).
+    """
+    warned: set[str] = set()
+    for link in list(root.iter()):
+        for shape in list(link):
+            mesh = shape.find("geometry/mesh") if shape.tag in ("visual", "collision") else None
+            if mesh is None:
+                continue
+            uri = mesh.get("filename") if mesh.get("filename") is not None else mesh.findtext("uri")
+            found = _drake_file((uri or "").strip(), packages, file, collision=shape.tag == "collision")
+            if isinstance(found, str):
+                if uri not in warned:
+                    warned.add(uri or "")
+                    _log.warning(
+                        "%s: mesh %r %s; %s of %r left out, as Gazebo does",
+                        file, uri, found, shape.tag, link.get("name"),
+                    )  # fmt: skip
+                link.remove(shape)
+                continue
+            _point_mesh(mesh, found)
+            if shape.tag == "collision" and shape.find(_HYDRO_RIGID) is None:
+                if mesh.find(f"{{{_DRAKE_NS}}}declare_convex") is None:
+                    ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+
+
+def _drake_file(uri: str, packages: Mapping[str, str], file: str, *, collision: bool) -> Path | str:
+    """The file Drake reads for a mesh URI, or why there is none."""
+    src, searched = mesh_source(uri, packages, file)
+    if src is None:
+        return f"not found (searched: {searched})"
+    if src.suffix.lower() not in MESH_EXTENSIONS:
+        return f"is a {src.suffix} file (meshes: {', '.join(MESH_EXTENSIONS)})"
+    try:
+        return drake_mesh(src, collision=collision)
+    except ConfigError as e:
+        return f"cannot be read ({e})"
+
+
+_HYDRO_RIGID = f"{{{_DRAKE_NS}}}proximity_properties/{{{_DRAKE_NS}}}rigid_hydroelastic"
+
+
+def _point_mesh(mesh: ET.Element, path: Path) -> None:
+    uri = path.resolve().as_uri()
+    if mesh.get("filename") is not None:
+        mesh.set("filename", uri)
+    else:
+        element = mesh.find("uri")
+        element = element if element is not None else ET.SubElement(mesh, "uri")
+        element.text = uri
+
+
+def mesh_source(uri: str, packages: Mapping[str, str], file: str) -> tuple[Path | None, str]:
+    """The file a mesh URI names (None: not found or not a mesh) and the folders searched."""
+    base = Path(file).parent if file else Path.cwd()
+    for scheme in ("package://", "model://"):
+        if uri.startswith(scheme):
+            name, _, rest = uri[len(scheme) :].partition("/")
+            folder = packages.get(name)
+            if folder is None:
+                parents = sorted({str(Path(f).parent) for f in packages.values()})
+                return None, f"no {scheme[:-3]} {name!r} in {', '.join(parents) or 'no folder'}"
+            return _file_or_none(Path(folder) / rest), folder
+    if uri.startswith(_ONLINE) or not uri:
+        return None, "nothing offline"
+    path = Path(uri[len("file://") :] if uri.startswith("file://") else uri)
+    path = path if path.is_absolute() else base / path
+    return _file_or_none(path), str(path.parent)
+
+
+def _file_or_none(path: Path) -> Path | None:
+    return path if path.is_file() else None
+
+
+# ----------------------------------------------------------------------------
 # UR arms from example-robot-data
 
 
@@ -133,37 +298,6 @@ def ur_description_dir() -> Path:
     return path
 
 
-def _convert_mesh(src: Path, dst: Path) -> None:
-    """Converts one mesh: ``.stl`` -> ``.obj`` (collision), ``.dae`` -> ``.gltf`` (visual)."""
-    import trimesh
-
-    if dst.suffix == ".obj":
-        mesh = trimesh.load(src, force="mesh")
-        write_atomic(dst, mesh.export(file_type="obj").encode())
-        return
-    scene = trimesh.load(src, force="scene")
-    # glTF is y-up: Drake turns a glTF +90 deg about x when loading it, so
-    # pre-rotate -90 deg about x to keep the link's own z-up geometry.
-    scene.apply_transform(trimesh.transformations.rotation_matrix(-math.pi / 2, [1, 0, 0]))
-    files = trimesh.exchange.gltf.export_gltf(scene, embed_buffers=True)
-    write_atomic(dst, files["model.gltf"])
-
-
-def _converted_meshes(model: str) -> Path:
-    """Converts (once) the meshes of ``model`` and returns their cache folder."""
-    out = cache_dir() / model
-    out.mkdir(parents=True, exist_ok=True)
-    src_root = ur_description_dir() / "meshes" / model
-    for kind, src_ext, dst_ext in (("collision", ".stl", ".obj"), ("visual", ".dae", ".gltf")):
-        for src in sorted((src_root / kind).glob(f"*{src_ext}")):
-            dst = out / kind / (src.stem + dst_ext)
-            if not dst.exists():
-                dst.parent.mkdir(parents=True, exist_ok=True)
-                _log.info("converting %s -> %s", src, dst)
-                _convert_mesh(src, dst)
-    return out
-
-
 def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
     """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
 
@@ -179,7 +313,6 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
     """
     if model not in UR_MODELS:
         raise UnknownNameError("arm model", model, UR_MODELS)
-    meshes = _converted_meshes(model)
     src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
     name = prefix.rstrip("_") or model
     dst = cache_dir() / f"{name}_{model}_{_limit_tag(joint_limit)}.urdf"
@@ -191,7 +324,7 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
     root.set("name", name)
     _drop_world_and_ee_collision(root)
     _prefix_names(root, prefix, joint_limit)
-    _point_meshes_to(root, meshes)
+    _point_meshes_to(root)
     write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
 
@@ -232,16 +365,18 @@ def _prefix_names(root: ET.Element, prefix: str, joint_limit: float) -> None:
         actuator.set("name", prefix + _attr(actuator, "name"))
 
 
-def _point_meshes_to(root: ET.Element, meshes: Path) -> None:
-    """Points every mesh at its converted file under ``meshes``; collision meshes are declared convex."""
-    for mesh in root.iter("mesh"):
-        filename = _attr(mesh, "filename")
-        kind = "collision" if "/collision/" in filename else "visual"
-        stem = Path(filename).stem
-        ext = ".obj" if kind == "collision" else ".gltf"
-        mesh.set("filename", str(meshes / kind / (stem + ext)))
-        if kind == "collision":
-            ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+def _point_meshes_to(root: ET.Element) -> None:
+    """Points every mesh at its converted file (:func:`drake_mesh`); collision meshes are declared convex."""
+    package = "package://example-robot-data/robots/ur_description/"
+    for kind in ("visual", "collision"):
+        for mesh in root.iterfind(f"link/{kind}/geometry/mesh"):
+            filename = _attr(mesh, "filename")
+            if not filename.startswith(package):
+                raise ConfigError(f"UR model: mesh {filename!r} is not in {package}")
+            src = ur_description_dir() / filename[len(package) :]
+            mesh.set("filename", str(drake_mesh(src, collision=kind == "collision")))
+            if kind == "collision":
+                ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
 
 
 def _child(element: ET.Element, tag: str) -> ET.Element:

@@ -3,6 +3,7 @@ and xacro's ``$(find PKG)`` resolved in it. Fixtures are written here, in a catk
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
@@ -123,3 +124,57 @@ def test_a_malformed_xacro_names_the_file(tmp_path: Path):
     bad.write_text('<robot name="b"><link name="a"></robot>')
     with pytest.raises(WorkspaceError, match=r"broken\.urdf\.xacro: not well-formed XML"):
         expand_xacro_in(Workspace(), bad)
+
+
+def test_find_goes_through_an_ament_prefix_built_once_per_workspace(catkin_src: Path, monkeypatch):
+    from omtp_drake.workspace.xacro_files import ament_prefix
+
+    monkeypatch.setenv("AMENT_PREFIX_PATH", "/opt/ros/elsewhere")
+    ws = Workspace.from_dirs([catkin_src], environ={})
+    prefix = ament_prefix(ws)
+    assert ament_prefix(Workspace.from_dirs([catkin_src], environ={})) == prefix
+    index = prefix / "share" / "ament_index" / "resource_index" / "packages"
+    assert sorted(p.name for p in index.iterdir()) == sorted(ws.packages)
+    assert (prefix / "share" / "omtp_support").resolve() == ws.packages["omtp_support"].resolve()
+    expand_xacro_in(ws, catkin_src / "omtp_course" / "omtp_support" / "urdf" / "box.xacro")
+    assert os.environ["AMENT_PREFIX_PATH"] == "/opt/ros/elsewhere"
+
+
+def test_no_name_of_the_xacro_package_is_assigned_in_omtp_drake():
+    """xacro is used as published: no module of omtp_drake assigns to an attribute or an
+    item of anything imported from xacro (``xacro.x = ...``, ``substitution_args._eval_dict[k] = ...``)."""
+    import ast
+
+    package = Path(__file__).resolve().parents[1] / "omtp_drake"
+    wrong = []
+    for path in sorted(package.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        names = {a.asname or a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import)
+                 for a in n.names if a.name.split(".")[0] == "xacro"}  # fmt: skip
+        names |= {a.asname or a.name for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)
+                  and (n.module or "").split(".")[0] == "xacro" for a in n.names}  # fmt: skip
+        for node in ast.walk(tree):
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            targets += [node.target] if isinstance(node, (ast.AugAssign, ast.AnnAssign)) else []
+            for target in targets:
+                for element in ast.walk(target):
+                    root = element
+                    while isinstance(root, (ast.Attribute, ast.Subscript)):
+                        root = root.value
+                    if root is not element and isinstance(root, ast.Name) and root.id in names:
+                        wrong.append(f"{path.relative_to(package)}:{node.lineno}")
+            if isinstance(node, ast.Call) and getattr(node.func, "id", "") == "setattr" and node.args:
+                if isinstance(node.args[0], ast.Name) and node.args[0].id in names:
+                    wrong.append(f"{path.relative_to(package)}:{node.lineno}")
+    assert not wrong, wrong
+
+
+def test_a_find_result_in_the_description_names_the_package_folder(catkin_src: Path, tmp_path: Path):
+    robot = tmp_path / "r.urdf.xacro"
+    robot.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="r"><link name="l"><visual><geometry>'
+        '<mesh filename="file://$(find omtp_support)/meshes/m.stl"/></geometry></visual></link></robot>'
+    )
+    urdf = expand_xacro_in(Workspace.from_dirs([catkin_src], environ={}), robot)
+    folder = (catkin_src / "omtp_course" / "omtp_support").resolve()
+    assert f'filename="file://{folder}/meshes/m.stl"' in urdf

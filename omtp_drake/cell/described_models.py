@@ -21,6 +21,7 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 
+from omtp_drake.assets import drake_ready_meshes
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.scenario import ModelConfig
 
@@ -86,9 +87,11 @@ def model_pose(model: ModelConfig) -> RigidTransform:
 
 
 def prepared_description(model: ModelConfig, *, gazebo_look: bool) -> str:
-    """The description to parse: named as the model, a ``world`` link's joints moved by
+    """The description to parse: named as the model, its meshes as Drake reads them
+    (:func:`~omtp_drake.assets.drake_ready_meshes`), a ``world`` link's joints moved by
     the model's pose, and (``gazebo_look``) the Gazebo materials and friction applied."""
     root = ET.fromstring(model.description)
+    drake_ready_meshes(root, file=model.file, packages=model.packages)
     if model.format == "sdf":
         first = root.find("model")
         if first is not None:

@@ -1,15 +1,24 @@
 """xacro expanded with ``$(find PKG)`` resolved in a :class:`~omtp_drake.workspace.Workspace`.
 
-The PyPI ``xacro`` resolves ``$(find PKG)`` through ``ament_index_python`` (not on
-PyPI, and ROS 2's index, not a catkin workspace's). Here the lookup goes to the
-workspace's packages instead, for the expansion only: xacro's own substitution
-hook is pointed at the workspace while one expansion runs (one at a time, under a
-lock) and restored after.
+The PyPI ``xacro`` resolves ``$(find PKG)`` as ROS 2 does: through
+``ament_index_python``, which reads the ament resource index of each prefix in
+``AMENT_PREFIX_PATH`` (``share/ament_index/resource_index/packages/PKG`` marks a
+package, ``share/PKG`` is its folder). :func:`ament_prefix` writes such a prefix for a
+workspace (a marker file and a ``share/PKG`` link to the package's folder per
+package, catkin and colcon packages alike), once per set of package folders, and
+:func:`expand_xacro_in` points ``AMENT_PREFIX_PATH`` at it while xacro runs. Nothing
+of xacro is changed; the environment variable is process-wide, so expansions run one
+at a time (a lock) and the variable is restored after each. The workspace's packages
+are the only ones found (a ROS 2 install's ``AMENT_PREFIX_PATH`` is not searched), as
+``package://`` URIs are resolved in the same workspace.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
+import re
+import tempfile
 import threading
 from collections.abc import Mapping
 from contextlib import contextmanager
@@ -19,6 +28,12 @@ from omtp_drake.errors import MissingPackageError, WorkspaceError
 from omtp_drake.workspace.packages import Workspace
 
 _XACRO_LOCK = threading.Lock()
+
+#: ament's environment variable of install prefixes, read by ``ament_index_python``.
+AMENT_PREFIX_PATH = "AMENT_PREFIX_PATH"
+
+#: Bump when the prefix layout written below changes.
+_INDEX_VERSION = "1"
 
 
 def expand_xacro_in(
@@ -36,27 +51,88 @@ def expand_xacro_in(
     path = Path(path)
     if not path.is_file():
         raise WorkspaceError(f"{path}: no such file")
-    with _XACRO_LOCK, _find_in(workspace, path):
+    prefix = ament_prefix(workspace)
+    with _XACRO_LOCK, _environment(AMENT_PREFIX_PATH, str(prefix)):
         try:
             doc = xacro.process_file(str(path), mappings=dict(args or {}))
         except Exception as e:
-            raise _explained(path, e) from None
-    return doc.toprettyxml(indent="  ")
+            raise _explained(workspace, path, e) from None
+    return _real_folders(doc.toprettyxml(indent="  "), prefix, workspace)
 
 
-def _explained(path: Path, error: Exception) -> Exception:
+def _real_folders(text: str, prefix: Path, workspace: Workspace) -> str:
+    """``text`` with each ``$(find PKG)`` result (``PREFIX/share/PKG``, a link) written as the
+    package's own folder, so the description names the student's files."""
+    share = re.escape(str(prefix / "share")) + r"/([A-Za-z0-9_-]+)(?=[/\s\"'<]|$)"
+
+    def folder(match: re.Match) -> str:
+        found = workspace.packages.get(match.group(1))
+        return str(Path(found).resolve()) if found is not None else match.group(0)
+
+    return re.sub(share, folder, text)
+
+
+def ament_prefix(workspace: Workspace) -> Path:
+    """An ament install prefix whose resource index lists the workspace's packages.
+
+    Written once per set of (name, folder) pairs under the temporary folder (the same
+    pairs give the same prefix, in any process); a link per package, no copies.
+    """
+    pairs = sorted((name, str(Path(folder).resolve())) for name, folder in workspace.packages.items())
+    key = hashlib.sha1(repr((_INDEX_VERSION, pairs)).encode()).hexdigest()[:16]
+    root = Path(tempfile.gettempdir()) / f"omtp_drake-ament-{os.getuid()}"
+    prefix = root / key
+    if prefix.is_dir():
+        return prefix
+    root.mkdir(parents=True, exist_ok=True)
+    staging = Path(tempfile.mkdtemp(dir=root, prefix=f".{key}-"))
+    index = staging / "share" / "ament_index" / "resource_index" / "packages"
+    index.mkdir(parents=True)
+    for name, folder in pairs:
+        (index / name).write_text("")
+        (staging / "share" / name).symlink_to(folder, target_is_directory=True)
+    try:
+        staging.rename(prefix)
+    except OSError:  # another process wrote the same prefix first
+        if not prefix.is_dir():
+            raise
+        _remove_tree(staging)
+    return prefix
+
+
+def _remove_tree(folder: Path) -> None:
+    import shutil
+
+    shutil.rmtree(folder, ignore_errors=True)
+
+
+@contextmanager
+def _environment(name: str, value: str):
+    saved = os.environ.get(name)
+    os.environ[name] = value
+    try:
+        yield
+    finally:
+        if saved is None:
+            os.environ.pop(name, None)
+        else:
+            os.environ[name] = saved
+
+
+def _explained(workspace: Workspace, path: Path, error: Exception) -> Exception:
     """The error to raise for ``error`` from xacro: the first of its chain (xacro wraps
     what it catches in ``XacroException.exc``) that says what is wrong, by type."""
     from xml.parsers.expat import ExpatError
 
     import xacro
+    from ament_index_python.packages import PackageNotFoundError
 
     chain: BaseException | None = error
     seen: list[BaseException] = []
     while chain is not None and chain not in seen:
         seen.append(chain)
-        if isinstance(chain, MissingPackageError):
-            return chain
+        if isinstance(chain, PackageNotFoundError):
+            return _missing_package(workspace, path, chain)
         if isinstance(chain, xacro.substitution_args.ArgException):
             return WorkspaceError(f"{path}: $(arg {chain}) has no value; give it as {chain}:=VALUE")
         if isinstance(chain, ExpatError):
@@ -67,17 +143,18 @@ def _explained(path: Path, error: Exception) -> Exception:
     return error
 
 
-@contextmanager
-def _find_in(workspace: Workspace, needed_by: Path):
-    from xacro import substitution_args
-
-    def find(package: str) -> str:
-        return str(workspace.package(package, needed_by=needed_by))
-
-    saved = substitution_args._eval_find, substitution_args._eval_dict["find"]
-    substitution_args._eval_find = find
-    substitution_args._eval_dict["find"] = find
+def _missing_package(workspace: Workspace, path: Path, error: BaseException) -> Exception:
+    """MissingPackageError for ament's PackageNotFoundError: the package's name is the
+    argument of the ament lookup that raised it (``get_package_prefix(package_name)``)."""
+    tb = error.__traceback__
+    name = None
+    while tb is not None:
+        name = tb.tb_frame.f_locals.get("package_name", name)
+        tb = tb.tb_next
+    if not isinstance(name, str):
+        return WorkspaceError(f"{path}: xacro error: {error}")
     try:
-        yield
-    finally:
-        substitution_args._eval_find, substitution_args._eval_dict["find"] = saved
+        workspace.package(name, needed_by=path)
+    except MissingPackageError as e:
+        return e
+    return WorkspaceError(f"{path}: xacro error: {error}")
