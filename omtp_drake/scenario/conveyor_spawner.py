@@ -36,15 +36,16 @@ the same poses, in any run (:func:`draw`).
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
 
 from omtp_drake.errors import ConfigError
 
-if TYPE_CHECKING:
-    from omtp_drake.scenario.configs import SpawnerConfig
+#: A ``SpawnerConfig`` (:mod:`omtp_drake.scenario.configs` imports this module, so the
+#: rules below take it untyped: ``objects`` and ``randomization_seed`` are read).
+SpawnerConfig = Any
 
 #: The plugin's object: 0.2 kg and a unit inertia (kg m^2) about its link's origin.
 OBJECT_MASS = 0.2
@@ -99,7 +100,7 @@ class SpawnDraw:
     delay: float
 
 
-def draw(spawner: "SpawnerConfig", seed: int, index: int) -> SpawnDraw:
+def draw(spawner: SpawnerConfig, seed: int, index: int) -> SpawnDraw:
     """The draws of the ``index``-th spawn (0-based) of ``spawner``, from the
     scenario's ``seed`` and the config's ``randomization_seed``; the order of the
     plugin's ``rand()`` calls: object, lateral, yaw, delay."""
@@ -116,19 +117,19 @@ def draw(spawner: "SpawnerConfig", seed: int, index: int) -> SpawnDraw:
     )
 
 
-def object_pose(spawner: "SpawnerConfig", d: SpawnDraw) -> RigidTransform:
+def object_pose(spawner: SpawnerConfig, d: SpawnDraw) -> RigidTransform:
     """``X_RO``: the drawn object's pose in the reference frame R."""
     obj = spawner.objects[d.kind]
     R = RollPitchYaw(obj.rpy).ToRotationMatrix() @ RotationMatrix.MakeZRotation(d.yaw)
     return RigidTransform(R, np.array(obj.xyz, dtype=float) + [0.0, d.lateral, 0.0])
 
 
-def kind_of(spawner: "SpawnerConfig", seed: int, index: int) -> str:
+def kind_of(spawner: SpawnerConfig, seed: int, index: int) -> str:
     """The object name of the ``index``-th spawn."""
     return spawner.objects[draw(spawner, seed, index).kind].name
 
 
-def pool_kinds(spawner: "SpawnerConfig | None", seed: int, pool: list[str]) -> dict[str, str]:
+def pool_kinds(spawner: SpawnerConfig, seed: int, pool: list[str]) -> dict[str, str]:
     """The object each pool part is built as: the ``j``-th the ``j``-th spawn's (a part
     parked again is spawned again as an object of its kind); {} without objects."""
     if spawner is None or not spawner.objects:
