@@ -29,6 +29,7 @@ from pydrake.systems.framework import Context
 
 from omtp_drake.errors import SimulationError, UnknownNameError
 from omtp_drake.scenario.configs import SpawnerConfig
+from omtp_drake.scenario.conveyor_spawner import draw, object_pose
 
 _log = logging.getLogger(__name__)
 
@@ -54,12 +55,18 @@ def spawn_pose(
     index: int,
     xyz: Optional[list[float]] = None,
     yaw: Optional[float] = None,
+    X_WR: Optional[RigidTransform] = None,
 ) -> RigidTransform:
     """The pose of the ``index``-th spawn: the configured pose plus seeded variance,
-    or ``xyz`` / ``yaw`` as given (no variance on what is given).
+    or ``xyz`` / ``yaw`` as given (no variance on what is given). A spawner with the
+    course's plugin's ``objects`` draws as the plugin does, in its reference frame
+    (``X_WR``, the world by default; :mod:`omtp_drake.scenario.conveyor_spawner`).
 
     The draw depends only on (seed, index), so runs are reproducible.
     """
+    if spawner.objects and xyz is None and yaw is None:
+        X_RO = object_pose(spawner, draw(spawner, seed, index))
+        return X_RO if X_WR is None else X_WR @ X_RO
     rng = np.random.default_rng((seed, 7919, index))
     dx, dyaw = rng.uniform(-1.0, 1.0, 2)
     p = np.array(xyz if xyz is not None else spawner.xyz, dtype=float)

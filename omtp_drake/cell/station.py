@@ -77,6 +77,7 @@ from omtp_drake.cell.suction_constraints import SuctionConstraints, declare_suct
 from omtp_drake.cell.suction_holds import WeldSuctionGripper, add_suction_gripper, connect_spatial_forces
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, Scenario, require_scenario
+from omtp_drake.scenario.conveyor_spawner import pool_kinds
 
 _log = logging.getLogger(__name__)
 
@@ -123,6 +124,12 @@ class Station:
         """Which parts are parked, asleep or awake in a Context, and the edits between
         those states (:class:`omtp_drake.cell.parts.PartStates`)."""
         return PartStates(self.plant, self.scene_graph, self.parts)
+
+    @functools.cached_property
+    def pool_kinds(self) -> dict[str, str]:
+        """pool part -> the spawner's object it is built as ({} without the course's
+        plugin's ``objects``; :func:`omtp_drake.scenario.conveyor_spawner.pool_kinds`)."""
+        return pool_kinds(self.scenario.spawner, self.scenario.seed, self.pool)
 
     @functools.cached_property
     def belt(self) -> Optional[BeltGeometry]:

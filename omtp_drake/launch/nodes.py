@@ -28,6 +28,7 @@ from __future__ import annotations
 import json
 import math
 import shlex
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -36,13 +37,14 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.cell.conveyor import BeltGeometry
-from omtp_drake.errors import WorkspaceError
+from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.pieces import Pieces, add_urdf_model
 from omtp_drake.launch.roslaunch import Launch, Node, get_param
 from omtp_drake.launch.sdf_world import read_world, world_model
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.launch.world_pieces import WorldPieces, add_world_model
 from omtp_drake.launch.xml_lines import parse_xml
+from omtp_drake.scenario.conveyor_spawner import WORLD_FRAMES, spawner_params
 from omtp_drake.workspace import Workspace
 
 #: Nodes the cell does itself (nothing to map).
@@ -81,6 +83,8 @@ class NodeMapping:
     scripts: list[NodeScript] = field(default_factory=list)
     #: Nodes that run only under ros-run (a warning line for the other commands).
     ros_only: list[str] = field(default_factory=list)
+    #: The URDF models spawn_model placed so far: name -> link -> X_WL (for -reference_frame).
+    placed: dict[str, dict[str, RigidTransform]] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -126,7 +130,7 @@ def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
         elif key == ("gazebo_ros", "spawn_model"):
             _spawn(out, node, launch)
         elif key == ("omtp_gazebo", "conveyor_spawner_node"):
-            out.spawner = _spawner(node, launch)
+            out.spawner = _spawner(node, launch, workspace)
         elif key not in CELL_NODES:
             _other_node(out, node, launch, workspace)
     return out
@@ -177,6 +181,7 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch) -> None:
     pose = [0.0] * 6
     joints: dict[str, float] = {}
     text = kind = source = name = ""
+    options: dict[str, str] = {}
     i = 0
     while i < len(words):
         word = words[i]
@@ -202,21 +207,61 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch) -> None:
         elif word == "-file":
             source = f"{node.where} (-file {value})"
             text = _read(Path(value), node)
-        elif word not in ("-reference_frame", "-gazebo_namespace", "-robot_namespace", "-database"):
+        elif word in ("-reference_frame", "-robot_namespace"):
+            options[word] = value
+        elif word not in ("-gazebo_namespace", "-database"):
             raise WorkspaceError(f"{node.where}: spawn_model option {word!r} is not supported")
-        elif word != "-robot_namespace" and value not in ("", "world"):
+        elif value not in ("", "world"):
             raise WorkspaceError(f"{node.where}: spawn_model {word} {value!r} is not supported; valid: world")
         i += 2
     if not kind or not text or not name:
         raise WorkspaceError(f"{node.where}: spawn_model needs -urdf or -sdf, -param or -file, and -model")
+    # spawn_model's -robot_namespace defaults to the node's namespace (rospy.get_namespace()).
+    text = with_robot_namespace(text, options.get("-robot_namespace", node.namespace))
+    X_WR = _reference(out, node, options.get("-reference_frame", ""))
+    if X_WR is None:
+        return
     if kind == "urdf":
-        X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
-        add_urdf_model(out.pieces, UrdfModel.from_text(text, source), X_WM, source, joints)
+        X_WM = X_WR @ RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
+        urdf = UrdfModel.from_text(text, source)
+        add_urdf_model(out.pieces, urdf, X_WM, source, joints)
+        out.placed[name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(joints).items()}
     else:
         model = parse_xml(Path(source), text).root.find("model")
         if model is None:
             raise WorkspaceError(f"{source}: has no <model>")
         add_world_model(out.world, world_model(name, tuple(pose), model, source))
+
+
+def _reference(out: NodeMapping, node: Node, frame: str) -> RigidTransform | None:
+    """``X_WR`` of spawn_model's ``-reference_frame`` as Gazebo's SpawnModel finds it (the
+    world; a model spawned before in the launch, at its root link; its ``model::link``);
+    None, with the warning line of Gazebo's failed spawn, for any other name."""
+    if frame in WORLD_FRAMES:
+        return RigidTransform()
+    model, _, link = frame.partition("::")
+    links = out.placed.get(model, {})
+    if links and (link in links or not link):
+        return links[link] if link else next(iter(links.values()))
+    out.warnings.append(
+        f"{node.where}: spawn_model -reference_frame {frame!r}: SpawnModel: reference frame not found "
+        f"(models spawned before it: {', '.join(out.placed) or 'none'}); the model is not spawned"
+    )
+    return None
+
+
+def with_robot_namespace(text: str, namespace: str) -> str:
+    """The model's XML with ``<robotNamespace>`` in every ``<plugin>`` that has none, as
+    Gazebo's SpawnModel adds the request's ``robot_namespace`` (nothing for the root)."""
+    if not namespace.strip("/") or "<plugin" not in text:
+        return text
+    root = ET.fromstring(text.strip())
+    changed = False
+    for plugin in root.iter("plugin"):
+        if plugin.find("robotNamespace") is None:
+            ET.SubElement(plugin, "robotNamespace").text = namespace
+            changed = True
+    return ET.tostring(root, encoding="unicode") if changed else text
 
 
 def _float(text: str, node: Node, what: str) -> float:
@@ -246,36 +291,36 @@ def _description(launch: Launch, node: Node, name: str) -> str:
     return value
 
 
-def _spawner(node: Node, launch: Launch) -> dict:
-    """The scenario's spawner of the course's conveyor_spawner_node's ``spawner`` params."""
+def _spawner(node: Node, launch: Launch, workspace: Workspace) -> dict:
+    """The scenario's spawner of the course's conveyor_spawner_node's ``spawner`` params
+    (read by :func:`omtp_drake.scenario.conveyor_spawner.spawner_params`)."""
     try:
         config: Any = get_param(launch.params, node.resolve("~spawner"))
     except KeyError:
         raise WorkspaceError(f"{node.where}: conveyor_spawner_node has no ~spawner parameters") from None
     where = f"{node.where} (~spawner)"
-    objects = config.get("objects") if isinstance(config, dict) else None
-    if not objects or not isinstance(objects, list) or not isinstance(objects[0], dict):
-        raise WorkspaceError(f"{where}: needs a list of objects")
-    if len(objects) != 1:
-        raise WorkspaceError(f"{where}: {len(objects)} objects; the cell spawns one kind of part (give one)")
-    frame = config.get("reference_frame", "world")
-    if frame != "world":
-        raise WorkspaceError(f"{where}: reference_frame {frame!r} is not supported; valid: world")
-    item = objects[0]
-    pose = item.get("initial_pose") or {}
-    xyz = np.array(pose.get("position", [0.0, 0.0, 0.0]), dtype=float)
-    yaw = float((pose.get("orientation") or [0.0, 0.0, 0.0])[2])
-    for key in ("lateral_placement_variance", "spawn_timing_variance"):
-        if float(item.get(key, 0.0)) != 0.0:
-            raise WorkspaceError(f"{where}: {key} {item[key]} is not supported; valid: 0")
-    spawner = {
-        "xyz": _resting(xyz).tolist(),
-        "yaw": yaw,
-        "yaw_variance": math.radians(float(item.get("yaw_placement_variance", 0.0))),
-        "period": float(config.get("spawn_period", 1.0)),
-        "start_service": node.remaps.get("/start_spawn", "/start_spawn"),
-    }
+    try:
+        spawner = spawner_params(config, where, lambda uri: _mesh_file(uri, workspace))
+    except ConfigError as e:
+        raise WorkspaceError(str(e)) from None
+    if spawner["reference_frame"] in WORLD_FRAMES:
+        # The course's box stands in for a mesh nobody has: resting on the belt.
+        for item in spawner["objects"]:
+            if not item["mesh_file"]:
+                item["xyz"] = _resting(np.array(item["xyz"])).tolist()
+    spawner["xyz"] = spawner["objects"][0]["xyz"]
+    spawner["start_service"] = node.remaps.get("/start_spawn", "/start_spawn")
     return spawner
+
+
+def _mesh_file(uri: str, workspace: Workspace) -> str:
+    """The file of a ``package://PKG/...`` mesh in the workspace ("" when none has it)."""
+    if not uri.startswith("package://"):
+        return ""
+    package, _, rest = uri[len("package://") :].partition("/")
+    folder = workspace.packages.get(package)
+    path = Path(folder) / rest if folder is not None else None
+    return str(path) if path is not None and path.is_file() else ""
 
 
 def _resting(p_W: np.ndarray, part_size: float = 0.2) -> np.ndarray:

@@ -15,6 +15,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.assets import UR_MODELS, model_dimensions
 from omtp_drake.errors import MAX_RATE_HZ, ConfigError, UnknownNameError, check_positive, check_rate
+from omtp_drake.scenario.conveyor_spawner import SpawnObjectConfig
 
 #: The cell's floor: a square of this half width (m) about the world origin
 #: (the original's 20.1 m plane); nothing may start outside it or below it.
@@ -296,6 +297,15 @@ class SpawnerConfig:
     #: ros-run: the launch file also runs the course's ``spawn_object_once.py`` node,
     #: which stops the spawner while a model named like "object" is in the world.
     stop_node: bool = False
+    #: The course's plugin's objects (its ``conveyor_objects.yaml``); when given, each
+    #: spawn draws one and its pose as the plugin does (:mod:`.conveyor_spawner`),
+    #: instead of ``xyz``/``yaw`` and the variances above.
+    objects: list[SpawnObjectConfig] = field(default_factory=list)
+    #: The plugin's ``randomization_seed`` (drawn with the scenario's seed).
+    randomization_seed: int = 0
+    #: The plugin's ``reference_frame`` of the objects' poses: a Gazebo model or a
+    #: ``model::link`` name; "" or ``world`` is the world.
+    reference_frame: str = "world"
 
     def validate(self) -> None:
         check_len("spawner.xyz", self.xyz, 3)
@@ -317,6 +327,8 @@ class SpawnerConfig:
             )
         if self.stop_node and not self.start_service:
             raise ConfigError("spawner.stop_node needs spawner.start_service (the spawner it stops)")
+        for i, obj in enumerate(self.objects):
+            obj.validate(f"spawner.objects[{i}]")
 
 
 @dataclass

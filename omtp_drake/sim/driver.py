@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Optional, Protocol, runtime_checkable
 
 import numpy as np
 from pydrake.geometry import Box, Role, Sphere
+from pydrake.math import RigidTransform
 from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram
 
@@ -36,6 +37,7 @@ from omtp_drake.cell.conveyor import WRAP_TRAVEL
 from omtp_drake.cell.parts import free_body_q_indices, spawn_pose
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
+from omtp_drake.scenario.conveyor_spawner import WORLD_FRAMES, draw, kind_of
 from omtp_drake.sim.gripper_events import GripperEvents
 from omtp_drake.sim.heap import tune_heap
 from omtp_drake.sim.joint_pose_trajectory import joint_pose_trajectories
@@ -242,7 +244,13 @@ class AutoSpawner:
             return
         spawner = self.station.scenario.spawner
         t = root_context.get_time()
-        if spawner is None or spawner.period <= 0 or t < self.next_spawn - _EPS or self._enough(spawner):
+        if spawner is None or spawner.period <= 0 or self._enough(spawner):
+            return
+        # The course's plugin waits its drawn spawn_timing_variance after the tick.
+        delay = (
+            draw(spawner, self.station.scenario.seed, self.pool.spawn_count).delay if spawner.objects else 0.0
+        )
+        if t < self.next_spawn + delay - _EPS:
             return
         if spawner.one_at_a_time and _any_loose(self.station, root_context, self.pool):
             return  # waits for a clear world
@@ -252,7 +260,8 @@ class AutoSpawner:
             )
         spawn(self.station, root_context, self.pool)
         self.spawned += 1
-        self.next_spawn = t + spawner.period
+        # The next tick one period after this one (its callback not before this one's end).
+        self.next_spawn = max(t - delay + spawner.period, t)
 
 
 def loose_parts(station: Station, root_context: Context, pool: PartPool) -> list[str]:
@@ -294,10 +303,37 @@ def spawn(
         raise ConfigError("this scenario has no spawner: give the spawn position xyz")
     if spawner is None:
         spawner = SpawnerConfig()
-    X_WP = spawn_pose(
-        spawner, station.scenario.seed, pool.spawn_count, list(xyz) if xyz is not None else None, yaw
-    )
+    seed, index = station.scenario.seed, pool.spawn_count
+    if spawner.objects and xyz is None and yaw is None:
+        X_WR = reference_pose(station, root_context, spawner.reference_frame)
+        X_WP = spawn_pose(spawner, seed, index, X_WR=X_WR)
+        return pool.spawn(root_context, X_WP, kind_of(spawner, seed, index))
+    X_WP = spawn_pose(spawner, seed, index, list(xyz) if xyz is not None else None, yaw)
     return pool.spawn(root_context, X_WP)
+
+
+def reference_pose(station: Station, root_context: Context, frame: str) -> RigidTransform:
+    """``X_WR`` of a spawn's reference frame as Gazebo's SpawnModel finds it: the world
+    for "", ``world`` or ``map``; a model (its base body) or a ``model::link``;
+    SimulationError with Gazebo's message for any other name."""
+    if frame in WORLD_FRAMES:
+        return RigidTransform()
+    plant = station.plant
+    model, _, link = frame.partition("::")
+    if plant.HasModelInstanceNamed(model):
+        instance = plant.GetModelInstanceByName(model)
+        bodies = plant.GetBodyIndices(instance)
+        if link and plant.HasBodyNamed(link, instance):
+            body = plant.GetBodyByName(link, instance)
+        elif not link and bodies:
+            body = plant.get_body(bodies[0])
+        else:
+            body = None
+        if body is not None:
+            return plant.EvalBodyPoseInWorld(plant.GetMyContextFromRoot(root_context), body)
+    raise SimulationError(
+        f"SpawnModel: reference frame {frame!r} not found, did you forget to scope the link by model name?"
+    )
 
 
 def world_edits(station: Station, pool: PartPool) -> list[WorldEdit]:

@@ -10,6 +10,7 @@ what it did; the driver owns it. Poses of parked and spawned parts are in
 import logging
 import math
 from dataclasses import dataclass
+from typing import Optional
 
 from pydrake.math import RigidTransform
 from pydrake.systems.framework import Context
@@ -27,6 +28,8 @@ class PartEvent:
     time: float
     event: str
     part: str
+    #: Where a spawned part entered the world (``X_WP``; None for a disposal).
+    pose: Optional[RigidTransform] = None
 
 
 class PartPool:
@@ -75,17 +78,21 @@ class PartPool:
         disposed_at = {e.part: e.time for e in self.events if e.event == "dispose"}
         return sorted(parked, key=lambda n: (disposed_at.get(n, -math.inf), self._pool.index(n)))
 
-    def spawn(self, root_context: Context, X_WP: RigidTransform) -> str:
-        """Puts the next parked pool part at ``X_WP``, at rest; returns its name."""
+    def spawn(self, root_context: Context, X_WP: RigidTransform, kind: Optional[str] = None) -> str:
+        """Puts the next parked pool part (of object ``kind`` when given: the
+        station's ``pool_kinds``) at ``X_WP``, at rest; returns its name."""
         queue = self.queue(root_context)
+        if kind is not None:
+            queue = [n for n in queue if self._station.pool_kinds.get(n) == kind]
         if not queue:
+            of = f" of object {kind!r}" if kind is not None else ""
             raise SimulationError(
-                f"no parked part left in the pool ({len(self._pool)} parts, all in the world); "
+                f"no parked part{of} left in the pool ({len(self._pool)} parts, all in the world); "
                 "raise the scenario's part_pool or dispose of parts first"
             )
         name = queue[0]
         self._station.part_states.unpark(root_context, name, X_WP)
-        self.events.append(PartEvent(root_context.get_time(), "spawn", name))
+        self.events.append(PartEvent(root_context.get_time(), "spawn", name, X_WP))
         _log.info("t=%.2f spawned %s at %s", root_context.get_time(), name, X_WP.translation())
         return name
 

@@ -16,6 +16,7 @@ from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
+from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
 from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
@@ -37,13 +38,18 @@ __all__ = [
     "JointPoseTrajectory",
     "Plan",
     "PosePoint",
+    "ROBOT_NAMESPACE",
     "RosLatencyConfig",
+    "WORLD_FRAMES",
     "Scenario",
     "SpawnerConfig",
+    "callback_start",
     "check_in_cell",
     "check_joint_positions",
+    "draw",
     "expand_xacro",
     "gazebo_models",
+    "kind_of",
     "latency_names",
     "load_scenario",
     "named_pose",

@@ -42,6 +42,7 @@ from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.errors import NotSupportedError
 from omtp_drake.ros.comm.current import CurrentStack
+from omtp_drake.ros.comm.graph import GraphRegistry
 from omtp_drake.ros.comm.threads import ScriptThreads
 
 if TYPE_CHECKING:
@@ -173,6 +174,8 @@ class Session:
         #: The parameter server, topics scripts publish, latched messages, log throttles.
         self.params: dict[str, Any] = {}
         self.published_topics: set[str] = set()
+        #: The scripts' publishers and subscribers, by node (the master's view: .graph).
+        self.registry = GraphRegistry()
         self.latched: dict[str, Any] = {}
         self.throttle: dict[tuple, float] = {}
         #: MoveIt's config of the run (omtp_drake.ros.moveit.config.install): the SRDF's
@@ -305,6 +308,10 @@ class Session:
         subscriber.queue.clear()
         if subscriber in self._subscribers[subscriber.topic]:
             self._subscribers[subscriber.topic].remove(subscriber)
+
+    def subscribed_topics(self) -> list[str]:
+        """The topics with a subscriber (a script's or the cell's own)."""
+        return [topic for topic, subscribers in self._subscribers.items() if subscribers]
 
     def num_subscribers(self, topic: str) -> int:
         return len(self._subscribers.get(topic, []))

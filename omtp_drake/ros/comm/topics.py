@@ -15,7 +15,7 @@ from collections.abc import Callable
 from typing import Any, Optional
 
 from omtp_drake.errors import check_duration
-from omtp_drake.ros.comm.client import resolve_name
+from omtp_drake.ros.comm.client import get_caller_id, resolve_name
 from omtp_drake.ros.comm.exceptions import ROSException, ROSSerializationException
 from omtp_drake.ros.comm.messages import Message
 from omtp_drake.ros.comm.rostime import _blocking
@@ -59,6 +59,8 @@ class Subscriber:
         _check_type(self.name, data_class)
         args = () if callback_args is None else (callback_args,)
         self._queue = session.subscribe(self.name, callback, args, queue_size) if callback else None
+        self._node = get_caller_id()
+        session.registry.add("sub", self.name, self._node, data_class)
         if self._queue is not None:
             latched = session.latched.get(self.name)
             if latched is not None:  # a latched topic's last message, to this subscriber only
@@ -68,6 +70,7 @@ class Subscriber:
         return 1 if self.name in current().sources or self.name in current().published_topics else 0
 
     def unregister(self) -> None:
+        current().registry.remove("sub", self.name, self._node)
         if self._queue is not None:
             current().unsubscribe(self._queue)
             self._queue = None
@@ -96,6 +99,8 @@ class Publisher:
         self.data_class = data_class
         self.latch = latch
         session.published_topics.add(self.name)
+        self._node = get_caller_id()
+        session.registry.add("pub", self.name, self._node, data_class)
 
     def publish(self, *args: Any, **kwargs: Any) -> None:
         if len(args) == 1 and not kwargs and isinstance(args[0], self.data_class):
@@ -115,6 +120,7 @@ class Publisher:
 
     def unregister(self) -> None:
         current().published_topics.discard(self.name)
+        current().registry.remove("pub", self.name, self._node)
 
 
 def wait_for_message(topic: str, topic_type: Any, timeout: Optional[float] = None) -> Any:

@@ -9,8 +9,10 @@ spawner is the course's ``conveyor_spawner_node``:
   variance), until ``/stop_spawn``. A start while the timer runs changes nothing
   (a roscpp Timer's ``start``). Each spawn publishes the latched
   ``/spawned_part`` (``std_msgs/Header``: ``seq`` the spawner's count,
-  ``stamp`` the time, ``frame_id`` the object's name in the spawner's config,
-  ``box``).
+  ``stamp`` the time, ``frame_id`` the drawn object's name in the spawner's config).
+  With the plugin's ``objects`` (:mod:`omtp_drake.scenario.conveyor_spawner`), a tick's
+  callback spawns after its drawn ``spawn_timing_variance``, and the next tick's
+  callback starts no earlier than that (one spinner thread).
 - ``spawner.stop_node``: the course's ``spawn_object_once.py`` runs too: at every
   ``/gazebo/model_states`` message (every physics update) it calls ``/stop_spawn``
   while a model named like "object" is in the world. A start while a part is in
@@ -29,13 +31,14 @@ services raise nothing) and logs one warning; the run's report lists it
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from omtp_drake.errors import OmtpError, SimulationError
-from omtp_drake.ros.comm._core import spawn
+from omtp_drake.ros.comm._core import callback_start, draw, kind_of, spawn
 from omtp_drake.ros.comm.interfaces import EmptyService
 from omtp_drake.ros.comm.messages import Header, Time
 from omtp_drake.ros.gazebo.cell_services import Service, ServiceFailure
@@ -66,6 +69,10 @@ class CourseSpawner:
         self.running = False
         self.count = 0
         self._next = 0.0
+        #: When the running tick's callback spawns (None: no callback running) and when
+        #: the last one returned (the plugin's single-threaded spinner).
+        self._due: float | None = None
+        self._returned = -math.inf
         self._fired = False
         self._started_by = ""
         world.step_hooks.append(self._on_step)
@@ -89,6 +96,12 @@ class CourseSpawner:
         self.session.empty_spawn_calls.append(text)
 
     def _on_step(self, t: float) -> None:
+        if self._due is not None:
+            # A callback waiting its spawn_timing_variance spawns, stopped or not.
+            if t >= self._due - _EPS:
+                self._due, self._returned = None, t
+                self._fire(t)
+            return
         if not self.running:
             return
         if self.config.stop_node:
@@ -103,20 +116,39 @@ class CourseSpawner:
                     )
                 return
         if t >= self._next - _EPS:
+            start = callback_start(self._next, self._returned)
             self._next += self.config.period
-            self._fire(t)
+            delay = self._delay()
+            if delay <= _EPS:
+                self._returned = t
+                self._fire(t)
+            else:
+                self._due = start + delay
+
+    def _delay(self) -> float:
+        """The next spawn's drawn spawn_timing_variance (0 without the plugin's objects)."""
+        if not self.config.objects:
+            return 0.0
+        cell = self.cell
+        return draw(self.config, cell.scenario.seed, cell.runtime.pool.spawn_count).delay
 
     def _fire(self, t: float) -> None:
         self.count += 1
+        pool = self.cell.runtime.pool
+        kind = (
+            kind_of(self.config, self.cell.scenario.seed, pool.spawn_count)
+            if self.config.objects
+            else OBJECT_NAME
+        )
         try:
-            part = spawn(self.cell.station, self.cell.runtime.context, self.cell.runtime.pool)
+            part = spawn(self.cell.station, self.cell.runtime.context, pool)
         except OmtpError as e:
             self.count -= 1
             _log.error("conveyor_spawner: failed to spawn: %s", e)
             return
         self._fired = True
         _log.info("conveyor_spawner: spawned %s at t = %.3f s", part, t)
-        header = Header(seq=self.count, stamp=Time(t), frame_id=OBJECT_NAME)
+        header = Header(seq=self.count, stamp=Time(t), frame_id=kind)
         self.session.latched[SPAWNED_PART] = (t, -1, header)
         self.session.publish(SPAWNED_PART, header, t)
 

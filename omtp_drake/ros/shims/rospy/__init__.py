@@ -40,6 +40,7 @@ from omtp_drake.ros.comm.exceptions import (
     ROSTimeMovedBackwardsException,
     ServiceException,
 )
+from omtp_drake.ros.comm.master import get_published_topics
 from omtp_drake.ros.comm.messages import Duration
 from omtp_drake.ros.comm.rostime import (
     Rate,
@@ -79,6 +80,7 @@ __all__ = [
     "get_name",
     "get_namespace",
     "get_param",
+    "get_published_topics",
     "get_rostime",
     "get_time",
     "has_param",
