@@ -23,7 +23,7 @@ import numpy as np
 from omtp_drake.batch.command import add_batch_command, add_progress_options, show_progress
 from omtp_drake.errors import ConfigError, OmtpError
 from omtp_drake.grading.cli import add_commands as add_ros_commands
-from omtp_drake.launch.description import launch_description
+from omtp_drake.launch.description import launch_description, world_description
 from omtp_drake.launch.options import CommandParser, add_cell_options, resolve_cell_options
 from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
 from omtp_drake.ros2.run import add_commands as add_ros2_commands
@@ -387,7 +387,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_ros_commands(sub)
     add_flexbe_commands(sub)
     add_ros2_commands(sub)
-    add_view_command(sub, launch_description)
+    add_view_command(sub, launch_description, world_description)
     return parser
 
 

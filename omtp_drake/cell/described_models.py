@@ -19,7 +19,7 @@ from typing import Optional
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
-from pydrake.multibody.tree import ModelInstanceIndex
+from pydrake.multibody.tree import FixedOffsetFrame, ModelInstanceIndex
 
 from omtp_drake.assets import drake_ready_meshes
 from omtp_drake.errors import WorkspaceError
@@ -70,14 +70,18 @@ def add_described_models(
             if not package_map.Contains(name):
                 package_map.Add(name, folder)
         try:
-            (instance,) = model_parser.AddModelsFromString(text, model.format)
+            added = model_parser.AddModelsFromString(text, model.format)
         except RuntimeError as e:
             first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
             raise WorkspaceError(f"{model.file}: Drake's parser refuses it: {first}") from None
-        except ValueError:
-            raise WorkspaceError(f"{model.file}: it holds more than one model; give one per file") from None
+        # An SDF model's nested models are instances of their own (``model::nested``).
+        tops = [i for i in added if plant.GetModelInstanceName(i) == model.name]
+        if len(tops) != 1:
+            raise WorkspaceError(f"{model.file}: it holds more than one model; give one per file")
+        instance = tops[0]
         instances[model.name] = instance
         _place(plant, model, instance)
+        _add_model_frame(plant, model, instance)
     return instances
 
 
@@ -95,7 +99,17 @@ def prepared_description(model: ModelConfig, *, gazebo_look: bool) -> str:
     if model.format == "sdf":
         first = root.find("model")
         if first is not None:
+            # The model's pose in world replaces the file's own (as spawn_model's -x ... do);
+            # Drake places the links from it (relative_to included) and welds a static model.
             first.set("name", model.name)
+            for old in first.findall("pose"):
+                first.remove(old)
+            pose = ET.Element("pose")
+            pose.text = " ".join(repr(float(v)) for v in [*model.xyz, *model.rpy])
+            first.insert(0, pose)
+            links = list(first.iter("link"))
+            if gazebo_look and not model.static and len(links) == 1:
+                _add_corner_supports(links[0], "sdf")
         return ET.tostring(root, encoding="unicode")
     root.set("name", model.name)
     X_WM = model_pose(model)
@@ -106,7 +120,50 @@ def prepared_description(model: ModelConfig, *, gazebo_look: bool) -> str:
                 _set_origin(joint, X_WM @ _origin(joint))
     if gazebo_look:
         _apply_gazebo_tags(root, model)
+        links = [link for link in root.findall("link") if link.get("name") != "world"]
+        if not model.static and len(links) == 1 and not root.findall("joint"):
+            _add_corner_supports(links[0], "urdf")
     return ET.tostring(root, encoding="unicode")
+
+
+#: Radius (m) of the spheres at a box collision's corners.
+CORNER_RADIUS = 0.001
+
+
+def _add_corner_supports(link: ET.Element, format: str) -> None:
+    """Eight 1 mm spheres at the corners of each box collision of a free one-link model (a
+    box, a cube: what lies on tables and shelves), beside the box. Drake's point contact
+    gives a box on a flat surface one contact point (it tilts and sinks); Gazebo's ODE
+    gives it its face's corners. The cell's own parts rest the same way
+    (``models/part.urdf.xacro``)."""
+    for collision in list(link.findall("collision")):
+        box = collision.find("geometry/box")
+        size = (box.findtext("size") if format == "sdf" else box.get("size")) if box is not None else None
+        try:
+            half = [float(v) / 2 for v in (size or "").split()]
+        except ValueError:
+            continue
+        if len(half) != 3:
+            continue
+        X_LC = _sdf_pose(collision.findtext("pose")) if format == "sdf" else _origin(collision)
+        name = collision.get("name", "collision")
+        corners = [(sx, sy, sz) for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
+        for k, corner in enumerate(corners):
+            X_LS = X_LC @ RigidTransform([c * h for c, h in zip(corner, half)])
+            sphere = ET.SubElement(link, "collision", name=f"{name}_corner_{k}")
+            if format == "sdf":
+                xyz, rpy = X_LS.translation(), RollPitchYaw(X_LS.rotation()).vector()
+                ET.SubElement(sphere, "pose").text = " ".join(repr(float(v)) for v in [*xyz, *rpy])
+                shape = ET.SubElement(ET.SubElement(sphere, "geometry"), "sphere")
+                ET.SubElement(shape, "radius").text = str(CORNER_RADIUS)
+            else:
+                _set_origin(sphere, X_LS)
+                ET.SubElement(ET.SubElement(sphere, "geometry"), "sphere", radius=str(CORNER_RADIUS))
+
+
+def _sdf_pose(text: str | None) -> RigidTransform:
+    values = [float(v) for v in (text or "0 0 0 0 0 0").split()]
+    return RigidTransform(RollPitchYaw(values[3:6]), values[:3])
 
 
 def _origin(element: ET.Element) -> RigidTransform:
@@ -167,8 +224,18 @@ def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceInd
     X_WL = model_pose(model) @ X_ML
     if model.static:
         plant.WeldFrames(plant.world_frame(), body.body_frame(), X_WL)
-    else:
+    elif model.format == "urdf":  # (an SDF model's free bodies Drake placed from its <pose>)
         plant.SetDefaultFloatingBaseBodyPose(body, X_WL)
+
+
+def _add_model_frame(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex) -> None:
+    """An SDF model's frame (Gazebo's model pose, what ``get_model_state`` reports) as a
+    frame named as the model, unless one of its own frames has that name."""
+    if model.format != "sdf" or plant.HasFrameNamed(model.name, instance):
+        return
+    frame = plant.GetFrameByName("__model__", instance)
+    X_BM = frame.GetFixedPoseInBodyFrame()
+    plant.AddFrame(FixedOffsetFrame(model.name, frame.body().body_frame(), X_BM, instance))
 
 
 def _root_link(root: ET.Element, format: str) -> Optional[tuple[str, RigidTransform]]:

@@ -39,7 +39,8 @@ class FrameTree:
     Joint-internal frames (``*_joint_parent``), model-instance frames
     (``__model__``) and the frames Drake adds itself when it finalizes the plant
     (ephemeral, e.g. ``world_welds_to_robot1_base_link_world_F``) are not listed;
-    everything else is, by its own name.
+    everything else is, by its own name; a name two models' frames share (a world's
+    models each with a ``link``) is Gazebo's scoped name, ``MODEL::link``.
     """
 
     def __init__(self, plant: MultibodyPlant):
@@ -59,13 +60,20 @@ class FrameTree:
             child = int(joint.child_body().index())
             self._inboard[child] = joint.parent_body().body_frame().name()
             self._moving[child] = joint.num_positions() > 0
-        frames: dict[str, Frame] = {}
-        duplicates: set[str] = set()
+        listed = []
         for i in range(plant.num_frames()):
             frame = plant.get_frame(FrameIndex(i))
+            if i not in hidden and not frame.name().endswith("__model__") and not frame.is_ephemeral():
+                listed.append(frame)
+        counts: dict[str, int] = {}
+        for frame in listed:
+            counts[frame.name()] = counts.get(frame.name(), 0) + 1
+        frames: dict[str, Frame] = {}
+        duplicates: set[str] = set()
+        for frame in listed:
             name = frame.name()
-            if i in hidden or name == "__model__" or name.endswith("__model__") or frame.is_ephemeral():
-                continue
+            if counts[name] > 1:  # Gazebo's scoped name: two models' links both called "link"
+                name = f"{plant.GetModelInstanceName(frame.model_instance())}::{name}"
             if name in frames:
                 duplicates.add(name)
             frames[name] = frame

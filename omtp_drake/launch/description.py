@@ -12,11 +12,13 @@ from __future__ import annotations
 import os
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator, Mapping, Sequence
+from pathlib import Path
 from typing import Any
 
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.own_cell import student_workspace
 from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec, read_launch
+from omtp_drake.launch.sdf_world import model_config, read_world
 from omtp_drake.scenario import ModelConfig, model_from_text
 
 #: The parameter rviz's RobotModel display reads by default.
@@ -59,3 +61,17 @@ def _is_description(text: str) -> bool:
         return ET.fromstring(text).tag in ("robot", "sdf")
     except ET.ParseError:
         return False
+
+
+def world_description(
+    path: str | os.PathLike, workspace: Sequence[str | os.PathLike] = ()
+) -> tuple[list[ModelConfig], list[str]]:
+    """Every model of the Gazebo world ``path`` as it is in its file (the course's pieces
+    too, for ``omtp-drake view FILE.world``), its ``model://`` includes found in
+    ``workspace``, ``GAZEBO_MODEL_PATH`` and the package holding the world; and the lines
+    sdformat would warn with."""
+    world_file = Path(path).expanduser().resolve()
+    own = [f for f in world_file.parents if (f / "package.xml").is_file()][:1]
+    ws = student_workspace([*workspace, *own])
+    world = read_world(world_file, ws)
+    return [model_config(model, ws) for model in world.models], world.warnings

@@ -5,7 +5,8 @@ node (``pkg/type``)                           in the cell
 ============================================  =========================================
 gazebo_ros/gzserver (``empty_world.launch``)  the world file's models (``world_name``)
 gazebo_ros/spawn_model                        the spawned model's pieces, at ``-x -y -z
-                                              -R -P -Y``, from ``-param`` or ``-file``
+                                              -R -P -Y``, from ``-param`` or ``-file``;
+                                              a model that is none of them, as it is
 omtp_gazebo/conveyor_spawner_node             the spawner: its ``spawner`` parameters
                                               (rosparam), ``/start_spawn``'s remap
 omtp_utilities/spawn_object_once.py           the spawner's one-part-at-a-time node
@@ -43,8 +44,11 @@ from omtp_drake.launch.roslaunch import Launch, Node, get_param
 from omtp_drake.launch.sdf_world import read_world, world_model
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.launch.world_pieces import WorldPieces, add_world_model
+from omtp_drake.launch.world_pieces import add_world as add_world_pieces
 from omtp_drake.launch.xml_lines import parse_xml
+from omtp_drake.scenario import ModelConfig
 from omtp_drake.scenario.conveyor_spawner import WORLD_FRAMES, spawner_params
+from omtp_drake.scenario.models import model_from_text
 from omtp_drake.workspace import Workspace
 
 #: Nodes the cell does itself (nothing to map).
@@ -128,7 +132,7 @@ def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
         if key == ("gazebo_ros", "gzserver"):
             _world(out, node, workspace)
         elif key == ("gazebo_ros", "spawn_model"):
-            _spawn(out, node, launch)
+            _spawn(out, node, launch, workspace)
         elif key == ("omtp_gazebo", "conveyor_spawner_node"):
             out.spawner = _spawner(node, launch, workspace)
         elif key not in CELL_NODES:
@@ -168,20 +172,21 @@ def _world(out: NodeMapping, node: Node, workspace: Workspace) -> None:
 
 
 def add_world(pieces: WorldPieces, path: Path, workspace: Workspace) -> None:
-    for model in read_world(path, workspace).models:
-        add_world_model(pieces, model)
+    add_world_pieces(pieces, read_world(path, workspace), workspace)
 
 
 _POSE_FLAGS = {"-x": 0, "-y": 1, "-z": 2, "-R": 3, "-P": 4, "-Y": 5}
 
 
-def _spawn(out: NodeMapping, node: Node, launch: Launch) -> None:
-    """spawn_model's arguments (as gazebo_ros's spawn_model reads them)."""
+def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -> None:
+    """spawn_model's arguments (as gazebo_ros's spawn_model reads them); a model that is
+    none of the course's pieces is loaded as it is."""
     words = shlex.split(node.args)
     pose = [0.0] * 6
     joints: dict[str, float] = {}
     text = kind = source = name = ""
     options: dict[str, str] = {}
+    folder: Path | None = None
     i = 0
     while i < len(words):
         word = words[i]
@@ -207,6 +212,7 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch) -> None:
         elif word == "-file":
             source = f"{node.where} (-file {value})"
             text = _read(Path(value), node)
+            folder = Path(value).parent
         elif word in ("-reference_frame", "-robot_namespace"):
             options[word] = value
         elif word not in ("-gazebo_namespace", "-database"):
@@ -221,16 +227,32 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch) -> None:
     X_WR = _reference(out, node, options.get("-reference_frame", ""))
     if X_WR is None:
         return
+    X_WM = X_WR @ RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
+    pose = [*X_WM.translation(), *RollPitchYaw(X_WM.rotation()).vector()]  # in world
     if kind == "urdf":
-        X_WM = X_WR @ RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
         urdf = UrdfModel.from_text(text, source)
-        add_urdf_model(out.pieces, urdf, X_WM, source, joints)
+        if not add_urdf_model(out.pieces, urdf, X_WM, source, joints):
+            out.world.models.append(_own_model(text, source, workspace, name, pose))
         out.placed[name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(joints).items()}
     else:
-        model = parse_xml(Path(source), text).root.find("model")
+        root = parse_xml(Path(source), text).root
+        model = root.find("model")
         if model is None:
             raise WorkspaceError(f"{source}: has no <model>")
-        add_world_model(out.world, world_model(name, tuple(pose), model, source))
+        version = root.get("version", "1.6")
+        spawned = world_model(name, tuple(pose), model, source, version=version, folder=folder)
+        add_world_model(out.world, spawned, workspace)
+
+
+def _own_model(text: str, source: str, workspace: Workspace, name: str, pose: list[float]) -> ModelConfig:
+    """A spawned URDF that is none of the course's pieces, as it is (its own geometry,
+    joints, inertia), where spawn_model puts it."""
+    try:
+        return model_from_text(text, source, workspace, name=name, xyz=tuple(pose[:3]), rpy=tuple(pose[3:]))  # type: ignore[arg-type]
+    except ConfigError as e:
+        if isinstance(e, WorkspaceError):
+            raise
+        raise WorkspaceError(str(e)) from None
 
 
 def _reference(out: NodeMapping, node: Node, frame: str) -> RigidTransform | None:

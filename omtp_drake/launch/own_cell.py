@@ -6,13 +6,16 @@
 launch is read as roslaunch reads it (:mod:`~omtp_drake.launch.roslaunch`), its nodes
 mapped to the cell (:mod:`~omtp_drake.launch.nodes`), and the pieces found become the
 scenario's robots, cameras, bins, belt, beam, wall and spawner, at the poses the files
-give. What the cell does not take is one :class:`~omtp_drake.errors.WorkspaceError`
-(nothing is built); what it leaves out is a warning line in ``OwnCell.warnings``.
+give; every other model the world or a ``spawn_model`` loads is the scenario's model entry,
+as it is in its file. What the cell does not take is one :class:`~omtp_drake.errors.WorkspaceError`
+(nothing is built); what it leaves out, and what sdformat and roslaunch warn about, is a
+warning line in ``OwnCell.warnings``.
 """
 
 from __future__ import annotations
 
 import copy
+import dataclasses
 import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
@@ -103,6 +106,7 @@ def own_cell(
         path = find_launch_file(ws, pkg, file)
         read = read_launch(path, args, ws, environ)
         mapping = map_nodes(read, ws)
+        mapping.warnings[:0] = read.warnings
         moveit, source, name = read.moveit_config, path, path.stem
     else:
         source = Path(world).expanduser().resolve()  # type: ignore[arg-type]
@@ -142,6 +146,10 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
         "deletion_wall": world.deletion_wall,
         "frames": [_frame(name, X_WL) for name, X_WL in pieces.frames.items()],
     }
+    if world.models:
+        document["models"] = [dataclasses.asdict(model) for model in world.models]
+    if world.gravity is not None:
+        document["gravity"] = world.gravity
     if world.conveyor is not None:
         document["conveyor"] = {**world.conveyor, "stop_on_beam": mapping.stop_on_beam}
     elif mapping.stop_on_beam:

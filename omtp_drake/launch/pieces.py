@@ -12,7 +12,8 @@ by the link names the course's macros give (``omtp_support``'s ``robot_system``,
 - the break beam: ``<prefix>optical_link`` with a ray sensor and a ROSProximityRayPlugin;
 - the workcell (the conveyor's frame and the floor's meshes): a link ``workcell``.
 
-Every other model is one warning line (not dropped silently).
+Every other model is loaded as it is (a typed model entry of the scenario: its own
+geometry, joints, inertia; see :mod:`omtp_drake.launch.nodes`).
 """
 
 from __future__ import annotations
@@ -54,13 +55,10 @@ class Pieces:
     frames: dict[str, RigidTransform] = field(default_factory=dict)
 
 
-def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where: str, joints: dict) -> None:
-    """Adds the pieces of ``model`` placed at ``X_WM`` (``joints``: spawn_model's ``-J``)."""
+def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where: str, joints: dict) -> bool:
+    """Adds the pieces of ``model`` placed at ``X_WM`` (``joints``: spawn_model's ``-J``);
+    False when it is none of the course's pieces (the caller loads it as it is)."""
     X_M = model.link_poses()
-    pieces.models.append((model, X_WM))
-    for link in model.static_links():
-        if link != "world":  # Gazebo's name for the world itself
-            pieces.frames.setdefault(link, X_WM @ X_M[link])
     found = False
     for joint in model.joint_names():
         if joint.endswith("shoulder_pan_joint"):
@@ -89,10 +87,12 @@ def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where
             if plugin.kind not in URDF_PLUGINS:
                 pieces.warnings.append(plugin.unknown_line())
     if not found:
-        pieces.warnings.append(
-            f"{where}: model {model.name!r} is none of the course's pieces (arm, pedestal, bin, break beam, "
-            "workcell); not added to the cell"
-        )
+        return False
+    pieces.models.append((model, X_WM))
+    for link in model.static_links():
+        if link != "world":  # Gazebo's name for the world itself
+            pieces.frames.setdefault(link, X_WM @ X_M[link])
+    return True
 
 
 def _yaw_only(X: RigidTransform, what: str, where: str) -> float:

@@ -21,6 +21,9 @@ declares it). The tags and rules (read in ros_comm's ``roslaunch``):
 - Names: relative names are in the enclosing ``ns``; ``~name`` inside a node is the
   node's private name.
 
+A tag roslaunch does not know (at the top, or inside a ``<node>``) is one warning line
+(``Launch.warnings``), as roslaunch warns and goes on.
+
 A MoveIt config's own ``move_group.launch`` (a package with ``config/*.srdf``) is not
 read further: its package is the run's MoveIt config (``Launch.moveit_config``).
 """
@@ -75,6 +78,8 @@ class Launch:
     files: list[Path] = field(default_factory=list)
     #: A MoveIt config package whose ``move_group.launch`` the launch includes.
     moveit_config: Path | None = None
+    #: What roslaunch warns about and goes on (an unrecognised tag), ``file:line: ...`` each.
+    warnings: list[str] = field(default_factory=list)
 
 
 def join_name(namespace: str, name: str, *, private: str = "") -> str:
@@ -222,9 +227,10 @@ class _Reader:
             elif tag == "node":
                 self._node(doc, element, ctx, here)
             elif tag not in IGNORED_TAGS:
-                raise ctx.fail(
-                    f"<{tag}> is not a launch tag omtp_drake reads; valid: arg, include, group, "
-                    f"remap, param, rosparam, node, {', '.join(IGNORED_TAGS)}"
+                # roslaunch's loader: "unrecognized tag", a warning; the launch goes on.
+                self.launch.warnings.append(
+                    f"{ctx.where()}: unrecognized tag <{tag}>; ignored (launch tags: arg, include, group, "
+                    f"remap, param, rosparam, node, {', '.join(IGNORED_TAGS)})"
                 )
 
     def _include(self, doc: XmlFile, element: ET.Element, ctx: Context, scope: _Scope) -> None:
@@ -335,8 +341,10 @@ class _Reader:
             elif child.tag == "rosparam":
                 self._rosparam(child, ctx, ns, private=name)
             elif child.tag not in IGNORED_TAGS:
-                raise ctx.fail(
-                    f"<{child.tag}> inside <node> is not supported; valid: remap, param, rosparam, env"
+                # roslaunch: "unrecognized '...' child tag", a warning; the node starts.
+                self.launch.warnings.append(
+                    f"{ctx.where()}: unrecognized child tag <{child.tag}> of <node>; ignored "
+                    "(valid: remap, param, rosparam, env)"
                 )
         ctx.line = doc.line(element)
         args = resolve(element.get("args", ""), ctx)

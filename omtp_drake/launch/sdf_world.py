@@ -1,44 +1,60 @@
 """A Gazebo world file (SDF) and the models it includes, as Gazebo places them.
 
-:func:`read_world` reads a ``.world``: each ``<include>`` (``uri`` ``model://NAME``
-found in the workspace's Gazebo models, its ``pose`` and ``name`` replacing the model's
-own, ``static``) and each inline ``<model>``, with the plugins of the model and of its
-links' sensors. Each model's SDF goes through Drake's parser too, so a model Drake
-refuses is one error naming its file. Gazebo's own ``model://sun`` and
-``model://ground_plane`` ship with Gazebo, not with the course: the sun lights the
-scene and the ground plane is the cell's floor, so both are read as known and left out.
-``<light>``, ``<physics>``, ``<scene>``, ``<gui>`` do not change the cell.
+:func:`read_world` reads a ``.world`` as Gazebo 9's sdformat does: each ``<include>``
+(``uri`` ``model://NAME`` found in the workspace's Gazebo models and ``GAZEBO_MODEL_PATH``,
+or a model folder's path; its ``name``, ``pose`` and ``static`` replacing the model's
+own) and each inline ``<model>``, with the plugins of the model and of its links'
+sensors, its pose in the world (``relative_to`` a model or ``<frame>`` of the world
+before it, SDF 1.7+) and whether it is static. Each model's SDF goes through Drake's
+parser too, so a model Drake refuses is one error naming its file.
+
+Gazebo's own ``model://sun`` and ``model://ground_plane`` ship with Gazebo, not with the
+course: the project's stand-ins are the cell's light and floor. ``<gravity>`` is the
+world's gravity; ``<physics>``'s ``max_step_size`` is noted (the cell keeps its own
+step). What sdformat reads but warns about (an element SDF does not define, a URDF
+``<joint>`` or a stray ``<xacro:...>`` call under ``<world>``) is one warning line naming
+``file:line``, and the rest of the world loads; what sdformat refuses (XML that is not
+well formed, a ``<pose>`` that is not 6 numbers) is one error. The cases are listed in
+``docs/own_files.md``.
 """
 
 from __future__ import annotations
 
+import copy
 import logging
+import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake.errors import WorkspaceError
+from omtp_drake.errors import ConfigError, MissingPackageError, WorkspaceError
 from omtp_drake.launch.plugins import GazeboPlugin, plugins_in
 from omtp_drake.launch.xml_lines import XmlFile, parse_xml
+from omtp_drake.scenario import ModelConfig
+from omtp_drake.scenario.models import model_from_text
 from omtp_drake.workspace import Workspace
 
-#: Gazebo's own models that the cell already has (light, floor).
+#: Gazebo's own models that the cell already has (light, floor): the project's stand-ins.
 GAZEBO_BUILTIN_MODELS = ("sun", "ground_plane")
-#: World elements that do not change the cell.
+#: World elements SDF defines that do not change the cell (read, not used).
 IGNORED_WORLD_TAGS = (
     "light",
-    "physics",
     "scene",
     "gui",
-    "gravity",
     "magnetic_field",
     "atmosphere",
     "spherical_coordinates",
     "state",
     "wind",
+    "audio",
+    "plugin",
 )
+#: World elements SDF defines that the cell has no counterpart for (one warning each).
+UNSUPPORTED_WORLD_TAGS = ("actor", "road", "population")
+#: Models of Gazebo's online model database (models.gazebosim.org) the tutorials include.
+ONLINE_DATABASE = "http://models.gazebosim.org"
 
 
 @dataclass
@@ -52,6 +68,12 @@ class WorldModel:
     plugins: list[GazeboPlugin] = field(default_factory=list)
     #: The pose as written (x y z roll pitch yaw), so a camera keeps the student's numbers.
     pose: tuple[float, ...] = (0.0,) * 6
+    #: Gazebo's ``<static>`` (the include's, else the model's own).
+    static: bool = False
+    #: The folder its relative URIs are resolved in (the model's file's folder).
+    folder: Path | None = None
+    #: The SDF version of the file the model element was read from.
+    version: str = "1.6"
 
     def sensors(self, kind: str) -> list[ET.Element]:
         return [s for s in self.element.iter("sensor") if s.get("type") == kind]
@@ -61,6 +83,12 @@ class WorldModel:
 class World:
     file: Path
     models: list[WorldModel] = field(default_factory=list)
+    #: What sdformat would warn about, one line each (``file:line: ...``).
+    warnings: list[str] = field(default_factory=list)
+    #: ``<gravity>`` (m/s^2 in world), None when the world does not set it.
+    gravity: tuple[float, float, float] | None = None
+    #: ``<physics>``'s ``max_step_size`` (s), None when not given.
+    max_step_size: float | None = None
 
 
 def sdf_pose(text: str | None, where: str) -> RigidTransform:
@@ -70,8 +98,8 @@ def sdf_pose(text: str | None, where: str) -> RigidTransform:
 
 
 def pose_values(text: str | None, where: str) -> tuple[float, ...]:
-    """The 6 numbers of an SDF ``<pose>`` (zeros when there is none)."""
-    if not text:
+    """The 6 numbers of an SDF ``<pose>`` (zeros when there is none); each finite."""
+    if not text or not text.strip():
         return (0.0,) * 6
     try:
         values = [float(v) for v in text.split()]
@@ -79,7 +107,155 @@ def pose_values(text: str | None, where: str) -> tuple[float, ...]:
         values = []
     if len(values) != 6:
         raise WorkspaceError(f"{where}: <pose> needs 6 numbers (x y z roll pitch yaw), got {text.strip()!r}")
+    if not all(math.isfinite(v) for v in values):
+        raise WorkspaceError(f"{where}: <pose> {text.strip()!r} has a value that is not a finite number")
     return tuple(values)
+
+
+def _is_true(text: str | None) -> bool:
+    return (text or "").strip().lower() in ("true", "1")
+
+
+class _WorldReader:
+    """Reads one world file's elements into a :class:`World` (see module doc)."""
+
+    def __init__(self, doc: XmlFile, workspace: Workspace):
+        self.doc = doc
+        self.workspace = workspace
+        self.out = World(doc.path)
+        self.version = doc.root.get("version", "1.6")
+        #: Poses in world of the models and frames read so far (``relative_to`` targets).
+        self.frames: dict[str, RigidTransform] = {"world": RigidTransform()}
+        self.included: list[tuple[Path, Path]] = []
+
+    def element(self, element: ET.Element) -> None:
+        where = self.doc.where(element)
+        tag = element.tag
+        if tag == "include":
+            self._include(element, where)
+        elif tag == "model":
+            pose, X_WM = self._pose(element, where)
+            name = element.get("name", "")
+            self._add(world_model(name, pose, element, where, X_WM=X_WM, version=self.version))
+        elif tag == "frame":
+            self.frames[element.get("name", "")] = self._pose(element, where)[1]
+        elif tag == "gravity":
+            self.out.gravity = _vector3(element.text, where, "gravity")
+        elif tag == "physics":
+            step = element.findtext("max_step_size")
+            if step is not None and step.strip():
+                self.out.max_step_size = _positive(step, where, "max_step_size")
+        elif tag in UNSUPPORTED_WORLD_TAGS:
+            self.out.warnings.append(f"{where}: <{tag}> is not in the cell; ignored")
+        elif tag not in IGNORED_WORLD_TAGS:
+            self.out.warnings.append(_not_sdf_line(element, where))
+
+    def _pose(self, element: ET.Element, where: str) -> tuple[tuple[float, ...], RigidTransform]:
+        """The element's pose as written, and in world (``relative_to`` resolved)."""
+        pose_element = element.find("pose")
+        text = pose_element.text if pose_element is not None else None
+        pose = pose_values(text, where)
+        X = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
+        relative_to = (pose_element.get("relative_to") or "").strip() if pose_element is not None else ""
+        if relative_to:
+            if relative_to not in self.frames:
+                raise WorkspaceError(
+                    f"{where}: <pose relative_to={relative_to!r}>: no such model or frame before it; "
+                    f"valid: {', '.join(self.frames)}"
+                )
+            X = self.frames[relative_to] @ X
+        return pose, X
+
+    def _add(self, model: WorldModel) -> None:
+        self.frames[model.name] = model.X_WM
+        self.out.models.append(model)
+
+    def _include(self, element: ET.Element, where: str) -> None:
+        uri = (element.findtext("uri") or "").strip()
+        folder = self._include_folder(uri, where)
+        if folder is None:
+            return
+        sdf_file = folder / _sdf_name(folder / "model.config")
+        model_doc = parse_xml(sdf_file)
+        model = model_doc.root.find("model")
+        if model is None:
+            raise WorkspaceError(f"{sdf_file}: has no <model>")
+        self.included.append((folder, sdf_file))
+        if element.find("pose") is not None:
+            pose, X_WM = self._pose(element, where)
+        else:
+            pose = pose_values(model.findtext("pose"), model_doc.where(model))
+            X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
+        placed = (element.findtext("name") or "").strip() or model.get("name", folder.name)
+        static = element.findtext("static")
+        version = model_doc.root.get("version", "1.6")
+        found = world_model(placed, pose, model, str(sdf_file), X_WM=X_WM, version=version, folder=folder)
+        if static is not None:
+            found.static = _is_true(static)
+        self._add(found)
+
+    def _include_folder(self, uri: str, where: str) -> Path | None:
+        """The model folder an include's uri names (None: Gazebo's own sun/ground plane)."""
+        if uri.startswith(("http://", "https://")):
+            raise WorkspaceError(
+                f"{where}: <include> uri {uri!r} is on the web (Gazebo Fuel or its online model "
+                "database); omtp-drake downloads nothing: put the model's folder in GAZEBO_MODEL_PATH "
+                "or a --workspace folder and include it as model://NAME"
+            )
+        if uri.startswith("model://"):
+            name = uri[len("model://") :].strip("/").split("/")[0]
+            if name in GAZEBO_BUILTIN_MODELS:
+                return None
+            try:
+                return self.workspace.model(name, needed_by=where)
+            except MissingPackageError as e:
+                # One line that also says where Gazebo would have found it.
+                e.args = (
+                    f"{e.args[0]}; Gazebo 9 downloads a model no folder has from its online model "
+                    f"database ({ONLINE_DATABASE}); omtp-drake downloads nothing",
+                )
+                raise
+        path = Path(uri[len("file://") :] if uri.startswith("file://") else uri)
+        if not path.is_absolute():
+            path = self.doc.path.parent / path
+        if not path.is_dir():
+            raise WorkspaceError(
+                f"{where}: <include> uri {uri!r} is no model folder; valid: model://NAME, or a folder path"
+            )
+        return path
+
+
+def _not_sdf_line(element: ET.Element, where: str) -> str:
+    """sdformat's warning for an element SDF does not define under ``<world>``."""
+    tag = element.tag
+    if tag == "joint":
+        return (
+            f"{where}: XML element <joint> (name {element.get('name', '')!r}) under <world> is not an SDF "
+            "world's joint (a URDF joint?); ignored, as Gazebo does"
+        )
+    if tag.startswith("xacro:") or ":" in tag:
+        return f"{where}: XML element <{tag}> under <world> is not defined in SDF (a xacro call?); ignored"
+    return f"{where}: XML element <{tag}> under <world> is not defined in SDF; ignored"
+
+
+def _vector3(text: str | None, where: str, what: str) -> tuple[float, float, float]:
+    try:
+        values = [float(v) for v in (text or "").split()]
+    except ValueError:
+        values = []
+    if len(values) != 3 or not all(math.isfinite(v) for v in values):
+        raise WorkspaceError(f"{where}: <{what}> needs 3 finite numbers, got {(text or '').strip()!r}")
+    return values[0], values[1], values[2]
+
+
+def _positive(text: str, where: str, what: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise WorkspaceError(f"{where}: <{what}> {text.strip()!r} must be a number > 0")
+    return value
 
 
 def read_world(path: Path, workspace: Workspace) -> World:
@@ -88,52 +264,33 @@ def read_world(path: Path, workspace: Workspace) -> World:
     world = doc.root.find("world") if doc.root.tag == "sdf" else None
     if world is None:
         raise WorkspaceError(f"{path}: not a Gazebo world (an <sdf> with a <world>)")
-    out = World(path)
-    included: list[tuple[Path, Path]] = []
+    reader = _WorldReader(doc, workspace)
     for element in world:
-        where = doc.where(element)
-        if element.tag == "include":
-            model = _included(doc, element, workspace, included)
-            if model is not None:
-                out.models.append(model)
-        elif element.tag == "model":
-            pose = pose_values(element.findtext("pose"), where)
-            out.models.append(world_model(element.get("name", ""), pose, element, where))
-        elif element.tag not in IGNORED_WORLD_TAGS and element.tag != "plugin":
-            raise WorkspaceError(f"{where}: <{element.tag}> in a world is not supported")
+        reader.element(element)
+    included = reader.included
     check_with_drake([d for d, _ in included], [f for _, f in included], workspace)
-    return out
+    return reader.out
 
 
-def _included(
-    doc: XmlFile, element: ET.Element, workspace: Workspace, included: list[tuple[Path, Path]]
-) -> WorldModel | None:
-    where = doc.where(element)
-    uri = (element.findtext("uri") or "").strip()
-    if not uri.startswith("model://"):
-        raise WorkspaceError(f"{where}: <include> uri {uri!r} is not supported; valid: model://NAME")
-    name = uri[len("model://") :].strip("/")
-    if name in GAZEBO_BUILTIN_MODELS:
-        return None
-    folder = workspace.model(name, needed_by=where)
-    sdf_file = folder / _sdf_name(folder / "model.config")
-    model_doc = parse_xml(sdf_file)
-    model = model_doc.root.find("model")
-    if model is None:
-        raise WorkspaceError(f"{sdf_file}: has no <model>")
-    included.append((folder, sdf_file))
-    pose = pose_values(element.findtext("pose") or model.findtext("pose"), where)
-    placed = (element.findtext("name") or "").strip() or model.get("name", name)
-    return world_model(placed, pose, model, str(sdf_file))
-
-
-def world_model(name: str, pose: tuple[float, ...], element: ET.Element, where: str) -> WorldModel:
-    """The model ``element`` named ``name`` at ``pose`` (x y z roll pitch yaw) in world."""
+def world_model(
+    name: str,
+    pose: tuple[float, ...],
+    element: ET.Element,
+    where: str,
+    *,
+    X_WM: RigidTransform | None = None,
+    version: str = "1.6",
+    folder: Path | None = None,
+) -> WorldModel:
+    """The model ``element`` named ``name`` at ``pose`` (x y z roll pitch yaw) in world
+    (``X_WM``: the pose in world when it is relative to another frame)."""
     plugins = plugins_in(element, where)
     for link in element.iter("link"):
         plugins += plugins_in(link, where, link=link.get("name", ""))
-    X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
-    return WorldModel(name, X_WM, element, where, plugins, tuple(pose))
+    if X_WM is None:
+        X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
+    static = _is_true(element.findtext("static"))
+    return WorldModel(name, X_WM, element, where, plugins, tuple(pose), static, folder, version)
 
 
 def _sdf_name(config: Path) -> str:
@@ -183,3 +340,40 @@ def _drake_refusal(parse, workspace: Workspace) -> str | None:
     finally:
         drake_log.setLevel(level)
     return None
+
+
+def model_config(model: WorldModel, workspace: Workspace) -> ModelConfig:
+    """The world model as the scenario's typed model entry (loaded by Drake's Parser): its
+    own SDF (geometry, joints, inertia, materials, friction), named as the world names it,
+    at its pose in world, static as Gazebo has it (a static model's nested models too),
+    its relative URIs resolved next to its file."""
+    element = copy.deepcopy(model.element)
+    for pose in element.findall("pose"):
+        element.remove(pose)
+    for old in element.findall("static"):
+        element.remove(old)
+    for nested in element.iter("model") if model.static else ():
+        for old in nested.findall("static"):
+            nested.remove(old)
+        ET.SubElement(nested, "static").text = "true"
+    folder = model.folder or Path(model.where.split(":")[0]).parent
+    for uri in element.iter("uri"):
+        text = (uri.text or "").strip()
+        if text and "://" not in text and not Path(text).is_absolute():
+            uri.text = str(folder / text)
+    text = f'<sdf version="{model.version}">{ET.tostring(element, encoding="unicode")}</sdf>'
+    rpy = RollPitchYaw(model.X_WM.rotation()).vector()
+    try:
+        return model_from_text(
+            text,
+            model.where,
+            workspace,
+            name=model.name,
+            xyz=tuple(float(v) for v in model.X_WM.translation()),  # type: ignore[arg-type]
+            rpy=tuple(float(v) for v in rpy),  # type: ignore[arg-type]
+            static=model.static,
+        )
+    except ConfigError as e:
+        if isinstance(e, WorkspaceError):
+            raise
+        raise WorkspaceError(str(e)) from None

@@ -1,11 +1,12 @@
 """The course's pieces recognised in a world's models (or a spawned SDF), as the
-scenario's entries: logical cameras, the conveyor, the deletion wall.
+scenario's entries: logical cameras, the conveyor, the deletion wall; every other
+model is loaded as it is (a typed model entry, :func:`~omtp_drake.launch.sdf_world.model_config`).
 
 A model with a ROSLogicalCameraPlugin and a ``logical_camera`` sensor is a camera
 named as Gazebo names the plugin's parent (the model's name in the world), at the
 model's pose; a ROSConveyorBeltPlugin is the belt (its ``link`` must lie where the
 cell's belt lies); an ObjectDisposalPlugin is the deletion wall (where the cell's
-wall stands). Any other plugin is one warning line.
+wall stands). Any other plugin is one warning line; its model is loaded all the same.
 """
 
 from __future__ import annotations
@@ -19,7 +20,9 @@ from omtp_drake.cell.cell_models import X_W_DELETION_WALL
 from omtp_drake.cell.conveyor import BeltGeometry
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import check_deletion_wall, conveyor_power, logical_camera
-from omtp_drake.launch.sdf_world import WorldModel, sdf_pose
+from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
+from omtp_drake.scenario import ModelConfig
+from omtp_drake.workspace import Workspace
 
 _TOL = 1e-3
 #: The belt's placement tolerance (m): the course's world turns the conveyor by -1.571
@@ -33,10 +36,29 @@ class WorldPieces:
     conveyor: dict | None = None
     deletion_wall: bool = False
     warnings: list[str] = field(default_factory=list)
+    #: The models that are none of the course's pieces, as they are in their files.
+    models: list[ModelConfig] = field(default_factory=list)
+    #: The world's ``<gravity>`` (None: the cell's).
+    gravity: list[float] | None = None
 
 
-def add_world_model(pieces: WorldPieces, model: WorldModel) -> None:
-    """Adds what ``model``'s plugins make of it (see module doc)."""
+def add_world(pieces: WorldPieces, world: World, workspace: Workspace) -> None:
+    """Adds the world's models (see module doc), its gravity, and what sdformat warns about;
+    the world's physics step is noted once (the cell keeps its own)."""
+    pieces.warnings += world.warnings
+    if world.gravity is not None:
+        pieces.gravity = list(world.gravity)
+    if world.max_step_size is not None:
+        pieces.warnings.append(
+            f"{world.file}: <physics> max_step_size {world.max_step_size:g} s noted; the cell keeps its own "
+            "step (plant_config.time_step)"
+        )
+    for model in world.models:
+        add_world_model(pieces, model, workspace)
+
+
+def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace) -> None:
+    """Adds what ``model``'s plugins make of it, or the model itself (see module doc)."""
     known = False
     for plugin in model.plugins:
         kind = plugin.kind
@@ -60,9 +82,7 @@ def add_world_model(pieces: WorldPieces, model: WorldModel) -> None:
             continue
         known = True
     if not known:
-        pieces.warnings.append(
-            f"{model.where}: model {model.name!r} has none of the course's plugins; not added"
-        )
+        pieces.models.append(model_config(model, workspace))
 
 
 def _check_at(X_WA: RigidTransform, X_WC: RigidTransform, what: str, where: str) -> None:

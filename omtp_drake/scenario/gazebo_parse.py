@@ -84,9 +84,13 @@ def parse_gazebo_tags(text: str, where: str) -> GazeboExtensions:
     read = _Reader(where)
     out = GazeboExtensions()
     if root.tag == "robot":
+        links = [link.get("name", "") for link in root.findall("link")]
+        joints = {joint.get("name", "") for joint in root.findall("joint")}
         for gazebo in root.findall("gazebo"):
             reference = gazebo.get("reference", "")
-            if reference:
+            if reference and reference not in links and reference not in joints:
+                _check_unknown_reference(gazebo, reference, links, text, where)
+            elif reference:
                 _link_tags(read, gazebo, reference, out)
             for plugin in gazebo.findall("plugin"):
                 _model_plugin(read, plugin, out)
@@ -98,6 +102,37 @@ def parse_gazebo_tags(text: str, where: str) -> GazeboExtensions:
         for plugin in model.findall("plugin"):
             _model_plugin(read, plugin, out)
     return out
+
+
+def _check_unknown_reference(
+    gazebo: ET.Element, reference: str, links: list[str], text: str, where: str
+) -> None:
+    """A ``<gazebo reference>`` that names no link or joint: Gazebo's URDF reader drops it
+    without a word, so a sensor or plugin in it would silently not exist; one error naming
+    the file, the line and the links (a material or friction alone is left out, as Gazebo
+    does)."""
+    if gazebo.find("sensor") is None and gazebo.find("plugin") is None:
+        return
+    raise ConfigError(
+        f"{reference_line(where, text, reference)}: <gazebo reference={reference!r}>: no link or joint "
+        f"of that name; valid links: {', '.join(links)}"
+    )
+
+
+def reference_line(where: str, text: str, reference: str) -> str:
+    """``file:line`` of ``reference="NAME"``: in the file ``where`` when it is written there
+    (a xacro's own line), else in the expanded ``text``."""
+    needle = f'reference="{reference}"'
+    try:
+        with open(where) as f:
+            source = f.read()
+    except (OSError, UnicodeDecodeError):
+        source = ""
+    for body in (source, text):
+        index = body.find(needle)
+        if index >= 0:
+            return f"{where}:{body.count(chr(10), 0, index) + 1}"
+    return where
 
 
 def _link_tags(read: _Reader, gazebo: ET.Element, link: str, out: GazeboExtensions) -> None:
@@ -221,3 +256,24 @@ def root_name(text: str) -> Optional[str]:
         return root.get("name")
     model = root.find("model") if root.tag == "sdf" else None
     return model.get("name") if model is not None else None
+
+
+def check_masses(text: str, where: str) -> None:
+    """Each link's ``<inertial>`` mass is a finite number > 0 (URDF ``<mass value>``, SDF
+    ``<mass>``), or one ConfigError naming the file, the link and the value: sdformat
+    refuses an invalid inertia and Gazebo 9's ODE stops at a mass <= 0."""
+    root = ET.fromstring(text)
+    for link in root.iter("link"):
+        mass = link.find("inertial/mass")
+        if mass is None:
+            continue
+        value_text = (mass.get("value") if root.tag == "robot" else mass.text) or ""
+        try:
+            value = float(value_text)
+        except ValueError:
+            value = math.nan
+        if not (math.isfinite(value) and value > 0):
+            raise ConfigError(
+                f"{where}: link {link.get('name', '')!r}: inertial mass {value_text.strip()!r} must be a "
+                "finite number > 0"
+            )

@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Optional
 
 from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.scenario.gazebo_parse import description_format, parse_gazebo_tags, root_name
+from omtp_drake.scenario.gazebo_parse import check_masses, description_format, parse_gazebo_tags, root_name
 from omtp_drake.scenario.gazebo_tags import GazeboExtensions
 from omtp_drake.workspace import Workspace, expand_xacro_in
 
@@ -61,6 +61,7 @@ class ModelConfig:
         found = description_format(self.description, where)
         if found != self.format:
             raise ConfigError(f"{where}: format {self.format!r}, but the description is {found.upper()}")
+        check_masses(self.description, where)
         self.gazebo.validate(where)
 
 

@@ -70,15 +70,17 @@ class ModelView:
 
 
 def _plant_with(
-    model: ModelConfig, time_step: float = 0.0
-) -> tuple[DiagramBuilder, MultibodyPlant, SceneGraph, Any]:
+    model: ModelConfig | list[ModelConfig], time_step: float = 0.0
+) -> tuple[DiagramBuilder, MultibodyPlant, SceneGraph, dict[str, ModelInstanceIndex]]:
+    """A plant of ``model`` (or of a world's models), each fixed where its file puts it."""
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlantSceneGraph(builder, time_step=time_step)
-    fixed = dataclasses.replace(model, static=True)
-    (instance,) = add_described_models(Parser(plant), [fixed], gazebo_look=False).values()
+    models = model if isinstance(model, list) else [model]
+    fixed = [dataclasses.replace(m, static=True) for m in models]
+    instances = add_described_models(Parser(plant), fixed, gazebo_look=False)
     _add_ground_for_cameras(plant, scene_graph)
     plant.Finalize()
-    return builder, plant, scene_graph, instance
+    return builder, plant, scene_graph, instances
 
 
 def _add_ground_for_cameras(plant: MultibodyPlant, scene_graph: SceneGraph) -> None:
@@ -97,7 +99,8 @@ def _add_ground_for_cameras(plant: MultibodyPlant, scene_graph: SceneGraph) -> N
 def model_info(model: ModelConfig) -> dict[str, Any]:
     """What ``view --json`` lists: links, joints (type, parent, child, axis, limits), frames
     (each with its parent), sensors and plugins, as parsed."""
-    _, plant, _, instance = _plant_with(model)
+    _, plant, _, instances = _plant_with(model)
+    (instance,) = instances.values()
     # (not the weld that fixes the model's root for the view: it is in no file)
     joints = [plant.get_joint(j) for j in plant.GetJointIndices(instance)]
     joints = [j for j in joints if not j.name().startswith("world_welds_to_")]
@@ -273,21 +276,24 @@ def panel_gltf(pixels: np.ndarray) -> str:
 
 
 def build_model_view(
-    model: ModelConfig, meshcat: Meshcat, positions: Optional[dict[str, float]] = None
+    model: ModelConfig | list[ModelConfig], meshcat: Meshcat, positions: Optional[dict[str, float]] = None
 ) -> ModelView:
-    """``model`` in ``meshcat`` with a slider per movable joint, starting at ``positions``
-    (joint name -> position; the rest at 0, or their limit nearest 0)."""
-    builder, plant, scene_graph, instance = _plant_with(model)
+    """``model`` (or a world's models) in ``meshcat`` with a slider per movable joint,
+    starting at ``positions`` (joint name -> position; the rest at 0, or their limit nearest 0)."""
+    builder, plant, scene_graph, instances = _plant_with(model)
+    models = model if isinstance(model, list) else [model]
     MeshcatVisualizer.AddToBuilder(
         builder, scene_graph, meshcat, MeshcatVisualizerParams(role=Role.kIllustration)
     )
     cameras: dict[str, DepthCamera] = {}
-    for key, sensor in enumerate(model.gazebo.cameras()):
-        camera = add_depth_camera(builder, plant, scene_graph, instance, model.name, sensor, seed=0, key=key,
+    sensors = [(m, sensor) for m in models for sensor in m.gazebo.cameras()]
+    for key, (owner, sensor) in enumerate(sensors):
+        instance = instances[owner.name]
+        camera = add_depth_camera(builder, plant, scene_graph, instance, owner.name, sensor, seed=0, key=key,
                                   sampled=False)  # fmt: skip
         show_point_cloud(builder, meshcat, camera)
         cameras[sensor.name] = camera
-    q0 = _initial_positions(plant, instance, positions or {})
+    q0 = _initial_positions(plant, list(instances.values()), positions or {})
     _aim(meshcat, plant, q0)
     for row, camera in enumerate(cameras.values()):
         _add_panels(builder, meshcat, plant, q0, camera, row)
@@ -295,17 +301,18 @@ def build_model_view(
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
     plant.SetPositions(plant.GetMyMutableContextFromRoot(context), q0)
-    return ModelView(model, meshcat, diagram, context, plant, instance, sliders, cameras)
+    first = models[0]
+    return ModelView(first, meshcat, diagram, context, plant, instances[first.name], sliders, cameras)
 
 
 def _initial_positions(
-    plant: MultibodyPlant, instance: ModelInstanceIndex, positions: dict[str, float]
+    plant: MultibodyPlant, instances: list[ModelInstanceIndex], positions: dict[str, float]
 ) -> np.ndarray:
     q = np.clip(
         np.zeros(plant.num_positions()), plant.GetPositionLowerLimits(), plant.GetPositionUpperLimits()
     )
     movable = {}
-    for index in plant.GetJointIndices(instance):
+    for index in (j for instance in instances for j in plant.GetJointIndices(instance)):
         joint = plant.get_joint(index)
         if joint.num_positions() == 1:
             movable[joint.name()] = joint

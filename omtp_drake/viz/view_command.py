@@ -1,4 +1,5 @@
-"""``omtp-drake view FILE.urdf[.xacro]|FILE.sdf``: the model in Meshcat with joint sliders.
+"""``omtp-drake view FILE.urdf[.xacro]|FILE.sdf|FILE.world``: the model (or a Gazebo world's
+models, each where the world puts it) in Meshcat with joint sliders.
 
 Registered on the main command line by :func:`add_view_command`. ``--json`` lists what
 was parsed (:func:`omtp_drake.viz.model_view.model_info`) instead of showing it;
@@ -40,6 +41,11 @@ def view_model_config(args: argparse.Namespace) -> Any:
             args.launch += "".join(f" {shlex.quote(f'{name}:={value}')}" for name, value in args_map.items())
         return args.launch_description(args.launch, args.workspace, args.param)
     spawn = given[0]
+    if str(spawn.file).endswith(".world") and args.world_description is not None:
+        models, warnings = args.world_description(spawn.file, args.workspace)
+        for line in warnings:
+            sys.stderr.write(f"omtp-drake: warning: {line}\n")
+        return models
     return model_from_file(
         spawn.file,
         file_workspace(spawn.file, args.workspace),
@@ -64,7 +70,12 @@ def cmd_view(args: argparse.Namespace) -> int:
     if args.json is not None:
         from omtp_drake.viz.model_view import model_info
 
-        text = json.dumps(model_info(model), indent=2)
+        info = (
+            {"world": args.file, "models": [model_info(m) for m in model]}
+            if isinstance(model, list)
+            else model_info(model)
+        )
+        text = json.dumps(info, indent=2)
         if args.json == "-":
             sys.stdout.write(text + "\n")
         else:
@@ -95,10 +106,15 @@ def cmd_view(args: argparse.Namespace) -> int:
     return 0
 
 
-def add_view_command(sub: argparse._SubParsersAction, launch_description: Callable[..., Any]) -> None:
+def add_view_command(
+    sub: argparse._SubParsersAction,
+    launch_description: Callable[..., Any],
+    world_description: Callable[..., Any] | None = None,
+) -> None:
     """Registers ``omtp-drake view``; ``launch_description(spec, workspace, param)`` gives the
     model a ``--launch`` loads (:func:`omtp_drake.launch.description.launch_description`,
-    a layer above this one)."""
+    a layer above this one), ``world_description(file, workspace)`` the models of a
+    ``FILE.world`` and the lines to warn with (:func:`~omtp_drake.launch.description.world_description`)."""
     p = sub.add_parser(
         "view",
         help="show a URDF/xacro/SDF model in Meshcat, a slider per joint (rviz + joint_state_publisher_gui)",
@@ -152,4 +168,4 @@ def add_view_command(sub: argparse._SubParsersAction, launch_description: Callab
         "--position", action="append", default=[], metavar="JOINT=VALUE", help="a joint's start position"
     )
     p.add_argument("--timeout", type=float, default=math.inf, metavar="S", help="end after S wall seconds")
-    p.set_defaults(func=cmd_view, launch_description=launch_description)
+    p.set_defaults(func=cmd_view, launch_description=launch_description, world_description=world_description)
