@@ -281,7 +281,10 @@ def mesh_source(uri: str, packages: Mapping[str, str], file: str) -> tuple[Path 
 
 
 def _file_or_none(path: Path) -> Path | None:
-    return path if path.is_file() else None
+    try:
+        return path if path.is_file() else None
+    except (OSError, ValueError):  # a name no file system takes (too long, a NUL byte)
+        return None
 
 
 # ----------------------------------------------------------------------------
