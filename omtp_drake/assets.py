@@ -1,6 +1,6 @@
-"""Model files: the project's xacro sources and the classic UR arms.
+"""Model files: the project's xacro sources, any description's meshes, the classic UR arms.
 
-Two sources of models feed the factory:
+Two sources of models feed the factory, and a student's own descriptions join them:
 
 * ``models/*.xacro`` (shipped with this package): every piece of the cell built
   from primitives. They are expanded with the PyPI ``xacro`` package, without
@@ -13,6 +13,11 @@ Two sources of models feed the factory:
   once (``.stl`` -> ``.obj``, ``.dae`` -> ``.gltf``), writes a URDF whose link
   and joint names carry a prefix (``robot1_base_link``), and caches both under
   :func:`cache_dir`. Nothing converted is committed to the repository.
+* Any URDF or SDF (a student's robot, another vendor's description package):
+  :func:`drake_ready_meshes` resolves each mesh URI as ROS and Gazebo do and points
+  it at the file Drake reads (:func:`drake_mesh`: ``.stl``/``.dae``/``.glb``
+  converted once, cached by the source's content hash; the UR arms use it too); a
+  mesh nobody has is left out with one warning, as Gazebo does.
 """
 
 from __future__ import annotations
@@ -276,7 +281,10 @@ def mesh_source(uri: str, packages: Mapping[str, str], file: str) -> tuple[Path 
 
 
 def _file_or_none(path: Path) -> Path | None:
-    return path if path.is_file() else None
+    try:
+        return path if path.is_file() else None
+    except (OSError, ValueError):  # a name no file system takes (too long, a NUL byte)
+        return None
 
 
 # ----------------------------------------------------------------------------

@@ -31,6 +31,16 @@ def _hull_bounds(path: Path) -> np.ndarray:
     return np.array([vertices.min(axis=0), vertices.max(axis=0)])
 
 
+def _collision_count(root: ET.Element, format: str) -> int:
+    """How many collision geometries Drake's parser makes of ``root``."""
+    plant = MultibodyPlant(0.0)
+    scene_graph = SceneGraph()  # kept alive while the plant uses it
+    plant.RegisterAsSourceForSceneGraph(scene_graph)
+    Parser(plant).AddModelsFromString(ET.tostring(root, encoding="unicode"), format)
+    plant.Finalize()
+    return plant.num_collision_geometries()
+
+
 def test_a_dae_visual_stands_in_drake_as_gazebo_shows_it():
     src = MESHES / "visual" / "link1.dae"
     gltf = drake_mesh(src, collision=False)
@@ -97,12 +107,7 @@ def test_uris_resolve_and_a_missing_mesh_is_left_out_with_one_warning(caplog):
     assert hydro.find(f"geometry/mesh/{DRAKE}declare_convex") is None
     for mesh in link.iter("mesh"):
         assert mesh.get("filename").startswith("file:///") and Path(mesh.get("filename")[7:]).is_file()
-    plant = MultibodyPlant(0.0)
-    scene_graph = SceneGraph()
-    plant.RegisterAsSourceForSceneGraph(scene_graph)
-    Parser(plant).AddModelsFromString(ET.tostring(root, encoding="unicode"), "urdf")
-    plant.Finalize()
-    assert plant.num_collision_geometries() == 2
+    assert _collision_count(root, "urdf") == 2
 
 
 def test_an_sdf_model_uri_becomes_the_converted_file(tmp_path):
@@ -118,9 +123,4 @@ def test_an_sdf_model_uri_becomes_the_converted_file(tmp_path):
     )
     uris = [u.text for u in sdf.iter("uri")]
     assert [Path(u).suffix for u in uris] == [".gltf", ".obj"]
-    plant = MultibodyPlant(0.0)
-    scene_graph = SceneGraph()
-    plant.RegisterAsSourceForSceneGraph(scene_graph)
-    Parser(plant).AddModelsFromString(ET.tostring(sdf, encoding="unicode"), "sdf")
-    plant.Finalize()
-    assert plant.num_collision_geometries() == 1
+    assert _collision_count(sdf, "sdf") == 1
