@@ -21,6 +21,7 @@ from omtp_drake.scenario.robot_world import RobotSpawn, parse_robot
 
 ROOT = Path(__file__).resolve().parent
 TUTORIAL = ROOT / "fixtures" / "tutorial_ws" / "src"
+CATKIN = ROOT / "fixtures" / "catkin_ws" / "src"
 ROBOT = TUTORIAL / "slider_arm_description" / "urdf" / "slider_arm.urdf.xacro"
 PARSER = build_parser()
 COMMANDS = next(a for a in PARSER._actions if isinstance(a, argparse._SubParsersAction)).choices
@@ -225,3 +226,12 @@ def test_flexbe_run_calls_services_before_the_behaviour(tmp_path, capsys):
     capsys.readouterr()
     assert main([*argv, "--call", "/no_such_service", *rest]) == 2
     assert "/no_such_service" in capsys.readouterr().err
+
+
+def test_arg_reaches_the_launch_as_roslaunch_takes_it(capsys):
+    """`--arg NAME:=VALUE` with --launch is the launch's argument: an undeclared one is refused
+    as roslaunch refuses it (so the value reached the launch), naming the declared ones."""
+    launch = ["--launch", "omtp_lecture6 lecture6_assignment1.launch", "--workspace", str(CATKIN)]
+    assert main(["frames", "--arg", "nosuch:=1", *launch]) == 2
+    err = capsys.readouterr().err
+    assert "unused args [nosuch]" in err and "declared: debug, extra_gazebo_args, gui" in err
