@@ -9,6 +9,7 @@ Modules (one job each):
 - ``gazebo_models``: the cell's model instances under the names the course's Gazebo world gives them
 - ``arms``: the classic UR arms: the course's named poses, loading, position control
 - ``conveyor``: the conveyor belt and the break beam
+- ``spawned_objects``: the conveyor spawner's objects as parts: the plugin's model of each, its mesh for Drake
 - ``parts``: where parts are put (parking slots, spawn poses) and which are parked or asleep
 - ``rest_clock``: ``RestClock``: since when each part has been still (what lets it fall asleep)
 - ``frames``: frames by name, like tf: every frame of the factory and the transforms between them

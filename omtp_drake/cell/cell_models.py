@@ -25,8 +25,10 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.cell.parts import parking_pose
+from omtp_drake.cell.spawned_objects import object_part_urdf
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import RobotConfig, Scenario
+from omtp_drake.scenario.conveyor_spawner import pool_kinds
 
 #: Reference poses of the fixed pieces of the cell (world frame).
 #: The break beam's housing (its optical link, where the beam leaves, is 2.5 cm in front of
@@ -210,6 +212,16 @@ def _add_parts(parser: Parser, scenario: Scenario) -> tuple[dict[str, ModelInsta
         k += 1
         if name not in instances:
             pool.append(name)
+    objects = {o.name: o for o in scenario.spawner.objects} if scenario.spawner is not None else {}
+    kinds = pool_kinds(scenario.spawner, scenario.seed, pool)
+    for name in pool:
+        obj = objects.get(kinds.get(name, ""))
+        if obj is not None and obj.mesh_file:
+            # The spawner plugin's model of the object this pool part is spawned as.
+            (instances[name],) = parser.AddModelsFromString(object_part_urdf(name, obj), "urdf")
+            body = plant.GetBodyByName(name, instances[name])
+            plant.SetDefaultFloatingBaseBodyPose(body, parking_pose(len(instances) - 1))
+        else:
             add(name, scenario.pool_part_size, scenario.pool_part_mass, parking_pose(len(instances)))
     return instances, pool
 

@@ -78,7 +78,11 @@ class GazeboModels:
         return [(f"{m}::{self._link_name(m, b)}", b) for m in self.names() for b in self._bodies[m]]
 
     def _link_name(self, model: str, body: Body) -> str:
-        return PART_LINK if model in self.parts else body.name()
+        if model not in self.part_of:
+            return body.name()
+        # The spawner plugin's URDF names the link after its object (``<name>_base_link``).
+        kind = self.cell.station.pool_kinds.get(self.part_of[model])
+        return f"{kind}_base_link" if kind else PART_LINK
 
     def body(self, entity: str) -> Optional[Body]:
         """The body of a model (its frame) or of a ``model::link`` in the world; None if none."""

@@ -1,10 +1,11 @@
 """``/gazebo/spawn_urdf_model``, ``/gazebo/spawn_sdf_model`` and ``/gazebo/reset_world``.
 
-The cell spawns the course's part only: the model the course's conveyor spawner
+The cell spawns the course's parts only: the model the course's conveyor spawner
 sends (``createObjectURDF``: a ``<robot>`` with one link whose visual and
-collision meshes are ``package://omtp_gazebo/meshes/conveyor_objects/box.stl``),
-as URDF, or the same link as an SDF ``<model>``. It becomes the next parked part
-of the scenario's pool, named as asked, at ``initial_pose`` in
+collision meshes are ``package://omtp_gazebo/meshes/conveyor_objects/box.stl``, or
+the ``mesh_resource`` of one of the scenario's spawner objects), as URDF, or the same
+link as an SDF ``<model>``. It becomes the next parked part of the scenario's pool
+(one built as that object), named as asked, at ``initial_pose`` in
 ``reference_frame``. Any other model XML raises one NotSupportedError saying
 what is supported. ``spawn_urdf_model`` refuses XML that is no URDF, as Gazebo
 does (the call fails: ServiceException).
@@ -17,7 +18,7 @@ from __future__ import annotations
 
 import logging
 import xml.etree.ElementTree as ET
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
@@ -54,8 +55,28 @@ def place_part(cell: Cell, part: str, X_WP: RigidTransform, v: Any = (0, 0, 0), 
     )
 
 
-def model_xml_problem(xml: str) -> Optional[str]:
-    """None when ``xml`` is the course's part (URDF or SDF); else what it is instead."""
+def part_meshes(cell: Cell) -> dict[str, Optional[str]]:
+    """mesh URI -> the spawner's object it is (None: the course's box of the built-in
+    scenarios), the meshes a spawn service takes."""
+    spawner = cell.scenario.spawner
+    objects: dict[str, Optional[str]] = {}
+    for obj in spawner.objects if spawner is not None else []:
+        objects[obj.mesh_resource] = obj.name
+    return objects or {COURSE_PART_MESH: None}
+
+
+def model_mesh(xml: str) -> str:
+    """The mesh URI of a model :func:`model_xml_problem` accepted."""
+    root = ET.fromstring(xml.strip())
+    uris = [m.get("filename", "") for m in root.iter("mesh")] + [
+        (u.text or "").strip() for u in root.iter("uri")
+    ]
+    return next(u for u in uris if u)
+
+
+def model_xml_problem(xml: str, allowed: Collection[str] = (COURSE_PART_MESH,)) -> Optional[str]:
+    """None when ``xml`` is a part (URDF or SDF) of one link whose meshes are one of
+    ``allowed``; else what it is instead."""
     try:
         root = ET.fromstring(xml.strip())
     except ET.ParseError as e:
@@ -69,7 +90,7 @@ def model_xml_problem(xml: str) -> Optional[str]:
     else:
         return f"a <{root.tag}> document"
     shapes = sorted({c.tag for g in root.iter("geometry") for c in g})
-    if len(links) != 1 or not meshes or any(m != COURSE_PART_MESH for m in meshes):
+    if len(links) != 1 or not meshes or len(set(meshes)) != 1 or meshes[0] not in allowed:
         what = ", ".join(sorted(set(meshes))) or "shapes " + (", ".join(shapes) or "none")
         return f"a <{root.tag}> model with {len(links)} link(s) and meshes {what}"
     return None
@@ -92,13 +113,15 @@ class PartSpawner:
         response: Any = SpawnModel._response_class()
         if service.endswith("urdf_model") and "<robot" not in request.model_xml:
             raise ServiceFailure("SpawnModel: Failure - entity format is invalid.")
-        problem = model_xml_problem(request.model_xml)
+        kinds = part_meshes(self.cell)
+        problem = model_xml_problem(request.model_xml, kinds)
         if problem is not None:
             raise NotSupportedError(
-                f"{service}: this cell spawns the course's part only: a URDF <robot> (or SDF <model>) "
-                f"with one link whose meshes are {COURSE_PART_MESH}, as the course's conveyor spawner "
-                f"sends; got {problem}"
+                f"{service}: this cell spawns the course's parts only: a URDF <robot> (or SDF <model>) "
+                f"with one link whose meshes are one of {', '.join(kinds)}, as the course's conveyor "
+                f"spawner sends; got {problem}"
             )
+        kind = kinds[model_mesh(request.model_xml)]
         models = self.models
         if request.model_name in models.names():
             _log.error("SpawnModel: Failure - model name %s already exist.", request.model_name)
@@ -114,7 +137,7 @@ class PartSpawner:
         pool = self.cell.runtime.pool
         index = pool.spawn_count
         try:
-            part = pool.spawn(self.cell.runtime.context, X_WP)
+            part = pool.spawn(self.cell.runtime.context, X_WP, kind)
         except OmtpError as e:
             response.status_message = f"SpawnModel: Failure - {e}"
             return response
@@ -134,6 +157,9 @@ class PartSpawner:
         if index in self._given:
             return self._given[index]
         # A pool part spawned without a pose came from the scenario's spawner.
+        event = [e for e in self.cell.runtime.pool.events if e.event == "spawn"][index]
+        if event.pose is not None:
+            return event.pose
         spawner = self.cell.scenario.spawner or SpawnerConfig()
         return spawn_pose(spawner, self.cell.scenario.seed, index)
 
