@@ -144,7 +144,7 @@ def test_a_model_from_gazebos_online_database_is_one_error_naming_the_uri_and_fo
         (
             "<mass>0.5</mass>",
             "<mass>-0.5</mass>",
-            "table_cube.world:22: link 'link': inertial mass '-0.5' must be",
+            "table_cube.world:22: link 'link': inertial mass '-0.5' must be 1 finite number > 0",
         ),
         ("<pose>-3 3 1.2 0 0 0.3</pose>", '<pose relative_to="tabel">0 0 1.2 0 0 0</pose>', "no such model"),
     ],
@@ -217,3 +217,68 @@ def test_view_of_a_world_shows_the_table_and_the_cube(tmp_path):
     assert blue.sum() > 200 and brown.sum() > 2000
     # The cube is above the table top in the picture.
     assert np.nonzero(blue)[0].mean() < np.nonzero(brown)[0].mean()
+
+
+def test_a_value_libsdformat_cannot_read_in_an_included_model_is_one_error(tmp_path):
+    # Found by bench/bench_world_fuzz.py: Drake logs libsdformat's "Unable to set value"
+    # and goes on with the default pose; Gazebo's sdformat refuses the model.
+    src = tmp_path / "src"
+    shutil.copytree(WORLD_WS, src)
+    sdf = src / "my_cell" / "models" / "work_table" / "model.sdf"
+    sdf.write_text(sdf.read_text().replace("<pose>0.55 0.35 0 0 0 0</pose>", "<pose>abc 0.35 0 0 0 0</pose>"))
+    with pytest.raises(WorkspaceError) as e:
+        own_cell(world=src / "my_cell" / "worlds" / "table_cube.world", workspace=[src], environ={})
+    assert f"{sdf}: Drake's SDF parser refuses it" in str(e.value) and "model.sdf:18" in str(e.value)
+    assert "\n" not in str(e.value)
+
+
+def test_a_xacro_error_of_several_lines_is_one_line(tmp_path):
+    # Found by bench/bench_world_fuzz.py: xacro's "name ... is not defined" runs on over
+    # two lines.
+    src = tmp_path / "src"
+    shutil.copytree(WORLD_WS, src)
+    xacro_file = src / "my_cell" / "urdf" / "shelf.urdf.xacro"
+    xacro_file.write_text(xacro_file.read_text().replace('name="board_height"', 'name="board_height_typo"'))
+    with pytest.raises(WorkspaceError) as e:
+        own_cell("my_cell shelf.launch", workspace=[src], environ={})
+    assert str(e.value) == (
+        f"{xacro_file}: xacro error: name 'board_height' is not defined when evaluating expression "
+        "'board_height'"
+    )
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "expected"),
+    [  # found by bench/bench_world_fuzz.py: Drake's URDF parser takes these, Gazebo's refuse them
+        (
+            '<box size="0.1 0.1 0.1"/>',
+            '<box size="abc 0.1 0.1"/>',
+            "'box_link': box size 'abc 0.1 0.1' must",
+        ),
+        ('<box size="0.1 0.1 0.1"/>', '<box size="inf 0.1 0.1"/>', "box size 'inf 0.1 0.1' must be 3 finite"),
+        ('ixx="0.0005"', 'ixx="-1"', "link 'box_link': inertia ixx '-1' must be 1 finite number >= 0"),
+        ('<mass value="0.3"/>', '<mass value="nan"/>', "inertial mass 'nan' must be 1 finite number > 0"),
+        ("<visual>", '<visual><origin xyz="0 nan 0"/>', "origin xyz '0 nan 0' must be 3 finite numbers"),
+    ],
+)
+def test_a_spawned_urdfs_bad_numbers_are_one_error(tmp_path, old, new, expected):
+    src = tmp_path / "src"
+    shutil.copytree(WORLD_WS, src)
+    urdf = src / "my_cell" / "urdf" / "box.urdf"
+    text = urdf.read_text()
+    assert old in text
+    urdf.write_text(text.replace(old, new, 1))
+    with pytest.raises(WorkspaceError) as e:
+        own_cell("my_cell shelf.launch", workspace=[src], environ={})
+    assert expected in str(e.value) and str(urdf) in str(e.value) and "\n" not in str(e.value)
+
+
+def test_an_included_models_bad_sdf_version_is_one_error(tmp_path):
+    # Found by bench/bench_world_fuzz.py: libsdformat's stoi of the version was a ValueError.
+    src = tmp_path / "src"
+    shutil.copytree(WORLD_WS, src)
+    sdf = src / "my_cell" / "models" / "work_table" / "model.sdf"
+    sdf.write_text(sdf.read_text().replace('<sdf version="1.6">', '<sdf version="abc">'))
+    with pytest.raises(WorkspaceError) as e:
+        own_cell(world=src / "my_cell" / "worlds" / "table_cube.world", workspace=[src], environ={})
+    assert str(e.value) == f"{sdf}:2: <sdf version='abc'> is not an SDF version (e.g. 1.6)"

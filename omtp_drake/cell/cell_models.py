@@ -22,12 +22,12 @@ from pydrake.systems.framework import Diagram
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell import arms
-from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.cell.parts import parking_pose
 from omtp_drake.cell.spawned_objects import object_part_urdf
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import RobotConfig, Scenario
+from omtp_drake.scenario.configs import pose6
 from omtp_drake.scenario.conveyor_spawner import pool_kinds
 
 #: Reference poses of the fixed pieces of the cell (world frame).
@@ -169,17 +169,19 @@ def _add_fixtures(parser: Parser, scenario: Scenario) -> Optional[ModelInstanceI
     conveyor = None
     if scenario.conveyor is not None:
         conveyor = _add_xacro(parser, "conveyor.urdf.xacro")
-        _weld(plant, "conveyor_base", X_W_CONVEYOR)
+        _weld(plant, "conveyor_base", scenario.conveyor.X_WF())
         for index in plant.GetJointActuatorIndices():
             actuator = plant.get_joint_actuator(index)
             if actuator.model_instance() == conveyor:
                 actuator.set_controller_gains(PdControllerGains(p=0.0, d=_BELT_KD))
     if scenario.break_beam:
         _add_xacro(parser, "break_beam.urdf.xacro")
-        _weld(plant, "break_beam_base_link", X_W_BREAK_BEAM)
+        moved = scenario.break_beam_pose
+        _weld(plant, "break_beam_base_link", pose6(moved) if moved else X_W_BREAK_BEAM)
     if scenario.deletion_wall:
         _add_xacro(parser, "deletion_wall.urdf.xacro")
-        _weld(plant, "deletion_wall", X_W_DELETION_WALL)
+        moved = scenario.deletion_wall_pose
+        _weld(plant, "deletion_wall", pose6(moved) if moved else X_W_DELETION_WALL)
     return conveyor
 
 

@@ -26,13 +26,15 @@ from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.parts import free_body_q_indices
 from omtp_drake.errors import ConfigError
+from omtp_drake.scenario.configs import ConveyorConfig
 
 #: Belt speed at power 100 (m/s), toward world -y.
 MAX_SPEED = 0.2
 #: The belt surface may travel this far (m) before the driver shifts it back.
 WRAP_TRAVEL = 0.5
-#: ``X_WF`` of the conveyor's base frame: on the floor, on the belt's centre line.
-X_W_CONVEYOR = RigidTransform([1.2, 0.0, 0.0])
+#: ``X_WF`` of the conveyor's base frame where the course has it: on the floor, on the
+#: belt's centre line (a scenario may move it: ``ConveyorConfig.xyz``/``yaw``).
+X_W_CONVEYOR = ConveyorConfig().X_WF()
 
 
 def belt_desired_state(power: float) -> list[float]:
@@ -43,36 +45,35 @@ def belt_desired_state(power: float) -> list[float]:
 
 @dataclass(frozen=True)
 class BeltGeometry:
-    """Where the drawn belt is in world, from ``models/conveyor.urdf.xacro``."""
+    """Where the drawn belt is, from ``models/conveyor.urdf.xacro`` placed at ``X_WF`` (its
+    base frame F: the belt's centre line runs along F's y, its parts move toward F's -y)."""
 
-    #: World x of the centre line, half the width (m).
-    x: float
+    #: Half the belt's width and length (m), in F.
     half_width: float
-    #: World y range (m) of the drawn belt.
-    y_min: float
-    y_max: float
-    #: World height (m) of the top surface.
+    half_length: float
+    #: World height (m) of the top surface (F is level).
     top: float
+    X_WF: RigidTransform = X_W_CONVEYOR
 
     @classmethod
-    def from_model(cls) -> BeltGeometry:
+    def from_model(cls, X_WF: RigidTransform = X_W_CONVEYOR) -> BeltGeometry:
         d = model_dimensions("conveyor.urdf.xacro")
-        p = X_W_CONVEYOR.translation()
-        return cls(
-            x=float(p[0]),
-            half_width=d["width"] / 2,
-            y_min=float(p[1]) - d["length"] / 2,
-            y_max=float(p[1]) + d["length"] / 2,
-            top=float(p[2]) + d["top"],
-        )
+        return cls(d["width"] / 2, d["length"] / 2, float(X_WF.translation()[2]) + d["top"], X_WF)
+
+    @property
+    def centre(self) -> np.ndarray:
+        """The belt's centre line's middle, in world (x, y)."""
+        return self.X_WF.translation()[:2].copy()
+
+    @property
+    def direction(self) -> np.ndarray:
+        """The way parts ride (world, unit): F's -y."""
+        return -self.X_WF.rotation().col(1)
 
     def over(self, p_W: np.ndarray) -> bool:
         """Is the world point over the belt (within its footprint, above its top)?"""
-        return bool(
-            abs(p_W[0] - self.x) <= self.half_width
-            and self.y_min <= p_W[1] <= self.y_max
-            and p_W[2] > self.top
-        )
+        p_F = self.X_WF.inverse() @ np.asarray(p_W, dtype=float)
+        return bool(abs(p_F[0]) <= self.half_width and abs(p_F[1]) <= self.half_length and p_W[2] > self.top)
 
 
 def check_power(power: float) -> float:

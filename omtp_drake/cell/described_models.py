@@ -12,8 +12,10 @@ rviz does) the URDF's own colours stay. Every link becomes a body, hence a tf fr
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import xml.etree.ElementTree as ET
+from collections.abc import Iterator
 from typing import Optional
 
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -70,10 +72,13 @@ def add_described_models(
             if not package_map.Contains(name):
                 package_map.Add(name, folder)
         try:
-            added = model_parser.AddModelsFromString(text, model.format)
-        except RuntimeError as e:
+            with drake_errors() as errors:
+                added = model_parser.AddModelsFromString(text, model.format)
+        except (RuntimeError, ValueError) as e:  # (libsdformat's stoi of a bad version: ValueError)
             first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
             raise WorkspaceError(f"{model.file}: Drake's parser refuses it: {first}") from None
+        if errors:
+            raise WorkspaceError(f"{model.file}: Drake's parser refuses it: {errors[0]}")
         # An SDF model's nested models are instances of their own (``model::nested``).
         tops = [i for i in added if plant.GetModelInstanceName(i) == model.name]
         if len(tops) != 1:
@@ -83,6 +88,30 @@ def add_described_models(
         _place(plant, model, instance)
         _add_model_frame(plant, model, instance)
     return instances
+
+
+@contextlib.contextmanager
+def drake_errors() -> Iterator[list[str]]:
+    """The first lines of the errors Drake logs (and does not raise) while the block runs,
+    kept from the log (they become the caller's one error line):
+    libsdformat's "Unable to set value [abc ...] for key [pose]" is logged and the element
+    left at its default, where Gazebo's sdformat refuses the file."""
+    found: list[str] = []
+
+    def collect(record: logging.LogRecord) -> bool:
+        """Keeps an error (the caller raises it as one line); lets the rest through."""
+        if record.levelno < logging.ERROR:
+            return True
+        text = record.getMessage().strip()
+        found.append(text.splitlines()[0] if text else "an error")
+        return False
+
+    drake_log = logging.getLogger("drake")
+    drake_log.addFilter(collect)
+    try:
+        yield found
+    finally:
+        drake_log.removeFilter(collect)
 
 
 def model_pose(model: ModelConfig) -> RigidTransform:

@@ -40,6 +40,8 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.tree import ModelInstanceIndex
 
+from omtp_drake.cell.conveyor import X_W_CONVEYOR
+
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
 
@@ -134,8 +136,11 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
                 "workcell_", (instance,), RigidTransform(), box_W=WORKCELL_BOX_W
             )
         elif name == "conveyor":
+            # A moved conveyor's model moves with its base frame.
+            X_WF = scenario.conveyor.X_WF() if scenario.conveyor is not None else X_W_CONVEYOR
+            X_WM = X_WF @ X_W_CONVEYOR.inverse() @ X_W_CONVEYOR_BELT_MODEL
             by_name["conveyor_belt"] = GazeboModel(
-                "conveyor_belt", (instance,), X_W_CONVEYOR_BELT_MODEL, CONVEYOR_NESTED, own_links=False
+                "conveyor_belt", (instance,), X_WM, CONVEYOR_NESTED, own_links=False
             )
         else:
             by_name[name] = GazeboModel(name, (instance,))

@@ -134,7 +134,8 @@ class Station:
     @functools.cached_property
     def belt(self) -> Optional[BeltGeometry]:
         """Where the belt is (None without a conveyor)."""
-        return BeltGeometry.from_model() if self.conveyor is not None else None
+        conveyor = self.scenario.conveyor
+        return BeltGeometry.from_model(conveyor.X_WF()) if conveyor is not None else None
 
     # ------------------------------------------------------------------ contexts
 

@@ -41,7 +41,7 @@ from omtp_drake.cell.conveyor import BeltGeometry
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.pieces import Pieces, add_urdf_model
 from omtp_drake.launch.roslaunch import Launch, Node, get_param
-from omtp_drake.launch.sdf_world import read_world, world_model
+from omtp_drake.launch.sdf_world import read_world, sdf_version, world_model
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.launch.world_pieces import WorldPieces, add_world_model
 from omtp_drake.launch.world_pieces import add_world as add_world_pieces
@@ -235,11 +235,12 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
             out.world.models.append(_own_model(text, source, workspace, name, pose))
         out.placed[name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(joints).items()}
     else:
-        root = parse_xml(Path(source), text).root
+        doc = parse_xml(Path(source), text)
+        root = doc.root
         model = root.find("model")
         if model is None:
             raise WorkspaceError(f"{source}: has no <model>")
-        version = root.get("version", "1.6")
+        version = sdf_version(doc)
         spawned = world_model(name, tuple(pose), model, source, version=version, folder=folder)
         add_world_model(out.world, spawned, workspace)
 

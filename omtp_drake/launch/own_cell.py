@@ -150,6 +150,10 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
         document["models"] = [dataclasses.asdict(model) for model in world.models]
     if world.gravity is not None:
         document["gravity"] = world.gravity
+    if pieces.break_beam_pose:
+        document["break_beam_pose"] = pieces.break_beam_pose
+    if world.deletion_wall_pose:
+        document["deletion_wall_pose"] = world.deletion_wall_pose
     if world.conveyor is not None:
         document["conveyor"] = {**world.conveyor, "stop_on_beam": mapping.stop_on_beam}
     elif mapping.stop_on_beam:

@@ -9,7 +9,8 @@ by the link names the course's macros give (``omtp_support``'s ``robot_system``,
   ``<g>base_link`` and ``<g>suction_cup`` on its ``tool0`` with a ROSVacuumGripperPlugin;
 - a pedestal: ``<prefix>pedestal_link`` (a box; its height);
 - a bin: ``<prefix>base_link`` with ``<prefix>drop_point``;
-- the break beam: ``<prefix>optical_link`` with a ray sensor and a ROSProximityRayPlugin;
+- the break beam: ``<prefix>optical_link`` with a ray sensor and a ROSProximityRayPlugin
+  (where the course has it, or where the student moved it: it senses there);
 - the workcell (the conveyor's frame and the floor's meshes): a link ``workcell``.
 
 Every other model is loaded as it is (a typed model entry of the scenario: its own
@@ -47,6 +48,8 @@ class Pieces:
     pedestals: dict[str, tuple[np.ndarray, float, str]] = field(default_factory=dict)
     bins: list[dict] = field(default_factory=list)
     break_beam: bool = False
+    #: Where the student moved the break beam's base (empty: the course's pose).
+    break_beam_pose: list[float] = field(default_factory=list)
     suction_checks: int | None = None
     warnings: list[str] = field(default_factory=list)
     #: The spawned URDF models and where they were placed (their links are tf frames).
@@ -187,17 +190,14 @@ def _add_break_beam(pieces: Pieces, model: UrdfModel, link: str, X_WO: RigidTran
         return
     for plugin in beams:
         check_break_beam(plugin)
-    X_WC = X_W_BREAK_BEAM @ RigidTransform(
-        [model_dimensions("break_beam.urdf.xacro")["optical_offset"], 0, 0]
-    )
-    p_error = float(np.linalg.norm(X_WO.translation() - X_WC.translation()))
-    angle = float(abs((X_WO.rotation().inverse() @ X_WC.rotation()).ToAngleAxis().angle()))
-    if p_error > _TOL or angle > _TOL:
-        raise WorkspaceError(
-            f"{where}: the break beam's {link} is at {np.round(X_WO.translation(), 4).tolist()}; "
-            f"the cell's beam leaves {np.round(X_WC.translation(), 4).tolist()} along world "
-            f"{np.round(X_WC.rotation().col(0), 3).tolist()} (moving it is not supported)"
-        )
+    # The cell's beam leaves its optical link along +x, an offset along x from its base.
+    X_BO = RigidTransform([model_dimensions("break_beam.urdf.xacro")["optical_offset"], 0, 0])
+    X_WB = X_WO @ X_BO.inverse()
+    p_error = float(np.linalg.norm(X_WB.translation() - X_W_BREAK_BEAM.translation()))
+    angle = float(abs((X_WB.rotation().inverse() @ X_W_BREAK_BEAM.rotation()).ToAngleAxis().angle()))
+    if p_error > _TOL or angle > _TOL:  # the student moved it: it senses where it now stands
+        xyz, rpy = X_WB.translation(), RollPitchYaw(X_WB.rotation()).vector()
+        pieces.break_beam_pose = [round(float(v), 9) for v in [*xyz, *rpy]]
     pieces.break_beam = True
 
 

@@ -23,12 +23,14 @@ from __future__ import annotations
 import copy
 import logging
 import math
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from pydrake.math import RigidTransform, RollPitchYaw
 
+from omtp_drake.cell.described_models import drake_errors
 from omtp_drake.errors import ConfigError, MissingPackageError, WorkspaceError
 from omtp_drake.launch.plugins import GazeboPlugin, plugins_in
 from omtp_drake.launch.xml_lines import XmlFile, parse_xml
@@ -123,7 +125,7 @@ class _WorldReader:
         self.doc = doc
         self.workspace = workspace
         self.out = World(doc.path)
-        self.version = doc.root.get("version", "1.6")
+        self.version = sdf_version(doc)
         #: Poses in world of the models and frames read so far (``relative_to`` targets).
         self.frames: dict[str, RigidTransform] = {"world": RigidTransform()}
         self.included: list[tuple[Path, Path]] = []
@@ -188,7 +190,7 @@ class _WorldReader:
             X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
         placed = (element.findtext("name") or "").strip() or model.get("name", folder.name)
         static = element.findtext("static")
-        version = model_doc.root.get("version", "1.6")
+        version = sdf_version(model_doc)
         found = world_model(placed, pose, model, str(sdf_file), X_WM=X_WM, version=version, folder=folder)
         if static is not None:
             found.static = _is_true(static)
@@ -223,6 +225,16 @@ class _WorldReader:
                 f"{where}: <include> uri {uri!r} is no model folder; valid: model://NAME, or a folder path"
             )
         return path
+
+
+def sdf_version(doc: XmlFile) -> str:
+    """The ``<sdf version>`` of a file (``MAJOR.MINOR``), as sdformat requires it."""
+    version = doc.root.get("version", "1.6").strip()
+    if not re.fullmatch(r"\d+\.\d+", version):
+        raise WorkspaceError(
+            f"{doc.where(doc.root)}: <sdf version={version!r}> is not an SDF version (e.g. 1.6)"
+        )
+    return version
 
 
 def _not_sdf_line(element: ET.Element, where: str) -> str:
@@ -334,12 +346,13 @@ def _drake_refusal(parse, workspace: Workspace) -> str | None:
     level = drake_log.level
     drake_log.setLevel(max(level, logging.ERROR))
     try:
-        parse(parser)
-    except RuntimeError as e:
+        with drake_errors() as errors:
+            parse(parser)
+    except (RuntimeError, ValueError) as e:  # (libsdformat's stoi of a bad version: ValueError)
         return str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
     finally:
         drake_log.setLevel(level)
-    return None
+    return errors[0] if errors else None
 
 
 def model_config(model: WorldModel, workspace: Workspace) -> ModelConfig:

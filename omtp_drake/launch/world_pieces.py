@@ -4,9 +4,10 @@ model is loaded as it is (a typed model entry, :func:`~omtp_drake.launch.sdf_wor
 
 A model with a ROSLogicalCameraPlugin and a ``logical_camera`` sensor is a camera
 named as Gazebo names the plugin's parent (the model's name in the world), at the
-model's pose; a ROSConveyorBeltPlugin is the belt (its ``link`` must lie where the
-cell's belt lies); an ObjectDisposalPlugin is the deletion wall (where the cell's
-wall stands). Any other plugin is one warning line; its model is loaded all the same.
+model's pose; a ROSConveyorBeltPlugin is the belt (the conveyor stands where its
+``link`` puts it: the course's place, or where the student moved and turned it); an
+ObjectDisposalPlugin is the deletion wall (where the model stands). Any other plugin is
+one warning line; its model is loaded all the same.
 """
 
 from __future__ import annotations
@@ -14,10 +15,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.cell.cell_models import X_W_DELETION_WALL
-from omtp_drake.cell.conveyor import BeltGeometry
+from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import check_deletion_wall, conveyor_power, logical_camera
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
@@ -38,6 +39,8 @@ class WorldPieces:
     warnings: list[str] = field(default_factory=list)
     #: The models that are none of the course's pieces, as they are in their files.
     models: list[ModelConfig] = field(default_factory=list)
+    #: Where the student moved the deletion wall (empty: the course's pose).
+    deletion_wall_pose: list[float] = field(default_factory=list)
     #: The world's ``<gravity>`` (None: the cell's).
     gravity: list[float] | None = None
 
@@ -71,11 +74,15 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             xyz, rpy = model.pose[:3], model.pose[3:]
             pieces.cameras.append(logical_camera(plugin, sensors[0], model.name, xyz, rpy))
         elif kind == "conveyor":
-            _check_belt(model, plugin.text("link", "") or "", plugin.where)
+            X_WF = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
             pieces.conveyor = {"power": conveyor_power(plugin)}
+            if X_WF is not X_W_CONVEYOR:
+                pose = pose_list(X_WF)
+                pieces.conveyor.update(xyz=pose[:3], yaw=pose[5])
         elif kind == "deletion_wall":
             check_deletion_wall(plugin)
-            _check_at(model.X_WM, X_W_DELETION_WALL, "deletion wall", plugin.where)
+            if _moved(model.X_WM, X_W_DELETION_WALL):
+                pieces.deletion_wall_pose = pose_list(model.X_WM)
             pieces.deletion_wall = True
         else:
             pieces.warnings.append(plugin.unknown_line())
@@ -85,18 +92,23 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
         pieces.models.append(model_config(model, workspace))
 
 
-def _check_at(X_WA: RigidTransform, X_WC: RigidTransform, what: str, where: str) -> None:
+def _moved(X_WA: RigidTransform, X_WC: RigidTransform, tol: float = _TOL) -> bool:
+    """Whether ``X_WA`` is away from the course's ``X_WC`` (beyond ``tol``, m and rad)."""
     p_error = float(np.linalg.norm(X_WA.translation() - X_WC.translation()))
     angle = abs((X_WA.rotation().inverse() @ X_WC.rotation()).ToAngleAxis().angle())
-    if p_error > _TOL or angle > _TOL:
-        raise WorkspaceError(
-            f"{where}: the {what} is at {np.round(X_WA.translation(), 4).tolist()}; the cell's {what} is "
-            f"fixed at {X_WC.translation().tolist()} (moving it is not supported)"
-        )
+    return p_error > tol or angle > tol
 
 
-def _check_belt(model: WorldModel, link_path: str, where: str) -> None:
-    """The plugin's belt link (``model::nested::link``) lies on the cell's belt."""
+def pose_list(X: RigidTransform) -> list[float]:
+    """``x y z roll pitch yaw`` of ``X`` (rounded to a nanometre, as the scenario's frames)."""
+    values = [*X.translation(), *RollPitchYaw(X.rotation()).vector()]
+    return [round(float(v), 9) for v in values]
+
+
+def _belt_pose(model: WorldModel, link_path: str, where: str) -> RigidTransform:
+    """``X_WF`` of the conveyor base frame the plugin's belt link (``model::nested::link``)
+    puts in world: where the course has it (within 5 mm: the course's world turns the
+    conveyor by -1.571, not -pi/2), or where the student moved it, level on the floor."""
     names = link_path.split("::")[1:] if "::" in link_path else [link_path]
     element, X = model.element, model.X_WM
     for name in names[:-1]:
@@ -108,12 +120,14 @@ def _check_belt(model: WorldModel, link_path: str, where: str) -> None:
     link = element.find(f"link[@name='{names[-1]}']")
     if link is None:
         raise WorkspaceError(f"{where}: ROSConveyorBeltPlugin link {link_path!r} is not in the model")
-    X = X @ sdf_pose(link.findtext("pose"), where)
-    belt = BeltGeometry.from_model()
-    centre = np.array([belt.x, (belt.y_min + belt.y_max) / 2])
-    along_y = abs(abs(float(X.rotation().col(0)[1])) - 1.0) < _TOL
-    if float(np.linalg.norm(X.translation()[:2] - centre)) > _BELT_TOL or not along_y:
+    X_WL = X @ sdf_pose(link.findtext("pose"), where)
+    # The belt link's x axis is the way parts ride: F's -y (F turned a quarter from it).
+    roll, pitch, yaw = RollPitchYaw(X_WL.rotation()).vector()
+    if abs(roll) > _TOL or abs(pitch) > _TOL:
         raise WorkspaceError(
-            f"{where}: the belt's link is at {np.round(X.translation()[:2], 4).tolist()}; the cell's belt "
-            f"runs along world y through {centre.tolist()} (moving it is not supported)"
+            f"{where}: the belt's link is tilted (roll {roll:.4f}, pitch {pitch:.4f}); the cell stands "
+            "the conveyor level on the floor"
         )
+    p = X_WL.translation()
+    X_WF = RigidTransform(RollPitchYaw(0.0, 0.0, yaw + np.pi / 2), [p[0], p[1], 0.0])
+    return X_W_CONVEYOR if not _moved(X_WF, X_W_CONVEYOR, _BELT_TOL) else X_WF

@@ -167,16 +167,39 @@ class PartConfig:
 
 @dataclass
 class ConveyorConfig:
-    """The conveyor belt (always at the reference pose)."""
+    """The conveyor belt: its power, and where it stands (the course's pose by default;
+    a student may move and turn it: its belt then runs along its new axis)."""
 
     #: Initial power in percent, 0...100 (belt speed = 0.2 m/s x power / 100).
     power: float = 0.0
     #: The course's helper: set the power to 0 when the break beam becomes broken.
     stop_on_beam: bool = False
+    #: The conveyor's base frame on the floor: the centre of the belt's line (m), and its
+    #: turn about world z (rad); at yaw 0 the belt runs toward world -y.
+    xyz: list[float] = field(default_factory=lambda: [1.2, 0.0, 0.0])
+    yaw: float = 0.0
 
     def validate(self) -> None:
         if not 0 <= self.power <= 100:
             raise ConfigError(f"conveyor.power must be in [0, 100], got {self.power}")
+        check_len("conveyor.xyz", self.xyz, 3)
+        check_in_cell("conveyor.xyz", self.xyz)
+
+    def X_WF(self) -> RigidTransform:
+        """The conveyor's base frame F in world."""
+        return RigidTransform(RollPitchYaw(0.0, 0.0, self.yaw), self.xyz)
+
+
+def check_pose6(what: str, pose: list[float]) -> None:
+    """An optional ``x y z roll pitch yaw`` (empty: the course's pose), in the cell."""
+    if pose:
+        check_len(what, pose, 6)
+        check_in_cell(what, pose[:3])
+
+
+def pose6(pose: list[float]) -> RigidTransform:
+    """``x y z roll pitch yaw`` as a transform."""
+    return RigidTransform(RollPitchYaw(pose[3:6]), pose[:3])
 
 
 @dataclass

@@ -259,21 +259,72 @@ def root_name(text: str) -> Optional[str]:
 
 
 def check_masses(text: str, where: str) -> None:
-    """Each link's ``<inertial>`` mass is a finite number > 0 (URDF ``<mass value>``, SDF
-    ``<mass>``), or one ConfigError naming the file, the link and the value: sdformat
-    refuses an invalid inertia and Gazebo 9's ODE stops at a mass <= 0."""
+    """The numbers Gazebo's readers refuse and Drake's parser lets by (it reads ``size="abc
+    0.1 0.1"`` as a box and only warns of a negative inertia): each link's ``<inertial>``
+    mass (> 0) and inertia (finite, its moments >= 0), each box's size, sphere's and
+    cylinder's radius and length (> 0), each URDF ``<origin>``'s ``xyz``/``rpy`` and SDF
+    ``<pose>`` (finite). One ConfigError naming the file, the link and the value."""
     root = ET.fromstring(text)
+    urdf = root.tag == "robot"
     for link in root.iter("link"):
+        name = link.get("name", "")
         mass = link.find("inertial/mass")
-        if mass is None:
-            continue
-        value_text = (mass.get("value") if root.tag == "robot" else mass.text) or ""
-        try:
-            value = float(value_text)
-        except ValueError:
-            value = math.nan
-        if not (math.isfinite(value) and value > 0):
-            raise ConfigError(
-                f"{where}: link {link.get('name', '')!r}: inertial mass {value_text.strip()!r} must be a "
-                "finite number > 0"
+        if mass is not None:
+            _check_numbers(
+                where, name, "inertial mass", (mass.get("value") if urdf else mass.text), 1, positive=True
             )
+        inertia = link.find("inertial/inertia")
+        for key in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz") if inertia is not None else ():
+            value = inertia.get(key) if urdf else inertia.findtext(key)  # type: ignore[union-attr]
+            if value is not None:
+                _check_numbers(
+                    where, name, f"inertia {key}", value, 1, positive=key in ("ixx", "iyy", "izz"), zero=True
+                )
+        for box in link.iter("box"):
+            _check_numbers(
+                where, name, "box size", box.get("size") if urdf else box.findtext("size"), 3, positive=True
+            )
+        for shape in [*link.iter("sphere"), *link.iter("cylinder")]:
+            for key in ("radius", "length") if shape.tag == "cylinder" else ("radius",):
+                value = shape.get(key) if urdf else shape.findtext(key)
+                _check_numbers(where, name, f"{shape.tag} {key}", value, 1, positive=True)
+        for pose in link.iter("pose") if not urdf else ():
+            if (pose.text or "").strip():
+                _check_numbers(where, name, "pose", pose.text, 6)
+        for origin in link.iter("origin"):
+            for key in ("xyz", "rpy"):
+                if origin.get(key) is not None:
+                    _check_numbers(where, name, f"origin {key}", origin.get(key), 3)
+    for joint in root.iter("joint") if urdf else ():
+        for origin in joint.findall("origin"):
+            for key in ("xyz", "rpy"):
+                if origin.get(key) is not None:
+                    _check_numbers(
+                        where, joint.get("name", ""), f"origin {key}", origin.get(key), 3, what="joint"
+                    )
+
+
+def _check_numbers(
+    where: str,
+    owner: str,
+    key: str,
+    text: Optional[str],
+    count: int,
+    *,
+    positive: bool = False,
+    zero: bool = False,
+    what: str = "link",
+) -> None:
+    """``text`` holds ``count`` finite numbers (> 0 with ``positive``, >= 0 with ``zero`` too)."""
+    try:
+        values = [float(v) for v in (text or "").split()]
+    except ValueError:
+        values = []
+    ok = len(values) == count and all(math.isfinite(v) for v in values)
+    if ok and positive:
+        ok = all(v >= 0 if zero else v > 0 for v in values)
+    if not ok:
+        need = f"{count} finite number{'s' if count > 1 else ''}" + (
+            " >= 0" if positive and zero else " > 0" if positive else ""
+        )
+        raise ConfigError(f"{where}: {what} {owner!r}: {key} {(text or '').strip()!r} must be {need}")

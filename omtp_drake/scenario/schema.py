@@ -35,6 +35,7 @@ from omtp_drake.scenario.configs import (
     TaskConfig,
     check_in_cell,
     check_len,
+    check_pose6,
 )
 from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.latency import RosLatencyConfig
@@ -106,6 +107,10 @@ class Scenario:
     conveyor: Optional[ConveyorConfig] = None
     break_beam: bool = False
     deletion_wall: bool = False
+    #: Where a student moved the break beam's base / the deletion wall (``x y z roll pitch
+    #: yaw`` in world; empty: where the course has them).
+    break_beam_pose: list[float] = field(default_factory=list)
+    deletion_wall_pose: list[float] = field(default_factory=list)
     #: What goes wrong in a run, and when (see :mod:`omtp_drake.scenario.faults`).
     faults: list[FaultConfig] = field(default_factory=list)
     #: Parts at rest fall asleep (leave the contact solver) until touched.
@@ -209,6 +214,8 @@ class Scenario:
             check_in_cell("spawner.xyz", self.spawner.xyz)
             if self.part_pool == 0:
                 raise ConfigError("a spawner needs parts: set part_pool > 0")
+        check_pose6("break_beam_pose", self.break_beam_pose)
+        check_pose6("deletion_wall_pose", self.deletion_wall_pose)
         if self.conveyor is not None:
             self.conveyor.validate()
             if self.conveyor.stop_on_beam and not self.break_beam:

@@ -139,7 +139,8 @@ def _explained(workspace: Workspace, path: Path, error: Exception) -> Exception:
             return WorkspaceError(f"{path}: not well-formed XML: {chain}")
         chain = getattr(chain, "exc", None) or chain.__cause__ or chain.__context__
     if isinstance(error, (xacro.XacroException, OSError, ValueError, NameError, TypeError)):
-        return WorkspaceError(f"{path}: xacro error: {error}")
+        # One line: xacro's messages run on ("... is not defined \nwhen evaluating ...").
+        return WorkspaceError(f"{path}: xacro error: {' '.join(str(error).split())}")
     return error
 
 

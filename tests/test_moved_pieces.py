@@ -1,0 +1,103 @@
+"""A belt, break beam and deletion wall the student moved stand where their files put them,
+with their plugin's behaviour there: the turned belt carries parts along its new axis, the
+moved beam stops them where it now stands, the moved wall deletes where it stands. The
+course's workspace (``tests/fixtures/catkin_ws``) with the student's edits made here."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from omtp_drake.launch import own_cell
+from omtp_drake.sim.runtime import FactoryRuntime
+
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
+REST_Z = 0.92 + 0.1 + 0.001  # belt top + half a part + the 1 mm corner spheres
+
+
+def _edit(path: Path, old: str, new: str) -> None:
+    text = path.read_text()
+    assert old in text
+    path.write_text(text.replace(old, new))
+
+
+def _cell(tmp_path: Path, edits: list[tuple[str, str, str]]):
+    src = tmp_path / "src"
+    shutil.copytree(FIXTURES / "catkin_ws" / "src", src)
+    for file, old, new in edits:
+        _edit(src / file, old, new)
+    return own_cell(LAUNCH, workspace=[src], environ={})
+
+
+def _runtime(cell, **changes):
+    scenario = dataclasses.replace(cell.scenario, cameras=[], spawner=None, part_pool=2, **changes)
+    scenario.task = None
+    return FactoryRuntime(scenario)
+
+
+WORLD = "omtp_gazebo/worlds/lecture6_assignment1.world"
+
+
+def test_the_course_files_keep_the_course_poses(tmp_path):
+    cell = own_cell(LAUNCH, workspace=[FIXTURES / "catkin_ws" / "src"], environ={})
+    conveyor = cell.scenario.conveyor
+    assert conveyor is not None and conveyor.xyz == [1.2, 0.0, 0.0] and conveyor.yaw == 0.0
+    assert cell.scenario.break_beam_pose == [] and cell.scenario.deletion_wall_pose == []
+
+
+def test_a_turned_belt_carries_parts_along_its_axis_to_the_moved_wall(tmp_path):
+    # The student turned the conveyor a quarter (its upstream end now at x = -3.8, running
+    # toward +x) and put the deletion wall at its new downstream end.
+    cell = _cell(
+        tmp_path,
+        [
+            (WORLD, "<pose>1.2 5 0 0 0 -1.5708</pose>", "<pose>-3.8 0 0 0 0 0</pose>"),
+            (WORLD, "<pose>1.2 -5.1 1.425 0 0 1.5708</pose>", "<pose>6.3 0 1.425 0 0 0</pose>"),
+        ],
+    )
+    conveyor = cell.scenario.conveyor
+    assert conveyor.xyz == pytest.approx([1.2, 0.0, 0.0]) and conveyor.yaw == pytest.approx(math.pi / 2)
+    assert cell.scenario.deletion_wall_pose == pytest.approx([6.3, 0.0, 1.425, 0.0, 0.0, 0.0])
+    rt = _runtime(cell)
+    riding = rt.spawn_part(xyz=[5.2, 0.0, REST_Z])
+    rt.advance(0.5)
+    rt.set_conveyor_power(100)
+    rt.advance(1.0)
+    p = rt.part_pose(riding).translation()
+    assert p[0] == pytest.approx(5.2 + 0.2 * 1.0, abs=0.02)  # along +x, the belt's new axis
+    assert abs(p[1]) < 1e-3 and p[2] == pytest.approx(REST_Z, abs=2e-3)
+    rt.advance(5.0)  # at the wall (its face at x = 6.25) after 4.25 s more, deleted by its 5 Hz check
+    assert riding not in rt.parts_in_world()
+    assert rt.ledger().disposed == 1 and rt.ledger().balanced
+
+
+def test_a_moved_break_beam_stops_the_belt_where_it_now_stands(tmp_path):
+    # The break beam spawned 2.9 m further down the belt (spawn_model -y -2.9).
+    cell = _cell(
+        tmp_path,
+        [
+            (
+                "omtp_gazebo/launch/spawn_static_world_objects.launch",
+                'args="-urdf -model $(arg break_beam)',
+                'args="-y -2.9 -urdf -model $(arg break_beam)',
+            )
+        ],
+    )
+    assert cell.scenario.break_beam_pose == pytest.approx([1.6, -1.0, 0.925, 0.0, 0.0, math.pi], abs=1e-6)
+    rt = _runtime(cell, conveyor=dataclasses.replace(cell.scenario.conveyor, stop_on_beam=True))
+    beam = rt.station.break_beam
+    np.testing.assert_allclose(beam.p_WE, [1.575, -1.0, 0.925], atol=1e-9)
+    part = rt.spawn_part(xyz=[1.2, -0.3, REST_Z])
+    rt.advance(0.5)
+    rt.set_conveyor_power(100)
+    rt.advance(4.0)  # its front edge (y - 0.1) reaches the beam at y = -1.0 after 3 s
+    assert rt.conveyor_power() == 0.0 and rt.break_beam()[0]
+    # Stopped at the beam: its front edge past y = -1.0 by at most the travel of the beam's
+    # and the stop helper's 10 Hz checks (2 x 2 cm) and the stop; not at the course's beam.
+    assert -1.0 - 0.06 <= rt.part_pose(part).translation()[1] - 0.1 <= -1.0
