@@ -17,10 +17,12 @@ from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
+from omtp_drake.scenario.ros_control_parse import spawn_controllers
 from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
 from omtp_drake.sim.driver import spawn
 from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
+from omtp_drake.sim.ros_control import Controller, RequestPoint, RosControl, TrajectoryRequest
 
 __all__ = [
     "JOINT_NAMES",
@@ -31,15 +33,19 @@ __all__ = [
     "Arm",
     "BreakBeam",
     "Cell",
+    "Controller",
     "CorePoseStamped",
     "DepthCamera",
     "GazeboCameraView",
     "JointPoseTrajectory",
     "Plan",
     "PosePoint",
+    "RequestPoint",
+    "RosControl",
     "RosLatencyConfig",
     "Scenario",
     "SpawnerConfig",
+    "TrajectoryRequest",
     "check_in_cell",
     "check_joint_positions",
     "expand_xacro",
@@ -49,6 +55,7 @@ __all__ = [
     "named_pose",
     "other_arm_positions",
     "spawn",
+    "spawn_controllers",
     "spawn_pose",
     "tool_down",
     "tool_frame_names",

@@ -25,6 +25,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         nodes=args.nodes,
         robot=args.robot,
         workspace=args.workspace or (),
+        controllers=args.controllers or (),
         **passed_on(
             args,
             "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency "
@@ -82,6 +83,13 @@ def _add_robot_option(p: argparse.ArgumentParser) -> None:
         "--scenario, into Gazebo's empty world (a ground plane)",
     )
     p._option_string_actions["--scenario"].required = False
+    p.add_argument(
+        "--controllers",
+        action="append",
+        metavar="'FILE.yaml [NAME ...]'",
+        help="load a controllers YAML (as rosparam load) and start its controllers NAME... (as "
+        "controller_manager's spawner; default: all) on the robot's gazebo_ros_control; repeatable",
+    )
 
 
 def _add_course_options(p: argparse.ArgumentParser) -> None:

@@ -1,0 +1,163 @@
+"""ros_control on any robot: a pan-lift-tilt robot written here (transmissions, a controllers
+YAML, a launch in the catkin layout) under ``ros-run --robot ... --controllers``; a
+course-style rospy script sends a trajectory to ``/arm_controller/command`` and a position to
+``/tilt_controller/command`` and counts ``/joint_states``. Plus the layer's rules: splines,
+the YAML's forms and the refusals."""
+
+import json
+import logging
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from omtp_drake.cell.joint_splines import JointSpline, Waypoint
+from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.ros.run.runner import run_script
+from omtp_drake.scenario.robot_world import with_robot
+from omtp_drake.scenario.ros_control_parse import spawn_controllers, with_controllers
+from omtp_drake.script import Cell
+from omtp_drake.sim.ros_control import RequestPoint, RosControl, TrajectoryRequest
+
+WS = Path(__file__).parent / "fixtures" / "control_ws"
+PACKAGE = WS / "src" / "pan_lift_description"
+ROBOT = PACKAGE / "urdf" / "pan_lift.urdf.xacro"
+CONTROLLERS = PACKAGE / "config" / "controllers.yaml"
+SCRIPT = WS / "scripts" / "move_pan_lift.py"
+#: The trajectory the script sends (time_from_start, lift, pan) and the tilt position.
+POINTS = [(1.0, 0.05, 0.6), (2.0, 0.1, 1.2)]
+TILT = 0.4
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("run") / "result.json"
+    spec = f"{CONTROLLERS} joint_state_controller arm_controller tilt_controller"
+    report = run_script(SCRIPT, [str(out)], robot=ROBOT, controllers=[spec], timeout=20.0)
+    return report, json.loads(out.read_text())
+
+
+def _at(states, t):
+    stamp, names, q = min(states, key=lambda s: abs(s[0] - t))
+    return stamp, dict(zip(names, q))
+
+
+def test_the_joints_reach_the_goal_within_the_controllers_tolerances(run):
+    report, result = run
+    assert report.exception is None
+    _, end = _at(result["states"], result["end"])
+    # constraints: pan_joint goal 0.01, lift_joint goal 0.005 (the YAML's)
+    assert end["pan_joint"] == pytest.approx(POINTS[-1][2], abs=0.01)
+    assert end["lift_joint"] == pytest.approx(POINTS[-1][1], abs=0.005)
+    assert end["tilt_joint"] == pytest.approx(TILT, abs=0.01)
+
+
+def test_the_trajectory_is_interpolated_between_its_points(run):
+    _, result = run
+    sent = result["sent"]
+    # Positions only: linear segments from where the joints were (0) through each point.
+    for dt, lift, pan in [(0.5, 0.025, 0.3), *POINTS, (1.5, 0.075, 0.9)]:
+        _, q = _at(result["states"], sent + dt)
+        assert q["pan_joint"] == pytest.approx(pan, abs=0.02)  # within the trajectory tolerance (0.2)
+        assert q["lift_joint"] == pytest.approx(lift, abs=0.005)
+
+
+def test_joint_states_name_every_joint_at_the_publish_rate(run):
+    _, result = run
+    stamps = np.array([s[0] for s in result["states"]])
+    assert all(s[1] == ["pan_joint", "lift_joint", "tilt_joint"] for s in result["states"])
+    # publish_rate: 25 (the YAML's): one message every 0.04 s of simulated time.
+    assert np.allclose(np.diff(stamps), 0.04, atol=1e-6)
+    assert len(stamps) == pytest.approx((result["end"] - stamps[0]) * 25 + 1, abs=1)
+
+
+# ----------------------------------------------------------------------------- the layer
+
+
+@pytest.fixture(scope="module")
+def cell():
+    scenario = with_robot(None, ROBOT)
+    scenario.models[:] = spawn_controllers(scenario.models, str(CONTROLLERS))
+    with Cell(scenario) as cell:
+        yield cell
+
+
+def test_a_refused_trajectory_keeps_what_plays(cell):
+    control = RosControl(cell.station)
+    arm = next(c for c in control.controllers if c.name == "arm_controller")
+    context = cell.runtime.context
+    before = control.desired(context, arm)[0]
+    bad = [
+        (("pan_joint",), (RequestPoint(1.0, (0.3,)),), "each of the controller's joints"),
+        (("pan_joint", "elbow"), (RequestPoint(1.0, (0.3, 0.1)),), "'elbow'"),
+        (("pan_joint", "lift_joint"), (RequestPoint(1.0, (0.3,)),), "1 positions for 2 joints"),
+        (("pan_joint", "lift_joint"), (RequestPoint(1.0, (0, 0)), RequestPoint(0.5, (0, 0))), "increase"),
+        (("pan_joint", "lift_joint"), (RequestPoint(1.0, (np.nan, 0)),), "not finite"),
+    ]
+    for names, points, message in bad:
+        with pytest.raises(ConfigError, match=message):
+            control.follow(context, arm, TrajectoryRequest(names, points))
+    assert np.array_equal(control.desired(context, arm)[0], before)
+    tilt = next(c for c in control.controllers if c.name == "tilt_controller")
+    with pytest.raises(ConfigError, match="dimension of command"):
+        control.forward(context, tilt, [0.1, 0.2])
+
+
+def test_a_trajectory_with_velocities_is_cubic():
+    spline = JointSpline.through([Waypoint(0.0, (0.0,), (0.0,)), Waypoint(2.0, (1.0,), (0.5,))])
+    q, v = spline.sample(2.0 - 1e-9)
+    assert q[0] == pytest.approx(1.0) and v[0] == pytest.approx(0.5, abs=1e-6)
+    assert spline.sample(0.0)[1][0] == pytest.approx(0.0)
+    assert spline.sample(5.0)[0][0] == 1.0 and spline.sample(5.0)[1][0] == 0.0  # held at rest after
+
+
+def test_a_trajectory_with_accelerations_is_quintic():
+    points = [Waypoint(1.0, (0.0,), (0.0,), (0.0,)), Waypoint(2.0, (1.0,), (0.0,), (0.0,))]
+    spline = JointSpline.through(points)
+    h = 1e-5
+    q = [spline.sample(t)[0][0] for t in (1.5 - h, 1.5, 1.5 + h)]
+    assert q[1] == pytest.approx(0.5)  # symmetric
+    v_end = spline.sample(2.0 - 1e-9)[1][0]
+    assert v_end == pytest.approx(0.0, abs=1e-6)
+
+
+def test_controllers_yaml_errors_name_the_file_and_the_value(tmp_path):
+    scenario = with_robot(None, ROBOT)
+    config = scenario.models[0].gazebo.ros_control
+    assert config is not None and [j.command_interfaces for j in config.joints] == [
+        ["position"],
+        ["position"],
+        ["effort"],
+    ]
+    cases = {
+        "c:\n  type: position_controllers/Nope\n  joints: [pan_joint]\n": "type",
+        "c:\n  type: effort_controllers/JointTrajectoryController\n  joints: [tilt_joint]\n": "no p gain",
+        "c:\n  type: position_controllers/JointTrajectoryController\n  joints: [tilt_joint]\n": "effort",
+        "c:\n  type: position_controllers/JointGroupPositionController\n  joints: [pan_joint]\n"
+        "d:\n  type: position_controllers/JointPositionController\n  joint: pan_joint\n": "both claim",
+        "c:\n  type: position_controllers/JointTrajectoryController\n  joints: [wheel]\n": "wheel",
+    }
+    for text, message in cases.items():
+        with pytest.raises((ConfigError, UnknownNameError), match=message):
+            with_controllers(config, text, "bad.yaml")
+    with pytest.raises(UnknownNameError, match="gripper_controller"):
+        with_controllers(config, CONTROLLERS.read_text(), str(CONTROLLERS), ["gripper_controller"])
+
+
+def test_a_bad_command_is_one_error_line_and_the_run_goes_on(tmp_path, caplog):
+    script = tmp_path / "bad.py"
+    script.write_text(
+        "import rospy\n"
+        "from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint\n"
+        "rospy.init_node('bad')\n"
+        "pub = rospy.Publisher('/arm_controller/command', JointTrajectory, queue_size=1)\n"
+        "rospy.sleep(0.2)\n"
+        "msg = JointTrajectory()\nmsg.joint_names = ['pan_joint']\n"
+        "msg.points = [JointTrajectoryPoint(positions=[0.5], time_from_start=rospy.Duration(1.0))]\n"
+        "pub.publish(msg)\nrospy.sleep(0.2)\n"
+    )
+    with caplog.at_level(logging.ERROR, logger="rospy"):
+        report = run_script(script, robot=ROBOT, controllers=[f"{CONTROLLERS} arm_controller"], timeout=5.0)
+    assert report.exception is None
+    lines = [r.getMessage() for r in caplog.records if "arm_controller" in r.getMessage()]
+    assert len(lines) == 1 and "each of the controller's joints" in lines[0]
