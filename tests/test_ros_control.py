@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from omtp_drake.cell.joint_splines import JointSpline, Waypoint
-from omtp_drake.errors import ConfigError, UnknownNameError
+from omtp_drake.errors import ConfigError, UnknownNameError, WorkspaceError
 from omtp_drake.ros.run.runner import run_script
 from omtp_drake.scenario.robot_world import with_robot
 from omtp_drake.scenario.ros_control_parse import spawn_controllers, with_controllers
@@ -161,3 +161,47 @@ def test_a_bad_command_is_one_error_line_and_the_run_goes_on(tmp_path, caplog):
     assert report.exception is None
     lines = [r.getMessage() for r in caplog.records if "arm_controller" in r.getMessage()]
     assert len(lines) == 1 and "each of the controller's joints" in lines[0]
+
+
+# ----------------------------------------------------------------------------- a launch's spawners
+
+
+def _launch_models(text: str, tmp_path: Path):
+    from omtp_drake.launch.controller_spawners import start_spawned_controllers
+    from omtp_drake.launch.own_cell import student_workspace
+    from omtp_drake.launch.roslaunch import read_launch
+
+    workspace = student_workspace([WS / "src"])
+    launch_file = tmp_path / "spawn.launch"
+    launch_file.write_text(text)
+    launch = read_launch(launch_file, {}, workspace)
+    return start_spawned_controllers(with_robot(None, ROBOT).models, launch)
+
+
+def test_a_launch_files_rosparam_and_spawner_start_the_controllers(tmp_path):
+    launch = (PACKAGE / "launch" / "pan_lift.launch").read_text()
+    (model,) = _launch_models(launch, tmp_path)
+    config = model.gazebo.ros_control
+    assert [c.name for c in config.controllers] == [
+        "joint_state_controller",
+        "arm_controller",
+        "tilt_controller",
+    ]
+    assert config.controllers[0].publish_rate == 25.0
+    assert config.controllers[2].gains["tilt_joint"].p == 200.0
+    stopped = launch.replace('args="joint_state_controller', 'args="--stopped joint_state_controller')
+    assert not _launch_models(stopped, tmp_path)[0].gazebo.ros_control.controllers
+
+
+def test_a_spawner_without_parameters_or_robot_is_one_line_naming_the_launch(tmp_path):
+    launch = (PACKAGE / "launch" / "pan_lift.launch").read_text()
+    no_params = launch.replace("<rosparam", "<!-- rosparam").replace(
+        'command="load"/>', 'command="load"/ -->'
+    )
+    with pytest.raises(
+        WorkspaceError, match=r"spawn.launch:\d+: spawner: controller 'joint_state_controller'"
+    ):
+        _launch_models(no_params, tmp_path)
+    other_ns = launch.replace('name="controller_spawner"', 'name="controller_spawner" ns="robot2"')
+    with pytest.raises(WorkspaceError, match="namespace '/robot2'"):
+        _launch_models(other_ns, tmp_path)

@@ -4,7 +4,7 @@
   plugin, its ``<transmission>``\\ s (ROS 1) or its ``<ros2_control>`` tag (ROS 2); the
   ROS 2 plugin's ``<parameters>`` YAML is read too, and every controller it declares
   is started (as ``controller_manager``'s spawner would start each in a launch file).
-- :func:`controllers_from_yaml`: a controllers YAML of either form (ROS 1: a mapping
+- :func:`with_controllers`: a controllers YAML of either form (ROS 1: a mapping
   of controller names to their ``type`` and parameters, at the top or under the
   namespace; ROS 2: ``controller_manager: ros__parameters:`` and one
   ``NAME: ros__parameters:`` per controller), with the controllers a spawner starts.
@@ -80,7 +80,15 @@ def with_controllers(
 ) -> RosControlConfig:
     """``config`` with the controllers of the YAML ``text`` (from ``file``) started:
     ``names`` (a spawner's arguments; None: every controller the YAML declares)."""
-    update_rate, controllers = controllers_from_yaml(text, file, config, names)
+    return with_controller_params(config, _yaml_mapping(text, file), file, names)
+
+
+def with_controller_params(
+    config: RosControlConfig, document: dict, file: str, names: Optional[Sequence[str]] = None
+) -> RosControlConfig:
+    """``config`` with the controllers of the parameters ``document`` (a controllers YAML
+    as loaded, or a launch's parameters under the namespace; ``file`` names where) started."""
+    update_rate, controllers = controllers_from_params(document, file, config, names)
     out = dataclasses.replace(
         config,
         parameters=file,
@@ -91,16 +99,20 @@ def with_controllers(
     return out
 
 
-def controllers_from_yaml(
-    text: str, file: str, config: RosControlConfig, names: Optional[Sequence[str]] = None
-) -> tuple[Optional[float], list[ControllerConfig]]:
-    """(the controller manager's ``update_rate`` if the YAML sets one, the started controllers)."""
+def _yaml_mapping(text: str, file: str) -> dict:
     try:
         document = yaml.safe_load(text) or {}
     except yaml.YAMLError as e:
         raise ConfigError(f"{file}: not valid YAML: {str(e).splitlines()[0]}") from None
     if not isinstance(document, dict):
         raise ConfigError(f"{file}: a controllers YAML is a mapping, got {type(document).__name__}")
+    return document
+
+
+def controllers_from_params(
+    document: dict, file: str, config: RosControlConfig, names: Optional[Sequence[str]] = None
+) -> tuple[Optional[float], list[ControllerConfig]]:
+    """(the controller manager's ``update_rate`` if the parameters set one, the started controllers)."""
     document = {str(k).strip("/"): v for k, v in document.items()}
     namespace = config.namespace.strip("/")
     if namespace in document and isinstance(document[namespace], dict) and "type" not in document[namespace]:
