@@ -205,3 +205,24 @@ def test_a_spawner_without_parameters_or_robot_is_one_line_naming_the_launch(tmp
     other_ns = launch.replace('name="controller_spawner"', 'name="controller_spawner" ns="robot2"')
     with pytest.raises(WorkspaceError, match="namespace '/robot2'"):
         _launch_models(other_ns, tmp_path)
+
+
+# ----------------------------------------------------------------------------- follow_joint_trajectory (ROS 1)
+
+
+def test_follow_joint_trajectory_goals_end_as_the_controller_judges_them(tmp_path):
+    out = tmp_path / "goals.json"
+    script = WS / "scripts" / "follow_joint_trajectory.py"
+    report = run_script(script, [str(out)], robot=ROBOT, controllers=[str(CONTROLLERS)], timeout=20.0)
+    assert report.exception is None
+    seen = json.loads(out.read_text())
+    reachable = seen["reachable"]
+    assert (reachable["state"], reachable["error_code"]) == (3, 0)  # SUCCEEDED, SUCCESSFUL
+    assert reachable["actual"] == pytest.approx([-0.5, 0.12], abs=0.005)  # the goal tolerances (0.01, 0.005)
+    assert 1.5 <= reachable["took"] < 1.5 + 0.5 + 0.1  # the trajectory's end, within goal_time
+    # The lift stops at its limit (0.15): aborted once it lags its trajectory tolerance (0.05).
+    past = seen["past_limit"]
+    assert (past["state"], past["error_code"]) == (4, -4) and "lift_joint" in past["error_string"]
+    assert past["actual"][1] == pytest.approx(0.15, abs=0.005)
+    wrong = seen["wrong_joint"]
+    assert (wrong["state"], wrong["error_code"]) == (5, -2) and "'elbow_joint'" in wrong["error_string"]

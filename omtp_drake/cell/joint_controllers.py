@@ -34,6 +34,7 @@ Port block::
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Optional
@@ -77,6 +78,8 @@ class Command:
     spline: Optional[JointSpline] = None
     velocities: Optional[tuple[float, ...]] = None
     efforts: Optional[tuple[float, ...]] = None
+    #: Tells one command from the next (an action goal watches whether its command still plays).
+    tag: int = 0
 
 
 def _key(model: str, name: str) -> str:
@@ -140,6 +143,8 @@ class JointControllers(LeafSystem):
     def __init__(self, plant: MultibodyPlant, plan: DrivePlan, instances: Mapping[str, ModelInstanceIndex]):
         super().__init__()
         self.set_name("joint_controllers")
+        #: Tags for the commands (:attr:`Command.tag`), one per command given.
+        self.tags = itertools.count(1)
         self._plant = plant
         self.configs = plan.configs
         self.joints: dict[str, DrivenJoint] = {}
@@ -226,6 +231,10 @@ class JointControllers(LeafSystem):
         commands = dict(self.commands(context))
         commands[_key(model, controller)] = command
         context.get_mutable_abstract_state(self._commands_index).set_value(commands)
+
+    def command_of(self, root_context: Context, model: str, controller: str) -> Command:
+        """The command ``controller`` of ``model`` plays now."""
+        return self.commands(self.GetMyContextFromRoot(root_context))[_key(model, controller)]
 
     def desired(self, root_context: Context, model: str, controller: str) -> tuple[np.ndarray, np.ndarray]:
         """(positions, velocities) ``controller``'s command asks of its joints now."""

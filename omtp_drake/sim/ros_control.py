@@ -48,6 +48,14 @@ if TYPE_CHECKING:
 ROS2_DEFAULT_UPDATE_RATE = 100.0
 
 
+class PastTrajectoryError(ConfigError):
+    """Every point of a trajectory is already past (the action's ``OLD_HEADER_TIMESTAMP``)."""
+
+
+class JointNamesError(ConfigError):
+    """A trajectory's joints are not the controller's (the action's ``INVALID_JOINTS``)."""
+
+
 @dataclass(frozen=True)
 class RequestPoint:
     """A ``trajectory_msgs/JointTrajectoryPoint``: its ``time_from_start`` (s) and values."""
@@ -153,16 +161,16 @@ class RosControl:
             root_context.get_time(), tuple(joints), tuple(map(float, q)), tuple(map(float, v)), efforts
         )
 
-    def follow(self, root_context: Context, controller: Controller, request: TrajectoryRequest) -> None:
-        """``controller`` follows ``request`` from now (ConfigError: refused, see the module doc)."""
+    def follow(self, root_context: Context, controller: Controller, request: TrajectoryRequest) -> Command:
+        """``controller`` follows ``request`` from now (ConfigError: refused, see the module doc);
+        returns the command it plays."""
         config = controller.config
         if config.kind != "trajectory":
             raise ConfigError(f"{config.name} ({config.type}) takes no trajectory")
         now = root_context.get_time()
         q_now, v_now = self.system.desired(root_context, controller.model, config.name)
         if not request.points:
-            self._set(root_context, controller, JointSpline.hold(q_now, now))
-            return
+            return self._set(root_context, controller, JointSpline.hold(q_now, now))
         order = _joint_order(config, request.joint_names)
         start = request.stamp if request.stamp > 0 else now
         points = [Waypoint(now, tuple(map(float, q_now)), tuple(map(float, v_now)), (0.0,) * len(q_now))]
@@ -182,8 +190,8 @@ class RosControl:
                 )
             )
         if len(points) == 1:
-            raise ConfigError(f"{config.name}: every point of the trajectory is in the past; dropped")
-        self._set(root_context, controller, JointSpline.through(points))
+            raise PastTrajectoryError(f"{config.name}: every point of the trajectory is in the past; dropped")
+        return self._set(root_context, controller, JointSpline.through(points))
 
     def forward(self, root_context: Context, controller: Controller, values: Sequence[float]) -> None:
         """``controller`` (a forward controller) gets ``values``, one per joint."""
@@ -207,9 +215,19 @@ class RosControl:
             command = Command(joints, efforts=values)
         self.system.command(root_context, controller.model, config.name, command)
 
-    def _set(self, root_context: Context, controller: Controller, spline: JointSpline) -> None:
-        command = Command(tuple(controller.config.joints), spline=spline)
+    def _set(self, root_context: Context, controller: Controller, spline: JointSpline) -> Command:
+        command = Command(tuple(controller.config.joints), spline=spline, tag=next(self.system.tags))
         self.system.command(root_context, controller.model, controller.name, command)
+        return command
+
+    def playing(self, root_context: Context, controller: Controller) -> Command:
+        """The command ``controller`` plays now."""
+        return self.system.command_of(root_context, controller.model, controller.name)
+
+    def stop(self, root_context: Context, controller: Controller) -> None:
+        """``controller``'s joints hold where they are commanded now (a cancelled or aborted goal)."""
+        q, _ = self.desired(root_context, controller)
+        self._set(root_context, controller, JointSpline.hold(q, root_context.get_time()))
 
     def desired(self, root_context: Context, controller: Controller) -> tuple[np.ndarray, np.ndarray]:
         """(positions, velocities) ``controller`` commands now (a trajectory controller's state)."""
@@ -220,12 +238,12 @@ def _joint_order(config: ControllerConfig, names: Sequence[str]) -> list[int]:
     """For each joint of the controller, its index in the trajectory's ``names``."""
     unknown = [n for n in names if n not in config.joints]
     if unknown:
-        raise ConfigError(
+        raise JointNamesError(
             f"{config.name}: joint {unknown[0]!r} of the trajectory is not one of the controller's: "
             f"{', '.join(config.joints)}"
         )
     if len(set(names)) != len(names) or len(names) != len(config.joints):
-        raise ConfigError(
+        raise JointNamesError(
             f"{config.name}: the trajectory must name each of the controller's joints once "
             f"({', '.join(config.joints)}), got {list(names)}"
         )

@@ -23,6 +23,7 @@ from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, o
 from omtp_drake.sim.driver import spawn
 from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
 from omtp_drake.sim.ros_control import Controller, RequestPoint, RosControl, TrajectoryRequest
+from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
 
 __all__ = [
     "JOINT_NAMES",
@@ -37,6 +38,8 @@ __all__ = [
     "CorePoseStamped",
     "DepthCamera",
     "GazeboCameraView",
+    "Goal",
+    "GoalOutcome",
     "JointPoseTrajectory",
     "Plan",
     "PosePoint",
@@ -57,6 +60,7 @@ __all__ = [
     "spawn",
     "spawn_controllers",
     "spawn_pose",
+    "start_goal",
     "tool_down",
     "tool_frame_names",
     "ur_urdf",

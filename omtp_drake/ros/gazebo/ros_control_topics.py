@@ -12,11 +12,13 @@ topic                                 type                                   con
 ``/<ns>/<controller>/command``        ``std_msgs/Float64MultiArray``         JointGroup*Controller
 ``/<ns>/<controller>/command``        ``std_msgs/Float64``                   Joint{Position,Velocity,
                                                                              Effort}Controller
+``/<ns>/<controller>/state``          ``control_msgs/                        JointTrajectoryController,
+                                      JointTrajectoryControllerState``       at ``state_publish_rate``
 ====================================  =====================================  ======================
 
-The trajectory controllers' ``state`` topic and ``follow_joint_trajectory`` action are
-``control_msgs`` types, which the ROS 1 shim does not have: not served (docs/ros_control.md).
-A refused command is one error line on the ``rospy`` log, as the controllers log it.
+The trajectory controllers' ``follow_joint_trajectory`` action:
+:mod:`omtp_drake.ros.gazebo.ros_control_action`. A refused command is one error line on
+the ``rospy`` log, as the controllers log it.
 """
 
 from __future__ import annotations
@@ -26,7 +28,8 @@ from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros.comm._core import Controller, RequestPoint, RosControl, TrajectoryRequest
-from omtp_drake.ros.comm.messages import Header, JointState, Time
+from omtp_drake.ros.comm.control_interfaces import JointTrajectoryControllerState
+from omtp_drake.ros.comm.messages import Header, JointState, JointTrajectoryPoint, Time
 from omtp_drake.ros.gazebo.model_topics import topic
 from omtp_drake.ros.gazebo.ros_api import PushedSource
 
@@ -58,6 +61,12 @@ def attach_ros_control(session: Graph) -> None:
             continue
         name = topic(controller.namespace, f"{controller.name}/command")
         session.subscribe(name, _command(session, control, controller), (), 1)
+    for controller in control.of_kind("trajectory"):
+        name = topic(controller.namespace, f"{controller.name}/state")
+        session.sources.setdefault(name, PushedSource(JointTrajectoryControllerState))
+        if controller.config.state_publish_rate > 0:
+            period = max(1.0 / controller.config.state_publish_rate, control.period(controller))
+            session.cell.runtime.driver.every(period, _state_publisher(session, control, controller, name))
 
 
 def _publisher(session: Graph, control: RosControl, controller: Controller, name: str):
@@ -71,6 +80,27 @@ def _publisher(session: Graph, control: RosControl, controller: Controller, name
             effort=list(sample.effort),
         )
         session.publish(name, message, sample.stamp)
+
+    return publish
+
+
+def _state_publisher(session: Graph, control: RosControl, controller: Controller, name: str):
+    def publish() -> None:
+        if not session.num_subscribers(name):
+            return
+        context = session.cell.runtime.context
+        q_d, v_d = control.desired(context, controller)
+        q, v = control.system.measured(context, controller.model, controller.config.joints)
+        message = JointTrajectoryControllerState(
+            header=Header(stamp=Time(session.cell.time)),
+            joint_names=list(controller.config.joints),
+            desired=JointTrajectoryPoint(positions=list(map(float, q_d)), velocities=list(map(float, v_d))),
+            actual=JointTrajectoryPoint(positions=list(map(float, q)), velocities=list(map(float, v))),
+            error=JointTrajectoryPoint(
+                positions=list(map(float, q_d - q)), velocities=list(map(float, v_d - v))
+            ),
+        )
+        session.publish(name, message, session.cell.time)
 
     return publish
 
