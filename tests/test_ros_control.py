@@ -207,7 +207,7 @@ def test_a_spawner_without_parameters_or_robot_is_one_line_naming_the_launch(tmp
         _launch_models(other_ns, tmp_path)
 
 
-# ----------------------------------------------------------------------------- follow_joint_trajectory (ROS 1)
+# ------------------------------------------------------------------ follow_joint_trajectory (ROS 1)
 
 
 def test_follow_joint_trajectory_goals_end_as_the_controller_judges_them(tmp_path):
