@@ -226,3 +226,70 @@ def test_follow_joint_trajectory_goals_end_as_the_controller_judges_them(tmp_pat
     assert past["actual"][1] == pytest.approx(0.15, abs=0.005)
     wrong = seen["wrong_joint"]
     assert (wrong["state"], wrong["error_code"]) == (5, -2) and "'elbow_joint'" in wrong["error_string"]
+
+
+# ------------------------------------------------------------------ effort and velocity interfaces
+
+#: A horizontal arm (1 kg at 0.3 m) on a y-axis joint under gravity, effort-driven, and a
+#: velocity-driven wrist (0.1 kg at 0.6 m): ``m g l`` = 3.53 N m on the shoulder at 0 rad.
+ARM_URDF = """<robot name="pid_arm">
+  <link name="world"/>
+  <link name="base"><inertial><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="fixed" type="fixed"><parent link="world"/><child link="base"/><origin xyz="0 0 1"/></joint>
+  <link name="arm"><inertial><origin xyz="0.3 0 0"/><mass value="1"/>
+    <inertia ixx="0.001" iyy="0.001" izz="0.001" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="shoulder" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 1 0"/>
+    <limit lower="-2" upper="2" effort="100" velocity="5"/></joint>
+  <link name="hand"><inertial><mass value="0.1"/>
+    <inertia ixx="0.0001" iyy="0.0001" izz="0.0001" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="wrist" type="revolute"><parent link="arm"/><child link="hand"/><origin xyz="0.6 0 0"/>
+    <axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="10" velocity="5"/></joint>
+  <transmission name="t1"><type>transmission_interface/SimpleTransmission</type>
+    <joint name="shoulder">
+      <hardwareInterface>hardware_interface/EffortJointInterface</hardwareInterface></joint>
+    <actuator name="m1"><mechanicalReduction>1</mechanicalReduction></actuator></transmission>
+  <transmission name="t2"><type>transmission_interface/SimpleTransmission</type>
+    <joint name="wrist">
+      <hardwareInterface>hardware_interface/VelocityJointInterface</hardwareInterface></joint>
+    <actuator name="m2"><mechanicalReduction>1</mechanicalReduction></actuator></transmission>
+  <gazebo><plugin name="control" filename="libgazebo_ros_control.so"/></gazebo>
+</robot>"""
+ARM_CONTROLLERS = """
+shoulder_controller:
+  type: effort_controllers/JointPositionController
+  joint: shoulder
+  pid: {{p: 100.0, d: 10.0, i: {i}, i_clamp: 10.0}}
+wrist_controller:
+  type: velocity_controllers/JointTrajectoryController
+  joints: [wrist]
+  gains: {{wrist: {{p: 10.0, d: 0.0, i: 0.0, i_clamp: 0.0}}}}
+"""
+
+
+def _pid_arm(tmp_path, i):
+    robot = tmp_path / "pid_arm.urdf"
+    robot.write_text(ARM_URDF)
+    yaml_file = tmp_path / f"pid_{i}.yaml"
+    yaml_file.write_text(ARM_CONTROLLERS.format(i=i))
+    scenario = with_robot(None, robot)
+    scenario.models[:] = spawn_controllers(scenario.models, str(yaml_file))
+    return Cell(scenario)
+
+
+@pytest.mark.parametrize("i", [0.0, 200.0])
+def test_an_effort_pid_sags_by_gravity_over_p_and_its_integral_removes_the_sag(tmp_path, i):
+    with _pid_arm(tmp_path, i) as cell:
+        control = RosControl(cell.station)
+        wrist = next(c for c in control.controllers if c.name == "wrist_controller")
+        context = cell.runtime.context
+        control.follow(context, wrist, TrajectoryRequest(("wrist",), (RequestPoint(1.0, (1.0,)),)))
+        cell.runtime.advance_to(4.0)
+        q, v = control.system.measured(context, "pid_arm", ["shoulder", "wrist"])
+    # y-axis joint: gravity on the arm pulls q positive (x toward -z); the PD's p balances it.
+    sag = (1.0 * 0.3 + 0.1 * 0.6) * 9.81 / 100.0  # arm and hand: m g l over p
+    if i == 0:
+        assert q[0] == pytest.approx(sag, rel=0.05)
+    else:
+        assert abs(q[0]) < 1e-3
+    assert q[1] == pytest.approx(1.0, abs=1e-3) and abs(v[1]) < 1e-3

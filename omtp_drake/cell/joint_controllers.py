@@ -17,12 +17,13 @@ effort     the controller's ``p``, ``d``  desired position/velocity of a PID con
                                          feed-forward torque
 =========  ============================  =============================================
 
-The integral term of a PID (``i``) is not applied (Drake's PD has none); ``p`` and
-``d`` are. :class:`JointControllers` is the system that holds every controller's
-command in its Context (abstract state, changed between advances by
-:meth:`JointControllers.command`) and outputs, per model, the desired state
-(``<model>.desired_state``) and feed-forward effort (``<model>.feedforward``) the plant's
-PD actuators take.
+A PID's integral term (``i``, clamped to ``+-i_clamp``) is a feed-forward effort from a
+discrete integral of the position error, one update per plant step; a velocity trajectory
+controller adds ``p`` and ``d`` times its errors to the commanded velocity.
+:class:`JointControllers` is the system that holds every controller's command in its
+Context (abstract state, changed between advances by :meth:`JointControllers.command`) and
+outputs, per model, the desired state (``<model>.desired_state``) and feed-forward effort
+(``<model>.feedforward``) the plant's PD actuators take.
 
 Port block::
 
@@ -48,7 +49,7 @@ from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem
 from omtp_drake.cell.joint_splines import JointSpline
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import ModelConfig
-from omtp_drake.scenario.ros_control import ControllerConfig, RosControlConfig
+from omtp_drake.scenario.ros_control import ControllerConfig, PidGains, RosControlConfig
 
 #: The stiff PD of a position-commanded joint (N m / rad, N m s / rad; implicit in SAP).
 POSITION_GAINS = (1e5, 1e3)
@@ -67,6 +68,8 @@ class DrivenJoint:
     controller: Optional[str]
     q_index: int
     v_index: int
+    #: The controller's PID gains for the joint (zero: none).
+    gains: PidGains = field(default_factory=PidGains)
 
 
 @dataclass(frozen=True)
@@ -156,6 +159,15 @@ class JointControllers(LeafSystem):
             initial |= self._model_commands(model, plan.configs[model], instances[model])
         self._commands_index = self.DeclareAbstractState(AbstractValue.Make(initial))
         self._state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
+        #: The joints whose PID has an integral term (effort interface, ``i`` and ``i_clamp`` > 0).
+        self._integrated = [
+            k
+            for k, j in self.joints.items()
+            if j.interface == "effort" and j.gains.i > 0 and j.gains.i_clamp > 0
+        ]
+        self._integral_index = self.DeclareDiscreteState(max(1, len(self._integrated)))
+        if self._integrated:
+            self.DeclarePeriodicDiscreteUpdateEvent(plant.time_step(), 0.0, self._integrate)
         commands = self.abstract_state_ticket(self._commands_index)
         for model, keys in self._order.items():
             self.DeclareVectorOutputPort(
@@ -168,7 +180,7 @@ class JointControllers(LeafSystem):
                 f"{model}.feedforward",
                 len(keys),
                 lambda c, out, m=model: out.SetFromVector(self._feedforward(c, m)),
-                {commands},
+                {commands, self.xd_ticket(), self.time_ticket()},
             )
 
     def _model_commands(
@@ -191,9 +203,10 @@ class JointControllers(LeafSystem):
             controller = claims.get(hardware.name)
             interface = controller.interface if controller else hardware.command_interfaces[0]
             key = _key(model, hardware.name)
+            gains = controller.gains.get(hardware.name, PidGains()) if controller else PidGains()
             self.joints[key] = DrivenJoint(
                 model, hardware.name, interface, controller.name if controller else None,
-                joint.position_start(), joint.velocity_start(),
+                joint.position_start(), joint.velocity_start(), gains,
             )  # fmt: skip
             if controller is None:
                 initial[key] = self._rest(model, (hardware.name,), defaults, interface)
@@ -277,6 +290,9 @@ class JointControllers(LeafSystem):
         return out
 
     def _desired(self, context: Context, model: str) -> np.ndarray:
+        """``[q_d; v_d]`` of ``model``'s actuators. A velocity-commanded joint following a
+        trajectory gets the trajectory's velocity plus ``p`` times its position error and
+        ``d`` times its velocity error (ros_controllers' velocity interface adapter)."""
         x = self._state.Eval(context)
         nq = self._plant.num_positions()
         targets = self._targets(context, model)
@@ -284,14 +300,44 @@ class JointControllers(LeafSystem):
         for key in self._order[model]:
             joint = self.joints[key]
             q, v, _ = targets[key]
-            q_now = x[joint.q_index]
-            q_d.append(q_now if np.isnan(q) else q)
-            v_d.append(v if not np.isnan(q) or joint.interface == "velocity" else x[nq + joint.v_index])
+            q_now, v_now = x[joint.q_index], x[nq + joint.v_index]
+            if np.isnan(q):
+                q_d.append(q_now)
+                v_d.append(v if joint.interface == "velocity" else v_now)
+                continue
+            if joint.interface == "velocity":
+                v += joint.gains.p * (q - q_now) + joint.gains.d * (v - v_now)
+            q_d.append(q)
+            v_d.append(v)
         return np.concatenate([q_d, v_d])
 
     def _feedforward(self, context: Context, model: str) -> np.ndarray:
+        """Raw efforts, plus each integrated joint's ``i`` term, ``i * integral`` clamped to
+        ``+-i_clamp`` (control_toolbox's PID)."""
         targets = self._targets(context, model)
-        return np.array([targets[key][2] for key in self._order[model]])
+        out = np.array([targets[key][2] for key in self._order[model]])
+        integral = context.get_discrete_state(self._integral_index).value()
+        for k, key in enumerate(self._integrated):
+            if key in self._order[model]:
+                gains = self.joints[key].gains
+                out[self._order[model].index(key)] += np.clip(
+                    gains.i * integral[k], -gains.i_clamp, gains.i_clamp
+                )
+        return out
+
+    def _integrate(self, context: Context, discrete_state) -> None:
+        """Integrates the integrated joints' position errors over one plant step."""
+        x = self._state.Eval(context)
+        integral = np.array(context.get_discrete_state(self._integral_index).value())
+        h = self._plant.time_step()
+        targets: dict[str, tuple[float, float, float]] = {}
+        for model in self._order:
+            targets |= self._targets(context, model)
+        for k, key in enumerate(self._integrated):
+            q = targets[key][0]
+            if not np.isnan(q):
+                integral[k] += (q - x[self.joints[key].q_index]) * h
+        discrete_state.get_mutable_vector(self._integral_index).SetFromVector(integral)
 
 
 def add_joint_controllers(
