@@ -293,3 +293,51 @@ def test_an_effort_pid_sags_by_gravity_over_p_and_its_integral_removes_the_sag(t
     else:
         assert abs(q[0]) < 1e-3
     assert q[1] == pytest.approx(1.0, abs=1e-3) and abs(v[1]) < 1e-3
+
+
+# ------------------------------------------------------------------ ROS 2: declared and active controllers
+
+ROS2_YAML = """
+controller_manager:
+  ros__parameters:
+    update_rate: 50
+    arm_controller: {type: joint_trajectory_controller/JointTrajectoryController}
+    forward_position_controller: {type: forward_command_controller/ForwardCommandController}
+    joint_state_broadcaster: {type: joint_state_broadcaster/JointStateBroadcaster}
+arm_controller:
+  ros__parameters: {joints: [a, b], command_interfaces: [position]}
+forward_position_controller:
+  ros__parameters: {joints: [a, b], interface_name: position}
+"""
+
+
+def test_ros2_controllers_are_activated_in_order_and_a_conflict_is_one_warning(tmp_path, caplog):
+    import xml.etree.ElementTree as ET
+
+    from omtp_drake.scenario.ros_control_parse import parse_ros_control, spawned_only
+
+    yaml_file = tmp_path / "controllers.yaml"
+    yaml_file.write_text(ROS2_YAML)
+    joints = "".join(
+        f'<joint name="{j}"><command_interface name="position"/><state_interface name="position"/></joint>'
+        for j in "ab"
+    )
+    urdf = (
+        f'<robot name="r"><ros2_control name="s" type="system">{joints}</ros2_control><gazebo>'
+        f'<plugin filename="libgazebo_ros2_control.so" name="c"><parameters>{yaml_file}</parameters>'
+        "</plugin></gazebo></robot>"
+    )
+    with caplog.at_level(logging.WARNING, logger="gazebo"):
+        config = parse_ros_control(ET.fromstring(urdf), "r.urdf")
+    assert config.update_rate == 50.0
+    assert [c.name for c in config.controllers] == ["arm_controller", "joint_state_broadcaster"]
+    assert "'forward_position_controller' not activated: 'arm_controller' holds" in caplog.text
+    # A launch's spawners pick among the declared ones.
+    spawned = spawned_only(
+        config, ["joint_state_broadcaster", "forward_position_controller"], "bringup.launch.py"
+    )
+    assert [c.name for c in spawned.controllers] == ["joint_state_broadcaster", "forward_position_controller"]
+    with pytest.raises(ConfigError, match="resource conflict"):
+        spawned_only(config, ["arm_controller", "forward_position_controller"], "bringup.launch.py")
+    with pytest.raises(UnknownNameError, match="gripper_controller"):
+        spawned_only(config, ["gripper_controller"], "bringup.launch.py")

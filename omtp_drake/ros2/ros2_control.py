@@ -17,7 +17,8 @@ topic                               type                                   contr
 Not served: the trajectory controller's ``~/controller_state`` and its
 ``~/follow_joint_trajectory`` action are ``control_msgs`` types, which no PyPI package
 provides (docs/ros_control.md). A refused command is one error line on the node's log.
-Without a launch file every controller of the YAML is active, as if each was spawned.
+Without a launch file the YAML's controllers are active, as if each was spawned in order
+(:func:`~omtp_drake.scenario.ros_control_parse.spawned_only`).
 """
 
 from __future__ import annotations

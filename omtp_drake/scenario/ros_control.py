@@ -165,6 +165,8 @@ class RosControlConfig:
     joints: list[HardwareJoint] = field(default_factory=list)
     #: The started controllers, in the order they were started.
     controllers: list[ControllerConfig] = field(default_factory=list)
+    #: ROS 2: every controller the plugin's YAML declares (a launch's spawners activate some).
+    declared: list[ControllerConfig] = field(default_factory=list)
 
     def joint(self, name: str) -> HardwareJoint:
         for joint in self.joints:
@@ -182,6 +184,8 @@ class RosControlConfig:
         names = [j.name for j in self.joints]
         claimed: dict[str, str] = {}
         where = self.parameters or where
+        for controller in self.declared:
+            controller.validate(where)
         for controller in self.controllers:
             controller.validate(where)
             for joint in controller.joints:

@@ -15,6 +15,7 @@ ConfigError naming the file and the key. What they mean is checked apart
 """
 
 import dataclasses
+import logging
 import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from pathlib import Path
@@ -31,6 +32,8 @@ from omtp_drake.scenario.ros_control import (
     PidGains,
     RosControlConfig,
 )
+
+_log = logging.getLogger("gazebo")
 
 ROS1_PLUGIN = "libgazebo_ros_control.so"
 ROS2_PLUGIN = "libgazebo_ros2_control.so"
@@ -71,20 +74,66 @@ def parse_ros_control(root: ET.Element, where: str) -> Optional[RosControlConfig
         path = (element.text or "").strip()
         if not Path(path).is_file():
             raise ConfigError(f"{where}: gazebo_ros2_control <parameters> {path!r}: no such file")
-        config = with_controllers(config, Path(path).read_text(), path)
+        declared = with_controllers(config, Path(path).read_text(), path, refuse_conflicts=False)
+        config = dataclasses.replace(declared, declared=declared.controllers, controllers=[])
+        config = spawned_only(config, [c.name for c in config.declared], path, refuse_conflicts=False)
     return config
 
 
+def spawned_only(
+    config: RosControlConfig, names: Sequence[str], where: str, *, refuse_conflicts: bool = True
+) -> RosControlConfig:
+    """ROS 2: ``config`` with the declared controllers ``names`` active, in that order (a
+    launch's ``controller_manager`` spawners' arguments). A controller claiming a joint an
+    earlier one holds is refused (ConfigError), or, with ``refuse_conflicts`` False, left
+    inactive with one warning line, as the controller manager refuses to activate it."""
+    declared = {c.name: c for c in config.declared}
+    for name in names:
+        if name not in declared:
+            raise UnknownNameError(f"{where}: controller", name, declared)
+    active: list[ControllerConfig] = []
+    claimed: dict[str, str] = {}
+    for name in names:
+        controller = declared[name]
+        joints = controller.joints if controller.kind != "joint_states" else []
+        holder = next((claimed[j] for j in joints if j in claimed), None)
+        if holder is not None:
+            line = (
+                f"{where}: controller {name!r} not activated: {holder!r} holds its joints (resource conflict)"
+            )
+            if refuse_conflicts:
+                raise ConfigError(line)
+            _log.warning(line)
+            continue
+        claimed |= dict.fromkeys(joints, name)
+        active.append(controller)
+    out = dataclasses.replace(config, controllers=active)
+    out.validate(where)
+    return out
+
+
 def with_controllers(
-    config: RosControlConfig, text: str, file: str, names: Optional[Sequence[str]] = None
+    config: RosControlConfig,
+    text: str,
+    file: str,
+    names: Optional[Sequence[str]] = None,
+    *,
+    refuse_conflicts: bool = True,
 ) -> RosControlConfig:
     """``config`` with the controllers of the YAML ``text`` (from ``file``) started:
     ``names`` (a spawner's arguments; None: every controller the YAML declares)."""
-    return with_controller_params(config, _yaml_mapping(text, file), file, names)
+    return with_controller_params(
+        config, _yaml_mapping(text, file), file, names, refuse_conflicts=refuse_conflicts
+    )
 
 
 def with_controller_params(
-    config: RosControlConfig, document: dict, file: str, names: Optional[Sequence[str]] = None
+    config: RosControlConfig,
+    document: dict,
+    file: str,
+    names: Optional[Sequence[str]] = None,
+    *,
+    refuse_conflicts: bool = True,
 ) -> RosControlConfig:
     """``config`` with the controllers of the parameters ``document`` (a controllers YAML
     as loaded, or a launch's parameters under the namespace; ``file`` names where) started."""
@@ -95,7 +144,8 @@ def with_controller_params(
         update_rate=update_rate if update_rate is not None else config.update_rate,
         controllers=[*config.controllers, *controllers],
     )
-    out.validate(file)
+    if refuse_conflicts:
+        out.validate(file)
     return out
 
 
