@@ -111,6 +111,13 @@ def test_a_trajectory_with_velocities_is_cubic():
     assert spline.sample(5.0)[0][0] == 1.0 and spline.sample(5.0)[1][0] == 0.0  # held at rest after
 
 
+def test_a_segment_is_linear_unless_both_ends_give_velocities():
+    points = [Waypoint(0.0, (0.0,), (0.0,)), Waypoint(1.0, (1.0,)), Waypoint(2.0, (3.0,), (0.0,))]
+    spline = JointSpline.through(points)
+    assert spline.sample(0.5)[0][0] == pytest.approx(0.5) and spline.sample(0.5)[1][0] == pytest.approx(1.0)
+    assert spline.sample(1.5)[0][0] == pytest.approx(2.0) and spline.sample(1.5)[1][0] == pytest.approx(2.0)
+
+
 def test_a_trajectory_with_accelerations_is_quintic():
     points = [Waypoint(1.0, (0.0,), (0.0,), (0.0,)), Waypoint(2.0, (1.0,), (0.0,), (0.0,))]
     spline = JointSpline.through(points)
@@ -136,6 +143,7 @@ def test_controllers_yaml_errors_name_the_file_and_the_value(tmp_path):
         "c:\n  type: position_controllers/JointGroupPositionController\n  joints: [pan_joint]\n"
         "d:\n  type: position_controllers/JointPositionController\n  joint: pan_joint\n": "both claim",
         "c:\n  type: position_controllers/JointTrajectoryController\n  joints: [wheel]\n": "wheel",
+        "c:\n  type: joint_state_controller/JointStateController\n": "'publish_rate' not set",
     }
     for text, message in cases.items():
         with pytest.raises((ConfigError, UnknownNameError), match=message):

@@ -1,10 +1,10 @@
 """Joint trajectories as ros_controllers' JointTrajectoryController interpolates them.
 
 A trajectory is a list of waypoints (time, positions, and optionally velocities and
-accelerations). Between two waypoints each joint follows a polynomial: linear when the
-points give positions only, cubic (position and velocity at both ends) when they give
-velocities, quintic (also accelerations) when they give accelerations, as
-``QuinticSplineSegment`` (ROS 1) and ``interpolate_between_points`` (ROS 2) do. Before
+accelerations). Between two waypoints each joint follows a polynomial: linear unless both
+ends give velocities, cubic (position and velocity at both ends) when they do, quintic
+(also accelerations) when both give accelerations, as ``QuinticSplineSegment`` (ROS 1) and
+``interpolate_between_points`` (ROS 2) decide per segment. Before
 the first waypoint the trajectory holds it; after the last it holds the last position
 at rest.
 
@@ -53,6 +53,14 @@ def _segment(t: float, a: Waypoint, b: Waypoint, order: int) -> np.ndarray:
     return np.stack([q0, v0, a0 / 2, c3, c4, c5], axis=1)
 
 
+def _order(a: Waypoint, b: Waypoint) -> int:
+    if a.accelerations is not None and b.accelerations is not None:
+        return 5
+    if a.velocities is not None and b.velocities is not None:
+        return 3
+    return 1
+
+
 @dataclass(frozen=True)
 class JointSpline:
     """A piecewise polynomial through waypoints (see the module doc)."""
@@ -64,15 +72,9 @@ class JointSpline:
 
     @staticmethod
     def through(points: Sequence[Waypoint]) -> JointSpline:
-        """The spline through ``points`` (times increasing). The order is the points' own:
-        every point has accelerations (5), velocities (3), or not (1)."""
-        if all(p.accelerations is not None for p in points[1:]):
-            order = 5
-        elif all(p.velocities is not None for p in points[1:]):
-            order = 3
-        else:
-            order = 1
-        segments = tuple(_segment(a.time, a, b, order) for a, b in zip(points, points[1:]))
+        """The spline through ``points`` (times increasing). Each segment's order is its two
+        points' own: both with accelerations (5), both with velocities (3), else 1."""
+        segments = tuple(_segment(a.time, a, b, _order(a, b)) for a, b in zip(points, points[1:]))
         return JointSpline(tuple(p.time for p in points), segments, tuple(points[-1].positions))
 
     @staticmethod

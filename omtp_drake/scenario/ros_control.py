@@ -123,6 +123,8 @@ class ControllerConfig:
             value = getattr(self, key)
             if not (0 <= value <= MAX_RATE_HZ):
                 raise ConfigError(f"{here}: {key} must be in [0, {MAX_RATE_HZ:g}] Hz, got {value}")
+        if self.type == "joint_state_controller/JointStateController" and self.publish_rate <= 0:
+            raise ConfigError(f"{here}: parameter 'publish_rate' not set (JointStateController needs it)")
         if self.type in PID_TYPES:
             missing = [j for j in self.joints if j not in self.gains]
             if missing:
