@@ -8,6 +8,8 @@ Modules (one job each):
 - ``depth_camera``: a Gazebo camera or depth sensor as Drake's RGB-D rendering, with its point cloud
 - ``gazebo_models``: the cell's model instances under the names the course's Gazebo world gives them
 - ``arms``: the classic UR arms: the course's named poses, loading, position control
+- ``joint_controllers``: any robot's ros_control joints: actuators, PD drives and the controllers' commands
+- ``joint_splines``: joint trajectories interpolated as ros_controllers' trajectory controller does
 - ``conveyor``: the conveyor belt and the break beam
 - ``spawned_objects``: the conveyor spawner's objects as parts: the plugin's model of each, its mesh for Drake
 - ``parts``: where parts are put (parking slots, spawn poses) and which are parked or asleep

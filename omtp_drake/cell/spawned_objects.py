@@ -14,11 +14,10 @@ course's box (the cell's 0.2 m cube part): see :mod:`omtp_drake.launch.nodes`.
 from __future__ import annotations
 
 import functools
-import hashlib
 import itertools
 from pathlib import Path
 
-from omtp_drake.assets import _convert_mesh, cache_dir
+from omtp_drake import assets
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario.conveyor_spawner import OBJECT_INERTIA, OBJECT_MASS, SpawnObjectConfig
 
@@ -27,19 +26,14 @@ _CORNER_RADIUS = 0.001
 
 @functools.cache
 def drake_mesh(path: str) -> tuple[Path, tuple[tuple[float, ...], tuple[float, ...]]]:
-    """The ``.obj`` of mesh ``path`` (converted once, cached by content) and its bounds."""
+    """The mesh file Drake reads for ``path`` (:func:`omtp_drake.assets.drake_mesh`: converted
+    once, cached by content) and its bounds."""
     import trimesh
 
     src = Path(path)
     if not src.is_file():
         raise ConfigError(f"spawner object mesh {path}: no such file")
-    digest = hashlib.sha1(src.read_bytes()).hexdigest()[:16]
-    dst = (
-        src if src.suffix.lower() == ".obj" else cache_dir() / "spawner_objects" / f"{src.stem}-{digest}.obj"
-    )
-    if not dst.exists():
-        dst.parent.mkdir(parents=True, exist_ok=True)
-        _convert_mesh(src, dst)  # assets' mesh conversion (stl -> obj)
+    dst = assets.drake_mesh(src, collision=True)
     lo, hi = trimesh.load(dst, force="mesh").bounds
     return dst, (tuple(map(float, lo)), tuple(map(float, hi)))
 

@@ -69,6 +69,7 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.cell_models import ArmHandles, CellModels, add_cell_models
 from omtp_drake.cell.conveyor import BeltGeometry, BreakBeam, ConveyorBelt
 from omtp_drake.cell.depth_camera import DepthCamera, add_model_cameras
+from omtp_drake.cell.joint_controllers import JointControllers, add_joint_controllers, declare_joint_drives
 from omtp_drake.cell.logical_camera import LogicalCamera, add_logical_camera
 from omtp_drake.cell.parts import PartStates
 from omtp_drake.cell.rest_clock import RestClock
@@ -112,6 +113,8 @@ class Station:
     #: The scenario's models from description files, and their camera and depth sensors.
     models: dict[str, ModelInstanceIndex] = field(default_factory=dict)
     depth_cameras: dict[str, DepthCamera] = field(default_factory=dict)
+    #: The models' ros_control joint controllers (None: no model has a ros_control plugin).
+    joint_controllers: Optional[JointControllers] = None
 
     def arm(self, name: str) -> ArmHandles:
         """Handles of the arm ``name`` (``robot1``...)."""
@@ -276,7 +279,9 @@ def build_station(
     plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
     models = add_cell_models(plant, scene_graph, scenario)
     constraints = _declare_weld_constraints(plant, scenario, models)
+    drives = declare_joint_drives(plant, scenario.models, models.described)
     plant.Finalize()
+    joint_controllers = add_joint_controllers(builder, plant, drives, models.described)
     for handles in models.arms.values():
         plant.SetDefaultPositions(handles.arm, arms.named_pose(handles.config.initial_pose, handles.config))
 
@@ -313,6 +318,7 @@ def build_station(
         rest_clock=rest_clock,
         models=models.described,
         depth_cameras=depth_cameras,
+        joint_controllers=joint_controllers,
     )
 
 

@@ -14,6 +14,7 @@ Modules (one job each):
 - ``substitutions``: roslaunch's $(arg), $(find), $(env), $(optenv), $(dirname), $(anon), $(eval)
 - ``xml_lines``: XML with each element's line, for errors that name file and line
 - ``nodes``: a launch's nodes mapped to the cell (spawn_model, gzserver, the spawner, the helpers)
+- ``controller_spawners``: controller_manager's spawners: which controllers start on which robot
 - ``urdf_model``: a URDF's links as frames (joint tree, link poses) and its <gazebo> tags
 - ``pieces``: the course's pieces in a spawned URDF: arms, grippers, pedestals, bins, the beam
 - ``sdf_world``: a Gazebo world's models (includes by model://, poses, names), checked by Drake's parser

@@ -17,6 +17,7 @@ Modules (one job each):
 - ``joint_pose_trajectory``: ``/set_joint_trajectory``'s rules, as Gazebo's plugin plays a trajectory
 - ``topics``: the topics the cell publishes, and when
 - ``commands``: the trajectory topic and the services a peer calls, run between steps
+- ``ros2_control``: gazebo_ros2_control's controller topics (joint_trajectory, commands, joint_states)
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C
 

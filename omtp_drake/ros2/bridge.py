@@ -26,6 +26,7 @@ from omtp_drake.ros.comm._core import JOINT_NAMES
 from omtp_drake.ros.moveit.description import robot_description
 from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
+from omtp_drake.ros2.ros2_control import Ros2Control
 from omtp_drake.ros2.topics import CellTopics
 
 if TYPE_CHECKING:
@@ -92,6 +93,7 @@ class Ros2Cell:
             names = [(name, robot) for name, (robot, _) in joints.items()]
             self.topics = CellTopics(self.node, cell, names, self.description)
             self.commands = CellCommands(self.node, cell, joints, fixed_links(cell))
+            self.control = Ros2Control(self.node, cell)
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)
         except BaseException:
@@ -101,6 +103,7 @@ class Ros2Cell:
         self._thread.start()
         self._closed = False
         self.topics.publish(cell.time)
+        self.control.publish(cell.time)
 
     def _spin(self) -> None:
         from rclpy.executors import ExternalShutdownException
@@ -115,6 +118,7 @@ class Ros2Cell:
         applies what peers asked for meanwhile, and publishes what is due."""
         commands = self.commands
         commands.run_pending()
+        self.control.run_pending()
         end = self.cell.time + dt
         due = commands.next_point_time()
         if due is not None and self.cell.time < due < end:
@@ -122,6 +126,7 @@ class Ros2Cell:
         self.cell.runtime.advance_to(end)
         commands.run_pending()
         self.topics.publish(self.cell.time)
+        self.control.publish(self.cell.time)
 
     def close(self) -> None:
         """Stops the executor, destroys the node, shuts the context down."""

@@ -11,6 +11,8 @@ Modules (one job each):
 - ``models``: a model from a description file (URDF, xacro, SDF): name, pose, Gazebo tags
 - ``gazebo_tags``: a description's ``<gazebo>`` tags as typed settings: materials, friction, sensors, plugins
 - ``gazebo_parse``: reading those tags from URDF or SDF text
+- ``ros_control``: a robot's ros_control / ros2_control set-up: hardware joints, started controllers
+- ``ros_control_parse``: reading it from transmissions, ``<ros2_control>`` tags and controllers YAML
 - ``robot_world``: a scenario (or Gazebo's empty world) with a student's robot spawned in it
 - ``faults``: faults as data: what goes wrong in a run, when, and for how long
 - ``loader``: YAML, ``base:`` merges and Drake's typed load: the one place a file becomes a ``Scenario``

@@ -24,6 +24,7 @@ from omtp_drake.scenario.gazebo_tags import (
     RosCameraPlugin,
     SensorConfig,
 )
+from omtp_drake.scenario.ros_control_parse import is_ros_control_plugin, parse_ros_control
 
 CAMERA_PLUGIN = "libgazebo_ros_camera.so"
 JOINT_STATE_PLUGIN = "libgazebo_ros_joint_state_publisher.so"
@@ -94,6 +95,7 @@ def parse_gazebo_tags(text: str, where: str) -> GazeboExtensions:
                 _link_tags(read, gazebo, reference, out)
             for plugin in gazebo.findall("plugin"):
                 _model_plugin(read, plugin, out)
+        out.ros_control = parse_ros_control(root, where)
         return out
     for model in root.iter("model"):
         for link in model.findall("link"):
@@ -229,7 +231,7 @@ def _model_plugin(read: _Reader, plugin: ET.Element, out: GazeboExtensions) -> N
                 update_rate=read.number(plugin, "update_rate", "updateRate", default=100.0),
             )
         )
-    else:
+    elif not is_ros_control_plugin(filename):
         out.unknown_plugins.append(_unknown(plugin, ""))
 
 

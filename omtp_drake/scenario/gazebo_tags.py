@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 from typing import Optional
 
 from omtp_drake.errors import MAX_RATE_HZ, ConfigError
+from omtp_drake.scenario.ros_control import RosControlConfig
 
 #: The sensor types whose images the cell renders.
 CAMERA_SENSOR_TYPES = ("camera", "depth")
@@ -224,6 +225,8 @@ class GazeboExtensions:
     joint_state_publishers: list[JointStatePublisherPlugin] = field(default_factory=list)
     joint_pose_trajectories: list[JointPoseTrajectoryPlugin] = field(default_factory=list)
     unknown_plugins: list[PluginConfig] = field(default_factory=list)
+    #: ``gazebo_ros_control`` / ``gazebo_ros2_control`` (:mod:`omtp_drake.scenario.ros_control`).
+    ros_control: Optional[RosControlConfig] = None
 
     def validate(self, where: str) -> None:
         """Raises ConfigError naming ``where`` (the file), the tag and the bad value."""
@@ -238,6 +241,8 @@ class GazeboExtensions:
             publisher.validate(where)
         for trajectory in self.joint_pose_trajectories:
             trajectory.validate(where)
+        if self.ros_control is not None:
+            self.ros_control.validate(where)
 
     def links(self) -> set[str]:
         """The links the tags refer to."""

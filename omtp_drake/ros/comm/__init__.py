@@ -14,6 +14,7 @@ Modules, one concept each:
 - ``image_messages``: sensor_msgs' images, camera info and point clouds, and ``read_points``
 - ``interfaces``: the course cell's own interfaces: omtp_gazebo, std_srvs, moveit_msgs types
 - ``nav_interfaces``: move_base_msgs' action types (no ``/move_base``, as in the course's cell)
+- ``control_interfaces``: control_msgs' trajectory controller state and follow_joint_trajectory action
 - ``graph``: the master's view of the session's graph (who publishes, subscribes to, serves what)
 - ``master``: rosgraph's ``Master`` and rospy's ``get_published_topics`` over that graph
 - ``session``: one ROS-style run on a cell: simulated time, topics, callbacks, shutdown

@@ -18,10 +18,13 @@ from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
 from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
+from omtp_drake.scenario.ros_control_parse import spawn_controllers
 from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
 from omtp_drake.sim.driver import spawn
 from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
+from omtp_drake.sim.ros_control import Controller, RequestPoint, RosControl, TrajectoryRequest
+from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
 
 __all__ = [
     "JOINT_NAMES",
@@ -32,17 +35,23 @@ __all__ = [
     "Arm",
     "BreakBeam",
     "Cell",
+    "Controller",
     "CorePoseStamped",
     "DepthCamera",
     "GazeboCameraView",
+    "Goal",
+    "GoalOutcome",
     "JointPoseTrajectory",
     "Plan",
     "PosePoint",
     "ROBOT_NAMESPACE",
+    "RequestPoint",
+    "RosControl",
     "RosLatencyConfig",
     "WORLD_FRAMES",
     "Scenario",
     "SpawnerConfig",
+    "TrajectoryRequest",
     "callback_start",
     "check_in_cell",
     "check_joint_positions",
@@ -55,7 +64,9 @@ __all__ = [
     "named_pose",
     "other_arm_positions",
     "spawn",
+    "spawn_controllers",
     "spawn_pose",
+    "start_goal",
     "tool_down",
     "tool_frame_names",
     "ur_urdf",

@@ -347,6 +347,9 @@ Bool = message("std_msgs/Bool", "bool data")
 String = message("std_msgs/String", "string data")
 Float64 = message("std_msgs/Float64", "float64 data")
 Int32 = message("std_msgs/Int32", "int32 data")
+MultiArrayDimension = message("std_msgs/MultiArrayDimension", "string label\nuint32 size\nuint32 stride")
+MultiArrayLayout = message("std_msgs/MultiArrayLayout", "MultiArrayDimension[] dim\nuint32 data_offset")
+Float64MultiArray = message("std_msgs/Float64MultiArray", "MultiArrayLayout layout\nfloat64[] data")
 
 # ----------------------------------------------------------------------------- geometry_msgs
 

@@ -15,6 +15,7 @@ from omtp_drake.ros.comm.messages import Header
 from omtp_drake.ros.gazebo.interfaces import SetModelState
 from omtp_drake.ros.gazebo.model_topics import attach_model_plugins
 from omtp_drake.ros.gazebo.ros_api import SET_MODEL_STATE, GazeboWorld, PushedSource
+from omtp_drake.ros.gazebo.ros_control_topics import attach_ros_control
 from omtp_drake.ros.gazebo.spawner import SPAWNED_PART, spawner_services
 
 if TYPE_CHECKING:
@@ -46,4 +47,5 @@ def attach_gazebo(session: Graph) -> GazeboWorld:
     # gazebo_ros subscribes to set_model_state too (queue 10): a ModelState published there moves the model.
     session.subscribe(SET_MODEL_STATE, teleport, (), 10)
     attach_model_plugins(session)
+    attach_ros_control(session)
     return world

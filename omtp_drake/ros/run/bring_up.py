@@ -19,7 +19,7 @@ from pathlib import Path
 from typing import Optional
 
 from omtp_drake.errors import ConfigError, check_duration
-from omtp_drake.ros.comm._core import Cell, Scenario, load_scenario, with_robot
+from omtp_drake.ros.comm._core import Cell, Scenario, load_scenario, spawn_controllers, with_robot
 from omtp_drake.ros.comm.latency import resolve_latency
 from omtp_drake.ros.comm.session import Session, active
 from omtp_drake.ros.moveit.node import start_move_group
@@ -67,6 +67,10 @@ class RunSettings:
     #: each runs first, up to its ``rospy.spin()``, and its subscribers, timers and services
     #: serve the run.
     nodes: Sequence[tuple[str | Path, Sequence[str]]] = ()
+    #: ``FILE.yaml [NAME ...]`` each: a controllers YAML loaded (``rosparam load``) and its
+    #: controllers started (``controller_manager spawner NAME ...``) on the robot's
+    #: ``gazebo_ros_control`` (:mod:`omtp_drake.scenario.ros_control_parse`).
+    controllers: Sequence[str] = ()
 
 
 def bring_up(settings: RunSettings) -> Session:
@@ -99,6 +103,8 @@ def _scenario(settings: RunSettings) -> Scenario:
         loaded = with_robot(loaded, settings.robot, settings.workspace)
     if loaded is None:
         raise ConfigError("a run needs --scenario NAME|FILE or --robot FILE (none was given)")
+    for spec in settings.controllers:
+        loaded = dataclasses.replace(loaded, models=spawn_controllers(loaded.models, spec))
     return loaded if settings.seed is None else dataclasses.replace(loaded, seed=int(settings.seed))
 
 

@@ -23,6 +23,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         args.script_args,
         calls=args.call or (),
         nodes=args.nodes,
+        controllers=args.controllers or (),
         **passed_on(
             args,
             "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency "
@@ -60,12 +61,25 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
         help="MoveIt's Python API version: the shape of plan() (default noetic)",
     )
     _add_course_options(p)
+    _add_controllers_option(p)
     add_shared_options(p, "--meshcat")
     add_shared_options(p, "--realtime")
     add_shared_options(p, "--record --json")
     p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
     p.set_defaults(func=cmd_ros_run)
     return p
+
+
+def _add_controllers_option(p: argparse.ArgumentParser) -> None:
+    """``--controllers 'FILE.yaml [NAME ...]'``: rosparam load + controller_manager spawner on the
+    robots' gazebo_ros_control."""
+    p.add_argument(
+        "--controllers",
+        action="append",
+        metavar="'FILE.yaml [NAME ...]'",
+        help="load a controllers YAML (as rosparam load) and start its controllers NAME... (as "
+        "controller_manager's spawner; default: all) on the robot's gazebo_ros_control; repeatable",
+    )
 
 
 def _add_course_options(p: argparse.ArgumentParser) -> None:

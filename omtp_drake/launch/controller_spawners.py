@@ -1,0 +1,94 @@
+"""``controller_manager``'s spawners in a launch file: which controllers start on which robot.
+
+ROS 1: a ``<rosparam file="controllers.yaml" command="load" [ns=...]/>`` puts each
+controller's parameters under ``/<ns>/<controller>``; ``<node pkg="controller_manager"
+type="spawner" args="NAME ... [--namespace NS] [--stopped]">`` loads the named
+controllers from there through the controller manager of its namespace (the node's
+``ns``, or ``--namespace``; ``--stopped``: loaded, not started) and starts them. The
+controller manager is the ``gazebo_ros_control`` plugin of the model whose
+``robotNamespace`` is that namespace.
+
+:func:`start_spawned_controllers` gives each such model its started controllers
+(:class:`~omtp_drake.scenario.ros_control.RosControlConfig`); a spawner whose namespace
+has no such model, or whose controller has no parameters, is a WorkspaceError naming the
+launch file's line, as the spawner fails there.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import shlex
+from collections.abc import Sequence
+
+from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.roslaunch import Launch, Node, get_param, join_name
+from omtp_drake.scenario import ModelConfig
+from omtp_drake.scenario.ros_control import RosControlConfig
+from omtp_drake.scenario.ros_control_parse import with_controller_params
+
+SPAWNERS = (("controller_manager", "spawner"),)
+#: The spawner's options that take a value (their values are no controller names).
+_VALUED = ("--namespace", "--timeout", "--shutdown-timeout")
+
+
+def spawner_request(node: Node) -> tuple[str, list[str]]:
+    """(the controller manager's namespace, the controllers it starts) of a spawner node."""
+    words = shlex.split(node.args)
+    namespace, names, stopped = node.namespace, [], False
+    k = 0
+    while k < len(words):
+        word = words[k]
+        if word.startswith("--namespace="):
+            namespace = word.split("=", 1)[1]
+        elif word in _VALUED:
+            namespace = words[k + 1] if word == "--namespace" and k + 1 < len(words) else namespace
+            k += 1
+        elif word == "--stopped":
+            stopped = True
+        elif not word.startswith("-"):
+            names.append(word)
+        k += 1
+    return "/" + namespace.strip("/"), [] if stopped else names
+
+
+def start_spawned_controllers(models: Sequence[ModelConfig], launch: Launch) -> list[ModelConfig]:
+    """``models`` with the controllers the launch's spawners start (see the module doc)."""
+    out = list(models)
+    for node in launch.nodes:
+        if (node.pkg, node.type) not in SPAWNERS:
+            continue
+        namespace, names = spawner_request(node)
+        owners = [
+            k
+            for k, m in enumerate(out)
+            if m.gazebo.ros_control is not None
+            and m.gazebo.ros_control.plugin == "gazebo_ros_control"
+            and "/" + _setup(m).namespace.strip("/") == namespace
+        ]
+        if not owners:
+            raise WorkspaceError(
+                f"{node.where}: spawner: no controller manager in namespace {namespace!r} (no spawned model "
+                "has a gazebo_ros_control plugin with that robotNamespace)"
+            )
+        document = {}
+        for name in names:
+            try:
+                document[name] = get_param(launch.params, join_name(namespace, name))
+            except KeyError:
+                raise WorkspaceError(
+                    f"{node.where}: spawner: controller {name!r} has no parameters under "
+                    f"{join_name(namespace, name)} (load its YAML with <rosparam> first)"
+                ) from None
+        model = out[owners[0]]
+        config = with_controller_params(_setup(model), document, node.where, names)
+        out[owners[0]] = dataclasses.replace(
+            model, gazebo=dataclasses.replace(model.gazebo, ros_control=config)
+        )
+    return out
+
+
+def _setup(model: ModelConfig) -> RosControlConfig:
+    config = model.gazebo.ros_control
+    if config is None:
+        raise WorkspaceError(f"{model.file}: the model has no gazebo_ros_control plugin")
+    return config

@@ -1,0 +1,92 @@
+"""``omtp-drake ros2`` on a ros2_control robot written here (two joints with ``initial_value``\\ s,
+a trajectory controller and a broadcaster in its YAML), with a plain rclpy node in another
+process (tests/ros2_scripts/ros2_control_node.py) on loopback, in a domain of its own: the
+joints start at their initial values, follow a trajectory sent to
+``/arm_controller/joint_trajectory`` within the controller's tolerances, and ``/joint_states``
+comes from the broadcaster at the YAML's rate (counted over simulated time)."""
+
+from __future__ import annotations
+
+import json
+import signal
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+# Fast DDS's shared memory left behind is test_ros2's check (one node, one rule); here other
+# runs' DDS files would race it.
+from test_ros2 import PATIENCE, SCRIPTS, _end, _loopback_env, _session_members, domain, needs_ros2
+
+ROBOT = (
+    Path(__file__).parent
+    / "fixtures"
+    / "control_ws"
+    / "src"
+    / "two_joint_ros2"
+    / "urdf"
+    / "two_joint.urdf.xacro"
+)
+#: The YAML's constraints (goal) and initial values; the trajectory's last point.
+GOAL_TOLERANCE = {"shoulder_joint": 0.01, "slide_joint": 0.005}
+INITIAL = {"shoulder_joint": 0.3, "slide_joint": 0.05}
+LAST = {"shoulder_joint": 0.8, "slide_joint": 0.1}
+BROADCASTER_HZ = 25.0
+
+__all__ = ["domain"]  # the fixture, used by name
+
+
+@needs_ros2
+def test_a_ros2_control_robot_follows_a_trajectory_and_broadcasts_its_joints(tmp_path, domain):
+    out = tmp_path / "seen.json"
+    env = _loopback_env(domain)
+    cell = subprocess.Popen(
+        [sys.executable, "-m", "omtp_drake.cli", "ros2", str(ROBOT), "--domain-id", env["ROS_DOMAIN_ID"]],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    student = subprocess.Popen(
+        [sys.executable, str(SCRIPTS / "ros2_control_node.py"), str(out)],
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        _, student_err = student.communicate(timeout=PATIENCE)
+        cell.send_signal(signal.SIGINT)
+        _, cell_err = cell.communicate(timeout=PATIENCE)
+    finally:
+        _end(student)
+        _end(cell)
+    assert student.returncode == 0, student_err[-3000:]
+    assert cell.returncode == 0, cell_err[-3000:]
+    assert not _session_members(cell.pid) and not _session_members(student.pid)
+    result = json.loads(out.read_text())
+    states = [(t, dict(zip(names, q))) for t, names, q in result["states"]]
+    assert all(list(q) == ["shoulder_joint", "slide_joint"] for _, q in states)
+
+    before = dict(zip(result["before"][1], result["before"][2]))
+    for joint, value in INITIAL.items():
+        assert before[joint] == pytest.approx(value, abs=GOAL_TOLERANCE[joint])
+
+    start = result["start"]
+    end = [q for t, q in states if t >= start + 2.5]
+    assert end, "no joint states after the trajectory's end"
+    for joint, value in LAST.items():
+        assert end[-1][joint] == pytest.approx(value, abs=GOAL_TOLERANCE[joint])
+    # The first point (1 s in): shoulder -0.5, slide 0.15, within the trajectory tolerances.
+    _, at_first = min(states, key=lambda s: abs(s[0] - (start + 1.0)))
+    assert at_first["shoulder_joint"] == pytest.approx(-0.5, abs=0.2)
+    assert at_first["slide_joint"] == pytest.approx(0.15, abs=0.05)
+
+    stamps = np.array([t for t, _ in states])
+    window = stamps[(stamps >= start) & (stamps < start + 3.0)]
+    assert len(window) == pytest.approx(3.0 * BROADCASTER_HZ, abs=1)
+    assert np.allclose(np.diff(stamps), 1.0 / BROADCASTER_HZ, atol=1e-6)
