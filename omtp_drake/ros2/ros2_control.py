@@ -29,14 +29,15 @@ from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros2 import messages
-from omtp_drake.sim.ros_control import Controller, Periodic, RequestPoint, RosControl, TrajectoryRequest
+from omtp_drake.sim.ros_control import Controller, Periodic, RosControl, TrajectoryRequest
+from omtp_drake.sim.ros_control import trajectory_request as neutral_trajectory_request
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
 #: Simulated seconds of joint states a broadcaster keeps for a subscriber that lags (the
 #: cell runs faster than real time; a reliable KEEP_LAST writer drops what overflows).
-QUEUE_S = 10.0
+QUEUE_S = 60.0
 
 #: Why the action and the state topic are missing, said once where a user meets them.
 NO_CONTROL_MSGS = (
@@ -55,16 +56,7 @@ def _seconds(value: Any) -> float:
 
 def trajectory_request(msg: Any) -> TrajectoryRequest:
     """A ``trajectory_msgs/msg/JointTrajectory`` as the layer's request."""
-    points = tuple(
-        RequestPoint(
-            _seconds(p.time_from_start),
-            tuple(map(float, p.positions)),
-            tuple(map(float, p.velocities)),
-            tuple(map(float, p.accelerations)),
-        )
-        for p in msg.points
-    )
-    return TrajectoryRequest(tuple(msg.joint_names), points, _seconds(msg.header.stamp))
+    return neutral_trajectory_request(msg, _seconds)
 
 
 class Ros2Control:

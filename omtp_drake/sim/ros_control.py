@@ -29,9 +29,9 @@ these their topic names and message types.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from pydrake.systems.framework import Context
@@ -102,6 +102,21 @@ class JointStateSample:
     position: tuple[float, ...]
     velocity: tuple[float, ...]
     effort: tuple[float, ...]
+
+
+def trajectory_request(message: Any, seconds: Callable[[Any], float]) -> TrajectoryRequest:
+    """A ``trajectory_msgs/JointTrajectory`` of either transport as a request; ``seconds``
+    turns its time and durations into seconds (each transport's own time type)."""
+    points = tuple(
+        RequestPoint(
+            seconds(p.time_from_start),
+            tuple(map(float, p.positions)),
+            tuple(map(float, p.velocities)),
+            tuple(map(float, p.accelerations)),
+        )
+        for p in message.points
+    )
+    return TrajectoryRequest(tuple(message.joint_names), points, seconds(message.header.stamp))
 
 
 class Periodic:

@@ -23,7 +23,13 @@ from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
 from omtp_drake.sim.driver import spawn
 from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
-from omtp_drake.sim.ros_control import Controller, RequestPoint, RosControl, TrajectoryRequest
+from omtp_drake.sim.ros_control import (
+    Controller,
+    RequestPoint,
+    RosControl,
+    TrajectoryRequest,
+    trajectory_request,
+)
 from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
 
 __all__ = [
@@ -69,6 +75,7 @@ __all__ = [
     "start_goal",
     "tool_down",
     "tool_frame_names",
+    "trajectory_request",
     "ur_urdf",
     "with_robot",
 ]

@@ -27,7 +27,8 @@ import logging
 from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.comm._core import Controller, RequestPoint, RosControl, TrajectoryRequest
+from omtp_drake.ros.comm._core import Controller, RosControl, TrajectoryRequest
+from omtp_drake.ros.comm._core import trajectory_request as neutral_trajectory_request
 from omtp_drake.ros.comm.control_interfaces import JointTrajectoryControllerState
 from omtp_drake.ros.comm.messages import Header, JointState, JointTrajectoryPoint, Time
 from omtp_drake.ros.gazebo.model_topics import topic
@@ -127,16 +128,4 @@ def _seconds(value: Any) -> float:
 
 def trajectory_request(message: Any) -> TrajectoryRequest:
     """A ``trajectory_msgs/JointTrajectory`` of the shim as the layer's request."""
-    return TrajectoryRequest(
-        tuple(message.joint_names),
-        tuple(
-            RequestPoint(
-                _seconds(p.time_from_start),
-                tuple(map(float, p.positions)),
-                tuple(map(float, p.velocities)),
-                tuple(map(float, p.accelerations)),
-            )
-            for p in message.points
-        ),
-        _seconds(message.header.stamp),
-    )
+    return neutral_trajectory_request(message, _seconds)
