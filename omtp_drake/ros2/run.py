@@ -27,12 +27,17 @@ if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
 
+#: What makes the SCENARIO argument a robot file rather than a scenario.
+ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
+
+
 @dataclass(frozen=True)
 class Ros2RunOptions:
     """How ``omtp-drake ros2`` runs a cell.
 
     Attributes:
-        scenario: the scenario's name or YAML path.
+        scenario: the scenario's name or YAML path, or a robot's URDF, xacro or SDF file
+            (spawned into Gazebo's empty world, as ``ros-run --robot`` does).
         seed: overrides the scenario's seed.
         timeout: simulated seconds to run (None: until stopped).
         realtime: pace to the wall clock.
@@ -58,7 +63,12 @@ class Ros2RunOptions:
         from omtp_drake.scenario import as_scenario
         from omtp_drake.script import Cell
 
-        scenario = as_scenario(self.scenario)
+        if Path(self.scenario).suffix in ROBOT_SUFFIXES:
+            from omtp_drake.scenario import with_robot
+
+            scenario = with_robot(None, self.scenario)
+        else:
+            scenario = as_scenario(self.scenario)
         if self.seed is not None:
             scenario = replace(scenario, seed=self.seed)
         return Cell(scenario, realtime=self.realtime, meshcat=self.meshcat)
@@ -127,7 +137,11 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         help="run a scenario's cell as ROS 2 nodes over DDS (the ros2 extra): /clock, /joint_states, "
         "/robot_description, cameras, /set_joint_trajectory, gripper and belt services",
     )
-    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument(
+        "scenario",
+        metavar="SCENARIO",
+        help="a scenario's name or YAML file, or a robot (URDF, xacro, SDF) spawned into the empty world",
+    )
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
     p.add_argument("--timeout", type=float, default=None, metavar="S", help="end after S simulated seconds")
     p.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")

@@ -1,0 +1,94 @@
+"""The messages of the Gazebo plugin layer, free of any middleware: each transport maps
+them field for field onto its own type (``sensor_msgs/JointState`` and so on).
+
+Stamps are simulated seconds (float); a transport converts them to its time type once.
+Image data is the bytes of the ROS message's ``data`` field, laid out as the encoding
+says (REP 118), so a transport copies it as it is.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class JointStates:
+    """``sensor_msgs/JointState``: the named joints' positions (and velocities, when the
+    plugin reports them)."""
+
+    stamp: float
+    names: tuple[str, ...]
+    positions: tuple[float, ...]
+    velocities: tuple[float, ...] = ()
+    frame_id: str = ""
+
+
+@dataclass(frozen=True)
+class Image:
+    """``sensor_msgs/Image``."""
+
+    stamp: float
+    frame_id: str
+    height: int
+    width: int
+    encoding: str
+    step: int
+    data: bytes
+    is_bigendian: int = 0
+
+
+@dataclass(frozen=True)
+class CameraInfo:
+    """``sensor_msgs/CameraInfo`` (row-major ``k`` 3x3, ``r`` 3x3, ``p`` 3x4)."""
+
+    stamp: float
+    frame_id: str
+    height: int
+    width: int
+    distortion_model: str
+    d: tuple[float, ...]
+    k: tuple[float, ...]
+    r: tuple[float, ...]
+    p: tuple[float, ...]
+
+
+@dataclass(frozen=True)
+class CloudField:
+    """A ``sensor_msgs/PointField``: every field here is one FLOAT32."""
+
+    name: str
+    offset: int
+
+
+@dataclass(frozen=True)
+class PointCloud:
+    """``sensor_msgs/PointCloud2`` of FLOAT32 fields."""
+
+    stamp: float
+    frame_id: str
+    height: int
+    width: int
+    fields: tuple[CloudField, ...]
+    point_step: int
+    row_step: int
+    data: bytes
+    is_dense: bool
+    is_bigendian: bool = False
+
+
+@dataclass(frozen=True)
+class TrajectoryPoint:
+    """A ``trajectory_msgs/JointTrajectoryPoint``'s positions and ``time_from_start`` (s)."""
+
+    positions: tuple[float, ...]
+    time_from_start: float
+
+
+@dataclass(frozen=True)
+class TrajectoryRequest:
+    """A ``trajectory_msgs/JointTrajectory`` as a joint pose trajectory plugin reads it."""
+
+    frame_id: str
+    stamp: float
+    joint_names: tuple[str, ...]
+    points: tuple[TrajectoryPoint, ...] = field(default_factory=tuple)
