@@ -24,11 +24,8 @@ from omtp_drake.ros.run.command import print_line
 from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:
+    from omtp_drake.scenario import Scenario
     from omtp_drake.script import Cell
-
-
-#: What makes the SCENARIO argument a robot file rather than a scenario.
-ROBOT_SUFFIXES = (".urdf", ".xacro", ".sdf")
 
 
 @dataclass(frozen=True)
@@ -37,7 +34,9 @@ class Ros2RunOptions:
 
     Attributes:
         scenario: the scenario's name or YAML path, or a robot's URDF, xacro or SDF file
-            (spawned into Gazebo's empty world, as ``ros-run --robot`` does).
+            (spawned into Gazebo's empty world, as ``ros-run --robot`` does), or a
+            resolved :class:`~omtp_drake.scenario.Scenario` (a launch file's, a world's):
+            the node serves the Gazebo plugins of whatever it holds.
         seed: overrides the scenario's seed.
         timeout: simulated seconds to run (None: until stopped).
         realtime: pace to the wall clock.
@@ -46,7 +45,7 @@ class Ros2RunOptions:
             robot_state_publisher, which reads it as a parameter).
     """
 
-    scenario: str
+    scenario: str | Scenario
     seed: Optional[int] = None
     timeout: Optional[float] = None
     realtime: bool = False
@@ -63,12 +62,7 @@ class Ros2RunOptions:
         from omtp_drake.scenario import as_scenario
         from omtp_drake.script import Cell
 
-        if Path(self.scenario).suffix in ROBOT_SUFFIXES:
-            from omtp_drake.scenario import with_robot
-
-            scenario = with_robot(None, self.scenario)
-        else:
-            scenario = as_scenario(self.scenario)
+        scenario = as_scenario(self.scenario)
         if self.seed is not None:
             scenario = replace(scenario, seed=self.seed)
         return Cell(scenario, realtime=self.realtime, meshcat=self.meshcat)
