@@ -49,7 +49,7 @@ def _run(case: str, seconds: float) -> tuple[float, float]:
     runtime = FactoryRuntime(_scenario(case != "no camera"))
     if case == "camera + topics":
         from omtp_drake.gazebo.camera import camera_publications, camera_views
-        from omtp_drake.ros.gazebo.plugin_topics import CONVERT
+        from omtp_drake.ros.gazebo.plugin_topics import to_ros1
 
         class _Cell:  # what the camera plugin reads of a Cell
             station, scenario = runtime.station, runtime.scenario
@@ -62,9 +62,8 @@ def _run(case: str, seconds: float) -> tuple[float, float]:
 
         def publish(rt: FactoryRuntime) -> None:
             for t in topics:
-                convert = CONVERT[t.message][1]
                 for message in t.poll(rt.time):
-                    convert(message)
+                    to_ros1(message)
 
         runtime.on_tick(publish)
     cpu, wall = time.process_time(), time.perf_counter()

@@ -30,6 +30,7 @@ The rules, as the plugin (gazebo_ros_pkgs ``ros2`` and ``noetic-devel`` agree):
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -165,16 +166,26 @@ def camera_info(stamp: float, frame_id: str, info: DrakeCameraInfo) -> CameraInf
     )  # fmt: skip
 
 
-def cloud_xyz(depth: np.ndarray, info: DrakeCameraInfo) -> np.ndarray:
-    """(height, width, 3) float32 points of REP 117 ``depth`` (out of range: its ±inf)."""
+@functools.lru_cache(maxsize=8)
+def _rays(w: int, h: int, fx: float, fy: float, cx: float, cy: float) -> tuple[np.ndarray, np.ndarray]:
+    """Each pixel's ray as (x / z, y / z): one row of x factors, one column of y factors."""
+    rx = ((np.arange(w) - cx) / fx).astype(np.float32)[None, :]
+    ry = ((np.arange(h) - cy) / fy).astype(np.float32)[:, None]
+    return rx, ry
+
+
+def cloud_xyz(depth: np.ndarray, info: DrakeCameraInfo, out: np.ndarray | None = None) -> np.ndarray:
+    """(height, width, 3) float32 points of REP 117 ``depth`` (out of range: its ±inf),
+    written into ``out`` (a (height, width, >= 3) float32 array) when given."""
     h, w = depth.shape
-    v, u = np.mgrid[0:h, 0:w].astype(np.float64)
-    finite = np.isfinite(depth)
-    z = np.where(finite, depth, 0.0)
-    x = (u - info.center_x()) * z / info.focal_x()
-    y = (v - info.center_y()) * z / info.focal_y()
-    xyz = np.stack([x, y, z], axis=-1).astype(np.float32)
-    xyz[~finite] = depth[~finite, None]
+    xyz = np.empty((h, w, 3), dtype=np.float32) if out is None else out
+    rx, ry = _rays(w, h, info.focal_x(), info.focal_y(), info.center_x(), info.center_y())
+    np.multiply(depth, rx, out=xyz[..., 0])
+    np.multiply(depth, ry, out=xyz[..., 1])
+    xyz[..., 2] = depth
+    invalid = ~np.isfinite(depth)
+    if invalid.any():
+        xyz[invalid, :3] = depth[invalid, None]
     return xyz
 
 
@@ -184,7 +195,7 @@ def point_cloud(
     """The plugin's organized cloud of ``depth`` coloured by ``rgb`` (see the module doc)."""
     h, w = depth.shape
     packed = np.zeros((h, w, POINT_STEP // 4), dtype=np.float32)
-    packed[..., :3] = cloud_xyz(depth, info)
+    cloud_xyz(depth, info, out=packed)
     c = rgb.astype(np.uint32)
     packed[..., 4] = ((c[..., 0] << 16) | (c[..., 1] << 8) | c[..., 2]).view(np.float32)
     dense = bool(np.isfinite(depth).all())

@@ -2,7 +2,7 @@
 ``geometry_msgs``, ``visualization_msgs``), as Gazebo's ROS 2 plugins fill them.
 
 - The Gazebo plugin layer's messages (:mod:`omtp_drake.gazebo.messages`) field for
-  field (:data:`CONVERT`), and a ``JointTrajectory`` as its request; the plugins'
+  field (:func:`to_ros`), and a ``JointTrajectory`` as its request; the plugins'
   rules (encodings, frames, intrinsics) are theirs, not this module's.
 - A logical camera's image: a ``geometry_msgs/PoseArray`` of the models' poses and
   a ``visualization_msgs/MarkerArray`` (a cube and a label per model) in the
@@ -15,7 +15,7 @@ This module imports the message packages: import it after
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 from builtin_interfaces.msg import Time
@@ -24,7 +24,6 @@ from pydrake.math import RigidTransform
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, JointState, PointCloud2, PointField
 from std_msgs.msg import ColorRGBA, Header
-from trajectory_msgs.msg import JointTrajectory
 from visualization_msgs.msg import Marker, MarkerArray
 
 from omtp_drake.cell.camera_image import LogicalCameraImage
@@ -48,45 +47,23 @@ def clock(t: float) -> Clock:
     return Clock(clock=stamp(t))
 
 
-def joint_state(m: neutral.JointStates) -> JointState:
-    return JointState(
-        header=header(m.stamp, m.frame_id), name=list(m.names), position=list(m.positions),
-        velocity=list(m.velocities),
-    )  # fmt: skip
-
-
-def image(m: neutral.Image) -> Image:
-    return Image(
-        header=header(m.stamp, m.frame_id), height=m.height, width=m.width, encoding=m.encoding,
-        is_bigendian=m.is_bigendian, step=m.step, data=m.data,
-    )  # fmt: skip
-
-
-def camera_info(m: neutral.CameraInfo) -> CameraInfo:
-    return CameraInfo(
-        header=header(m.stamp, m.frame_id), height=m.height, width=m.width,
-        distortion_model=m.distortion_model, d=list(m.d), k=list(m.k), r=list(m.r), p=list(m.p),
-    )  # fmt: skip
-
-
-def point_cloud(m: neutral.PointCloud) -> PointCloud2:
-    fields = [
-        PointField(name=f.name, offset=f.offset, datatype=PointField.FLOAT32, count=1) for f in m.fields
-    ]
-    return PointCloud2(
-        header=header(m.stamp, m.frame_id), height=m.height, width=m.width, fields=fields,
-        is_bigendian=m.is_bigendian, point_step=m.point_step, row_step=m.row_step, data=m.data,
-        is_dense=m.is_dense,
-    )  # fmt: skip
-
-
-#: Neutral message type -> (the ROS 2 type, the conversion).
-CONVERT: dict[type, tuple[type, Callable[[Any], Any]]] = {
-    neutral.JointStates: (JointState, joint_state),
-    neutral.Image: (Image, image),
-    neutral.CameraInfo: (CameraInfo, camera_info),
-    neutral.PointCloud: (PointCloud2, point_cloud),
+#: Neutral message type -> the ROS 2 type it is published as.
+TYPES: dict[type, type] = {
+    neutral.JointStates: JointState,
+    neutral.Image: Image,
+    neutral.CameraInfo: CameraInfo,
+    neutral.PointCloud: PointCloud2,
 }
+
+
+def to_ros(m: Any) -> Any:
+    """A published message of the plugin layer as its ROS 2 message, field for field."""
+    fields = neutral.message_fields(m)
+    if "fields" in fields:
+        fields["fields"] = [
+            PointField(name=n, offset=o, datatype=PointField.FLOAT32, count=1) for n, o in fields["fields"]
+        ]
+    return TYPES[type(m)](header=header(m.stamp, m.frame_id), **fields)
 
 
 def seconds(t: Any) -> float:
@@ -94,15 +71,9 @@ def seconds(t: Any) -> float:
     return t.sec + t.nanosec * 1e-9
 
 
-def trajectory_request(msg: JointTrajectory) -> neutral.TrajectoryRequest:
+def trajectory_request(msg: Any) -> neutral.TrajectoryRequest:
     """A ``trajectory_msgs/JointTrajectory`` as the plugin layer reads it."""
-    points = tuple(
-        neutral.TrajectoryPoint(tuple(float(q) for q in p.positions), seconds(p.time_from_start))
-        for p in msg.points
-    )
-    return neutral.TrajectoryRequest(
-        msg.header.frame_id, seconds(msg.header.stamp), tuple(msg.joint_names), points
-    )
+    return neutral.trajectory_request(msg, seconds)
 
 
 def pose(X: RigidTransform) -> Pose:

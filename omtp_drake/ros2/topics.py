@@ -60,7 +60,7 @@ class PluginPublisher:
     only while the topic has a subscriber)."""
 
     def __init__(self, node: Any, publication: Publication):
-        msg_type, self._convert = messages.CONVERT[publication.message]
+        msg_type = messages.TYPES[publication.message]
         depth = QUEUE_DEPTH.get(publication.message.__name__, 10)
         self._publisher = node.create_publisher(msg_type, publication.topic, depth)
         self._poll = publication.poll
@@ -70,7 +70,7 @@ class PluginPublisher:
         if self._lazy and self._publisher.get_subscription_count() == 0:
             return
         for message in self._poll(t):
-            self._publisher.publish(self._convert(message))
+            self._publisher.publish(messages.to_ros(message))
 
 
 class CellTopics:

@@ -31,56 +31,30 @@ def _header(stamp: float, frame_id: str) -> Message:
     return Header(stamp=Time(stamp), frame_id=frame_id)
 
 
-def joint_state(m: neutral.JointStates) -> Message:
-    return JointState(
-        header=_header(m.stamp, m.frame_id), name=list(m.names), position=list(m.positions),
-        velocity=list(m.velocities),
-    )  # fmt: skip
-
-
-def image(m: neutral.Image) -> Message:
-    return Image(
-        header=_header(m.stamp, m.frame_id), height=m.height, width=m.width, encoding=m.encoding,
-        is_bigendian=m.is_bigendian, step=m.step, data=m.data,
-    )  # fmt: skip
-
-
-def camera_info(m: neutral.CameraInfo) -> Message:
-    return CameraInfo(
-        header=_header(m.stamp, m.frame_id), height=m.height, width=m.width,
-        distortion_model=m.distortion_model, D=list(m.d), K=list(m.k), R=list(m.r), P=list(m.p),
-    )  # fmt: skip
-
-
-def point_cloud(m: neutral.PointCloud) -> Message:
-    fields = [
-        PointField(name=f.name, offset=f.offset, datatype=PointField.FLOAT32, count=1) for f in m.fields
-    ]
-    return PointCloud2(
-        header=_header(m.stamp, m.frame_id), height=m.height, width=m.width, fields=fields,
-        is_bigendian=m.is_bigendian, point_step=m.point_step, row_step=m.row_step, data=m.data,
-        is_dense=m.is_dense,
-    )  # fmt: skip
-
-
-#: Neutral message type -> (the shim's type, the conversion).
-CONVERT: dict[type, tuple[Any, Callable[[Any], Message]]] = {
-    neutral.JointStates: (JointState, joint_state),
-    neutral.Image: (Image, image),
-    neutral.CameraInfo: (CameraInfo, camera_info),
-    neutral.PointCloud: (PointCloud2, point_cloud),
+#: Neutral message type -> the shim's type it is published as.
+TYPES: dict[type, Any] = {
+    neutral.JointStates: JointState,
+    neutral.Image: Image,
+    neutral.CameraInfo: CameraInfo,
+    neutral.PointCloud: PointCloud2,
 }
+#: ROS 1's names of fields ROS 2 renamed (sensor_msgs/CameraInfo's matrices).
+ROS1_NAMES = {"d": "D", "k": "K", "r": "R", "p": "P"}
+
+
+def to_ros1(m: Any) -> Message:
+    """A published message of the plugin layer as the shim's message, field for field."""
+    fields = {ROS1_NAMES.get(k, k): v for k, v in neutral.message_fields(m).items()}
+    if "fields" in fields:
+        fields["fields"] = [
+            PointField(name=n, offset=o, datatype=PointField.FLOAT32, count=1) for n, o in fields["fields"]
+        ]
+    return TYPES[type(m)](header=_header(m.stamp, m.frame_id), **fields)
 
 
 def trajectory_request(msg: Any) -> neutral.TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory`` of the shim as the plugin layer reads it."""
-    points = tuple(
-        neutral.TrajectoryPoint(tuple(float(q) for q in p.positions), _seconds(p.time_from_start))
-        for p in msg.points
-    )
-    return neutral.TrajectoryRequest(
-        msg.header.frame_id, _seconds(msg.header.stamp), tuple(msg.joint_names), points
-    )
+    """A ``trajectory_msgs/JointTrajectory`` as the plugin layer reads it."""
+    return neutral.trajectory_request(msg, _seconds)
 
 
 def _seconds(value: Any) -> float:
@@ -91,12 +65,12 @@ class PublicationSource(Source):
     """A publication of the plugin layer as the session's source of one topic."""
 
     def __init__(self, publication: Publication, cell: Any):
-        self.msg_class, self._convert = CONVERT[publication.message]
+        self.msg_class = TYPES[publication.message]
         self._poll = publication.poll
         self._cell = cell
 
     def poll(self) -> list[tuple[float, Any]]:
-        return [(m.stamp, self._convert(m)) for m in self._poll(self._cell.time)]
+        return [(m.stamp, to_ros1(m)) for m in self._poll(self._cell.time)]
 
 
 class Publishers(Source):
