@@ -98,6 +98,19 @@ def test_joint_states_name_the_plugins_joints_at_its_rate(runs):
 
 
 @needs_ros2
+def test_robot_description_is_the_robots_urdf_under_world(runs):
+    import xml.etree.ElementTree as ET
+
+    seen, _, _ = runs
+    root = ET.fromstring(seen["description"].split("\n", 1)[1])
+    links = [link.get("name") for link in root.findall("link")]
+    joints = {j.get("name"): j.get("type") for j in root.findall("joint")}
+    assert joints["slider_joint"] == "prismatic" and joints["arm_joint"] == "revolute"
+    children = {j.find("child").get("link") for j in root.findall("joint")}
+    assert len(links) == len(set(links)) and [n for n in links if n not in children] == ["world"]
+
+
+@needs_ros2
 def test_set_joint_trajectory_plays_as_gazebos_plugin(runs):
     seen, cell_err, _ = runs
     assert seen["sent_at"] < START - 1.0, "the node sent the trajectory too late to test its stamp"

@@ -19,8 +19,10 @@ import rclpy
 from builtin_interfaces.msg import Duration, Time
 from rclpy.node import Node
 from rclpy.parameter import Parameter
+from rclpy.qos import DurabilityPolicy, QoSProfile
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, JointState, PointCloud2
+from std_msgs.msg import String
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 PATIENCE = 120.0  # wall-clock seconds any one wait may take at most
@@ -67,6 +69,11 @@ class TutorialNode(Node):
             for name, kind in CAMERA.items()
         ]
         self.trajectory = self.create_publisher(JointTrajectory, "/set_joint_trajectory", 1)
+        self.descriptions = []
+        latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.create_subscription(
+            String, "/robot_description", lambda m: self.descriptions.append(m.data), latched
+        )
 
     def on_clock(self, msg):
         self.clock = seconds(msg.clock)
@@ -106,10 +113,12 @@ def main(out, start, end):
         for sub in node.camera_subs:
             node.destroy_subscription(sub)
         node.wait_for(f"/clock at {end}", lambda: node.clock >= end)
+        node.wait_for("/robot_description", lambda: node.descriptions)
         seen = {
             "sent_at": sent_at,
             "states": [[seconds(m.header.stamp), list(m.name), list(m.position)] for m in node.states],
             "camera": {name: describe(name, msg) for name, msg in node.camera.items()},
+            "description": node.descriptions[0],
         }
     finally:
         node.destroy_node()
