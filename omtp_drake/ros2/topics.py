@@ -1,35 +1,34 @@
 """The topics the cell publishes over ROS 2, in simulated time, and when.
 
+The Gazebo plugins' topics are :func:`omtp_drake.gazebo.plugins.gazebo_plugins`'s: the
+rules (rates, frames, stamps, encodings) are the plugin layer's, the same as under
+``ros-run``; here each gets its ROS 2 type (``sensor_msgs/JointState``, ``Image``,
+``CameraInfo``, ``PointCloud2``) and a queue depth (:data:`QUEUE_DEPTH`). A lazy one
+(the cameras) is polled only while the topic has a subscriber.
+
 ============================================  =========================================  ==============
 topic                                         type                                       when
 ============================================  =========================================  ==============
 ``/clock``                                    ``rosgraph_msgs/Clock``                    every step
-``/joint_states``                             ``sensor_msgs/JointState``                 50 Hz
+the plugins' topics                           (above)                                    theirs
 ``/robot_description``                        ``std_msgs/String`` (transient local)      once, latched
-``/<camera>/image_raw``                       ``sensor_msgs/Image`` (``rgb8``)           camera's rate
-``/<camera>/camera_info``                     ``sensor_msgs/CameraInfo``                 camera's rate
-``/<camera>/depth/image_raw``                 ``sensor_msgs/Image`` (``32FC1``, m)       camera's rate
-``/<camera>/depth/camera_info``               ``sensor_msgs/CameraInfo``                 camera's rate
-``/<camera>/points``                          ``sensor_msgs/PointCloud2``                camera's rate
 ``/omtp/<camera>/poses``                      ``geometry_msgs/PoseArray``                each image
 ``/omtp/<camera>/markers``                    ``visualization_msgs/MarkerArray``         each image
-``/gripperN/attached``                        ``std_msgs/Bool``                          50 Hz
-``/omtp/parts/poses``                         ``geometry_msgs/PoseArray``                10 Hz
-``/omtp/parts/markers``                       ``visualization_msgs/MarkerArray``         10 Hz
+``/gripperN/attached``                        ``std_msgs/Bool``                          every step
+``/omtp/parts/poses``                         ``geometry_msgs/PoseArray``                the parts' rate
+``/omtp/parts/markers``                       ``visualization_msgs/MarkerArray``         the parts' rate
 ============================================  =========================================  ==============
 
-``<camera>`` topics exist for the logical cameras with an RGB-D view (``rgbd: true``
-in the scenario), in the camera's optical frame ``<camera>_optical_frame``, the
-names of Gazebo's depth camera plugin; they render only while someone subscribes
-(the plugin is lazy too). The ``/omtp/<camera>`` topics exist for every logical
-camera, in its frame ``<camera>_frame``, stamped with the image's time (Drake samples
-at t when it steps on from t: the image goes out after the step that starts at t).
-``/robot_description`` is published as robot_state_publisher does (reliable,
-transient local, depth 1), so a late rviz2 or robot_state_publisher gets it. Every
-topic is reliable: any subscriber's QoS matches.
+The ``/omtp/<camera>`` topics exist for every logical camera, in its frame
+``<camera>_frame``, stamped with the image's time (Drake samples at t when it steps on
+from t: the image goes out after the step that starts at t). ``/robot_description`` is
+published as robot_state_publisher does (reliable, transient local, depth 1), so a late
+rviz2 or robot_state_publisher gets it. Every topic is reliable: any subscriber's QoS
+matches.
 
-``/omtp/parts`` are the parts in the world (ground truth, as Gazebo's model states;
-they are no links of the URDF), in ``world``, in the order of the markers' names.
+``/omtp/parts`` are :mod:`omtp_drake.gazebo.parts`: the parts in the world (ground
+truth, as Gazebo's model states; they are no links of the URDF), in the order of the
+markers' names.
 
 Joint names are the URDF's (``robot1_shoulder_pan_joint``...), so the user's own
 robot_state_publisher turns ``/joint_states`` and ``/robot_description`` into tf.
