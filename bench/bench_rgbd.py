@@ -48,20 +48,22 @@ def _run(case: str, seconds: float) -> tuple[float, float]:
     """(CPU s, wall s) per simulated second of ``case`` (the build not counted)."""
     runtime = FactoryRuntime(_scenario(case != "no camera"))
     if case == "camera + topics":
-        from omtp_drake.ros.gazebo.model_topics import CameraTopic
+        from omtp_drake.gazebo.camera import camera_publications, camera_views
+        from omtp_drake.ros.gazebo.plugin_topics import to_ros1
 
-        class _Cell:  # what CameraTopic reads of a Cell
-            station, time = runtime.station, 0.0
+        class _Cell:  # what the camera plugin reads of a Cell
+            station, scenario = runtime.station, runtime.scenario
 
         cell = _Cell()
         cell.runtime = runtime
-        camera = runtime.station.depth_cameras["tip_camera"]
-        topics = [CameraTopic(cell, camera, kind) for kind in ("image", "depth", "points")]
+        (view,) = camera_views(cell)
+        wanted = ("/image_raw", "/depth/image_raw", "/points")
+        topics = [p for p in camera_publications(cell, view) if p.topic.endswith(wanted)]
 
         def publish(rt: FactoryRuntime) -> None:
-            cell.time = rt.time
             for t in topics:
-                t.poll()
+                for message in t.poll(rt.time):
+                    to_ros1(message)
 
         runtime.on_tick(publish)
     cpu, wall = time.process_time(), time.perf_counter()

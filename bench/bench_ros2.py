@@ -1,13 +1,17 @@
 """What ``omtp-drake ros2`` costs and delivers: the cell's topics in a subscriber of
 another process, over Fast DDS on loopback.
 
-Three runs of SECONDS simulated seconds of ``lecture6_assignment1`` with camera 1's
-RGB-D view (320 x 213, 10 Hz), stepped as ``omtp-drake ros2`` steps (10 ms):
+Three runs of SECONDS simulated seconds of a case, stepped as ``omtp-drake ros2`` steps
+(10 ms). ``--case assignment1`` (the default): ``lecture6_assignment1`` with camera 1's
+RGB-D view (320 x 213, 10 Hz); ``--case tutorial``: the URDF tutorial's robot
+(tests/fixtures/tutorial_ws: its joint state publisher at 20 Hz and its 640 x 480, 20 Hz
+depth camera) in Gazebo's empty world, as ``omtp-drake ros2 ROBOT`` serves it:
 
 1. ``bare``: the cell alone, no ROS 2;
 2. ``ros2``: the cell as a ROS 2 node, nobody listening (the RGB-D view is not rendered);
-3. ``ros2+sub``: the same with a subscriber process on /clock, /joint_states, the
-   logical camera's poses and the RGB-D topics (image_raw, depth/image_raw, points).
+3. ``ros2+sub``: the same with a subscriber process on the case's TOPICS: /clock,
+   /joint_states, the camera's image_raw, depth/image_raw and points (and the logical
+   camera's poses).
 
 Printed: wall and CPU milliseconds per simulated second of each (the best of the
 repeats; CPU time of the cell's process, all its threads: less swayed by other load),
@@ -21,7 +25,7 @@ loses messages (reliable KEEP_LAST queues drop their oldest) and the table says 
 No pass/fail; numbers only. The machine is shared: the runs are interleaved when
 ``--repeats`` > 1, and the load average is printed.
 
-    python bench/bench_ros2.py [--seconds 10] [--repeats 2] [--realtime]
+    python bench/bench_ros2.py [--case assignment1|tutorial] [--seconds 10] [--repeats 2] [--realtime]
 """
 
 import argparse
@@ -40,14 +44,26 @@ import numpy as np
 logging.getLogger("drake").setLevel(logging.ERROR)
 
 SCENARIO = "base: lecture6_assignment1\ncameras: [{name: logical_camera_1, rgbd: true}]\n"
-TOPICS = {
-    "/clock": "rosgraph_msgs.msg:Clock",
-    "/joint_states": "sensor_msgs.msg:JointState",
-    "/omtp/logical_camera_1/poses": "geometry_msgs.msg:PoseArray",
-    "/logical_camera_1/image_raw": "sensor_msgs.msg:Image",
-    "/logical_camera_1/depth/image_raw": "sensor_msgs.msg:Image",
-    "/logical_camera_1/points": "sensor_msgs.msg:PointCloud2",
+ROBOT = Path(__file__).resolve().parent.parent / "tests/fixtures/tutorial_ws/src/slider_arm_description/urdf"
+ROBOT = ROBOT / "slider_arm.urdf.xacro"
+CASES = {
+    "assignment1": {
+        "/clock": "rosgraph_msgs.msg:Clock",
+        "/joint_states": "sensor_msgs.msg:JointState",
+        "/omtp/logical_camera_1/poses": "geometry_msgs.msg:PoseArray",
+        "/logical_camera_1/image_raw": "sensor_msgs.msg:Image",
+        "/logical_camera_1/depth/image_raw": "sensor_msgs.msg:Image",
+        "/logical_camera_1/points": "sensor_msgs.msg:PointCloud2",
+    },
+    "tutorial": {
+        "/clock": "rosgraph_msgs.msg:Clock",
+        "/joint_states": "sensor_msgs.msg:JointState",
+        "/tip_camera/image_raw": "sensor_msgs.msg:Image",
+        "/tip_camera/depth/image_raw": "sensor_msgs.msg:Image",
+        "/tip_camera/points": "sensor_msgs.msg:PointCloud2",
+    },
 }
+TOPICS = CASES["assignment1"]
 DOMAIN = 1 + (os.getpid() * 11) % 101
 
 
@@ -59,7 +75,7 @@ def stamp_of(msg) -> float:
 # ---------------------------------------------------------------- the subscriber process
 
 
-def listen(out: str) -> None:
+def listen(out: str, case: str) -> None:
     """Subscribes to TOPICS; on SIGINT writes {topic: [[stamp, wall, bytes]...]} to ``out``."""
     import importlib
 
@@ -67,6 +83,8 @@ def listen(out: str) -> None:
     from rclpy.qos import QoSProfile
     from rclpy.serialization import serialize_message
 
+    global TOPICS
+    TOPICS = CASES[case]
     rclpy.init()
     node = rclpy.create_node("bench_listener")
     seen: dict[str, list] = {topic: [] for topic in TOPICS}
@@ -93,7 +111,7 @@ def listen(out: str) -> None:
 # ---------------------------------------------------------------- the cell's side
 
 
-def run(kind: str, seconds: float, scenario: Path, realtime: bool = False) -> dict:
+def run(kind: str, seconds: float, scenario: Path, case: str, realtime: bool = False) -> dict:
     """One run; returns its wall time and, with a subscriber, what it received."""
     from omtp_drake import Cell
     from omtp_drake.ros2.bridge import Ros2Cell
@@ -102,7 +120,8 @@ def run(kind: str, seconds: float, scenario: Path, realtime: bool = False) -> di
     network = Ros2Network(DOMAIN)
     network.apply()
     listener, out = None, None
-    with Cell(str(scenario), realtime=realtime) as cell:
+    cell_args = {"robot": ROBOT} if case == "tutorial" else {"scenario": str(scenario)}
+    with Cell(**cell_args, realtime=realtime) as cell:
         if kind == "bare":
             start, cpu = time.perf_counter(), time.process_time()
             while cell.time < seconds - 1e-9:
@@ -116,7 +135,7 @@ def run(kind: str, seconds: float, scenario: Path, realtime: bool = False) -> di
             if kind == "ros2+sub":
                 out = tempfile.mktemp(suffix=".json")
                 listener = subprocess.Popen(
-                    [sys.executable, __file__, "--listen", out], start_new_session=True
+                    [sys.executable, __file__, "--listen", out, "--case", case], start_new_session=True
                 )
                 _wait_for_subscribers(node)
             cell.runtime.simulator.ResetStatistics()  # realtime pacing counts from here
@@ -180,19 +199,22 @@ def main() -> None:
     parser.add_argument("--seconds", type=float, default=10.0)
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--realtime", action="store_true", help="pace the run with a subscriber")
+    parser.add_argument("--case", choices=sorted(CASES), default="assignment1")
     parser.add_argument("--listen", default=None, help=argparse.SUPPRESS)
     args = parser.parse_args()
+    global TOPICS
+    TOPICS = CASES[args.case]
     if args.listen:
-        return listen(args.listen)
+        return listen(args.listen, args.case)
     scenario = Path(tempfile.mkdtemp()) / "rgbd.yaml"
     scenario.write_text(SCENARIO)
     runs: dict[str, list[dict]] = {"bare": [], "ros2": [], "ros2+sub": []}
     for _ in range(args.repeats):
         for kind, results in runs.items():
-            results.append(run(kind, args.seconds, scenario, realtime=args.realtime and kind == "ros2+sub"))
+            results.append(run(kind, args.seconds, scenario, args.case, realtime=args.realtime and kind == "ros2+sub"))
     per_s = {kind: min(r["wall"] for r in results) / args.seconds for kind, results in runs.items()}
     cpu_s = {kind: min(r["cpu"] for r in results) / args.seconds for kind, results in runs.items()}
-    print(f"{args.seconds:g} simulated s, best of {args.repeats}, ROS_DOMAIN_ID={DOMAIN}, loopback")
+    print(f"{args.case}: {args.seconds:g} simulated s, best of {args.repeats}, ROS_DOMAIN_ID={DOMAIN}, loopback")
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores")
     for kind, wall in per_s.items():
         cpu = cpu_s[kind]

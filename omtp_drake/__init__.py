@@ -23,6 +23,7 @@ is held and checked by tests/test_layering.py):
 - ``tasks``: a scenario's pick-and-place task, run and judged; plots of a run
 - ``script``: scripting the cell yourself: ``Cell`` and its arms, grippers and cameras
 - ``batch``: many runs in parallel on Dask, their records, summaries and plots
+- ``gazebo``: Gazebo's ROS plugins defined once, transport-neutral, under the ROS 1 shim and the ROS 2 node
 - ``ros``: the course's ROS 1 scripts and FlexBE behaviours, unchanged, on the cell
 - ``demos``: ready-made runs of the factory for the command line
 - ``bench_command``: ``omtp-drake bench``'s link to the benchmarks in ``bench/``

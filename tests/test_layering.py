@@ -32,6 +32,7 @@ LAYERS = {
     "tasks": 6,
     "script": 6,
     "batch": 7,
+    "gazebo": 7,
     "ros": 8,
     "demos": 8,
     "bench_command": 8,

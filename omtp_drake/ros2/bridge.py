@@ -18,11 +18,12 @@ Typical use (what ``omtp-drake ros2`` does)::
 
 from __future__ import annotations
 
+import logging
 import re
 import threading
 from typing import TYPE_CHECKING, Any
 
-from omtp_drake.ros.comm._core import JOINT_NAMES
+from omtp_drake.gazebo.plugins import gazebo_plugins
 from omtp_drake.ros.moveit.description import robot_description
 from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
@@ -32,18 +33,12 @@ from omtp_drake.ros2.topics import CellTopics
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
+_log = logging.getLogger("gazebo")
+
 #: The node's name (Gazebo's is ``/gazebo``; one node serves the whole cell here).
 NODE_NAME = "omtp_cell"
 #: Simulated time between two steps (s): ``/clock``'s period, 100 Hz.
 STEP = 0.01
-
-
-def joint_map(cell: Cell) -> dict[str, tuple[str, int]]:
-    """The arms' joint names in the cell's URDF (``robot1_shoulder_pan_joint``) ->
-    (arm, index of the joint in the arm)."""
-    return {
-        f"{robot}_{joint}": (robot, i) for robot in cell.station.arms for i, joint in enumerate(JOINT_NAMES)
-    }
 
 
 def urdf_for_ros2(cell: Cell) -> str:
@@ -51,12 +46,6 @@ def urdf_for_ros2(cell: Cell) -> str:
     meshes' absolute paths as ``file://`` URIs, the form rviz2 and robot_state_publisher
     resolve (a bare path is no URI to ROS 2's resource retriever)."""
     return re.sub(r'filename="/', 'filename="file:///', robot_description(cell))
-
-
-def fixed_links(cell: Cell) -> set[str]:
-    """The cell's links welded to the world (no joint moves them), and ``world``."""
-    plant = cell.station.plant
-    return {body.name() for body in plant.GetBodiesWeldedTo(plant.world_body())}
 
 
 class Ros2Cell:
@@ -89,10 +78,11 @@ class Ros2Cell:
                 context=self._context,
                 parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
             )
-            joints = joint_map(cell)
-            names = [(name, robot) for name, (robot, _) in joints.items()]
-            self.topics = CellTopics(self.node, cell, names, self.description)
-            self.commands = CellCommands(self.node, cell, joints, fixed_links(cell))
+            plugins = gazebo_plugins(cell)
+            for line in plugins.warnings:
+                _log.warning(line)
+            self.topics = CellTopics(self.node, cell, plugins, self.description)
+            self.commands = CellCommands(self.node, cell, plugins.subscriptions)
             self.control = Ros2Control(self.node, cell)
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)
@@ -114,17 +104,11 @@ class Ros2Cell:
             pass
 
     def step(self, dt: float = STEP) -> None:
-        """Advances the cell by ``dt`` (less when a trajectory point is due sooner),
-        applies what peers asked for meanwhile, and publishes what is due."""
-        commands = self.commands
-        commands.run_pending()
+        """Applies what peers asked for meanwhile, advances the cell by ``dt`` and
+        publishes what is due (the plugins' world edits run inside the advance)."""
+        self.commands.run_pending()
         self.control.run_pending()
-        end = self.cell.time + dt
-        due = commands.next_point_time()
-        if due is not None and self.cell.time < due < end:
-            end = due
-        self.cell.runtime.advance_to(end)
-        commands.run_pending()
+        self.cell.runtime.advance_to(self.cell.time + dt)
         self.topics.publish(self.cell.time)
         self.control.publish(self.cell.time)
 

@@ -1,10 +1,10 @@
-"""What a ROS 2 peer can tell the cell: ``/set_joint_trajectory``, the grippers and the belt.
+"""What a ROS 2 peer can tell the cell: the models' trajectory plugins, the grippers and the belt.
 
 ==============================  ==================================  =======================================
 name                            type                                does
 ==============================  ==================================  =======================================
-``/set_joint_trajectory``       ``trajectory_msgs/JointTrajectory``  sets joints to its points (topic; see
-                                                                    :mod:`~omtp_drake.ros2.joint_pose_trajectory`)
+``<ns>/set_joint_trajectory``   ``trajectory_msgs/JointTrajectory``  a model's joint pose trajectory plugin
+                                                                    (topic; see ``omtp_drake.gazebo``)
 ``/gripperN/control``           ``std_srvs/SetBool``                vacuum on (``data: true``) / off
 ``/omtp/conveyor/control``      ``std_srvs/SetBool``                belt on at parameter ``conveyor_power``
                                                                     (0-100, default 100) / off
@@ -25,30 +25,28 @@ cell happens between two steps of the simulation, at a simulated time.
 
 from __future__ import annotations
 
-import logging
 import queue
 import threading
 from collections.abc import Callable
 from concurrent.futures import Future
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import OmtpError
-from omtp_drake.ros2.joint_pose_trajectory import JointPoseTrajectory, arm_targets, parse_trajectory
+from omtp_drake.gazebo.schedule import Subscription
+from omtp_drake.ros2 import messages
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
-
-_log = logging.getLogger(__name__)
 
 #: The belt's power when ``/omtp/conveyor/control`` switches it on and the parameter is unset.
 DEFAULT_CONVEYOR_POWER = 100.0
 
 
 class CellCommands:
-    """The subscription and services above on ``node`` for ``cell``; ``joints`` maps
-    each joint name to (arm, index), ``fixed_links`` are the links no joint moves."""
+    """The subscriptions and services above on ``node`` for ``cell``; ``subscriptions``
+    are its Gazebo plugins' (:func:`omtp_drake.gazebo.plugins.gazebo_plugins`)."""
 
-    def __init__(self, node: Any, cell: Cell, joints: dict[str, tuple[str, int]], fixed_links: set[str]):
+    def __init__(self, node: Any, cell: Cell, subscriptions: list[Subscription]):
         from rcl_interfaces.msg import ParameterDescriptor
         from std_srvs.srv import SetBool
         from trajectory_msgs.msg import JointTrajectory
@@ -57,13 +55,13 @@ class CellCommands:
 
         self._node = node
         self._cell = cell
-        self._joints = joints
-        self._fixed_links = fixed_links
         self._work: queue.SimpleQueue[Callable[[], None]] = queue.SimpleQueue()
         self._stopped = threading.Event()
-        self._trajectory: Optional[JointPoseTrajectory] = None
-        self._next_point = 0
-        node.create_subscription(JointTrajectory, "/set_joint_trajectory", self._on_trajectory, 1)
+        for subscription in subscriptions:
+            # The plugin's queue: 1 (gazebo_ros's QoS for set_joint_trajectory).
+            node.create_subscription(
+                JointTrajectory, subscription.topic, self._on_trajectory(subscription), 1
+            )
         for robot, plugin in gripper_plugins(cell).items():
             node.create_service(SetBool, f"/{plugin}/control", self._gripper_service(robot))
         if cell.station.conveyor is not None:
@@ -76,60 +74,26 @@ class CellCommands:
     # ------------------------------------------------------------ the cell's thread
 
     def run_pending(self) -> None:
-        """Runs the work the callbacks handed over, then sets the trajectory's points
-        that are due (called between steps, on the cell's thread)."""
+        """Runs the work the callbacks handed over (called between steps, on the cell's thread)."""
         while True:
             try:
                 work = self._work.get_nowait()
             except queue.Empty:
                 break
             work()
-        self._set_due_points()
-
-    def next_point_time(self) -> Optional[float]:
-        """When the trajectory's next point is due (None: no point left)."""
-        if self._trajectory is None or self._next_point >= len(self._trajectory.points):
-            return None
-        return self._trajectory.points[self._next_point].time
 
     def stop(self) -> None:
         """Services still waiting are answered with a failure (the cell stopped)."""
         self._stopped.set()
 
-    def _set_due_points(self) -> None:
-        trajectory, t = self._trajectory, self._cell.time
-        while trajectory is not None and self._next_point < len(trajectory.points):
-            point = trajectory.points[self._next_point]
-            if point.time > t + 1e-9:
-                return
-            self._next_point += 1
-            if point.positions is None:
-                _log.error(
-                    "set_joint_trajectory: point[%d] has a different number of positions than the "
-                    "%d joints; skipped",
-                    self._next_point,
-                    len(trajectory.joints),
-                )
-                continue
-            current = {arm: self._cell.arm(arm).joint_values() for arm, _ in trajectory.joints}
-            try:
-                for arm, q in arm_targets(trajectory, point.positions, current).items():
-                    self._cell.arm(arm).set_joint_values(q)
-            except OmtpError as e:
-                _log.error("set_joint_trajectory: point[%d]: %s", self._next_point, e)
-
-    def _start_trajectory(self, msg: Any) -> None:
-        try:
-            self._trajectory = parse_trajectory(msg, self._cell.time, self._joints, self._fixed_links)
-        except OmtpError as e:
-            _log.error("set_joint_trajectory: %s; trajectory not set", e)
-            return
-        self._next_point = 0
-
     # ------------------------------------------------------------ rclpy's thread
 
-    def _on_trajectory(self, msg: Any) -> None:
-        self._work.put(lambda: self._start_trajectory(msg))
+    def _on_trajectory(self, subscription: Subscription) -> Callable[[Any], None]:
+        def receive(msg: Any) -> None:
+            request = messages.trajectory_request(msg)
+            self._work.put(lambda: None if subscription.callback(request) else None)
+
+        return receive
 
     def _call(self, work: Callable[[], str]) -> tuple[bool, str]:
         """Runs ``work`` on the cell's thread; (success, its message) when it is done."""

@@ -1,14 +1,9 @@
 """The cell's state as ROS 2 messages (``rosgraph_msgs``, ``sensor_msgs``,
 ``geometry_msgs``, ``visualization_msgs``), as Gazebo's ROS 2 plugins fill them.
 
-- Images (REP 118's encodings): colour ``rgb8``; depth ``32FC1`` in metres along
-  the optical axis, REP 117's ``+inf`` beyond the camera's ``far`` and ``-inf``
-  nearer than its ``near`` (Drake's depth image has ``inf`` and 0 there).
-- ``camera_info``: the pinhole of :func:`omtp_drake.cell.rgbd.camera_info`, no
-  distortion (``plumb_bob``, zeros), ``P = [K | 0]``.
-- ``points``: an organized cloud (image height x width), fields ``x y z rgb``
-  (float32; ``rgb`` packs 0x00RRGGBB in a float, PCL's layout), NaN where the depth
-  has no return, in the optical frame, as the depth plugin publishes it.
+- The Gazebo plugin layer's messages (:mod:`omtp_drake.gazebo.messages`) field for
+  field (:func:`to_ros`), and a ``JointTrajectory`` as its request; the plugins'
+  rules (encodings, frames, intrinsics) are theirs, not this module's.
 - A logical camera's image: a ``geometry_msgs/PoseArray`` of the models' poses and
   a ``visualization_msgs/MarkerArray`` (a cube and a label per model) in the
   camera's frame, for rviz2 (the course's ``LogicalCameraImage`` type is no
@@ -21,18 +16,18 @@ This module imports the message packages: import it after
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
-import numpy as np
 from builtin_interfaces.msg import Time
 from geometry_msgs.msg import Point, Pose, PoseArray, Quaternion, Vector3
 from pydrake.math import RigidTransform
-from pydrake.systems.sensors import CameraInfo as DrakeCameraInfo
 from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import CameraInfo, Image, JointState, PointCloud2, PointField
 from std_msgs.msg import ColorRGBA, Header
 from visualization_msgs.msg import Marker, MarkerArray
 
 from omtp_drake.cell.camera_image import LogicalCameraImage
+from omtp_drake.gazebo import messages as neutral
 
 #: The cube drawn for a model a logical camera reports (m); parts get their own size.
 MARKER_SIZE = 0.05
@@ -52,99 +47,33 @@ def clock(t: float) -> Clock:
     return Clock(clock=stamp(t))
 
 
-def joint_state(t: float, names: Sequence[str], positions: Sequence[float]) -> JointState:
-    return JointState(header=header(t), name=list(names), position=[float(q) for q in positions])
+#: Neutral message type -> the ROS 2 type it is published as.
+TYPES: dict[type, type] = {
+    neutral.JointStates: JointState,
+    neutral.Image: Image,
+    neutral.CameraInfo: CameraInfo,
+    neutral.PointCloud: PointCloud2,
+}
 
 
-def color_image(t: float, frame_id: str, rgba: np.ndarray) -> Image:
-    """An ``rgb8`` image from a (height, width, 4) uint8 array."""
-    height, width = rgba.shape[:2]
-    rgb = np.ascontiguousarray(rgba[:, :, :3])
-    return Image(
-        header=header(t, frame_id),
-        height=height,
-        width=width,
-        encoding="rgb8",
-        is_bigendian=0,
-        step=width * 3,
-        data=rgb.tobytes(),
-    )
+def to_ros(m: Any) -> Any:
+    """A published message of the plugin layer as its ROS 2 message, field for field."""
+    fields = neutral.message_fields(m)
+    if "fields" in fields:
+        fields["fields"] = [
+            PointField(name=n, offset=o, datatype=PointField.FLOAT32, count=1) for n, o in fields["fields"]
+        ]
+    return TYPES[type(m)](header=header(m.stamp, m.frame_id), **fields)
 
 
-def ros_depth(depth: np.ndarray) -> np.ndarray:
-    """Drake's depth (m; ``inf`` too far, 0 too near) in REP 117's convention (float32)."""
-    out = np.array(depth, dtype=np.float32, copy=True).reshape(depth.shape[0], depth.shape[1])
-    out[out == 0.0] = -np.inf
-    return out
+def seconds(t: Any) -> float:
+    """A ``builtin_interfaces`` Time or Duration in seconds."""
+    return t.sec + t.nanosec * 1e-9
 
 
-def depth_image(t: float, frame_id: str, depth_m: np.ndarray) -> Image:
-    """A ``32FC1`` image from a (height, width) float32 array in REP 117's convention."""
-    height, width = depth_m.shape
-    return Image(
-        header=header(t, frame_id),
-        height=height,
-        width=width,
-        encoding="32FC1",
-        is_bigendian=0,
-        step=width * 4,
-        data=np.ascontiguousarray(depth_m, dtype="<f4").tobytes(),
-    )
-
-
-def camera_info(t: float, frame_id: str, info: DrakeCameraInfo) -> CameraInfo:
-    fx, fy, cx, cy = info.focal_x(), info.focal_y(), info.center_x(), info.center_y()
-    return CameraInfo(
-        header=header(t, frame_id),
-        height=info.height(),
-        width=info.width(),
-        distortion_model="plumb_bob",
-        d=[0.0] * 5,
-        k=[fx, 0.0, cx, 0.0, fy, cy, 0.0, 0.0, 1.0],
-        r=[1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
-        p=[fx, 0.0, cx, 0.0, 0.0, fy, cy, 0.0, 0.0, 0.0, 1.0, 0.0],
-    )
-
-
-_CLOUD_DTYPE = np.dtype([("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("rgb", "<u4")])
-_CLOUD_FIELDS = [
-    PointField(name=name, offset=4 * i, datatype=PointField.FLOAT32, count=1)
-    for i, name in enumerate(("x", "y", "z", "rgb"))
-]
-
-
-def cloud_points(depth_m: np.ndarray, info: DrakeCameraInfo) -> np.ndarray:
-    """(height, width, 3) float32 points in the optical frame from a REP 117 depth
-    image (NaN where it has no finite depth)."""
-    height, width = depth_m.shape
-    v, u = np.mgrid[0:height, 0:width].astype(np.float32)
-    z = np.where(np.isfinite(depth_m), depth_m, np.nan).astype(np.float32)
-    x = (u - info.center_x()) * z / info.focal_x()
-    y = (v - info.center_y()) * z / info.focal_y()
-    return np.stack([x, y, z], axis=-1)
-
-
-def point_cloud(
-    t: float, frame_id: str, depth_m: np.ndarray, rgba: np.ndarray, info: DrakeCameraInfo
-) -> PointCloud2:
-    """The organized cloud of a depth image, coloured by the colour image of the same view."""
-    height, width = depth_m.shape
-    xyz = cloud_points(depth_m, info)
-    packed = np.zeros((height, width), dtype=_CLOUD_DTYPE)
-    packed["x"], packed["y"], packed["z"] = xyz[..., 0], xyz[..., 1], xyz[..., 2]
-    rgb = rgba[:, :, :3].astype(np.uint32)
-    packed["rgb"] = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
-    return PointCloud2(
-        header=header(t, frame_id),
-        height=height,
-        width=width,
-        fields=_CLOUD_FIELDS,
-        is_bigendian=False,
-        point_step=_CLOUD_DTYPE.itemsize,
-        row_step=_CLOUD_DTYPE.itemsize * width,
-        data=packed.tobytes(),
-        is_dense=False,
-    )
+def trajectory_request(msg: Any) -> neutral.TrajectoryRequest:
+    """A ``trajectory_msgs/JointTrajectory`` as the plugin layer reads it."""
+    return neutral.trajectory_request(msg, seconds)
 
 
 def pose(X: RigidTransform) -> Pose:
@@ -192,6 +121,6 @@ def model_markers(
     return MarkerArray(markers=markers)
 
 
-def part_poses(t: float, poses: Sequence[RigidTransform]) -> PoseArray:
-    """Parts' poses in the world frame."""
-    return PoseArray(header=header(t, "world"), poses=[pose(X) for X in poses])
+def part_poses(t: float, frame_id: str, poses: Sequence[RigidTransform]) -> PoseArray:
+    """Parts' poses in ``frame_id``."""
+    return PoseArray(header=header(t, frame_id), poses=[pose(X) for X in poses])

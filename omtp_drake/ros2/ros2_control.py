@@ -28,6 +28,7 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
+from omtp_drake.gazebo.messages import JointStates
 from omtp_drake.ros2 import messages
 from omtp_drake.sim.ros_control import Controller, Periodic, RosControl, TrajectoryRequest
 from omtp_drake.sim.ros_control import trajectory_request as neutral_trajectory_request
@@ -118,8 +119,11 @@ class Ros2Control:
         for controller, periodic, publisher in self._broadcasters:
             if periodic.due(t):
                 sample = self._control.joint_state(self._cell.runtime.context, controller)
-                msg = messages.joint_state(sample.stamp, sample.names, sample.position)
-                msg.velocity = list(sample.velocity)
+                msg = messages.to_ros(
+                    JointStates(
+                        sample.stamp, tuple(sample.names), tuple(sample.position), tuple(sample.velocity)
+                    )
+                )
                 msg.effort = list(sample.effort)
                 publisher.publish(msg)
 

@@ -34,7 +34,10 @@ class Ros2RunOptions:
     """How ``omtp-drake ros2`` runs a cell.
 
     Attributes:
-        scenario: the scenario (or its name or YAML path): the CLI's cell options resolved.
+        scenario: the scenario's name or YAML path, or a robot's URDF, xacro or SDF file
+            (spawned into Gazebo's empty world, as ``ros-run --robot`` does), or a
+            resolved :class:`~omtp_drake.scenario.Scenario` (the CLI's cell options: a launch
+            file's, a world's): the node serves the Gazebo plugins of whatever it holds.
         seed: overrides the scenario's seed.
         timeout: simulated seconds to run (None: until stopped).
         realtime: pace to the wall clock.

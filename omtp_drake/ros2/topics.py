@@ -1,35 +1,34 @@
 """The topics the cell publishes over ROS 2, in simulated time, and when.
 
+The Gazebo plugins' topics are :func:`omtp_drake.gazebo.plugins.gazebo_plugins`'s: the
+rules (rates, frames, stamps, encodings) are the plugin layer's, the same as under
+``ros-run``; here each gets its ROS 2 type (``sensor_msgs/JointState``, ``Image``,
+``CameraInfo``, ``PointCloud2``) and a queue depth (:data:`QUEUE_DEPTH`). A lazy one
+(the cameras) is polled only while the topic has a subscriber.
+
 ============================================  =========================================  ==============
 topic                                         type                                       when
 ============================================  =========================================  ==============
 ``/clock``                                    ``rosgraph_msgs/Clock``                    every step
-``/joint_states``                             ``sensor_msgs/JointState``                 50 Hz
+the plugins' topics                           (above)                                    theirs
 ``/robot_description``                        ``std_msgs/String`` (transient local)      once, latched
-``/<camera>/image_raw``                       ``sensor_msgs/Image`` (``rgb8``)           camera's rate
-``/<camera>/camera_info``                     ``sensor_msgs/CameraInfo``                 camera's rate
-``/<camera>/depth/image_raw``                 ``sensor_msgs/Image`` (``32FC1``, m)       camera's rate
-``/<camera>/depth/camera_info``               ``sensor_msgs/CameraInfo``                 camera's rate
-``/<camera>/points``                          ``sensor_msgs/PointCloud2``                camera's rate
 ``/omtp/<camera>/poses``                      ``geometry_msgs/PoseArray``                each image
 ``/omtp/<camera>/markers``                    ``visualization_msgs/MarkerArray``         each image
-``/gripperN/attached``                        ``std_msgs/Bool``                          50 Hz
-``/omtp/parts/poses``                         ``geometry_msgs/PoseArray``                10 Hz
-``/omtp/parts/markers``                       ``visualization_msgs/MarkerArray``         10 Hz
+``/gripperN/attached``                        ``std_msgs/Bool``                          every step
+``/omtp/parts/poses``                         ``geometry_msgs/PoseArray``                the parts' rate
+``/omtp/parts/markers``                       ``visualization_msgs/MarkerArray``         the parts' rate
 ============================================  =========================================  ==============
 
-``<camera>`` topics exist for the logical cameras with an RGB-D view (``rgbd: true``
-in the scenario), in the camera's optical frame ``<camera>_optical_frame``, the
-names of Gazebo's depth camera plugin; they render only while someone subscribes
-(the plugin is lazy too). The ``/omtp/<camera>`` topics exist for every logical
-camera, in its frame ``<camera>_frame``, stamped with the image's time (Drake samples
-at t when it steps on from t: the image goes out after the step that starts at t).
-``/robot_description`` is published as robot_state_publisher does (reliable,
-transient local, depth 1), so a late rviz2 or robot_state_publisher gets it. Every
-topic is reliable: any subscriber's QoS matches.
+The ``/omtp/<camera>`` topics exist for every logical camera, in its frame
+``<camera>_frame``, stamped with the image's time (Drake samples at t when it steps on
+from t: the image goes out after the step that starts at t). ``/robot_description`` is
+published as robot_state_publisher does (reliable, transient local, depth 1), so a late
+rviz2 or robot_state_publisher gets it. Every topic is reliable: any subscriber's QoS
+matches.
 
-``/omtp/parts`` are the parts in the world (ground truth, as Gazebo's model states;
-they are no links of the URDF), in ``world``, in the order of the markers' names.
+``/omtp/parts`` are :mod:`omtp_drake.gazebo.parts`: the parts in the world (ground
+truth, as Gazebo's model states; they are no links of the URDF), in the order of the
+markers' names.
 
 Joint names are the URDF's (``robot1_shoulder_pan_joint``...), so the user's own
 robot_state_publisher turns ``/joint_states`` and ``/robot_description`` into tf.
@@ -37,80 +36,73 @@ robot_state_publisher turns ``/joint_states`` and ``/robot_description`` into tf
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
-from omtp_drake.cell.rgbd import camera_info, rgba_array
+from omtp_drake.gazebo.plugins import GazeboPlugins
+from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.ros2 import messages
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
-#: ``/joint_states`` and the grippers' state: the course's controllers' state rate.
-JOINT_STATE_RATE_HZ = 50.0
-#: ``/omtp/parts``: the logical cameras' default rate.
-PARTS_RATE_HZ = 10.0
-#: Seconds of ``/clock`` and ``/joint_states`` a reliable publisher keeps for a subscriber
-#: that lags (KEEP_LAST: older ones are dropped). A subscriber process on a busy 2-core
-#: machine stalled up to 0.2 s (bench_ros2.py); with 0.1 s queues it lost 7 % of /clock.
+#: Seconds of ``/clock`` a reliable publisher keeps for a subscriber that lags (KEEP_LAST:
+#: older ones are dropped). A subscriber process on a busy 2-core machine stalled up to
+#: 0.2 s (bench_ros2.py); with 0.1 s queues it lost 7 % of /clock.
 QUEUE_S = 1
-#: Images and clouds kept for a lagging subscriber (0.5 s at 10 Hz; a cloud is 1 MB at 320 x 213).
-IMAGE_QUEUE = 5
+#: Messages kept for a lagging subscriber: joint states (1 s at 50 Hz), images and
+#: clouds (0.5 s at 10 Hz; a cloud is 1 MB at 320 x 213).
+QUEUE_DEPTH = {"JointStates": 50, "Image": 5, "CameraInfo": 5, "PointCloud": 5}
 
 
-class Periodic:
-    """Calls ``publish(t)`` when simulated time has reached its next due time
-    (``period`` apart, from 0)."""
+class PluginPublisher:
+    """A publication of the plugin layer as an rclpy publisher (a lazy one is polled
+    only while the topic has a subscriber)."""
 
-    def __init__(self, period: float, publish: Callable[[float], None]):
-        self.period = period
-        self._publish = publish
-        self._next = 0.0
+    def __init__(self, node: Any, publication: Publication):
+        msg_type = messages.TYPES[publication.message]
+        depth = QUEUE_DEPTH.get(publication.message.__name__, 10)
+        self._publisher = node.create_publisher(msg_type, publication.topic, depth)
+        self._poll = publication.poll
+        self._lazy = publication.lazy
 
     def __call__(self, t: float) -> None:
-        if t < self._next - 1e-9:
+        if self._lazy and self._publisher.get_subscription_count() == 0:
             return
-        self._next = max(self._next + self.period, t)
-        self._publish(t)
+        for message in self._poll(t):
+            self._publisher.publish(messages.to_ros(message))
 
 
 class CellTopics:
-    """The publishers of the topics above on ``node`` (an rclpy node) for ``cell``."""
+    """The publishers of the topics above on ``node`` (an rclpy node) for ``cell``,
+    whose Gazebo plugins are ``plugins``."""
 
-    def __init__(self, node: Any, cell: Cell, joints: list[tuple[str, str]], description: str):
+    def __init__(self, node: Any, cell: Cell, plugins: GazeboPlugins, description: str):
         from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         from rosgraph_msgs.msg import Clock
-        from sensor_msgs.msg import JointState
         from std_msgs.msg import Bool, String
 
-        self._node = node
+        from omtp_drake.gazebo.parts import parts_publication
+        from omtp_drake.ros.gazebo.cell_services import gripper_plugins
+
         self._cell = cell
-        self._joints = joints
         self._clock = node.create_publisher(Clock, "/clock", QUEUE_S * 100)
-        self._joint_states = node.create_publisher(JointState, "/joint_states", QUEUE_S * 50)
         latched = QoSProfile(
             depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
         )
         self._description = node.create_publisher(String, "/robot_description", latched)
         self._description.publish(String(data=description))
-        self._due: list[Callable[[float], None]] = [
-            Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_joint_states)
-        ]
-        self._grippers: dict[str, Any] = {}
+        self._due: list[Any] = [PluginPublisher(node, p) for p in plugins.publications]
+        self._grippers = {
+            robot: node.create_publisher(Bool, f"/{plugin}/attached", 10)
+            for robot, plugin in gripper_plugins(cell).items()
+        }
         self._bool = Bool
-        from omtp_drake.ros.gazebo.cell_services import gripper_plugins
-
-        for robot, plugin in gripper_plugins(cell).items():
-            self._grippers[robot] = node.create_publisher(Bool, f"/{plugin}/attached", 10)
-        self._due.append(Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_grippers))
-        self._due.append(Periodic(1.0 / PARTS_RATE_HZ, PartsTopics(node, cell)))
+        if self._grippers:
+            self._due.append(self._publish_grippers)
+        self._due.append(PartsTopics(node, parts_publication(cell)))
         for config in cell.scenario.cameras:
             # Polled every step: each new image goes out at the first step after its sample.
             self._due.append(LogicalCameraTopics(node, cell, config.name))
-            if config.rgbd:
-                self._due.append(Periodic(1.0 / config.update_rate_hz, RgbdTopics(node, cell, config)))
 
     def publish(self, t: float) -> None:
         """``/clock`` first, then what is due at ``t``."""
@@ -118,14 +110,8 @@ class CellTopics:
         for due in self._due:
             due(t)
 
-    def _publish_joint_states(self, t: float) -> None:
-        names = [name for name, _ in self._joints]
-        positions: list[float] = []
-        for robot in dict.fromkeys(robot for _, robot in self._joints):
-            positions += [float(q) for q in self._cell.arm(robot).joint_values()]
-        self._joint_states.publish(messages.joint_state(t, names, positions))
-
     def _publish_grippers(self, t: float) -> None:
+        """Each gripper's ``attached``, once per step (as the shim's ``/gripperN/state``)."""
         for robot, publisher in self._grippers.items():
             publisher.publish(self._bool(data=self._cell.gripper(robot).attached))
 
@@ -155,56 +141,22 @@ class LogicalCameraTopics:
 
 
 class PartsTopics:
-    """``/omtp/parts/poses`` and ``/markers``: every part in the world, in ``world``."""
+    """``/omtp/parts/poses`` and ``/markers``: :mod:`omtp_drake.gazebo.parts` as a
+    ``PoseArray`` and rviz2's markers (these only while subscribed)."""
 
-    def __init__(self, node: Any, cell: Cell):
+    def __init__(self, node: Any, publication: Publication):
         from geometry_msgs.msg import PoseArray
         from visualization_msgs.msg import MarkerArray
 
-        self._cell = cell
-        self._poses = node.create_publisher(PoseArray, "/omtp/parts/poses", 10)
-        self._markers = node.create_publisher(MarkerArray, "/omtp/parts/markers", 10)
+        self._poll = publication.poll
+        self._poses = node.create_publisher(PoseArray, f"{publication.topic}/poses", 10)
+        self._markers = node.create_publisher(MarkerArray, f"{publication.topic}/markers", 10)
 
     def __call__(self, t: float) -> None:
-        cell = self._cell
-        names = cell.runtime.parts_in_world()
-        poses = [cell.part_pose(name) for name in names]
-        self._poses.publish(messages.part_poses(t, poses))
-        if self._markers.get_subscription_count() > 0:
-            models = [(n, X, cell.scenario.part_size(n)) for n, X in zip(names, poses)]
-            self._markers.publish(messages.model_markers(messages.header(t, "world"), "parts", models))
-
-
-class RgbdTopics:
-    """A camera's RGB-D view as Gazebo's depth camera plugin publishes it (rendered
-    only while one of its topics has a subscriber)."""
-
-    def __init__(self, node: Any, cell: Cell, config: Any):
-        from sensor_msgs.msg import CameraInfo, Image, PointCloud2
-
-        name = config.name
-        self._cell = cell
-        self._name = name
-        self._frame = f"{name}_optical_frame"
-        self._info = camera_info(config)
-        self._image = node.create_publisher(Image, f"/{name}/image_raw", IMAGE_QUEUE)
-        self._image_info = node.create_publisher(CameraInfo, f"/{name}/camera_info", IMAGE_QUEUE)
-        self._depth = node.create_publisher(Image, f"/{name}/depth/image_raw", IMAGE_QUEUE)
-        self._depth_info = node.create_publisher(CameraInfo, f"/{name}/depth/camera_info", IMAGE_QUEUE)
-        self._points = node.create_publisher(PointCloud2, f"/{name}/points", IMAGE_QUEUE)
-        self._all = (self._image, self._image_info, self._depth, self._depth_info, self._points)
-
-    def __call__(self, t: float) -> None:
-        if not any(p.get_subscription_count() > 0 for p in self._all):
-            return
-        diagram = self._cell.station.diagram
-        context = diagram.GetMyContextFromRoot(self._cell.runtime.context)
-        rgba = rgba_array(diagram.GetOutputPort(f"{self._name}.color_image").Eval(context))
-        raw = diagram.GetOutputPort(f"{self._name}.depth_image").Eval(context)
-        depth = messages.ros_depth(np.asarray(raw.data))
-        info = messages.camera_info(t, self._frame, self._info)
-        self._image.publish(messages.color_image(t, self._frame, rgba))
-        self._image_info.publish(info)
-        self._depth.publish(messages.depth_image(t, self._frame, depth))
-        self._depth_info.publish(info)
-        self._points.publish(messages.point_cloud(t, self._frame, depth, rgba, self._info))
+        for m in self._poll(t):
+            self._poses.publish(messages.part_poses(m.stamp, m.frame_id, m.poses))
+            if self._markers.get_subscription_count() > 0:
+                models = list(zip(m.names, m.poses, m.sizes))
+                self._markers.publish(
+                    messages.model_markers(messages.header(m.stamp, m.frame_id), "parts", models)
+                )

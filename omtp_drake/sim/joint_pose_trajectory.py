@@ -8,8 +8,9 @@ damping act on them afterwards, as in Gazebo). Timing as the plugin's: the traje
 starts at its ``header.stamp`` (now if that is past); a point is applied at the first
 update at or after the start, and the start then moves on by that point's
 ``time_from_start`` (the plugin adds each point's time to the previous start). A new
-trajectory replaces the one playing. The velocities of the set joints are zeroed
-(Gazebo keeps the links' world velocities; here the set pose starts at rest).
+trajectory replaces the one playing. A point whose number of positions differs from the
+joints' is skipped with the plugin's error (its time still counts). The velocities of
+the set joints are zeroed (Gazebo keeps the links' world velocities; here the set pose starts at rest).
 
 A world edit (:class:`omtp_drake.sim.driver.WorldEdit`): the driver calls it every
 ``1 / update_rate`` seconds of simulated time.
@@ -17,6 +18,7 @@ A world edit (:class:`omtp_drake.sim.driver.WorldEdit`): the driver calls it eve
 
 from __future__ import annotations
 
+import logging
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -25,13 +27,13 @@ from typing import TYPE_CHECKING
 from pydrake.multibody.tree import Joint
 from pydrake.systems.framework import Context
 
-from omtp_drake.errors import ConfigError
 from omtp_drake.scenario.gazebo_tags import JointPoseTrajectoryPlugin
 
 if TYPE_CHECKING:
     from omtp_drake.cell.station import Station
 
 _EPS = 1e-9
+_log = logging.getLogger("gazebo")
 
 
 @dataclass(frozen=True)
@@ -66,23 +68,11 @@ class JointPoseTrajectory:
     def set_trajectory(
         self, joint_names: Sequence[str], points: Sequence[PosePoint], stamp: float, now: float
     ) -> None:
-        """Plays ``points`` for ``joint_names`` from ``stamp`` (now if past), replacing what
-        plays. Raises ConfigError, as the plugin logs and ignores, for a joint the model
-        lacks or a point whose positions do not match the joints."""
-        known = self.joint_names()
+        """Plays ``points`` for ``joint_names`` (joints of the model, checked by the
+        plugin: :mod:`omtp_drake.gazebo.joint_pose_trajectory`) from ``stamp`` (now if
+        past), replacing what plays."""
         plant = self._station.plant
         instance = self._station.models[self.model]
-        for name in joint_names:
-            if name not in known:
-                raise ConfigError(
-                    f"joint [{name}] not found in model {self.model!r}; valid: {', '.join(known)}"
-                )
-        for k, point in enumerate(points):
-            if len(point.positions) != len(joint_names):
-                raise ConfigError(
-                    f"point[{k + 1}] has different number of joint names[{len(joint_names)}] "
-                    f"and positions[{len(point.positions)}]"
-                )
         self._joints = [plant.GetJointByName(name, instance) for name in joint_names]
         self._points = list(points)
         self._start = max(stamp, now)
@@ -96,6 +86,17 @@ class JointPoseTrajectory:
         if not self.playing or root_context.get_time() < self._start - _EPS:
             return
         point = self._points[self._index]
+        self._start += point.time_from_start
+        self._index += 1
+        if len(point.positions) != len(self._joints):
+            _log.error(
+                "%s: point[%d] has different number of joint names[%d] and positions[%d]; skipped",
+                self.config.name,
+                self._index,
+                len(self._joints),
+                len(point.positions),
+            )
+            return
         plant = self._station.plant
         plant_context = plant.GetMyMutableContextFromRoot(root_context)
         q, v = plant.GetPositions(plant_context), plant.GetVelocities(plant_context)
@@ -104,8 +105,6 @@ class JointPoseTrajectory:
             v[joint.velocity_start()] = 0.0
         plant.SetPositions(plant_context, q)
         plant.SetVelocities(plant_context, v)
-        self._start += point.time_from_start
-        self._index += 1
         self.applied += 1
 
 

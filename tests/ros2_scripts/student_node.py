@@ -14,7 +14,6 @@ import time
 
 import numpy as np
 import rclpy
-from builtin_interfaces.msg import Duration, Time
 from geometry_msgs.msg import PoseArray
 from rclpy.node import Node
 from rclpy.parameter import Parameter
@@ -23,7 +22,6 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import JointState, PointCloud2
 from std_msgs.msg import String
 from std_srvs.srv import SetBool
-from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 from visualization_msgs.msg import MarkerArray
 
 JOINTS = [
@@ -34,8 +32,6 @@ JOINTS = [
     "robot1_wrist_2_joint",
     "robot1_wrist_3_joint",
 ]
-FIRST = [0.4, -1.4, 1.2, -1.4, -1.57, 0.2]
-SECOND = [0.8, -1.2, 1.0, -1.3, -1.57, 0.5]
 PATIENCE = 120.0  # wall-clock seconds any one wait may take at most
 
 
@@ -63,7 +59,6 @@ class Student(Node):
         self.create_subscription(MarkerArray, "/omtp/logical_camera_1/markers", self.markers.append, 10)
         self.parts = []
         self.create_subscription(PoseArray, "/omtp/parts/poses", self.parts.append, 10)
-        self.trajectory = self.create_publisher(JointTrajectory, "/set_joint_trajectory", 1)
         self.gripper = self.create_client(SetBool, "/gripper1/control")
         self.conveyor = self.create_client(SetBool, "/omtp/conveyor/control")
 
@@ -76,9 +71,6 @@ class Student(Node):
 
     def robot1(self, msg):
         return [msg.position[msg.name.index(j)] for j in JOINTS]
-
-    def last_stamp(self):
-        return seconds(self.joint_states[-1].header.stamp) if self.joint_states else -1.0
 
     def cloud(self):
         self.wait_for("point cloud", lambda: self.clouds)
@@ -94,29 +86,6 @@ class Student(Node):
             "width": msg.width,
             "points": xyz.tolist(),
         }
-
-    def set_joints(self):
-        """Two points, the first at a stamp 2 s ahead, the second 1 s after it."""
-        self.wait_for(
-            "/set_joint_trajectory subscriber", lambda: self.trajectory.get_subscription_count() > 0
-        )
-        start = self.get_clock().now().nanoseconds // 10_000_000 * 0.01 + 2.0
-        msg = JointTrajectory()
-        msg.header.frame_id = "world"
-        msg.header.stamp = Time(sec=int(start), nanosec=int(round((start % 1) * 1e9)))
-        msg.joint_names = JOINTS
-        msg.points = [
-            JointTrajectoryPoint(positions=FIRST, time_from_start=Duration(sec=1)),
-            JointTrajectoryPoint(positions=SECOND, time_from_start=Duration(sec=1)),
-        ]
-        self.trajectory.publish(msg)
-        self.wait_for("joint states after the second point", lambda: self.last_stamp() > start + 1.5)
-        states = [
-            (seconds(m.header.stamp), self.robot1(m))
-            for m in self.joint_states
-            if start - 1.0 <= seconds(m.header.stamp) <= start + 1.5
-        ]
-        return {"start": start, "first": FIRST, "second": SECOND, "states": states}
 
     def call(self, client, on):
         self.wait_for(client.srv_name, lambda: client.wait_for_service(timeout_sec=0.1))
@@ -148,7 +117,6 @@ def main(out):
             "now": node.get_clock().now().nanoseconds * 1e-9,
             "joints_before": node.robot1(node.joint_states[-1]),
             "cloud": node.cloud(),
-            "trajectory": node.set_joints(),
             "gripper": node.call(node.gripper, True),
             "conveyor": node.call(node.conveyor, True),
             "logical_camera": node.logical_camera(),

@@ -9,12 +9,14 @@ from typing import Any, Optional
 from omtp_drake.assets import MODELS_DIR, expand_xacro, ur_urdf
 from omtp_drake.cell.arms import JOINT_NAMES, NAMED_POSES, check_joint_positions, named_pose, tool_frame_names
 from omtp_drake.cell.conveyor import BreakBeam
-from omtp_drake.cell.depth_camera import DepthCamera
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
 from omtp_drake.cell.gazebo_models import gazebo_models
 from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
+from omtp_drake.gazebo import messages as gazebo_messages
+from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
+from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
 from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
@@ -22,7 +24,6 @@ from omtp_drake.scenario.ros_control_parse import spawn_controllers
 from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
 from omtp_drake.sim.driver import spawn
-from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
 from omtp_drake.sim.ros_control import (
     Controller,
     RequestPoint,
@@ -43,13 +44,11 @@ __all__ = [
     "Cell",
     "Controller",
     "CorePoseStamped",
-    "DepthCamera",
     "GazeboCameraView",
     "Goal",
     "GoalOutcome",
-    "JointPoseTrajectory",
     "Plan",
-    "PosePoint",
+    "Publication",
     "ROBOT_NAMESPACE",
     "RequestPoint",
     "RosControl",
@@ -63,6 +62,8 @@ __all__ = [
     "check_joint_positions",
     "draw",
     "expand_xacro",
+    "gazebo_messages",
+    "gazebo_plugins",
     "gazebo_models",
     "kind_of",
     "latency_names",
@@ -74,6 +75,7 @@ __all__ = [
     "spawn_pose",
     "start_goal",
     "tool_down",
+    "unknown_plugins",
     "tool_frame_names",
     "trajectory_request",
     "ur_urdf",

@@ -31,6 +31,7 @@ from omtp_drake.errors import (
     exception_kind,
     exception_place,
 )
+from omtp_drake.ros.comm._core import unknown_plugins
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.session import Session, ShutdownError, active
 from omtp_drake.ros.flexbe.context import (
@@ -43,7 +44,6 @@ from omtp_drake.ros.flexbe.context import (
 )
 from omtp_drake.ros.flexbe.report import FlexbeReport
 from omtp_drake.ros.flexbe.workspace import BehaviorEntry, Workspaces
-from omtp_drake.ros.gazebo.model_topics import unknown_plugins
 from omtp_drake.ros.run.bring_up import RunSettings, bring_up
 from omtp_drake.ros.run.environment import SHIM_DIR, SHIM_PACKAGES
 from omtp_drake.ros.run.py2 import python2_imports, python2_roots
@@ -246,7 +246,7 @@ def _report(
         error=exception_kind(error) if error is not None else None,
         timed_out=session.timed_out,
         shutdown=session.shutdown_reason,
-        ignored_plugins=unknown_plugins(cell),
+        ignored_plugins=unknown_plugins(cell.scenario),
         bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
     )

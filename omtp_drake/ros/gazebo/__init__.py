@@ -4,8 +4,7 @@ states and services, and the part spawner, as the course's launch files wire the
 Modules, one concept each:
 
 - ``sensor_topics``: the cell's sensor topics (cameras, break beam, gripper state)
-- ``joint_state_topics``: the arms' joint states, by the course's controllers' names
-- ``model_topics``: a student's model's gazebo_ros plugins: joint states, set_joint_trajectory, cameras
+- ``plugin_topics``: the Gazebo plugin layer's topics (joint states, cameras, set_joint_trajectory) on ROS 1
 - ``ros_control_topics``: gazebo_ros_control's controller topics (joint_states, command, state), ROS 1 names
 - ``ros_control_action``: a trajectory controller's follow_joint_trajectory action, actionlib's client
 - ``cell_services``: the cell's gripper and conveyor services, by the course's names

@@ -2,8 +2,8 @@
 
 :func:`attach_gazebo` is what the session calls once: it adds Gazebo's services
 and topics (:mod:`omtp_drake.ros.gazebo.ros_api`), the spawner as the scenario's launch
-file wires it (:mod:`omtp_drake.ros.gazebo.spawner`) and the gazebo_ros plugins of the
-scenario's models (:mod:`omtp_drake.ros.gazebo.model_topics`), and holds the clock while
+file wires it (:mod:`omtp_drake.ros.gazebo.spawner`) and the Gazebo plugins of the
+cell (:mod:`omtp_drake.ros.gazebo.plugin_topics`), and holds the clock while
 physics is paused.
 """
 
@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING, Any
 
 from omtp_drake.ros.comm.messages import Header
 from omtp_drake.ros.gazebo.interfaces import SetModelState
-from omtp_drake.ros.gazebo.model_topics import attach_model_plugins
+from omtp_drake.ros.gazebo.plugin_topics import attach_plugins
 from omtp_drake.ros.gazebo.ros_api import SET_MODEL_STATE, GazeboWorld, PushedSource
 from omtp_drake.ros.gazebo.ros_control_topics import attach_ros_control
 from omtp_drake.ros.gazebo.spawner import SPAWNED_PART, spawner_services
@@ -46,6 +46,6 @@ def attach_gazebo(session: Graph) -> GazeboWorld:
 
     # gazebo_ros subscribes to set_model_state too (queue 10): a ModelState published there moves the model.
     session.subscribe(SET_MODEL_STATE, teleport, (), 10)
-    attach_model_plugins(session)
+    attach_plugins(session)
     attach_ros_control(session)
     return world

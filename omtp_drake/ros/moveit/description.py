@@ -3,7 +3,8 @@
 The course loads one URDF of the whole cell (its ``omtp_factory.xacro``). The
 cell here is built from several models (:func:`~omtp_drake.cell.station.add_cell_models`:
 floor, pedestals, arms and grippers, bins, conveyor, break beam, deletion wall,
-camera frames) welded into the world. :func:`robot_description` merges the same
+camera frames) welded into the world, and the URDF models spawned into it (a robot file,
+a launch file's ``spawn_model``). :func:`robot_description` merges the same
 models' URDFs (the xacro sources expanded, the converted UR arms) into one
 ``<robot name="omtp">`` with a ``world`` link, and writes each weld the plant
 made as a fixed joint from its parent link, at the pose it has in the running
@@ -50,6 +51,9 @@ def _model_texts(cell: Cell) -> list[str]:
     texts += [
         expand_xacro(MODELS_DIR / "logical_camera.urdf.xacro", {"name": c.name}) for c in scenario.cameras
     ]
+    # The models spawned into the world (a robot file, a launch file's spawn_model) that are
+    # URDFs: a robot's own description, as its robot_state_publisher is given it.
+    texts += [model.description for model in scenario.models if model.format == "urdf"]
     return texts
 
 
@@ -58,19 +62,16 @@ def robot_description(cell: Cell) -> str:
     ET.register_namespace("drake", _DRAKE_NS)
     root = ET.Element("robot", name="omtp")
     ET.SubElement(root, "link", name="world")
-    materials: set[str] = set()
-    joints: set[str] = set()
+    # One of each name: a robot's own `world` link is the cell's, and a spawned model that
+    # repeats the cell's pieces (a launch's factory URDF) adds only what the cell lacks.
+    seen: dict[str, set[str]] = {"material": set(), "link": {"world"}, "joint": set()}
     for text in _model_texts(cell):
         for element in ET.fromstring(text):
-            if element.tag == "material":
-                if element.get("name") in materials:
-                    continue
-                materials.add(element.get("name", ""))
-            elif element.tag == "joint":
-                joints.add(element.get("name", ""))
-            elif element.tag != "link":
+            if element.tag not in seen or element.get("name") in seen[element.tag]:
                 continue
+            seen[element.tag].add(element.get("name", ""))
             root.append(element)
+    joints = seen["joint"]
     _add_welds(cell, root, joints)
     ET.indent(root, "  ")
     return '<?xml version="1.0" ?>\n' + ET.tostring(root, encoding="unicode") + "\n"

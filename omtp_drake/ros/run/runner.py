@@ -22,9 +22,9 @@ from pathlib import Path
 from typing import Any, Optional
 
 from omtp_drake.errors import ConfigError, describe_exception, exception_frames, exception_kind
+from omtp_drake.ros.comm._core import unknown_plugins
 from omtp_drake.ros.comm.exceptions import ROSInterruptException
 from omtp_drake.ros.comm.session import Session, active
-from omtp_drake.ros.gazebo.model_topics import unknown_plugins
 from omtp_drake.ros.run.bring_up import RunSettings, bring_up
 from omtp_drake.ros.run.environment import script_environment
 from omtp_drake.ros.run.py2 import python2_imports, run_as_main, script_code
@@ -131,7 +131,7 @@ def _report(
         exit_code=ending.exit_code,
         python2=ending.python2,
         empty_spawn_calls=list(session.empty_spawn_calls),
-        ignored_plugins=unknown_plugins(cell),
+        ignored_plugins=unknown_plugins(cell.scenario),
         bounds_fixed=list(session.bounds_fixed),
         replay=str(replay) if replay else None,
         timed_out=session.timed_out,

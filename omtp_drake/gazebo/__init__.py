@@ -1,0 +1,20 @@
+"""Gazebo's ROS plugins, each defined once and transport-neutral: what a model's
+``<gazebo>`` plugins (and the cell's own equivalents) publish, when, in which frame and
+encoding, and what a request to them gets. The ROS 1 shim (:mod:`omtp_drake.ros.gazebo`)
+and the ROS 2 node (:mod:`omtp_drake.ros2`) are thin transports over this layer: they
+give each publication a topic type and QoS of their middleware and convert these
+messages field for field, nothing else.
+
+The rules were read in gazebo_ros_pkgs' plugins (ROS 1 ``noetic-devel`` and ``ros2``);
+where the two branches differ, the module says which one is followed and why.
+
+Modules, one plugin each:
+
+- ``messages``: the neutral messages (joint states, images, camera info, clouds, trajectories)
+- ``schedule``: the one periodic scheduler and a publication (topic, message type, poll)
+- ``joint_states``: ``gazebo_ros_joint_state_publisher`` and the arms' joint states (50 Hz)
+- ``camera``: ``gazebo_ros_camera`` (camera and depth), and the logical cameras' RGB-D views
+- ``joint_pose_trajectory``: ``gazebo_ros_joint_pose_trajectory``: what a trajectory request gets
+- ``parts``: the parts in the world as ground truth (ROS 2's ``/omtp/parts``)
+- ``plugins``: every plugin of a loaded cell: its publications, subscriptions and warnings
+"""

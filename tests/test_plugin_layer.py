@@ -1,0 +1,114 @@
+"""One Gazebo layer, two transports: each plugin's rules (rates, frames, encodings, the
+scheduler) live in ``omtp_drake/gazebo/`` only; ``omtp_drake/ros2/`` and the ROS 1
+shim's ``plugin_topics`` are transports (names, types, QoS), built on that layer.
+Read from the source with ``ast``, as tests/test_layering.py reads imports."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "omtp_drake"
+LAYER = PACKAGE / "gazebo"
+#: The transports of the layer: every module of ros2/, and the shim's plugin topics.
+TRANSPORTS = sorted(PACKAGE.glob("ros2/*.py")) + [PACKAGE / "ros/gazebo/plugin_topics.py"]
+#: A constant by its name is a plugin rule when it names a rate, period, encoding or frame.
+RULE_NAME = re.compile(r"(RATE|_HZ$|PERIOD|ENCODING|FRAME)")
+#: REP 118's encodings a plugin could write.
+ENCODINGS = {"rgb8", "bgr8", "rgba8", "mono8", "mono16", "16UC1", "32FC1"}
+
+
+def _tree(path: Path) -> ast.Module:
+    return ast.parse(path.read_text())
+
+
+def _constants(tree: ast.Module) -> dict[str, object]:
+    """Module-level ``NAME = literal`` (and annotated) assignments."""
+    out: dict[str, object] = {}
+    for node in tree.body:
+        targets, value = [], None
+        if isinstance(node, ast.Assign):
+            targets, value = node.targets, node.value
+        elif isinstance(node, ast.AnnAssign) and node.value is not None:
+            targets, value = [node.target], node.value
+        for target in targets:
+            if isinstance(target, ast.Name):
+                try:
+                    out[target.id] = ast.literal_eval(value)
+                except ValueError:
+                    out[target.id] = None
+    return out
+
+
+def _strings(tree: ast.Module) -> set[str]:
+    return {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, str)}
+
+
+def _classes(tree: ast.Module) -> set[str]:
+    return {n.name for n in ast.walk(tree) if isinstance(n, ast.ClassDef)}
+
+
+@pytest.mark.parametrize("path", TRANSPORTS, ids=lambda p: p.relative_to(PACKAGE).as_posix())
+def test_a_transport_holds_no_plugin_rule(path):
+    tree = _tree(path)
+    rules = sorted(name for name in _constants(tree) if RULE_NAME.search(name))
+    assert not rules, f"{path.name} defines plugin rules {rules}: they belong in omtp_drake/gazebo/"
+    written = sorted(s for s in _strings(tree) if s in ENCODINGS or s.endswith("_optical_frame"))
+    assert not written, f"{path.name} writes encodings or frames {written}: the plugin layer's"
+    schedulers = _classes(tree) & {"Periodic", "Sampled", "PeriodicSource"}
+    assert not schedulers, f"{path.name} defines its own scheduler {schedulers}"
+
+
+def test_both_transports_are_built_on_the_layer():
+    """Both take the plugins from ``gazebo_plugins`` (the ROS 1 shim through its one door
+    to the core, ``ros/comm/_core.py``, which re-exports the layer's)."""
+    from omtp_drake.gazebo import plugins
+    from omtp_drake.ros.comm import _core
+
+    assert _core.gazebo_plugins is plugins.gazebo_plugins
+    for path in (PACKAGE / "ros2/bridge.py", PACKAGE / "ros/gazebo/plugin_topics.py"):
+        names = {
+            (n.module, a.name)
+            for n in ast.walk(_tree(path))
+            if isinstance(n, ast.ImportFrom)
+            for a in n.names
+        }
+        doors = {
+            ("omtp_drake.gazebo.plugins", "gazebo_plugins"),
+            ("omtp_drake.ros.comm._core", "gazebo_plugins"),
+        }
+        assert names & doors, path
+
+
+def test_no_plugin_rate_frame_or_encoding_is_written_twice():
+    """Each rule constant of the layer has one home: no other module of the package
+    defines a constant of that name or writes its string value."""
+    layer = {p: _tree(p) for p in sorted(LAYER.glob("*.py"))}
+    rules = {
+        name: (path, value)
+        for path, tree in layer.items()
+        for name, value in _constants(tree).items()
+        if RULE_NAME.search(name)
+    }
+    assert {"JOINT_STATE_RATE_HZ", "COLOR_ENCODING", "DEPTH_ENCODING", "OPTICAL_FRAME"} <= set(rules)
+    twice = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        tree = _tree(path)
+        constants, strings = _constants(tree), _strings(tree)
+        for name, (home, value) in rules.items():
+            if path == home:
+                continue
+            if name in constants:
+                twice.append(f"{name} in {path.relative_to(PACKAGE)} and {home.relative_to(PACKAGE)}")
+            if isinstance(value, str) and value in strings and (value in ENCODINGS or "{" in value):
+                twice.append(f"{value!r} ({name}) in {path.relative_to(PACKAGE)}")
+    assert not twice, "\n".join(twice)
+
+
+def test_the_rule_reader_finds_a_rule():
+    tree = ast.parse('FOO_RATE_HZ = 50.0\nX: str = "rgb8"\nclass Periodic: pass\n')
+    assert RULE_NAME.search("FOO_RATE_HZ") and _constants(tree) == {"FOO_RATE_HZ": 50.0, "X": "rgb8"}
+    assert "rgb8" in _strings(tree) and "Periodic" in _classes(tree)
