@@ -35,7 +35,7 @@ if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
 #: The reference frames that mean "the world" to the plugin.
-WORLD_FRAMES = ("world", "map", "/map")
+WORLD_REFERENCES = ("world", "map", "/map")
 
 _log = logging.getLogger("gazebo")
 
@@ -53,9 +53,9 @@ class TrajectoryPlugin:
     def check(self, request: TrajectoryRequest) -> None:
         """Raises ConfigError with the plugin's message when it refuses ``request``."""
         frame = request.frame_id
-        if frame not in WORLD_FRAMES and frame not in self._fixed_links:
+        if frame not in WORLD_REFERENCES and frame not in self._fixed_links:
             raise ConfigError(
-                f"needs a reference link [{frame}] as frame_id; valid: {', '.join(WORLD_FRAMES[:2])} "
+                f"needs a reference link [{frame}] as frame_id; valid: {', '.join(WORLD_REFERENCES[:2])} "
                 "or a link fixed to the world"
             )
         known = self.edit.joint_names()

@@ -29,6 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.gazebo.messages import JointStates
+from omtp_drake.gazebo.schedule import topic
 from omtp_drake.ros2 import messages
 from omtp_drake.sim.ros_control import Controller, Periodic, RosControl, TrajectoryRequest
 from omtp_drake.sim.ros_control import trajectory_request as neutral_trajectory_request
@@ -47,17 +48,9 @@ NO_CONTROL_MSGS = (
 )
 
 
-def _topic(namespace: str, name: str) -> str:
-    return "/" + "/".join(p for p in (*namespace.split("/"), *name.split("/")) if p)
-
-
-def _seconds(value: Any) -> float:
-    return value.sec + value.nanosec * 1e-9
-
-
 def trajectory_request(msg: Any) -> TrajectoryRequest:
     """A ``trajectory_msgs/msg/JointTrajectory`` as the layer's request."""
-    return neutral_trajectory_request(msg, _seconds)
+    return neutral_trajectory_request(msg, messages.seconds)
 
 
 class Ros2Control:
@@ -77,13 +70,13 @@ class Ros2Control:
         for controller in self._control.of_kind("joint_states"):
             period = self._control.period(controller)
             depth = max(100, int(QUEUE_S / period))
-            publisher = node.create_publisher(JointState, _topic(controller.namespace, "joint_states"), depth)
+            publisher = node.create_publisher(JointState, topic(controller.namespace, "joint_states"), depth)
             self._broadcasters.append((controller, Periodic(period), publisher))
         for controller in self._control.of_kind("trajectory"):
-            name = _topic(controller.namespace, f"{controller.name}/joint_trajectory")
+            name = topic(controller.namespace, f"{controller.name}/joint_trajectory")
             node.create_subscription(JointTrajectory, name, self._handler(controller, trajectory_request), 10)
         for controller in self._control.of_kind("forward"):
-            name = _topic(controller.namespace, f"{controller.name}/commands")
+            name = topic(controller.namespace, f"{controller.name}/commands")
             node.create_subscription(Float64MultiArray, name, self._handler(controller, _values), 10)
         if self._control.of_kind("trajectory"):
             node.get_logger().info(NO_CONTROL_MSGS)

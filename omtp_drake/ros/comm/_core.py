@@ -17,6 +17,7 @@ from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.gazebo import messages as gazebo_messages
 from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
 from omtp_drake.gazebo.schedule import Publication
+from omtp_drake.gazebo.schedule import topic as gazebo_topic
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
 from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
@@ -64,6 +65,7 @@ __all__ = [
     "expand_xacro",
     "gazebo_messages",
     "gazebo_plugins",
+    "gazebo_topic",
     "gazebo_models",
     "kind_of",
     "latency_names",

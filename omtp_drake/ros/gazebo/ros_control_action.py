@@ -13,11 +13,11 @@ import math
 from typing import Any, Optional
 
 from omtp_drake.ros.comm._core import Controller, Goal, GoalOutcome, RosControl, start_goal
+from omtp_drake.ros.comm._core import gazebo_topic as topic
 from omtp_drake.ros.comm.client import resolve_name
 from omtp_drake.ros.comm.control_interfaces import FollowJointTrajectoryAction, FollowJointTrajectoryResult
 from omtp_drake.ros.comm.session import current
 from omtp_drake.ros.comm.unsupported import not_supported
-from omtp_drake.ros.gazebo.model_topics import topic
 from omtp_drake.ros.gazebo.ros_control_topics import trajectory_request
 
 #: actionlib_msgs/GoalStatus of each outcome.

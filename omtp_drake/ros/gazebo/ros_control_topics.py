@@ -28,10 +28,10 @@ from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.ros.comm._core import Controller, RosControl, TrajectoryRequest
+from omtp_drake.ros.comm._core import gazebo_topic as topic
 from omtp_drake.ros.comm._core import trajectory_request as neutral_trajectory_request
 from omtp_drake.ros.comm.control_interfaces import JointTrajectoryControllerState
 from omtp_drake.ros.comm.messages import Header, JointState, JointTrajectoryPoint, Time
-from omtp_drake.ros.gazebo.model_topics import topic
 from omtp_drake.ros.gazebo.ros_api import PushedSource
 
 if TYPE_CHECKING:
