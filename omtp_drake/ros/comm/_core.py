@@ -15,6 +15,7 @@ from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.gazebo import messages as gazebo_messages
+from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications, single_camera
 from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
@@ -39,6 +40,7 @@ __all__ = [
     "RosLatencyConfig",
     "Scenario",
     "SpawnerConfig",
+    "camera_views",
     "check_in_cell",
     "check_joint_positions",
     "expand_xacro",
@@ -47,9 +49,11 @@ __all__ = [
     "gazebo_models",
     "latency_names",
     "load_scenario",
+    "logical_camera_publications",
     "named_pose",
     "other_arm_positions",
     "spawn",
+    "single_camera",
     "spawn_pose",
     "tool_down",
     "unknown_plugins",
