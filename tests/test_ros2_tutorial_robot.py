@@ -20,7 +20,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_ros2 import PATIENCE, _dds_files, _end, _loopback_env, _session_members, hold_domain, needs_ros2
+from test_ros2 import (
+    PATIENCE,
+    _dds_files,
+    _end,
+    _leaked_dds_files,
+    _loopback_env,
+    _session_members,
+    hold_domain,
+    needs_ros2,
+)
 
 SCRIPTS = Path(__file__).parent / "ros2_scripts"
 FIXTURE = Path(__file__).parent / "fixtures" / "tutorial_ws"
@@ -56,7 +65,7 @@ def _ros2(tmp_path: Path, domain: int) -> tuple[dict, str]:
     assert node.returncode == 0, node_err[-3000:]
     assert cell.returncode == 0, cell_err[-3000:]
     assert not _session_members(cell.pid) and not _session_members(node.pid)
-    assert _dds_files() <= shm_before, "Fast DDS left shared memory behind"
+    assert not _leaked_dds_files(shm_before), "Fast DDS left shared memory behind"
     return json.loads(out.read_text()), cell_err
 
 

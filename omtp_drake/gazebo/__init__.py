@@ -15,6 +15,7 @@ Modules, one plugin each:
 - ``joint_states``: ``gazebo_ros_joint_state_publisher`` and the arms' joint states (50 Hz)
 - ``camera``: ``gazebo_ros_camera`` (camera and depth), and the logical cameras' RGB-D views
 - ``joint_pose_trajectory``: ``gazebo_ros_joint_pose_trajectory``: what a trajectory request gets
+- ``logical_camera``: the course's logical camera plugin: ``/omtp/<camera>``, every model in view
 - ``parts``: the parts in the world as ground truth (ROS 2's ``/omtp/parts``)
 - ``plugins``: every plugin of a loaded cell: its publications, subscriptions and warnings
 """

@@ -14,14 +14,17 @@ the plugins' topics                           (above)                           
 ``/robot_description``                        ``std_msgs/String`` (transient local)      once, latched
 ``/omtp/<camera>/poses``                      ``geometry_msgs/PoseArray``                each image
 ``/omtp/<camera>/markers``                    ``visualization_msgs/MarkerArray``         each image
+``/omtp/logical_camera/poses``, ``/markers``  the single camera's, the same              each image
 ``/gripperN/attached``                        ``std_msgs/Bool``                          every step
 ``/omtp/parts/poses``                         ``geometry_msgs/PoseArray``                the parts' rate
 ``/omtp/parts/markers``                       ``visualization_msgs/MarkerArray``         the parts' rate
 ============================================  =========================================  ==============
 
-The ``/omtp/<camera>`` topics exist for every logical camera, in its frame
-``<camera>_frame``, stamped with the image's time (Drake samples at t when it steps on
-from t: the image goes out after the step that starts at t). ``/robot_description`` is
+The ``/omtp/<camera>`` topics are the logical camera plugin's
+(:mod:`omtp_drake.gazebo.logical_camera`: every Gazebo model in view, as the course's
+plugin lists them), in the camera's frame ``<camera>_frame``, stamped with the image's
+time (Drake samples at t when it steps on from t: the image goes out after the step
+that starts at t). ``/robot_description`` is
 published as robot_state_publisher does (reliable, transient local, depth 1), so a late
 rviz2 or robot_state_publisher gets it. Every topic is reliable: any subscriber's QoS
 matches.
@@ -81,6 +84,7 @@ class CellTopics:
         from rosgraph_msgs.msg import Clock
         from std_msgs.msg import Bool, String
 
+        from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications
         from omtp_drake.gazebo.parts import parts_publication
         from omtp_drake.ros.gazebo.cell_services import gripper_plugins
 
@@ -100,9 +104,9 @@ class CellTopics:
         if self._grippers:
             self._due.append(self._publish_grippers)
         self._due.append(PartsTopics(node, parts_publication(cell)))
-        for config in cell.scenario.cameras:
-            # Polled every step: each new image goes out at the first step after its sample.
-            self._due.append(LogicalCameraTopics(node, cell, config.name))
+        # Polled every step: each new image goes out at the first step after its sample.
+        views = camera_views(cell)
+        self._due += [LogicalCameraTopics(node, cell, p) for p in logical_camera_publications(cell, views)]
 
     def publish(self, t: float) -> None:
         """``/clock`` first, then what is due at ``t``."""
@@ -117,27 +121,25 @@ class CellTopics:
 
 
 class LogicalCameraTopics:
-    """``/omtp/<camera>/poses`` and ``/markers``: each new image of the logical camera."""
+    """A logical camera plugin's topic ``/omtp/<camera>`` as ``/omtp/<camera>/poses`` and
+    ``/markers`` (these only while subscribed): the course's ``LogicalCameraImage`` type
+    is no PyPI package."""
 
-    def __init__(self, node: Any, cell: Cell, camera: str):
+    def __init__(self, node: Any, cell: Cell, publication: Publication):
         from geometry_msgs.msg import PoseArray
         from visualization_msgs.msg import MarkerArray
 
         self._cell = cell
-        self._camera = cell.camera(camera)
-        self._poses = node.create_publisher(PoseArray, f"/omtp/{camera}/poses", 10)
-        self._markers = node.create_publisher(MarkerArray, f"/omtp/{camera}/markers", 10)
-        self._last = -1.0
+        self._poll = publication.poll
+        self._poses = node.create_publisher(PoseArray, f"{publication.topic}/poses", 10)
+        self._markers = node.create_publisher(MarkerArray, f"{publication.topic}/markers", 10)
 
     def __call__(self, t: float) -> None:
-        image = self._camera.image()
-        if image.time <= self._last:
-            return
-        self._last = image.time
-        self._poses.publish(messages.logical_pose_array(image))
-        if self._markers.get_subscription_count() > 0:
-            sizes = {name: self._cell.scenario.part_size(name) for name in self._cell.station.parts}
-            self._markers.publish(messages.logical_markers(image, sizes))
+        for image in self._poll(t):
+            self._poses.publish(messages.logical_pose_array(image))
+            if self._markers.get_subscription_count() > 0:
+                sizes = {name: self._cell.scenario.part_size(name) for name in self._cell.station.parts}
+                self._markers.publish(messages.logical_markers(image, sizes))
 
 
 class PartsTopics:

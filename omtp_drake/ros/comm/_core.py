@@ -15,6 +15,7 @@ from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.gazebo import messages as gazebo_messages
+from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications, single_camera
 from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.gazebo.schedule import topic as gazebo_topic
@@ -59,6 +60,7 @@ __all__ = [
     "SpawnerConfig",
     "TrajectoryRequest",
     "callback_start",
+    "camera_views",
     "check_in_cell",
     "check_joint_positions",
     "draw",
@@ -70,9 +72,11 @@ __all__ = [
     "kind_of",
     "latency_names",
     "load_scenario",
+    "logical_camera_publications",
     "named_pose",
     "other_arm_positions",
     "spawn",
+    "single_camera",
     "spawn_controllers",
     "spawn_pose",
     "start_goal",

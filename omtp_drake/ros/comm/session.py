@@ -97,8 +97,9 @@ def _cell_graph(cell: Cell) -> tuple[dict[str, Source], dict[str, Service]]:
     belt), as the course's Gazebo plugins name them; tf's camera frames follow the models
     the camera topics list. The joint states and the models' plugins come with Gazebo
     (:mod:`omtp_drake.ros.gazebo.plugin_topics`)."""
+    from omtp_drake.ros.comm._core import camera_views
     from omtp_drake.ros.gazebo.cell_services import cell_services
-    from omtp_drake.ros.gazebo.sensor_topics import camera_views, cell_sources
+    from omtp_drake.ros.gazebo.sensor_topics import cell_sources
 
     views = camera_views(cell)
     cell.tf.use_images(lambda camera, context: views[camera].image(context))

@@ -1,13 +1,9 @@
 """The cell's sensor topics, as the course's Gazebo plugins publish them.
 
-- ``/omtp/<camera>`` for every logical camera (``/omtp/logical_camera_1``...: the
-  plugin's ``robotNamespace`` ``omtp`` and the camera model's name):
-  ``omtp_gazebo/LogicalCameraImage`` at the camera's rate (one message per new
-  image, published at the image's time), listing every Gazebo model in view as the
-  course's plugin does (robots, pedestals, bins, the workcell, the belt, parts; see
-  :mod:`omtp_drake.cell.gazebo_camera`); ``/omtp/logical_camera`` is the
-  lecture's single camera: the scenario task's camera (else ``logical_camera_1``),
-  whose frame tf also knows as ``logical_camera_frame``.
+- ``/omtp/<camera>`` and ``/omtp/logical_camera``: the logical camera plugin's
+  (:mod:`omtp_drake.gazebo.logical_camera`: which cameras, when, which models) as
+  ``omtp_gazebo/LogicalCameraImage``; the single camera's frame tf also knows as
+  ``logical_camera_frame``.
 - ``/break_beam_sensor`` and ``/break_beam_sensor_change`` (``omtp_gazebo/Proximity``),
   named after the beam's sensor as its plugin names them: the first at every sample
   of the beam (its rate, 10 Hz), the second only when ``object_detected`` changes
@@ -26,9 +22,9 @@ subscriber, so that its last message is there for the next one.
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any, Optional
+from typing import TYPE_CHECKING, Any
 
-from omtp_drake.ros.comm._core import GazeboCameraView
+from omtp_drake.ros.comm._core import GazeboCameraView, Publication, logical_camera_publications
 from omtp_drake.ros.comm.interfaces import LogicalCameraImage, Model, Proximity, VacuumGripperState
 from omtp_drake.ros.comm.messages import Header, Message, Time
 from omtp_drake.ros.gazebo.cell_services import gripper_plugins
@@ -37,8 +33,7 @@ from omtp_drake.ros.tf.convert import pose_msg
 if TYPE_CHECKING:
     from omtp_drake.ros.comm._core import BreakBeam, Cell
 
-#: The lecture's single-camera topic and frame.
-SINGLE_CAMERA_TOPIC = "/omtp/logical_camera"
+#: The lecture's single camera's frame in tf.
 SINGLE_CAMERA_FRAME = "logical_camera_frame"
 
 
@@ -59,22 +54,16 @@ class Source:
 
 
 class CameraSource(Source):
-    """A logical camera's topic: the course plugin's model list
-    (:class:`~omtp_drake.cell.gazebo_camera.GazeboCameraView`), one message per new image."""
+    """A logical camera's topic: the plugin layer's publication as the course's message."""
 
     msg_class = LogicalCameraImage
 
-    def __init__(self, cell: Cell, view: GazeboCameraView):
+    def __init__(self, cell: Cell, publication: Publication):
         self._cell = cell
-        self._view = view
-        self._last = -math.inf
+        self._poll = publication.poll
 
     def poll(self) -> list[tuple[float, Any]]:
-        image = self._view.image(self._cell.runtime.context)
-        if not math.isfinite(image.time) or image.time <= self._last:
-            return []
-        self._last = image.time
-        return [(image.time, camera_message(image))]
+        return [(image.time, camera_message(image)) for image in self._poll(self._cell.time)]
 
 
 def camera_message(image: Any) -> Message:
@@ -129,27 +118,12 @@ class GripperStateSource(Source):
         return [(self._cell.time, VacuumGripperState(enabled=state.enabled, attached=state.attached))]
 
 
-def single_camera(cell: Cell) -> Optional[str]:
-    """The camera behind ``/omtp/logical_camera``: the task's, else logical_camera_1."""
-    cameras = set(cell.station.cameras)
-    task = getattr(cell.scenario, "task", None)
-    name = getattr(task, "camera", None) if task is not None else None
-    if name in cameras:
-        return name
-    return "logical_camera_1" if "logical_camera_1" in cameras else None
-
-
-def camera_views(cell: Cell) -> dict[str, GazeboCameraView]:
-    """Camera -> the course plugin's view of it (what its topic and its tf frames list)."""
-    return {name: GazeboCameraView(cell.station, name) for name in cell.station.cameras}
-
-
 def cell_sources(cell: Cell, views: dict[str, GazeboCameraView]) -> dict[str, Source]:
-    """Topic name -> source of every sensor topic of ``cell`` (``views``: :func:`camera_views`)."""
-    sources: dict[str, Source] = {f"/omtp/{name}": CameraSource(cell, view) for name, view in views.items()}
-    single = single_camera(cell)
-    if single is not None:
-        sources[SINGLE_CAMERA_TOPIC] = CameraSource(cell, views[single])
+    """Topic name -> source of every sensor topic of ``cell`` (``views``: the logical
+    cameras' views, :func:`omtp_drake.gazebo.logical_camera.camera_views`)."""
+    sources: dict[str, Source] = {
+        p.topic: CameraSource(cell, p) for p in logical_camera_publications(cell, views)
+    }
     beam = cell.station.break_beam
     if beam is not None:
         sources[f"/{BREAK_BEAM_SENSOR}"] = BreakBeamSource(cell, beam, changes_only=False)

@@ -15,10 +15,11 @@ import copy
 from typing import Any, Optional
 
 from omtp_drake.errors import FrameError, UnknownNameError
+from omtp_drake.ros.comm._core import single_camera
 from omtp_drake.ros.comm.messages import Header, Message, PoseStamped, Time, TransformStamped
 from omtp_drake.ros.comm.rostime import _blocking
 from omtp_drake.ros.comm.session import current
-from omtp_drake.ros.gazebo.sensor_topics import SINGLE_CAMERA_FRAME, single_camera
+from omtp_drake.ros.gazebo.sensor_topics import SINGLE_CAMERA_FRAME
 from omtp_drake.ros.tf.convert import pose_msg, rigid, transform_msg
 
 
