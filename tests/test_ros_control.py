@@ -349,3 +349,15 @@ def test_ros2_controllers_are_activated_in_order_and_a_conflict_is_one_warning(t
         spawned_only(config, ["arm_controller", "forward_position_controller"], "bringup.launch.py")
     with pytest.raises(UnknownNameError, match="gripper_controller"):
         spawned_only(config, ["gripper_controller"], "bringup.launch.py")
+
+
+def test_view_json_lists_the_ros_control_plugin_and_its_controllers():
+    from omtp_drake.viz.model_view import model_info
+
+    robot = WS / "src" / "two_joint_ros2" / "urdf" / "two_joint.urdf.xacro"
+    (plugin,) = [
+        p for p in model_info(with_robot(None, robot).models[0])["plugins"] if p["kind"] == "ros_control"
+    ]
+    assert plugin["plugin"] == "gazebo_ros2_control" and plugin["update_rate"] == 100.0
+    assert [c["name"] for c in plugin["controllers"]] == ["arm_controller", "joint_state_broadcaster"]
+    assert [j["initial_position"] for j in plugin["joints"]] == [0.3, 0.05]
