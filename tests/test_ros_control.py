@@ -361,3 +361,35 @@ def test_view_json_lists_the_ros_control_plugin_and_its_controllers():
     assert plugin["plugin"] == "gazebo_ros2_control" and plugin["update_rate"] == 100.0
     assert [c["name"] for c in plugin["controllers"]] == ["arm_controller", "joint_state_broadcaster"]
     assert [j["initial_position"] for j in plugin["joints"]] == [0.3, 0.05]
+
+
+def test_a_state_only_joint_is_reported_and_an_unlisted_transmission_is_free(tmp_path):
+    yaml_file = tmp_path / "c.yaml"
+    yaml_file.write_text(
+        "controller_manager:\n  ros__parameters:\n"
+        "    jsb: {type: joint_state_broadcaster/JointStateBroadcaster}\n"
+        "    fwd: {type: forward_command_controller/ForwardCommandController}\n"
+        "fwd:\n  ros__parameters: {joints: [shoulder], interface_name: position}\n"
+    )
+    urdf = ARM_URDF.replace(
+        '<gazebo><plugin name="control" filename="libgazebo_ros_control.so"/></gazebo>',
+        '<ros2_control name="s" type="system">'
+        '<joint name="shoulder"><command_interface name="position"/>'
+        '<state_interface name="position"/></joint>'
+        '<joint name="wrist"><state_interface name="position"/></joint></ros2_control>'
+        f'<gazebo><plugin filename="libgazebo_ros2_control.so" name="c"><parameters>{yaml_file}</parameters>'
+        "</plugin></gazebo>",
+    )
+    robot = tmp_path / "r.urdf"
+    robot.write_text(urdf)
+    with Cell(with_robot(None, robot)) as cell:
+        control = RosControl(cell.station)
+        jsb = next(c for c in control.controllers if c.name == "jsb")
+        fwd = next(c for c in control.controllers if c.name == "fwd")
+        control.forward(cell.runtime.context, fwd, [0.5])
+        cell.runtime.advance_to(1.0)
+        sample = control.joint_state(cell.runtime.context, jsb)
+    assert sample.names == ("shoulder", "wrist")
+    assert sample.position[0] == pytest.approx(0.5, abs=1e-3)
+    # The wrist (its transmission's actuator unlisted) hangs free: no effort on it.
+    assert sample.effort[1] == 0.0
