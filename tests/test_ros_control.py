@@ -393,3 +393,20 @@ def test_a_state_only_joint_is_reported_and_an_unlisted_transmission_is_free(tmp
     assert sample.position[0] == pytest.approx(0.5, abs=1e-3)
     # The wrist (its transmission's actuator unlisted) hangs free: no effort on it.
     assert sample.effort[1] == 0.0
+
+
+def test_a_missing_ros2_parameters_file_is_one_warning_and_no_controllers(caplog):
+    import xml.etree.ElementTree as ET
+
+    from omtp_drake.scenario.ros_control_parse import parse_ros_control
+
+    urdf = (
+        '<robot name="r"><ros2_control name="s" type="system"><joint name="a">'
+        '<command_interface name="position"/></joint></ros2_control><gazebo>'
+        '<plugin filename="libgazebo_ros2_control.so" name="c"><parameters>/nowhere/c.yaml</parameters>'
+        "</plugin></gazebo></robot>"
+    )
+    with caplog.at_level(logging.WARNING, logger="gazebo"):
+        config = parse_ros_control(ET.fromstring(urdf), "r.urdf")
+    assert config.controllers == [] and [j.name for j in config.joints] == ["a"]
+    assert "r.urdf: gazebo_ros2_control <parameters> '/nowhere/c.yaml': no such file" in caplog.text
