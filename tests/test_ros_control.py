@@ -349,3 +349,64 @@ def test_ros2_controllers_are_activated_in_order_and_a_conflict_is_one_warning(t
         spawned_only(config, ["arm_controller", "forward_position_controller"], "bringup.launch.py")
     with pytest.raises(UnknownNameError, match="gripper_controller"):
         spawned_only(config, ["gripper_controller"], "bringup.launch.py")
+
+
+def test_view_json_lists_the_ros_control_plugin_and_its_controllers():
+    from omtp_drake.viz.model_view import model_info
+
+    robot = WS / "src" / "two_joint_ros2" / "urdf" / "two_joint.urdf.xacro"
+    (plugin,) = [
+        p for p in model_info(with_robot(None, robot).models[0])["plugins"] if p["kind"] == "ros_control"
+    ]
+    assert plugin["plugin"] == "gazebo_ros2_control" and plugin["update_rate"] == 100.0
+    assert [c["name"] for c in plugin["controllers"]] == ["arm_controller", "joint_state_broadcaster"]
+    assert [j["initial_position"] for j in plugin["joints"]] == [0.3, 0.05]
+
+
+def test_a_state_only_joint_is_reported_and_an_unlisted_transmission_is_free(tmp_path):
+    yaml_file = tmp_path / "c.yaml"
+    yaml_file.write_text(
+        "controller_manager:\n  ros__parameters:\n"
+        "    jsb: {type: joint_state_broadcaster/JointStateBroadcaster}\n"
+        "    fwd: {type: forward_command_controller/ForwardCommandController}\n"
+        "fwd:\n  ros__parameters: {joints: [shoulder], interface_name: position}\n"
+    )
+    urdf = ARM_URDF.replace(
+        '<gazebo><plugin name="control" filename="libgazebo_ros_control.so"/></gazebo>',
+        '<ros2_control name="s" type="system">'
+        '<joint name="shoulder"><command_interface name="position"/>'
+        '<state_interface name="position"/></joint>'
+        '<joint name="wrist"><state_interface name="position"/></joint></ros2_control>'
+        f'<gazebo><plugin filename="libgazebo_ros2_control.so" name="c"><parameters>{yaml_file}</parameters>'
+        "</plugin></gazebo>",
+    )
+    robot = tmp_path / "r.urdf"
+    robot.write_text(urdf)
+    with Cell(with_robot(None, robot)) as cell:
+        control = RosControl(cell.station)
+        jsb = next(c for c in control.controllers if c.name == "jsb")
+        fwd = next(c for c in control.controllers if c.name == "fwd")
+        control.forward(cell.runtime.context, fwd, [0.5])
+        cell.runtime.advance_to(1.0)
+        sample = control.joint_state(cell.runtime.context, jsb)
+    assert sample.names == ("shoulder", "wrist")
+    assert sample.position[0] == pytest.approx(0.5, abs=1e-3)
+    # The wrist (its transmission's actuator unlisted) hangs free: no effort on it.
+    assert sample.effort[1] == 0.0
+
+
+def test_a_missing_ros2_parameters_file_is_one_warning_and_no_controllers(caplog):
+    import xml.etree.ElementTree as ET
+
+    from omtp_drake.scenario.ros_control_parse import parse_ros_control
+
+    urdf = (
+        '<robot name="r"><ros2_control name="s" type="system"><joint name="a">'
+        '<command_interface name="position"/></joint></ros2_control><gazebo>'
+        '<plugin filename="libgazebo_ros2_control.so" name="c"><parameters>/nowhere/c.yaml</parameters>'
+        "</plugin></gazebo></robot>"
+    )
+    with caplog.at_level(logging.WARNING, logger="gazebo"):
+        config = parse_ros_control(ET.fromstring(urdf), "r.urdf")
+    assert config.controllers == [] and [j.name for j in config.joints] == ["a"]
+    assert "r.urdf: gazebo_ros2_control <parameters> '/nowhere/c.yaml': no such file" in caplog.text

@@ -49,7 +49,7 @@ from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem
 from omtp_drake.cell.joint_splines import JointSpline
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import ModelConfig
-from omtp_drake.scenario.ros_control import ControllerConfig, PidGains, RosControlConfig
+from omtp_drake.scenario.ros_control import ControllerConfig, HardwareJoint, PidGains, RosControlConfig
 
 #: The stiff PD of a position-commanded joint (N m / rad, N m s / rad; implicit in SAP).
 POSITION_GAINS = (1e5, 1e3)
@@ -83,6 +83,10 @@ class Command:
     efforts: Optional[tuple[float, ...]] = None
     #: Tells one command from the next (an action goal watches whether its command still plays).
     tag: int = 0
+
+
+#: The target of an actuated joint no command covers (no gains either): none.
+_FREE = (np.nan, 0.0, 0.0)
 
 
 def _key(model: str, name: str) -> str:
@@ -119,15 +123,28 @@ def declare_joint_drives(
                     f"{model.file}: ros_control joint {hardware.name!r} is no joint of the model"
                 )
             joint = plant.GetJointByName(hardware.name, instances[model.name])
-            actuator = existing.get(joint.index())
+            actuator = existing.pop(joint.index(), None)
+            if actuator is None and not hardware.command_interfaces:
+                continue  # a joint with state interfaces only: reported, not driven
             if actuator is None:
                 actuator = plant.AddJointActuator(f"{hardware.name}_actuator", joint)
             controller = claims.get(hardware.name)
-            interface = controller.interface if controller else hardware.command_interfaces[0]
-            p, d = _gains(interface, hardware.name, controller)
+            p, d = _gains(_interface(hardware, controller), hardware.name, controller)
             actuator.set_controller_gains(PdControllerGains(p=p, d=d))
             plan.actuators[model.name].append((hardware.name, actuator))
+        # Any other actuator of the model (a transmission the hardware does not list): free.
+        for actuator in [a for a in existing.values() if a.model_instance() == instances[model.name]]:
+            actuator.set_controller_gains(PdControllerGains(p=0.0, d=0.0))
+            plan.actuators[model.name].append((actuator.joint().name(), actuator))
     return plan
+
+
+def _interface(hardware: HardwareJoint, controller: Optional[ControllerConfig]) -> str:
+    """How the joint is commanded: by its controller's interface, else its first command
+    interface ("none": it has none)."""
+    if controller is not None:
+        return controller.interface
+    return hardware.command_interfaces[0] if hardware.command_interfaces else "none"
 
 
 def _gains(interface: str, joint: str, controller: Optional[ControllerConfig]) -> tuple[float, float]:
@@ -198,17 +215,19 @@ class JointControllers(LeafSystem):
         defaults = plant.GetPositions(plant.CreateDefaultContext())
         claims = {j: c for c in config.controllers if c.kind != "joint_states" for j in c.joints}
         initial: dict[str, Command] = {}
-        for hardware in config.joints:
+        listed = {h.name for h in config.joints}
+        extra = [HardwareJoint(name=k.split("/", 1)[1], command_interfaces=[]) for k in self._order[model]]
+        for hardware in [*config.joints, *(h for h in extra if h.name not in listed)]:
             joint = plant.GetJointByName(hardware.name, instance)
             controller = claims.get(hardware.name)
-            interface = controller.interface if controller else hardware.command_interfaces[0]
+            interface = _interface(hardware, controller)
             key = _key(model, hardware.name)
             gains = controller.gains.get(hardware.name, PidGains()) if controller else PidGains()
             self.joints[key] = DrivenJoint(
                 model, hardware.name, interface, controller.name if controller else None,
                 joint.position_start(), joint.velocity_start(), gains,
             )  # fmt: skip
-            if controller is None:
+            if controller is None and interface != "none":
                 initial[key] = self._rest(model, (hardware.name,), defaults, interface)
         for controller in config.controllers:
             if controller.kind != "joint_states":
@@ -299,7 +318,7 @@ class JointControllers(LeafSystem):
         q_d, v_d = [], []
         for key in self._order[model]:
             joint = self.joints[key]
-            q, v, _ = targets[key]
+            q, v, _ = targets.get(key, _FREE)
             q_now, v_now = x[joint.q_index], x[nq + joint.v_index]
             if np.isnan(q):
                 q_d.append(q_now)
@@ -315,7 +334,7 @@ class JointControllers(LeafSystem):
         """Raw efforts, plus each integrated joint's ``i`` term, ``i * integral`` clamped to
         ``+-i_clamp`` (control_toolbox's PID)."""
         targets = self._targets(context, model)
-        out = np.array([targets[key][2] for key in self._order[model]])
+        out = np.array([targets.get(key, _FREE)[2] for key in self._order[model]])
         integral = context.get_discrete_state(self._integral_index).value()
         for k, key in enumerate(self._integrated):
             if key in self._order[model]:

@@ -73,7 +73,9 @@ def parse_ros_control(root: ET.Element, where: str) -> Optional[RosControlConfig
     for element in plugin.findall("parameters"):
         path = (element.text or "").strip()
         if not Path(path).is_file():
-            raise ConfigError(f"{where}: gazebo_ros2_control <parameters> {path!r}: no such file")
+            # gazebo_ros2_control's controller manager fails to start on it; Gazebo goes on.
+            _log.warning("%s: gazebo_ros2_control <parameters> %r: no such file; no controllers", where, path)
+            continue
         declared = with_controllers(config, Path(path).read_text(), path, refuse_conflicts=False)
         config = dataclasses.replace(declared, declared=declared.controllers, controllers=[])
         config = spawned_only(config, [c.name for c in config.declared], path, refuse_conflicts=False)

@@ -133,6 +133,7 @@ def model_info(model: ModelConfig) -> dict[str, Any]:
                 if s.ros_camera is not None
             ),  # fmt: skip
             *({"kind": "unknown", **dataclasses.asdict(p)} for p in tags.unknown_plugins),
+            *([{"kind": "ros_control", **dataclasses.asdict(tags.ros_control)}] if tags.ros_control else []),
         ],
         "materials": [dataclasses.asdict(m) for m in tags.materials],
         "frictions": [dataclasses.asdict(f) for f in tags.frictions],
