@@ -27,6 +27,8 @@ def cmd_ros_run_isolable(args: argparse.Namespace) -> int:
 
         if args.robot:
             raise OmtpError("--robot does not go with --sandbox (an isolated run takes --scenario only)")
+        if args.bag:
+            raise OmtpError("--bag does not go with --sandbox (an isolated run writes its report only)")
 
         return run_isolated_script(args, print_line)
     return cmd_ros_run(args)

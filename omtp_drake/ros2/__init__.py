@@ -5,10 +5,11 @@ In simulated time: ``/clock``, ``/joint_states``, ``/robot_description`` (latche
 robot_state_publisher publishes it), the RGB-D cameras' ``image_raw``, ``camera_info``,
 ``depth/image_raw`` and ``points``, the logical cameras and the parts as poses and rviz2
 markers; ``/set_joint_trajectory`` as Gazebo's joint pose trajectory plugin; the grippers
-and the belt as ``std_srvs/SetBool`` services. No ``/tf``: no ``tf2_msgs`` wheel is on
-PyPI, the wheels there ship no C headers to build one against, and rclpy has no runtime
-type support in Python; a peer's robot_state_publisher makes tf from ``/joint_states``
-and ``/robot_description``.
+and the belt as ``std_srvs/SetBool`` services. ``/tf`` and ``/tf_static`` as
+robot_state_publisher publishes them, and ``/gazebo/model_states``: no ``tf2_msgs`` (nor
+``gazebo_msgs``) wheel is on PyPI, the wheels there ship no C headers to build one against,
+and rclpy has no runtime type support in Python, so Cyclone DDS writes them beside rclpy
+(``dds_types``).
 
 Modules (one job each):
 
@@ -17,6 +18,9 @@ Modules (one job each):
 - ``joint_pose_trajectory``: ``/set_joint_trajectory``'s rules, as Gazebo's plugin plays a trajectory
 - ``topics``: the topics the cell publishes, and when
 - ``commands``: the trajectory topic and the services a peer calls, run between steps
+- ``dds_types``: the types rclpy lacks (tf2_msgs, gazebo_msgs) as Cyclone DDS mirrors, and Cyclone's config
+- ``tf_publisher``: ``/tf``, ``/tf_static`` and ``/gazebo/model_states``, written by Cyclone DDS
+- ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C
 

@@ -20,15 +20,18 @@ from __future__ import annotations
 
 import re
 import threading
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.ros.comm._core import JOINT_NAMES
 from omtp_drake.ros.moveit.description import robot_description
+from omtp_drake.ros2.bag import record_publishers
 from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
-from omtp_drake.ros2.topics import CellTopics
+from omtp_drake.ros2.tf_publisher import TfTopics
+from omtp_drake.ros2.topics import JOINT_STATE_RATE_HZ, CellTopics, Periodic
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.bag.writer import Ros2Bag
     from omtp_drake.script import Cell
 
 #: The node's name (Gazebo's is ``/gazebo``; one node serves the whole cell here).
@@ -65,7 +68,7 @@ class Ros2Cell:
     shuts its rclpy context down (nothing of it outlives the call).
     """
 
-    def __init__(self, cell: Cell, network: Ros2Network):
+    def __init__(self, cell: Cell, network: Ros2Network, bag: Optional[Ros2Bag] = None):
         rclpy = import_rclpy()
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.parameter import Parameter
@@ -88,10 +91,14 @@ class Ros2Cell:
                 context=self._context,
                 parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
             )
+            if bag is not None:  # --bag: what the node publishes goes into the bag too
+                record_publishers(self.node, bag, lambda: cell.time)
             joints = joint_map(cell)
             names = [(name, robot) for name, (robot, _) in joints.items()]
             self.topics = CellTopics(self.node, cell, names, self.description)
             self.commands = CellCommands(self.node, cell, joints, fixed_links(cell))
+            # /tf, /tf_static, /gazebo/model_states over Cyclone DDS (omtp_drake.ros2.tf_publisher)
+            self.tf = Periodic(1.0 / JOINT_STATE_RATE_HZ, TfTopics(cell, network, bag))
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)
         except BaseException:
@@ -101,6 +108,7 @@ class Ros2Cell:
         self._thread.start()
         self._closed = False
         self.topics.publish(cell.time)
+        self.tf(cell.time)
 
     def _spin(self) -> None:
         from rclpy.executors import ExternalShutdownException
@@ -122,6 +130,7 @@ class Ros2Cell:
         self.cell.runtime.advance_to(end)
         commands.run_pending()
         self.topics.publish(self.cell.time)
+        self.tf(self.cell.time)
 
     def close(self) -> None:
         """Stops the executor, destroys the node, shuts the context down."""

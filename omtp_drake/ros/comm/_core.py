@@ -21,6 +21,7 @@ from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
 from omtp_drake.sim.driver import spawn
 from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
+from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 
 __all__ = [
     "JOINT_NAMES",
@@ -40,6 +41,8 @@ __all__ = [
     "RosLatencyConfig",
     "Scenario",
     "SpawnerConfig",
+    "TfBroadcast",
+    "TfEdge",
     "check_in_cell",
     "check_joint_positions",
     "expand_xacro",
