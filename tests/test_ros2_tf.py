@@ -108,17 +108,23 @@ def test_the_mirrors_without_an_rclpy_type_match_their_msg_definitions():
     from mcap_ros2._dynamic import serialize_dynamic
 
     from omtp_drake.ros.bag.definitions import concatenated, installed_text
+    from omtp_drake.ros2 import cdr
     from omtp_drake.ros2 import dds_types as d
 
     stamped = _rclpy_pairs()[d.TransformStamped_][1]
     twist, pose = _rclpy_pairs()[d.Twist_][1], _rclpy_pairs()[d.Pose_][1]
-    for value in (
-        d.TFMessage_([stamped, stamped]),
-        d.ModelStates_(["a", "bc"], [pose, pose], [twist, twist]),
-    ):
+    tf = d.TFMessage_([stamped, stamped])
+    states = d.ModelStates_(["a", "bc"], [pose, pose], [twist, twist])
+    for value in (tf, states):
         name = d.ROS_TYPES[type(value)]
         encode = serialize_dynamic(name, concatenated(name, installed_text))[name]
         assert value.serialize(use_version_2=False) == encode(value), name
+    # What the node writes: the same bytes, packed at once (omtp_drake.ros2.cdr).
+    numbers = (12, 345, 0.1, -0.2, 0.3, 0.1, 0.2, 0.3, 0.9)
+    assert cdr.tf_message([("robot1_base_link", "a")] * 2, [numbers] * 2) == tf.serialize(use_version_2=False)
+    poses, twists = [(1.5, 2.5, -3.5, 0.1, 0.2, 0.3, 0.9)] * 2, [(0.1, -0.2, 0.3, 0, 0, 4)] * 2
+    assert cdr.model_states(["a", "bc"], poses, twists) == states.serialize(use_version_2=False)
+    assert cdr.model_states([], [], []) == d.ModelStates_().serialize(use_version_2=False)
 
 
 def _chain(name: str, edges: dict[str, tuple[str, np.ndarray]]) -> np.ndarray:
@@ -143,7 +149,8 @@ def test_a_late_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, 
     env = _loopback_env(domain)
     out = tmp_path / "tf.json"
     cell = subprocess.Popen(
-        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--domain-id", str(domain)],
+        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--domain-id", str(domain)]
+        + ["--bag", str(tmp_path / "run.mcap")],
         env=env,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
@@ -181,6 +188,7 @@ def test_a_late_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, 
     # A Fast DDS subscriber read the Cyclone writer's PoseArray (header + sequence<Pose>).
     assert seen["probe"] == {"frame_id": "probe", "poses": [[0.5, 1.0], [1.5, 1.0]]}
     _check_links(seen)
+    _check_bag(tmp_path / "run.mcap", seen)
     models = dict(zip(seen["models"]["name"], seen["models"]["xyz"]))
     assert np.allclose(models["object_1"][:2], [1.2, 1.8], atol=0.01), models
 
@@ -217,3 +225,24 @@ def _check_links(seen: dict) -> None:
         X = _chain(link, edges)
         assert np.linalg.norm(X[:3, 3] - X_expected[:3, 3]) < 1e-3, link
         assert np.allclose(X[:3, :3], X_expected[:3, :3], atol=1e-3), link
+
+
+def _check_bag(path, seen: dict) -> None:
+    """``--bag``: what the reader got, in a ROS 2 bag (rclpy's topics and Cyclone's)."""
+    from mcap.reader import make_reader
+    from mcap_ros2.decoder import DecoderFactory
+
+    with path.open("rb") as f:
+        reader = make_reader(f, decoder_factories=[DecoderFactory()])
+        summary = reader.get_summary()
+        channels = {c.topic: c for c in summary.channels.values()}
+        types = {topic: summary.schemas[c.schema_id].name for topic, c in channels.items()}
+        assert types["/tf"] == "tf2_msgs/msg/TFMessage" and types["/clock"] == "rosgraph_msgs/msg/Clock"
+        assert types["/joint_states"] == "sensor_msgs/msg/JointState"
+        assert "durability: 1" in channels["/robot_description"].metadata["offered_qos_profiles"]
+        static = next(m for _, _, _, m in reader.iter_decoded_messages(topics=["/tf_static"]))
+        assert sorted(t.child_frame_id for t in static.transforms) == sorted(
+            t["child"] for t in seen["static"]
+        )
+        stamps = [m.publish_time for _, _, m in reader.iter_messages(topics=["/tf"])]
+        assert len(stamps) >= 5 and stamps == sorted(stamps)

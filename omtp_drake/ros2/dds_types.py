@@ -19,6 +19,7 @@ identity the Python API cannot set), so neither can actions.
 """
 
 # No `from __future__ import annotations`: Cyclone reads the fields' types from the annotations.
+import weakref
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
@@ -157,13 +158,21 @@ def cyclone_config(network: "Ros2Network") -> str:
     )
 
 
+#: The Cyclone domains this process has configured, by id (Cyclone configures a domain once per
+#: process; the participants on it share it, and it goes when the last of them does).
+_DOMAINS: "weakref.WeakValueDictionary[int, Any]" = weakref.WeakValueDictionary()
+
+
 class CycloneParticipant:
     """A Cyclone DDS participant on ``network``, and the ROS 2 topics it writes."""
 
     def __init__(self, network: "Ros2Network"):
         from cyclonedds.domain import Domain, DomainParticipant
 
-        self._domain = Domain(network.domain_id, cyclone_config(network))
+        domain = _DOMAINS.get(network.domain_id)
+        if domain is None:
+            domain = _DOMAINS[network.domain_id] = Domain(network.domain_id, cyclone_config(network))
+        self._domain = domain
         self.participant = DomainParticipant(network.domain_id)
 
     def writer(self, topic: str, mirror: type, *, latched: bool = False, depth: int = 100) -> Any:
@@ -182,3 +191,15 @@ class CycloneParticipant:
             Policy.DataRepresentation(use_cdrv0_representation=True),
         )
         return DataWriter(self.participant, Topic(self.participant, "rt" + topic, mirror), qos=qos)
+
+
+def write_cdr(writer: Any, data: bytes) -> None:
+    """Writes ``data``, the XCDR1 bytes of a sample of ``writer``'s type (packed by
+    :mod:`omtp_drake.ros2.cdr`), as ``writer.write(sample)`` writes the sample's serialization
+    (the same C call, without Cyclone's Python serializer)."""
+    from cyclonedds._clayer import ddspy_write
+    from cyclonedds.core import DDSException
+
+    ret = ddspy_write(writer._ref, data)
+    if ret < 0:
+        raise DDSException(ret, f"Occurred while writing a sample of {writer.topic.name}")

@@ -20,25 +20,13 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Optional
 
-from pydrake.math import RigidTransform
-
 from omtp_drake.ros.gazebo.models import GazeboModels
-from omtp_drake.ros2.dds_types import (
-    ROS_TYPES,
-    CycloneParticipant,
-    Header_,
-    ModelStates_,
-    Point_,
-    Pose_,
-    Quaternion_,
-    TFMessage_,
-    Time_,
-    Transform_,
-    TransformStamped_,
-    Twist_,
-    Vector3_,
-)
+from omtp_drake.ros2 import cdr
+from omtp_drake.ros2.dds_types import ROS_TYPES, CycloneParticipant, ModelStates_, TFMessage_, write_cdr
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
+
+TF_MESSAGE = ROS_TYPES[TFMessage_]
+MODEL_STATES = ROS_TYPES[ModelStates_]
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
@@ -46,32 +34,16 @@ if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
 
-def stamp(t: float) -> Time_:
-    sec = int(t // 1)
-    return Time_(sec, int(round((t - sec) * 1e9)))
+def _numbers(edge: TfEdge) -> tuple[float, ...]:
+    """(stamp sec, nanosec, x, y, z, qx, qy, qz, qw) of an edge."""
+    ns = int(round(edge.time * 1e9))
+    p, q = edge.X_PC.translation(), edge.X_PC.rotation().ToQuaternion()
+    return (ns // 1_000_000_000, ns % 1_000_000_000, p[0], p[1], p[2], q.x(), q.y(), q.z(), q.w())
 
 
-def _quaternion(X: RigidTransform) -> Quaternion_:
-    q = X.rotation().ToQuaternion()
-    return Quaternion_(q.x(), q.y(), q.z(), q.w())
-
-
-def tf_message(edges: list[TfEdge]) -> TFMessage_:
-    """The edges as one ``tf2_msgs/TFMessage``."""
-    return TFMessage_(
-        [
-            TransformStamped_(
-                Header_(stamp(e.time), e.parent),
-                e.child,
-                Transform_(Vector3_(*map(float, e.X_PC.translation())), _quaternion(e.X_PC)),
-            )
-            for e in edges
-        ]
-    )
-
-
-def pose(X: RigidTransform) -> Pose_:
-    return Pose_(Point_(*map(float, X.translation())), _quaternion(X))
+def tf_message(edges: list[TfEdge]) -> bytes:
+    """The edges as one ``tf2_msgs/TFMessage`` (XCDR1 bytes)."""
+    return cdr.tf_message([(e.parent, e.child) for e in edges], [_numbers(e) for e in edges])
 
 
 class TfTopics:
@@ -85,28 +57,38 @@ class TfTopics:
         if bag is not None:
             from omtp_drake.ros.bag.definitions import concatenated, installed_text
 
-            for mirror in (TFMessage_, ModelStates_):
-                bag.add_type(ROS_TYPES[mirror], concatenated(ROS_TYPES[mirror], installed_text))
+            for name in (TF_MESSAGE, MODEL_STATES):
+                bag.add_type(name, concatenated(name, installed_text))
         self._dds = CycloneParticipant(network)
         self._static = self._dds.writer("/tf_static", TFMessage_, latched=True, depth=1)
         self._tf = self._dds.writer("/tf", TFMessage_)
         self._model_states = self._dds.writer("/gazebo/model_states", ModelStates_, depth=10)
-        self._write("/tf_static", self._static, tf_message(self._broadcast.static(cell.runtime.context)))
+        self._write(
+            "/tf_static", self._static, tf_message(self._broadcast.static(cell.runtime.context)), TF_MESSAGE
+        )
 
-    def _write(self, topic: str, writer: Any, message: Any, stamp_s: Optional[float] = None) -> None:
-        writer.write(message)
+    def _write(
+        self, topic: str, writer: Any, data: bytes, type_name: str, stamp_s: Optional[float] = None
+    ) -> None:
+        write_cdr(writer, data)
         if self._bag is not None:
-            data = message.serialize(use_version_2=False)
-            self._bag.write_cdr(topic, ROS_TYPES[type(message)], data, self._cell.time, stamp_s)
+            self._bag.write_cdr(topic, type_name, data, self._cell.time, stamp_s)
 
     def __call__(self, t: float) -> None:
         """``/tf`` and ``/gazebo/model_states`` at ``t`` (the joint state rate's caller)."""
         edges = self._broadcast.moving(self._cell.runtime.context) + self._broadcast.detected()
-        self._write("/tf", self._tf, tf_message(edges), t)
+        self._write("/tf", self._tf, tf_message(edges), TF_MESSAGE, t)
         names, poses, twists = [], [], []
         for name, body in self._models.models():
             X, v, w = self._models.relative(body, None)
+            p, q = X.translation(), X.rotation().ToQuaternion()
             names.append(name)
-            poses.append(pose(X))
-            twists.append(Twist_(Vector3_(*map(float, v)), Vector3_(*map(float, w))))
-        self._write("/gazebo/model_states", self._model_states, ModelStates_(names, poses, twists), t)
+            poses.append((p[0], p[1], p[2], q.x(), q.y(), q.z(), q.w()))
+            twists.append((v[0], v[1], v[2], w[0], w[1], w[2]))
+        self._write(
+            "/gazebo/model_states",
+            self._model_states,
+            cdr.model_states(names, poses, twists),
+            MODEL_STATES,
+            t,
+        )
