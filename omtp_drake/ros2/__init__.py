@@ -23,6 +23,8 @@ Modules (one job each):
 - ``tf_publisher``: ``/tf``, ``/tf_static`` and ``/gazebo/model_states``, written by Cyclone DDS
 - ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
+- ``launch_api``: the ``launch`` / ``launch_ros`` API a ``*.launch.py`` uses, in house (not on PyPI)
+- ``launch_py``: ``--launch 'PKG FILE.launch.py'``: a launch file evaluated, its nodes mapped to the cell
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C
 
 May import: ``omtp_drake.ros`` (the cell's URDF, the course's names) and below.

@@ -19,12 +19,13 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
-from omtp_drake.errors import check_duration
+from omtp_drake.errors import ConfigError, check_duration
 from omtp_drake.ros.run.command import add_shared_options, print_line
 from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
+    from omtp_drake.scenario import Scenario
     from omtp_drake.script import Cell
 
 
@@ -33,7 +34,7 @@ class Ros2RunOptions:
     """How ``omtp-drake ros2`` runs a cell.
 
     Attributes:
-        scenario: the scenario's name or YAML path.
+        scenario: the scenario's name or YAML path, or a Scenario (``--launch``'s).
         seed: overrides the scenario's seed.
         timeout: simulated seconds to run (None: until stopped).
         realtime: pace to the wall clock.
@@ -43,7 +44,7 @@ class Ros2RunOptions:
         bag: record every topic into this ROS 2 bag (``.mcap``).
     """
 
-    scenario: str
+    scenario: str | Scenario
     seed: Optional[int] = None
     timeout: Optional[float] = None
     realtime: bool = False
@@ -125,6 +126,22 @@ def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str],
 
 
 def cmd_ros2(args: argparse.Namespace) -> int:
+    if args.launch is not None:  # a ROS 2 launch file (omtp_drake.ros2.launch_py)
+        from omtp_drake.ros2.launch_py import launched
+
+        if args.scenario is not None:
+            raise ConfigError("omtp-drake ros2: give a SCENARIO or --launch, not both")
+        with launched(args.launch, args.workspace or ["."]) as (scenario, warnings):
+            for line in warnings:
+                print_line(f"warning: {line}")
+            args.scenario = scenario
+            return _run(args)
+    if args.scenario is None:
+        raise ConfigError("omtp-drake ros2 needs a SCENARIO (or --launch 'PKG FILE.launch.py')")
+    return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     options = Ros2RunOptions(
         args.scenario,
         seed=args.seed,
@@ -145,7 +162,19 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         help="run a scenario's cell as ROS 2 nodes over DDS (the ros2 extra): /clock, /joint_states, "
         "/robot_description, cameras, /set_joint_trajectory, gripper and belt services",
     )
-    p.add_argument("scenario", metavar="SCENARIO")
+    p.add_argument("scenario", metavar="SCENARIO", nargs="?")
+    p.add_argument(
+        "--launch",
+        metavar="'PKG FILE.launch.py [ARG:=VALUE ...]'",
+        help="run a ROS 2 launch file as ros2 launch would, its nodes mapped to the cell "
+        "(robot_state_publisher, gazebo.launch.py, spawn_entity.py)",
+    )
+    p.add_argument(
+        "--workspace",
+        action="append",
+        metavar="DIR",
+        help="a folder of the launch's packages (repeat; default: the current folder)",
+    )
     p.add_argument("--seed", type=int, default=None, help="override the scenario's seed")
     p.add_argument("--timeout", type=float, default=None, metavar="S", help="end after S simulated seconds")
     p.add_argument("--realtime", action="store_true", help="pace the simulation to the wall clock")

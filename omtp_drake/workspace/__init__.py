@@ -17,6 +17,6 @@ May import: ``omtp_drake.errors``.
 """
 
 from omtp_drake.workspace.packages import Workspace
-from omtp_drake.workspace.xacro_files import expand_xacro_in
+from omtp_drake.workspace.xacro_files import expand_xacro_in, xacro_finds_in
 
-__all__ = ["Workspace", "expand_xacro_in"]
+__all__ = ["Workspace", "expand_xacro_in", "xacro_finds_in"]

@@ -11,14 +11,16 @@ from __future__ import annotations
 
 import os
 import threading
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 
 from omtp_drake.errors import MissingPackageError, WorkspaceError
 from omtp_drake.workspace.packages import Workspace
 
-_XACRO_LOCK = threading.Lock()
+#: xacro's $(find) is module state: one expansion at a time (re-entrant: a launch.py that runs
+#: xacro itself may expand another file inside, omtp_drake.ros2.launch_py).
+_XACRO_LOCK = threading.RLock()
 
 
 def expand_xacro_in(
@@ -65,6 +67,14 @@ def _explained(path: Path, error: Exception) -> Exception:
     if isinstance(error, (xacro.XacroException, OSError, ValueError, NameError, TypeError)):
         return WorkspaceError(f"{path}: xacro error: {error}")
     return error
+
+
+@contextmanager
+def xacro_finds_in(workspace: Workspace, needed_by: str | os.PathLike) -> Iterator[None]:
+    """While the block runs, xacro (called by anyone, e.g. a launch.py) resolves ``$(find PKG)``
+    in ``workspace``."""
+    with _XACRO_LOCK, _find_in(workspace, Path(needed_by)):
+        yield
 
 
 @contextmanager
