@@ -108,3 +108,19 @@ def test_tf_static_and_tf_give_the_arms_links(bag):
         runtime.station.plant.GetMyContextFromRoot(runtime.context)
     )
     assert np.linalg.norm(X.translation() - X_expected.translation()) < 1e-3
+
+
+def test_a_run_that_fails_in_its_set_up_leaves_a_readable_bag(tmp_path):
+    from mcap.reader import make_reader
+
+    from omtp_drake.errors import OmtpError
+    from omtp_drake.ros import run_script
+
+    script = tmp_path / "talker.py"
+    script.write_text(SCRIPT)
+    path = tmp_path / "run.mcap"
+    with pytest.raises(OmtpError, match="no_such_service"):
+        run_script(script, scenario="lecture6_assignment4", bag=path, calls=["/no_such_service"])
+    with path.open("rb") as f:
+        summary = make_reader(f).get_summary()
+    assert summary is not None and {c.topic for c in summary.channels.values()} >= {"/clock", "/tf_static"}
