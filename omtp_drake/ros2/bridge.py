@@ -98,7 +98,8 @@ class Ros2Cell:
             self.topics = CellTopics(self.node, cell, names, self.description)
             self.commands = CellCommands(self.node, cell, joints, fixed_links(cell))
             # /tf, /tf_static, /gazebo/model_states over Cyclone DDS (omtp_drake.ros2.tf_publisher)
-            self.tf = Periodic(1.0 / JOINT_STATE_RATE_HZ, TfTopics(cell, network, bag))
+            self._tf_topics = TfTopics(cell, network, bag)
+            self.tf = Periodic(1.0 / JOINT_STATE_RATE_HZ, self._tf_topics)
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)
         except BaseException:
@@ -140,6 +141,7 @@ class Ros2Cell:
         self.commands.stop()
         self._executor.shutdown(timeout_sec=2.0)
         self.node.destroy_node()
+        self._tf_topics.close()
         self._context.try_shutdown()
         self._thread.join(timeout=5.0)
 

@@ -59,10 +59,11 @@ class TfTopics:
 
             for name in (TF_MESSAGE, MODEL_STATES):
                 bag.add_type(name, concatenated(name, installed_text))
-        self._dds = CycloneParticipant(network)
-        self._static = self._dds.writer("/tf_static", TFMessage_, latched=True, depth=1)
-        self._tf = self._dds.writer("/tf", TFMessage_)
-        self._model_states = self._dds.writer("/gazebo/model_states", ModelStates_, depth=10)
+        dds = CycloneParticipant(network)
+        self._dds: Optional[CycloneParticipant] = dds
+        self._static = dds.writer("/tf_static", TFMessage_, latched=True, depth=1)
+        self._tf = dds.writer("/tf", TFMessage_)
+        self._model_states = dds.writer("/gazebo/model_states", ModelStates_, depth=10)
         self._write(
             "/tf_static", self._static, tf_message(self._broadcast.static(cell.runtime.context)), TF_MESSAGE
         )
@@ -92,3 +93,9 @@ class TfTopics:
             MODEL_STATES,
             t,
         )
+
+    def close(self) -> None:
+        """Leaves the DDS graph: Cyclone deletes the writers and the participant with their last
+        reference (the node's Ros2Cell closes this)."""
+        self._static = self._tf = self._model_states = None
+        self._dds = None
