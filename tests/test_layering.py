@@ -193,7 +193,7 @@ def test_each_package_docstring_maps_exactly_its_modules(package):
 
 
 #: ``ros/``'s subpackages, one per ROS project it mirrors (see ``omtp_drake/ros/__init__.py``).
-ROS_SUBPACKAGES = {"comm", "moveit", "tf", "gazebo", "flexbe", "run", "shims"}
+ROS_SUBPACKAGES = {"comm", "moveit", "tf", "gazebo", "flexbe", "run", "shims", "bag"}
 
 
 def _outside_subpackages(ros: Path) -> list[str]:

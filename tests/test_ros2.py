@@ -251,8 +251,22 @@ def test_the_network_stays_on_loopback_unless_asked():
         "ROS_LOCALHOST_ONLY": "1",
     }
     assert choose_network(42, subnet=True).environment()["ROS_AUTOMATIC_DISCOVERY_RANGE"] == "SUBNET"
-    with pytest.raises(ConfigError, match="0..101, got 102"):
-        Ros2Network(102)
+    with pytest.raises(ConfigError, match="0..232, got 233"):
+        Ros2Network(233)
+
+
+def test_a_domain_above_101_is_taken_with_one_warning(caplog):
+    """rclpy takes 0-232; ROS 2's docs warn of Linux's ephemeral ports above 101, and so
+    does the network, once."""
+    with caplog.at_level("WARNING", logger="omtp_drake.ros2.network"):
+        assert Ros2Network(150).domain_id == 150
+        Ros2Network(150)
+    warnings = [r.getMessage() for r in caplog.records if r.levelname == "WARNING"]
+    assert len(warnings) == 1 and "ROS_DOMAIN_ID=150" in warnings[0] and "ephemeral" in warnings[0]
+    caplog.clear()
+    with caplog.at_level("WARNING", logger="omtp_drake.ros2.network"):
+        Ros2Network(101)
+    assert not caplog.records
 
 
 def test_the_domain_comes_from_the_environment_when_not_given(monkeypatch):

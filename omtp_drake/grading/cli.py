@@ -25,6 +25,9 @@ def cmd_ros_run_isolable(args: argparse.Namespace) -> int:
     if args.sandbox is not None:
         from omtp_drake.grading.grade import run_isolated_script
 
+        if args.bag:
+            raise OmtpError("--bag does not go with --sandbox (an isolated run writes its report only)")
+
         return run_isolated_script(args, print_line)
     return cmd_ros_run(args)
 

@@ -34,6 +34,7 @@ is an application on top of ``ros-run``: :mod:`omtp_drake.grading`.
 - ``flexbe``: FlexBE behaviours on the cell (``flexbe-run``: engine, states, proxies, run)
 - ``run``: ``ros-run``: an unmodified course script on a cell, its report and its command
 - ``shims``: the ROS-named packages a run puts on ``sys.path``
+- ``bag``: rosbag2's bags: a run's topics as a ROS 2 bag (MCAP), ROS 1 messages as ROS 2's
 """
 
 from __future__ import annotations

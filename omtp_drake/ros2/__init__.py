@@ -9,10 +9,11 @@ In simulated time: ``/clock``, ``/robot_description`` (latched, as robot_state_p
 publishes it), the plugins' topics (joint states, cameras' ``image_raw``,
 ``camera_info``, ``depth/image_raw`` and ``points``) and ``set_joint_trajectory``
 subscriptions, the logical cameras and the parts as poses and rviz2 markers; the
-grippers and the belt as ``std_srvs/SetBool`` services. No ``/tf``: no ``tf2_msgs`` wheel is on
-PyPI, the wheels there ship no C headers to build one against, and rclpy has no runtime
-type support in Python; a peer's robot_state_publisher makes tf from ``/joint_states``
-and ``/robot_description``.
+grippers and the belt as ``std_srvs/SetBool`` services. ``/tf`` and ``/tf_static`` as
+robot_state_publisher publishes them, and ``/gazebo/model_states``: no ``tf2_msgs`` (nor
+``gazebo_msgs``) wheel is on PyPI, the wheels there ship no C headers to build one against,
+and rclpy has no runtime type support in Python, so Cyclone DDS writes them beside rclpy
+(``dds_types``).
 
 Modules (one job each):
 
@@ -21,6 +22,10 @@ Modules (one job each):
 - ``topics``: the topics the cell publishes (the plugin layer's, by ROS 2 names and QoS)
 - ``commands``: the plugins' trajectory topics and the services a peer calls, run between steps
 - ``ros2_control``: gazebo_ros2_control's controller topics (joint_trajectory, commands, joint_states)
+- ``dds_types``: the types rclpy lacks (tf2_msgs, gazebo_msgs) as Cyclone DDS mirrors, and Cyclone's config
+- ``cdr``: ``/tf`` and ``/gazebo/model_states`` packed as the mirrors' XCDR1 bytes, in one ``struct`` call
+- ``tf_publisher``: ``/tf``, ``/tf_static`` and ``/gazebo/model_states``, written by Cyclone DDS
+- ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C
 

@@ -21,16 +21,21 @@ from __future__ import annotations
 import logging
 import re
 import threading
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Optional
 
+from omtp_drake.gazebo.joint_states import JOINT_STATE_RATE_HZ
 from omtp_drake.gazebo.plugins import gazebo_plugins
+from omtp_drake.gazebo.schedule import Periodic
 from omtp_drake.ros.moveit.description import robot_description
+from omtp_drake.ros2.bag import record_publishers
 from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
 from omtp_drake.ros2.ros2_control import Ros2Control
+from omtp_drake.ros2.tf_publisher import TfTopics
 from omtp_drake.ros2.topics import CellTopics
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.bag.writer import Ros2Bag
     from omtp_drake.script import Cell
 
 _log = logging.getLogger("gazebo")
@@ -55,7 +60,7 @@ class Ros2Cell:
     shuts its rclpy context down (nothing of it outlives the call).
     """
 
-    def __init__(self, cell: Cell, network: Ros2Network):
+    def __init__(self, cell: Cell, network: Ros2Network, bag: Optional[Ros2Bag] = None):
         rclpy = import_rclpy()
         from rclpy.executors import SingleThreadedExecutor
         from rclpy.parameter import Parameter
@@ -78,12 +83,18 @@ class Ros2Cell:
                 context=self._context,
                 parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
             )
+            if bag is not None:  # --bag: what the node publishes goes into the bag too
+                record_publishers(self.node, bag, lambda: cell.time)
             plugins = gazebo_plugins(cell)
             for line in plugins.warnings:
                 _log.warning(line)
             self.topics = CellTopics(self.node, cell, plugins, self.description)
             self.commands = CellCommands(self.node, cell, plugins.subscriptions)
             self.control = Ros2Control(self.node, cell)
+            # /tf, /tf_static, /gazebo/model_states over Cyclone DDS (omtp_drake.ros2.tf_publisher),
+            # at the joint states' rate, as robot_state_publisher follows /joint_states
+            self._tf_topics = TfTopics(cell, network, bag)
+            self.tf = Periodic(1.0 / JOINT_STATE_RATE_HZ, self._tf_topics)
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)
         except BaseException:
@@ -94,6 +105,7 @@ class Ros2Cell:
         self._closed = False
         self.topics.publish(cell.time)
         self.control.publish(cell.time)
+        self.tf(cell.time)
 
     def _spin(self) -> None:
         from rclpy.executors import ExternalShutdownException
@@ -111,6 +123,7 @@ class Ros2Cell:
         self.cell.runtime.advance_to(self.cell.time + dt)
         self.topics.publish(self.cell.time)
         self.control.publish(self.cell.time)
+        self.tf(self.cell.time)
 
     def close(self) -> None:
         """Stops the executor, destroys the node, shuts the context down."""
@@ -120,6 +133,7 @@ class Ros2Cell:
         self.commands.stop()
         self._executor.shutdown(timeout_sec=2.0)
         self.node.destroy_node()
+        self._tf_topics.close()
         self._context.try_shutdown()
         self._thread.join(timeout=5.0)
 

@@ -1,13 +1,15 @@
 """Where the cell's ROS 2 nodes are heard: the DDS domain and the discovery range, and
 the middleware itself (rclpy on Fast DDS, the ``ros2`` extra).
 
-ROS 2 finds its peers by DDS discovery in a *domain* (``ROS_DOMAIN_ID``, 0-101 on
-Linux): nodes of different domains never hear each other, so each run gets its own
-(given with ``--domain-id``, else ``ROS_DOMAIN_ID`` from the environment, else one
-the command chooses and prints). Discovery stays on this machine's loopback by
-default (``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, and ``ROS_LOCALHOST_ONLY=1``,
-its spelling before Jazzy); reaching other machines of the same network
-(``SUBNET``) is the user's explicit choice (``--network``).
+ROS 2 finds its peers by DDS discovery in a *domain* (``ROS_DOMAIN_ID``, 0-232 as rclpy
+accepts it; above 101 a domain's ports may collide with Linux's ephemeral ports, which
+ROS 2's docs warn of, and so does this module, once): nodes of different domains never
+hear each other, so each run gets its own (given with ``--domain-id``, else
+``ROS_DOMAIN_ID`` from the environment, else one the command chooses and prints).
+Discovery stays on this machine's loopback by default
+(``ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST``, and ``ROS_LOCALHOST_ONLY=1``, its spelling
+before Jazzy); reaching other machines of the same network (``SUBNET``) is the user's
+explicit choice (``--network``).
 
 The settings are written to the process environment before rclpy initializes: the
 middleware reads them when it creates its participant.
@@ -15,6 +17,8 @@ middleware reads them when it creates its participant.
 
 from __future__ import annotations
 
+import functools
+import logging
 import os
 from dataclasses import dataclass
 from types import ModuleType
@@ -22,11 +26,28 @@ from typing import Optional
 
 from omtp_drake.errors import ConfigError, MissingExtraError
 
-#: The largest domain id whose DDS ports are valid on Linux (the ROS 2 docs' range).
-MAX_DOMAIN_ID = 101
+#: The largest domain id rclpy (and DDS's port mapping) accepts.
+MAX_DOMAIN_ID = 232
+#: The largest domain id whose ports stay below Linux's ephemeral range (the ROS 2 docs' safe range).
+SAFE_DOMAIN_ID = 101
 
 #: What installs the middleware: the project's extra.
 INSTALL_HINT = 'pip install -e ".[ros2]"'
+
+
+_log = logging.getLogger(__name__)
+
+
+@functools.cache
+def _warn_ephemeral(domain_id: int) -> None:
+    """One warning per domain id above :data:`SAFE_DOMAIN_ID`."""
+    _log.warning(
+        "ROS_DOMAIN_ID=%d: above %d a domain's DDS ports may collide with Linux's ephemeral ports "
+        "(/proc/sys/net/ipv4/ip_local_port_range), as ROS 2's docs warn; 0-%d is safe",
+        domain_id,
+        SAFE_DOMAIN_ID,
+        SAFE_DOMAIN_ID,
+    )
 
 
 @dataclass(frozen=True)
@@ -34,7 +55,7 @@ class Ros2Network:
     """The DDS domain and discovery range of a run.
 
     Attributes:
-        domain_id: the ROS 2 domain (0-101).
+        domain_id: the ROS 2 domain (0-232).
         subnet: discover peers on the local network too (False: this machine only).
     """
 
@@ -47,6 +68,8 @@ class Ros2Network:
                 f"ROS_DOMAIN_ID (--domain-id) must be an integer in 0..{MAX_DOMAIN_ID}, "
                 f"got {self.domain_id!r}"
             )
+        if self.domain_id > SAFE_DOMAIN_ID:
+            _warn_ephemeral(self.domain_id)
 
     @property
     def discovery_range(self) -> str:
@@ -83,7 +106,7 @@ def choose_network(domain_id: Optional[int] = None, *, subnet: bool = False) -> 
                     f"ROS_DOMAIN_ID in the environment must be an integer in 0..{MAX_DOMAIN_ID}, got {text!r}"
                 ) from None
         else:
-            domain_id = 1 + os.getpid() % MAX_DOMAIN_ID
+            domain_id = 1 + os.getpid() % SAFE_DOMAIN_ID
     return Ros2Network(domain_id, subnet)
 
 

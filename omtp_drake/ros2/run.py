@@ -21,10 +21,11 @@ from typing import TYPE_CHECKING, Optional
 
 from omtp_drake.errors import check_duration
 from omtp_drake.launch.options import add_cell_options
-from omtp_drake.ros.run.command import print_line
+from omtp_drake.ros.run.command import add_shared_options, print_line
 from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:
+    from omtp_drake.ros.bag.writer import Ros2Bag
     from omtp_drake.scenario import Scenario
     from omtp_drake.script import Cell
 
@@ -44,6 +45,7 @@ class Ros2RunOptions:
         meshcat: serve a Meshcat view too.
         urdf: also write the URDF the node publishes to this file (for a peer's
             robot_state_publisher, which reads it as a parameter).
+        bag: record every topic into this ROS 2 bag (``.mcap``).
     """
 
     scenario: Scenario | str
@@ -52,6 +54,7 @@ class Ros2RunOptions:
     realtime: bool = False
     meshcat: bool = False
     urdf: Optional[str] = None
+    bag: Optional[str] = None
 
     def __post_init__(self) -> None:
         if self.timeout is not None:
@@ -85,6 +88,18 @@ def _stop_on_signals() -> Iterator[threading.Event]:
             signal.signal(s, h)
 
 
+@contextlib.contextmanager
+def _bag(path: Optional[str]) -> Iterator[Optional[Ros2Bag]]:
+    """The run's bag (``--bag``), finished when the run ends however it ends; None without one."""
+    if path is None:
+        yield None
+        return
+    from omtp_drake.ros.bag.writer import Ros2Bag
+
+    with Ros2Bag(path) as bag:
+        yield bag
+
+
 def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str], None]) -> float:
     """Runs the cell of ``options`` as a ROS 2 node on ``network`` until its timeout
     or a signal; ``say`` gets the lines to show. Returns the simulated time reached."""
@@ -93,11 +108,13 @@ def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str],
 
     with _stop_on_signals() as stop:
         with options.cell() as cell:
-            with Ros2Cell(cell, network) as node:
+            with _bag(options.bag) as bag, Ros2Cell(cell, network, bag) as node:
                 say(
                     f"omtp-drake ros2: {cell.scenario.name} as node /{NODE_NAME} on {network.describe()}; "
                     f"join it with: export {' '.join(f'{k}={v}' for k, v in network.environment().items())}"
                 )
+                if bag is not None:
+                    say(f"recording every topic into the ROS 2 bag {bag.path}")
                 if options.urdf:
                     Path(options.urdf).write_text(node.description)
                     say(f"URDF written to {options.urdf}")
@@ -120,6 +137,7 @@ def cmd_ros2(args: argparse.Namespace) -> int:
         realtime=args.realtime,
         meshcat=args.meshcat,
         urdf=args.urdf,
+        bag=args.bag,
     )
     run_ros2(options, choose_network(args.domain_id, subnet=args.network), print_line)
     return 0
@@ -143,12 +161,13 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         metavar="FILE",
         help="write the published URDF there (for robot_state_publisher)",
     )
+    add_shared_options(p, "--bag")
     p.add_argument(
         "--domain-id",
         type=int,
         default=None,
         metavar="N",
-        help="ROS_DOMAIN_ID (0-101; default: $ROS_DOMAIN_ID, else one chosen and printed)",
+        help="ROS_DOMAIN_ID (0-232; default: $ROS_DOMAIN_ID, else one chosen and printed)",
     )
     p.add_argument(
         "--network",

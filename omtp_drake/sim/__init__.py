@@ -16,6 +16,7 @@ Modules (one job each):
 - ``faults``: a scenario's ``faults:`` applied while the cell runs, and what each did
 - ``tf``: tf2's buffer over a running station: frame poses and camera images with history
 - ``tf_poses``: the plant's named frames in the buffer's snapshots, and their poses at a time
+- ``tf_broadcast``: tf as ROS broadcasts it: which frames go on /tf_static and /tf, pose and stamp
 
 May import: ``omtp_drake.cell`` and everything below it (scenario, errors, assets).
 """

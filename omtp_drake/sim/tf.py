@@ -320,6 +320,10 @@ class TfBuffer:
         detected = self._detected.at(self._resolve_time(time))
         return self._tree.edges() + [(f"{camera}_frame", name) for name, camera in sorted(detected.items())]
 
+    def detected_frames(self, time: Optional[float] = None) -> dict[str, str]:
+        """The detected frames at ``time`` (None: the latest): frame name -> its camera."""
+        return dict(self._detected.at(self._resolve_time(time)))
+
     def parent(self, name: str) -> Optional[str]:
         """The parent of frame ``name`` (None for ``world``)."""
         self._check_name(name)

@@ -33,6 +33,7 @@ from omtp_drake.sim.ros_control import (
     TrajectoryRequest,
     trajectory_request,
 )
+from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
 
 __all__ = [
@@ -58,6 +59,8 @@ __all__ = [
     "WORLD_FRAMES",
     "Scenario",
     "SpawnerConfig",
+    "TfBroadcast",
+    "TfEdge",
     "TrajectoryRequest",
     "callback_start",
     "camera_views",

@@ -163,6 +163,8 @@ class Message(metaclass=_MessageType):
     _type: ClassVar[str] = ""
     #: One factory per field, in ``__slots__`` order (float, str, list, a message class...).
     _defaults: ClassVar[tuple[Callable[[], Any], ...]] = ()
+    #: The ``.msg`` text the class was made from (a bag converts it to ROS 2's).
+    _definition: ClassVar[str] = ""
 
     def __init__(self, *args: Any, **kwargs: Any):
         names = self.__slots__
@@ -293,6 +295,7 @@ def message(
         "__slots__": tuple(names),
         "_type": type_name,
         "_defaults": tuple(defaults),
+        "_definition": definition,
         "__doc__": doc or f"``{type_name}``.",
         "__module__": module or _module(),
         **constants,
@@ -301,6 +304,11 @@ def message(
     cls = cast("type[Message]", _MessageType(name, (Message,), namespace))
     _TYPES[type_name] = cls
     return cls
+
+
+def message_type(type_name: str) -> Optional[type[Message]]:
+    """The message class made for ``type_name`` (``pkg/Name``), None when there is none (yet)."""
+    return _TYPES.get(type_name)
 
 
 class ServiceType:

@@ -172,6 +172,9 @@ class Session:
         self.sources, self.services = _cell_graph(cell)
         self.gazebo = attach_gazebo(self)  # Gazebo's own topics and services, and the spawner
         self._on_shutdown: list[Callable[[], Any]] = []
+        #: Recorders of every message published (``on_message(topic, stamp, message)``, ``close()``:
+        #: a ``--bag``, omtp_drake.ros.bag.session), closed when the run ends.
+        self.taps: list[Any] = []
         #: The parameter server, topics scripts publish, latched messages, log throttles.
         self.params: dict[str, Any] = {}
         self.published_topics: set[str] = set()
@@ -286,6 +289,11 @@ class Session:
             for hook in self._on_shutdown:
                 hook()
 
+    def close_taps(self) -> None:
+        """Closes the recorders (the run has ended)."""
+        for tap in self.taps:
+            tap.close()
+
     def on_shutdown(self, hook: Callable[[], Any]) -> None:
         self._on_shutdown.append(hook)
 
@@ -321,6 +329,8 @@ class Session:
         """Queues ``message`` for every subscriber of ``topic`` (delivered in time order)."""
         stamp = self.time if stamp is None else stamp
         order = next(self._order)
+        for tap in self.taps:
+            tap.on_message(topic, stamp, message)
         for subscriber in self._subscribers.get(topic, []):
             subscriber.queue.append((stamp, order, message))
 

@@ -25,7 +25,7 @@ def cmd_flexbe_run(args: argparse.Namespace) -> int:
         **passed_on(
             args,
             "scenario srdf moveit_config timeout autonomy seed meshcat realtime record latency python2 "
-            "settle_after",
+            "settle_after bag",
         ),
     )
     return show_report(report, args.json, print_line)
@@ -56,7 +56,7 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--autonomy", choices=list(AUTONOMY_LEVELS), default="full", help="default full")
     p.add_argument("--param", action="append", default=[], metavar="NAME=VALUE", help="a behaviour parameter")
-    add_shared_options(p, "--seed --json --record --meshcat --realtime --latency --settle-after")
+    add_shared_options(p, "--seed --json --record --meshcat --realtime --latency --settle-after --bag")
     p.add_argument(
         "--python2",
         action="store_true",

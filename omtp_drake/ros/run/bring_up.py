@@ -71,6 +71,8 @@ class RunSettings:
     #: controllers started (``controller_manager spawner NAME ...``) on the robot's
     #: ``gazebo_ros_control`` (:mod:`omtp_drake.scenario.ros_control_parse`).
     controllers: Sequence[str] = ()
+    #: Record every topic into this ROS 2 bag (``.mcap``; :mod:`omtp_drake.ros.bag.session`).
+    bag: Optional[str | Path] = None
 
 
 def bring_up(settings: RunSettings) -> Session:
@@ -85,6 +87,10 @@ def bring_up(settings: RunSettings) -> Session:
     )
     try:
         session = Session(cell, timeout=timeout, moveit=settings.moveit, latency=delays)
+        if settings.bag is not None:
+            from omtp_drake.ros.bag.session import SessionBag
+
+            session.taps.append(SessionBag(session, settings.bag))
         start_move_group(session, settings.srdf, settings.moveit_config)  # params, named states, services
         for node, argv in settings.nodes:
             _start_node(Path(node), argv, session)

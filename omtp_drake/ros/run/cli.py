@@ -27,7 +27,7 @@ def cmd_ros_run(args: argparse.Namespace) -> int:
         **passed_on(
             args,
             "scenario seed timeout moveit meshcat realtime record srdf moveit_config settle latency "
-            "settle_after",
+            "settle_after bag",
         ),
     )
     return show_report(report, args.json, print_line)
@@ -64,7 +64,7 @@ def _add_ros_run(sub: argparse._SubParsersAction) -> argparse.ArgumentParser:
     _add_controllers_option(p)
     add_shared_options(p, "--meshcat")
     add_shared_options(p, "--realtime")
-    add_shared_options(p, "--record --json")
+    add_shared_options(p, "--record --json --bag")
     p.add_argument("-q", "--quiet", action="store_true", help="no rospy/MoveIt log lines")
     p.set_defaults(func=cmd_ros_run)
     return p

@@ -46,6 +46,11 @@ SHARED_OPTIONS: dict[str, dict[str, Any]] = {
     },
     "--record": {"metavar": "HTML", "help": "write a standalone Meshcat replay"},
     "--json": {"metavar": "FILE", "help": "write the run's report as JSON"},
+    "--bag": {
+        "metavar": "FILE.mcap",
+        "help": "record every topic of the run, with its simulated stamps, /tf included, as a ROS 2 bag "
+        "(MCAP: ros2 bag play, Foxglove; the ros2 extra)",
+    },
     "--settle-after": {
         "type": float,
         "default": SETTLE_AFTER,

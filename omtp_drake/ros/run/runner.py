@@ -71,6 +71,7 @@ def run_script(
             call_services(session, calls)
             settle_cell(session, float(settle))
     except Exception:
+        session.close_taps()  # a --bag ends readable with what the set-up published
         cell.close()
         raise
     ending = _run_main(path, args, session)

@@ -81,6 +81,7 @@ def finish(session: Session, seconds: float) -> tuple[Settled, Optional[Path]]:
     try:
         settled = run_on(session, seconds)
     finally:
+        session.close_taps()  # --bag: finished with the run's last message
         replay = session.cell.close()
     return settled, replay
 
