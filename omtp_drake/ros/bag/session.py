@@ -25,8 +25,7 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.ros.bag.definitions import concatenated, installed_text
 from omtp_drake.ros.bag.ros1 import ros2_text, ros2_type, ros2_value, stamp_of
 from omtp_drake.ros.bag.writer import Ros2Bag
-from omtp_drake.ros.comm._core import TfBroadcast, TfEdge
-from omtp_drake.ros.gazebo.joint_state_topics import JOINT_STATE_RATE_HZ
+from omtp_drake.ros.comm._core import JOINT_STATE_RATE_HZ, TfBroadcast, TfEdge
 from omtp_drake.ros.gazebo.ros_api import LINK_STATES, MODEL_STATES
 
 if TYPE_CHECKING:

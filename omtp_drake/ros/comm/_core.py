@@ -15,6 +15,7 @@ from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.gazebo import messages as gazebo_messages
+from omtp_drake.gazebo.joint_states import JOINT_STATE_RATE_HZ
 from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications, single_camera
 from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
 from omtp_drake.gazebo.schedule import Publication
@@ -38,6 +39,7 @@ from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
 
 __all__ = [
     "JOINT_NAMES",
+    "JOINT_STATE_RATE_HZ",
     "MODELS_DIR",
     "NAMED_POSES",
     "SETTLE_TIMEOUT",
