@@ -216,7 +216,7 @@ def test_non_finite_and_out_of_cell_values_are_refused_at_load(tmp_path, text, w
     ("base: omtp_factory\nrobots:\n  - {name: robot2, command_rate_hz: 1.0e+5}\n",
      ["robots[robot2].command_rate_hz must be in (0, 1000] Hz"]),
     ("base: omtp_factory\nplant_config: {time_step: 1.0e-9}\n",
-     ["plant_config.time_step must be in [0.0001, 0.01] s", "1e-09"]),
+     ["plant_config.time_step must be in [0.0001, 0.02] s", "1e-09"]),
     ("base: fill_bin\npart_pool: 100000\n", ["part_pool must be in [0, 100], got 100000"]),
     ("base: lecture6_assignment4\nspawner: {period: 1.0e-9}\n",
      ["spawner.period must be 0 (no automatic spawns) or >= 0.001 s"]),

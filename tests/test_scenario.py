@@ -235,3 +235,10 @@ def test_extra_frames_hang_on_cell_frames_and_an_unknown_parent_is_refused():
     bad = {**scenario_document("omtp_factory"), "frames": [{"name": "camera_mount", "parent": "nowhere"}]}
     with pytest.raises(ConfigError, match="parent 'nowhere' is no frame of the cell"):
         build_station(scenario_from_dict(bad))
+
+
+def test_plant_steps_up_to_the_studied_20_ms_are_accepted():
+    # bench/bench_plant_step.py: every task outcome is the same at 16 and 20 ms as at 10 ms.
+    assert load_scenario("fill_bin").with_time_step(0.02).plant_config.time_step == 0.02
+    with pytest.raises(ConfigError, match=r"must be in \[0\.0001, 0\.02\] s .*got 0\.025"):
+        load_scenario("fill_bin").with_time_step(0.025)
