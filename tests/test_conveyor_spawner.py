@@ -131,3 +131,34 @@ def test_spawn_models_robot_namespace_goes_into_plugins_without_one():
         "<robotNamespace>/robot2</robotNamespace>" in text and "<robotNamespace>/own</robotNamespace>" in text
     )
     assert with_robot_namespace(urdf, "/") == urdf
+
+
+def test_spawn_models_reference_frame_places_a_model_relative_to_a_link(tmp_path):
+    """spawn_model -reference_frame MODEL::LINK (a model spawned before it): the pose is in
+    that link's frame; a frame nobody spawned: Gazebo's failed spawn, one warning line."""
+    import shutil
+    from pathlib import Path
+
+    from omtp_drake.launch import own_cell
+
+    src = tmp_path / "src"
+    shutil.copytree(Path(__file__).resolve().parent / "fixtures" / "catkin_ws" / "src", src)
+    launch = src / "omtp_gazebo" / "launch" / "spawn_static_world_objects.launch"
+    launch.write_text(
+        launch.read_text().replace(
+            "</launch>",
+            """  <param name="bin_2_description"
+         command="$(find xacro)/xacro '$(find omtp_support)/urdf/bin/bin.xacro' prefix:=bin_2_"/>
+  <node name="bin_2_spawner" pkg="gazebo_ros" type="spawn_model"
+        args="-reference_frame robot1_pedestal::robot1_pedestal_link -x -0.6 -y 0.7 -urdf -model bin_2_
+              -param bin_2_description"/>
+  <node name="bin_3_spawner" pkg="gazebo_ros" type="spawn_model"
+        args="-reference_frame nowhere -urdf -model bin_3_ -param bin_2_description"/>
+</launch>""",
+        )
+    )
+    cell = own_cell("omtp_lecture6 lecture6_assignment1.launch", workspace=[src], environ={})
+    bins = {b.name: b.xyz for b in cell.scenario.bins}
+    np.testing.assert_allclose(bins["bin_2"], [-0.1, 2.5, 0.0], atol=1e-9)
+    assert "bin_3" not in bins
+    assert any("-reference_frame 'nowhere'" in w and "not spawned" in w for w in cell.warnings)

@@ -78,3 +78,78 @@ def test_their_belt_script_puts_parts_in_their_bin_next_to_robot_1(tmp_path):
     report = json.loads(out.read_text())
     assert report["exception"] is None, report["traceback"]
     assert report["ledger"]["in_bin"]["bin_2"] >= 2, report["ledger"]
+
+
+SPAWN_WATCH = """
+    import json, sys
+    import rospy
+    from gazebo_msgs.srv import GetLinkState, SpawnModel
+    from geometry_msgs.msg import Pose
+    from std_msgs.msg import Header
+    from std_srvs.srv import Empty
+
+    CRATE = '''<robot name="crate"><link name="crate_base_link">
+      <visual><geometry><mesh filename="package://omtp_gazebo/meshes/conveyor_objects/crate.stl"/></geometry></visual>
+      <collision><geometry><mesh filename="package://omtp_gazebo/meshes/conveyor_objects/crate.stl"/></geometry></collision>
+      <inertial><mass value="0.2"/><inertia ixx="1" iyy="1" izz="1" ixy="0" iyz="0" ixz="0"/></inertial>
+    </link></robot>'''
+
+    spawned = []
+    rospy.init_node("spawn_watch")
+    rospy.Subscriber("/spawned_part", Header, lambda h: spawned.append([h.seq, h.frame_id, h.stamp.to_sec()]))
+    rospy.ServiceProxy("/spawn_object_once", Empty)()
+    rospy.sleep(25.0)
+    link_state = rospy.ServiceProxy("/gazebo/get_link_state", GetLinkState)
+    links = [link_state("object_%d::%s_base_link" % (k, kind), "world").success for k, (_, kind, _) in
+             enumerate(spawned, start=1)]
+    pose = Pose()
+    pose.position.x, pose.position.y, pose.position.z, pose.orientation.w = -0.1, 2.5, 1.5, 1.0
+    crate = rospy.ServiceProxy("/gazebo/spawn_urdf_model", SpawnModel)("my_crate", CRATE, "", pose, "world")
+    json.dump({"spawned": spawned, "links": links, "crate": crate.success}, open(sys.argv[1], "w"))
+"""
+
+
+def test_the_spawner_node_spawns_their_objects_at_their_delays(group_cell, tmp_path):
+    """/spawned_part names each drawn object; each comes its drawn delay after its tick;
+    a part's link is named after its object; their crate URDF spawns as a crate."""
+    import textwrap
+
+    from omtp_drake.cli import main
+    from omtp_drake.scenario.conveyor_spawner import draw
+
+    script = tmp_path / "spawn_watch.py"
+    script.write_text(textwrap.dedent(SPAWN_WATCH))
+    out, report = tmp_path / "out.json", tmp_path / "report.json"
+    argv = ["ros-run", str(script), str(out), "--launch", LAUNCH, "--workspace", str(WORKSPACE)]
+    assert main([*argv, "--timeout", "40", "--json", str(report), "-q"]) == 0
+    assert json.loads(report.read_text())["exception"] is None
+    data = json.loads(out.read_text())
+    spawner = group_cell.scenario.spawner
+    draws = [draw(spawner, 0, k) for k in range(2)]
+    kinds = [spawner.objects[d.kind].name for d in draws]
+    assert [s[:2] for s in data["spawned"]] == [[1, kinds[0]], [2, kinds[1]]]
+    for k, (_, _, stamp) in enumerate(data["spawned"]):
+        assert stamp == pytest.approx(10.0 * (k + 1) + draws[k].delay, abs=0.021)  # the next plant steps
+    assert data["links"] == [True, True] and data["crate"] is True
+
+
+def test_a_spawner_reference_frame_is_a_gazebo_model_or_link(group_cell):
+    from omtp_drake.errors import SimulationError
+    from omtp_drake.scenario.conveyor_spawner import draw, object_pose
+    from omtp_drake.sim.driver import reference_pose
+
+    spawner = dataclasses.replace(group_cell.scenario.spawner, reference_frame="bin_2_")
+    runtime = FactoryRuntime(dataclasses.replace(group_cell.scenario, spawner=spawner), auto_spawn=False)
+    try:
+        X_WR = reference_pose(runtime.station, runtime.context, "bin_2_")
+        np.testing.assert_allclose(X_WR.translation(), [-0.1, 2.5, 0.0], atol=1e-9)
+        X_WL = reference_pose(runtime.station, runtime.context, "bin_2_::bin_2_drop_point")
+        assert X_WL.translation()[2] > X_WR.translation()[2]
+        runtime.spawn_part()
+        expected = X_WR @ object_pose(spawner, draw(spawner, 0, 0))
+        spawned = runtime.pool.events[-1].pose
+        np.testing.assert_allclose(spawned.GetAsMatrix4(), expected.GetAsMatrix4(), atol=1e-9)
+        with pytest.raises(SimulationError, match="reference frame 'bin_9_' not found"):
+            reference_pose(runtime.station, runtime.context, "bin_9_")
+    finally:
+        runtime.close()

@@ -34,6 +34,7 @@ from pydrake.systems.analysis import Simulator
 from pydrake.systems.framework import Context, Diagram
 
 from omtp_drake.cell.conveyor import WRAP_TRAVEL
+from omtp_drake.cell.gazebo_models import gazebo_models
 from omtp_drake.cell.parts import free_body_q_indices, spawn_pose
 from omtp_drake.errors import ConfigError, SimulationError, check_duration
 from omtp_drake.scenario import SpawnerConfig
@@ -314,23 +315,26 @@ def spawn(
 
 def reference_pose(station: Station, root_context: Context, frame: str) -> RigidTransform:
     """``X_WR`` of a spawn's reference frame as Gazebo's SpawnModel finds it: the world
-    for "", ``world`` or ``map``; a model (its base body) or a ``model::link``;
+    for "", ``world`` or ``map``; a Gazebo model (its origin) or a ``model::link``, by the
+    course world's names (:func:`omtp_drake.cell.gazebo_models.gazebo_models`);
     SimulationError with Gazebo's message for any other name."""
     if frame in WORLD_FRAMES:
         return RigidTransform()
     plant = station.plant
-    model, _, link = frame.partition("::")
-    if plant.HasModelInstanceNamed(model):
-        instance = plant.GetModelInstanceByName(model)
-        bodies = plant.GetBodyIndices(instance)
-        if link and plant.HasBodyNamed(link, instance):
-            body = plant.GetBodyByName(link, instance)
-        elif not link and bodies:
-            body = plant.get_body(bodies[0])
-        else:
-            body = None
-        if body is not None:
-            return plant.EvalBodyPoseInWorld(plant.GetMyContextFromRoot(root_context), body)
+    context = plant.GetMyContextFromRoot(root_context)
+    name, _, link = frame.partition("::")
+    for model in gazebo_models(plant, station.scenario):
+        if model.name != name:
+            continue
+        bodies = [plant.get_body(b) for i in model.instances for b in plant.GetBodyIndices(i)]
+        if not link:
+            if model.X_WM is not None:
+                return model.X_WM
+            if bodies:
+                return plant.EvalBodyPoseInWorld(context, bodies[0])
+        for body in bodies:
+            if body.name() == link:
+                return plant.EvalBodyPoseInWorld(context, body)
     raise SimulationError(
         f"SpawnModel: reference frame {frame!r} not found, did you forget to scope the link by model name?"
     )
