@@ -32,7 +32,8 @@ def _tf(capsys, *argv: str) -> np.ndarray:
 
 
 def test_a_world_of_its_own_models_is_loaded_as_gazebo_places_them():
-    cell = own_cell(world=TABLE_CUBE, workspace=[WORLD_WS], environ={})
+    # (its package's models are found without --workspace, as in a sourced workspace)
+    cell = own_cell(world=TABLE_CUBE, environ={})
     models = {m.name: m for m in cell.scenario.models}
     assert sorted(models) == ["cube", "table"]
     assert models["table"].static and not models["cube"].static
