@@ -283,3 +283,41 @@ def test_an_included_models_bad_sdf_version_is_one_error(tmp_path):
     with pytest.raises(WorkspaceError) as e:
         own_cell(world=src / "my_cell" / "worlds" / "table_cube.world", workspace=[src], environ={})
     assert str(e.value) == f"{sdf}:2: <sdf version='abc'> is not an SDF version (e.g. 1.6)"
+
+
+def test_nested_models_include_by_path_and_scoped_link_names(tmp_path, capsys):
+    world = tmp_path / "nest.world"
+    table = WORLD_WS / "my_cell" / "models" / "work_table"
+    world.write_text(
+        f"""<?xml version="1.0"?>
+<sdf version="1.7">
+  <world name="nest">
+    <include><uri>{table}</uri><name>desk</name><pose>2 -3 0 0 0 0</pose></include>
+    <model name="rack">
+      <static>true</static>
+      <pose>-2 -3 0 0 0 0</pose>
+      <link name="link">
+        <collision name="c"><geometry><box><size>0.5 0.5 0.1</size></box></geometry></collision>
+      </link>
+      <model name="shelf">
+        <pose>0 0 0.5 0 0 0</pose>
+        <link name="link">
+          <collision name="c"><geometry><box><size>0.5 0.5 0.05</size></box></geometry></collision>
+        </link>
+      </model>
+    </model>
+    <model name="cube">
+      <pose relative_to="rack">0 0 0.8 0 0 0</pose>
+      <link name="link"><inertial><mass>0.2</mass></inertial>
+        <collision name="c"><geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision></link>
+    </model>
+  </world>
+</sdf>
+"""
+    )
+    argv = ["--world", str(world), "--time", "1"]
+    # A static model's nested model is static too (Gazebo holds the whole tree); two models'
+    # links both called "link" are Gazebo's scoped names.
+    assert _tf(capsys, *argv, "world", "rack::shelf::link") == pytest.approx([-2.0, -3.0, 0.5], abs=1e-9)
+    assert _tf(capsys, *argv, "world", "cube") == pytest.approx([-2.0, -3.0, 0.5 + 0.025 + 0.05], abs=0.005)
+    assert _tf(capsys, *argv, "world", "desk") == pytest.approx([2.0, -3.0, 0.0], abs=1e-9)
