@@ -321,3 +321,27 @@ def test_nested_models_include_by_path_and_scoped_link_names(tmp_path, capsys):
     assert _tf(capsys, *argv, "world", "rack::shelf::link") == pytest.approx([-2.0, -3.0, 0.5], abs=1e-9)
     assert _tf(capsys, *argv, "world", "cube") == pytest.approx([-2.0, -3.0, 0.5 + 0.025 + 0.05], abs=0.005)
     assert _tf(capsys, *argv, "world", "desk") == pytest.approx([2.0, -3.0, 0.0], abs=1e-9)
+
+
+def test_elements_sdf_does_not_define_inside_models_are_one_warning_each(tmp_path):
+    # sdformat warns "not defined in SDF" and loads the model without them; Drake's parser
+    # refuses them, so the loader takes them out first, naming file:line.
+    src = tmp_path / "src"
+    shutil.copytree(WORLD_WS, src)
+    world = src / "my_cell" / "worlds" / "table_cube.world"
+    strays = '      <frobnicate/>\n      <xacro:box_macro size="0.1"/>\n'
+    line = _insert_after(world, '<model name="cube">', strays)
+    sdf = src / "my_cell" / "models" / "work_table" / "model.sdf"
+    sdf_line = _insert_after(sdf, '<link name="top">', "      <material_typo>wood</material_typo>\n")
+    cell = own_cell(world=world, workspace=[src], environ={})
+    assert sorted(m.name for m in cell.scenario.models) == ["cube", "table"]
+    strays = [w for w in cell.warnings if "not defined in SDF" in w]
+    assert sorted(strays) == sorted(
+        [
+            f"{world}:{line}: XML element <frobnicate> under <model> is not defined in SDF; ignored",
+            f"{world}:{line + 1}: XML element <xacro:box_macro> under <model> is not defined in SDF "
+            "(a xacro call?); ignored",
+            f"{sdf}:{sdf_line}: XML element <material_typo> under <link> is not defined in SDF; ignored",
+        ]
+    )
+    assert not any("frobnicate" in m.description or "typo" in m.description for m in cell.scenario.models)
