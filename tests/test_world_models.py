@@ -203,6 +203,13 @@ def test_view_lists_every_model_of_a_world(capsys):
     info = json.loads(capsys.readouterr().out)
     assert [m["name"] for m in info["models"]] == ["table", "cube"]
     assert info["models"][0]["links"] == ["top", "legs"]
+    # The course's world too, every model as its file has it (the belt's links are in its
+    # nested models).
+    world = COURSE_WS / "omtp_gazebo" / "worlds" / "lecture6_assignment1.world"
+    assert main(["view", str(world), "--json"]) == 0
+    models = {m["name"]: m["links"] for m in json.loads(capsys.readouterr().out)["models"]}
+    assert sorted(models) == ["conveyor_belt", "deletion_wall", "logical_camera_1", "logical_camera_2"]
+    assert models["conveyor_belt"] == ["link", "belt"] and models["deletion_wall"] == ["sensing_link"]
 
 
 @pytest.mark.skipif(find_browser() is None, reason="no chromium")
