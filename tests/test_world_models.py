@@ -32,7 +32,8 @@ def _tf(capsys, *argv: str) -> np.ndarray:
 
 
 def test_a_world_of_its_own_models_is_loaded_as_gazebo_places_them():
-    cell = own_cell(world=TABLE_CUBE, workspace=[WORLD_WS], environ={})
+    # (its package's models are found without --workspace, as in a sourced workspace)
+    cell = own_cell(world=TABLE_CUBE, environ={})
     models = {m.name: m for m in cell.scenario.models}
     assert sorted(models) == ["cube", "table"]
     assert models["table"].static and not models["cube"].static
@@ -202,6 +203,13 @@ def test_view_lists_every_model_of_a_world(capsys):
     info = json.loads(capsys.readouterr().out)
     assert [m["name"] for m in info["models"]] == ["table", "cube"]
     assert info["models"][0]["links"] == ["top", "legs"]
+    # The course's world too, every model as its file has it (the belt's links are in its
+    # nested models).
+    world = COURSE_WS / "omtp_gazebo" / "worlds" / "lecture6_assignment1.world"
+    assert main(["view", str(world), "--json"]) == 0
+    models = {m["name"]: m["links"] for m in json.loads(capsys.readouterr().out)["models"]}
+    assert sorted(models) == ["conveyor_belt", "deletion_wall", "logical_camera_1", "logical_camera_2"]
+    assert models["conveyor_belt"] == ["link", "belt"] and models["deletion_wall"] == ["sensing_link"]
 
 
 @pytest.mark.skipif(find_browser() is None, reason="no chromium")
@@ -282,3 +290,65 @@ def test_an_included_models_bad_sdf_version_is_one_error(tmp_path):
     with pytest.raises(WorkspaceError) as e:
         own_cell(world=src / "my_cell" / "worlds" / "table_cube.world", workspace=[src], environ={})
     assert str(e.value) == f"{sdf}:2: <sdf version='abc'> is not an SDF version (e.g. 1.6)"
+
+
+def test_nested_models_include_by_path_and_scoped_link_names(tmp_path, capsys):
+    world = tmp_path / "nest.world"
+    table = WORLD_WS / "my_cell" / "models" / "work_table"
+    world.write_text(
+        f"""<?xml version="1.0"?>
+<sdf version="1.7">
+  <world name="nest">
+    <include><uri>{table}</uri><name>desk</name><pose>2 -3 0 0 0 0</pose></include>
+    <model name="rack">
+      <static>true</static>
+      <pose>-2 -3 0 0 0 0</pose>
+      <link name="link">
+        <collision name="c"><geometry><box><size>0.5 0.5 0.1</size></box></geometry></collision>
+      </link>
+      <model name="shelf">
+        <pose>0 0 0.5 0 0 0</pose>
+        <link name="link">
+          <collision name="c"><geometry><box><size>0.5 0.5 0.05</size></box></geometry></collision>
+        </link>
+      </model>
+    </model>
+    <model name="cube">
+      <pose relative_to="rack">0 0 0.8 0 0 0</pose>
+      <link name="link"><inertial><mass>0.2</mass></inertial>
+        <collision name="c"><geometry><box><size>0.1 0.1 0.1</size></box></geometry></collision></link>
+    </model>
+  </world>
+</sdf>
+"""
+    )
+    argv = ["--world", str(world), "--time", "1"]
+    # A static model's nested model is static too (Gazebo holds the whole tree); two models'
+    # links both called "link" are Gazebo's scoped names.
+    assert _tf(capsys, *argv, "world", "rack::shelf::link") == pytest.approx([-2.0, -3.0, 0.5], abs=1e-9)
+    assert _tf(capsys, *argv, "world", "cube") == pytest.approx([-2.0, -3.0, 0.5 + 0.025 + 0.05], abs=0.005)
+    assert _tf(capsys, *argv, "world", "desk") == pytest.approx([2.0, -3.0, 0.0], abs=1e-9)
+
+
+def test_elements_sdf_does_not_define_inside_models_are_one_warning_each(tmp_path):
+    # sdformat warns "not defined in SDF" and loads the model without them; Drake's parser
+    # refuses them, so the loader takes them out first, naming file:line.
+    src = tmp_path / "src"
+    shutil.copytree(WORLD_WS, src)
+    world = src / "my_cell" / "worlds" / "table_cube.world"
+    strays = '      <frobnicate/>\n      <xacro:box_macro size="0.1"/>\n'
+    line = _insert_after(world, '<model name="cube">', strays)
+    sdf = src / "my_cell" / "models" / "work_table" / "model.sdf"
+    sdf_line = _insert_after(sdf, '<link name="top">', "      <material_typo>wood</material_typo>\n")
+    cell = own_cell(world=world, workspace=[src], environ={})
+    assert sorted(m.name for m in cell.scenario.models) == ["cube", "table"]
+    strays = [w for w in cell.warnings if "not defined in SDF" in w]
+    assert sorted(strays) == sorted(
+        [
+            f"{world}:{line}: XML element <frobnicate> under <model> is not defined in SDF; ignored",
+            f"{world}:{line + 1}: XML element <xacro:box_macro> under <model> is not defined in SDF "
+            "(a xacro call?); ignored",
+            f"{sdf}:{sdf_line}: XML element <material_typo> under <link> is not defined in SDF; ignored",
+        ]
+    )
+    assert not any("frobnicate" in m.description or "typo" in m.description for m in cell.scenario.models)

@@ -66,6 +66,11 @@ class BeltGeometry:
         return self.X_WF.translation()[:2].copy()
 
     @property
+    def x(self) -> float:
+        """World x of the centre line's middle (the centre line of a belt along world y)."""
+        return float(self.X_WF.translation()[0])
+
+    @property
     def direction(self) -> np.ndarray:
         """The way parts ride (world, unit): F's -y."""
         return -self.X_WF.rotation().col(1)

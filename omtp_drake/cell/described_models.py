@@ -128,13 +128,17 @@ def prepared_description(model: ModelConfig, *, gazebo_look: bool) -> str:
     if model.format == "sdf":
         first = root.find("model")
         if first is not None:
-            # The model's pose in world replaces the file's own (as spawn_model's -x ... do);
-            # Drake places the links from it (relative_to included) and welds a static model.
+            # The model's pose in world moves the file's own, as spawn_model's -x ... do (a
+            # world's model entry holds its whole pose); Drake places the links from it
+            # (relative_to included) and welds a static model.
             first.set("name", model.name)
+            X_WM = model_pose(model)
             for old in first.findall("pose"):
+                X_WM = X_WM @ _sdf_pose(old.text)
                 first.remove(old)
             pose = ET.Element("pose")
-            pose.text = " ".join(repr(float(v)) for v in [*model.xyz, *model.rpy])
+            xyz, rpy = X_WM.translation(), RollPitchYaw(X_WM.rotation()).vector()
+            pose.text = " ".join(repr(float(v)) for v in [*xyz, *rpy])
             first.insert(0, pose)
             links = list(first.iter("link"))
             if gazebo_look and not model.static and len(links) == 1:
@@ -250,7 +254,9 @@ def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceInd
         return
     name, X_ML = base
     body = plant.GetBodyByName(name, instance)
-    X_WL = model_pose(model) @ X_ML
+    sdf_model = root.find("model")  # (None for a URDF)
+    X_MF = _sdf_pose(sdf_model.findtext("pose") if sdf_model is not None else None)  # the file's own pose
+    X_WL = model_pose(model) @ X_MF @ X_ML
     if model.static:
         plant.WeldFrames(plant.world_frame(), body.body_frame(), X_WL)
     elif model.format == "urdf":  # (an SDF model's free bodies Drake placed from its <pose>)

@@ -41,7 +41,7 @@ from omtp_drake.cell.conveyor import BeltGeometry
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.pieces import Pieces, add_urdf_model
 from omtp_drake.launch.roslaunch import Launch, Node, get_param
-from omtp_drake.launch.sdf_world import read_world, sdf_version, world_model
+from omtp_drake.launch.sdf_world import read_world, sdf_version, strip_strays, world_model
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.launch.world_pieces import WorldPieces, add_world_model
 from omtp_drake.launch.world_pieces import add_world as add_world_pieces
@@ -241,6 +241,7 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
         if model is None:
             raise WorkspaceError(f"{source}: has no <model>")
         version = sdf_version(doc)
+        out.warnings += strip_strays(doc, model)
         spawned = world_model(name, tuple(pose), model, source, version=version, folder=folder)
         add_world_model(out.world, spawned, workspace)
 

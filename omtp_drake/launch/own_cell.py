@@ -98,6 +98,8 @@ def own_cell(
     if (launch is None) == (world is None):
         raise WorkspaceError("give one of --launch 'PKG FILE.launch [ARG:=VALUE ...]' or --world FILE.world")
     dirs = [workspace] if isinstance(workspace, (str, os.PathLike)) else list(workspace)
+    if world is not None:  # the package holding the world too (its models, as a sourced workspace has)
+        dirs += [f for f in Path(world).expanduser().resolve().parents if (f / "package.xml").is_file()][:1]
     ws = student_workspace(dirs, environ)
     mapping = NodeMapping()
     moveit = None

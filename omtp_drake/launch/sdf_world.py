@@ -128,7 +128,8 @@ class _WorldReader:
         self.version = sdf_version(doc)
         #: Poses in world of the models and frames read so far (``relative_to`` targets).
         self.frames: dict[str, RigidTransform] = {"world": RigidTransform()}
-        self.included: list[tuple[Path, Path]] = []
+        #: The included models: folder, file, its document, its model element, SDF version.
+        self.included: list[tuple[Path, Path, XmlFile, ET.Element, str]] = []
 
     def element(self, element: ET.Element) -> None:
         where = self.doc.where(element)
@@ -136,7 +137,10 @@ class _WorldReader:
         if tag == "include":
             self._include(element, where)
         elif tag == "model":
+            self.out.warnings += strip_strays(self.doc, element)
             pose, X_WM = self._pose(element, where)
+            folder = self.doc.path.parent
+            self.out.warnings += check_model(self.doc, element, self.version, folder, self.workspace)
             name = element.get("name", "")
             self._add(world_model(name, pose, element, where, X_WM=X_WM, version=self.version))
         elif tag == "frame":
@@ -182,7 +186,8 @@ class _WorldReader:
         model = model_doc.root.find("model")
         if model is None:
             raise WorkspaceError(f"{sdf_file}: has no <model>")
-        self.included.append((folder, sdf_file))
+        self.out.warnings += strip_strays(model_doc, model)
+        self.included.append((folder, sdf_file, model_doc, model, sdf_version(model_doc)))
         if element.find("pose") is not None:
             pose, X_WM = self._pose(element, where)
         else:
@@ -237,6 +242,20 @@ def sdf_version(doc: XmlFile) -> str:
     return version
 
 
+def strip_strays(doc: XmlFile, element: ET.Element) -> list[str]:
+    """Removes the namespaced elements under ``element`` (a stray ``<xacro:...>`` call in a
+    model: no SDF element has a prefix) and returns sdformat's warning for each, naming
+    ``file:line``; Drake's parser gets the model without them, as Gazebo loads it."""
+    warnings = []
+    for parent in list(element.iter()):
+        for child in list(parent):
+            if isinstance(child.tag, str) and ":" in child.tag:
+                line = f"{doc.where(child)}: XML element <{child.tag}> under <{parent.tag}>"
+                warnings.append(f"{line} is not defined in SDF (a xacro call?); ignored")
+                parent.remove(child)
+    return warnings
+
+
 def _not_sdf_line(element: ET.Element, where: str) -> str:
     """sdformat's warning for an element SDF does not define under ``<world>``."""
     tag = element.tag
@@ -280,7 +299,9 @@ def read_world(path: Path, workspace: Workspace) -> World:
     for element in world:
         reader.element(element)
     included = reader.included
-    check_with_drake([d for d, _ in included], [f for _, f in included], workspace)
+    if not with_drake([folder for folder, *_ in included], workspace):
+        for folder, sdf_file, model_doc, model, version in included:  # which, and why (or only warnings)
+            reader.out.warnings += check_model(model_doc, model, version, folder, workspace, sdf_file)
     return reader.out
 
 
@@ -314,23 +335,16 @@ def _sdf_name(config: Path) -> str:
     return names[-1] if names else "model.sdf"
 
 
-def check_with_drake(model_dirs: list[Path], sdf_files: list[Path], workspace: Workspace) -> None:
-    """Drake's parser reads the models (folders with their SDF files): all in one parse (one
-    libsdformat session costs about as much as each model alone); if it refuses, each
-    alone, so the error names the file it refuses."""
+def with_drake(model_dirs: list[Path], workspace: Workspace) -> bool:
+    """Whether Drake's parser reads the model folders all in one parse (one libsdformat
+    session costs about as much as each model alone); when not, the caller checks each."""
     if not model_dirs:
-        return
+        return True
     includes = "".join(
         f"<include><uri>{folder}</uri><name>model_{i}</name></include>" for i, folder in enumerate(model_dirs)
     )
     world = f'<?xml version="1.0"?><sdf version="1.6"><world name="check">{includes}</world></sdf>'
-    if _drake_refusal(lambda parser: parser.AddModelsFromString(world, "sdf"), workspace) is None:
-        return
-    for sdf_file in sdf_files:
-        refusal = _drake_refusal(lambda parser, f=sdf_file: parser.AddModels(str(f)), workspace)
-        if refusal is not None:
-            raise WorkspaceError(f"{sdf_file}: Drake's SDF parser refuses it: {refusal}")
-    raise WorkspaceError(f"{', '.join(map(str, sdf_files))}: Drake's SDF parser refuses them together")
+    return _drake_refusal(lambda parser: parser.AddModelsFromString(world, "sdf"), workspace) is None
 
 
 def _drake_refusal(parse, workspace: Workspace) -> str | None:
@@ -355,6 +369,92 @@ def _drake_refusal(parse, workspace: Workspace) -> str | None:
     return errors[0] if errors else None
 
 
+def model_text(element: ET.Element, version: str, folder: Path) -> str:
+    """The SDF document of the model ``element`` alone, its relative URIs resolved in ``folder``."""
+    element = copy.deepcopy(element)
+    for uri in element.iter("uri"):
+        text = (uri.text or "").strip()
+        if text and "://" not in text and not Path(text).is_absolute():
+            uri.text = str(folder / text)
+    return f'<sdf version="{version}">{ET.tostring(element, encoding="unicode")}</sdf>'
+
+
+#: libsdformat's words for an element SDF does not define (Drake's parser refuses it).
+_NOT_SDF = re.compile(
+    r"At XML path (\S+): XML Element\[[^\]]+\], child of element\[[^\]]+\], not defined in SDF"
+)
+
+
+def check_model(
+    doc: XmlFile,
+    element: ET.Element,
+    version: str,
+    folder: Path,
+    workspace: Workspace,
+    sdf_file: Path | None = None,
+) -> list[str]:
+    """Drake's parser reads the model ``element`` of ``doc`` (an included model: its file
+    ``sdf_file`` first, so a refusal names the file's own line): an element SDF does not
+    define, which sdformat only warns about (and Drake refuses), is removed with one
+    warning naming ``file:line``; any other refusal is one error naming the file."""
+    warnings: list[str] = []
+    refusal = None
+    if sdf_file is not None:
+        refusal = _drake_refusal(lambda parser: parser.AddModels(str(sdf_file)), workspace)
+        if refusal is None:
+            return warnings
+    while True:
+        if refusal is None:
+            text = _without_own_pose(element, version, folder)
+            refusal = _drake_refusal(lambda parser, t=text: parser.AddModelsFromString(t, "sdf"), workspace)
+            if refusal is None:
+                return warnings
+            refusal = re.sub(r"^<+data-string>+:\d+: ", "", refusal)  # (a line of the text made here)
+        found = _NOT_SDF.search(refusal)
+        step = _at_xml_path(element, found.group(1)) if found else None
+        if step is None:
+            raise WorkspaceError(
+                f"{sdf_file or doc.where(element)}: Drake's SDF parser refuses it: {refusal}"
+            )
+        parent, child = step
+        where = doc.where(child)
+        warnings.append(
+            f"{where}: XML element <{child.tag}> under <{parent.tag}> is not defined in SDF; ignored"
+        )
+        parent.remove(child)
+        refusal = None
+
+
+def _without_own_pose(element: ET.Element, version: str, folder: Path) -> str:
+    """:func:`model_text` of the model without its own ``<pose>`` (a world's ``relative_to``
+    names frames outside the model; the loader places it)."""
+    poses = [(i, child) for i, child in enumerate(element) if child.tag == "pose"]
+    for _, pose in poses:
+        element.remove(pose)
+    try:
+        return model_text(element, version, folder)
+    finally:
+        for i, pose in poses:
+            element.insert(i, pose)
+
+
+def _at_xml_path(model: ET.Element, path: str) -> tuple[ET.Element, ET.Element] | None:
+    """(parent, element) at libsdformat's XML path (``/sdf/model[@name="m"]/link[@name="l"]/x``)
+    in the model element (None: not there)."""
+    steps = re.findall(r'/([^/\[]+)(?:\[@name="([^"]*)"\])?', path)
+    if len(steps) < 3 or steps[0][0] != "sdf" or steps[1][0] != model.tag:
+        return None
+    parent = model
+    for tag, name in steps[2:-1]:
+        nested = next((c for c in parent if c.tag == tag and (not name or c.get("name") == name)), None)
+        if nested is None:
+            return None
+        parent = nested
+    tag, name = steps[-1]
+    child = next((c for c in parent if c.tag == tag and (not name or c.get("name") == name)), None)
+    return (parent, child) if child is not None else None
+
+
 def model_config(model: WorldModel, workspace: Workspace) -> ModelConfig:
     """The world model as the scenario's typed model entry (loaded by Drake's Parser): its
     own SDF (geometry, joints, inertia, materials, friction), named as the world names it,
@@ -369,12 +469,7 @@ def model_config(model: WorldModel, workspace: Workspace) -> ModelConfig:
         for old in nested.findall("static"):
             nested.remove(old)
         ET.SubElement(nested, "static").text = "true"
-    folder = model.folder or Path(model.where.split(":")[0]).parent
-    for uri in element.iter("uri"):
-        text = (uri.text or "").strip()
-        if text and "://" not in text and not Path(text).is_absolute():
-            uri.text = str(folder / text)
-    text = f'<sdf version="{model.version}">{ET.tostring(element, encoding="unicode")}</sdf>'
+    text = model_text(element, model.version, model.folder or Path(model.where.split(":")[0]).parent)
     rpy = RollPitchYaw(model.X_WM.rotation()).vector()
     try:
         return model_from_text(

@@ -100,17 +100,22 @@ def model_info(model: ModelConfig) -> dict[str, Any]:
     """What ``view --json`` lists: links, joints (type, parent, child, axis, limits), frames
     (each with its parent), sensors and plugins, as parsed."""
     _, plant, _, instances = _plant_with(model)
-    (instance,) = instances.values()
+    # The model's instance and its nested SDF models' (``model::nested``), in plant order.
+    own = [
+        ModelInstanceIndex(i)
+        for i in range(plant.num_model_instances())
+        if plant.GetModelInstanceName(ModelInstanceIndex(i)).split("::")[0] == model.name
+    ]
     # (not the weld that fixes the model's root for the view: it is in no file)
-    joints = [plant.get_joint(j) for j in plant.GetJointIndices(instance)]
+    joints = [plant.get_joint(j) for instance in own for j in plant.GetJointIndices(instance)]
     joints = [j for j in joints if not j.name().startswith("world_welds_to_")]
-    frames = [plant.get_frame(f) for f in plant.GetFrameIndices(instance)]
+    frames = [plant.get_frame(f) for instance in own for f in plant.GetFrameIndices(instance)]
     tags = model.gazebo
     return {
         "name": model.name,
         "file": model.file,
         "format": model.format,
-        "links": [plant.get_body(b).name() for b in plant.GetBodyIndices(instance)],
+        "links": [plant.get_body(b).name() for instance in own for b in plant.GetBodyIndices(instance)],
         "joints": [_joint_info(j, _effort_limits(model)) for j in joints],
         "frames": [
             {"name": f.name(), "body": f.body().name()}
