@@ -95,14 +95,37 @@ def _xacro_value(v: object) -> str:
 # Cache
 
 
+#: A folder of this process's own where the cache entries it lacks are written, when the
+#: shared cache is read-only to it (a graded run: the grader fills the shared cache before
+#: the run starts, see :mod:`omtp_drake.grading.isolation`).
+CACHE_LAYER_ENV = "OMTP_DRAKE_CACHE_LAYER"
+
+
 def cache_dir() -> Path:
-    """Folder of converted models: ``$OMTP_DRAKE_CACHE`` or ``~/.cache/omtp_drake``."""
+    """Folder of converted models: ``$OMTP_DRAKE_CACHE`` or ``~/.cache/omtp_drake``
+    (created here unless it is read-only to this process, ``$OMTP_DRAKE_CACHE_LAYER``)."""
     root = os.environ.get("OMTP_DRAKE_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "omtp_drake"
     )
     key = hashlib.sha1(f"{_erd_version()}/{_CONVERTER_VERSION}".encode()).hexdigest()[:10]
     path = Path(root) / f"models-{key}"
-    path.mkdir(parents=True, exist_ok=True)
+    if not os.environ.get(CACHE_LAYER_ENV) and not path.is_dir():
+        path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def cache_entry(relative: str | Path) -> Path:
+    """Where the cache's entry ``relative`` (a file or a folder) is, or is to be written,
+    its parent folder made: in :func:`cache_dir`, unless that is read-only to this
+    process (``$OMTP_DRAKE_CACHE_LAYER``) and lacks it: then in that layer. Nothing is
+    written, not even a folder, for an entry the cache holds."""
+    root = cache_dir()
+    layer = os.environ.get(CACHE_LAYER_ENV)
+    path = root / relative
+    if layer and not path.exists():
+        path = Path(layer) / root.name / relative
+    if not path.parent.is_dir():
+        path.parent.mkdir(parents=True, exist_ok=True)
     return path
 
 
@@ -149,19 +172,23 @@ def _convert_mesh(src: Path, dst: Path) -> None:
     write_atomic(dst, files["model.gltf"])
 
 
-def _converted_meshes(model: str) -> Path:
-    """Converts (once) the meshes of ``model`` and returns their cache folder."""
-    out = cache_dir() / model
-    out.mkdir(parents=True, exist_ok=True)
+def _mesh_sources(model: str) -> list[tuple[Path, str]]:
+    """The meshes of ``model``: (its source file, its converted file's entry in the cache)."""
     src_root = ur_description_dir() / "meshes" / model
+    found = []
     for kind, src_ext, dst_ext in (("collision", ".stl", ".obj"), ("visual", ".dae", ".gltf")):
         for src in sorted((src_root / kind).glob(f"*{src_ext}")):
-            dst = out / kind / (src.stem + dst_ext)
-            if not dst.exists():
-                dst.parent.mkdir(parents=True, exist_ok=True)
-                _log.info("converting %s -> %s", src, dst)
-                _convert_mesh(src, dst)
-    return out
+            found.append((src, f"{model}/{kind}/{src.stem}{dst_ext}"))
+    return found
+
+
+def _converted_mesh(entry: str, src: Path) -> Path:
+    """The converted mesh ``entry`` of the cache (converted from ``src`` once)."""
+    dst = cache_entry(entry)
+    if not dst.exists():
+        _log.info("converting %s -> %s", src, dst)
+        _convert_mesh(src, dst)
+    return dst
 
 
 def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
@@ -179,19 +206,19 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
     """
     if model not in UR_MODELS:
         raise UnknownNameError("arm model", model, UR_MODELS)
-    meshes = _converted_meshes(model)
     src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
     name = prefix.rstrip("_") or model
-    dst = cache_dir() / f"{name}_{model}_{_limit_tag(joint_limit)}.urdf"
-    if dst.exists():
+    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}.urdf")
+    if dst.exists() and all(cache_entry(entry).exists() for _, entry in _mesh_sources(model)):
         return dst
+    meshes = {entry: _converted_mesh(entry, mesh) for mesh, entry in _mesh_sources(model)}
 
     ET.register_namespace("drake", _DRAKE_NS)
     root = ET.parse(src).getroot()
     root.set("name", name)
     _drop_world_and_ee_collision(root)
     _prefix_names(root, prefix, joint_limit)
-    _point_meshes_to(root, meshes)
+    _point_meshes_to(root, model, meshes)
     write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
 
@@ -232,14 +259,18 @@ def _prefix_names(root: ET.Element, prefix: str, joint_limit: float) -> None:
         actuator.set("name", prefix + _attr(actuator, "name"))
 
 
-def _point_meshes_to(root: ET.Element, meshes: Path) -> None:
-    """Points every mesh at its converted file under ``meshes``; collision meshes are declared convex."""
+def _point_meshes_to(root: ET.Element, model: str, meshes: Mapping[str, Path]) -> None:
+    """Points every mesh at its converted file (``meshes``: by its entry in the cache);
+    collision meshes are declared convex."""
     for mesh in root.iter("mesh"):
         filename = _attr(mesh, "filename")
         kind = "collision" if "/collision/" in filename else "visual"
         stem = Path(filename).stem
         ext = ".obj" if kind == "collision" else ".gltf"
-        mesh.set("filename", str(meshes / kind / (stem + ext)))
+        entry = f"{model}/{kind}/{stem}{ext}"
+        if entry not in meshes:
+            raise ConfigError(f"UR model {model}: {filename!r} is none of its meshes {sorted(meshes)}")
+        mesh.set("filename", str(meshes[entry]))
         if kind == "collision":
             ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
 
