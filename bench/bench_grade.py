@@ -8,8 +8,9 @@
    output capture, process watch) and with ``--sandbox bwrap``. The cost per script is the
    difference of the medians to the bare run (target: <= 0.3 s for bwrap); and
    bubblewrap's own start (``bwrap ... true`` against ``true``).
-2. ``grade`` on a class of ``--class-size`` copies of that script on ``--workers`` workers
-   (bubblewrap when it works): runs per minute, cluster start included.
+2. ``grade`` on a class of ``--class-size`` copies of that script on ``--workers`` workers,
+   with bubblewrap (when it works) and with ``--sandbox none``: runs per minute, cluster
+   start included, and whether the rows are the same but for the sandbox line.
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from omtp_drake.grading.grade import GradeSettings, grade_folder, grade_one
+from omtp_drake.grading.grade import Grade, GradeSettings, grade_folder, grade_one
 from omtp_drake.grading.isolation import Limits, bwrap_works, sandbox_prefix
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "ros" / "lecture6_assignment3.py"
@@ -87,20 +88,38 @@ def _wall(command: list[str]) -> float:
 
 
 def bench_class(size: int, workers: int) -> None:
+    """The class graded with bubblewrap and with ``--sandbox none`` (``--moveit melodic``, as
+    the course's class): wall times, and the rows, which must be the same but for the sandbox
+    (and the runs' wall times)."""
+    sandboxes = ["bwrap", "none"] if bwrap_works() else ["none"]
+    rows: dict[str, list[tuple]] = {}
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp) / "class"
         folder.mkdir()
         for i in range(size):
             shutil.copy(EXAMPLE, folder / f"student_{i:02d}.py")
-        start = time.perf_counter()
-        grades = grade_folder(folder, SCENARIO, workers=workers, sandbox="auto")
-        wall = time.perf_counter() - start
-    ok = sum(g.status == "ok" for g in grades)
-    sandbox = grades[0].isolation["sandbox"]
-    print(
-        f"grade: {size} scripts on {workers} workers (sandbox {sandbox}) in {wall:.1f} s wall ({ok} ok): "
-        f"{60 * size / wall:.1f} runs per minute (cluster start included)"
-    )
+        for sandbox in sandboxes:
+            start = time.perf_counter()
+            grades = grade_folder(
+                folder, SCENARIO, workers=workers, sandbox=sandbox, options={"moveit": "melodic"}
+            )
+            wall = time.perf_counter() - start
+            rows[sandbox] = [_row(g) for g in grades]
+            ok = sum(g.status == "ok" for g in grades)
+            refused = sum(bool(g.refused) for g in grades)
+            print(
+                f"grade: {size} scripts on {workers} workers, sandbox {sandbox}: {wall:.1f} s wall ({ok} ok, "
+                f"{refused} with refusals): {60 * size / wall:.1f} runs per minute (cluster start included)"
+            )
+    if len(rows) == 2:
+        same = "identical" if rows["bwrap"] == rows["none"] else "DIFFERENT"
+        print(f"rows of bwrap and none: {same} (all but the sandbox and the wall times)")
+
+
+def _row(grade: Grade) -> tuple:
+    """A grade's row without its sandbox and wall time."""
+    report = grade.report or {}
+    return (grade.script, grade.status, grade.in_bins, grade.message, grade.refused, report.get("sim_time_s"))
 
 
 def main() -> None:
@@ -109,7 +128,8 @@ def main() -> None:
     parser.add_argument("--class-size", type=int, default=40)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
-    bench_cost(args.repeats)
+    if args.repeats:
+        bench_cost(args.repeats)
     if args.class_size:
         bench_class(args.class_size, args.workers)
 

@@ -7,8 +7,7 @@ import argparse
 
 import numpy as np
 
-from omtp_drake import Cell, tool_down
-from omtp_drake.control.tool_paths import yaw_of
+from omtp_drake import Cell, tool_down, yaw_of
 
 
 def main(argv=None) -> dict:

@@ -1,12 +1,18 @@
 """omtp_drake: the OMTP factory cell of the object-detection-and-grasping course in Drake.
 
-The usual entry points::
+The public API is the names below, all importable from here (``from omtp_drake import
+Cell``); ``import omtp_drake`` loads nothing heavy: each name is imported on first use.
+What lives in the subpackages is the implementation: it may change between versions.
 
-    from omtp_drake import Cell, tool_down          # script the cell yourself
-    from omtp_drake import FactoryRuntime           # the cell and its services
-    from omtp_drake import run_task, load_scenario  # a scenario's pick-and-place task
-
-``import omtp_drake`` loads nothing heavy: each name is imported on first use.
+- a cell to script (live view, replay, tf, cameras, arms, grippers, parts):
+  :class:`Cell`, :func:`tool_down`, :func:`yaw_of`
+- the cell and its services without the script's handles: :class:`FactoryRuntime`,
+  :class:`TfBuffer` (tf2's buffer on a runtime's Context), :func:`load_scenario`
+- the frame tree, as ROS ``view_frames`` draws it: :func:`view_frames`
+- a scenario's pick-and-place task, and plots of a run: :func:`run_task`,
+  :class:`RunRecorder`, :func:`plot_tracking_error`, :func:`plot_detections`,
+  :func:`plot_conveyor`, :func:`plot_cycle_times`, :func:`plot_ledger`, :func:`plot_seed_stats`
+- many runs at once on Dask: :func:`run_batch`, :func:`summarize`, :func:`format_summary`
 
 Modules and packages, bottom to top (one imports only from those below it; the order
 is held and checked by tests/test_layering.py):
@@ -37,22 +43,49 @@ from __future__ import annotations
 import importlib
 from typing import TYPE_CHECKING, Any
 
+#: The public names, by the module that defines them.
 _LAZY = {
     "Cell": "omtp_drake.script",
     "FactoryRuntime": "omtp_drake.sim.runtime",
+    "RunRecorder": "omtp_drake.tasks.plots",
+    "TfBuffer": "omtp_drake.sim.tf",
+    "format_summary": "omtp_drake.batch",
     "load_scenario": "omtp_drake.scenario",
+    "plot_conveyor": "omtp_drake.tasks.plots",
+    "plot_cycle_times": "omtp_drake.tasks.plots",
+    "plot_detections": "omtp_drake.tasks.plots",
+    "plot_ledger": "omtp_drake.tasks.plots",
+    "plot_seed_stats": "omtp_drake.tasks.plots",
+    "plot_tracking_error": "omtp_drake.tasks.plots",
+    "run_batch": "omtp_drake.batch",
     "run_task": "omtp_drake.tasks",
+    "summarize": "omtp_drake.batch",
     "tool_down": "omtp_drake.control.tool_paths",
+    "view_frames": "omtp_drake.viz.tree",
+    "yaw_of": "omtp_drake.control.tool_paths",
 }
 
-__all__ = ["Cell", "FactoryRuntime", "load_scenario", "run_task", "tool_down"]
+__all__ = list(_LAZY)
 
-if TYPE_CHECKING:
-    from omtp_drake.control.tool_paths import tool_down
-    from omtp_drake.scenario import load_scenario
-    from omtp_drake.script import Cell
-    from omtp_drake.sim.runtime import FactoryRuntime
-    from omtp_drake.tasks import run_task
+if TYPE_CHECKING:  # the names for type checkers (``X as X``: re-exported)
+    from omtp_drake.batch import format_summary as format_summary
+    from omtp_drake.batch import run_batch as run_batch
+    from omtp_drake.batch import summarize as summarize
+    from omtp_drake.control.tool_paths import tool_down as tool_down
+    from omtp_drake.control.tool_paths import yaw_of as yaw_of
+    from omtp_drake.scenario import load_scenario as load_scenario
+    from omtp_drake.script import Cell as Cell
+    from omtp_drake.sim.runtime import FactoryRuntime as FactoryRuntime
+    from omtp_drake.sim.tf import TfBuffer as TfBuffer
+    from omtp_drake.tasks import run_task as run_task
+    from omtp_drake.tasks.plots import RunRecorder as RunRecorder
+    from omtp_drake.tasks.plots import plot_conveyor as plot_conveyor
+    from omtp_drake.tasks.plots import plot_cycle_times as plot_cycle_times
+    from omtp_drake.tasks.plots import plot_detections as plot_detections
+    from omtp_drake.tasks.plots import plot_ledger as plot_ledger
+    from omtp_drake.tasks.plots import plot_seed_stats as plot_seed_stats
+    from omtp_drake.tasks.plots import plot_tracking_error as plot_tracking_error
+    from omtp_drake.viz.tree import view_frames as view_frames
 
 
 def __getattr__(name: str) -> Any:
@@ -61,3 +94,7 @@ def __getattr__(name: str) -> Any:
     value = getattr(importlib.import_module(_LAZY[name]), name)
     globals()[name] = value
     return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *__all__])

@@ -100,14 +100,37 @@ def _xacro_value(v: object) -> str:
 # Cache
 
 
+#: A folder of this process's own where the cache entries it lacks are written, when the
+#: shared cache is read-only to it (a graded run: the grader fills the shared cache before
+#: the run starts, see :mod:`omtp_drake.grading.isolation`).
+CACHE_LAYER_ENV = "OMTP_DRAKE_CACHE_LAYER"
+
+
 def cache_dir() -> Path:
-    """Folder of converted models: ``$OMTP_DRAKE_CACHE`` or ``~/.cache/omtp_drake``."""
+    """Folder of converted models: ``$OMTP_DRAKE_CACHE`` or ``~/.cache/omtp_drake``
+    (created here unless it is read-only to this process, ``$OMTP_DRAKE_CACHE_LAYER``)."""
     root = os.environ.get("OMTP_DRAKE_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "omtp_drake"
     )
     key = hashlib.sha1(f"{_erd_version()}/{_CONVERTER_VERSION}".encode()).hexdigest()[:10]
     path = Path(root) / f"models-{key}"
-    path.mkdir(parents=True, exist_ok=True)
+    if not os.environ.get(CACHE_LAYER_ENV) and not path.is_dir():
+        path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def cache_entry(relative: str | Path) -> Path:
+    """Where the cache's entry ``relative`` (a file or a folder) is, or is to be written,
+    its parent folder made: in :func:`cache_dir`, unless that is read-only to this
+    process (``$OMTP_DRAKE_CACHE_LAYER``) and lacks it: then in that layer. Nothing is
+    written, not even a folder, for an entry the cache holds."""
+    root = cache_dir()
+    layer = os.environ.get(CACHE_LAYER_ENV)
+    path = root / relative
+    if layer and not path.exists():
+        path = Path(layer) / root.name / relative
+    if not path.parent.is_dir():
+        path.parent.mkdir(parents=True, exist_ok=True)
     return path
 
 
@@ -147,9 +170,8 @@ def drake_mesh(src: Path, *, collision: bool) -> Path:
     target = ".gltf" if ext == ".glb" or (ext == ".dae" and not collision) else ".obj"
     stat = src.stat()
     digest = _content_hash(str(src), stat.st_mtime_ns, stat.st_size)
-    dst = cache_dir() / "meshes" / f"{digest}-{ext[1:]}{target}"
+    dst = cache_entry(f"meshes/{digest}-{ext[1:]}{target}")
     if not dst.exists():
-        dst.parent.mkdir(parents=True, exist_ok=True)
         _log.info("converting %s -> %s", src, dst)
         convert_mesh(src, dst)
     return dst
@@ -323,7 +345,7 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
         raise UnknownNameError("arm model", model, UR_MODELS)
     src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
     name = prefix.rstrip("_") or model
-    dst = cache_dir() / f"{name}_{model}_{_limit_tag(joint_limit)}.urdf"
+    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}.urdf")
     if dst.exists():
         return dst
 

@@ -28,7 +28,7 @@ from pydrake.geometry import Convex, GeometryId, Mesh, Obb, Role, SceneGraphInsp
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import BodyIndex
 
-from omtp_drake.assets import cache_dir, write_atomic
+from omtp_drake.assets import cache_entry, write_atomic
 
 _log = logging.getLogger(__name__)
 
@@ -69,7 +69,7 @@ T = TypeVar("T")
 #: and convex hull take milliseconds each (a UR arm's hulls about 0.25 s in all), and
 #: every camera of every station needs those of every arm. Pure functions of the
 #: file, so a memo, not state: in the process, and on disk beside the converted
-#: models (:func:`~omtp_drake.assets.cache_dir`), so that each new process (a
+#: models (:func:`~omtp_drake.assets.cache_entry`), so that each new process (a
 #: ``ros-run``, a batch run, a graded script) does not compute them again (the
 #: first station build of a process: figures in bench/README.md, "Measured").
 _MESH_MEMO: dict[tuple[str, str, tuple[float, ...]], Any] = {}
@@ -94,17 +94,16 @@ def _on_disk(key: tuple, mesh: Path, compute: Callable[[], T]) -> T:
     time, so an edited mesh is computed again; an unreadable entry too."""
     try:
         stat = mesh.stat()
-    except OSError:
+        digest = hashlib.sha1(repr((key, stat.st_size, stat.st_mtime_ns)).encode()).hexdigest()
+        path = cache_entry(f"mesh_facts/{key[0]}-{digest}.pickle")
+    except OSError:  # no mesh file, or a read-only cache without a folder for it
         return compute()
-    digest = hashlib.sha1(repr((key, stat.st_size, stat.st_mtime_ns)).encode()).hexdigest()
-    path = cache_dir() / "mesh_facts" / f"{key[0]}-{digest}.pickle"
     try:
         return pickle.loads(path.read_bytes())
     except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ValueError):
         pass
     value = compute()
     try:
-        path.parent.mkdir(exist_ok=True)
         write_atomic(path, pickle.dumps(value))
     except OSError as error:  # a read-only cache: computed every time, as before
         _log.debug("mesh facts not cached (%s)", error)

@@ -150,6 +150,10 @@ class CommandPolling:
         if not (self.period >= 0 and self.offset >= 0):
             raise ConfigError(f"gripper polling period and offset must be >= 0, got {self}")
 
+    def at_step(self, step: float) -> "CommandPolling":
+        """This polling, with the plant's ``step`` for a ``period`` of 0 (every step)."""
+        return self if self.period else CommandPolling(step, self.offset)
+
 
 #: Poll the command at every plant step (the plugin at every physics update).
 EVERY_STEP = CommandPolling()
@@ -227,12 +231,8 @@ class SuctionGripper(LeafSystem):
         self._cos_max = math.cos(math.radians(config.max_angle_deg))
         self._check_period = 1.0 / config.check_rate_hz
         # The plugin's physics update: a plant step (continuous plant: Gazebo's 1 ms).
-        step = plant.time_step()
-        self._step = min(step if step > 0 else 1e-3, self._check_period)
-        if polling is not None and polling.period == 0:
-            polling = CommandPolling(self._step, polling.offset)
-        self._polling = polling
-
+        self._step = min(plant.time_step() or 1e-3, self._check_period)
+        self._polling = polling = polling and polling.at_step(self._step)
         self._command = self.DeclareVectorInputPort("command", 1)
         self._poses = self.DeclareAbstractInputPort("body_poses", AbstractValue.Make([RigidTransform()]))
         self._contacts = self.DeclareAbstractInputPort(
@@ -251,6 +251,10 @@ class SuctionGripper(LeafSystem):
             weak_method(self._calc_state),  # C++ holds it (see cell.lifetime)
             prerequisites_of_calc={self.abstract_state_ticket(self._memory)},
         )
+        self._declare_hold(plant, part_bodies)
+
+    def _declare_hold(self, plant: MultibodyPlant, part_bodies: Sequence[RigidBody]) -> None:
+        """The ports and facts of a subclass's way to hold, at the end of construction."""
 
     # ------------------------------------------------------------------ ports
 

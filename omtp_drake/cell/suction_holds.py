@@ -208,17 +208,9 @@ class ForceSuctionGripper(SuctionGripper):
         :func:`connect_spatial_forces`.
     """
 
-    def __init__(
-        self,
-        plant: MultibodyPlant,
-        cup_body: RigidBody,
-        part_bodies: Sequence[RigidBody],
-        config: SuctionConfig,
-        name: str = "suction",
-        polling: Optional[CommandPolling] = EVERY_STEP,
-    ):
-        super().__init__(plant, cup_body, part_bodies, config, name, polling)
-        self._gains = {int(b.index()): _gains_for(b, config, plant.time_step()) for b in part_bodies}
+    def _declare_hold(self, plant: MultibodyPlant, part_bodies: Sequence[RigidBody]) -> None:
+        """The spring-damper gains of every part, the velocities input and the forces output."""
+        self._gains = {int(b.index()): _gains_for(b, self._config, plant.time_step()) for b in part_bodies}
         self._velocities = self.DeclareAbstractInputPort(
             "body_spatial_velocities", AbstractValue.Make([SpatialVelocity()])
         )

@@ -221,8 +221,7 @@ def run_isolated_script(args: argparse.Namespace, out: Callable[[str], None]) ->
     load_scenario(args.scenario)
     mode = resolve_sandbox(args.sandbox)
     scenario = str(Path(args.scenario).resolve()) if Path(args.scenario).is_file() else str(args.scenario)
-    if mode == "bwrap":
-        _warm_cache(scenario)
+    prepare_cell(scenario)
     check_duration("--wall-timeout", args.wall_timeout)
     settings = GradeSettings(
         scenario, args.seed, args.timeout, args.wall_timeout, limits_from_args(args), mode
@@ -299,8 +298,7 @@ def grade_folder(
     overrides = grade_options.load_overrides(Path(folder), scripts)
     mode = resolve_sandbox(sandbox)
     scenario_arg = str(Path(scenario).resolve()) if Path(scenario).is_file() else str(scenario)
-    if mode == "bwrap":
-        _warm_cache(scenario_arg)
+    prepare_cell(scenario_arg)
     settings = GradeSettings(scenario_arg, seed, timeout, wall_timeout, limits, mode, skip, flexbe)
     per_script = {s.name: grade_options.script_options(s.name, class_values, overrides) for s in scripts}
     if flexbe is not None:
@@ -315,8 +313,10 @@ def grade_folder(
     return grades
 
 
-def _warm_cache(scenario: str) -> None:
-    """Builds the scenario's cell once here: the model cache is read-only in the sandbox."""
+def prepare_cell(scenario: str) -> None:
+    """Builds the scenario's cell once here, before any run: the model cache (converted
+    meshes, stand-ins, the mesh memo) is the simulator's, filled now, and read-only to
+    the runs (:func:`~omtp_drake.grading.isolation.guarded_command`)."""
     from omtp_drake.ros.comm._core import Cell, load_scenario
 
     Cell(load_scenario(scenario), auto_spawn=False).close()

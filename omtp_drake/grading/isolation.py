@@ -187,7 +187,15 @@ def guarded_command(
     limits: Limits,
     readable: Sequence[Path] = (),
 ) -> tuple[list[str], dict[str, str]]:
-    """The command and environment of ``ros-run ros_args`` under the guard (and bubblewrap)."""
+    """The command and environment of ``ros-run ros_args`` under the guard (and bubblewrap).
+
+    The simulator's own files are not the run's: the model cache (filled before the
+    run, :func:`omtp_drake.grading.grade.prepare_cell`) is read-only to it, and what
+    the cache lacks goes to a layer in the run's temporary folder
+    (:func:`omtp_drake.assets.cache_entry`), as do Drake's and matplotlib's files: none
+    of them is a refusal of the guard's, which records the script's own acts only."""
+    from omtp_drake.assets import CACHE_LAYER_ENV, cache_dir
+
     tmp = Path("/tmp") if sandbox == "bwrap" else work / ".tmp"
     settings = {
         "limits": asdict(limits),
@@ -206,6 +214,8 @@ def guarded_command(
             "TMPDIR": str(tmp),
             "MPLCONFIGDIR": str(tmp / "matplotlib"),
             "OMP_NUM_THREADS": "1",
+            "OMTP_DRAKE_CACHE": str(cache_dir().parent),
+            CACHE_LAYER_ENV: str(tmp / "omtp_drake_cache"),
         }
     )
     command = [sys.executable, "-m", "omtp_drake.grading.cli", *ros_args]

@@ -29,13 +29,13 @@ STANDINS_DIR = Path(__file__).resolve().parent / "standins"
 @functools.cache
 def standin_dirs() -> tuple[Path, ...]:
     """The folder of the stand-in packages (laid out in the model cache on first use)."""
-    from omtp_drake.assets import cache_dir, ur_description_dir
+    from omtp_drake.assets import cache_entry, ur_description_dir
 
     digest = hashlib.sha1()
     sources = sorted(p for p in STANDINS_DIR.rglob("*") if p.is_file())
     for path in sources:
         digest.update(str(path.relative_to(STANDINS_DIR)).encode() + path.read_bytes())
-    out = cache_dir() / f"standins-{digest.hexdigest()[:10]}"
+    out = cache_entry(f"standins-{digest.hexdigest()[:10]}")
     if not out.is_dir():
         tmp = out.with_name(out.name + f".{os.getpid()}")
         shutil.rmtree(tmp, ignore_errors=True)

@@ -105,6 +105,16 @@ class Arm:
             plant.GetMyContextFromRoot(self._runtime.context)
         )
 
+    @property
+    def joint_names(self) -> tuple[str, ...]:
+        """The arm's six joints, base to wrist, as the course's URDF names them (unprefixed)."""
+        return arms.JOINT_NAMES
+
+    @property
+    def velocity_limits(self) -> tuple[float, ...]:
+        """The joints' velocity limits (rad/s, :attr:`joint_names`' order): what plans are timed to."""
+        return tuple(arms.VELOCITY_LIMITS[self.config.model])
+
     def named_poses(self) -> list[str]:
         """The course's named poses of this arm (``R2Home``...)."""
         return [k for k in arms.NAMED_POSES if k.startswith(self.config.pose_prefix)]

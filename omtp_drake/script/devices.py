@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 
+import numpy as np
+
 from omtp_drake.cell.logical_camera import LogicalCameraImage
 from omtp_drake.cell.poses import PoseStamped
 from omtp_drake.cell.suction import GripperState
@@ -78,6 +80,13 @@ class Camera:
     def image(self) -> LogicalCameraImage:
         """The latest image, stamped with the time it was taken."""
         return self._runtime.camera_image(self.name)
+
+    def color_image(self) -> np.ndarray:
+        """What the camera's RGB-D view shows now, as a (height, width, 4) RGBA uint8 array
+        (for ``imshow``). Raises ``ConfigError`` for a camera without ``rgbd: true``."""
+        from omtp_drake.cell.rgbd import color_image, rgba_array
+
+        return rgba_array(color_image(self._runtime.station.diagram, self._runtime.context, self.name))
 
     def parts(self, type: str = "object") -> dict[str, PoseStamped]:
         """Name -> pose (in this camera's frame, at the image's time) of every model of

@@ -7,6 +7,7 @@ C a camera, P a part's origin (its centre), Bin the bin's origin.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable, Iterator, Sequence
 from typing import Optional
@@ -62,35 +63,36 @@ class Perception:
         sighting that suits them."""
         if not self.fresh(pick, t):
             return None
-        return self._sightings(t, pick, others, bin_image, ignored)
+        part_type = self._config.part_type
+        in_pick = [
+            (m.name, pick.X_WC @ m.X_CM, pick.time)
+            for m in pick.models
+            if m.type == part_type and m.name and m.name not in ignored
+        ]
+        seen = {*ignored, *(name for name, _, _ in in_pick)}
+        return itertools.chain(in_pick, self._outside_the_bin(t, others, bin_image, seen))
 
-    def _sightings(
+    def _outside_the_bin(
         self,
         t: float,
-        pick: LogicalCameraImage,
-        others: Callable[[], Sequence[LogicalCameraImage]],
+        images: Callable[[], Sequence[LogicalCameraImage]],
         bin_image: Callable[[], LogicalCameraImage],
-        ignored: Sequence[str],
+        seen: set[str],
     ) -> Iterator[Sighting]:
-        """:meth:`parts_seen` of a fresh pick image, one sighting at a time."""
-        part_type = self._config.part_type
-        names = set()
-        for m in pick.models:
-            if m.type == part_type and m.name and m.name not in ignored:
-                names.add(m.name)
-                yield m.name, pick.X_WC @ m.X_CM, pick.time
-        images = others()
+        """The parts of the fresh ``images`` outside the bin but those ``seen`` (one sighting
+        each), the images read at the first sighting asked for."""
+        images_now = images()
         X_WBin = self.bin_pose(bin_image())
-        for other in images:
-            if not self.fresh(other, t):
+        for image in images_now:
+            if not self.fresh(image, t):
                 continue
-            for m in other.models:
-                if m.type != part_type or not m.name or m.name in ignored or m.name in names:
+            for m in image.models:
+                if m.type != self._config.part_type or not m.name or m.name in seen:
                     continue
-                X_WP = other.X_WC @ m.X_CM
+                X_WP = image.X_WC @ m.X_CM
                 if not self._bin.contains(X_WP.translation(), X_WBin):
-                    names.add(m.name)
-                    yield m.name, X_WP, other.time
+                    seen.add(m.name)
+                    yield m.name, X_WP, image.time
 
     def reachable(self, X_WP: RigidTransform, size: float) -> bool:
         """Can the tool reach the part's top face, tool down, and the approach above it?"""
