@@ -88,7 +88,8 @@ def test_no_row_holds_the_simulators_own_files(graded):
         assert rows[name]["refused"] == "" and str(cache) not in ",".join(rows[name].values())
     # What the grader made before the runs: the arms, their meshes, the mesh memo.
     (models,) = cache.glob("models-*")
-    assert {"ur5", "ur10", "mesh_facts"} <= {p.name for p in models.iterdir()}
+    assert {"meshes", "mesh_facts"} <= {p.name for p in models.iterdir()}
+    assert len(list(models.glob("*_ur5_*.urdf"))) and len(list(models.glob("*_ur10_*.urdf")))
 
 
 def test_a_script_that_writes_into_the_cache_is_refused(graded):
@@ -115,4 +116,4 @@ def test_a_run_with_a_read_only_cache_writes_only_to_its_own_layer(graded, tmp_p
     missing = cache_entry("mesh_facts/not-yet.pickle")
     assert missing == tmp_path / "layer" / models.name / "mesh_facts" / "not-yet.pickle"
     assert missing.parent.is_dir() and sorted(os.path.relpath(p, models) for p in models.rglob("*")) == before
-    assert Path(held).read_text().count(str(models / "ur")) > 0  # its meshes: the cache's
+    assert Path(held).read_text().count(str(models / "meshes")) > 0  # its meshes: the cache's
