@@ -4,6 +4,8 @@ script itself writes outside its folder still is."""
 
 import csv
 import os
+import shutil
+import tempfile
 import textwrap
 from pathlib import Path
 
@@ -62,9 +64,21 @@ CLASS = {
 
 @pytest.fixture(scope="module")
 def graded(tmp_path_factory):
-    """The class graded in a fresh model cache: (the CSV's rows by script, the cache's root)."""
+    """The class graded in a fresh model cache: (the CSV's rows by script, the cache's root,
+    the results folder). The cache is where a user's is, under ~/.cache: bubblewrap's
+    private /tmp would hide one under /tmp, and the guard lets a run write in /tmp."""
     tmp = tmp_path_factory.mktemp("grade_cache")
-    cache = tmp / "cache"
+    home_cache = Path.home() / ".cache"
+    home_cache.mkdir(parents=True, exist_ok=True)
+    cache = Path(tempfile.mkdtemp(prefix="omtp_drake_test_", dir=home_cache))
+    try:
+        yield _grade_class(tmp, cache)
+    finally:
+        shutil.rmtree(cache, ignore_errors=True)
+
+
+def _grade_class(tmp: Path, cache: Path) -> tuple[dict, Path, Path]:
+    """The class written to ``tmp/class`` and graded with the model cache at ``cache``."""
     folder = tmp / "class"
     folder.mkdir()
     for name, text in CLASS.items():
