@@ -410,3 +410,26 @@ def test_a_missing_ros2_parameters_file_is_one_warning_and_no_controllers(caplog
         config = parse_ros_control(ET.fromstring(urdf), "r.urdf")
     assert config.controllers == [] and [j.name for j in config.joints] == ["a"]
     assert "r.urdf: gazebo_ros2_control <parameters> '/nowhere/c.yaml': no such file" in caplog.text
+
+
+def test_a_launch_spawns_the_robot_and_its_controllers_and_the_script_drives_them(tmp_path):
+    """pan_lift.launch as roslaunch runs it: spawn_model puts the robot (none of the course's
+    pieces) in the empty world, <rosparam> and controller_manager's spawner start its
+    controllers; the course-style script's trajectory on /arm_controller/command is followed."""
+    from omtp_drake.launch import own_cell
+
+    cell = own_cell("pan_lift_description pan_lift.launch", workspace=[WS / "src"], environ={})
+    (model,) = cell.scenario.models
+    assert [c.name for c in model.gazebo.ros_control.controllers] == [
+        "joint_state_controller",
+        "arm_controller",
+        "tilt_controller",
+    ]
+    out = tmp_path / "result.json"
+    report = run_script(SCRIPT, [str(out)], scenario=cell.scenario, timeout=20.0)
+    assert report.exception is None
+    result = json.loads(out.read_text())
+    _, end = _at(result["states"], result["end"])
+    assert end["pan_joint"] == pytest.approx(POINTS[-1][2], abs=0.01)
+    assert end["lift_joint"] == pytest.approx(POINTS[-1][1], abs=0.005)
+    assert end["tilt_joint"] == pytest.approx(TILT, abs=0.01)

@@ -51,13 +51,20 @@ def spawner_request(node: Node) -> tuple[str, list[str]]:
     return "/" + namespace.strip("/"), [] if stopped else names
 
 
-def start_spawned_controllers(models: Sequence[ModelConfig], launch: Launch) -> list[ModelConfig]:
-    """``models`` with the controllers the launch's spawners start (see the module doc)."""
+def start_spawned_controllers(
+    models: Sequence[ModelConfig], launch: Launch, *, cell_namespaces: Sequence[str] = ()
+) -> list[ModelConfig]:
+    """``models`` with the controllers the launch's spawners start (see the module doc). A
+    spawner in one of ``cell_namespaces`` starts the controllers of a course piece the cell
+    drives itself (the UR arms'): it is left to the cell."""
+    cell = {"/" + n.strip("/") for n in cell_namespaces}
     out = list(models)
     for node in launch.nodes:
         if (node.pkg, node.type) not in SPAWNERS:
             continue
         namespace, names = spawner_request(node)
+        if namespace in cell:
+            continue
         owners = [
             k
             for k, m in enumerate(out)

@@ -159,10 +159,17 @@ def _other_node(out: NodeMapping, node: Node, launch: Launch, workspace: Workspa
         out.warnings.append(f"{node.where}: node {node.pkg}/{node.type} ({node.name}) is not run by the cell")
 
 
+#: The world file names gzserver finds in Gazebo's own media (GAZEBO_RESOURCE_PATH) that are its
+#: empty world: empty_world.launch's default ``world_name``.
+GAZEBO_EMPTY_WORLDS = ("worlds/empty.world", "empty.world")
+
+
 def _world(out: NodeMapping, node: Node, workspace: Workspace) -> None:
     files = [w for w in shlex.split(node.args) if not w.startswith("-")]
     if len(files) != 1:
         raise WorkspaceError(f"{node.where}: gzserver needs one world file, got args {node.args!r}")
+    if files[0] in GAZEBO_EMPTY_WORLDS:
+        return  # Gazebo's own empty world (its media path): the cell's floor and light, nothing more
     path = Path(files[0])
     if not path.is_absolute() or not path.is_file():
         raise WorkspaceError(

@@ -24,6 +24,7 @@ from pathlib import Path
 from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.errors import ConfigError, WorkspaceError
+from omtp_drake.launch.controller_spawners import start_spawned_controllers
 from omtp_drake.launch.nodes import SPAWNER_POOL, NodeMapping, NodeScript, add_world, map_nodes
 from omtp_drake.launch.pieces import merge_pedestals
 from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec, read_launch
@@ -109,6 +110,11 @@ def own_cell(
         read = read_launch(path, args, ws, environ)
         mapping = map_nodes(read, ws)
         mapping.warnings[:0] = read.warnings
+        # controller_manager's spawners start the controllers of the models loaded as they are
+        # (the course's arms' spawners: the cell drives its arms itself).
+        mapping.world.models[:] = start_spawned_controllers(
+            mapping.world.models, read, cell_namespaces=[robot["name"] for robot in mapping.pieces.robots]
+        )
         moveit, source, name = read.moveit_config, path, path.stem
     else:
         source = Path(world).expanduser().resolve()  # type: ignore[arg-type]
