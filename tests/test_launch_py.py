@@ -5,12 +5,26 @@ timers, event handlers), what each node maps to, and the one-line refusals."""
 
 from __future__ import annotations
 
+import json
 import logging
+import signal
+import subprocess
 import sys
 import textwrap
 from pathlib import Path
+from subprocess import PIPE
 
 import pytest
+from test_ros2 import (
+    PATIENCE,
+    SCRIPTS,
+    _dds_files,
+    _end,
+    _loopback_env,
+    _session_members,
+    domain,
+    needs_ros2,
+)
 
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.launch_py import read_launch_py
@@ -21,6 +35,7 @@ TUTORIAL_SRC = Path(__file__).parent / "fixtures" / "tutorial_ws" / "src"
 PACKAGE = TUTORIAL_SRC / "slider_arm_description"
 WORLD = PACKAGE / "worlds" / "two_crates.world"
 LAUNCH = "slider_arm_description rsp_sim.launch.py"
+__all__ = ["domain"]  # test_ros2's fixture: a ROS 2 domain of this test's own
 
 
 @pytest.fixture(scope="module")
@@ -175,3 +190,36 @@ def test_spawn_entity_of_a_topic_nobody_publishes_is_one_error(tmp_path):
         "no robot_state_publisher of the launch publishes /robot_description",
     ):
         read_launch_py(path, {}, ws)
+
+
+@needs_ros2
+def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(tmp_path, domain):
+    out = tmp_path / "seen.json"
+    env = _loopback_env(domain)
+    shm_before = _dds_files()
+    command = [sys.executable, "-m", "omtp_drake.cli", "ros2", "--launch", LAUNCH]
+    command += ["--workspace", str(TUTORIAL_SRC), "--domain-id", str(domain)]
+    cell = subprocess.Popen(command, env=env, stdout=PIPE, stderr=PIPE, text=True, start_new_session=True)
+    student = subprocess.Popen(
+        [sys.executable, str(SCRIPTS / "joint_names_node.py"), str(out)],
+        env=env,
+        stdout=PIPE,
+        stderr=PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        _, student_err = student.communicate(timeout=PATIENCE)
+        cell.send_signal(signal.SIGINT)
+        cell_out, cell_err = cell.communicate(timeout=PATIENCE)
+    finally:
+        _end(student)
+        _end(cell)
+    assert student.returncode == 0, student_err[-3000:]
+    assert cell.returncode == 0, cell_err[-3000:]
+    assert "rsp_sim.launch as node /omtp_cell" in cell_out and "stopped at t=" in cell_out
+    assert not _session_members(cell.pid) and not _session_members(student.pid)
+    assert _dds_files() <= shm_before, "Fast DDS left shared memory behind"
+    seen = json.loads(out.read_text())
+    assert seen["names"] == ["slider_joint", "arm_joint"]
+    assert len(seen["positions"]) == 2 and all(abs(q) < 10.0 for q in seen["positions"])

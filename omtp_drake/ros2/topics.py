@@ -5,6 +5,7 @@ topic                                         type                              
 ============================================  =========================================  ==============
 ``/clock``                                    ``rosgraph_msgs/Clock``                    every step
 ``/joint_states``                             ``sensor_msgs/JointState``                 50 Hz
+``/<ns>/joint_states`` (a model's plugin)     ``sensor_msgs/JointState``                 its rate
 ``/robot_description``                        ``std_msgs/String`` (transient local)      once, latched
 ``/<camera>/image_raw``                       ``sensor_msgs/Image`` (``rgb8``)           camera's rate
 ``/<camera>/camera_info``                     ``sensor_msgs/CameraInfo``                 camera's rate
@@ -76,6 +77,39 @@ class Periodic:
         self._publish(t)
 
 
+class ModelJointStates(Periodic):
+    """``/<namespace>/joint_states`` of a model's ``libgazebo_ros_joint_state_publisher.so``
+    (the tutorial robot's): its joints' positions and velocities at its ``update_rate``.
+    (Until the one Gazebo layer of issue 44 serves the plugin to both transports.)"""
+
+    def __init__(self, node: Any, cell: Cell, model: str, plugin: Any):
+        from sensor_msgs.msg import JointState
+
+        from omtp_drake.errors import ConfigError
+
+        plant = cell.station.plant
+        instance = cell.station.models[model]
+        known = [plant.get_joint(j).name() for j in plant.GetJointIndices(instance)]
+        missing = [j for j in plugin.joint_names if j not in known]
+        if missing:
+            raise ConfigError(
+                f"joint state publisher of {model!r}: joint {missing[0]!r} does not exist; "
+                f"valid: {', '.join(known)}"
+            )
+        self._cell = cell
+        self._joints = [plant.GetJointByName(j, instance) for j in plugin.joint_names]
+        name = "/" + "/".join(p for p in (*plugin.namespace.split("/"), "joint_states") if p)
+        self._publisher = node.create_publisher(JointState, name, QUEUE_S * 50)
+        super().__init__(1.0 / plugin.update_rate, self._publish_now)
+
+    def _publish_now(self, t: float) -> None:
+        context = self._cell.station.plant.GetMyContextFromRoot(self._cell.runtime.context)
+        names = [j.name() for j in self._joints]
+        message = messages.joint_state(t, names, [float(j.GetOnePosition(context)) for j in self._joints])
+        message.velocity = [float(j.GetOneVelocity(context)) for j in self._joints]
+        self._publisher.publish(message)
+
+
 class CellTopics:
     """The publishers of the topics above on ``node`` (an rclpy node) for ``cell``."""
 
@@ -95,9 +129,12 @@ class CellTopics:
         )
         self._description = node.create_publisher(String, "/robot_description", latched)
         self._description.publish(String(data=description))
-        self._due: list[Callable[[float], None]] = [
-            Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_joint_states)
-        ]
+        self._due: list[Callable[[float], None]] = []
+        if joints:  # a cell without arms has no arms' joint states (no message without names)
+            self._due.append(Periodic(1.0 / JOINT_STATE_RATE_HZ, self._publish_joint_states))
+        for model in cell.scenario.models:
+            for publisher in model.gazebo.joint_state_publishers:
+                self._due.append(ModelJointStates(node, cell, model.name, publisher))
         self._grippers: dict[str, Any] = {}
         self._bool = Bool
         from omtp_drake.ros.gazebo.cell_services import gripper_plugins
