@@ -223,3 +223,15 @@ def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(tmp_path, do
     seen = json.loads(out.read_text())
     assert seen["names"] == ["slider_joint", "arm_joint"]
     assert len(seen["positions"]) == 2 and all(abs(q) < 10.0 for q in seen["positions"])
+
+
+def test_view_launch_shows_the_robot_description_it_publishes(tmp_path):
+    """``view --launch``: the URDF robot_state_publisher publishes on /robot_description."""
+    from omtp_drake.cli import main
+
+    out = tmp_path / "view.json"
+    args = ["view", "--launch", LAUNCH, "--workspace", str(TUTORIAL_SRC), "--json", str(out)]
+    assert main(args) == 0
+    listed = json.loads(out.read_text())
+    assert [j["name"] for j in listed["joints"] if j["type"] != "fixed"] == ["slider_joint", "arm_joint"]
+    assert {"base_link", "slider_link", "arm_link", "camera_link"} <= set(listed["links"])
