@@ -81,7 +81,7 @@ def read_launch_py(
         context = LaunchContext(launch_configurations=dict(args))
         context.load_file = lambda file: _load(Path(file), launch)
         context.run_command = lambda words, text: _command(words, text, workspace)
-        context.files.append(str(path))
+        context.files.append(str(path.resolve()))
         try:
             context.visit(_load(path, launch))
             _fire_handlers(context)
@@ -127,6 +127,7 @@ def _load(path: Path, launch: Launch) -> Any:
         raise WorkspaceError(
             f"{launch.files[-1] if launch.files else path}: launch file {path} does not exist"
         )
+    path = path.resolve()  # the package's own folder, not the ament prefix's link to it
     _refuse_moveit(path)
     launch.files.append(path)
     spec = importlib.util.spec_from_file_location(f"_omtp_launch_{len(launch.files)}", path)
