@@ -33,7 +33,6 @@ from __future__ import annotations
 import ast
 import importlib.util
 import logging
-import os
 import shlex
 import sys
 import traceback
@@ -46,9 +45,9 @@ from typing import Any
 import yaml
 
 from omtp_drake.errors import WorkspaceError
-from omtp_drake.launch.roslaunch import Launch, Node, join_name, put_param, read_launch
+from omtp_drake.launch.roslaunch import Launch, Node, get_param, join_name, put_param, read_launch
 from omtp_drake.workspace import Workspace, expand_xacro_in
-from omtp_drake.workspace.xacro_files import AMENT_PREFIX_PATH, ament_prefix
+from omtp_drake.workspace.xacro_files import AMENT_PREFIX_PATH, ament_prefix, environment_set
 
 _log = logging.getLogger("omtp_drake")
 
@@ -75,7 +74,7 @@ def read_launch_py(
 ) -> Launch:
     """What the launch file ``path`` run with ``args`` (``ARG:=VALUE``) starts (see module doc)."""
     launch = Launch(file=path)
-    with _api(), _environment(AMENT_PREFIX_PATH, str(ament_prefix(workspace))):
+    with _api(), environment_set(AMENT_PREFIX_PATH, str(ament_prefix(workspace))):
         from launch.launch_context import LaunchContext
 
         context = LaunchContext(launch_configurations=dict(args))
@@ -106,19 +105,6 @@ def _api() -> Iterator[None]:
         for name in [k for k in sys.modules if k.split(".")[0] in _SHIMMED]:
             del sys.modules[name]
         sys.modules.update(saved)
-
-
-@contextmanager
-def _environment(name: str, value: str) -> Iterator[None]:
-    old = os.environ.get(name)
-    os.environ[name] = value
-    try:
-        yield
-    finally:
-        if old is None:
-            os.environ.pop(name, None)
-        else:
-            os.environ[name] = old
 
 
 def _load(path: Path, launch: Launch) -> Any:
@@ -290,12 +276,16 @@ def _spawn_model_args(launch: Launch, s: Any, args: list[str]) -> list[str]:
         if word == "-topic":
             topic = join_name(s.namespace, value)
             try:
-                text = _get(launch.params, topic)
+                text = get_param(launch.params, topic)
             except KeyError:
                 raise WorkspaceError(
                     f"{s.where}: spawn_entity.py -topic {value}: no robot_state_publisher of the launch "
                     f"publishes {topic}"
                 ) from None
+            if not isinstance(text, str):
+                raise WorkspaceError(
+                    f"{s.where}: spawn_entity.py -topic {value}: {topic} is no description text"
+                )
             out += ["-param", topic]
         elif word == "-file":
             if not Path(value).is_file():
@@ -323,15 +313,6 @@ def _kind(text: str) -> str:
         return "sdf" if ET.fromstring(text.strip()).tag == "sdf" else "urdf"
     except ET.ParseError:
         return "urdf"
-
-
-def _get(params: dict, name: str) -> str:
-    node: Any = params
-    for key in (k for k in name.split("/") if k):
-        node = node[key]
-    if not isinstance(node, str):
-        raise KeyError(name)
-    return node
 
 
 #: controller_manager's spawner options that take a value.
