@@ -236,3 +236,31 @@ def test_view_launch_shows_the_robot_description_it_publishes(tmp_path):
     listed = json.loads(out.read_text())
     assert [j["name"] for j in listed["joints"] if j["type"] != "fixed"] == ["slider_joint", "arm_joint"]
     assert {"base_link", "slider_link", "arm_link", "camera_link"} <= set(listed["links"])
+
+
+def test_a_namespaced_state_publisher_with_a_yaml_file_feeds_its_spawn(tmp_path):
+    params = tmp_path / "rsp.yaml"
+    params.write_text(f"robot_state_publisher:\n  ros__parameters:\n    robot_description: '{BOX}'\n")
+    path, ws = _package(
+        tmp_path,
+        f"""\
+        from launch import LaunchDescription
+        from launch.actions import GroupAction
+        from launch_ros.actions import Node, PushRosNamespace
+
+
+        def generate_launch_description():
+            return LaunchDescription([GroupAction([
+                PushRosNamespace("arm2"),
+                Node(package="robot_state_publisher", executable="robot_state_publisher",
+                     parameters=["{params}"]),
+                Node(package="gazebo_ros", executable="spawn_entity.py",
+                     arguments=["-topic", "robot_description", "-entity", "arm2", "-y", "1"]),
+            ])])
+        """,
+    )
+    launch = read_launch_py(path, {}, ws)
+    assert launch.params["arm2"]["robot_description"] == BOX
+    assert [(n.name, n.args) for n in launch.nodes] == [
+        ("/arm2/spawn_entity", "-urdf -param /arm2/robot_description -model arm2 -y 1")
+    ]
