@@ -181,7 +181,7 @@ def argv_of(doc: DocCommand, places: dict[str, str]) -> list[str]:
             word = FRAMES[word]
         elif word == "my_trial.yaml":
             word = places["trial"]
-        elif word.endswith(".py") or word == "SCRIPT":
+        elif (word.endswith(".py") or word == "SCRIPT") and previous != "--launch":  # (a ROS 2 launch)
             fixture = list(FIXTURES.rglob(Path(word).name)) if word.endswith(".py") else []
             word = (
                 str(ROOT / word)

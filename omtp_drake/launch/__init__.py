@@ -11,6 +11,8 @@ Modules (one job each):
 - ``own_cell``: ``own_cell``: a student's launch or world in their workspace, as a Scenario
 - ``options``: the commands' and ``Cell``'s cell options and ``chosen_cell``, the one door to a cell
 - ``roslaunch``: roslaunch's XML: args, includes, groups, params, rosparams, remaps, nodes
+- ``launch_py``: ROS 2's ``.launch.py`` files, run as ``ros2 launch`` runs them, as roslaunch's result
+- ``shims``: the ``launch`` and ``launch_ros`` API a ``.launch.py`` imports (on sys.path only while it runs)
 - ``substitutions``: roslaunch's $(arg), $(find), $(env), $(optenv), $(dirname), $(anon), $(eval)
 - ``xml_lines``: XML with each element's line, for errors that name file and line
 - ``nodes``: a launch's nodes mapped to the cell (spawn_model, gzserver, the spawner, the helpers)

@@ -16,8 +16,9 @@ from pathlib import Path
 from typing import Any
 
 from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.launch_py import read_launch_file
 from omtp_drake.launch.own_cell import student_workspace
-from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec, read_launch
+from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
 from omtp_drake.launch.sdf_world import model_config, read_world
 from omtp_drake.scenario import ModelConfig, model_from_text
 
@@ -34,7 +35,7 @@ def launch_description(
     ws = student_workspace(workspace)
     pkg, file, args = parse_launch_spec(spec)
     path = find_launch_file(ws, pkg, file)
-    params = read_launch(path, args, ws).params
+    params = read_launch_file(path, args, ws).params
     name = "/" + param.strip("/")
     descriptions = {k: v for k, v in _flat(params) if isinstance(v, str) and _is_description(v)}
     if name not in descriptions:

@@ -5,7 +5,8 @@ Every command that builds a cell takes the same options (``omtp-drake COMMAND --
 - ``SCENARIO`` (positional where the command has no other) or ``--scenario NAME|FILE``: a
   scenario name of ``diagrams/``, a scenario YAML file, a robot's ``.urdf``/``.xacro``/``.sdf``
   (that robot in Gazebo's empty world) or a Gazebo ``.world`` file;
-- ``--launch 'PKG FILE.launch [ARG:=VALUE ...]'`` or ``--world FILE.world``: a student's own cell;
+- ``--launch 'PKG FILE.launch [ARG:=VALUE ...]'`` (roslaunch's XML, or ROS 2's ``FILE.launch.py``)
+  or ``--world FILE.world``: a student's own cell;
 - ``--robot [NAME=]FILE[@X,Y,Z[,R,P,Y]]`` (repeatable): a robot spawned into that cell (or into
   Gazebo's empty world) as ``spawn_model -file FILE -model NAME -x X -y Y -z Z -R R -P P -Y Y``;
 - ``--workspace DIR`` (repeatable): the folders their packages and models are found in;
@@ -149,7 +150,8 @@ def add_cell_options(p: argparse.ArgumentParser, *, positional: bool = False, wo
     p.add_argument(
         "--launch",
         metavar="'PKG FILE.launch [ARG:=VALUE ...]'",
-        help="the cell of a student's launch file (as roslaunch takes it), instead of a scenario",
+        help="the cell of a student's launch file (as roslaunch takes it; a ROS 2 FILE.launch.py as ros2 "
+        "launch does), instead of a scenario",
     )
     p.add_argument("--world", metavar="FILE.world", help="the cell of a student's Gazebo world file")
     p.add_argument(

@@ -25,9 +25,10 @@ from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.controller_spawners import start_spawned_controllers
+from omtp_drake.launch.launch_py import read_launch_file
 from omtp_drake.launch.nodes import SPAWNER_POOL, NodeMapping, NodeScript, add_world, map_nodes
 from omtp_drake.launch.pieces import merge_pedestals
-from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec, read_launch
+from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
 from omtp_drake.launch.standins import standin_dirs
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import Scenario, scenario_from_dict, scenario_text
@@ -50,6 +51,8 @@ class OwnCell:
     nodes: list[NodeScript] = field(default_factory=list)
     #: The lines to warn with where the nodes do not run (the commands without ROS).
     ros_only: list[str] = field(default_factory=list)
+    #: The ros2_control controllers a ROS 2 launch's spawners activate (for the ros2_control layer).
+    controllers: list[str] = field(default_factory=list)
 
     def write(self, folder: str | os.PathLike, *, with_nodes: bool = False) -> Path:
         """The scenario as a YAML file in ``folder`` (for the commands that take a file).
@@ -104,10 +107,12 @@ def own_cell(
     ws = student_workspace(dirs, environ)
     mapping = NodeMapping()
     moveit = None
+    controllers: list[str] = []
     if launch is not None:
         pkg, file, args = parse_launch_spec(launch)
         path = find_launch_file(ws, pkg, file)
-        read = read_launch(path, args, ws, environ)
+        read = read_launch_file(path, args, ws, environ)
+        controllers = read.controllers
         mapping = map_nodes(read, ws)
         mapping.warnings[:0] = read.warnings
         # controller_manager's spawners start the controllers of the models loaded as they are
@@ -130,7 +135,14 @@ def own_cell(
         raise WorkspaceError(f"{source}: {e}") from None
     warnings = mapping.pieces.warnings + mapping.world.warnings + mapping.warnings
     return OwnCell(
-        scenario, warnings, moveit, mapping.pieces.models, document, mapping.scripts, mapping.ros_only
+        scenario,
+        warnings,
+        moveit,
+        mapping.pieces.models,
+        document,
+        mapping.scripts,
+        mapping.ros_only,
+        controllers,
     )
 
 

@@ -85,12 +85,12 @@ def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where
             found = True
         elif link == "workcell":
             found = True
+    if not found:
+        return False  # loaded as it is: its own plugins are its model's (scenario.gazebo_tags)
     for reference, element in model.gazebo:
         for plugin in plugins_in(element, where, reference):
             if plugin.kind not in URDF_PLUGINS:
                 pieces.warnings.append(plugin.unknown_line())
-    if not found:
-        return False
     pieces.models.append((model, X_WM))
     for link in model.static_links():
         if link != "world":  # Gazebo's name for the world itself

@@ -80,6 +80,8 @@ class Launch:
     moveit_config: Path | None = None
     #: What roslaunch warns about and goes on (an unrecognised tag), ``file:line: ...`` each.
     warnings: list[str] = field(default_factory=list)
+    #: The ros2_control controllers a (ROS 2) launch's spawners activate, in order.
+    controllers: list[str] = field(default_factory=list)
 
 
 def join_name(namespace: str, name: str, *, private: str = "") -> str:
@@ -105,7 +107,7 @@ def parse_launch_spec(spec: str) -> tuple[str, str, dict[str, str]]:
             args[name] = value
         else:
             plain.append(word)
-    if len(plain) == 1 and plain[0].endswith((".launch", ".xml")):
+    if len(plain) == 1 and plain[0].endswith((".launch", ".xml", ".py")):
         return "", plain[0], args
     if len(plain) != 2:
         raise WorkspaceError(

@@ -52,7 +52,7 @@ def expand_xacro_in(
     if not path.is_file():
         raise WorkspaceError(f"{path}: no such file")
     prefix = ament_prefix(workspace)
-    with _XACRO_LOCK, _environment(AMENT_PREFIX_PATH, str(prefix)):
+    with _XACRO_LOCK, environment_set(AMENT_PREFIX_PATH, str(prefix)):
         try:
             doc = xacro.process_file(str(path), mappings=dict(args or {}))
         except Exception as e:
@@ -107,7 +107,8 @@ def _remove_tree(folder: Path) -> None:
 
 
 @contextmanager
-def _environment(name: str, value: str):
+def environment_set(name: str, value: str):
+    """Environment variable ``name`` set to ``value`` inside the block (then as it was)."""
     saved = os.environ.get(name)
     os.environ[name] = value
     try:
