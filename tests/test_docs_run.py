@@ -48,9 +48,21 @@ PLACES = {
     "SCENARIO": "omtp_factory",
     "BEHAVIOUR NAME": "Conveyor Pick",
     "HTML": "replay.html",
+    # docs/ros_control.md's and ros2.md's robots: one with gazebo_ros_control, one with <ros2_control>
+    "ROBOT.urdf.xacro": str(
+        FIXTURES / "control_ws" / "src" / "two_joint_ros2" / "urdf" / "two_joint.urdf.xacro"
+    ),
+    "ROBOT": str(FIXTURES / "control_ws" / "src" / "pan_lift_description" / "urdf" / "pan_lift.urdf.xacro"),
+    "robot.urdf.xacro": str(TUTORIAL_ROBOT),
+    "controllers.yaml": str(
+        FIXTURES / "control_ws" / "src" / "pan_lift_description" / "config" / "controllers.yaml"
+    ),
 }
 #: The words a placeholder stands for after an option (``--camera NAME``).
-AFTER = {"--camera": {"NAME": "logical_camera_1"}, "--scenario": {"NAME": "lecture6_assignment4"}}
+AFTER = {
+    "--camera": {"NAME": "logical_camera_1"},
+    "--scenario": {"NAME": "lecture6_assignment4", "S": "lecture6_assignment4"},
+}
 #: tf-echo's ``A B``: two frames.
 FRAMES = {"A": "world", "B": "robot1_tool0"}
 #: A student's script, as the course's scripts start.

@@ -237,10 +237,10 @@ def test_rig_steps_at_a_given_time_step_and_refuses_one_out_of_range():
     assert np.allclose(np.diff([0.0] + steps), 0.005, rtol=0, atol=1e-9)
     assert len(steps) == 60 and steps[-1] == pytest.approx(0.3)
     assert rig.state().attached  # suction still works at that step
-    for bad in (0.02, 5e-5):
+    for bad in (0.025, 5e-5):
         with pytest.raises(ConfigError) as info:
             build_rig("weld", hold(tool_q(0, 0, 0.5)), time_step=bad)
-        assert str(bad) in str(info.value) and "0.01" in str(info.value)
+        assert str(bad) in str(info.value) and "0.02" in str(info.value)
     with pytest.raises(ConfigError, match="near_rigid_threshold must be >= 0, got -1"):
         build_rig("weld", hold(tool_q(0, 0, 0.5)), near_rigid_threshold=-1.0)
 
