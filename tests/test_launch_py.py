@@ -20,6 +20,7 @@ from test_ros2 import (
     SCRIPTS,
     _dds_files,
     _end,
+    _leaked_dds_files,
     _loopback_env,
     _session_members,
     domain,
@@ -220,7 +221,7 @@ def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(tmp_path, do
     assert cell.returncode == 0, cell_err[-3000:]
     assert "rsp_sim.launch as node /omtp_cell" in cell_out and "stopped at t=" in cell_out
     assert not _session_members(cell.pid) and not _session_members(student.pid)
-    assert _dds_files() <= shm_before, "Fast DDS left shared memory behind"
+    assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     seen = json.loads(out.read_text())
     assert seen["names"] == ["slider_joint", "arm_joint"]
     assert len(seen["positions"]) == 2 and all(abs(q) < 10.0 for q in seen["positions"])

@@ -124,15 +124,29 @@ def _held_shm_files() -> set[str]:
     return held
 
 
-def _leaked_dds_files(before: set[str]) -> set[str]:
-    """Fast DDS files that appeared since ``before`` and that no live process holds (a
-    segment's lock ``X_el`` and its port's semaphore ``sem.X_mutex`` go with ``X``)."""
+def _domain_dds_files(domain: int) -> set[str]:
+    """Fast DDS's shared-memory port segments of ``domain`` (its ports: 7400 + 250 * domain
+    onwards), apart from those of other runs on this machine (the suite's other worker runs
+    DDS tests on other domains at the same time)."""
+    low = 7400 + 250 * domain
+    return {
+        name
+        for name in _dds_files()
+        if (port := name.removeprefix("sem.").removeprefix("fastdds_port").split("_")[0]).isdigit()
+        and low <= int(port) < low + 250
+    }
+
+
+def _leaked_dds_files(before: set[str], domain: int) -> set[str]:
+    """``domain``'s Fast DDS port files that appeared since ``before`` and that no live process
+    holds (a port's lock ``X_el`` and its semaphore ``sem.X_mutex`` go with ``X``)."""
     held = _held_shm_files()
 
     def segment(name: str) -> str:
         return name.removeprefix("sem.").removesuffix("_mutex").removesuffix("_el")
 
-    return {name for name in _dds_files() - before if name not in held and segment(name) not in held}
+    fresh = _domain_dds_files(domain) - before
+    return {name for name in fresh if name not in held and segment(name) not in held}
 
 
 def _end(process: subprocess.Popen) -> None:
@@ -176,7 +190,7 @@ def test_a_students_rclpy_node_drives_and_watches_the_cell(tmp_path, domain):
     assert cell.returncode == 0, cell_err[-3000:]
     assert f"ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']}" in cell_out and "stopped at t=" in cell_out
     assert not _session_members(cell.pid) and not _session_members(student.pid)
-    assert not _leaked_dds_files(shm_before), "Fast DDS left shared memory behind"
+    assert not _leaked_dds_files(shm_before, int(env["ROS_DOMAIN_ID"])), "Fast DDS left shared memory behind"
     seen = json.loads(out.read_text())
     _check_clock_and_joints(seen)
     _check_cloud(seen["cloud"], scenario)

@@ -18,7 +18,7 @@ import numpy as np
 from test_ros2 import (  # one home of the DDS tests' helpers
     PATIENCE,
     SCRIPTS,
-    _dds_files,
+    _domain_dds_files,
     _end,
     _loopback_env,
     _session_members,
@@ -27,18 +27,6 @@ from test_ros2 import (  # one home of the DDS tests' helpers
 )
 
 __all__ = ["domain"]  # the fixture, used by name
-
-
-def _domain_dds_files(domain: int) -> set[str]:
-    """Fast DDS's shared-memory port segments of ``domain`` (its ports: 7400 + 250 * domain
-    onwards), apart from those of other runs on this machine."""
-    low = 7400 + 250 * domain
-    return {
-        name
-        for name in _dds_files()
-        if (port := name.removeprefix("sem.").removeprefix("fastdds_port").split("_")[0]).isdigit()
-        and low <= int(port) < low + 250
-    }
 
 
 def _rclpy_pairs():

@@ -35,8 +35,9 @@ SCRIPTS = Path(__file__).parent / "ros2_scripts"
 FIXTURE = Path(__file__).parent / "fixtures" / "tutorial_ws"
 ROBOT = FIXTURE / "src" / "slider_arm_description" / "urdf" / "slider_arm.urdf.xacro"
 #: The trajectory's stamp and the end of the recording (simulated s). The node sends it
-#: at its first /clock; the cell is paced (--realtime), so that is well before START.
-START, END = 2.0, 3.5
+#: at its first /clock; the cell is paced (--realtime), so that is well before START (4 s of
+#: wall time for DDS discovery, 1.3 s seen on a quiet machine).
+START, END = 5.0, 6.5
 SPEC = json.loads((SCRIPTS / "trajectory.json").read_text())
 #: The plugins' rates in the fixture: joint states 20 Hz, trajectory updates 2 Hz, camera 20 Hz.
 STATE_PERIOD, CAMERA_PERIOD = 0.05, 0.05
@@ -65,7 +66,7 @@ def _ros2(tmp_path: Path, domain: int) -> tuple[dict, str]:
     assert node.returncode == 0, node_err[-3000:]
     assert cell.returncode == 0, cell_err[-3000:]
     assert not _session_members(cell.pid) and not _session_members(node.pid)
-    assert not _leaked_dds_files(shm_before), "Fast DDS left shared memory behind"
+    assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     return json.loads(out.read_text()), cell_err
 
 
