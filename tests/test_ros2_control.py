@@ -90,3 +90,33 @@ def test_a_ros2_control_robot_follows_a_trajectory_and_broadcasts_its_joints(tmp
     window = stamps[(stamps >= start) & (stamps < start + 3.0)]
     assert len(window) == pytest.approx(3.0 * BROADCASTER_HZ, abs=1)
     assert np.allclose(np.diff(stamps), 1.0 / BROADCASTER_HZ, atol=1e-6)
+
+
+def test_a_launch_files_spawners_activate_the_controllers_in_their_order(tmp_path):
+    """sim.launch.py (a ros2_control demo's form): the broadcaster's spawner, then the arm's once
+    it has exited. The launch's order is the active order (the YAML declares the arm first);
+    a launch that spawns only the broadcaster leaves the arm controller inactive; a spawner of
+    a controller no plugin declares is one warning line, and the launch goes on."""
+    import shutil
+
+    from omtp_drake.launch import own_cell
+
+    src = Path(__file__).parent / "fixtures" / "control_ws" / "src"
+
+    def active(workspace: Path) -> tuple[list[str], list[str]]:
+        cell = own_cell("two_joint_ros2 sim.launch.py", workspace=[workspace], environ={})
+        (model,) = cell.scenario.models
+        return [c.name for c in model.gazebo.ros_control.controllers], cell.warnings
+
+    assert active(src) == (["joint_state_broadcaster", "arm_controller"], [])
+    package = tmp_path / "two_joint_ros2"
+    shutil.copytree(src / "two_joint_ros2", package)
+    launch = package / "launch" / "sim.launch.py"
+    text = launch.read_text()
+    launch.write_text(text.replace('arguments=["arm_controller"]', 'arguments=["gripper_controller"]'))
+    names, warnings = active(tmp_path)
+    assert names == ["joint_state_broadcaster"]
+    assert (
+        len(warnings) == 1
+        and "'gripper_controller' is declared by no gazebo_ros2_control plugin" in warnings[0]
+    )

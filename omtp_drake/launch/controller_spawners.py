@@ -24,7 +24,7 @@ from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.roslaunch import Launch, Node, get_param, join_name
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.scenario.ros_control import RosControlConfig
-from omtp_drake.scenario.ros_control_parse import with_controller_params
+from omtp_drake.scenario.ros_control_parse import spawned_only, with_controller_params
 
 SPAWNERS = (("controller_manager", "spawner"),)
 #: The spawner's options that take a value (their values are no controller names).
@@ -99,3 +99,32 @@ def _setup(model: ModelConfig) -> RosControlConfig:
     if config is None:
         raise WorkspaceError(f"{model.file}: the model has no gazebo_ros_control plugin")
     return config
+
+
+def activate_ros2_controllers(
+    models: Sequence[ModelConfig], names: Sequence[str], where: str
+) -> tuple[list[ModelConfig], list[str]]:
+    """ROS 2: ``models`` with the controllers a launch's ``controller_manager`` spawners name
+    (``names``, in order) active on the ``gazebo_ros2_control`` plugin that declares them, and
+    the warning lines: a name no plugin declares (its spawner fails: "controller not found",
+    and the launch goes on) and, without any spawner, nothing changes (the YAML's controllers
+    in order, as before)."""
+    out: list[ModelConfig] = list(models)
+    warnings: list[str] = []
+    if not names:
+        return out, warnings
+    found: set[str] = set()
+    for k, model in enumerate(out):
+        config = model.gazebo.ros_control
+        if config is None or config.plugin != "gazebo_ros2_control":
+            continue
+        mine = [n for n in names if n in {c.name for c in config.declared}]
+        found |= set(mine)
+        active = spawned_only(config, mine, f"{where} ({model.name})", refuse_conflicts=False)
+        out[k] = dataclasses.replace(model, gazebo=dataclasses.replace(model.gazebo, ros_control=active))
+    for name in names:
+        if name not in found:
+            warnings.append(
+                f"{where}: spawner: controller {name!r} is declared by no gazebo_ros2_control plugin"
+            )
+    return out, warnings

@@ -24,7 +24,7 @@ from pathlib import Path
 from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.errors import ConfigError, WorkspaceError
-from omtp_drake.launch.controller_spawners import start_spawned_controllers
+from omtp_drake.launch.controller_spawners import activate_ros2_controllers, start_spawned_controllers
 from omtp_drake.launch.launch_py import read_launch_file
 from omtp_drake.launch.nodes import SPAWNER_POOL, NodeMapping, NodeScript, add_world, map_nodes
 from omtp_drake.launch.pieces import merge_pedestals
@@ -120,6 +120,10 @@ def own_cell(
         mapping.world.models[:] = start_spawned_controllers(
             mapping.world.models, read, cell_namespaces=[robot["name"] for robot in mapping.pieces.robots]
         )
+        mapping.world.models[:], lines = activate_ros2_controllers(
+            mapping.world.models, controllers, str(path)
+        )
+        mapping.warnings += lines
         moveit, source, name = read.moveit_config, path, path.stem
     else:
         source = Path(world).expanduser().resolve()  # type: ignore[arg-type]
