@@ -8,6 +8,7 @@ Modules (one job each):
 - ``depth_camera``: a Gazebo camera or depth sensor as Drake's RGB-D rendering, with its point cloud
 - ``gazebo_models``: the cell's model instances under the names the course's Gazebo world gives them
 - ``arms``: the classic UR arms: the course's named poses, loading, position control
+- ``arm_servos``: the arms in the station: initial poses, servos, their exported ports
 - ``joint_controllers``: any robot's ros_control joints: actuators, PD drives and the controllers' commands
 - ``joint_splines``: joint trajectories interpolated as ros_controllers' trajectory controller does
 - ``conveyor``: the conveyor belt and the break beam

@@ -63,9 +63,9 @@ from pydrake.math import RigidTransform
 from pydrake.multibody.plant import AddMultibodyPlant, MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, ModelInstanceIndex
 from pydrake.systems.framework import Context, Diagram, DiagramBuilder, InputPort
-from pydrake.systems.primitives import Demultiplexer
 
 from omtp_drake.cell import arms
+from omtp_drake.cell.arm_servos import add_arm_servos
 from omtp_drake.cell.cell_models import ArmHandles, CellModels, add_cell_models
 from omtp_drake.cell.conveyor import BeltGeometry, BreakBeam, ConveyorBelt
 from omtp_drake.cell.depth_camera import DepthCamera, add_model_cameras
@@ -282,11 +282,7 @@ def build_station(
     drives = declare_joint_drives(plant, scenario.models, models.described)
     plant.Finalize()
     joint_controllers = add_joint_controllers(builder, plant, drives, models.described)
-    for handles in models.arms.values():
-        plant.SetDefaultPositions(handles.arm, arms.named_pose(handles.config.initial_pose, handles.config))
-
-    for handles in models.arms.values():
-        _add_arm_servo(builder, plant, handles, scenario.gravity)
+    add_arm_servos(builder, plant, models.arms, scenario.gravity)
     belt = _add_conveyor(builder, plant, scenario, models)
     beam = _add_break_beam(builder, plant, scenario, models, belt)
     grippers = _add_grippers(builder, plant, scenario, models, constraints, controlled)
@@ -400,27 +396,6 @@ def _declare_weld_constraints(
             cup = plant.GetBodyByName(f"{handles.config.gripper}_cup", handles.gripper)
             constraints[name] = declare_suction_constraints(plant, cup, placeholder)
     return constraints
-
-
-def _add_arm_servo(
-    builder: DiagramBuilder, plant: MultibodyPlant, handles: ArmHandles, gravity: list[float]
-) -> None:
-    """The arm's position servo and its exported ports."""
-    name = handles.config.name
-    sampler, controller, handles.control_plant = arms.add_arm_controller(
-        builder, plant, handles.arm, handles.config, gravity
-    )
-    handles.sampler = sampler
-    handles.controller = controller
-    sampler.connect_input(builder, f"{name}.position")
-    state = plant.get_state_output_port(handles.arm)
-    n = plant.num_positions(handles.arm)
-    demux = builder.AddNamedSystem(f"{name}.demux", Demultiplexer([n, n]))
-    builder.Connect(state, demux.get_input_port())
-    builder.ExportOutput(demux.get_output_port(0), f"{name}.position_measured")
-    builder.ExportOutput(demux.get_output_port(1), f"{name}.velocity_estimated")
-    builder.ExportOutput(state, f"{name}.state_estimated")
-    builder.ExportOutput(controller.GetOutputPort("actuation"), f"{name}.torque_commanded")
 
 
 def _add_conveyor(

@@ -185,21 +185,29 @@ def add_world(pieces: WorldPieces, path: Path, workspace: Workspace) -> None:
 _POSE_FLAGS = {"-x": 0, "-y": 1, "-z": 2, "-R": 3, "-P": 4, "-Y": 5}
 
 
-def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -> None:
-    """spawn_model's arguments (as gazebo_ros's spawn_model reads them); a model that is
-    none of the course's pieces is loaded as it is."""
-    words = shlex.split(node.args)
-    pose = [0.0] * 6
-    joints: dict[str, float] = {}
-    text = kind = source = name = ""
-    options: dict[str, str] = {}
-    folder: Path | None = None
-    i = 0
+@dataclass
+class _SpawnRequest:
+    """spawn_model's arguments, as gazebo_ros's spawn_model reads them."""
+
+    kind: str = ""  # urdf or sdf
+    text: str = ""
+    source: str = ""  # where the description came from (for messages)
+    name: str = ""
+    pose: list[float] = field(default_factory=lambda: [0.0] * 6)  # x y z R P Y
+    joints: dict[str, float] = field(default_factory=dict)  # -J
+    options: dict[str, str] = field(default_factory=dict)  # -reference_frame, -robot_namespace
+    folder: Path | None = None  # -file's folder (relative mesh paths)
+
+
+def _spawn_request(node: Node, launch: Launch) -> _SpawnRequest:
+    """The node's spawn_model arguments; an option spawn_model lacks, or one the cell cannot
+    follow, is one WorkspaceError naming the launch file's line."""
+    words, r, i = shlex.split(node.args), _SpawnRequest(), 0
     while i < len(words):
         word = words[i]
         value = words[i + 1] if i + 1 < len(words) else None
         if word in ("-urdf", "-sdf"):
-            kind, i = word[1:], i + 1
+            r.kind, i = word[1:], i + 1
             continue
         if word in ("-unpause", "-wait"):
             i += 1 if word == "-unpause" else 2
@@ -207,50 +215,59 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
         if value is None:
             raise WorkspaceError(f"{node.where}: spawn_model {word} needs a value")
         if word in _POSE_FLAGS:
-            pose[_POSE_FLAGS[word]] = _float(value, node, word)
+            r.pose[_POSE_FLAGS[word]] = _float(value, node, word)
         elif word == "-J":
-            joints[value] = _float(words[i + 2] if i + 2 < len(words) else "", node, f"-J {value}")
+            r.joints[value] = _float(words[i + 2] if i + 2 < len(words) else "", node, f"-J {value}")
             i += 1
         elif word == "-model":
-            name = value
+            r.name = value
         elif word == "-param":
-            source = f"{node.where} (-param {node.resolve(value)})"
-            text = _description(launch, node, value)
+            r.source, r.text = (
+                f"{node.where} (-param {node.resolve(value)})",
+                _description(launch, node, value),
+            )
         elif word == "-file":
-            source = f"{node.where} (-file {value})"
-            text = _read(Path(value), node)
-            folder = Path(value).parent
+            r.source, r.text, r.folder = (
+                f"{node.where} (-file {value})",
+                _read(Path(value), node),
+                Path(value).parent,
+            )
         elif word in ("-reference_frame", "-robot_namespace"):
-            options[word] = value
+            r.options[word] = value
         elif word not in ("-gazebo_namespace", "-database"):
             raise WorkspaceError(f"{node.where}: spawn_model option {word!r} is not supported")
         elif value not in ("", "world"):
             raise WorkspaceError(f"{node.where}: spawn_model {word} {value!r} is not supported; valid: world")
         i += 2
-    if not kind or not text or not name:
+    if not r.kind or not r.text or not r.name:
         raise WorkspaceError(f"{node.where}: spawn_model needs -urdf or -sdf, -param or -file, and -model")
+    return r
+
+
+def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -> None:
+    """A spawn_model node: the course's pieces recognised in its model, any other model
+    loaded as it is, where spawn_model puts it."""
+    r = _spawn_request(node, launch)
     # spawn_model's -robot_namespace defaults to the node's namespace (rospy.get_namespace()).
-    text = with_robot_namespace(text, options.get("-robot_namespace", node.namespace))
-    X_WR = _reference(out, node, options.get("-reference_frame", ""))
+    text = with_robot_namespace(r.text, r.options.get("-robot_namespace", node.namespace))
+    X_WR = _reference(out, node, r.options.get("-reference_frame", ""))
     if X_WR is None:
         return
-    X_WM = X_WR @ RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
+    X_WM = X_WR @ RigidTransform(RollPitchYaw(r.pose[3:]), r.pose[:3])
     pose = [*X_WM.translation(), *RollPitchYaw(X_WM.rotation()).vector()]  # in world
-    if kind == "urdf":
-        urdf = UrdfModel.from_text(text, source)
-        if not add_urdf_model(out.pieces, urdf, X_WM, source, joints):
-            out.world.models.append(_own_model(text, source, workspace, name, pose))
-        out.placed[name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(joints).items()}
-    else:
-        doc = parse_xml(Path(source), text)
-        root = doc.root
-        model = root.find("model")
-        if model is None:
-            raise WorkspaceError(f"{source}: has no <model>")
-        version = sdf_version(doc)
-        out.warnings += strip_strays(doc, model)
-        spawned = world_model(name, tuple(pose), model, source, version=version, folder=folder)
-        add_world_model(out.world, spawned, workspace)
+    if r.kind == "urdf":
+        urdf = UrdfModel.from_text(text, r.source)
+        if not add_urdf_model(out.pieces, urdf, X_WM, r.source, r.joints):
+            out.world.models.append(_own_model(text, r.source, workspace, r.name, pose))
+        out.placed[r.name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(r.joints).items()}
+        return
+    doc = parse_xml(Path(r.source), text)
+    model = doc.root.find("model")
+    if model is None:
+        raise WorkspaceError(f"{r.source}: has no <model>")
+    out.warnings += strip_strays(doc, model)
+    spawned = world_model(r.name, tuple(pose), model, r.source, version=sdf_version(doc), folder=r.folder)
+    add_world_model(out.world, spawned, workspace)
 
 
 def _own_model(text: str, source: str, workspace: Workspace, name: str, pose: list[float]) -> ModelConfig:

@@ -269,6 +269,10 @@ class Arm:
             raise UnknownNameError("tool frame", frame, self._tool_frames)
         return self._tool_frames[frame]
 
+    def _planning_scene(self) -> ArmPlanner:
+        """The planner with the cell's planning scene (:func:`_scene_planner`)."""
+        return _scene_planner(self)
+
     def _goal(
         self,
         target: Target,
@@ -293,27 +297,28 @@ class Arm:
             )
         return q
 
-    def _planning_scene(self) -> ArmPlanner:
-        """The planner with the cell's planning scene (MoveIt's semantics): its boxes
-        as obstacles, named; on the gripper, the held part and the boxes attached to
-        this arm. Loose parts are not obstacles unless added to the scene."""
-        planner = self.planner
-        runtime = self._runtime
-        held = runtime.gripper_state(self.name) if self.name in runtime.station.grippers else None
-        held_part = held.part if held is not None and held.attached and held.X_CP is not None else ""
-        objects = {n: b for n, b in self._scene.objects().items() if n != held_part}
-        planner.scene.set_obstacles([(b.X, b.size) for b in objects.values()], names=list(objects))
-        carried: list[CupBox] = [(b.X, b.size, n) for n, b in self._scene.attached(self.name).items()]
-        if held is not None and held_part and held.X_CP is not None:
-            # Shrunk by the planner's margin (and 2 mm) on every side: a part held where it
-            # rests (on the floor, on other parts) is not "in collision" with what it rests on.
-            size = runtime.scenario.part_size(held_part) - 2 * (planner.margin + 0.002)
-            carried.append((held.X_CP, max(size, 0.01), f"{held_part} (held)"))
-        if carried:
-            planner.scene.set_cup_boxes(carried)
-        else:
-            planner.scene.clear_held_part()
-        return planner
+
+def _scene_planner(arm: Arm) -> ArmPlanner:
+    """``arm``'s planner with the cell's planning scene (MoveIt's semantics): its boxes
+    as obstacles, named; on the gripper, the held part and the boxes attached to
+    this arm. Loose parts are not obstacles unless added to the scene."""
+    planner = arm.planner
+    runtime = arm._runtime
+    held = runtime.gripper_state(arm.name) if arm.name in runtime.station.grippers else None
+    held_part = held.part if held is not None and held.attached and held.X_CP is not None else ""
+    objects = {n: b for n, b in arm._scene.objects().items() if n != held_part}
+    planner.scene.set_obstacles([(b.X, b.size) for b in objects.values()], names=list(objects))
+    carried: list[CupBox] = [(b.X, b.size, n) for n, b in arm._scene.attached(arm.name).items()]
+    if held is not None and held_part and held.X_CP is not None:
+        # Shrunk by the planner's margin (and 2 mm) on every side: a part held where it
+        # rests (on the floor, on other parts) is not "in collision" with what it rests on.
+        size = runtime.scenario.part_size(held_part) - 2 * (planner.margin + 0.002)
+        carried.append((held.X_CP, max(size, 0.01), f"{held_part} (held)"))
+    if carried:
+        planner.scene.set_cup_boxes(carried)
+    else:
+        planner.scene.clear_held_part()
+    return planner
 
 
 def _joint_goal(target: Sequence[float] | np.ndarray, config: RobotConfig) -> np.ndarray:

@@ -155,6 +155,13 @@ def add_view_command(
         metavar="NAME:=VALUE",
         help="an argument of the file's xacro, or of the --launch file (repeatable)",
     )
+    _add_output_options(p)
+    p.set_defaults(func=cmd_view, launch_description=launch_description, world_description=world_description)
+
+
+def _add_output_options(p: argparse.ArgumentParser) -> None:
+    """What ``view`` writes instead of serving (a listing, a picture, images), its start pose
+    and its timeout."""
     p.add_argument(
         "--json", nargs="?", const="-", metavar="FILE", help="list links, joints, frames, sensors, plugins"
     )
@@ -168,4 +175,3 @@ def add_view_command(
         "--position", action="append", default=[], metavar="JOINT=VALUE", help="a joint's start position"
     )
     p.add_argument("--timeout", type=float, default=math.inf, metavar="S", help="end after S wall seconds")
-    p.set_defaults(func=cmd_view, launch_description=launch_description, world_description=world_description)
