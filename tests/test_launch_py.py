@@ -7,24 +7,16 @@ from __future__ import annotations
 
 import json
 import logging
-import signal
-import subprocess
 import sys
 import textwrap
 from pathlib import Path
-from subprocess import PIPE
 
 import pytest
 from test_ros2 import (
-    PATIENCE,
     SCRIPTS,
-    _dds_files,
-    _end,
-    _leaked_dds_files,
-    _loopback_env,
-    _session_members,
     domain,
     needs_ros2,
+    run_cell_with_node,
 )
 
 from omtp_drake.errors import WorkspaceError
@@ -197,31 +189,9 @@ def test_spawn_entity_of_a_topic_nobody_publishes_is_one_error(tmp_path):
 @needs_ros2
 def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(tmp_path, domain):
     out = tmp_path / "seen.json"
-    env = _loopback_env(domain)
-    shm_before = _dds_files()
-    command = [sys.executable, "-m", "omtp_drake.cli", "ros2", "--launch", LAUNCH]
-    command += ["--workspace", str(TUTORIAL_SRC), "--domain-id", str(domain)]
-    cell = subprocess.Popen(command, env=env, stdout=PIPE, stderr=PIPE, text=True, start_new_session=True)
-    student = subprocess.Popen(
-        [sys.executable, str(SCRIPTS / "joint_names_node.py"), str(out)],
-        env=env,
-        stdout=PIPE,
-        stderr=PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    try:
-        _, student_err = student.communicate(timeout=PATIENCE)
-        cell.send_signal(signal.SIGINT)
-        cell_out, cell_err = cell.communicate(timeout=PATIENCE)
-    finally:
-        _end(student)
-        _end(cell)
-    assert student.returncode == 0, student_err[-3000:]
-    assert cell.returncode == 0, cell_err[-3000:]
+    cell_args = ["--launch", LAUNCH, "--workspace", str(TUTORIAL_SRC)]
+    cell_out, _ = run_cell_with_node(cell_args, [str(SCRIPTS / "joint_names_node.py"), str(out)], domain)
     assert "rsp_sim.launch as node /omtp_cell" in cell_out and "stopped at t=" in cell_out
-    assert not _session_members(cell.pid) and not _session_members(student.pid)
-    assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     seen = json.loads(out.read_text())
     assert seen["names"] == ["slider_joint", "arm_joint"]
     assert len(seen["positions"]) == 2 and all(abs(q) < 10.0 for q in seen["positions"])

@@ -156,41 +156,38 @@ def _end(process: subprocess.Popen) -> None:
     process.wait(timeout=PATIENCE)
 
 
+def run_cell_with_node(cell_args: list[str], node_args: list[str], domain: int) -> tuple[str, str]:
+    """``omtp-drake ros2 CELL_ARGS`` and the node ``python NODE_ARGS`` on ``domain`` (loopback),
+    each in its own session: the node runs to its end, then the cell gets Ctrl-C. Both must
+    exit 0 and leave no process and none of the domain's Fast DDS shared memory behind.
+    Returns the cell's (stdout, stderr)."""
+    env = _loopback_env(domain)
+    shm_before = _dds_files()
+    spawn = dict(env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    cell_command = [sys.executable, "-m", "omtp_drake.cli", "ros2", *cell_args, "--domain-id", str(domain)]
+    cell = subprocess.Popen(cell_command, **spawn)  # type: ignore[call-overload]
+    node = subprocess.Popen([sys.executable, *node_args], **spawn)  # type: ignore[call-overload]
+    try:
+        _, node_err = node.communicate(timeout=PATIENCE)
+        cell.send_signal(signal.SIGINT)  # Ctrl-C
+        cell_out, cell_err = cell.communicate(timeout=PATIENCE)
+    finally:
+        _end(node)
+        _end(cell)
+    assert node.returncode == 0, node_err[-3000:]
+    assert cell.returncode == 0, cell_err[-3000:]
+    assert not _session_members(cell.pid) and not _session_members(node.pid)
+    assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
+    return cell_out, cell_err
+
+
 @needs_ros2
 def test_a_students_rclpy_node_drives_and_watches_the_cell(tmp_path, domain):
     scenario = tmp_path / "rgbd.yaml"
     scenario.write_text(RGBD_SCENARIO)
     out = tmp_path / "seen.json"
-    env = _loopback_env(domain)
-    shm_before = _dds_files()
-    cell = subprocess.Popen(
-        [sys.executable, "-m", "omtp_drake.cli", "ros2", str(scenario), "--domain-id", env["ROS_DOMAIN_ID"]],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    student = subprocess.Popen(
-        [sys.executable, str(SCRIPTS / "student_node.py"), str(out)],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    try:
-        _, student_err = student.communicate(timeout=PATIENCE)
-        cell.send_signal(signal.SIGINT)  # Ctrl-C
-        cell_out, cell_err = cell.communicate(timeout=PATIENCE)
-    finally:
-        _end(student)
-        _end(cell)
-    assert student.returncode == 0, student_err[-3000:]
-    assert cell.returncode == 0, cell_err[-3000:]
-    assert f"ROS_DOMAIN_ID={env['ROS_DOMAIN_ID']}" in cell_out and "stopped at t=" in cell_out
-    assert not _session_members(cell.pid) and not _session_members(student.pid)
-    assert not _leaked_dds_files(shm_before, int(env["ROS_DOMAIN_ID"])), "Fast DDS left shared memory behind"
+    cell_out, _ = run_cell_with_node([str(scenario)], [str(SCRIPTS / "student_node.py"), str(out)], domain)
+    assert f"ROS_DOMAIN_ID={domain}" in cell_out and "stopped at t=" in cell_out
     seen = json.loads(out.read_text())
     _check_clock_and_joints(seen)
     _check_cloud(seen["cloud"], scenario)

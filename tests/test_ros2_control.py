@@ -8,17 +8,11 @@ comes from the broadcaster at the YAML's rate (counted over simulated time)."""
 from __future__ import annotations
 
 import json
-import signal
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
-
-# Fast DDS's shared memory left behind is test_ros2's check (one node, one rule); here other
-# runs' DDS files would race it.
-from test_ros2 import PATIENCE, SCRIPTS, _end, _loopback_env, _session_members, domain, needs_ros2
+from test_ros2 import SCRIPTS, domain, needs_ros2, run_cell_with_node
 
 ROBOT = (
     Path(__file__).parent
@@ -41,33 +35,7 @@ __all__ = ["domain"]  # the fixture, used by name
 @needs_ros2
 def test_a_ros2_control_robot_follows_a_trajectory_and_broadcasts_its_joints(tmp_path, domain):
     out = tmp_path / "seen.json"
-    env = _loopback_env(domain)
-    cell = subprocess.Popen(
-        [sys.executable, "-m", "omtp_drake.cli", "ros2", str(ROBOT), "--domain-id", env["ROS_DOMAIN_ID"]],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    student = subprocess.Popen(
-        [sys.executable, str(SCRIPTS / "ros2_control_node.py"), str(out)],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
-    )
-    try:
-        _, student_err = student.communicate(timeout=PATIENCE)
-        cell.send_signal(signal.SIGINT)
-        _, cell_err = cell.communicate(timeout=PATIENCE)
-    finally:
-        _end(student)
-        _end(cell)
-    assert student.returncode == 0, student_err[-3000:]
-    assert cell.returncode == 0, cell_err[-3000:]
-    assert not _session_members(cell.pid) and not _session_members(student.pid)
+    run_cell_with_node([str(ROBOT)], [str(SCRIPTS / "ros2_control_node.py"), str(out)], domain)
     result = json.loads(out.read_text())
     states = [(t, dict(zip(names, q))) for t, names, q in result["states"]]
     assert all(list(q) == ["shoulder_joint", "slide_joint"] for _, q in states)

@@ -13,22 +13,14 @@ loopback, in a domain of the test's own, and no process is left behind.
 from __future__ import annotations
 
 import json
-import signal
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
 from test_ros2 import (
-    PATIENCE,
-    _dds_files,
-    _end,
-    _leaked_dds_files,
-    _loopback_env,
-    _session_members,
     hold_domain,
     needs_ros2,
+    run_cell_with_node,
 )
 
 SCRIPTS = Path(__file__).parent / "ros2_scripts"
@@ -45,28 +37,8 @@ STATE_PERIOD, CAMERA_PERIOD = 0.05, 0.05
 
 def _ros2(tmp_path: Path, domain: int) -> tuple[dict, str]:
     out = tmp_path / "seen.json"
-    env = _loopback_env(domain)
-    shm_before = _dds_files()
-    command = [sys.executable, "-m", "omtp_drake.cli", "ros2", str(ROBOT), "--realtime"]
-    cell = subprocess.Popen(
-        [*command, "--domain-id", str(domain)],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-    )  # fmt: skip
-    node = subprocess.Popen(
-        [sys.executable, str(SCRIPTS / "tutorial_node.py"), str(out), str(START), str(END)],
-        env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True,
-    )  # fmt: skip
-    try:
-        _, node_err = node.communicate(timeout=PATIENCE)
-        cell.send_signal(signal.SIGINT)
-        cell_out, cell_err = cell.communicate(timeout=PATIENCE)
-    finally:
-        _end(node)
-        _end(cell)
-    assert node.returncode == 0, node_err[-3000:]
-    assert cell.returncode == 0, cell_err[-3000:]
-    assert not _session_members(cell.pid) and not _session_members(node.pid)
-    assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
+    node = [str(SCRIPTS / "tutorial_node.py"), str(out), str(START), str(END)]
+    _, cell_err = run_cell_with_node([str(ROBOT), "--realtime"], node, domain)
     return json.loads(out.read_text()), cell_err
 
 
