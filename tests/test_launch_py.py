@@ -16,6 +16,7 @@ from test_ros2 import (
     SCRIPTS,
     domain,
     needs_ros2,
+    run_cell_until,
     run_cell_with_node,
 )
 
@@ -195,6 +196,37 @@ def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(tmp_path, do
     seen = json.loads(out.read_text())
     assert seen["names"] == ["slider_joint", "arm_joint"]
     assert len(seen["positions"]) == 2 and all(abs(q) < 10.0 for q in seen["positions"])
+
+
+@needs_ros2
+def test_the_launch_starts_the_workspaces_own_rclpy_node_beside_the_cell(tmp_path, domain):
+    """slider_arm_moves' reach.launch.py (a student's ament_python package: its node is a
+    console script of setup.py) includes the tutorial's launch and starts ``reach`` with
+    parameters and a remapping: the node moves the arm and reports the joint states it saw."""
+    report = tmp_path / "reached.json"
+    cell_args = ["--launch", "slider_arm_moves reach.launch.py", "--workspace", str(TUTORIAL_SRC)]
+    out = run_cell_until(
+        [*cell_args, "--arg", f"report:={report}", "--realtime"], "[reach-1] finished", domain
+    )
+    assert "[reach-1] started" in out and "[reach]: sent [0.8, 0.6]" in out, out[-3000:]
+    assert "[reach-1] finished cleanly" in out, out[-3000:]
+    seen = json.loads(report.read_text())
+    assert seen["names"] == ["slider_joint", "arm_joint"]
+    assert seen["positions"] == pytest.approx([0.8, 0.6], abs=0.01)
+
+
+def test_the_workspaces_ros2_node_is_one_warning_where_it_does_not_run(caplog):
+    cell = cell_of(launch="slider_arm_moves reach.launch.py", workspace=TUTORIAL_SRC, with_nodes=True)
+    assert [n.program.entry for n in cell.nodes if n.program] == ["slider_arm_moves.reach:main"]
+    assert cell.ros2_only == [
+        f"{TUTORIAL_SRC}/slider_arm_moves/launch/reach.launch.py:19: "
+        "ROS 2 node slider_arm_moves/reach (/reach) runs under omtp-drake ros2 only"
+    ]
+    node = cell.nodes[0]
+    assert node.argv == (
+        "--ros-args", "-r", "__node:=reach", "-r", "joint_trajectory:=/set_joint_trajectory",
+        "-p", "slider:=0.8", "-p", "arm:=0.6", "-p", 'report:="/tmp/reached.json"',
+    )  # fmt: skip
 
 
 def test_view_launch_shows_the_robot_description_it_publishes(tmp_path):

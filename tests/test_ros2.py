@@ -16,6 +16,7 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
 from collections.abc import Iterator
 from pathlib import Path
 
@@ -179,6 +180,42 @@ def run_cell_with_node(cell_args: list[str], node_args: list[str], domain: int) 
     assert not _session_members(cell.pid) and not _session_members(node.pid)
     assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     return cell_out, cell_err
+
+
+def run_cell_until(cell_args: list[str], until: str, domain: int) -> str:
+    """``omtp-drake ros2 CELL_ARGS`` on ``domain`` (loopback) in its own session until a line
+    of its output holds ``until`` (at most PATIENCE wall seconds), then Ctrl-C: it must exit 0
+    and leave no process (nor any node it started) and none of the domain's Fast DDS shared
+    memory behind. Returns its output (stdout and stderr)."""
+    shm_before = _dds_files()
+    command = [sys.executable, "-m", "omtp_drake.cli", "ros2", *cell_args, "--domain-id", str(domain)]
+    cell = subprocess.Popen(
+        command, env=_loopback_env(domain), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+        start_new_session=True,
+    )  # fmt: skip
+    lines: list[str] = []
+    seen = threading.Event()
+
+    def read() -> None:
+        for line in cell.stdout or ():
+            lines.append(line)
+            if until in line:
+                seen.set()
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        seen.wait(timeout=PATIENCE)
+        cell.send_signal(signal.SIGINT)  # Ctrl-C
+        cell.wait(timeout=PATIENCE)
+        reader.join(timeout=PATIENCE)
+    finally:
+        _end(cell)
+    out = "".join(lines)
+    assert cell.returncode == 0, out[-3000:]
+    assert not _session_members(cell.pid)
+    assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
+    return out
 
 
 @needs_ros2

@@ -16,6 +16,7 @@ Modules (one job each):
 - ``substitutions``: roslaunch's $(arg), $(find), $(env), $(optenv), $(dirname), $(anon), $(eval)
 - ``xml_lines``: XML with each element's line, for errors that name file and line
 - ``nodes``: a launch's nodes mapped to the cell (spawn_model, gzserver, the spawner, the helpers)
+- ``ros2_nodes``: a ROS 2 launch's nodes of the workspace, found as ``ros2 run`` finds them
 - ``controller_spawners``: controller_manager's spawners: which controllers start on which robot
 - ``urdf_model``: a URDF's links as frames (joint tree, link poses) and its <gazebo> tags
 - ``pieces``: the course's pieces in a spawned URDF: arms, grippers, pedestals, bins, the beam

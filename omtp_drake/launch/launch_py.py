@@ -22,6 +22,8 @@ controller_manager ``spawner``,          the controllers it activates
 ``ros2 control load_controller``         (``Launch.controllers``)
 ``joint_state_publisher_gui``,           one info line: the cell does it itself
 ``rviz2``, ``gzclient``
+a Python node of the workspace           started by ``omtp-drake ros2`` as ``ros2 launch``
+                                         would (:mod:`~omtp_drake.launch.ros2_nodes`)
 any other node or process                one warning line: not run by the cell
 =======================================  ==============================================
 
@@ -247,12 +249,13 @@ def _node(launch: Launch, s: Any, workspace: Workspace) -> None:
         _spawner(launch, s, args)
     elif s.package in _CELL_DOES or s.package == "rviz2":
         _log.info("%s: node %s/%s: %s", s.where, s.package, s.executable, _CELL_DOES[s.package])
-    else:
-        own = s.package in workspace.packages
-        launch.warnings.append(
-            f"{s.where}: node {s.package}/{s.executable} ({full}) is not run by the cell"
-            + (" (a node of the workspace: start it yourself, e.g. with ros2 run)" if own else "")
+    elif s.package in workspace.packages:  # the workspace's own: mapped (and started) as ROS 2 nodes
+        remaps = {a: b for a, b in s.remappings}
+        launch.nodes.append(
+            Node(s.package, s.executable, full, s.namespace, shlex.join(args), remaps, s.where, True)
         )
+    else:
+        launch.warnings.append(f"{s.where}: node {s.package}/{s.executable} ({full}) is not run by the cell")
 
 
 #: spawn_entity.py's options that take a value and are passed on as they are.

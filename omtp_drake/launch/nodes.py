@@ -32,7 +32,7 @@ import shlex
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Optional
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -40,6 +40,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.cell.conveyor import BeltGeometry
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.pieces import Pieces, add_urdf_model
+from omtp_drake.launch.ros2_nodes import Ros2NodeProgram, find_program, ros_arguments
 from omtp_drake.launch.roslaunch import Launch, Node, get_param
 from omtp_drake.launch.sdf_world import read_world, sdf_version, strip_strays, world_model
 from omtp_drake.launch.urdf_model import UrdfModel
@@ -87,6 +88,8 @@ class NodeMapping:
     scripts: list[NodeScript] = field(default_factory=list)
     #: Nodes that run only under ros-run (a warning line for the other commands).
     ros_only: list[str] = field(default_factory=list)
+    #: ROS 2 nodes that run only under ``omtp-drake ros2`` (a warning line for the others).
+    ros2_only: list[str] = field(default_factory=list)
     #: The URDF models spawn_model placed so far: name -> link -> X_WL (for -reference_frame).
     placed: dict[str, dict[str, RigidTransform]] = field(default_factory=dict)
 
@@ -100,6 +103,8 @@ class NodeScript:
     argv: tuple[str, ...]
     #: The scenario flag (``section.key``) that does this node's job without ROS ('' for none).
     replaces: str = ""
+    #: A ROS 2 node: how ``omtp-drake ros2`` starts it (None: a ROS 1 node, for ros-run).
+    program: Optional[Ros2NodeProgram] = None
 
 
 def _node_script(node: Node, launch: Launch, workspace: Workspace) -> NodeScript | None:
@@ -107,6 +112,11 @@ def _node_script(node: Node, launch: Launch, workspace: Workspace) -> NodeScript
     Its private parameters (the launch's ``<param>``/``<rosparam>`` inside the node) go on
     its command line as ``_name:=value`` (rospy puts those under ``~`` too)."""
     folder = workspace.packages.get(node.pkg)
+    if folder is not None and node.ros2:
+        program = find_program(folder, node.type)
+        if program is None:
+            return None
+        return NodeScript(program.path, ros_arguments(node, _private(launch, node)), "", program)
     if folder is None or not node.type.endswith(".py"):
         return None
     found = sorted(p for p in folder.rglob(node.type) if p.is_file())
@@ -116,13 +126,17 @@ def _node_script(node: Node, launch: Launch, workspace: Workspace) -> NodeScript
     if node.namespace.strip("/"):
         argv.append(f"__ns:={node.namespace}")
     argv += [f"{k}:={v}" for k, v in node.remaps.items()]
+    argv += [f"_{k}:={json.dumps(v)}" for k, v in _private(launch, node).items()]
+    return NodeScript(found[0], tuple(argv), COURSE_HELPERS.get((node.pkg, node.type), ""))
+
+
+def _private(launch: Launch, node: Node) -> dict[str, Any]:
+    """The node's private parameters (the launch's ``<param>``/``<rosparam>`` inside it)."""
     try:
         private = get_param(launch.params, node.name)
     except KeyError:
-        private = {}
-    if isinstance(private, dict):
-        argv += [f"_{k}:={json.dumps(v)}" for k, v in private.items()]
-    return NodeScript(found[0], tuple(argv), COURSE_HELPERS.get((node.pkg, node.type), ""))
+        return {}
+    return private if isinstance(private, dict) else {}
 
 
 def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
@@ -151,6 +165,10 @@ def _other_node(out: NodeMapping, node: Node, launch: Launch, workspace: Workspa
         out.stop_node = True
     elif flag == "conveyor.stop_on_beam":
         out.stop_on_beam = True
+    elif script is not None and script.program is not None:
+        out.ros2_only.append(
+            f"{node.where}: ROS 2 node {node.pkg}/{node.type} ({node.name}) runs under omtp-drake ros2 only"
+        )
     elif script is not None:
         out.ros_only.append(
             f"{node.where}: node {node.pkg}/{node.type} ({node.name}) runs under ros-run and flexbe-run only"

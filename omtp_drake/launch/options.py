@@ -189,8 +189,8 @@ def resolve_cell_options(args: argparse.Namespace, warn: Optional[Callable[[str]
     another process, ``args.cell_file`` or an isolated run's ``args.sandbox``: the scenario's
     name or file as given, or a file written for it that lives as long as the command);
     ``args.moveit_config`` the launch's own MoveIt config, unless given; ``args.nodes`` (a
-    command that runs a launch's nodes in its session) those nodes. Each warning line goes
-    to ``warn`` (default: the log)."""
+    command that runs a launch's nodes in its session) the ROS 1 nodes, ``args.ros2_nodes``
+    (``ros2``) the workspace's ROS 2 nodes. Each warning line goes to ``warn`` (default: the log)."""
     if not hasattr(args, "cell_workspace_option"):
         return  # a command that takes no cell (add_cell_options was not called on its parser)
     positional, option = getattr(args, "scenario", None), args.scenario_option
@@ -211,10 +211,14 @@ def resolve_cell_options(args: argparse.Namespace, warn: Optional[Callable[[str]
         with_nodes=with_nodes,
         strict_workspace=args.cell_workspace_option,
     )
-    for line in cell.warnings + ([] if with_nodes else cell.ros_only):
+    with_ros2_nodes = getattr(args, "ros2_nodes", None) is not None
+    not_run = ([] if with_nodes else cell.ros_only) + ([] if with_ros2_nodes else cell.ros2_only)
+    for line in cell.warnings + not_run:
         (warn or _log.warning)(line)
     if with_nodes:
-        args.nodes = [(node.path, node.argv) for node in cell.nodes]
+        args.nodes = [(node.path, node.argv) for node in cell.nodes if node.program is None]
+    if with_ros2_nodes:
+        args.ros2_nodes = [node for node in cell.nodes if node.program is not None]
     if cell.moveit_config is not None and getattr(args, "moveit_config", "absent") is None:
         args.moveit_config = str(cell.moveit_config)
     args.scenario = cell.scenario

@@ -53,6 +53,8 @@ class OwnCell:
     ros_only: list[str] = field(default_factory=list)
     #: The ros2_control controllers a ROS 2 launch's spawners activate (for the ros2_control layer).
     controllers: list[str] = field(default_factory=list)
+    #: The lines to warn with where the workspace's ROS 2 nodes do not run (all but ``ros2``).
+    ros2_only: list[str] = field(default_factory=list)
 
     def write(self, folder: str | os.PathLike, *, with_nodes: bool = False) -> Path:
         """The scenario as a YAML file in ``folder`` (for the commands that take a file).
@@ -147,6 +149,7 @@ def own_cell(
         mapping.scripts,
         mapping.ros_only,
         controllers,
+        mapping.ros2_only,
     )
 
 

@@ -62,6 +62,8 @@ class Node:
     remaps: Mapping[str, str]
     #: ``file:line`` of the ``<node>`` tag.
     where: str
+    #: A node of a ROS 2 launch file (``launch_ros``' ``Node``: ROS 2's command line).
+    ros2: bool = False
 
     def resolve(self, name: str) -> str:
         """``name`` as this node resolves it (relative names in its namespace)."""

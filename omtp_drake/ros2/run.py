@@ -12,16 +12,19 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import os
 import signal
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Optional
 
 from omtp_drake.errors import check_duration
 from omtp_drake.launch.options import add_cell_options
+from omtp_drake.launch.ros2_nodes import Ros2NodeProgram
 from omtp_drake.ros.run.command import add_shared_options, print_line
+from omtp_drake.ros2.launched_nodes import launched_nodes
 from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:
@@ -46,6 +49,8 @@ class Ros2RunOptions:
         urdf: also write the URDF the node publishes to this file (for a peer's
             robot_state_publisher, which reads it as a parameter).
         bag: record every topic into this ROS 2 bag (``.mcap``).
+        nodes: the launch's own ROS 2 nodes (a program and its arguments each), run beside
+            the cell while it runs (:mod:`~omtp_drake.ros2.launched_nodes`).
     """
 
     scenario: Scenario | str
@@ -55,6 +60,7 @@ class Ros2RunOptions:
     meshcat: bool = False
     urdf: Optional[str] = None
     bag: Optional[str] = None
+    nodes: Sequence[tuple[Ros2NodeProgram, Sequence[str]]] = ()
 
     def __post_init__(self) -> None:
         if self.timeout is not None:
@@ -123,9 +129,10 @@ def run_ros2(options: Ros2RunOptions, network: Ros2Network, say: Callable[[str],
                 # Realtime pacing counts from here, not from when the cell was built.
                 cell.runtime.simulator.ResetStatistics()
                 end = options.timeout
-                while not stop.is_set() and (end is None or cell.time < end - 1e-9):
-                    node.step(min(0.01, end - cell.time) if end is not None else 0.01)
-                say(f"omtp-drake ros2: stopped at t={cell.time:.2f} s (simulated)")
+                with launched_nodes(options.nodes, {**os.environ, **network.environment()}, say):
+                    while not stop.is_set() and (end is None or cell.time < end - 1e-9):
+                        node.step(min(0.01, end - cell.time) if end is not None else 0.01)
+                    say(f"omtp-drake ros2: stopped at t={cell.time:.2f} s (simulated)")
                 return cell.time
 
 
@@ -138,6 +145,7 @@ def cmd_ros2(args: argparse.Namespace) -> int:
         meshcat=args.meshcat,
         urdf=args.urdf,
         bag=args.bag,
+        nodes=[(node.program, node.argv) for node in args.ros2_nodes if node.program is not None],
     )
     run_ros2(options, choose_network(args.domain_id, subnet=args.network), print_line)
     return 0
@@ -174,4 +182,4 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="let DDS discovery reach other machines of the local network (default: this machine only)",
     )
-    p.set_defaults(func=cmd_ros2)
+    p.set_defaults(func=cmd_ros2, ros2_nodes=[])
