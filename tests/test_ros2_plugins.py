@@ -86,3 +86,41 @@ def test_the_course_types_are_on_the_ros2_graph(runs):
 def test_a_power_outside_0_100_is_refused_on_ros1(runs):
     _, ros1 = runs
     assert ros1["bad_power"] is False
+
+
+@needs_ros2
+def test_the_course_type_mirrors_write_ros2s_bytes():
+    """Each Cyclone mirror of an ``omtp_gazebo`` message serializes to the bytes ROS 2's CDR
+    gives its ``.msg`` definition (mcap-ros2-support's encoder of the course's text, as a bag
+    stores it): what a ROS 2 node with the type reads."""
+    from mcap_ros2._dynamic import serialize_dynamic
+
+    from omtp_drake.gazebo.proximity_ray import Proximity
+    from omtp_drake.gazebo.vacuum_gripper import VacuumGripperState
+    from omtp_drake.ros.bag.definitions import concatenated
+    from omtp_drake.ros.bag.ros1 import ros2_text
+    from omtp_drake.ros.comm import interfaces  # noqa: F401  (declares the course's types)
+    from omtp_drake.ros2.course_topics import COURSE_TYPES
+    from omtp_drake.ros2.course_types import ros_type
+
+    cases = [
+        (VacuumGripperState(1.25, True, False), {"enabled": True, "attached": False}),
+        (
+            Proximity(1.8, "break_beam_sensor_frame", True, 0.1, 0.6),
+            {
+                "header": {
+                    "stamp": {"sec": 1, "nanosec": 800_000_000},
+                    "frame_id": "break_beam_sensor_frame",
+                },
+                "object_detected": True,
+                "min_range": 0.1,
+                "max_range": 0.6,
+            },
+        ),
+    ]
+    for message, fields in cases:
+        kind = COURSE_TYPES[type(message)]
+        name = ros_type(kind.mirror)
+        encode = serialize_dynamic(name, concatenated(name, ros2_text))[name]
+        assert kind.convert(message).serialize(use_version_2=False) == encode(fields), name
+        assert kind.data(message) == encode(fields), name
