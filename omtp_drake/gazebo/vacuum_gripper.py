@@ -58,34 +58,43 @@ def gripper_plugins(cell: Cell) -> dict[str, str]:
     return plugins
 
 
+class VacuumGripperPlugin:
+    """The plugin ``name`` (``gripperN``) of ``robot``'s gripper on ``cell``."""
+
+    def __init__(self, cell: Cell, robot: str, name: str):
+        self._gripper = cell.gripper(robot)
+        self.name = name
+
+    def state(self, t: float) -> VacuumGripperState:
+        state = self._gripper.state()
+        return VacuumGripperState(t, bool(state.enabled), bool(state.attached))
+
+    def control(self, request: VacuumGripperControl) -> ServiceReply:
+        self._gripper.on() if request.enable else self._gripper.off()
+        held = f"; holding {self._gripper.part}" if self._gripper.attached else ""
+        return ServiceReply(True, f"vacuum {'on' if request.enable else 'off'}{held}")
+
+    def publication(self) -> Publication:
+        """``/gripperN/state``."""
+        return Publication(
+            f"/{self.name}/state", VacuumGripperState, Periodic(STATE_PERIOD, self.state), plugin=self.name
+        )
+
+    def service(self) -> PluginService:
+        """``/gripperN/control``."""
+        return PluginService(f"/{self.name}/control", VacuumGripperControl, self.control, plugin=self.name)
+
+
+def vacuum_grippers(cell: Cell) -> list[VacuumGripperPlugin]:
+    """The gripper plugins of ``cell``."""
+    return [VacuumGripperPlugin(cell, robot, name) for robot, name in gripper_plugins(cell).items()]
+
+
 def gripper_publications(cell: Cell) -> list[Publication]:
     """``/gripperN/state`` of every gripper plugin of ``cell``."""
-    out = []
-    for robot, plugin in gripper_plugins(cell).items():
-        gripper = cell.gripper(robot)
-
-        def message(t: float, gripper=gripper) -> VacuumGripperState:
-            state = gripper.state()
-            return VacuumGripperState(t, bool(state.enabled), bool(state.attached))
-
-        out.append(
-            Publication(
-                f"/{plugin}/state", VacuumGripperState, Periodic(STATE_PERIOD, message), plugin=plugin
-            )
-        )
-    return out
+    return [plugin.publication() for plugin in vacuum_grippers(cell)]
 
 
 def gripper_services(cell: Cell) -> list[PluginService]:
     """``/gripperN/control`` of every gripper plugin of ``cell``."""
-    out = []
-    for robot, plugin in gripper_plugins(cell).items():
-        gripper = cell.gripper(robot)
-
-        def control(request: VacuumGripperControl, gripper=gripper) -> ServiceReply:
-            gripper.on() if request.enable else gripper.off()
-            held = f"; holding {gripper.part}" if gripper.attached else ""
-            return ServiceReply(True, f"vacuum {'on' if request.enable else 'off'}{held}")
-
-        out.append(PluginService(f"/{plugin}/control", VacuumGripperControl, control, plugin=plugin))
-    return out
+    return [plugin.service() for plugin in vacuum_grippers(cell)]
