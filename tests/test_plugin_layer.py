@@ -93,7 +93,13 @@ def test_no_plugin_rate_frame_or_encoding_is_written_twice():
         for name, value in _constants(tree).items()
         if RULE_NAME.search(name)
     }
-    assert {"JOINT_STATE_RATE_HZ", "COLOR_ENCODING", "DEPTH_ENCODING", "OPTICAL_FRAME"} <= set(rules)
+    assert {
+        "JOINT_STATE_RATE_HZ",
+        "COLOR_ENCODING",
+        "DEPTH_ENCODING",
+        "OPTICAL_FRAME",
+        "STATE_PERIOD",
+    } <= set(rules)
     twice = []
     for path in sorted(PACKAGE.rglob("*.py")):
         tree = _tree(path)
@@ -112,3 +118,37 @@ def test_the_rule_reader_finds_a_rule():
     tree = ast.parse('FOO_RATE_HZ = 50.0\nX: str = "rgb8"\nclass Periodic: pass\n')
     assert RULE_NAME.search("FOO_RATE_HZ") and _constants(tree) == {"FOO_RATE_HZ": 50.0, "X": "rgb8"}
     assert "rgb8" in _strings(tree) and "Periodic" in _classes(tree)
+
+
+#: The ROS 1 shim's modules that served the gripper, belt and beam before the layer did.
+SHIM_MODULES = [PACKAGE / "ros/gazebo/sensor_topics.py", PACKAGE / "ros/gazebo/cell_services.py"]
+#: What the course's gripper, belt and beam plugins name: their topics, services and frame.
+COURSE_PLUGIN_NAMES = ("break_beam", "conveyor/control", "gripper")
+
+
+def _code_strings(tree: ast.Module) -> set[str]:
+    """The string constants of ``tree`` but its docstrings (and other bare string statements)."""
+    bare = {id(n.value) for n in ast.walk(tree) if isinstance(n, ast.Expr)}
+    return {
+        n.value
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in bare
+    }
+
+
+@pytest.mark.parametrize("path", TRANSPORTS + SHIM_MODULES, ids=lambda p: p.relative_to(PACKAGE).as_posix())
+def test_the_gripper_belt_and_beam_are_the_layers(path):
+    """The course's vacuum gripper, conveyor and break beam: their names, frames, rates and
+    limits are written in ``omtp_drake/gazebo/`` only (vacuum_gripper, conveyor,
+    proximity_ray); a transport gives them types (and ROS 2 its ``std_msgs`` views' names,
+    made from the layer's topic names), and the shim's own copies are gone."""
+    from omtp_drake.gazebo import conveyor
+
+    tree = _tree(path)
+    names = {s for s in _code_strings(tree) if " " not in s}  # a topic, service or frame: no prose
+    named = sorted(s for s in names if any(name in s for name in COURSE_PLUGIN_NAMES))
+    assert not named, f"{path.name} names the plugins' topics or frames {named}: the layer's"
+    numbers = {n.value for n in ast.walk(tree) if isinstance(n, ast.Constant) and isinstance(n.value, float)}
+    assert conveyor.MAX_POWER not in numbers, f"{path.name} writes the belt's power limit"
+    assert not _classes(tree) & {"BreakBeamSource", "GripperStateSource"}
+    assert "_gripper_services" not in {n.name for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)}

@@ -10,12 +10,17 @@ where the two branches differ, the module says which one is followed and why.
 
 Modules, one plugin each:
 
-- ``messages``: the neutral messages (joint states, images, camera info, clouds, trajectories)
+- ``messages``: the neutral messages (joint states, images, camera info, clouds, trajectories);
+  a plugin of the course's own types declares its messages in its module
 - ``schedule``: the one periodic scheduler and a publication (topic, message type, poll)
 - ``joint_states``: ``gazebo_ros_joint_state_publisher`` and the arms' joint states (50 Hz)
 - ``camera``: ``gazebo_ros_camera`` (camera and depth), and the logical cameras' RGB-D views
 - ``joint_pose_trajectory``: ``gazebo_ros_joint_pose_trajectory``: what a trajectory request gets
 - ``logical_camera``: the course's logical camera plugin: ``/omtp/<camera>``, every model in view
 - ``parts``: the parts in the world as ground truth (ROS 2's ``/omtp/parts``)
+- ``services``: what a plugin serves: a service's name, neutral request and reply
+- ``vacuum_gripper``: the course's vacuum gripper plugin: ``/gripperN/state`` and ``/gripperN/control``
+- ``conveyor``: the course's conveyor belt plugin: ``/omtp/conveyor/control`` (belt power)
+- ``proximity_ray``: the course's break beam: ``/break_beam_sensor`` and ``/break_beam_sensor_change``
 - ``plugins``: every plugin of a loaded cell: its publications, subscriptions and warnings
 """

@@ -16,9 +16,13 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from omtp_drake.gazebo.camera import camera_publications, camera_views
+from omtp_drake.gazebo.conveyor import conveyor_services
 from omtp_drake.gazebo.joint_pose_trajectory import trajectory_plugins
 from omtp_drake.gazebo.joint_states import arm_joint_states, joint_state_publisher
+from omtp_drake.gazebo.proximity_ray import beam_publications
 from omtp_drake.gazebo.schedule import Publication, Subscription
+from omtp_drake.gazebo.services import PluginService
+from omtp_drake.gazebo.vacuum_gripper import gripper_publications, gripper_services
 
 if TYPE_CHECKING:
     from omtp_drake.scenario import Scenario
@@ -27,10 +31,11 @@ if TYPE_CHECKING:
 
 @dataclass
 class GazeboPlugins:
-    """The publications and subscriptions of a cell's plugins."""
+    """The publications, subscriptions and services of a cell's plugins."""
 
     publications: list[Publication] = field(default_factory=list)
     subscriptions: list[Subscription] = field(default_factory=list)
+    services: list[PluginService] = field(default_factory=list)
     warnings: list[str] = field(default_factory=list)
 
 
@@ -44,6 +49,8 @@ def gazebo_plugins(cell: Cell) -> GazeboPlugins:
     for view in camera_views(cell):
         out.publications += camera_publications(cell, view)
     out.subscriptions = [plugin.subscription() for plugin in trajectory_plugins(cell)]
+    out.publications += gripper_publications(cell) + beam_publications(cell)
+    out.services += gripper_services(cell) + conveyor_services(cell)
     out.warnings = unknown_plugins(cell.scenario)
     return out
 

@@ -69,6 +69,8 @@ class Publication:
     lazy: bool = False
     #: The plugin that publishes it (for logs and the transports' tables).
     plugin: str = ""
+    #: A late subscriber gets the last message (ROS 1's latch, ROS 2's transient local).
+    latched: bool = False
 
 
 @dataclass(frozen=True)

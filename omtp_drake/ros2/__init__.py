@@ -9,7 +9,8 @@ In simulated time: ``/clock``, ``/robot_description`` (latched, as robot_state_p
 publishes it), the plugins' topics (joint states, cameras' ``image_raw``,
 ``camera_info``, ``depth/image_raw`` and ``points``) and ``set_joint_trajectory``
 subscriptions, the logical cameras and the parts as poses and rviz2 markers; the
-grippers and the belt as ``std_srvs/SetBool`` services. ``/tf`` and ``/tf_static`` as
+grippers and the belt as ``std_srvs/SetBool`` services; the grippers' state and the break
+beam in the course's types (Cyclone DDS) and as ``std_msgs/Bool``. ``/tf`` and ``/tf_static`` as
 robot_state_publisher publishes them, and ``/gazebo/model_states``: no ``tf2_msgs`` (nor
 ``gazebo_msgs``) wheel is on PyPI, the wheels there ship no C headers to build one against,
 and rclpy has no runtime type support in Python, so Cyclone DDS writes them beside rclpy
@@ -21,6 +22,8 @@ Modules (one job each):
 - ``messages``: the Gazebo plugin layer's messages as ROS 2 messages, and the clock and markers
 - ``topics``: the topics the cell publishes (the plugin layer's, by ROS 2 names and QoS)
 - ``commands``: the plugins' trajectory topics and the services a peer calls, run between steps
+- ``course_types``: the course's ``omtp_gazebo`` messages (gripper state, proximity) as Cyclone DDS mirrors
+- ``course_topics``: the plugins' topics of those types (Cyclone) and their ``std_msgs/Bool`` views (rclpy)
 - ``ros2_control``: gazebo_ros2_control's controller topics (joint_trajectory, commands, joint_states)
 - ``dds_types``: the types rclpy lacks (tf2_msgs, gazebo_msgs) as Cyclone DDS mirrors, and Cyclone's config
 - ``cdr``: ``/tf`` and ``/gazebo/model_states`` packed as the mirrors' XCDR1 bytes, in one ``struct`` call

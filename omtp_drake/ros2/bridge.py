@@ -29,6 +29,7 @@ from omtp_drake.gazebo.schedule import Periodic
 from omtp_drake.ros.moveit.description import robot_description
 from omtp_drake.ros2.bag import record_publishers
 from omtp_drake.ros2.commands import CellCommands
+from omtp_drake.ros2.course_topics import CourseTopics
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
 from omtp_drake.ros2.ros2_control import Ros2Control
 from omtp_drake.ros2.tf_publisher import TfTopics
@@ -89,7 +90,8 @@ class Ros2Cell:
             for line in plugins.warnings:
                 _log.warning(line)
             self.topics = CellTopics(self.node, cell, plugins, self.description)
-            self.commands = CellCommands(self.node, cell, plugins.subscriptions)
+            self.commands = CellCommands(self.node, cell, plugins.subscriptions, plugins.services)
+            self._course_topics = CourseTopics(self.node, network, plugins.publications, bag)
             self.control = Ros2Control(self.node, cell)
             # /tf, /tf_static, /gazebo/model_states over Cyclone DDS (omtp_drake.ros2.tf_publisher),
             # at the joint states' rate, as robot_state_publisher follows /joint_states
@@ -104,6 +106,7 @@ class Ros2Cell:
         self._thread.start()
         self._closed = False
         self.topics.publish(cell.time)
+        self._course_topics(cell.time)
         self.control.publish(cell.time)
         self.tf(cell.time)
 
@@ -122,6 +125,7 @@ class Ros2Cell:
         self.control.run_pending()
         self.cell.runtime.advance_to(self.cell.time + dt)
         self.topics.publish(self.cell.time)
+        self._course_topics(self.cell.time)
         self.control.publish(self.cell.time)
         self.tf(self.cell.time)
 
@@ -134,6 +138,7 @@ class Ros2Cell:
         self._executor.shutdown(timeout_sec=2.0)
         self.node.destroy_node()
         self._tf_topics.close()
+        self._course_topics.close()
         self._context.try_shutdown()
         self._thread.join(timeout=5.0)
 

@@ -1,4 +1,5 @@
-"""What a ROS 2 peer can tell the cell: the models' trajectory plugins, the grippers and the belt.
+"""What a ROS 2 peer can tell the cell: the plugins' subscriptions and services
+(:func:`omtp_drake.gazebo.plugins.gazebo_plugins`), by ROS 2 types.
 
 ==============================  ==================================  =======================================
 name                            type                                does
@@ -7,7 +8,7 @@ name                            type                                does
                                                                     (topic; see ``omtp_drake.gazebo``)
 ``/gripperN/control``           ``std_srvs/SetBool``                vacuum on (``data: true``) / off
 ``/omtp/conveyor/control``      ``std_srvs/SetBool``                belt on at parameter ``conveyor_power``
-                                                                    (0-100, default 100) / off
+                                                                    (0-100, default full power) / off
 ==============================  ==================================  =======================================
 
 The course's own service types (``omtp_gazebo/VacuumGripperControl``,
@@ -15,7 +16,9 @@ The course's own service types (``omtp_gazebo/VacuumGripperControl``,
 type's package to call a service; ``std_srvs/SetBool`` has the same request (one
 flag; the belt's power is the node's parameter ``conveyor_power``, ``ros2 param
 set /omtp_cell conveyor_power 50``) and answers ``success`` as the course's do,
-with a ``message`` saying what happened (a gripper's held part).
+with the plugin's ``message`` saying what happened (a gripper's held part). What a
+request gets is the plugin's (:mod:`omtp_drake.gazebo.vacuum_gripper`,
+:mod:`omtp_drake.gazebo.conveyor`).
 
 rclpy runs the callbacks on its executor thread; the cell runs on the caller's. A
 callback hands its work to the cell's thread (:meth:`CellCommands.run_pending`,
@@ -32,26 +35,30 @@ from concurrent.futures import Future
 from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import OmtpError
+from omtp_drake.gazebo import conveyor, vacuum_gripper
 from omtp_drake.gazebo.schedule import Subscription
+from omtp_drake.gazebo.services import PluginService, ServiceReply
 from omtp_drake.ros2 import messages
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
-#: The belt's power when ``/omtp/conveyor/control`` switches it on and the parameter is unset.
-DEFAULT_CONVEYOR_POWER = 100.0
+#: The node's parameter of the belt's power when ``/omtp/conveyor/control`` switches it on.
+CONVEYOR_POWER = "conveyor_power"
+#: The plugins' requests served as ``std_srvs/SetBool`` (the course's types have no ROS 2 package).
+SET_BOOL_REQUESTS = (vacuum_gripper.VacuumGripperControl, conveyor.ConveyorBeltControl)
 
 
 class CellCommands:
     """The subscriptions and services above on ``node`` for ``cell``; ``subscriptions``
-    are its Gazebo plugins' (:func:`omtp_drake.gazebo.plugins.gazebo_plugins`)."""
+    and ``services`` are its Gazebo plugins' (:func:`omtp_drake.gazebo.plugins.gazebo_plugins`)."""
 
-    def __init__(self, node: Any, cell: Cell, subscriptions: list[Subscription]):
+    def __init__(
+        self, node: Any, cell: Cell, subscriptions: list[Subscription], services: list[PluginService]
+    ):
         from rcl_interfaces.msg import ParameterDescriptor
         from std_srvs.srv import SetBool
         from trajectory_msgs.msg import JointTrajectory
-
-        from omtp_drake.ros.gazebo.cell_services import gripper_plugins
 
         self._node = node
         self._cell = cell
@@ -62,14 +69,15 @@ class CellCommands:
             node.create_subscription(
                 JointTrajectory, subscription.topic, self._on_trajectory(subscription), 1
             )
-        for robot, plugin in gripper_plugins(cell).items():
-            node.create_service(SetBool, f"/{plugin}/control", self._gripper_service(robot))
-        if cell.station.conveyor is not None:
-            # Dynamic typing: `ros2 param set /omtp_cell conveyor_power 50` sends an integer.
-            node.declare_parameter(
-                "conveyor_power", DEFAULT_CONVEYOR_POWER, ParameterDescriptor(dynamic_typing=True)
-            )
-            node.create_service(SetBool, "/omtp/conveyor/control", self._conveyor_service)
+        for service in services:
+            if service.request not in SET_BOOL_REQUESTS:
+                continue  # served with a type of its own elsewhere in this package
+            if service.request is conveyor.ConveyorBeltControl:
+                # Dynamic typing: `ros2 param set /omtp_cell conveyor_power 50` sends an integer.
+                node.declare_parameter(
+                    CONVEYOR_POWER, conveyor.MAX_POWER, ParameterDescriptor(dynamic_typing=True)
+                )
+            node.create_service(SetBool, service.name, self._set_bool_service(service))
 
     # ------------------------------------------------------------ the cell's thread
 
@@ -95,9 +103,9 @@ class CellCommands:
 
         return receive
 
-    def _call(self, work: Callable[[], str]) -> tuple[bool, str]:
+    def _call(self, work: Callable[[], ServiceReply]) -> tuple[bool, str]:
         """Runs ``work`` on the cell's thread; (success, its message) when it is done."""
-        done: Future[str] = Future()
+        done: Future[ServiceReply] = Future()
 
         def run() -> None:
             try:
@@ -108,40 +116,37 @@ class CellCommands:
         self._work.put(run)
         while not self._stopped.is_set():
             try:
-                return True, done.result(timeout=0.1)
+                reply = done.result(timeout=0.1)
+                return reply.success, reply.message
             except TimeoutError:
                 continue
             except OmtpError as e:
                 return False, str(e)
         return False, "the cell stopped"
 
-    def _gripper_service(self, robot: str) -> Callable[[Any, Any], Any]:
-        gripper = self._cell.gripper(robot)
+    def _set_bool_service(self, service: PluginService) -> Callable[[Any, Any], Any]:
+        """``std_srvs/SetBool`` for ``service``: its request read as the plugin's, the plugin's
+        reply answered."""
 
-        def control(request: Any, response: Any) -> Any:
-            def switch() -> str:
-                gripper.on() if request.data else gripper.off()
-                held = f"; holding {gripper.part}" if gripper.attached else ""
-                return f"vacuum {'on' if request.data else 'off'}{held}"
+        def serve(request: Any, response: Any) -> Any:
+            neutral = self._neutral_request(service.request, bool(request.data))
+            if isinstance(neutral, str):
+                response.success, response.message = False, neutral
+                return response
 
-            response.success, response.message = self._call(switch)
+            def run() -> ServiceReply:
+                return service.handler(neutral)
+
+            response.success, response.message = self._call(run)
             return response
 
-        return control
+        return serve
 
-    def _conveyor_service(self, request: Any, response: Any) -> Any:
-        value = self._node.get_parameter("conveyor_power").value
-        if request.data and not isinstance(value, (int, float)):
-            response.success, response.message = (
-                False,
-                f"parameter conveyor_power must be a number, got {value!r}",
-            )
-            return response
-        power = float(value) if request.data else 0.0
-
-        def switch() -> str:
-            self._cell.set_conveyor_power(power)
-            return f"conveyor power {power:g}"
-
-        response.success, response.message = self._call(switch)
-        return response
+    def _neutral_request(self, request_type: type, data: bool) -> Any:
+        """SetBool's ``data`` as the plugin's request (a str: why it cannot be)."""
+        if request_type is conveyor.ConveyorBeltControl:
+            value = self._node.get_parameter(CONVEYOR_POWER).value
+            if data and (isinstance(value, bool) or not isinstance(value, (int, float))):
+                return f"parameter {CONVEYOR_POWER} must be a number, got {value!r}"
+            return conveyor.ConveyorBeltControl(float(value) if data else 0.0)
+        return vacuum_gripper.VacuumGripperControl(data)

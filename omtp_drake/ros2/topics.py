@@ -15,10 +15,12 @@ the plugins' topics                           (above)                           
 ``/omtp/<camera>/poses``                      ``geometry_msgs/PoseArray``                each image
 ``/omtp/<camera>/markers``                    ``visualization_msgs/MarkerArray``         each image
 ``/omtp/logical_camera/poses``, ``/markers``  the single camera's, the same              each image
-``/gripperN/attached``                        ``std_msgs/Bool``                          every step
 ``/omtp/parts/poses``                         ``geometry_msgs/PoseArray``                the parts' rate
 ``/omtp/parts/markers``                       ``visualization_msgs/MarkerArray``         the parts' rate
 ============================================  =========================================  ==============
+
+The plugins' topics of the course's own types (the grippers' state, the break beam) are
+:mod:`omtp_drake.ros2.course_topics`'.
 
 The ``/omtp/<camera>`` topics are the logical camera plugin's
 (:mod:`omtp_drake.gazebo.logical_camera`: every Gazebo model in view, as the course's
@@ -82,11 +84,10 @@ class CellTopics:
     def __init__(self, node: Any, cell: Cell, plugins: GazeboPlugins, description: str):
         from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         from rosgraph_msgs.msg import Clock
-        from std_msgs.msg import Bool, String
+        from std_msgs.msg import String
 
         from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications
         from omtp_drake.gazebo.parts import parts_publication
-        from omtp_drake.ros.gazebo.cell_services import gripper_plugins
 
         self._cell = cell
         self._clock = node.create_publisher(Clock, "/clock", QUEUE_S * 100)
@@ -95,14 +96,9 @@ class CellTopics:
         )
         self._description = node.create_publisher(String, "/robot_description", latched)
         self._description.publish(String(data=description))
-        self._due: list[Any] = [PluginPublisher(node, p) for p in plugins.publications]
-        self._grippers = {
-            robot: node.create_publisher(Bool, f"/{plugin}/attached", 10)
-            for robot, plugin in gripper_plugins(cell).items()
-        }
-        self._bool = Bool
-        if self._grippers:
-            self._due.append(self._publish_grippers)
+        self._due: list[Any] = [
+            PluginPublisher(node, p) for p in plugins.publications if p.message in messages.TYPES
+        ]
         self._due.append(PartsTopics(node, parts_publication(cell)))
         # Polled every step: each new image goes out at the first step after its sample.
         views = camera_views(cell)
@@ -113,11 +109,6 @@ class CellTopics:
         self._clock.publish(messages.clock(t))
         for due in self._due:
             due(t)
-
-    def _publish_grippers(self, t: float) -> None:
-        """Each gripper's ``attached``, once per step (as the shim's ``/gripperN/state``)."""
-        for robot, publisher in self._grippers.items():
-            publisher.publish(self._bool(data=self._cell.gripper(robot).attached))
 
 
 class LogicalCameraTopics:

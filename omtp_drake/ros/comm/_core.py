@@ -14,12 +14,16 @@ from omtp_drake.cell.gazebo_models import gazebo_models
 from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
+from omtp_drake.gazebo import conveyor as plugin_conveyor
 from omtp_drake.gazebo import messages as gazebo_messages
+from omtp_drake.gazebo import proximity_ray as plugin_proximity_ray
+from omtp_drake.gazebo import vacuum_gripper as plugin_gripper
 from omtp_drake.gazebo.joint_states import JOINT_STATE_RATE_HZ
 from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications, single_camera
 from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.gazebo.schedule import topic as gazebo_topic
+from omtp_drake.gazebo.services import PluginService
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
 from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
@@ -53,6 +57,7 @@ __all__ = [
     "Goal",
     "GoalOutcome",
     "Plan",
+    "PluginService",
     "Publication",
     "ROBOT_NAMESPACE",
     "RequestPoint",
@@ -80,6 +85,9 @@ __all__ = [
     "logical_camera_publications",
     "named_pose",
     "other_arm_positions",
+    "plugin_conveyor",
+    "plugin_gripper",
+    "plugin_proximity_ray",
     "spawn",
     "single_camera",
     "spawn_controllers",

@@ -93,17 +93,16 @@ class SubscriberQueue:
 
 
 def _cell_graph(cell: Cell) -> tuple[dict[str, Source], dict[str, Service]]:
-    """The topics and services of ``cell``'s own systems (logical cameras, beam, grippers,
-    belt), as the course's Gazebo plugins name them; tf's camera frames follow the models
-    the camera topics list. The joint states and the models' plugins come with Gazebo
-    (:mod:`omtp_drake.ros.gazebo.plugin_topics`)."""
+    """The topics of ``cell``'s logical cameras (no services yet), as the course's Gazebo
+    plugin names them; tf's camera frames follow the models the camera topics list. The
+    other plugins' topics and services (joint states, beam, grippers, belt) come with
+    Gazebo (:mod:`omtp_drake.ros.gazebo.plugin_topics`)."""
     from omtp_drake.ros.comm._core import camera_views
-    from omtp_drake.ros.gazebo.cell_services import cell_services
     from omtp_drake.ros.gazebo.sensor_topics import cell_sources
 
     views = camera_views(cell)
     cell.tf.use_images(lambda camera, context: views[camera].image(context))
-    return cell_sources(cell, views), cell_services(cell)
+    return cell_sources(cell, views), {}
 
 
 def _as_node(session: Session, callback: Callable[..., Any]) -> Callable[..., Any]:

@@ -3,11 +3,12 @@ states and services, and the part spawner, as the course's launch files wire the
 
 Modules, one concept each:
 
-- ``sensor_topics``: the cell's sensor topics (cameras, break beam, gripper state)
-- ``plugin_topics``: the Gazebo plugin layer's topics (joint states, cameras, set_joint_trajectory) on ROS 1
+- ``sensor_topics``: the logical cameras' topics
+- ``plugin_topics``: the Gazebo plugin layer on ROS 1: its topics (joint states, cameras, break beam,
+  gripper state, set_joint_trajectory) and services (gripper and conveyor control)
 - ``ros_control_topics``: gazebo_ros_control's controller topics (joint_states, command, state), ROS 1 names
 - ``ros_control_action``: a trajectory controller's follow_joint_trajectory action, actionlib's client
-- ``cell_services``: the cell's gripper and conveyor services, by the course's names
+- ``cell_services``: a service of the ROS 1 graph (name, type, handler) and a handler's failure
 - ``ros_api``: Gazebo's own ROS API under ``/gazebo``
 - ``interfaces``: gazebo_msgs: the messages and services of Gazebo's ROS API
 - ``models``: the cell's Gazebo models as that API sees them: names, links, poses, twists

@@ -1,5 +1,6 @@
 """The Gazebo plugin layer (:mod:`omtp_drake.gazebo`) on a ROS 1 run's graph: each
-publication a topic, each subscription a subscriber, messages converted field for
+publication a topic (latched where the plugin latches it), each subscription a
+subscriber, each service a service of the course's type, messages converted field for
 field into the shim's types. Names as gazebo_ros (ROS 1) gives them; no rule here.
 
 A topic published by two plugins (the arms' ``/joint_states`` and a model's joint state
@@ -15,10 +16,20 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.comm._core import Publication, gazebo_plugins
+from omtp_drake.ros.comm._core import PluginService, Publication, gazebo_plugins
 from omtp_drake.ros.comm._core import gazebo_messages as neutral
+from omtp_drake.ros.comm._core import plugin_conveyor as conveyor
+from omtp_drake.ros.comm._core import plugin_gripper as gripper
+from omtp_drake.ros.comm._core import plugin_proximity_ray as proximity_ray
 from omtp_drake.ros.comm.image_messages import CameraInfo, Image, PointCloud2, PointField
+from omtp_drake.ros.comm.interfaces import (
+    ConveyorBeltControl,
+    Proximity,
+    VacuumGripperControl,
+    VacuumGripperState,
+)
 from omtp_drake.ros.comm.messages import Header, JointState, Message, Time
+from omtp_drake.ros.gazebo.cell_services import Service
 from omtp_drake.ros.gazebo.sensor_topics import Source
 
 if TYPE_CHECKING:
@@ -37,6 +48,19 @@ TYPES: dict[type, Any] = {
     neutral.Image: Image,
     neutral.CameraInfo: CameraInfo,
     neutral.PointCloud: PointCloud2,
+    gripper.VacuumGripperState: VacuumGripperState,
+    proximity_ray.Proximity: Proximity,
+}
+#: Neutral request type -> the course's service type and how its request reads as the neutral one.
+SERVICE_TYPES: dict[type, tuple[Any, Callable[[Any], Any]]] = {
+    gripper.VacuumGripperControl: (
+        VacuumGripperControl,
+        lambda r: gripper.VacuumGripperControl(bool(r.enable)),
+    ),
+    conveyor.ConveyorBeltControl: (
+        ConveyorBeltControl,
+        lambda r: conveyor.ConveyorBeltControl(float(r.state.power)),
+    ),
 }
 #: ROS 1's names of fields ROS 2 renamed (sensor_msgs/CameraInfo's matrices).
 ROS1_NAMES = {"d": "D", "k": "K", "r": "R", "p": "P"}
@@ -49,7 +73,10 @@ def to_ros1(m: Any) -> Message:
         fields["fields"] = [
             PointField(name=n, offset=o, datatype=PointField.FLOAT32, count=1) for n, o in fields["fields"]
         ]
-    return TYPES[type(m)](header=_header(m.stamp, m.frame_id), **fields)
+    ros_type = TYPES[type(m)]
+    if "header" in ros_type.__slots__:
+        fields["header"] = _header(m.stamp, m.frame_id)
+    return ros_type(**fields)
 
 
 def trajectory_request(msg: Any) -> neutral.TrajectoryRequest:
@@ -66,6 +93,7 @@ class PublicationSource(Source):
 
     def __init__(self, publication: Publication, cell: Any):
         self.msg_class = TYPES[publication.message]
+        self.latch = publication.latched
         self._poll = publication.poll
         self._cell = cell
 
@@ -98,6 +126,7 @@ def attach_plugins(session: Graph) -> None:
         session.sources[publication.topic] = source if existing is None else Publishers(existing, source)
     for subscription in plugins.subscriptions:
         session.subscribe(subscription.topic, _receiver(subscription.callback), (), 1)
+    session.services.update({s.name: course_service(s) for s in plugins.services})
     for line in plugins.warnings:
         _log.warning(line)
 
@@ -107,3 +136,14 @@ def _receiver(callback: Callable[[neutral.TrajectoryRequest], object]) -> Callab
         callback(trajectory_request(msg))
 
     return receive
+
+
+def course_service(service: PluginService) -> Service:
+    """A plugin's service as the course's service type: the request read as the plugin's,
+    its reply's ``success`` answered."""
+    ros_type, read = SERVICE_TYPES[service.request]
+
+    def handle(request: Any) -> Any:
+        return ros_type._response_class(success=service.handler(read(request)).success)
+
+    return Service(service.name, ros_type, handle)

@@ -1,0 +1,166 @@
+"""The plugins' topics whose type is the course's own (``omtp_gazebo/VacuumGripperState``,
+``omtp_gazebo/Proximity``), over ROS 2: each on its ROS 1 name in the course's type, written
+by Cyclone DDS (:mod:`omtp_drake.ros2.course_types`), and ``std_msgs/Bool`` views of its
+flags for a plain rclpy node, through rclpy.
+
+=================================  ==================================  =====================================
+topic                              type                                what
+=================================  ==================================  =====================================
+``/gripperN/state``                ``omtp_gazebo/VacuumGripperState``  the plugin's message (Cyclone)
+``/gripperN/enabled``, ``attached``  ``std_msgs/Bool``                  its ``enabled``, ``attached``
+``/break_beam_sensor``,            ``omtp_gazebo/Proximity``           the plugin's messages (Cyclone)
+``/break_beam_sensor_change``
+``<that topic>/object_detected``   ``std_msgs/Bool``                   their ``object_detected``
+=================================  ==================================  =====================================
+
+When, and what the messages say, is the plugin layer's (:mod:`omtp_drake.gazebo.vacuum_gripper`,
+:mod:`omtp_drake.gazebo.proximity_ray`); a latched topic is transient local (depth 1) here,
+its view too, so a late reader gets the last message. The views of a topic that is not
+latched go out only while someone subscribes (the gripper's state goes out at every step).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Optional
+
+from omtp_drake.gazebo.proximity_ray import Proximity
+from omtp_drake.gazebo.schedule import Publication
+from omtp_drake.gazebo.vacuum_gripper import VacuumGripperState
+from omtp_drake.ros2 import cdr
+from omtp_drake.ros2.course_types import Proximity_, VacuumGripperState_, ros_type
+from omtp_drake.ros2.dds_types import CycloneParticipant, Header_, Time_, write_cdr
+
+if TYPE_CHECKING:
+    from omtp_drake.ros.bag.writer import Ros2Bag
+    from omtp_drake.ros2.network import Ros2Network
+
+
+def _time(t: float) -> Time_:
+    ns = int(round(t * 1e9))
+    return Time_(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
+
+
+def _gripper_state(m: VacuumGripperState) -> VacuumGripperState_:
+    return VacuumGripperState_(enabled=m.enabled, attached=m.attached)
+
+
+def _pack_gripper_state(m: VacuumGripperState) -> bytes:
+    """The XCDR1 bytes of :func:`_gripper_state`'s sample (two bools after the header), packed
+    at once: it goes out at every step, where Cyclone's Python serializer cost 1 ms a message."""
+    return cdr.HEADER + bytes((m.enabled, m.attached))
+
+
+def _proximity(m: Proximity) -> Proximity_:
+    return Proximity_(
+        header=Header_(stamp=_time(m.stamp), frame_id=m.frame_id),
+        object_detected=m.object_detected,
+        min_range=m.min_range,
+        max_range=m.max_range,
+    )
+
+
+def _beside(topic: str, name: str) -> str:
+    """``/gripper1/state`` -> ``/gripper1/<name>``."""
+    return topic.rsplit("/", 1)[0] + "/" + name
+
+
+def _below(topic: str, name: str) -> str:
+    """``/break_beam_sensor`` -> ``/break_beam_sensor/<name>``."""
+    return topic + "/" + name
+
+
+@dataclass(frozen=True)
+class CourseType:
+    """How a plugin message goes out: its mirror, the conversion to a mirror's sample, its
+    Bool views' fields and where their topics go (beside or below the message's topic), and
+    ``pack``, its XCDR1 bytes at once (None: the sample's, as Cyclone serializes it)."""
+
+    mirror: type
+    convert: Callable[[Any], Any]
+    view_fields: tuple[str, ...]
+    view_topic: Callable[[str, str], str]
+    pack: Optional[Callable[[Any], bytes]] = None
+
+    def data(self, message: Any) -> bytes:
+        """``message``'s XCDR1 bytes (with their encapsulation header)."""
+        if self.pack is not None:
+            return self.pack(message)
+        return self.convert(message).serialize(use_version_2=False)
+
+
+#: The plugin layer's messages of the course's types -> how they go out.
+COURSE_TYPES: dict[type, CourseType] = {
+    VacuumGripperState: CourseType(
+        VacuumGripperState_, _gripper_state, ("enabled", "attached"), _beside, _pack_gripper_state
+    ),
+    Proximity: CourseType(Proximity_, _proximity, ("object_detected",), _below),
+}
+
+
+class CourseTopic:
+    """One publication of a course type: the Cyclone writer and the rclpy Bool view."""
+
+    def __init__(self, node: Any, dds: CycloneParticipant, publication: Publication, bag: Optional[Ros2Bag]):
+        from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+        from std_msgs.msg import Bool
+
+        self._kind = COURSE_TYPES[publication.message]
+        self._topic = publication.topic
+        self._poll = publication.poll
+        self._bag = bag
+        self._type_name = ros_type(self._kind.mirror)
+        if bag is not None:
+            from omtp_drake.ros.bag.definitions import concatenated
+            from omtp_drake.ros.bag.ros1 import ros2_text
+            from omtp_drake.ros.comm import interfaces  # noqa: F401  (declares the course's types' text)
+
+            bag.add_type(self._type_name, concatenated(self._type_name, ros2_text))
+        latched = publication.latched
+        self._writer = dds.writer(
+            publication.topic, self._kind.mirror, latched=latched, depth=1 if latched else 10
+        )
+        qos: Any = (
+            QoSProfile(
+                depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL, reliability=ReliabilityPolicy.RELIABLE
+            )
+            if latched
+            else 10
+        )
+        self._views = {
+            name: node.create_publisher(Bool, self._kind.view_topic(publication.topic, name), qos)
+            for name in self._kind.view_fields
+        }
+        self._bool = Bool
+        self._latched = latched
+
+    def __call__(self, t: float) -> None:
+        for message in self._poll(t):
+            data = self._kind.data(message)
+            write_cdr(self._writer, data)
+            if self._bag is not None:
+                self._bag.write_cdr(self._topic, self._type_name, data, t, getattr(message, "stamp", None))
+            for name, view in self._views.items():
+                if self._latched or view.get_subscription_count() > 0:
+                    view.publish(self._bool(data=bool(getattr(message, name))))
+
+
+class CourseTopics:
+    """The topics above for ``publications`` (those of a course type) on ``node`` and ``network``."""
+
+    def __init__(
+        self, node: Any, network: Ros2Network, publications: list[Publication], bag: Optional[Ros2Bag] = None
+    ):
+        ours = [p for p in publications if p.message in COURSE_TYPES]
+        self._dds: Optional[CycloneParticipant] = CycloneParticipant(network) if ours else None
+        self._topics = [CourseTopic(node, self._dds, p, bag) for p in ours] if self._dds else []
+
+    def __call__(self, t: float) -> None:
+        for topic in self._topics:
+            topic(t)
+
+    def close(self) -> None:
+        """Leaves the DDS graph (Cyclone deletes the writers and participant with their last reference)."""
+        self._topics = []
+        self._dds = None
