@@ -206,7 +206,7 @@ def test_the_launch_starts_the_workspaces_own_rclpy_node_beside_the_cell(tmp_pat
     report = tmp_path / "reached.json"
     cell_args = ["--launch", "slider_arm_moves reach.launch.py", "--workspace", str(TUTORIAL_SRC)]
     out = run_cell_until(
-        [*cell_args, "--arg", f"report:={report}", "--realtime"], "[reach-1] finished", domain
+        [*cell_args, "--arg", f"report:={report}", "--realtime"], "[reach-1] finished", domain, patience=240
     )
     assert "[reach-1] started" in out and "[reach]: sent [0.8, 0.6]" in out, out[-3000:]
     assert "[reach-1] finished cleanly" in out, out[-3000:]

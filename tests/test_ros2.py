@@ -182,9 +182,9 @@ def run_cell_with_node(cell_args: list[str], node_args: list[str], domain: int) 
     return cell_out, cell_err
 
 
-def run_cell_until(cell_args: list[str], until: str, domain: int) -> str:
+def run_cell_until(cell_args: list[str], until: str, domain: int, patience: float = PATIENCE) -> str:
     """``omtp-drake ros2 CELL_ARGS`` on ``domain`` (loopback) in its own session until a line
-    of its output holds ``until`` (at most PATIENCE wall seconds), then Ctrl-C: it must exit 0
+    of its output holds ``until`` (at most ``patience`` wall seconds), then Ctrl-C: it must exit 0
     and leave no process (nor any node it started) and none of the domain's Fast DDS shared
     memory behind. Returns its output (stdout and stderr)."""
     shm_before = _dds_files()
@@ -205,7 +205,7 @@ def run_cell_until(cell_args: list[str], until: str, domain: int) -> str:
     reader = threading.Thread(target=read, daemon=True)
     reader.start()
     try:
-        seen.wait(timeout=PATIENCE)
+        seen.wait(timeout=patience)
         cell.send_signal(signal.SIGINT)  # Ctrl-C
         cell.wait(timeout=PATIENCE)
         reader.join(timeout=PATIENCE)
