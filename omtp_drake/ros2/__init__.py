@@ -23,8 +23,9 @@ Modules (one job each):
 - ``commands``: the plugins' trajectory topics and the services a peer calls, run between steps
 - ``ros2_control``: gazebo_ros2_control's controller topics (joint_trajectory, commands, joint_states)
 - ``dds_types``: the types rclpy lacks (tf2_msgs, gazebo_msgs) as Cyclone DDS mirrors, and Cyclone's config
-- ``cdr``: ``/tf`` and ``/gazebo/model_states`` packed as the mirrors' XCDR1 bytes, in one ``struct`` call
-- ``tf_publisher``: ``/tf``, ``/tf_static`` and ``/gazebo/model_states``, written by Cyclone DDS
+- ``cdr``: ``/tf`` and Gazebo's states packed as the mirrors' XCDR1 bytes, in one ``struct`` call
+- ``tf_publisher``: ``/tf`` and ``/tf_static``, written by Cyclone DDS
+- ``gazebo_world``: Gazebo's model and link states (Cyclone DDS) and the spawner's services
 - ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C

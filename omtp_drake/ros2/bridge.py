@@ -29,6 +29,8 @@ from omtp_drake.gazebo.schedule import Periodic
 from omtp_drake.ros.moveit.description import robot_description
 from omtp_drake.ros2.bag import record_publishers
 from omtp_drake.ros2.commands import CellCommands
+from omtp_drake.ros2.dds_types import CycloneParticipant
+from omtp_drake.ros2.gazebo_world import GazeboWorldTopics
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
 from omtp_drake.ros2.ros2_control import Ros2Control
 from omtp_drake.ros2.tf_publisher import TfTopics
@@ -91,9 +93,11 @@ class Ros2Cell:
             self.topics = CellTopics(self.node, cell, plugins, self.description)
             self.commands = CellCommands(self.node, cell, plugins.subscriptions)
             self.control = Ros2Control(self.node, cell)
-            # /tf, /tf_static, /gazebo/model_states over Cyclone DDS (omtp_drake.ros2.tf_publisher),
-            # at the joint states' rate, as robot_state_publisher follows /joint_states
-            self._tf_topics = TfTopics(cell, network, bag)
+            # /tf, /tf_static (omtp_drake.ros2.tf_publisher) and Gazebo's states over Cyclone DDS;
+            # /tf at the joint states' rate, as robot_state_publisher follows /joint_states
+            dds = CycloneParticipant(network)
+            self._tf_topics = TfTopics(cell, dds, bag)
+            self.gazebo = GazeboWorldTopics(self.node, cell, dds, self.commands.run_on_cell, bag)
             self.tf = Periodic(1.0 / JOINT_STATE_RATE_HZ, self._tf_topics)
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)
@@ -106,6 +110,7 @@ class Ros2Cell:
         self.topics.publish(cell.time)
         self.control.publish(cell.time)
         self.tf(cell.time)
+        self.gazebo(cell.time)
 
     def _spin(self) -> None:
         from rclpy.executors import ExternalShutdownException
@@ -124,6 +129,7 @@ class Ros2Cell:
         self.topics.publish(self.cell.time)
         self.control.publish(self.cell.time)
         self.tf(self.cell.time)
+        self.gazebo(self.cell.time)
 
     def close(self) -> None:
         """Stops the executor, destroys the node, shuts the context down."""
@@ -134,6 +140,7 @@ class Ros2Cell:
         self._executor.shutdown(timeout_sec=2.0)
         self.node.destroy_node()
         self._tf_topics.close()
+        self.gazebo.close()
         self._context.try_shutdown()
         self._thread.join(timeout=5.0)
 

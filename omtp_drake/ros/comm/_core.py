@@ -17,9 +17,14 @@ from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.gazebo import messages as gazebo_messages
 from omtp_drake.gazebo.joint_states import JOINT_STATE_RATE_HZ
 from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications, single_camera
+from omtp_drake.gazebo.model_states import LINK_STATES, MODEL_STATES, state_publications
 from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.gazebo.schedule import topic as gazebo_topic
+from omtp_drake.gazebo.spawn import ServiceCallFailed
+from omtp_drake.gazebo.spawner import SPAWNED_PART, spawner
+from omtp_drake.gazebo.world import GazeboWorld
+from omtp_drake.gazebo.world_services import WorldServices
 from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
 from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
@@ -27,15 +32,10 @@ from omtp_drake.scenario.ros_control_parse import spawn_controllers
 from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
 from omtp_drake.sim.driver import spawn
-from omtp_drake.sim.ros_control import (
-    Controller,
-    RequestPoint,
-    RosControl,
-    TrajectoryRequest,
-    trajectory_request,
-)
+from omtp_drake.sim.ros_control import Controller, RosControl
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
+from omtp_drake.sim.trajectory_request import RequestPoint, TrajectoryRequest, trajectory_request
 
 __all__ = [
     "JOINT_NAMES",
@@ -50,6 +50,14 @@ __all__ = [
     "Controller",
     "CorePoseStamped",
     "GazeboCameraView",
+    "GazeboWorld",
+    "LINK_STATES",
+    "MODEL_STATES",
+    "SPAWNED_PART",
+    "ServiceCallFailed",
+    "WorldServices",
+    "spawner",
+    "state_publications",
     "Goal",
     "GoalOutcome",
     "Plan",
