@@ -223,6 +223,8 @@ class CdrTopic:
         self, dds: CycloneParticipant, topic: str, mirror: type, bag: Any = None, **qos: Any
     ) -> None:
         self.topic, self.type_name = topic, ROS_TYPES[mirror]
+        # The participant lives while a topic of it does (Cyclone deletes its children with it).
+        self._dds: Any = dds
         self._writer = dds.writer(topic, mirror, **qos)
         self._bag = bag
         if bag is not None:
@@ -239,5 +241,5 @@ class CdrTopic:
             self._bag.write_cdr(self.topic, self.type_name, data, now, stamp)
 
     def close(self) -> None:
-        """Drops the writer: Cyclone deletes it (and, with its last writer, the participant)."""
-        self._writer = None
+        """Drops the writer: Cyclone deletes it (and, with its last topic, the participant)."""
+        self._writer = self._dds = None
