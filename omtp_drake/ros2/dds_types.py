@@ -232,6 +232,12 @@ class CdrTopic:
 
             bag.add_type(self.type_name, concatenated(self.type_name, installed_text))
 
+    def wanted(self) -> bool:
+        """Whether a message would reach anyone: a matched reader, or the bag."""
+        return self._writer is not None and (
+            self._bag is not None or bool(self._writer.get_matched_subscriptions())
+        )
+
     def write(self, data: bytes, now: float, stamp: "float | None" = None) -> None:
         """Writes ``data`` at simulated time ``now`` (``stamp``: the message's own, for the bag)."""
         if self._writer is None:

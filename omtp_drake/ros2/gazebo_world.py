@@ -112,6 +112,8 @@ class GazeboWorldTopics:
     def __call__(self, t: float) -> None:
         """What is due at ``t``: the states, and each spawn's ``/spawned_part``."""
         for poll, topic in self._states:
+            if not topic.wanted():  # nothing reads it: not even computed (the layer's messages cost)
+                continue
             for states in poll(t):
                 poses, twists = _numbers(states)
                 topic.write(cdr.model_states(states.name, poses, twists), self._cell.time, states.stamp)

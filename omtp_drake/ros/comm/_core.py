@@ -11,7 +11,6 @@ from omtp_drake.cell.arms import JOINT_NAMES, NAMED_POSES, check_joint_positions
 from omtp_drake.cell.conveyor import BreakBeam
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
 from omtp_drake.cell.gazebo_models import gazebo_models
-from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.gazebo import messages as gazebo_messages
@@ -25,13 +24,12 @@ from omtp_drake.gazebo.spawn import ServiceCallFailed
 from omtp_drake.gazebo.spawner import SPAWNED_PART, spawner
 from omtp_drake.gazebo.world import GazeboWorld
 from omtp_drake.gazebo.world_services import WorldServices
-from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
-from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
+from omtp_drake.scenario import Scenario, load_scenario, with_robot
+from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
 from omtp_drake.scenario.ros_control_parse import spawn_controllers
 from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
-from omtp_drake.sim.driver import spawn
 from omtp_drake.sim.ros_control import Controller, RosControl
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
@@ -68,30 +66,23 @@ __all__ = [
     "RosLatencyConfig",
     "WORLD_FRAMES",
     "Scenario",
-    "SpawnerConfig",
     "TfBroadcast",
     "TfEdge",
     "TrajectoryRequest",
-    "callback_start",
     "camera_views",
-    "check_in_cell",
     "check_joint_positions",
-    "draw",
     "expand_xacro",
     "gazebo_messages",
     "gazebo_plugins",
     "gazebo_topic",
     "gazebo_models",
-    "kind_of",
     "latency_names",
     "load_scenario",
     "logical_camera_publications",
     "named_pose",
     "other_arm_positions",
-    "spawn",
     "single_camera",
     "spawn_controllers",
-    "spawn_pose",
     "start_goal",
     "tool_down",
     "unknown_plugins",
