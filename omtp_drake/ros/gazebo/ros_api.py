@@ -102,9 +102,10 @@ class GazeboApi:
         self.api = WorldServices(world)
         self.paused = False
         self._states = state_publications(world, "noetic")
-        world.update_hooks.append(self._publish_states)
 
-    def _publish_states(self, t: float) -> None:
+    def publish_states(self, t: float) -> None:
+        """The states due at physics update ``t`` (an update hook: after the spawner's, so a
+        part spawned at an update is in that update's states)."""
         for publication in self._states:
             if self.session.num_subscribers(publication.topic):
                 for states in publication.poll(t):

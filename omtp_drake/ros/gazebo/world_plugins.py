@@ -28,6 +28,7 @@ def attach_gazebo(session: Graph) -> GazeboApi:
     world = GazeboWorld(session.cell)
     api = GazeboApi(session, world)
     services = api.services() + spawner_services(session, world)
+    world.update_hooks.append(api.publish_states)
     session.services.update({s.name: s for s in services})
     session.sources.update(api.sources())
     spawner = session.cell.scenario.spawner
