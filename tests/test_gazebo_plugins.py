@@ -16,6 +16,7 @@ from omtp_drake.gazebo import messages
 from omtp_drake.gazebo.camera import camera_info, gazebo_depths, point_cloud
 from omtp_drake.gazebo.joint_pose_trajectory import trajectory_plugins
 from omtp_drake.gazebo.schedule import Periodic, Sampled
+from omtp_drake.sim.trajectory_request import RequestPoint, TrajectoryRequest
 
 ROBOT = Path(__file__).parent / "fixtures/tutorial_ws/src/slider_arm_description/urdf/slider_arm.urdf.xacro"
 
@@ -77,8 +78,8 @@ def tutorial():
 
 
 def _request(frame, names, points, stamp=0.0):
-    return messages.TrajectoryRequest(
-        frame, stamp, tuple(names), tuple(messages.TrajectoryPoint(tuple(q), dt) for q, dt in points)
+    return TrajectoryRequest(
+        tuple(names), tuple(RequestPoint(dt, tuple(q)) for q, dt in points), stamp, frame
     )
 
 

@@ -13,8 +13,10 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "omtp_drake"
 LAYER = PACKAGE / "gazebo"
-#: The transports of the layer: every module of ros2/, and the shim's plugin topics.
-TRANSPORTS = sorted(PACKAGE.glob("ros2/*.py")) + [PACKAGE / "ros/gazebo/plugin_topics.py"]
+#: The transports of the layer: every module of ros2/, and the shim's plugin topics, Gazebo API
+#: and spawner.
+ROS1_TRANSPORTS = [PACKAGE / f"ros/gazebo/{name}.py" for name in ("plugin_topics", "ros_api", "spawner")]
+TRANSPORTS = sorted(PACKAGE.glob("ros2/*.py")) + ROS1_TRANSPORTS
 #: A constant by its name is a plugin rule when it names a rate, period, encoding or frame.
 RULE_NAME = re.compile(r"(RATE|_HZ$|PERIOD|ENCODING|FRAME)")
 #: REP 118's encodings a plugin could write.
@@ -152,3 +154,44 @@ def test_the_gripper_belt_and_beam_are_the_layers(path):
     assert conveyor.MAX_POWER not in numbers, f"{path.name} writes the belt's power limit"
     assert not _classes(tree) & {"BreakBeamSource", "GripperStateSource"}
     assert "_gripper_services" not in {n.name for n in ast.walk(tree) if isinstance(n, ast.FunctionDef)}
+
+
+#: What a Gazebo world plugin's rules use (the states' maths, world edits, the spawner's timing
+#: and draws): attributes called on the cell or its models, and modules below the layer.
+WORLD_RULE_CALLS = {"relative", "parts_in_world", "spawn_part", "remove_part", "rename_part", "every"}
+WORLD_RULE_MODULES = {"omtp_drake.scenario.conveyor_spawner", "omtp_drake.sim.driver", "omtp_drake.sim.pool"}
+#: Names and texts the rules write: the spawner's services and topic, Gazebo's status messages.
+WORLD_RULE_TEXTS = re.compile(
+    r"^/(start_spawn|stop_spawn|spawn_object_once|spawned_part)$"
+    r"|^(SpawnModel|GetModelState|SetModelState|GetLinkState|DeleteModel): "
+)
+
+
+def _world_rules(tree: ast.Module) -> list[str]:
+    calls = {
+        n.func.attr
+        for n in ast.walk(tree)
+        if isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr in WORLD_RULE_CALLS
+    }
+    modules = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)} & WORLD_RULE_MODULES
+    auto_spawn = {
+        "auto_spawn" for n in ast.walk(tree) if isinstance(n, ast.Attribute) and n.attr == "auto_spawn"
+    }
+    texts = {s for s in _strings(tree) if WORLD_RULE_TEXTS.search(s)}
+    return sorted(calls | modules | auto_spawn | texts)
+
+
+@pytest.mark.parametrize("path", TRANSPORTS, ids=lambda p: p.relative_to(PACKAGE).as_posix())
+def test_a_transport_holds_no_gazebo_world_rule(path):
+    """Model and link states, Gazebo's model services and the spawner: their rules are the
+    layer's (gazebo/model_states, world_services, spawn, spawner); a transport converts."""
+    found = _world_rules(_tree(path))
+    assert not found, f"{path.name} holds Gazebo world rules {found}: they belong in omtp_drake/gazebo/"
+
+
+def test_the_world_rule_reader_finds_the_rules_in_the_layer():
+    found = set()
+    for name in ("model_states", "world_services", "spawn", "spawner", "world"):
+        found |= set(_world_rules(_tree(LAYER / f"{name}.py")))
+    assert {"relative", "every", "auto_spawn", "/stop_spawn", "omtp_drake.sim.driver"} <= found
+    assert any(t.startswith("GetModelState: ") for t in found) and "/spawned_part" in found

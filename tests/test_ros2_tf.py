@@ -91,7 +91,7 @@ def test_every_mirror_serializes_as_rclpy_does():
 
 @needs_ros2
 def test_the_mirrors_without_an_rclpy_type_match_their_msg_definitions():
-    """TFMessage and ModelStates: Cyclone's bytes are those the bag's encoder writes from the
+    """TFMessage, ModelStates and LinkStates: Cyclone's bytes are those the bag's encoder writes from the
     .msg definitions (ROS 2's fields, in ROS 2's order)."""
     from mcap_ros2._dynamic import serialize_dynamic
 
@@ -103,7 +103,8 @@ def test_the_mirrors_without_an_rclpy_type_match_their_msg_definitions():
     twist, pose = _rclpy_pairs()[d.Twist_][1], _rclpy_pairs()[d.Pose_][1]
     tf = d.TFMessage_([stamped, stamped])
     states = d.ModelStates_(["a", "bc"], [pose, pose], [twist, twist])
-    for value in (tf, states):
+    links = d.LinkStates_(["a::l", "bc::m"], [pose, pose], [twist, twist])
+    for value in (tf, states, links):
         name = d.ROS_TYPES[type(value)]
         encode = serialize_dynamic(name, concatenated(name, installed_text))[name]
         assert value.serialize(use_version_2=False) == encode(value), name
@@ -112,6 +113,7 @@ def test_the_mirrors_without_an_rclpy_type_match_their_msg_definitions():
     assert cdr.tf_message([("robot1_base_link", "a")] * 2, [numbers] * 2) == tf.serialize(use_version_2=False)
     poses, twists = [(1.5, 2.5, -3.5, 0.1, 0.2, 0.3, 0.9)] * 2, [(0.1, -0.2, 0.3, 0, 0, 4)] * 2
     assert cdr.model_states(["a", "bc"], poses, twists) == states.serialize(use_version_2=False)
+    assert cdr.model_states(["a::l", "bc::m"], poses, twists) == links.serialize(use_version_2=False)
     assert cdr.model_states([], [], []) == d.ModelStates_().serialize(use_version_2=False)
 
 

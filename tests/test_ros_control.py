@@ -17,7 +17,8 @@ from omtp_drake.ros.run.runner import run_script
 from omtp_drake.scenario.robot_world import with_robot
 from omtp_drake.scenario.ros_control_parse import spawn_controllers, with_controllers
 from omtp_drake.script import Cell
-from omtp_drake.sim.ros_control import RequestPoint, RosControl, TrajectoryRequest
+from omtp_drake.sim.ros_control import RosControl
+from omtp_drake.sim.trajectory_request import RequestPoint, TrajectoryRequest
 
 WS = Path(__file__).parent / "fixtures" / "control_ws"
 PACKAGE = WS / "src" / "pan_lift_description"

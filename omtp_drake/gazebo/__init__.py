@@ -10,8 +10,9 @@ where the two branches differ, the module says which one is followed and why.
 
 Modules, one plugin each:
 
-- ``messages``: the neutral messages (joint states, images, camera info, clouds, trajectories);
-  a plugin of the course's own types declares its messages in its module
+- ``messages``: the neutral messages (joint states, images, camera info, clouds; a trajectory
+  request is :mod:`omtp_drake.sim.trajectory_request`'s); a plugin of the course's own types
+  declares its messages in its module
 - ``schedule``: the one periodic scheduler and a publication (topic, message type, poll)
 - ``joint_states``: ``gazebo_ros_joint_state_publisher`` and the arms' joint states (50 Hz)
 - ``camera``: ``gazebo_ros_camera`` (camera and depth), and the logical cameras' RGB-D views
@@ -22,5 +23,11 @@ Modules, one plugin each:
 - ``vacuum_gripper``: the course's vacuum gripper plugin: ``/gripperN/state`` and ``/gripperN/control``
 - ``conveyor``: the course's conveyor belt plugin: ``/omtp/conveyor/control`` (belt power)
 - ``proximity_ray``: the course's break beam: ``/break_beam_sensor`` and ``/break_beam_sensor_change``
+- ``world``: the world the plugins share: its Gazebo models and its physics updates
+- ``models``: the cell's models and links under Gazebo's names: poses and twists
+- ``model_states``: Gazebo's ``/gazebo/model_states`` and ``/gazebo/link_states`` (both branches' rates)
+- ``world_services``: Gazebo's model services: get/set model state, get link state, delete model
+- ``spawn``: Gazebo's spawn services and reset_world: what a spawn request gets
+- ``spawner``: the course's part spawner: its start/stop services and ``/spawned_part``
 - ``plugins``: every plugin of a loaded cell: its publications, subscriptions and warnings
 """

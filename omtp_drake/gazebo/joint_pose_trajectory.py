@@ -27,9 +27,9 @@ import logging
 from typing import TYPE_CHECKING
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.gazebo.messages import TrajectoryRequest
 from omtp_drake.gazebo.schedule import Subscription, topic
 from omtp_drake.sim.joint_pose_trajectory import JointPoseTrajectory, PosePoint
+from omtp_drake.sim.trajectory_request import TrajectoryRequest
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell

@@ -11,9 +11,10 @@ encoding says (REP 118), so a transport copies it as it is.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
+
+from pydrake.math import RigidTransform
 
 
 @dataclass(frozen=True)
@@ -81,24 +82,6 @@ class PointCloud:
     is_bigendian: bool = False
 
 
-@dataclass(frozen=True)
-class TrajectoryPoint:
-    """A ``trajectory_msgs/JointTrajectoryPoint``'s positions and ``time_from_start`` (s)."""
-
-    positions: tuple[float, ...]
-    time_from_start: float
-
-
-@dataclass(frozen=True)
-class TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory`` as a joint pose trajectory plugin reads it."""
-
-    frame_id: str
-    stamp: float
-    joint_names: tuple[str, ...]
-    points: tuple[TrajectoryPoint, ...] = field(default_factory=tuple)
-
-
 def message_fields(message: Any) -> dict[str, Any]:
     """The ROS message's fields of a published ``message`` but its header (``stamp``,
     ``frame_id``): sequences as lists, a cloud's fields as (name, offset) pairs."""
@@ -115,10 +98,33 @@ def message_fields(message: Any) -> dict[str, Any]:
     return out
 
 
-def trajectory_request(msg: Any, seconds: Callable[[Any], float]) -> TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory`` of either transport as a request; ``seconds``
-    reads that transport's time and duration."""
-    points = tuple(
-        TrajectoryPoint(tuple(float(q) for q in p.positions), seconds(p.time_from_start)) for p in msg.points
-    )
-    return TrajectoryRequest(msg.header.frame_id, seconds(msg.header.stamp), tuple(msg.joint_names), points)
+@dataclass(frozen=True)
+class EntityStates:
+    """Gazebo's entities' states: ``name``, ``pose`` ``X_WE`` and ``twist`` (vx, vy, vz, wx, wy,
+    wz) of each, in the world frame (``gazebo_msgs`` has no header: ``stamp`` is when it was
+    made)."""
+
+    stamp: float
+    name: tuple[str, ...]
+    pose: tuple[RigidTransform, ...]
+    twist: tuple[tuple[float, ...], ...]
+
+
+@dataclass(frozen=True)
+class ModelStates(EntityStates):
+    """``gazebo_msgs/ModelStates``: every model in the world."""
+
+
+@dataclass(frozen=True)
+class LinkStates(EntityStates):
+    """``gazebo_msgs/LinkStates``: every link (``model::link``) of the models in the world."""
+
+
+@dataclass(frozen=True)
+class SpawnedPart:
+    """The course's spawner's ``/spawned_part`` (``std_msgs/Header``): ``seq`` the spawner's
+    count (ROS 1 only: ROS 2's Header has none), ``frame_id`` the drawn object's name."""
+
+    stamp: float
+    frame_id: str
+    seq: int

@@ -26,9 +26,10 @@ Modules (one job each):
 - ``course_topics``: the plugins' topics of those types (Cyclone) and their ``std_msgs/Bool`` views (rclpy)
 - ``ros2_control``: gazebo_ros2_control's controller topics (joint_trajectory, commands, joint_states)
 - ``dds_types``: the types rclpy lacks (tf2_msgs, gazebo_msgs) as Cyclone DDS mirrors, and Cyclone's config
-- ``cdr``: ``/tf`` and ``/gazebo/model_states`` packed as the mirrors' XCDR1 bytes, in one ``struct`` call
+- ``cdr``: ``/tf`` and Gazebo's states packed as the mirrors' XCDR1 bytes, in one ``struct`` call
 - ``launched_nodes``: the launch's own ROS 2 nodes, run beside the cell as ``ros2 launch`` runs them
-- ``tf_publisher``: ``/tf``, ``/tf_static`` and ``/gazebo/model_states``, written by Cyclone DDS
+- ``tf_publisher``: ``/tf`` and ``/tf_static``, written by Cyclone DDS
+- ``gazebo_world``: Gazebo's model and link states (Cyclone DDS) and the spawner's services
 - ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C

@@ -30,6 +30,8 @@ from omtp_drake.ros.moveit.description import robot_description
 from omtp_drake.ros2.bag import record_publishers
 from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.course_topics import CourseTopics
+from omtp_drake.ros2.dds_types import CycloneParticipant
+from omtp_drake.ros2.gazebo_world import GazeboWorldTopics
 from omtp_drake.ros2.network import Ros2Network, import_rclpy
 from omtp_drake.ros2.ros2_control import Ros2Control
 from omtp_drake.ros2.tf_publisher import TfTopics
@@ -91,11 +93,14 @@ class Ros2Cell:
                 _log.warning(line)
             self.topics = CellTopics(self.node, cell, plugins, self.description)
             self.commands = CellCommands(self.node, cell, plugins.subscriptions, plugins.services)
-            self._course_topics = CourseTopics(self.node, network, plugins.publications, bag)
             self.control = Ros2Control(self.node, cell)
-            # /tf, /tf_static, /gazebo/model_states over Cyclone DDS (omtp_drake.ros2.tf_publisher),
-            # at the joint states' rate, as robot_state_publisher follows /joint_states
-            self._tf_topics = TfTopics(cell, network, bag)
+            # /tf, /tf_static (omtp_drake.ros2.tf_publisher), Gazebo's states and the course's own
+            # types over one Cyclone DDS participant; /tf at the joint states' rate, as
+            # robot_state_publisher follows /joint_states
+            self._dds = dds = CycloneParticipant(network)
+            self._course_topics = CourseTopics(self.node, dds, plugins.publications, bag)
+            self._tf_topics = TfTopics(cell, dds, bag)
+            self.gazebo = GazeboWorldTopics(self.node, cell, dds, self.commands.run_on_cell, bag)
             self.tf = Periodic(1.0 / JOINT_STATE_RATE_HZ, self._tf_topics)
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)
@@ -109,6 +114,7 @@ class Ros2Cell:
         self._course_topics(cell.time)
         self.control.publish(cell.time)
         self.tf(cell.time)
+        self.gazebo(cell.time)
 
     def _spin(self) -> None:
         from rclpy.executors import ExternalShutdownException
@@ -128,6 +134,7 @@ class Ros2Cell:
         self._course_topics(self.cell.time)
         self.control.publish(self.cell.time)
         self.tf(self.cell.time)
+        self.gazebo(self.cell.time)
 
     def close(self) -> None:
         """Stops the executor, destroys the node, shuts the context down."""
@@ -139,6 +146,7 @@ class Ros2Cell:
         self.node.destroy_node()
         self._tf_topics.close()
         self._course_topics.close()
+        self.gazebo.close()
         self._context.try_shutdown()
         self._thread.join(timeout=5.0)
 

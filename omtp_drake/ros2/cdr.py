@@ -91,8 +91,8 @@ def _model_states_layout(names: tuple[str, ...]) -> tuple[struct.Struct, tuple[b
 def model_states(
     names: Sequence[str], poses: Sequence[Sequence[float]], twists: Sequence[Sequence[float]]
 ) -> bytes:
-    """A ``gazebo_msgs/ModelStates``: ``poses[i]`` = (x, y, z, qx, qy, qz, qw), ``twists[i]`` =
-    (vx, vy, vz, wx, wy, wz)."""
+    """A ``gazebo_msgs/ModelStates`` (or ``LinkStates``, the same fields): ``poses[i]`` =
+    (x, y, z, qx, qy, qz, qw), ``twists[i]`` = (vx, vy, vz, wx, wy, wz)."""
     packer, strings = _model_states_layout(tuple(names))
     values: list[object] = [HEADER, len(names)]
     for s in strings:

@@ -103,6 +103,11 @@ class CellCommands:
 
         return receive
 
+    def run_on_cell(self, work: Callable[[], str]) -> tuple[bool, str]:
+        """Runs ``work`` on the cell's thread (for a service of another module); (success, its
+        message) when it is done."""
+        return self._call(lambda: ServiceReply(True, work()))
+
     def _call(self, work: Callable[[], ServiceReply]) -> tuple[bool, str]:
         """Runs ``work`` on the cell's thread; (success, its message) when it is done."""
         done: Future[ServiceReply] = Future()

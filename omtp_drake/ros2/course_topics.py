@@ -34,7 +34,6 @@ from omtp_drake.ros2.dds_types import CycloneParticipant, Header_, Time_, write_
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
-    from omtp_drake.ros2.network import Ros2Network
 
 
 def _time(t: float) -> Time_:
@@ -150,11 +149,13 @@ class CourseTopics:
     """The topics above for ``publications`` (those of a course type) on ``node`` and ``network``."""
 
     def __init__(
-        self, node: Any, network: Ros2Network, publications: list[Publication], bag: Optional[Ros2Bag] = None
+        self,
+        node: Any,
+        dds: CycloneParticipant,
+        publications: list[Publication],
+        bag: Optional[Ros2Bag] = None,
     ):
-        ours = [p for p in publications if p.message in COURSE_TYPES]
-        self._dds: Optional[CycloneParticipant] = CycloneParticipant(network) if ours else None
-        self._topics = [CourseTopic(node, self._dds, p, bag) for p in ours] if self._dds else []
+        self._topics = [CourseTopic(node, dds, p, bag) for p in publications if p.message in COURSE_TYPES]
 
     def __call__(self, t: float) -> None:
         for topic in self._topics:
@@ -163,4 +164,3 @@ class CourseTopics:
     def close(self) -> None:
         """Leaves the DDS graph (Cyclone deletes the writers and participant with their last reference)."""
         self._topics = []
-        self._dds = None

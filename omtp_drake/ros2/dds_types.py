@@ -122,6 +122,14 @@ class ModelStates_(IdlStruct, typename=f"gazebo_msgs{_MSG}ModelStates_"):  # typ
     twist: sequence[Twist_] = field(default_factory=list)
 
 
+@annotate.final
+@dataclass
+class LinkStates_(IdlStruct, typename=f"gazebo_msgs{_MSG}LinkStates_"):  # type: ignore[call-arg]
+    name: sequence[str] = field(default_factory=list)
+    pose: sequence[Pose_] = field(default_factory=list)
+    twist: sequence[Twist_] = field(default_factory=list)
+
+
 #: Mirror -> its ROS 2 type (``pkg/msg/Name``): what a bag's schema and ``ros2 topic`` call it.
 ROS_TYPES: dict[type, str] = {
     cls: cls.__idl_typename__.replace("::msg::dds_::", "/msg/").removesuffix("_")
@@ -137,6 +145,7 @@ ROS_TYPES: dict[type, str] = {
         Twist_,
         TFMessage_,
         ModelStates_,
+        LinkStates_,
     )
 }
 
@@ -203,3 +212,40 @@ def write_cdr(writer: Any, data: bytes) -> None:
     ret = ddspy_write(writer._ref, data)
     if ret < 0:
         raise DDSException(ret, f"Occurred while writing a sample of {writer.topic.name}")
+
+
+class CdrTopic:
+    """A ROS 2 topic written as packed XCDR1 bytes (:mod:`omtp_drake.ros2.cdr`) by a writer of
+    ``dds``; with ``bag`` (``--bag``), each message goes into the bag too, its type's definition
+    added once."""
+
+    def __init__(
+        self, dds: CycloneParticipant, topic: str, mirror: type, bag: Any = None, **qos: Any
+    ) -> None:
+        self.topic, self.type_name = topic, ROS_TYPES[mirror]
+        # The participant lives while a topic of it does (Cyclone deletes its children with it).
+        self._dds: Any = dds
+        self._writer = dds.writer(topic, mirror, **qos)
+        self._bag = bag
+        if bag is not None:
+            from omtp_drake.ros.bag.definitions import concatenated, installed_text
+
+            bag.add_type(self.type_name, concatenated(self.type_name, installed_text))
+
+    def wanted(self) -> bool:
+        """Whether a message would reach anyone: a matched reader, or the bag."""
+        return self._writer is not None and (
+            self._bag is not None or bool(self._writer.get_matched_subscriptions())
+        )
+
+    def write(self, data: bytes, now: float, stamp: "float | None" = None) -> None:
+        """Writes ``data`` at simulated time ``now`` (``stamp``: the message's own, for the bag)."""
+        if self._writer is None:
+            return
+        write_cdr(self._writer, data)
+        if self._bag is not None:
+            self._bag.write_cdr(self.topic, self.type_name, data, now, stamp)
+
+    def close(self) -> None:
+        """Drops the writer: Cyclone deletes it (and, with its last topic, the participant)."""
+        self._writer = self._dds = None

@@ -28,6 +28,7 @@ from visualization_msgs.msg import Marker, MarkerArray
 
 from omtp_drake.cell.camera_image import LogicalCameraImage
 from omtp_drake.gazebo import messages as neutral
+from omtp_drake.sim import trajectory_request as request
 
 #: The cube drawn for a model a logical camera reports (m); parts get their own size.
 MARKER_SIZE = 0.05
@@ -71,9 +72,9 @@ def seconds(t: Any) -> float:
     return t.sec + t.nanosec * 1e-9
 
 
-def trajectory_request(msg: Any) -> neutral.TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory`` as the plugin layer reads it."""
-    return neutral.trajectory_request(msg, seconds)
+def trajectory_request(msg: Any) -> request.TrajectoryRequest:
+    """A ``trajectory_msgs/msg/JointTrajectory`` as the request every plugin and controller reads."""
+    return request.trajectory_request(msg, seconds)
 
 
 def pose(X: RigidTransform) -> Pose:

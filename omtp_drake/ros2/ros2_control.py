@@ -31,8 +31,8 @@ from omtp_drake.errors import ConfigError
 from omtp_drake.gazebo.messages import JointStates
 from omtp_drake.gazebo.schedule import topic
 from omtp_drake.ros2 import messages
-from omtp_drake.sim.ros_control import Controller, Periodic, RosControl, TrajectoryRequest
-from omtp_drake.sim.ros_control import trajectory_request as neutral_trajectory_request
+from omtp_drake.sim.ros_control import Controller, Periodic, RosControl
+from omtp_drake.sim.trajectory_request import TrajectoryRequest
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -46,11 +46,6 @@ NO_CONTROL_MSGS = (
     "follow_joint_trajectory and controller_state need control_msgs, which no PyPI package provides: "
     "send trajectories on ~/joint_trajectory"
 )
-
-
-def trajectory_request(msg: Any) -> TrajectoryRequest:
-    """A ``trajectory_msgs/msg/JointTrajectory`` as the layer's request."""
-    return neutral_trajectory_request(msg, messages.seconds)
 
 
 class Ros2Control:
@@ -74,7 +69,9 @@ class Ros2Control:
             self._broadcasters.append((controller, Periodic(period), publisher))
         for controller in self._control.of_kind("trajectory"):
             name = topic(controller.namespace, f"{controller.name}/joint_trajectory")
-            node.create_subscription(JointTrajectory, name, self._handler(controller, trajectory_request), 10)
+            node.create_subscription(
+                JointTrajectory, name, self._handler(controller, messages.trajectory_request), 10
+            )
         for controller in self._control.of_kind("forward"):
             name = topic(controller.namespace, f"{controller.name}/commands")
             node.create_subscription(Float64MultiArray, name, self._handler(controller, _values), 10)

@@ -75,7 +75,8 @@ class Ros2RunOptions:
         scenario = as_scenario(self.scenario)
         if self.seed is not None:
             scenario = replace(scenario, seed=self.seed)
-        return Cell(scenario, realtime=self.realtime, meshcat=self.meshcat)
+        # Parts come when a peer calls the spawner's services, as under ros-run.
+        return Cell(scenario, realtime=self.realtime, meshcat=self.meshcat, auto_spawn=False)
 
 
 @contextlib.contextmanager

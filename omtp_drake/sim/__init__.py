@@ -9,6 +9,7 @@ Modules (one job each):
 - ``part_sleep``: the world edit that puts resting parts to sleep and wakes touched ones
 - ``joint_pose_trajectory``: gazebo_ros's joint pose trajectory plugin: a world edit setting joints
 - ``ros_control``: ros_control / ros2_control controllers' rules on a running cell, transport-neutral
+- ``trajectory_request``: a JointTrajectory as every plugin and controller reads it, from either transport
 - ``trajectory_goals``: a trajectory controller's follow_joint_trajectory goal, judged as ros_controllers does
 - ``pool``: the part pool: which parts are parked, spawning and disposal
 - ``parts``: the course's part services on a running cell (spawn, knock, remove, read)

@@ -29,9 +29,9 @@ these their topic names and message types.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from pydrake.systems.framework import Context
@@ -40,6 +40,7 @@ from omtp_drake.cell.joint_controllers import Command, JointControllers
 from omtp_drake.cell.joint_splines import JointSpline, Waypoint
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario.ros_control import ControllerConfig, RosControlConfig
+from omtp_drake.sim.trajectory_request import RequestPoint, TrajectoryRequest
 
 if TYPE_CHECKING:
     from omtp_drake.cell.station import Station
@@ -54,25 +55,6 @@ class PastTrajectoryError(ConfigError):
 
 class JointNamesError(ConfigError):
     """A trajectory's joints are not the controller's (the action's ``INVALID_JOINTS``)."""
-
-
-@dataclass(frozen=True)
-class RequestPoint:
-    """A ``trajectory_msgs/JointTrajectoryPoint``: its ``time_from_start`` (s) and values."""
-
-    time_from_start: float
-    positions: tuple[float, ...]
-    velocities: tuple[float, ...] = ()
-    accelerations: tuple[float, ...] = ()
-
-
-@dataclass(frozen=True)
-class TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory``: joint names, points, ``header.stamp`` (s)."""
-
-    joint_names: tuple[str, ...]
-    points: tuple[RequestPoint, ...]
-    stamp: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -102,21 +84,6 @@ class JointStateSample:
     position: tuple[float, ...]
     velocity: tuple[float, ...]
     effort: tuple[float, ...]
-
-
-def trajectory_request(message: Any, seconds: Callable[[Any], float]) -> TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory`` of either transport as a request; ``seconds``
-    turns its time and durations into seconds (each transport's own time type)."""
-    points = tuple(
-        RequestPoint(
-            seconds(p.time_from_start),
-            tuple(map(float, p.positions)),
-            tuple(map(float, p.velocities)),
-            tuple(map(float, p.accelerations)),
-        )
-        for p in message.points
-    )
-    return TrajectoryRequest(tuple(message.joint_names), points, seconds(message.header.stamp))
 
 
 class Periodic:

@@ -1,6 +1,6 @@
 """A trajectory controller's ``follow_joint_trajectory`` goal, judged as ros_controllers judges it.
 
-A goal is a trajectory (:class:`~omtp_drake.sim.ros_control.TrajectoryRequest`) with
+A goal is a trajectory (:class:`~omtp_drake.sim.trajectory_request.TrajectoryRequest`) with
 path and goal tolerances and a goal time tolerance. :func:`start_goal` starts it or
 says why not (``INVALID_JOINTS``, ``OLD_HEADER_TIMESTAMP``, ``INVALID_GOAL``);
 :meth:`Goal.check`, called at the controller's action monitor rate, says how it stands:
@@ -33,8 +33,8 @@ from omtp_drake.sim.ros_control import (
     JointNamesError,
     PastTrajectoryError,
     RosControl,
-    TrajectoryRequest,
 )
+from omtp_drake.sim.trajectory_request import TrajectoryRequest
 
 #: control_msgs/FollowJointTrajectoryResult's error codes.
 SUCCESSFUL, INVALID_GOAL, INVALID_JOINTS, OLD_HEADER_TIMESTAMP = 0, -1, -2, -3

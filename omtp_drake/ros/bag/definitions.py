@@ -27,11 +27,11 @@ PRIMITIVES = frozenset(
 
 #: The ROS 2 types the cell publishes that no PyPI wheel ships (their .msg text, field for field
 #: ROS 2's: tf2_msgs, gazebo_msgs; see omtp_drake.ros2.dds_types for their DDS mirrors).
+_STATES = "string[] name\ngeometry_msgs/Pose[] pose\ngeometry_msgs/Twist[] twist\n"
 NO_PACKAGE: dict[str, str] = {
     "tf2_msgs/msg/TFMessage": "geometry_msgs/TransformStamped[] transforms\n",
-    "gazebo_msgs/msg/ModelStates": (
-        "string[] name\ngeometry_msgs/Pose[] pose\ngeometry_msgs/Twist[] twist\n"
-    ),
+    "gazebo_msgs/msg/ModelStates": _STATES,
+    "gazebo_msgs/msg/LinkStates": _STATES,
     "builtin_interfaces/msg/Time": "int32 sec\nuint32 nanosec\n",
     "builtin_interfaces/msg/Duration": "int32 sec\nuint32 nanosec\n",
 }

@@ -11,7 +11,6 @@ from omtp_drake.cell.arms import JOINT_NAMES, NAMED_POSES, check_joint_positions
 from omtp_drake.cell.conveyor import BreakBeam
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
 from omtp_drake.cell.gazebo_models import gazebo_models
-from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.cell.poses import PoseStamped as CorePoseStamped
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.gazebo import conveyor as plugin_conveyor
@@ -20,26 +19,25 @@ from omtp_drake.gazebo import proximity_ray as plugin_proximity_ray
 from omtp_drake.gazebo import vacuum_gripper as plugin_gripper
 from omtp_drake.gazebo.joint_states import JOINT_STATE_RATE_HZ
 from omtp_drake.gazebo.logical_camera import camera_views, logical_camera_publications, single_camera
+from omtp_drake.gazebo.model_states import LINK_STATES, MODEL_STATES, state_publications
 from omtp_drake.gazebo.plugins import gazebo_plugins, unknown_plugins
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.gazebo.schedule import topic as gazebo_topic
 from omtp_drake.gazebo.services import PluginService
-from omtp_drake.scenario import Scenario, SpawnerConfig, check_in_cell, load_scenario, with_robot
-from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES, callback_start, draw, kind_of
+from omtp_drake.gazebo.spawn import ServiceCallFailed
+from omtp_drake.gazebo.spawner import SPAWNED_PART, spawner
+from omtp_drake.gazebo.world import GazeboWorld
+from omtp_drake.gazebo.world_services import WorldServices
+from omtp_drake.scenario import Scenario, load_scenario, with_robot
+from omtp_drake.scenario.conveyor_spawner import ROBOT_NAMESPACE, WORLD_FRAMES
 from omtp_drake.scenario.latency import RosLatencyConfig, latency_names
 from omtp_drake.scenario.ros_control_parse import spawn_controllers
 from omtp_drake.script import Cell
 from omtp_drake.script.arm import SETTLE_TIMEOUT, SETTLE_TOLERANCE, Arm, Plan, other_arm_positions
-from omtp_drake.sim.driver import spawn
-from omtp_drake.sim.ros_control import (
-    Controller,
-    RequestPoint,
-    RosControl,
-    TrajectoryRequest,
-    trajectory_request,
-)
+from omtp_drake.sim.ros_control import Controller, RosControl
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
+from omtp_drake.sim.trajectory_request import RequestPoint, TrajectoryRequest, trajectory_request
 
 __all__ = [
     "JOINT_NAMES",
@@ -54,6 +52,14 @@ __all__ = [
     "Controller",
     "CorePoseStamped",
     "GazeboCameraView",
+    "GazeboWorld",
+    "LINK_STATES",
+    "MODEL_STATES",
+    "SPAWNED_PART",
+    "ServiceCallFailed",
+    "WorldServices",
+    "spawner",
+    "state_publications",
     "Goal",
     "GoalOutcome",
     "Plan",
@@ -65,21 +71,16 @@ __all__ = [
     "RosLatencyConfig",
     "WORLD_FRAMES",
     "Scenario",
-    "SpawnerConfig",
     "TfBroadcast",
     "TfEdge",
     "TrajectoryRequest",
-    "callback_start",
     "camera_views",
-    "check_in_cell",
     "check_joint_positions",
-    "draw",
     "expand_xacro",
     "gazebo_messages",
     "gazebo_plugins",
     "gazebo_topic",
     "gazebo_models",
-    "kind_of",
     "latency_names",
     "load_scenario",
     "logical_camera_publications",
@@ -88,10 +89,8 @@ __all__ = [
     "plugin_conveyor",
     "plugin_gripper",
     "plugin_proximity_ray",
-    "spawn",
     "single_camera",
     "spawn_controllers",
-    "spawn_pose",
     "start_goal",
     "tool_down",
     "unknown_plugins",

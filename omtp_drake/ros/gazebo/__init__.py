@@ -9,11 +9,9 @@ Modules, one concept each:
 - ``ros_control_topics``: gazebo_ros_control's controller topics (joint_states, command, state), ROS 1 names
 - ``ros_control_action``: a trajectory controller's follow_joint_trajectory action, actionlib's client
 - ``cell_services``: a service of the ROS 1 graph (name, type, handler) and a handler's failure
-- ``ros_api``: Gazebo's own ROS API under ``/gazebo``
+- ``ros_api``: Gazebo's own ROS API under ``/gazebo`` (states, model services), over the plugin layer
 - ``interfaces``: gazebo_msgs: the messages and services of Gazebo's ROS API
-- ``models``: the cell's Gazebo models as that API sees them: names, links, poses, twists
-- ``spawn``: ``/gazebo/spawn_urdf_model``, ``spawn_sdf_model`` and ``reset_world``
-- ``spawner``: the course's part spawner, wired as the scenario's launch file wires it
+- ``spawner``: the course's part spawner's services and ``/spawned_part``, over the plugin layer
 - ``world_plugins``: the world's ROS plugins (Gazebo's API, the spawner) attached to a run
 - ``graph``: what those plugins use of a run's ROS graph (the Session as a protocol)
 """

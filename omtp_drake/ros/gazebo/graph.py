@@ -25,7 +25,7 @@ class Graph(Protocol):
     latched: dict[str, Any]
     #: Spawner calls that spawned nothing (each logged once).
     empty_spawn_calls: list[str]
-    #: The Gazebo world attached to it (omtp_drake.ros.gazebo.ros_api.GazeboWorld).
+    #: The Gazebo world attached to it (omtp_drake.ros.gazebo.ros_api.GazeboApi).
     gazebo: Any
 
     def num_subscribers(self, topic: str) -> int: ...

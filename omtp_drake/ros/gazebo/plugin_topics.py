@@ -16,11 +16,12 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.comm._core import PluginService, Publication, gazebo_plugins
+from omtp_drake.ros.comm._core import PluginService, Publication, TrajectoryRequest, gazebo_plugins
 from omtp_drake.ros.comm._core import gazebo_messages as neutral
 from omtp_drake.ros.comm._core import plugin_conveyor as conveyor
 from omtp_drake.ros.comm._core import plugin_gripper as gripper
 from omtp_drake.ros.comm._core import plugin_proximity_ray as proximity_ray
+from omtp_drake.ros.comm._core import trajectory_request as neutral_trajectory_request
 from omtp_drake.ros.comm.image_messages import CameraInfo, Image, PointCloud2, PointField
 from omtp_drake.ros.comm.interfaces import (
     ConveyorBeltControl,
@@ -79,9 +80,10 @@ def to_ros1(m: Any) -> Message:
     return ros_type(**fields)
 
 
-def trajectory_request(msg: Any) -> neutral.TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory`` as the plugin layer reads it."""
-    return neutral.trajectory_request(msg, _seconds)
+def trajectory_request(msg: Any) -> TrajectoryRequest:
+    """A ``trajectory_msgs/JointTrajectory`` of the shim as the request every plugin and
+    controller reads."""
+    return neutral_trajectory_request(msg, _seconds)
 
 
 def _seconds(value: Any) -> float:
@@ -131,7 +133,7 @@ def attach_plugins(session: Graph) -> None:
         _log.warning(line)
 
 
-def _receiver(callback: Callable[[neutral.TrajectoryRequest], object]) -> Callable[[Any], None]:
+def _receiver(callback: Callable[[TrajectoryRequest], object]) -> Callable[[Any], None]:
     def receive(msg: Any) -> None:
         callback(trajectory_request(msg))
 

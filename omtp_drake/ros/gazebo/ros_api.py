@@ -1,22 +1,16 @@
-"""Gazebo's own ROS API on the cell (``gazebo_ros``'s API plugin), under ``/gazebo``.
+"""Gazebo's own ROS API on a ROS 1 run (``gazebo_ros``'s API plugin), under ``/gazebo``: the
+plugin layer's model and link states (:mod:`omtp_drake.gazebo.model_states`, the ``noetic``
+branch: one message per physics update while subscribed) and its model services
+(:mod:`omtp_drake.gazebo.world_services`) as ``gazebo_msgs`` topics and services. The rules
+are the layer's; here requests and replies are converted field for field.
 
-Topics: ``/gazebo/model_states`` (``gazebo_msgs/ModelStates``) and
-``/gazebo/link_states`` (``LinkStates``), in the world frame, one message per
-physics update as ``gazebo_ros`` publishes them (it connects to the world's
-update event once a subscriber is there): here one per plant step
-(``plant_config.time_step``), from the first subscription on.
+A ``gazebo_msgs/ModelState`` published on ``/gazebo/set_model_state`` moves the model as the
+service does (Gazebo subscribes to that topic too).
 
-A ``gazebo_msgs/ModelState`` published on ``/gazebo/set_model_state`` moves the
-model as the service does (Gazebo subscribes to that topic too).
-
-Services: ``get_model_state``, ``set_model_state``, ``get_link_state`` (an entity
-is a model, ``model::link``, or the world: ``""``, ``world``, ``map``; an unknown
-one answers ``success: False`` with Gazebo's status message), ``spawn_urdf_model``
-and ``spawn_sdf_model`` (the course's part only, see :mod:`omtp_drake.ros.gazebo.spawn`),
-``delete_model`` (a part), ``pause_physics``, ``unpause_physics``, ``reset_world``
-(every part in the world back where it entered it, at rest; the arms stay under
-their controllers) and ``reset_simulation`` (not supported: simulated time cannot
-go back here).
+Services: ``get_model_state``, ``set_model_state``, ``get_link_state``,
+``spawn_urdf_model`` and ``spawn_sdf_model``, ``delete_model``, ``pause_physics``,
+``unpause_physics``, ``reset_world`` and ``reset_simulation`` (not supported: simulated
+time cannot go back here).
 
 Pause. A paused Gazebo world stops its clock: no physics update, no ``/clock``,
 so a script's ``rospy.sleep`` (or any call that waits on simulated time) waits
@@ -29,14 +23,24 @@ paused (Gazebo's do).
 from __future__ import annotations
 
 import logging
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 
 from omtp_drake.errors import NotSupportedError
+from omtp_drake.ros.comm._core import (
+    LINK_STATES,
+    MODEL_STATES,
+    GazeboWorld,
+    ServiceCallFailed,
+    WorldServices,
+    gazebo_messages,
+    state_publications,
+)
 from omtp_drake.ros.comm.interfaces import EmptyService
 from omtp_drake.ros.comm.messages import Header, Message, Time, Twist, Vector3
-from omtp_drake.ros.gazebo.cell_services import Service
+from omtp_drake.ros.gazebo.cell_services import Service, ServiceFailure
 from omtp_drake.ros.gazebo.interfaces import (
     DeleteModel,
     GetLinkState,
@@ -45,10 +49,9 @@ from omtp_drake.ros.gazebo.interfaces import (
     LinkStates,
     ModelStates,
     SetModelState,
+    SpawnModel,
 )
-from omtp_drake.ros.gazebo.models import WORLD_NAMES, GazeboModels
 from omtp_drake.ros.gazebo.sensor_topics import Source
-from omtp_drake.ros.gazebo.spawn import PartSpawner, place_part
 from omtp_drake.ros.tf.convert import pose_msg, rigid
 
 if TYPE_CHECKING:
@@ -56,9 +59,11 @@ if TYPE_CHECKING:
 
 _log = logging.getLogger("rospy")
 
-MODEL_STATES = "/gazebo/model_states"
-LINK_STATES = "/gazebo/link_states"
+__all__ = ["LINK_STATES", "MODEL_STATES", "SET_MODEL_STATE", "GazeboApi", "PushedSource"]
+
 SET_MODEL_STATE = "/gazebo/set_model_state"
+#: The layer's states -> this API's message type.
+STATE_TYPES = {MODEL_STATES: ModelStates, LINK_STATES: LinkStates}
 
 
 class PushedSource(Source):
@@ -72,47 +77,43 @@ class PushedSource(Source):
         return []
 
 
-def twist_msg(v: np.ndarray, w: np.ndarray) -> Message:
-    return Twist(Vector3(*map(float, v)), Vector3(*map(float, w)))
+def twist_msg(twist: tuple[float, ...]) -> Message:
+    return Twist(Vector3(*twist[:3]), Vector3(*twist[3:]))
 
 
-class GazeboWorld:
-    """Gazebo's ROS API on ``session``'s cell (see the module doc)."""
+def states_msg(states: Any) -> Message:
+    """The layer's model or link states as ``gazebo_msgs/ModelStates`` or ``LinkStates``."""
+    msg: Any = (LinkStates if isinstance(states, gazebo_messages.LinkStates) else ModelStates)()
+    msg.name.extend(states.name)
+    msg.pose.extend(pose_msg(X) for X in states.pose)
+    msg.twist.extend(twist_msg(t) for t in states.twist)
+    return msg
 
-    def __init__(self, session: Graph):
+
+class GazeboApi:
+    """Gazebo's ROS API on ``session``'s cell (see the module doc); ``world`` is the plugin
+    layer's world the session's plugins share."""
+
+    def __init__(self, session: Graph, world: GazeboWorld):
         self.session = session
         self.cell = session.cell
-        self.models = GazeboModels(session.cell)
+        self.world = world
+        self.models = world.models
+        self.api = WorldServices(world)
         self.paused = False
-        self._stepping = False
-        self._get_count: dict[str, int] = {}
-        #: Called at every physics update (after the plant's step), with the time.
-        self.step_hooks: list[Any] = []
+        self._states = state_publications(world, "noetic")
 
-    # ------------------------------------------------------------ physics updates
-
-    @property
-    def step(self) -> float:
-        """The physics update period (s): the plant's time step."""
-        return float(self.cell.scenario.plant_config.time_step)
-
-    def start_stepping(self) -> None:
-        """From now on the step hooks run at every physics update."""
-        if not self._stepping:
-            self._stepping = True
-            self.cell.runtime.driver.every(self.step, self._on_step)
-
-    def _on_step(self) -> None:
-        t = self.cell.time
-        for hook in list(self.step_hooks):
-            hook(t)
-        for topic, build in ((MODEL_STATES, self.model_states), (LINK_STATES, self.link_states)):
-            if self.session.num_subscribers(topic):
-                self.session.publish(topic, build(), t)
+    def publish_states(self, t: float) -> None:
+        """The states due at physics update ``t`` (an update hook: after the spawner's, so a
+        part spawned at an update is in that update's states)."""
+        for publication in self._states:
+            if self.session.num_subscribers(publication.topic):
+                for states in publication.poll(t):
+                    self.session.publish(publication.topic, states_msg(states), t)
 
     def on_subscribe(self, topic: str) -> None:
-        if topic in (MODEL_STATES, LINK_STATES):
-            self.start_stepping()
+        if topic in STATE_TYPES:
+            self.world.start_updates()
 
     def clock_stopped(self) -> Optional[str]:
         """Why simulated time cannot advance now (None: it can)."""
@@ -124,133 +125,67 @@ class GazeboWorld:
             "for ever)"
         )
 
-    # ------------------------------------------------------------ topics
-
-    def model_states(self) -> Message:
-        return self._states(ModelStates(), self.models.models())
-
-    def link_states(self) -> Message:
-        return self._states(LinkStates(), self.models.links())
-
-    def _states(self, msg: Any, entities: list[tuple[str, Any]]) -> Any:
-        """``msg`` (ModelStates or LinkStates) filled with the entities' world states."""
-        for name, body in entities:
-            X, v, w = self.models.relative(body, None)
-            msg.name.append(name)
-            msg.pose.append(pose_msg(X))
-            msg.twist.append(twist_msg(v, w))
-        return msg
-
     # ------------------------------------------------------------ services
 
-    def frame(self, name: str) -> tuple[bool, Any]:
-        """(found, body or None for the world) of a reference entity."""
-        if name in WORLD_NAMES:
-            return True, None
-        body = self.models.body(name)
-        return body is not None, body
-
-    def reference(
-        self, name: str, response: Any, service: str, field: str, scoped: str = "link"
-    ) -> tuple[bool, Any]:
-        """:meth:`frame` of a request's reference entity ``name`` (its ``field``); when there is
-        none, ``response``'s status message says so as ``service`` does in Gazebo (forgot to
-        scope the ``scoped``?)."""
-        found, frame = self.frame(name)
-        if not found:
-            response.status_message = (
-                f"{service}: reference {field} not found, did you forget to scope the {scoped} by model name?"
-            )
-        return found, frame
-
     def get_model_state(self, request: Any) -> Any:
-        response: Any = GetModelState._response_class()
-        body = self.models.body(request.model_name) if "::" not in request.model_name else None
-        if body is None:
-            return self._no_model(response, "GetModelState", request.model_name)
-        count = self._get_count[request.model_name] = self._get_count.get(request.model_name, 0) + 1
-        response.header = Header(seq=count, stamp=Time(self.cell.time), frame_id=request.relative_entity_name)
-        found, frame = self.reference(
-            request.relative_entity_name, response, "GetModelState", "relative_entity_name", "body"
+        reply = self.api.get_model_state(request.model_name, request.relative_entity_name)
+        response: Any = GetModelState._response_class(
+            success=reply.success, status_message=reply.status_message
         )
-        if not found:
-            return response
-        X, v, w = self.models.relative(body, frame)
-        response.pose, response.twist = pose_msg(X), twist_msg(v, w)
-        response.success, response.status_message = True, "GetModelState: got properties"
+        if reply.seq:
+            response.header = Header(
+                seq=reply.seq, stamp=Time(self.cell.time), frame_id=request.relative_entity_name
+            )
+        if reply.success:
+            response.pose, response.twist = pose_msg(reply.X), twist_msg(reply.twist)
         return response
 
     def get_link_state(self, request: Any) -> Any:
-        response: Any = GetLinkState._response_class()
-        body = self.models.body(request.link_name) if "::" in request.link_name else None
-        if body is None:
-            response.status_message = (
-                "GetLinkState: link not found, did you forget to scope the link by model name?"
-            )
-            return response
-        found, frame = self.reference(request.reference_frame, response, "GetLinkState", "reference_frame")
-        if not found:
-            return response
-        X, v, w = self.models.relative(body, frame)
-        response.link_state = LinkState(
-            link_name=request.link_name,
-            pose=pose_msg(X),
-            twist=twist_msg(v, w),
-            reference_frame=request.reference_frame,
+        reply = self.api.get_link_state(request.link_name, request.reference_frame)
+        response: Any = GetLinkState._response_class(
+            success=reply.success, status_message=reply.status_message
         )
-        response.success, response.status_message = True, "GetLinkState: got state"
+        if reply.success:
+            response.link_state = LinkState(
+                link_name=request.link_name,
+                pose=pose_msg(reply.X),
+                twist=twist_msg(reply.twist),
+                reference_frame=request.reference_frame,
+            )
         return response
 
     def set_model_state(self, request: Any) -> Any:
         state = request.model_state
-        response: Any = SetModelState._response_class()
-        if state.model_name not in self.models.names():
-            return self._no_model(
-                response, "SetModelState", state.model_name, logged_as="Updating ModelState"
-            )
-        self._parts_only("/gazebo/set_model_state", "moves", state.model_name)
-        found, frame = self.frame(state.reference_frame)
-        if not found:
-            response.status_message = "SetModelState: specified reference frame entity does not exist"
-            return response
-        X = rigid(state.pose, "model_state.pose")
-        v = np.array([state.twist.linear.x, state.twist.linear.y, state.twist.linear.z], dtype=float)
-        w = np.array([state.twist.angular.x, state.twist.angular.y, state.twist.angular.z], dtype=float)
-        if frame is not None:
-            X_WF = self.models.pose(frame)
-            X, v, w = X_WF @ X, X_WF.rotation() @ v, X_WF.rotation() @ w
-        place_part(self.cell, self.models.part_of[state.model_name], X, v, w)
-        response.success, response.status_message = True, "SetModelState: set model state done"
-        return response
-
-    @staticmethod
-    def _no_model(response: Any, service: str, model: str, logged_as: str = "") -> Any:
-        """``response`` for a ``model`` the world does not have: Gazebo's error line (as
-        ``logged_as``, else ``service``) and status message."""
-        _log.error("%s: model [%s] does not exist", logged_as or service, model)
-        response.status_message = f"{service}: model does not exist"
-        return response
-
-    def _parts_only(self, service: str, verb: str, model: str) -> None:
-        """One error for a model that is not a part (the arms are welded and servoed here)."""
-        if model not in self.models.parts:
-            in_world = sorted(self.models.parts & set(self.models.names()))
-            raise NotSupportedError(
-                f"{service} of {model!r}: here it {verb} parts only; the parts in the world: "
-                f"{', '.join(in_world) or 'none'}"
-            )
+        linear, angular = state.twist.linear, state.twist.angular
+        reply = self.api.set_model_state(
+            state.model_name,
+            lambda: rigid(state.pose, "model_state.pose"),
+            np.array([linear.x, linear.y, linear.z], dtype=float),
+            np.array([angular.x, angular.y, angular.z], dtype=float),
+            state.reference_frame,
+        )
+        return SetModelState._response_class(success=reply.success, status_message=reply.status_message)
 
     def delete_model(self, request: Any) -> Any:
-        response: Any = DeleteModel._response_class()
-        if request.model_name not in self.models.names():
-            return self._no_model(response, "DeleteModel", request.model_name)
-        self._parts_only("/gazebo/delete_model", "deletes", request.model_name)
-        part = self.models.part_of[request.model_name]
-        self.cell.remove_part(part)
-        if part != request.model_name:
-            self.models.rename_part(part, part)  # spawned again, it is itself
-        response.success, response.status_message = True, "DeleteModel: successfully deleted model"
-        return response
+        reply = self.api.delete_model(request.model_name)
+        return DeleteModel._response_class(success=reply.success, status_message=reply.status_message)
+
+    def spawn(self, request: Any, service: str) -> Any:
+        try:
+            reply = self.api.spawner.spawn(
+                service,
+                request.model_name,
+                request.model_xml,
+                rigid(request.initial_pose, "initial_pose"),
+                request.reference_frame,
+            )
+        except ServiceCallFailed as e:
+            raise ServiceFailure(str(e)) from None
+        return SpawnModel._response_class(success=reply.success, status_message=reply.status_message)
+
+    def reset_world(self, _request: Any) -> Any:
+        self.api.spawner.reset_world()
+        return EmptyService._response_class()
 
     def pause(self, on: bool) -> Any:
         self.paused = on
@@ -264,18 +199,21 @@ class GazeboWorld:
         )
 
     def services(self) -> list[Service]:
-        spawner = PartSpawner(self.cell, self.models, self.reference)
+        def spawner(name: str) -> Callable[[Any], Any]:
+            return lambda request: self.spawn(request, name)
+
+        spawns = ("/gazebo/spawn_urdf_model", "/gazebo/spawn_sdf_model")
         return [
             Service("/gazebo/get_model_state", GetModelState, self.get_model_state),
             Service("/gazebo/set_model_state", SetModelState, self.set_model_state),
             Service("/gazebo/get_link_state", GetLinkState, self.get_link_state),
-            *spawner.services(),
+            *(Service(name, SpawnModel, spawner(name)) for name in spawns),
             Service("/gazebo/delete_model", DeleteModel, self.delete_model),
             Service("/gazebo/pause_physics", EmptyService, lambda _r: self.pause(True)),
             Service("/gazebo/unpause_physics", EmptyService, lambda _r: self.pause(False)),
-            Service("/gazebo/reset_world", EmptyService, spawner.reset_world),
+            Service("/gazebo/reset_world", EmptyService, self.reset_world),
             Service("/gazebo/reset_simulation", EmptyService, self.reset_simulation),
         ]
 
     def sources(self) -> dict[str, Source]:
-        return {MODEL_STATES: PushedSource(ModelStates), LINK_STATES: PushedSource(LinkStates)}
+        return {topic: PushedSource(kind) for topic, kind in STATE_TYPES.items()}

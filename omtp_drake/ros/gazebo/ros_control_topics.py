@@ -27,11 +27,11 @@ import logging
 from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.ros.comm._core import Controller, RosControl, TrajectoryRequest
+from omtp_drake.ros.comm._core import Controller, RosControl
 from omtp_drake.ros.comm._core import gazebo_topic as topic
-from omtp_drake.ros.comm._core import trajectory_request as neutral_trajectory_request
 from omtp_drake.ros.comm.control_interfaces import JointTrajectoryControllerState
 from omtp_drake.ros.comm.messages import Header, JointState, JointTrajectoryPoint, Time
+from omtp_drake.ros.gazebo.plugin_topics import trajectory_request
 from omtp_drake.ros.gazebo.ros_api import PushedSource
 
 if TYPE_CHECKING:
@@ -120,12 +120,3 @@ def _command(session: Graph, control: RosControl, controller: Controller):
             _log.error("%s: %s", controller.name, e)
 
     return callback
-
-
-def _seconds(value: Any) -> float:
-    return value.to_sec() if hasattr(value, "to_sec") else float(value)
-
-
-def trajectory_request(message: Any) -> TrajectoryRequest:
-    """A ``trajectory_msgs/JointTrajectory`` of the shim as the layer's request."""
-    return neutral_trajectory_request(message, _seconds)

@@ -1,4 +1,5 @@
-"""``/gazebo/spawn_urdf_model``, ``/gazebo/spawn_sdf_model`` and ``/gazebo/reset_world``.
+"""Gazebo's spawn services (``/gazebo/spawn_urdf_model``, ``/gazebo/spawn_sdf_model``; ROS 2's
+``spawn_entity``) and ``/gazebo/reset_world``: what a spawn request gets.
 
 The cell spawns the course's parts only: the model the course's conveyor spawner
 sends (``createObjectURDF``: a ``<robot>`` with one link whose visual and
@@ -8,7 +9,7 @@ link as an SDF ``<model>``. It becomes the next parked part of the scenario's po
 (one built as that object), named as asked, at ``initial_pose`` in
 ``reference_frame``. Any other model XML raises one NotSupportedError saying
 what is supported. ``spawn_urdf_model`` refuses XML that is no URDF, as Gazebo
-does (the call fails: ServiceException).
+does (the call fails: :class:`ServiceCallFailed`).
 
 ``reset_world`` puts every part in the world back where it entered the world
 (its scenario pose, or its spawn pose), at rest.
@@ -19,24 +20,36 @@ from __future__ import annotations
 import logging
 import xml.etree.ElementTree as ET
 from collections.abc import Callable, Collection
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.math import SpatialVelocity
 
+from omtp_drake.cell.parts import spawn_pose
 from omtp_drake.errors import NotSupportedError, OmtpError
-from omtp_drake.ros.comm._core import SpawnerConfig, check_in_cell, spawn_pose
-from omtp_drake.ros.comm.interfaces import EmptyService
-from omtp_drake.ros.gazebo.cell_services import Service, ServiceFailure
-from omtp_drake.ros.gazebo.interfaces import SpawnModel
-from omtp_drake.ros.tf.convert import rigid
+from omtp_drake.scenario import SpawnerConfig, check_in_cell
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.comm._core import Cell
-    from omtp_drake.ros.gazebo.models import GazeboModels
+    from omtp_drake.gazebo.models import GazeboModels
+    from omtp_drake.script import Cell
 
-_log = logging.getLogger("rospy")
+_log = logging.getLogger("gazebo")
+
+
+class ServiceCallFailed(OmtpError):
+    """A Gazebo service call that fails (the service returns false: rospy's ServiceException;
+    the message is Gazebo's)."""
+
+
+@dataclass(frozen=True)
+class Reply:
+    """A Gazebo service's ``success`` and ``status_message``."""
+
+    success: bool = False
+    status_message: str = ""
+
 
 #: The course's part mesh, as its spawner's configs name it.
 COURSE_PART_MESH = "package://omtp_gazebo/meshes/conveyor_objects/box.stl"
@@ -97,55 +110,51 @@ def model_xml_problem(xml: str, allowed: Collection[str] = (COURSE_PART_MESH,)) 
 
 
 class PartSpawner:
-    """Gazebo's spawn services and reset_world on ``cell``: ``models`` are its Gazebo
-    models, ``reference(name, response, service, field)`` answers (found, its body) for a
-    request's reference frame and, when there is none, says so in the response (as
-    :meth:`GazeboWorld.reference <omtp_drake.ros.gazebo.ros_api.GazeboWorld.reference>`)."""
+    """Gazebo's spawn services and reset_world on ``cell``: ``models`` are its Gazebo models,
+    ``reference(name)`` the body of a request's reference entity (None: the world; raises
+    KeyError when there is none)."""
 
-    def __init__(self, cell: Cell, models: GazeboModels, reference: Callable[..., tuple[bool, Any]]):
+    def __init__(self, cell: Cell, models: GazeboModels, reference: Callable[[str], Any]):
         self.cell = cell
         self.models = models
         self.reference = reference
         #: index of a spawn among the pool's spawns -> the pose given (spawns of these services).
         self._given: dict[int, RigidTransform] = {}
 
-    def spawn(self, request: Any, service: str) -> Any:
-        response: Any = SpawnModel._response_class()
-        if service.endswith("urdf_model") and "<robot" not in request.model_xml:
-            raise ServiceFailure("SpawnModel: Failure - entity format is invalid.")
+    def spawn(self, service: str, name: str, xml: str, X_FP: RigidTransform, reference_frame: str) -> Reply:
+        """``service`` (a spawn service's name) spawns model ``name`` of ``xml`` at ``X_FP`` in
+        ``reference_frame``."""
+        if service.endswith("urdf_model") and "<robot" not in xml:
+            raise ServiceCallFailed("SpawnModel: Failure - entity format is invalid.")
         kinds = part_meshes(self.cell)
-        problem = model_xml_problem(request.model_xml, kinds)
+        problem = model_xml_problem(xml, kinds)
         if problem is not None:
             raise NotSupportedError(
                 f"{service}: this cell spawns the course's parts only: a URDF <robot> (or SDF <model>) "
                 f"with one link whose meshes are one of {', '.join(kinds)}, as the course's conveyor "
                 f"spawner sends; got {problem}"
             )
-        kind = kinds[model_mesh(request.model_xml)]
+        kind = kinds[model_mesh(xml)]
         models = self.models
-        if request.model_name in models.names():
-            _log.error("SpawnModel: Failure - model name %s already exist.", request.model_name)
-            response.status_message = "SpawnModel: Failure - model already exists."
-            return response
-        found, frame = self.reference(request.reference_frame, response, "SpawnModel", "reference_frame")
-        if not found:
-            return response
-        X_WP = rigid(request.initial_pose, "initial_pose")
-        if frame is not None:
-            X_WP = models.pose(frame) @ X_WP
+        if name in models.names():
+            _log.error("SpawnModel: Failure - model name %s already exist.", name)
+            return Reply(False, "SpawnModel: Failure - model already exists.")
+        try:
+            frame = self.reference(reference_frame)
+        except KeyError:
+            return Reply(False, reference_missing("SpawnModel", "reference_frame"))
+        X_WP = X_FP if frame is None else models.pose(frame) @ X_FP
         check_in_cell(f"{service} initial_pose", X_WP.translation())
         pool = self.cell.runtime.pool
         index = pool.spawn_count
         try:
             part = pool.spawn(self.cell.runtime.context, X_WP, kind)
         except OmtpError as e:
-            response.status_message = f"SpawnModel: Failure - {e}"
-            return response
+            return Reply(False, f"SpawnModel: Failure - {e}")
         self._given[index] = X_WP
-        if part != request.model_name:
-            models.rename_part(part, request.model_name)
-        response.success, response.status_message = True, "SpawnModel: Successfully spawned entity"
-        return response
+        if part != name:
+            models.rename_part(part, name)
+        return Reply(True, "SpawnModel: Successfully spawned entity")
 
     def entry_pose(self, part: str) -> RigidTransform:
         """Where part ``part`` entered the world: its last spawn's pose, or its scenario pose."""
@@ -163,14 +172,12 @@ class PartSpawner:
         spawner = self.cell.scenario.spawner or SpawnerConfig()
         return spawn_pose(spawner, self.cell.scenario.seed, index)
 
-    def reset_world(self, _request: Any) -> Any:
+    def reset_world(self) -> None:
+        """Every part in the world back where it entered it, at rest."""
         for part in self.cell.runtime.parts_in_world():
             place_part(self.cell, part, self.entry_pose(part))
-        return EmptyService._response_class()
 
-    def services(self) -> list[Service]:
-        def handler(name: str) -> Callable[[Any], Any]:
-            return lambda request: self.spawn(request, name)
 
-        names = ("/gazebo/spawn_urdf_model", "/gazebo/spawn_sdf_model")
-        return [Service(name, SpawnModel, handler(name)) for name in names]
+def reference_missing(service: str, field: str, scoped: str = "link") -> str:
+    """Gazebo's status message for a reference entity ``field`` that does not exist."""
+    return f"{service}: reference {field} not found, did you forget to scope the {scoped} by model name?"

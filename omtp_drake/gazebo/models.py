@@ -1,4 +1,4 @@
-"""The cell's Gazebo models as Gazebo's ROS API sees them: names, links, poses and twists.
+"""The cell's Gazebo models as Gazebo's ROS API (both branches) sees them: names, links, poses and twists.
 
 The models and their names are the course world's
 (:func:`omtp_drake.cell.gazebo_models.gazebo_models`, the one home of that naming:
@@ -18,12 +18,12 @@ import numpy as np
 from pydrake.math import RigidTransform
 from pydrake.multibody.math import SpatialVelocity
 
-from omtp_drake.ros.comm._core import gazebo_models
+from omtp_drake.cell.gazebo_models import gazebo_models
 
 if TYPE_CHECKING:
     from pydrake.multibody.tree import Body
 
-    from omtp_drake.ros.comm._core import Cell
+    from omtp_drake.script import Cell
 
 #: A part's one link, as the course's spawner's URDF (``createObjectURDF("box", ...)``) names it.
 PART_LINK = "box_base_link"
