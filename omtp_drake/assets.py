@@ -64,7 +64,17 @@ def expand_xacro(path: Path | str, args: Mapping[str, object] | None = None) -> 
         doc = xacro.process_file(str(path), mappings=mappings)
     except xacro.XacroException as e:
         raise ConfigError(f"cannot expand {path.name} with {mappings}: {e}") from e
-    return doc.toprettyxml(indent="  ")
+    return urdf_text(doc)
+
+
+def urdf_text(doc) -> str:
+    """The text of xacro's document ``doc``, which is then unlinked: a minidom tree is a web
+    of parent links that only Python's cyclic collector frees, and the many trees of a
+    launch's expansions made its slow full collections run mid-build (bench/README.md)."""
+    try:
+        return doc.toprettyxml(indent="  ")
+    finally:
+        doc.unlink()
 
 
 @functools.cache

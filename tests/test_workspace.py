@@ -178,3 +178,27 @@ def test_a_find_result_in_the_description_names_the_package_folder(catkin_src: P
     urdf = expand_xacro_in(Workspace.from_dirs([catkin_src], environ={}), robot)
     folder = (catkin_src / "omtp_course" / "omtp_support").resolve()
     assert f'filename="file://{folder}/meshes/m.stl"' in urdf
+
+
+def test_an_expansion_is_reused_until_a_file_it_read_changes(catkin_src: Path, monkeypatch):
+    import xacro
+
+    ws = Workspace.from_dirs([catkin_src], environ={})
+    box = catkin_src / "omtp_course" / "omtp_support" / "urdf" / "box.xacro"
+    first = expand_xacro_in(ws, box, {"size": "0.25"})
+    calls = []
+    process_file = xacro.process_file
+    monkeypatch.setattr(xacro, "process_file", lambda *a, **k: calls.append(a) or process_file(*a, **k))
+    assert expand_xacro_in(ws, box, {"size": "0.25"}) == first and not calls  # the same files: reused
+    assert 'size="0.3 0.3 0.3"' in expand_xacro_in(ws, box, {"size": "0.3"}) and len(calls) == 1
+    link = catkin_src / "omtp_course" / "omtp_support" / "urdf" / "link.xacro"
+    link.write_text(link.read_text().replace("<visual>", '<visual name="v">'))  # an included file edited
+    assert '<visual name="v">' in expand_xacro_in(ws, box, {"size": "0.25"}) and len(calls) == 2
+    env = catkin_src / "omtp_course" / "omtp_support" / "urdf" / "env.xacro"
+    env.write_text(
+        '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="e">'
+        '<link name="$(optenv LINK base)"/></robot>'
+    )
+    expand_xacro_in(ws, env)
+    monkeypatch.setenv("LINK", "other")
+    assert '<link name="other"/>' in expand_xacro_in(ws, env) and len(calls) == 4  # reads the environment

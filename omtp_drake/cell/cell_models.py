@@ -109,6 +109,9 @@ def add_cell_models(
     _add_extra_frames(plant, scenario)
     described = add_described_models(parser, scenario.models)
     _filter_robot_collisions(plant, scene_graph, arm_handles)
+    if conveyor is not None:
+        fixed = [floor, *bins.values(), *(h.pedestal for h in arm_handles.values())]
+        _filter_belt_collisions(plant, scene_graph, conveyor, fixed)
     return CellModels(
         floor=floor,
         arms=arm_handles,
@@ -207,13 +210,7 @@ def _add_parts(parser: Parser, scenario: Scenario) -> tuple[dict[str, ModelInsta
 
     for part in scenario.parts:
         add(part.name, part.size, part.mass, RigidTransform(RollPitchYaw(part.rpy), part.xyz))
-    pool: list[str] = []
-    k = 1
-    while len(pool) < scenario.part_pool:
-        name = f"object_{k}"
-        k += 1
-        if name not in instances:
-            pool.append(name)
+    pool = scenario.pool_names()
     objects = {o.name: o for o in scenario.spawner.objects} if scenario.spawner is not None else {}
     kinds = pool_kinds(scenario.spawner, scenario.seed, pool)
     for name in pool:
@@ -226,6 +223,37 @@ def _add_parts(parser: Parser, scenario: Scenario) -> tuple[dict[str, ModelInsta
         else:
             add(name, scenario.pool_part_size, scenario.pool_part_mass, parking_pose(len(instances)))
     return instances, pool
+
+
+def _geometries(plant: MultibodyPlant, scene_graph: SceneGraph, bodies: list) -> list:
+    inspector = scene_graph.model_inspector()
+    ids = []
+    for body in bodies:
+        ids += inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(body.index()), Role.kProximity)
+    return ids
+
+
+def _filter_belt_collisions(
+    plant: MultibodyPlant,
+    scene_graph: SceneGraph,
+    conveyor: ModelInstanceIndex,
+    fixed: list[ModelInstanceIndex],
+) -> None:
+    """The belt's moving surface is the drive, not an obstacle: it touches what rides it,
+    never the cell's fixed pieces (the floor, bins, pedestals, the break beam and the
+    deletion wall, which stands just past its end: a tilted belt's surface, travelling and
+    reaching upstream beyond the drawn belt, would run into them)."""
+    belt = [plant.GetBodyByName("conveyor_belt", conveyor)]
+    for name in ("break_beam", "deletion_wall"):
+        if plant.HasModelInstanceNamed(name):
+            fixed = [*fixed, plant.GetModelInstanceByName(name)]
+    others = [plant.get_body(b) for instance in fixed for b in plant.GetBodyIndices(instance)]
+    scene_graph.collision_filter_manager().Apply(
+        CollisionFilterDeclaration().ExcludeBetween(
+            GeometrySet(_geometries(plant, scene_graph, belt)),
+            GeometrySet(_geometries(plant, scene_graph, others)),
+        )
+    )
 
 
 def _filter_robot_collisions(

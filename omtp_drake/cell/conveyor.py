@@ -1,7 +1,7 @@
 """The conveyor belt and the break beam.
 
 Belt mechanism: the conveyor model has a moving contact surface, the body
-``conveyor_belt``, on a prismatic joint along world y driven by a SAP
+``conveyor_belt``, on a prismatic joint along its base frame's y driven by a SAP
 velocity servo (a PD-controlled actuator with zero position gain). Parts
 resting on it are carried by ordinary friction, so they move exactly along
 the belt (no sideways drift) and stop with it; parts elsewhere are untouched.
@@ -46,19 +46,26 @@ def belt_desired_state(power: float) -> list[float]:
 @dataclass(frozen=True)
 class BeltGeometry:
     """Where the drawn belt is, from ``models/conveyor.urdf.xacro`` placed at ``X_WF`` (its
-    base frame F: the belt's centre line runs along F's y, its parts move toward F's -y)."""
+    base frame F: the belt's centre line runs along F's y, its parts move toward F's -y,
+    its top surface faces F's +z). F may be tilted (a student's world turns the conveyor
+    about x or y): the belt's top is then a tilted plane, and "above" means along F's z."""
 
     #: Half the belt's width and length (m), in F.
     half_width: float
     half_length: float
-    #: World height (m) of the top surface (F is level).
-    top: float
+    #: Height (m) of the top surface above F's origin, along F's z.
+    top_F: float
     X_WF: RigidTransform = X_W_CONVEYOR
 
     @classmethod
     def from_model(cls, X_WF: RigidTransform = X_W_CONVEYOR) -> BeltGeometry:
         d = model_dimensions("conveyor.urdf.xacro")
-        return cls(d["width"] / 2, d["length"] / 2, float(X_WF.translation()[2]) + d["top"], X_WF)
+        return cls(d["width"] / 2, d["length"] / 2, d["top"], X_WF)
+
+    @property
+    def top(self) -> float:
+        """World height (m) of the top surface at the middle of the belt's centre line."""
+        return float((self.X_WF @ np.array([0.0, 0.0, self.top_F]))[2])
 
     @property
     def centre(self) -> np.ndarray:
@@ -72,13 +79,32 @@ class BeltGeometry:
 
     @property
     def direction(self) -> np.ndarray:
-        """The way parts ride (world, unit): F's -y."""
+        """The way parts ride (world, unit): F's -y (tilted with the belt)."""
         return -self.X_WF.rotation().col(1)
+
+    @property
+    def normal(self) -> np.ndarray:
+        """The top surface's outward normal (world, unit): F's +z."""
+        return self.X_WF.rotation().col(2)
+
+    def height(self, p_W: np.ndarray) -> float:
+        """How far (m) the world point is above the belt's top surface, along its normal."""
+        return float((self.X_WF.inverse() @ np.asarray(p_W, dtype=float))[2]) - self.top_F
 
     def over(self, p_W: np.ndarray) -> bool:
         """Is the world point over the belt (within its footprint, above its top)?"""
         p_F = self.X_WF.inverse() @ np.asarray(p_W, dtype=float)
-        return bool(abs(p_F[0]) <= self.half_width and abs(p_F[1]) <= self.half_length and p_W[2] > self.top)
+        return bool(
+            abs(p_F[0]) <= self.half_width and abs(p_F[1]) <= self.half_length and p_F[2] > self.top_F
+        )
+
+    def resting_point(self, p_W: np.ndarray, support: float, clearance: float = 0.001) -> np.ndarray:
+        """Where a part's centre rests on the belt under (or over) the world point ``p_W``:
+        ``support`` (m) plus ``clearance`` above the top surface along its normal (``support``:
+        the part's extent from its centre to its lowest point along that normal)."""
+        p_F = self.X_WF.inverse() @ np.asarray(p_W, dtype=float)
+        p_F[2] = self.top_F + support + clearance
+        return self.X_WF @ p_F
 
 
 def check_power(power: float) -> float:

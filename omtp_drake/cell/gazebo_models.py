@@ -22,7 +22,8 @@ anything else                  its own name (``deletion_wall``, ``logical_camera
 
 A model's type is ARIAC's ``DetermineModelType`` of its name (:func:`model_type`), its
 origin where Gazebo has it: models spawned without a pose (pedestals, break beam,
-workcell: their links are placed by joints inside the model) at the world origin, the
+workcell: their links are placed by joints inside the model) at the world origin (a break
+beam the student moved: where its spawn put it, :func:`break_beam_origin`), the
 conveyor at its pose in ``omtp.world``, every other model at its first body.
 
 The models are listed in the course world's order: the world file's, then the
@@ -40,7 +41,9 @@ import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.tree import ModelInstanceIndex
 
+from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
+from omtp_drake.scenario.configs import pose6
 
 if TYPE_CHECKING:
     from pydrake.multibody.plant import MultibodyPlant
@@ -128,9 +131,11 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
         if name in grippers:
             robot = by_name[grippers[name]]
             by_name[robot.name] = GazeboModel(robot.name, (*robot.instances, instance))
-        elif name in bins or name in pedestals or name == "break_beam":
+        elif name in bins or name in pedestals:
             origin = None if name in bins else RigidTransform()
             by_name[f"{name}_"] = GazeboModel(f"{name}_", (instance,), origin)
+        elif name == "break_beam":
+            by_name["break_beam_"] = GazeboModel("break_beam_", (instance,), break_beam_origin(scenario))
         elif name == "floor":
             by_name["workcell_"] = GazeboModel(
                 "workcell_", (instance,), RigidTransform(), box_W=WORKCELL_BOX_W
@@ -154,6 +159,16 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
     order = sorted(range(len(by_name)), key=lambda k: _rank(list(by_name)[k], spawned) + (k,))
     models = list(by_name.values())
     return tuple(models[k] for k in order)
+
+
+def break_beam_origin(scenario: Scenario) -> RigidTransform:
+    """``X_WM`` of the break beam's Gazebo model: where ``spawn_model`` put it, the world's
+    origin in the course (its URDF places the housing at :data:`X_W_BREAK_BEAM` from there);
+    a beam the student moved (``break_beam_pose``, the housing's pose as loaded) moves its
+    model's origin with it."""
+    if not scenario.break_beam_pose:
+        return RigidTransform()
+    return pose6(scenario.break_beam_pose) @ X_W_BREAK_BEAM.inverse()
 
 
 def gazebo_name(models: tuple[GazeboModel, ...], instance: ModelInstanceIndex) -> str:

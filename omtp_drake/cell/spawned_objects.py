@@ -13,34 +13,16 @@ course's box (the cell's 0.2 m cube part): see :mod:`omtp_drake.launch.nodes`.
 
 from __future__ import annotations
 
-import functools
 import itertools
-from pathlib import Path
 
-from omtp_drake import assets
-from omtp_drake.errors import ConfigError
-from omtp_drake.scenario.conveyor_spawner import OBJECT_INERTIA, OBJECT_MASS, SpawnObjectConfig
+from omtp_drake.scenario.conveyor_spawner import OBJECT_INERTIA, OBJECT_MASS, SpawnObjectConfig, object_mesh
 
 _CORNER_RADIUS = 0.001
 
 
-@functools.cache
-def drake_mesh(path: str) -> tuple[Path, tuple[tuple[float, ...], tuple[float, ...]]]:
-    """The mesh file Drake reads for ``path`` (:func:`omtp_drake.assets.drake_mesh`: converted
-    once, cached by content) and its bounds."""
-    import trimesh
-
-    src = Path(path)
-    if not src.is_file():
-        raise ConfigError(f"spawner object mesh {path}: no such file")
-    dst = assets.drake_mesh(src, collision=True)
-    lo, hi = trimesh.load(dst, force="mesh").bounds
-    return dst, (tuple(map(float, lo)), tuple(map(float, hi)))
-
-
 def object_part_urdf(name: str, obj: SpawnObjectConfig) -> str:
     """The URDF of pool part ``name`` built as spawner object ``obj`` (its mesh file set)."""
-    mesh, (lo, hi) = drake_mesh(obj.mesh_file)
+    mesh, (lo, hi) = object_mesh(obj.mesh_file)
     geometry = f'<geometry><mesh filename="{mesh.resolve().as_uri()}"/></geometry>'
     corners = "".join(
         f'<collision name="corner_{k}"><origin xyz="{x} {y} {z}"/>'

@@ -420,7 +420,7 @@ def _add_break_beam(
     if not scenario.break_beam:
         return None
     part_bodies = [plant.GetBodyByName(n, i) for n, i in models.parts.items()]
-    boxes = [(np.zeros(3), np.full(3, scenario.part_size(n) / 2)) for n in models.parts]
+    boxes = [scenario.part_box(n) for n in models.parts]
     beam = builder.AddNamedSystem(
         "break_beam", BreakBeam(plant, plant.GetFrameByName("break_beam_optical_link"), part_bodies, boxes)
     )

@@ -47,7 +47,7 @@ from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.launch.world_pieces import WorldPieces, add_world_model
 from omtp_drake.launch.world_pieces import add_world as add_world_pieces
 from omtp_drake.launch.xml_lines import parse_xml
-from omtp_drake.scenario import ModelConfig
+from omtp_drake.scenario import ConveyorConfig, ModelConfig
 from omtp_drake.scenario.conveyor_spawner import WORLD_FRAMES, spawner_params
 from omtp_drake.scenario.models import model_from_text
 from omtp_drake.workspace import Workspace
@@ -369,11 +369,6 @@ def _spawner(node: Node, launch: Launch, workspace: Workspace) -> dict:
         spawner = spawner_params(config, where, lambda uri: _mesh_file(uri, workspace))
     except ConfigError as e:
         raise WorkspaceError(str(e)) from None
-    if spawner["reference_frame"] in WORLD_FRAMES:
-        # The course's box stands in for a mesh nobody has: resting on the belt.
-        for item in spawner["objects"]:
-            if not item["mesh_file"]:
-                item["xyz"] = _resting(np.array(item["xyz"])).tolist()
     spawner["xyz"] = spawner["objects"][0]["xyz"]
     spawner["start_service"] = node.remaps.get("/start_spawn", "/start_spawn")
     return spawner
@@ -389,10 +384,22 @@ def _mesh_file(uri: str, workspace: Workspace) -> str:
     return str(path) if path is not None and path.is_file() else ""
 
 
-def _resting(p_W: np.ndarray, part_size: float = 0.2) -> np.ndarray:
-    """A spawn point over the belt, at most two parts' size above it: the part's centre
-    resting on the belt, as the built-in scenarios place the course's spawn points."""
-    belt = BeltGeometry.from_model()
-    if belt.over(p_W) and p_W[2] <= belt.top + 2 * part_size:
-        return np.array([p_W[0], p_W[1], round(belt.top + part_size / 2 + 0.001, 6)])
-    return p_W
+def rest_standins_on_belt(spawner: dict, conveyor: dict | None, part_size: float = 0.2) -> None:
+    """The course's box stands in for a spawner object whose mesh nobody has: one spawned
+    over the belt as loaded (``conveyor``: the scenario's section; moved, raised or tilted),
+    at most two parts' size above it, starts resting on it (as the built-in scenarios place
+    the course's spawn points). Without a conveyor, or in another reference frame, the
+    object's pose stays as its file gives it."""
+    if conveyor is None or spawner["reference_frame"] not in WORLD_FRAMES:
+        return
+    config = ConveyorConfig(**{k: v for k, v in conveyor.items() if k in ("xyz", "yaw", "roll", "pitch")})
+    belt = BeltGeometry.from_model(config.X_WF())
+    for item in spawner["objects"]:
+        p_W = np.array(item["xyz"], dtype=float)
+        if item["mesh_file"] or not belt.over(p_W) or belt.height(p_W) > 2 * part_size:
+            continue
+        # A cube's reach from its centre along the belt's normal, at the object's orientation.
+        R_WO = RollPitchYaw(item["rpy"]).ToRotationMatrix().matrix()
+        support = 0.5 * part_size * float(np.abs(R_WO.T @ belt.normal).sum())
+        item["xyz"] = [round(float(v), 6) for v in belt.resting_point(p_W, support)]
+    spawner["xyz"] = spawner["objects"][0]["xyz"]

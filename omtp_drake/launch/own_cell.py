@@ -26,7 +26,14 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.controller_spawners import activate_ros2_controllers, start_spawned_controllers
 from omtp_drake.launch.launch_py import read_launch_file
-from omtp_drake.launch.nodes import SPAWNER_POOL, NodeMapping, NodeScript, add_world, map_nodes
+from omtp_drake.launch.nodes import (
+    SPAWNER_POOL,
+    NodeMapping,
+    NodeScript,
+    add_world,
+    map_nodes,
+    rest_standins_on_belt,
+)
 from omtp_drake.launch.pieces import merge_pedestals
 from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
 from omtp_drake.launch.standins import standin_dirs
@@ -190,6 +197,7 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
     if mapping.spawner is not None:
         # spawn_object_once.py is the course's one-part-at-a-time rule.
         one_at_a_time = mapping.stop_node
+        rest_standins_on_belt(mapping.spawner, document.get("conveyor"))
         document["spawner"] = {
             **mapping.spawner,
             "stop_node": mapping.stop_node,

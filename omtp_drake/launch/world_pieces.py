@@ -15,8 +15,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from pydrake.math import RigidTransform, RollPitchYaw
+from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
 
+from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_DELETION_WALL
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
@@ -79,6 +80,8 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             if X_WF is not X_W_CONVEYOR:
                 pose = pose_list(X_WF)
                 pieces.conveyor.update(xyz=pose[:3], yaw=pose[5])
+                if abs(pose[3]) > _TOL or abs(pose[4]) > _TOL:  # tilted: its parts ride the slope
+                    pieces.conveyor.update(roll=pose[3], pitch=pose[4])
         elif kind == "deletion_wall":
             check_deletion_wall(plugin)
             if _moved(model.X_WM, X_W_DELETION_WALL):
@@ -108,7 +111,7 @@ def pose_list(X: RigidTransform) -> list[float]:
 def _belt_pose(model: WorldModel, link_path: str, where: str) -> RigidTransform:
     """``X_WF`` of the conveyor base frame the plugin's belt link (``model::nested::link``)
     puts in world: where the course has it (within 5 mm: the course's world turns the
-    conveyor by -1.571, not -pi/2), or where the student moved it, level on the floor."""
+    conveyor by -1.571, not -pi/2), or where the student moved, raised or tilted it."""
     names = link_path.split("::")[1:] if "::" in link_path else [link_path]
     element, X = model.element, model.X_WM
     for name in names[:-1]:
@@ -121,13 +124,11 @@ def _belt_pose(model: WorldModel, link_path: str, where: str) -> RigidTransform:
     if link is None:
         raise WorkspaceError(f"{where}: ROSConveyorBeltPlugin link {link_path!r} is not in the model")
     X_WL = X @ sdf_pose(link.findtext("pose"), where)
-    # The belt link's x axis is the way parts ride: F's -y (F turned a quarter from it).
-    roll, pitch, yaw = RollPitchYaw(X_WL.rotation()).vector()
-    if abs(roll) > _TOL or abs(pitch) > _TOL:
-        raise WorkspaceError(
-            f"{where}: the belt's link is tilted (roll {roll:.4f}, pitch {pitch:.4f}); the cell stands "
-            "the conveyor level on the floor"
-        )
-    p = X_WL.translation()
-    X_WF = RigidTransform(RollPitchYaw(0.0, 0.0, yaw + np.pi / 2), [p[0], p[1], 0.0])
+    # The belt link's x axis is the way parts ride: F's -y (F turned a quarter from it); its
+    # origin is the belt's middle, half the belt's thickness under its top (the course's model).
+    d = model_dimensions("conveyor.urdf.xacro")
+    X_LF = RigidTransform(
+        RotationMatrix.MakeZRotation(np.pi / 2), [0.0, 0.0, -(d["top"] - d["belt_thickness"] / 2)]
+    )
+    X_WF = X_WL @ X_LF
     return X_W_CONVEYOR if not _moved(X_WF, X_W_CONVEYOR, _BELT_TOL) else X_WF

@@ -178,16 +178,28 @@ class ConveyorConfig:
     #: turn about world z (rad); at yaw 0 the belt runs toward world -y.
     xyz: list[float] = field(default_factory=lambda: [1.2, 0.0, 0.0])
     yaw: float = 0.0
+    #: Its tilt (rad; roll about x, pitch about y, then yaw, as ``<pose>``): a student's world
+    #: may tilt the belt, whose parts then ride along its tilted axis.
+    roll: float = 0.0
+    pitch: float = 0.0
 
     def validate(self) -> None:
         if not 0 <= self.power <= 100:
             raise ConfigError(f"conveyor.power must be in [0, 100], got {self.power}")
         check_len("conveyor.xyz", self.xyz, 3)
-        check_in_cell("conveyor.xyz", self.xyz)
+        for key in ("roll", "pitch", "yaw"):
+            value = getattr(self, key)
+            if not math.isfinite(value) or abs(value) > 2 * math.pi:
+                raise ConfigError(f"conveyor.{key} must be an angle in [-2 pi, 2 pi] (rad), got {value}")
+        if self.roll == 0.0 and self.pitch == 0.0:
+            check_in_cell("conveyor.xyz", self.xyz)
+        else:  # a tilted base frame may dip below the floor: its belt's middle may not
+            top = self.X_WF() @ np.array([0.0, 0.0, model_dimensions("conveyor.urdf.xacro")["top"]])
+            check_in_cell("conveyor (the middle of its tilted belt's top)", [float(v) for v in top])
 
     def X_WF(self) -> RigidTransform:
         """The conveyor's base frame F in world."""
-        return RigidTransform(RollPitchYaw(0.0, 0.0, self.yaw), self.xyz)
+        return RigidTransform(RollPitchYaw(self.roll, self.pitch, self.yaw), self.xyz)
 
 
 def check_pose6(what: str, pose: list[float]) -> None:

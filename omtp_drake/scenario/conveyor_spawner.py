@@ -34,13 +34,16 @@ the same poses, in any run (:func:`draw`).
 
 # No `from __future__ import annotations`: SpawnObjectConfig is a YAML schema.
 
+import functools
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw, RotationMatrix
 
+from omtp_drake import assets
 from omtp_drake.errors import ConfigError
 
 #: A ``SpawnerConfig`` (:mod:`omtp_drake.scenario.configs` imports this module, so the
@@ -122,6 +125,21 @@ def object_pose(spawner: SpawnerConfig, d: SpawnDraw) -> RigidTransform:
     obj = spawner.objects[d.kind]
     R = RollPitchYaw(obj.rpy).ToRotationMatrix() @ RotationMatrix.MakeZRotation(d.yaw)
     return RigidTransform(R, np.array(obj.xyz, dtype=float) + [0.0, d.lateral, 0.0])
+
+
+@functools.cache
+def object_mesh(path: str) -> tuple[Path, tuple[tuple[float, ...], tuple[float, ...]]]:
+    """The mesh file Drake reads for an object's mesh file ``path`` (converted once, cached
+    by content: :func:`omtp_drake.assets.drake_mesh`) and its bounds (lo, hi corners of its
+    bounding box, in the object's frame, m); ConfigError when the file is missing."""
+    import trimesh
+
+    src = Path(path)
+    if not src.is_file():
+        raise ConfigError(f"spawner object mesh {path}: no such file")
+    dst = assets.drake_mesh(src, collision=True)
+    lo, hi = trimesh.load(dst, force="mesh").bounds
+    return dst, (tuple(map(float, lo)), tuple(map(float, hi)))
 
 
 def kind_of(spawner: SpawnerConfig, seed: int, index: int) -> str:

@@ -37,6 +37,7 @@ from omtp_drake.scenario.configs import (
     check_len,
     check_pose6,
 )
+from omtp_drake.scenario.conveyor_spawner import draw, object_mesh
 from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.latency import RosLatencyConfig
 from omtp_drake.scenario.models import ModelConfig
@@ -121,11 +122,49 @@ class Scenario:
     models: list[ModelConfig] = field(default_factory=list)
 
     def part_size(self, name: str) -> float:
-        """Edge length (m) of the part ``name``: its own ``parts`` entry, else the pool's."""
+        """Size (m) of the part ``name``: a cube's edge (its own ``parts`` entry, else the
+        pool's); a pool part built as one of the spawner's mesh objects: the longest edge of
+        its mesh's bounding box (:meth:`part_box`)."""
         for part in self.parts:
             if part.name == name:
                 return part.size
-        return self.pool_part_size
+        mesh = self._pool_mesh(name)
+        if mesh is None:
+            return self.pool_part_size
+        lo, hi = object_mesh(mesh)[1]
+        return float(max(h - l for l, h in zip(lo, hi)))
+
+    def part_box(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """The bounding box of the part ``name`` in its own frame: (centre, half extents),
+        m. A cube: centred on its origin, half its edge; a pool part built as one of the
+        spawner's mesh objects: its mesh's box, wherever the mesh puts it."""
+        mesh = None if any(p.name == name for p in self.parts) else self._pool_mesh(name)
+        if mesh is None:
+            return np.zeros(3), np.full(3, self.part_size(name) / 2)
+        lo, hi = (np.array(v) for v in object_mesh(mesh)[1])
+        return (lo + hi) / 2, (hi - lo) / 2
+
+    def pool_names(self) -> list[str]:
+        """The pool's parts in spawn order: ``object_k`` after the placed parts (a name a
+        placed part has is skipped)."""
+        placed = {p.name for p in self.parts}
+        names: list[str] = []
+        k = 1
+        while len(names) < self.part_pool:
+            if f"object_{k}" not in placed:
+                names.append(f"object_{k}")
+            k += 1
+        return names
+
+    def _pool_mesh(self, name: str) -> Optional[str]:
+        """The mesh file of the spawner's object pool part ``name`` is built as (None: a cube)."""
+        spawner = self.spawner
+        if spawner is None or not any(o.mesh_file for o in spawner.objects):
+            return None
+        pool = self.pool_names()
+        if name not in pool:
+            return None
+        return spawner.objects[draw(spawner, self.seed, pool.index(name)).kind].mesh_file or None
 
     def required_task(self) -> TaskConfig:
         """The scenario's task (ConfigError when it has none)."""

@@ -3,9 +3,9 @@
 Each part in the world is in exactly one place:
 
 * ``held``: a vacuum gripper holds it (the detail names the robot);
-* ``in_bin``: its centre is inside a bin's inner footprint, above the bin's
-  floor (resting on the floor of the bin or on other parts in it);
-* ``on_belt``: over the belt and resting on (or just above) its surface;
+* ``in_bin``: its centre (the middle of its bounding box) is inside a bin's inner
+  footprint, above the bin's floor (resting on the floor of the bin or on other parts in it);
+* ``on_belt``: over the belt and resting on (or just above) its surface (tilted or not);
 * ``on_floor``: resting on (or just above) the cell's floor;
 * ``elsewhere``: none of these (e.g. on a pedestal or falling); the detail is
   its position.
@@ -99,15 +99,15 @@ def locate(station: Station, root_context: Context, name: str, held: dict[str, s
         if part == name:
             return "held", robot
     X_WP = _pose(station, root_context, name)
-    p = X_WP.translation()
+    centre, half = station.scenario.part_box(name)
+    p = X_WP @ centre  # the middle of the part's box (a mesh's origin may be anywhere in it)
     in_bin = _bin_at(station, root_context, p)
     if in_bin is not None:
         return "in_bin", in_bin
-    bottom = p[2] - _half_height(X_WP, station.scenario.part_size(name))
     belt = station.belt
-    if belt is not None and belt.over(p) and bottom - belt.top < RESTING_GAP:
+    if belt is not None and belt.over(p) and belt.height(p) - _reach(X_WP, half, belt.normal) < RESTING_GAP:
         return "on_belt", ""
-    if bottom < RESTING_GAP:
+    if p[2] - _reach(X_WP, half, np.array([0.0, 0.0, 1.0])) < RESTING_GAP:
         return "on_floor", ""
     return "elsewhere", "({:.3f}, {:.3f}, {:.3f})".format(*p)
 
@@ -116,7 +116,9 @@ def bin_of(station: Station, root_context: Context, name: str) -> Optional[str]:
     """The bin part ``name`` lies in (as :func:`locate` says ``"in_bin"``); None when none.
     What the spawner asks of each part at its checks: the rest of :func:`locate` (the
     belt, the floor) is not needed there."""
-    return _bin_at(station, root_context, _pose(station, root_context, name).translation())
+    return _bin_at(
+        station, root_context, _pose(station, root_context, name) @ station.scenario.part_box(name)[0]
+    )
 
 
 def _pose(station: Station, root_context: Context, name: str) -> RigidTransform:
@@ -134,9 +136,10 @@ def _bin_at(station: Station, root_context: Context, p_W: np.ndarray) -> Optiona
     return None
 
 
-def _half_height(X_WP: RigidTransform, size: float) -> float:
-    """Half the vertical extent of a cube of edge ``size`` at pose ``X_WP``."""
-    return 0.5 * size * float(np.sum(np.abs(X_WP.rotation().matrix()[2, :])))
+def _reach(X_WP: RigidTransform, half: np.ndarray, n_W: np.ndarray) -> float:
+    """How far the part's box (``half`` extents, in its frame, at pose ``X_WP``) reaches from
+    its middle along the world direction ``n_W`` (unit)."""
+    return float(np.abs(X_WP.rotation().matrix().T @ n_W) @ half)
 
 
 def take_ledger(station: Station, root_context: Context, pool: PartPool) -> Ledger:

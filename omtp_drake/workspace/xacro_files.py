@@ -52,12 +52,54 @@ def expand_xacro_in(
     if not path.is_file():
         raise WorkspaceError(f"{path}: no such file")
     prefix = ament_prefix(workspace)
+    key = (str(path.resolve()), tuple(sorted((args or {}).items())), str(prefix))
+    known = _EXPANDED.get(key)
+    if known is not None and all(_stamp(f) == stamp for f, stamp in known[1]):
+        return known[0]
     with _XACRO_LOCK, environment_set(AMENT_PREFIX_PATH, str(prefix)):
+        first = len(xacro.all_includes)
         try:
             doc = xacro.process_file(str(path), mappings=dict(args or {}))
         except Exception as e:
             raise _explained(workspace, path, e) from None
-    return _real_folders(doc.toprettyxml(indent="  "), prefix, workspace)
+        read = [str(path), *xacro.all_includes[first:]]
+    try:
+        text = doc.toprettyxml(indent="  ")
+    finally:
+        doc.unlink()  # freed now, not by the cyclic collector (as omtp_drake.assets.expand_xacro)
+    text = _real_folders(text, prefix, workspace)
+    _remember(key, text, read)
+    return text
+
+
+#: Expansions of this process: (file, args, prefix) -> (text, the (file, stamp) of every file
+#: xacro read). A launch's xacro commands run again at each build of its cell (a notebook's,
+#: a batch's); the text is reused while none of the files changed. An expansion that reads
+#: the environment (``$(env)``, ``$(optenv)``) is not kept.
+_EXPANDED: dict[tuple, tuple[str, tuple[tuple[str, tuple[int, int] | None], ...]]] = {}
+_EXPANDED_MAX = 64
+
+
+def _stamp(file: str) -> tuple[int, int] | None:
+    try:
+        stat = os.stat(file)
+    except OSError:
+        return None
+    return stat.st_mtime_ns, stat.st_size
+
+
+def _remember(key: tuple, text: str, files: list[str]) -> None:
+    stamps = tuple((f, _stamp(f)) for f in dict.fromkeys(files))
+    for file, _ in stamps:
+        try:
+            source = Path(file).read_text(errors="replace")
+        except OSError:
+            return
+        if "$(env" in source or "$(optenv" in source:
+            return
+    if len(_EXPANDED) >= _EXPANDED_MAX:
+        _EXPANDED.pop(next(iter(_EXPANDED)))
+    _EXPANDED[key] = (text, stamps)
 
 
 def _real_folders(text: str, prefix: Path, workspace: Workspace) -> str:
