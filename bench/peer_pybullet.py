@@ -1,0 +1,230 @@
+"""The ``fill_bin`` job in PyBullet, ravens-style, at PyBullet's defaults (240 Hz).
+
+Robot 2 (example-robot-data's UR5 and the vacuum gripper, :func:`peer_job.arm_urdf`) stands
+on its pedestal at our cell's base pose; the floor is PyBullet's plane, bin 1 five boxes;
+as in our cell, the arm does not collide with its pedestal.
+The arm replays our run's joint commands (:class:`peer_job.FillBinJob`) through PyBullet's
+position motors (``POSITION_CONTROL``, the URDF's effort limits as their forces), the
+commands changing when our servo's samples do (100 Hz). Suction as in ravens: while
+commanded on and holding nothing, a part in contact with the cup is held by a fixed
+constraint created at that step with its pose in the cup; the command off removes it.
+Each part appears when and where ours did (a box created at the spawner's pose, which
+then falls to the floor as ours does). Nothing else of PyBullet is changed from its
+defaults (time step, solver iterations, damping, friction, sleeping).
+"""
+
+from __future__ import annotations
+
+import tempfile
+import time
+from dataclasses import dataclass, field, replace
+from typing import Optional
+
+import numpy as np
+import pybullet as pb
+from peer_job import (
+    BIN_FLOOR_TOP,
+    BIN_HEIGHT,
+    BIN_OUTER,
+    BIN_WALL,
+    PEDESTAL_SIDE,
+    FillBinJob,
+    arm_urdf,
+)
+
+#: The UR5's joints (the URDF's order); their motors' forces are the URDF's effort limits.
+JOINTS = (
+    "shoulder_pan_joint",
+    "shoulder_lift_joint",
+    "elbow_joint",
+    "wrist_1_joint",
+    "wrist_2_joint",
+    "wrist_3_joint",
+)
+
+
+def _static_box(client: int, half: tuple[float, float, float], xyz) -> int:
+    shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=client)
+    return pb.createMultiBody(0, shape, -1, list(xyz), physicsClientId=client)
+
+
+def add_bin(client: int, xyz) -> None:
+    """Bin 1 (models/bin.urdf.xacro) as five static boxes, its frame at ``xyz``."""
+    x, y, z = xyz
+    o, w, h, f = BIN_OUTER, BIN_WALL, BIN_HEIGHT, BIN_FLOOR_TOP
+    wall_z = z + (h + f) / 2
+    _static_box(client, (o / 2, o / 2, f / 2), (x, y, z + f / 2))
+    for s in (1, -1):
+        _static_box(client, (w / 2, o / 2, (h - f) / 2), (x + s * (o - w) / 2, y, wall_z))
+        _static_box(client, ((o - 2 * w) / 2, w / 2, (h - f) / 2), (x, y + s * (o - w) / 2, wall_z))
+
+
+@dataclass
+class PyBulletCell:
+    """A PyBullet world (its own DIRECT client) with robot 2, its pedestal, bin 1 and the
+    floor; parts are added with :meth:`add_part`. ``close`` frees the client."""
+
+    job: FillBinJob
+    client: int = -1
+    arm: int = -1
+    cup: int = -1
+    joints: list[int] = field(default_factory=list)
+    forces: list[float] = field(default_factory=list)
+    parts: list[int] = field(default_factory=list)
+    held: Optional[int] = None
+    constraint: Optional[int] = None
+    _box_shape: int = -1
+
+    def __post_init__(self) -> None:
+        job = self.job
+        self.client = pb.connect(pb.DIRECT)
+        c = self.client
+        pb.setGravity(0, 0, -9.81, physicsClientId=c)
+        plane = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c)
+        pb.createMultiBody(0, plane, physicsClientId=c)
+        bx, by, bz = job.base_xyz
+        pedestal = _static_box(c, (PEDESTAL_SIDE / 2, PEDESTAL_SIDE / 2, bz / 2), (bx, by, bz / 2))
+        add_bin(c, job.bin_xyz)
+        with tempfile.TemporaryDirectory() as tmp:
+            self.arm = pb.loadURDF(
+                str(arm_urdf(tmp)),
+                job.base_xyz,
+                pb.getQuaternionFromEuler((0, 0, job.base_yaw)),
+                useFixedBase=True,
+                physicsClientId=c,
+            )
+        names = {
+            pb.getJointInfo(self.arm, j, physicsClientId=c)[1].decode(): j
+            for j in range(pb.getNumJoints(self.arm, physicsClientId=c))
+        }
+        links = {
+            pb.getJointInfo(self.arm, j, physicsClientId=c)[12].decode(): j
+            for j in range(pb.getNumJoints(self.arm, physicsClientId=c))
+        }
+        self.joints = [names[n] for n in JOINTS]
+        self.forces = [pb.getJointInfo(self.arm, j, physicsClientId=c)[10] for j in self.joints]
+        self.cup = links["cup"]
+        for link in range(-1, pb.getNumJoints(self.arm, physicsClientId=c)):  # as our cell filters them
+            pb.setCollisionFilterPair(self.arm, pedestal, link, -1, 0, physicsClientId=c)
+        q0, _ = job.command(0.0)
+        for j, q in zip(self.joints, q0):
+            pb.resetJointState(self.arm, j, q, physicsClientId=c)
+        self.command(q0)
+        half = self.job.part_size / 2
+        self._box_shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=[half] * 3, physicsClientId=c)
+
+    def close(self) -> None:
+        pb.disconnect(self.client)
+
+    def command(self, q) -> None:
+        pb.setJointMotorControlArray(
+            self.arm,
+            self.joints,
+            pb.POSITION_CONTROL,
+            targetPositions=list(q),
+            forces=self.forces,
+            physicsClientId=self.client,
+        )
+
+    def add_part(self, xyz, yaw: float = 0.0, mass: Optional[float] = None) -> int:
+        body = pb.createMultiBody(
+            self.job.part_mass if mass is None else mass,
+            self._box_shape,
+            -1,
+            list(xyz),
+            pb.getQuaternionFromEuler((0, 0, yaw)),
+            physicsClientId=self.client,
+        )
+        self.parts.append(body)
+        return body
+
+    def suction(self, on: bool) -> None:
+        """Ravens' suction: attach a part touching the cup, release when off."""
+        c = self.client
+        if not on:
+            if self.constraint is not None:
+                pb.removeConstraint(self.constraint, physicsClientId=c)
+                self.constraint, self.held = None, None
+            return
+        if self.held is not None:
+            return
+        for contact in pb.getContactPoints(bodyA=self.arm, linkIndexA=self.cup, physicsClientId=c):
+            part = contact[2]
+            if part in self.parts:
+                cup_pose = pb.getLinkState(self.arm, self.cup, physicsClientId=c)[4:6]
+                part_pose = pb.getBasePositionAndOrientation(part, physicsClientId=c)
+                inv = pb.invertTransform(*cup_pose)
+                X_CP = pb.multiplyTransforms(inv[0], inv[1], *part_pose)
+                self.constraint = pb.createConstraint(
+                    self.arm,
+                    self.cup,
+                    part,
+                    -1,
+                    pb.JOINT_FIXED,
+                    (0, 0, 0),
+                    X_CP[0],
+                    (0, 0, 0),
+                    X_CP[1],
+                    physicsClientId=c,
+                )
+                self.held = part
+                return
+
+    def positions(self) -> list[tuple[float, float, float]]:
+        return [pb.getBasePositionAndOrientation(p, physicsClientId=self.client)[0] for p in self.parts]
+
+
+def run_fill_bin(job: FillBinJob, duration: Optional[float] = None) -> tuple[float, int, float]:
+    """Replays ``job`` in a new :class:`PyBulletCell` for ``duration`` (default the job's):
+    (CPU seconds per simulated second of the loop, parts in the bin at the end, the
+    build's CPU seconds)."""
+    build = time.process_time()
+    cell = PyBulletCell(job)
+    build = time.process_time() - build
+    try:
+        dt = pb.getPhysicsEngineParameters(physicsClientId=cell.client)["fixedTimeStep"]
+        end = job.duration if duration is None else duration
+        steps = int(round(end / dt))
+        spawns = list(job.spawns)
+        last = -1
+        cpu = time.process_time()
+        for n in range(steps):
+            t = n * dt
+            while spawns and spawns[0][0] <= t + 1e-9:
+                _, xyz, yaw = spawns.pop(0)
+                cell.add_part(xyz, yaw)
+            k = max(int(np.searchsorted(job.times, t + 1e-9, side="right")) - 1, 0)
+            if k != last:
+                cell.command(job.q[k])
+                last = k
+            cell.suction(bool(job.suction[k]))
+            pb.stepSimulation(physicsClientId=cell.client)
+        cpu = (time.process_time() - cpu) / (steps * dt)
+        in_bin = sum(job.in_bin_box(p) for p in cell.positions())
+    finally:
+        cell.close()
+    return cpu, in_bin, build
+
+
+def resting_cpu(job: FillBinJob, slots, seconds: float, sleep: bool = False, size: float = 0.05) -> float:
+    """CPU seconds per simulated second of the cell with a part (a ``size`` cube, 0.2 kg)
+    resting at each of ``slots`` (the arm held at its first pose, nothing commanded on),
+    after 1 s of settling; ``sleep``: Bullet's sleeping enabled on the parts."""
+    cell = PyBulletCell(replace(job, part_size=size, part_mass=0.2))
+    try:
+        for xyz in slots:
+            body = cell.add_part(xyz)
+            if sleep:
+                pb.changeDynamics(
+                    body, -1, activationState=pb.ACTIVATION_STATE_ENABLE_SLEEPING, physicsClientId=cell.client
+                )
+        dt = pb.getPhysicsEngineParameters(physicsClientId=cell.client)["fixedTimeStep"]
+        for _ in range(int(round(1.0 / dt))):
+            pb.stepSimulation(physicsClientId=cell.client)
+        steps = int(round(seconds / dt))
+        cpu = time.process_time()
+        for _ in range(steps):
+            pb.stepSimulation(physicsClientId=cell.client)
+        return (time.process_time() - cpu) / (steps * dt)
+    finally:
+        cell.close()
