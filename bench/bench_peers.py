@@ -115,10 +115,11 @@ def compare_table(runs: Sequence[PeerRun], job: FillBinJob) -> str:
     return "\n".join(lines)
 
 
-def ours_resting_cpu(count: int, belt: bool, sleep: bool, seconds: float) -> float:
+def ours_resting_cpu(count: int, belt: bool, sleep: bool, seconds: float) -> tuple[float, int]:
     """Our cell (``fill_bin``'s, no task) with ``count`` parts resting in bin 1 or riding
     the belt (``lecture7_conveyor``'s, at full power, the beam's stop off): CPU seconds
-    per simulated second over ``seconds`` after 1 s of settling."""
+    per simulated second over ``seconds`` after 1 s of settling, and how many parts are
+    in bin 1 at the end (on the belt: how many are still in the world)."""
     from omtp_drake.cell.conveyor import BeltGeometry
     from omtp_drake.scenario import PartConfig, load_scenario
     from omtp_drake.sim.runtime import FactoryRuntime
@@ -151,15 +152,17 @@ def ours_resting_cpu(count: int, belt: bool, sleep: bool, seconds: float) -> flo
         rt.advance_to(1.0)
         cpu = time.process_time()
         rt.advance_to(1.0 + seconds)
-        return (time.process_time() - cpu) / seconds
+        cpu = (time.process_time() - cpu) / seconds
+        return cpu, (len(rt.parts_in_world()) if belt else rt.ledger().in_bin.get("bin_1", 0))
     finally:
         rt.close()
 
 
-def growth(job: FillBinJob, seconds: float, say: Callable[[str], None]) -> dict[str, list[float]]:
-    """The growth table's rows: name -> CPU seconds per simulated second per count."""
+def growth(job: FillBinJob, seconds: float, say: Callable[[str], None]) -> dict[str, list[tuple[float, int]]]:
+    """The growth table's rows: name -> (CPU seconds per simulated second, parts still in
+    the bin or on the belt at the end) per count."""
     slots = {n: bin_slots(n, GROWTH_SIZE, [job.bin_xyz]) for n in GROWTH_COUNTS}
-    cases: dict[str, Callable[[int], float]] = {
+    cases: dict[str, Callable[[int], tuple[float, int]]] = {
         "ours, in bin 1, sleeping on": lambda n: ours_resting_cpu(n, False, True, seconds),
         "ours, in bin 1, sleeping off": lambda n: ours_resting_cpu(n, False, False, seconds),
         "ours, riding the belt, sleeping on": lambda n: ours_resting_cpu(n, True, True, seconds),
@@ -169,19 +172,26 @@ def growth(job: FillBinJob, seconds: float, say: Callable[[str], None]) -> dict[
         "MuJoCo, in bin 1 (default)": lambda n: peer_mujoco.resting_cpu(job, slots[n], seconds),
         "MuJoCo, in bin 1, sleeping on": lambda n: peer_mujoco.resting_cpu(job, slots[n], seconds, True),
     }
-    rows: dict[str, list[float]] = {}
+    ours_resting_cpu(1, False, True, 0.5)  # warm up (the first cell in a process costs more)
+    rows: dict[str, list[tuple[float, int]]] = {}
     for name, case in cases.items():
         say(f"growth: {name}")
         rows[name] = [case(n) for n in GROWTH_COUNTS]
     return rows
 
 
-def growth_table(rows: dict[str, list[float]]) -> str:
+def growth_table(rows: dict[str, list[tuple[float, int]]]) -> str:
+    """The rows as text; a cell whose parts did not all stay (in the bin, or in the world
+    on the belt) says how many did."""
     width = max(len(name) for name in rows)
     head = f"{'CPU ms per simulated s':<{width}} " + " ".join(f"{n:>6} parts" for n in GROWTH_COUNTS)
-    lines = [head] + [
-        f"{name:<{width}} " + " ".join(f"{1e3 * v:12.1f}" for v in values) for name, values in rows.items()
-    ]
+    lines = [head]
+    for name, values in rows.items():
+        cells = [
+            f"{1e3 * cpu:.1f}" + ("" if kept == n else f" ({kept} kept)")
+            for (cpu, kept), n in zip(values, GROWTH_COUNTS)
+        ]
+        lines.append(f"{name:<{width}} " + " ".join(f"{c:>12}" for c in cells))
     return "\n".join(lines)
 
 

@@ -247,10 +247,13 @@ def run_fill_bin(job: FillBinJob, duration: Optional[float] = None) -> tuple[flo
     return cpu, in_bin, build
 
 
-def resting_cpu(job: FillBinJob, slots, seconds: float, sleep: bool = False, size: float = 0.05) -> float:
+def resting_cpu(
+    job: FillBinJob, slots, seconds: float, sleep: bool = False, size: float = 0.05
+) -> tuple[float, int]:
     """CPU seconds per simulated second of the cell with a part (a ``size`` cube, 0.2 kg)
     resting at each of ``slots`` (the arm held at its first pose), after 1 s of
-    settling; ``sleep``: MuJoCo's sleeping flag on."""
+    settling; ``sleep``: MuJoCo's sleeping flag on. Also how many parts are in the bin
+    at the end."""
     cell = MujocoCell(replace(job, part_size=size, part_mass=0.2), len(slots), sleep)
     for xyz in slots:
         cell.spawn(xyz)
@@ -261,4 +264,5 @@ def resting_cpu(job: FillBinJob, slots, seconds: float, sleep: bool = False, siz
     cpu = time.process_time()
     for _ in range(steps):
         mujoco.mj_step(m, d)
-    return (time.process_time() - cpu) / (steps * m.opt.timestep)
+    cpu = (time.process_time() - cpu) / (steps * m.opt.timestep)
+    return cpu, sum(job.in_bin_box(p) for p in cell.part_positions())

@@ -206,10 +206,13 @@ def run_fill_bin(job: FillBinJob, duration: Optional[float] = None) -> tuple[flo
     return cpu, in_bin, build
 
 
-def resting_cpu(job: FillBinJob, slots, seconds: float, sleep: bool = False, size: float = 0.05) -> float:
+def resting_cpu(
+    job: FillBinJob, slots, seconds: float, sleep: bool = False, size: float = 0.05
+) -> tuple[float, int]:
     """CPU seconds per simulated second of the cell with a part (a ``size`` cube, 0.2 kg)
     resting at each of ``slots`` (the arm held at its first pose, nothing commanded on),
-    after 1 s of settling; ``sleep``: Bullet's sleeping enabled on the parts."""
+    after 1 s of settling; ``sleep``: Bullet's sleeping enabled on the parts. Also how
+    many parts are in the bin at the end."""
     cell = PyBulletCell(replace(job, part_size=size, part_mass=0.2))
     try:
         for xyz in slots:
@@ -225,6 +228,7 @@ def resting_cpu(job: FillBinJob, slots, seconds: float, sleep: bool = False, siz
         cpu = time.process_time()
         for _ in range(steps):
             pb.stepSimulation(physicsClientId=cell.client)
-        return (time.process_time() - cpu) / (steps * dt)
+        cpu = (time.process_time() - cpu) / (steps * dt)
+        return cpu, sum(job.in_bin_box(p) for p in cell.positions())
     finally:
         cell.close()
