@@ -69,6 +69,44 @@ class FillBinJob:
         return abs(dx) < inner and abs(dy) < inner and BIN_FLOOR_TOP < dz < BIN_HEIGHT
 
 
+def replay(job: FillBinJob, dt: float, duration: float, spawn, command, suction, step) -> float:
+    """Replays ``job`` for ``duration`` simulated seconds at a step ``dt``: before each
+    ``step()``, ``spawn(xyz, yaw)`` for each part due, ``command(k)`` when the command
+    sample ``k`` in force changes, ``suction(on)``. Returns CPU seconds per simulated
+    second of the loop."""
+    steps = int(round(duration / dt))
+    spawns = list(job.spawns)
+    last = -1
+    cpu = time.process_time()
+    for n in range(steps):
+        t = n * dt
+        while spawns and spawns[0][0] <= t + 1e-9:
+            _, xyz, yaw = spawns.pop(0)
+            spawn(xyz, yaw)
+        k = max(int(np.searchsorted(job.times, t + 1e-9, side="right")) - 1, 0)
+        if k != last:
+            command(k)
+            last = k
+        suction(bool(job.suction[k]))
+        step()
+    return (time.process_time() - cpu) / (steps * dt)
+
+
+def static_boxes(job: FillBinJob) -> list[tuple[tuple[float, float, float], tuple[float, float, float]]]:
+    """(half extents, centre) in W of the peers' fixed boxes: robot 2's pedestal (the
+    first) and bin 1's floor and four walls (models/bin.urdf.xacro)."""
+    bx, by, bz = job.base_xyz
+    boxes = [((PEDESTAL_SIDE / 2, PEDESTAL_SIDE / 2, bz / 2), (bx, by, bz / 2))]
+    x, y, z = job.bin_xyz
+    o, w, h, f = BIN_OUTER, BIN_WALL, BIN_HEIGHT, BIN_FLOOR_TOP
+    wall_z = z + (h + f) / 2
+    boxes.append(((o / 2, o / 2, f / 2), (x, y, z + f / 2)))
+    for s in (1, -1):
+        boxes.append(((w / 2, o / 2, (h - f) / 2), (x + s * (o - w) / 2, y, wall_z)))
+        boxes.append((((o - 2 * w) / 2, w / 2, (h - f) / 2), (x, y + s * (o - w) / 2, wall_z)))
+    return boxes
+
+
 def record_fill_bin(parts: Optional[int] = None) -> FillBinJob:
     """Runs our ``fill_bin`` (``parts`` parts, default the task's 10) and records it."""
     from omtp_drake.tasks.run import prepare, run_task

@@ -28,24 +28,10 @@ from typing import Optional
 
 import mujoco
 import numpy as np
-from peer_job import (
-    BIN_FLOOR_TOP,
-    BIN_HEIGHT,
-    BIN_OUTER,
-    BIN_WALL,
-    PEDESTAL_SIDE,
-    FillBinJob,
-    arm_urdf,
-)
+from peer_job import FillBinJob, arm_urdf, replay, static_boxes
 
-JOINTS = (
-    "shoulder_pan_joint",
-    "shoulder_lift_joint",
-    "elbow_joint",
-    "wrist_1_joint",
-    "wrist_2_joint",
-    "wrist_3_joint",
-)
+from omtp_drake.cell.arms import JOINT_NAMES as JOINTS
+
 #: (kp, kv, force limit) per joint: Menagerie's UR5e gains, the URDF's efforts.
 GAINS = ((2000, 400, 150),) * 3 + ((500, 100, 28),) * 3
 #: Contact bits: the world and parts collide with everything; the arm with the world and
@@ -73,14 +59,10 @@ def build_model(job: FillBinJob, parts: int, sleep: bool = False) -> mujoco.MjMo
     spec.compiler.discardvisual = False  # (URDF's default; else it drops the parked parts' geoms)
     world = spec.worldbody
     world.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 1], contype=1, conaffinity=1)
-    bx, by, bz = job.base_xyz
-    _box(world, (PEDESTAL_SIDE / 2, PEDESTAL_SIDE / 2, bz / 2), (bx, by, bz / 2), _PEDESTAL)
-    x, y, z = job.bin_xyz
-    o, w, h, f = BIN_OUTER, BIN_WALL, BIN_HEIGHT, BIN_FLOOR_TOP
-    _box(world, (o / 2, o / 2, f / 2), (x, y, z + f / 2))
-    for s in (1, -1):
-        _box(world, (w / 2, o / 2, (h - f) / 2), (x + s * (o - w) / 2, y, z + (h + f) / 2))
-        _box(world, ((o - 2 * w) / 2, w / 2, (h - f) / 2), (x, y + s * (o - w) / 2, z + (h + f) / 2))
+    (pedestal, *bin_boxes) = static_boxes(job)
+    _box(world, *pedestal, _PEDESTAL)
+    for half, xyz in bin_boxes:
+        _box(world, half, xyz)
     base = spec.body("base_link")
     base.pos = list(job.base_xyz)
     base.quat = [np.cos(job.base_yaw / 2), 0, 0, np.sin(job.base_yaw / 2)]
@@ -225,24 +207,12 @@ def run_fill_bin(job: FillBinJob, duration: Optional[float] = None) -> tuple[flo
     cell = MujocoCell(job, len(job.spawns))
     build = time.process_time() - build
     m, d = cell.model, cell.data
-    dt = m.opt.timestep
+
+    def command(k: int) -> None:
+        d.ctrl[:] = control(job, k)
+
     end = job.duration if duration is None else duration
-    steps = int(round(end / dt))
-    spawns = list(job.spawns)
-    last = -1
-    cpu = time.process_time()
-    for n in range(steps):
-        t = n * dt
-        while spawns and spawns[0][0] <= t + 1e-9:
-            _, xyz, yaw = spawns.pop(0)
-            cell.spawn(xyz, yaw)
-        k = max(int(np.searchsorted(job.times, t + 1e-9, side="right")) - 1, 0)
-        if k != last:
-            d.ctrl[:] = control(job, k)
-            last = k
-        cell.suction(bool(job.suction[k]))
-        mujoco.mj_step(m, d)
-    cpu = (time.process_time() - cpu) / (steps * dt)
+    cpu = replay(job, m.opt.timestep, end, cell.spawn, command, cell.suction, lambda: mujoco.mj_step(m, d))
     in_bin = sum(job.in_bin_box(p) for p in cell.part_positions())
     return cpu, in_bin, build
 

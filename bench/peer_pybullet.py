@@ -20,43 +20,15 @@ import time
 from dataclasses import dataclass, field, replace
 from typing import Optional
 
-import numpy as np
 import pybullet as pb
-from peer_job import (
-    BIN_FLOOR_TOP,
-    BIN_HEIGHT,
-    BIN_OUTER,
-    BIN_WALL,
-    PEDESTAL_SIDE,
-    FillBinJob,
-    arm_urdf,
-)
+from peer_job import FillBinJob, arm_urdf, replay, static_boxes
 
-#: The UR5's joints (the URDF's order); their motors' forces are the URDF's effort limits.
-JOINTS = (
-    "shoulder_pan_joint",
-    "shoulder_lift_joint",
-    "elbow_joint",
-    "wrist_1_joint",
-    "wrist_2_joint",
-    "wrist_3_joint",
-)
+from omtp_drake.cell.arms import JOINT_NAMES as JOINTS
 
 
 def _static_box(client: int, half: tuple[float, float, float], xyz) -> int:
     shape = pb.createCollisionShape(pb.GEOM_BOX, halfExtents=half, physicsClientId=client)
     return pb.createMultiBody(0, shape, -1, list(xyz), physicsClientId=client)
-
-
-def add_bin(client: int, xyz) -> None:
-    """Bin 1 (models/bin.urdf.xacro) as five static boxes, its frame at ``xyz``."""
-    x, y, z = xyz
-    o, w, h, f = BIN_OUTER, BIN_WALL, BIN_HEIGHT, BIN_FLOOR_TOP
-    wall_z = z + (h + f) / 2
-    _static_box(client, (o / 2, o / 2, f / 2), (x, y, z + f / 2))
-    for s in (1, -1):
-        _static_box(client, (w / 2, o / 2, (h - f) / 2), (x + s * (o - w) / 2, y, wall_z))
-        _static_box(client, ((o - 2 * w) / 2, w / 2, (h - f) / 2), (x, y + s * (o - w) / 2, wall_z))
 
 
 @dataclass
@@ -82,9 +54,7 @@ class PyBulletCell:
         pb.setGravity(0, 0, -9.81, physicsClientId=c)
         plane = pb.createCollisionShape(pb.GEOM_PLANE, physicsClientId=c)
         pb.createMultiBody(0, plane, physicsClientId=c)
-        bx, by, bz = job.base_xyz
-        pedestal = _static_box(c, (PEDESTAL_SIDE / 2, PEDESTAL_SIDE / 2, bz / 2), (bx, by, bz / 2))
-        add_bin(c, job.bin_xyz)
+        pedestal, *_bin = [_static_box(c, half, xyz) for half, xyz in static_boxes(job)]
         with tempfile.TemporaryDirectory() as tmp:
             self.arm = pb.loadURDF(
                 str(arm_urdf(tmp)),
@@ -184,22 +154,15 @@ def run_fill_bin(job: FillBinJob, duration: Optional[float] = None) -> tuple[flo
     try:
         dt = pb.getPhysicsEngineParameters(physicsClientId=cell.client)["fixedTimeStep"]
         end = job.duration if duration is None else duration
-        steps = int(round(end / dt))
-        spawns = list(job.spawns)
-        last = -1
-        cpu = time.process_time()
-        for n in range(steps):
-            t = n * dt
-            while spawns and spawns[0][0] <= t + 1e-9:
-                _, xyz, yaw = spawns.pop(0)
-                cell.add_part(xyz, yaw)
-            k = max(int(np.searchsorted(job.times, t + 1e-9, side="right")) - 1, 0)
-            if k != last:
-                cell.command(job.q[k])
-                last = k
-            cell.suction(bool(job.suction[k]))
-            pb.stepSimulation(physicsClientId=cell.client)
-        cpu = (time.process_time() - cpu) / (steps * dt)
+        cpu = replay(
+            job,
+            dt,
+            end,
+            cell.add_part,
+            lambda k: cell.command(job.q[k]),
+            cell.suction,
+            lambda: pb.stepSimulation(physicsClientId=cell.client),
+        )
         in_bin = sum(job.in_bin_box(p) for p in cell.positions())
     finally:
         cell.close()
