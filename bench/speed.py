@@ -54,6 +54,7 @@ from pydrake.systems.framework import Context, DiagramBuilder, EventStatus
 from pydrake.systems.primitives import ConstantVectorSource, TrajectorySource
 from pydrake.trajectories import PiecewisePolynomial
 
+from omtp_drake.bench_command import bench_module
 from omtp_drake.cell import arms
 from omtp_drake.cell.conveyor import BeltGeometry, belt_desired_state
 from omtp_drake.cell.parts import PartStates
@@ -304,6 +305,10 @@ class SpeedReport:
     #: run's samples); empty when py-spy could not record (see ``profile_note``).
     profile: tuple[tuple[str, float], ...] = ()
     profile_note: str = ""
+    #: fill_bin's job in the peer engines (bench/bench_peers.py): (engine, CPU seconds per
+    #: simulated second, target for ours over it); empty when not measured (``peer_note``).
+    peers: tuple[tuple[str, float, float], ...] = ()
+    peer_note: str = ""
 
     def rows(self) -> list[SpeedRow]:
         """The speed table's rows: what, measured, target, met."""
@@ -343,6 +348,16 @@ class SpeedReport:
             )
             for r in self.replays
             if math.isfinite(r.full_wall)
+        ]
+        ours = self.replays[0].full if self.replays else math.nan
+        rows += [
+            SpeedRow(
+                f"fill_bin against {engine} at its defaults: CPU ms/s, ours / its",
+                f"{1e3 * ours:.0f} / {1e3 * cpu:.0f} = {ours / cpu:.2f}x",
+                f"<= {target}x",
+                ours / cpu <= target,
+            )
+            for engine, cpu, target in self.peers
         ]
         rows += [
             SpeedRow(
@@ -385,8 +400,7 @@ class SpeedReport:
             "\n Wall-time rows: bare plant = each arm held still;"
             "\n CPU rows (this process): bare plant = the same run's arm commands replayed by the same servo)"
         )
-        if self.profile_note:
-            lines.append(self.profile_note)
+        lines += [note for note in (self.profile_note, self.peer_note) if note]
         return "\n".join(lines)
 
 
@@ -468,7 +482,14 @@ def measure(
     cycles = tuple(p.cycle_time for p in fill_runs[0].picks if p.success)
     say("fill_bin's native profile (py-spy)")
     profile, note = _profile_split_module().profile_parts("fill_bin")
-    return SpeedReport(tuple(cases), station_build, task_build, cycles, repeats, replays, profile, note)
+    say("fill_bin's job in PyBullet and MuJoCo (bench/bench_peers.py)")
+    try:
+        peers, peer_note = bench_module("bench_peers").peer_timings(repeats), ""
+    except ImportError as e:  # the bench extra's engines
+        peers, peer_note = (), f"no peer rows: {e.name} is not installed (pip install -e '.[bench]')"
+    return SpeedReport(
+        tuple(cases), station_build, task_build, cycles, repeats, replays, profile, note, peers, peer_note
+    )
 
 
 def replay_timing(label: str, scenario: Scenario, bare: Scenario, repeats: int) -> ReplayTiming:

@@ -22,21 +22,35 @@ _MODULE = "omtp_bench_speed"
 def speed_module() -> ModuleType:
     """``bench/speed.py``, imported once; BenchmarkError when the package has no
     ``bench/`` beside it (an install without the source checkout)."""
-    if _MODULE in sys.modules:
-        return sys.modules[_MODULE]
-    path = BENCH_DIR / "speed.py"
-    spec = importlib.util.spec_from_file_location(_MODULE, path)
+    return _import(BENCH_DIR / "speed.py", _MODULE)
+
+
+def bench_module(stem: str) -> ModuleType:
+    """``bench/<stem>.py``, imported once under its own name ``stem``; the bench modules
+    it imports by name at its top (``peer_job``...) load from ``bench/`` too."""
+    return _import(BENCH_DIR / f"{stem}.py", stem, siblings=True)
+
+
+def _import(path: Path, name: str, siblings: bool = False) -> ModuleType:
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
     if not path.is_file() or spec is None or spec.loader is None:
         raise BenchmarkError(
             f"omtp-drake bench measures with {path}, which is not there: run it from a source checkout"
         )
     module = importlib.util.module_from_spec(spec)
-    sys.modules[_MODULE] = module  # (its dataclasses look their module up by name)
+    sys.modules[name] = module  # (its dataclasses look their module up by name)
+    if siblings:
+        sys.path.insert(0, str(BENCH_DIR))
     try:
         spec.loader.exec_module(module)
     except BaseException:
-        del sys.modules[_MODULE]
+        del sys.modules[name]
         raise
+    finally:
+        if siblings:
+            sys.path.remove(str(BENCH_DIR))
     return module
 
 

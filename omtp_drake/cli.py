@@ -348,7 +348,8 @@ def _add_bench_command(sub: argparse._SubParsersAction) -> None:
         "bench",
         help="how fast the cell runs: full runs against the bare plant, build time, pick cycles",
         description="Runs fill_bin, lecture7_conveyor_pick and lecture7_conveyor (10 parts on the "
-        "belt) as users run them and as a bare plant, and prints the speed table (a few minutes).",
+        "belt) as users run them and as a bare plant, and fill_bin's job in PyBullet and MuJoCo (with the "
+        "bench extra), and prints the speed table (a few minutes).",
     )
     p.add_argument(
         "--repeats", type=int, default=2, help="interleaved rounds of all cases; medians count (default 2)"

@@ -1,6 +1,7 @@
 """The speed benchmark (bench/speed.py, behind ``omtp-drake bench``): the table reports
 what it measured against the targets; the bare plant and the replay are what they claim."""
 
+from dataclasses import replace
 from types import SimpleNamespace
 
 import numpy as np
@@ -202,3 +203,17 @@ def test_replay_follows_the_recorded_run_and_locks_the_arm_that_stood_still(monk
     assert np.array_equal(plant.GetPositions(plant_context, models.arms["robot1"].arm), q1)
     joints = [plant.get_joint(i) for i in plant.GetJointIndices(models.arms["robot1"].arm)]
     assert all(joint.is_locked(plant_context) for joint in joints if joint.num_velocities())
+
+
+def test_peer_rows_compare_our_fill_bin_with_each_engine():
+    report = SpeedReport(
+        cases=(), station_build_s=0.2, task_build_s=0.3, cycles=(5.5,), repeats=1,
+        replays=(ReplayTiming("fill_bin", replay=0.021, full=0.054),),
+        peers=(("PyBullet", 0.025, 1.3), ("MuJoCo", 0.060, 1.5)))
+    by_what = rows(report)
+    pybullet = by_what["fill_bin against PyBullet at its defaults: CPU ms/s, ours / its"]
+    mujoco = by_what["fill_bin against MuJoCo at its defaults: CPU ms/s, ours / its"]
+    assert (pybullet.measured, pybullet.target, pybullet.met) == ("54 / 25 = 2.16x", "<= 1.3x", False)
+    assert (mujoco.measured, mujoco.met) == ("54 / 60 = 0.90x", True)
+    note = "no peer rows: pybullet is not installed (pip install -e '.[bench]')"
+    assert note in replace(report, peers=(), peer_note=note).table()
