@@ -21,6 +21,7 @@ from std_msgs.msg import Bool
 from std_srvs.srv import SetBool
 
 PATIENCE = 120.0  # wall-clock seconds any one wait may take at most
+QUEUE = 10  # the views' queue depth (the cell's writers keep as many)
 
 
 class Student(Node):
@@ -28,8 +29,8 @@ class Student(Node):
         super().__init__("plugins_student", parameter_overrides=[Parameter("use_sim_time", value=True)])
         self.enabled, self.attached, self.beam, self.changes = [], [], [], []
         latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
-        self.create_subscription(Bool, "/gripper1/enabled", lambda m: self.enabled.append(m.data), 10)
-        self.create_subscription(Bool, "/gripper1/attached", lambda m: self.attached.append(m.data), 10)
+        self.create_subscription(Bool, "/gripper1/enabled", lambda m: self.enabled.append(m.data), QUEUE)
+        self.create_subscription(Bool, "/gripper1/attached", lambda m: self.attached.append(m.data), QUEUE)
         self.create_subscription(Bool, "/break_beam_sensor/object_detected", self.on_beam, latched)
         self.create_subscription(
             Bool, "/break_beam_sensor_change/object_detected", self.on_change, latched
@@ -57,10 +58,13 @@ class Student(Node):
         return future.result().success
 
     def gripper_state(self):
-        """The gripper's state after the last switch: the next message of both views."""
+        """The gripper's state after the last switch: the views' last message once more have
+        come than the writer's and this reader's queues hold (the first ones after the answer
+        may have been written before the switch)."""
         self.enabled.clear()
         self.attached.clear()
-        self.wait_for("gripper state", lambda: self.enabled and self.attached)
+        enough = 2 * QUEUE
+        self.wait_for("gripper state", lambda: len(self.enabled) > enough and len(self.attached) > enough)
         return {"enabled": self.enabled[-1], "attached": self.attached[-1]}
 
 
