@@ -117,9 +117,9 @@ def main(out):
             "now": node.get_clock().now().nanoseconds * 1e-9,
             "joints_before": node.robot1(node.joint_states[-1]),
             "cloud": node.cloud(),
+            "logical_camera": node.logical_camera(),  # before the belt moves the part
             "gripper": node.call(node.gripper, True),
             "conveyor": node.call(node.conveyor, True),
-            "logical_camera": node.logical_camera(),
             "description": node.descriptions[0] if node.descriptions else "",
         }
     finally:
