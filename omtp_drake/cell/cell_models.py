@@ -107,7 +107,8 @@ def add_cell_models(
     camera_instances = _add_camera_frames(parser, scenario)
     part_instances, pool = _add_parts(parser, scenario) if parts else ({}, [])
     _add_extra_frames(plant, scenario)
-    described = add_described_models(parser, scenario.models)
+    bin_models = {b.model for b in scenario.bins if b.model}
+    described = add_described_models(parser, [m for m in scenario.models if m.name not in bin_models])
     _filter_robot_collisions(plant, scene_graph, arm_handles)
     return CellModels(
         floor=floor,
@@ -152,13 +153,22 @@ def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:
 def _add_bins(
     parser: Parser, scenario: Scenario
 ) -> tuple[dict[str, ModelInstanceIndex], dict[str, FixedOffsetFrame]]:
-    """The bins, each welded to a world frame of its own (its anchor)."""
+    """The bins, each welded to a world frame of its own (its anchor): the catalogue's, or
+    the student's own (``bin.model``: a model entry, loaded as its file writes it)."""
     plant = parser.plant()
     bins, anchors = {}, {}
+    models = {m.name: m for m in scenario.models}
     for b in scenario.bins:
-        bins[b.name] = _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
+        if b.model:
+            if b.model not in models:
+                raise ConfigError(
+                    f"bins[{b.name}].model {b.model!r} is no model of the scenario: {sorted(models)}"
+                )
+            bins[b.name] = add_described_models(parser, [models[b.model]])[b.model]
+        else:
+            bins[b.name] = _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
         anchors[b.name] = plant.AddFrame(FixedOffsetFrame(f"{b.name}_anchor", plant.world_frame(), b.X_WB()))
-        plant.WeldFrames(anchors[b.name], plant.GetFrameByName(f"{b.name}_base_link"))
+        plant.WeldFrames(anchors[b.name], plant.GetFrameByName(f"{b.name}_base_link", bins[b.name]))
     return bins, anchors
 
 
