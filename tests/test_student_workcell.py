@@ -170,3 +170,15 @@ def test_their_view_of_the_workcell_lists_the_shelf(workspace, capsys):
     assert main([*argv, "--json"]) == 0, capsys.readouterr().err
     info = json.loads(capsys.readouterr().out)
     assert {"workcell", "parts_shelf", "parts_shelf_label"} <= set(info["links"])
+
+
+def test_their_belt_script_still_puts_parts_in_their_bin(workspace, tmp_path):
+    """The course's pieces in their edited files still work: robot 1's belt script (the
+    group's, unchanged) picks parts off the belt into their wider bin."""
+    script = workspace / "omtp_lecture6" / "scripts" / "belt_to_bin_robot1.py"
+    out = tmp_path / "report.json"
+    argv = ["ros-run", str(script), "2", "--launch", LAUNCH, "--workspace", str(workspace)]
+    assert main([*argv, "--timeout", "60", "--json", str(out), "-q"]) == 0
+    report = json.loads(out.read_text())
+    assert report["exception"] is None, report["traceback"]
+    assert report["ledger"]["in_bin"]["bin_2"] >= 2, report["ledger"]

@@ -40,7 +40,10 @@ def _model_texts(cell: Cell) -> list[str]:
         texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.joint_limit).read_text())
         if robot.gripper:
             texts.append(expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper}))
-    texts += [expand_xacro(MODELS_DIR / "bin.urdf.xacro", {"name": b.name}) for b in scenario.bins]
+    # (a bin of the student's own is one of the models below, as their file writes it)
+    texts += [
+        expand_xacro(MODELS_DIR / "bin.urdf.xacro", {"name": b.name}) for b in scenario.bins if not b.model
+    ]
     for present, file in (
         (scenario.conveyor is not None, "conveyor.urdf.xacro"),
         (scenario.break_beam, "break_beam.urdf.xacro"),
