@@ -182,3 +182,68 @@ def test_their_belt_script_still_puts_parts_in_their_bin(workspace, tmp_path):
     report = json.loads(out.read_text())
     assert report["exception"] is None, report["traceback"]
     assert report["ledger"]["in_bin"]["bin_2"] >= 2, report["ledger"]
+
+
+ARM_WITH_MOUNT = """<robot name="robot1">
+  <link name="world"/>
+  <link name="robot1_base_link"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>
+  <link name="robot1_shoulder_link"><visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>
+  <link name="camera_mount"><visual><geometry><box size="0.05 0.05 0.02"/></geometry></visual></link>
+  <link name="tool_rack"><collision><geometry><box size="0.5 0.2 0.02"/></geometry></collision></link>
+  <link name="rack_frame"/>
+  <joint name="base" type="fixed"><parent link="world"/><child link="robot1_base_link"/></joint>
+  <joint name="pan" type="revolute"><parent link="robot1_base_link"/><child link="robot1_shoulder_link"/>
+    <axis xyz="0 0 1"/></joint>
+  <joint name="mount" type="fixed"><parent link="robot1_shoulder_link"/><child link="camera_mount"/></joint>
+  <joint name="rack" type="fixed"><parent link="world"/><child link="tool_rack"/>
+    <origin xyz="1 2 0.5" rpy="0 0 0.5"/></joint>
+  <joint name="rack_frame" type="fixed"><parent link="tool_rack"/><child link="rack_frame"/></joint>
+</robot>"""
+
+
+def test_a_link_on_a_pieces_moving_joint_is_one_warning_a_still_one_is_loaded():
+    from pydrake.math import RigidTransform, RollPitchYaw
+
+    from omtp_drake.launch.own_links import own_links, own_links_urdf
+    from omtp_drake.launch.urdf_model import UrdfModel
+
+    model = UrdfModel.from_text(ARM_WITH_MOUNT, "arm.urdf")
+    links, warnings = own_links(model, ["robot1_"], "arm.urdf")
+    assert links == ["tool_rack"]  # (rack_frame: no geometry, a frame as before)
+    assert warnings == [
+        "arm.urdf: link 'camera_mount' moves with a course piece's joints; not loaded "
+        "(the cell builds the course's arms from its catalogue)"
+    ]
+    X_WM = RigidTransform(RollPitchYaw(0, 0, 0.1), [0.5, 0, 0])
+    text = ET.fromstring(own_links_urdf(model, links, X_WM, {}, "robot1_extras"))
+    (joint,) = text.findall("joint")
+    X_WL = X_WM @ RigidTransform(RollPitchYaw(0, 0, 0.5), [1, 2, 0.5])
+    np.testing.assert_allclose(
+        [float(v) for v in joint.find("origin").get("xyz").split()], X_WL.translation()
+    )
+    assert text.find("link[@name='tool_rack']/collision/geometry/box").get("size") == "0.5 0.2 0.02"
+
+
+def test_a_bin_of_boxes_gives_its_walls_a_mesh_bin_none():
+    from omtp_drake.launch.own_links import bin_walls
+    from omtp_drake.launch.urdf_model import UrdfModel
+
+    def bin_of(collisions: str) -> UrdfModel:
+        return UrdfModel.from_text(
+            f'<robot name="b"><link name="b_base_link">{collisions}</link></robot>', "b"
+        )
+
+    def box(x: float, y: float, z: float, size: str) -> str:
+        return f'<collision><origin xyz="{x} {y} {z}"/><geometry><box size="{size}"/></geometry></collision>'
+
+    walls = (
+        box(0, 0, 0.05, "0.5 0.4 0.1")
+        + box(0.24, 0, 0.2, "0.02 0.4 0.4")
+        + box(0, -0.19, 0.2, "0.5 0.02 0.4")
+    )
+    assert bin_walls(bin_of(walls), "b_base_link") == [0.18, 0.1, 0.4]
+    mesh = (
+        '<collision><geometry><mesh filename="package://omtp_support/meshes/bin.dae"/></geometry></collision>'
+    )
+    assert bin_walls(bin_of(walls + mesh), "b_base_link") is None
+    assert bin_walls(bin_of(box(0, 0, 0.05, "0.5 0.4 0.1")), "b_base_link") is None  # a floor, no walls
