@@ -91,8 +91,11 @@ def add_urdf_model(
     links, lines = own_links(model, prefixes, where)
     pieces.warnings += lines
     if links:
-        text = own_links_urdf(model, links, X_WM, joints, name)
-        pieces.own.append(OwnModel(name or model.name, text, where, [0.0] * 6))
+        # Named as the spawned model (a piece's own name taken: ``<name>_links``).
+        own = name or model.name
+        pieces_names = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
+        own = f"{own}_links" if own in pieces_names else own
+        pieces.own.append(OwnModel(own, own_links_urdf(model, links, X_WM, joints, own), where, [0.0] * 6))
     for link in model.static_links():
         if link != "world" and link not in links:  # (world: Gazebo's name for the world itself)
             pieces.frames.setdefault(link, X_WM @ X_M[link])
