@@ -94,7 +94,9 @@ def _X_WF(runtime, frame: str) -> np.ndarray:
 
 def test_the_shelf_they_added_is_a_model_of_their_cell_and_the_course_pieces_stay(cell):
     models = {m.name: m for m in cell.scenario.models}
-    assert sorted(models) == ["bin_1_", "bin_2_", "fit_crate", "sorted_part", "workcell"]
+    pedestals = ["robot1_pedestal", "robot2_pedestal"]
+    assert sorted(models) == ["bin_1_", "bin_2_", "fit_crate", *pedestals, "sorted_part", "workcell"]
+    assert [r.pedestal_model for r in cell.scenario.robots] == pedestals
     shelf = ET.fromstring(models["workcell"].description)
     assert [link.get("name") for link in shelf.findall("link")] == ["world", "parts_shelf"]
     assert models["workcell"].static
@@ -247,3 +249,19 @@ def test_a_bin_of_boxes_gives_its_walls_a_mesh_bin_none():
     )
     assert bin_walls(bin_of(walls + mesh), "b_base_link") is None
     assert bin_walls(bin_of(box(0, 0, 0.05, "0.5 0.4 0.1")), "b_base_link") is None  # a floor, no walls
+
+
+def test_their_pedestals_are_the_arms_pedestals_as_their_files_write_them(runtime):
+    """Robot 2's pedestal is 0.695 m high in their launch (its arm stands at 0.7 m, as their
+    robot_system puts it): the pedestal in the plant is theirs, 5 mm under the arm, as Gazebo
+    shows it; the arm's own links still do not collide with it (one robot)."""
+    from pydrake.geometry import Box, Role
+
+    plant, inspector = runtime.station.plant, runtime.station.scene_graph.model_inspector()
+    body = plant.GetBodyByName("robot2_pedestal_link")
+    assert plant.GetModelInstanceName(body.model_instance()) == "robot2_pedestal"
+    (geometry,) = inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(body.index()), Role.kProximity)
+    shape = inspector.GetShape(geometry)
+    assert isinstance(shape, Box) and shape.height() == pytest.approx(0.695)
+    np.testing.assert_allclose(_X_WF(runtime, "robot2_pedestal_link")[:3, 3], [-7.8, -1.5, 0.0], atol=1e-9)
+    assert runtime.station.arm("robot2").pedestal == body.model_instance()

@@ -115,13 +115,15 @@ def _piece_prefixes(
             prefixes += [prefix, *_gripper_prefixes(model, prefix)]
     for link in model.links:
         if link.endswith("pedestal_link"):
+            prefix = link[: -len("pedestal_link")]
             height = _box_height(model, link, where)
-            pieces.pedestals[link[: -len("pedestal_link")]] = (
-                (X_WM @ X_M[link]).translation(),
-                height,
-                where,
+            pieces.pedestals[prefix] = ((X_WM @ X_M[link]).translation(), height, where)
+            prefixes.append(prefix)
+            # As the student's file writes it (the cell's arm stands on it: pedestal_model).
+            name = f"{prefix.rstrip('_')}_pedestal"
+            pieces.own.append(
+                OwnModel(name, own_links_urdf(model, [link], X_WM, joints, name), where, [0.0] * 6)
             )
-            prefixes.append(link[: -len("pedestal_link")])
         elif link.endswith("drop_point") and link[: -len("drop_point")] + "base_link" in X_M:
             prefix = link[: -len("drop_point")]
             pieces.bins.append(_bin(pieces, model, prefix, X_WM @ X_M[prefix + "base_link"], where, name))
@@ -281,8 +283,9 @@ def merge_pedestals(pieces: Pieces) -> None:
                 f"{where}: pedestal {prefix}pedestal_link at {np.round(p_W[:2], 4).tolist()} is not under "
                 f"arm {robot['name']} at {robot['xy']}; the cell stands each arm on its pedestal"
             )
+        robot["pedestal_model"] = f"{prefix.rstrip('_')}_pedestal"
         if not math.isclose(height, robot["pedestal_height"], abs_tol=_TOL):
             pieces.warnings.append(
                 f"{where}: pedestal {prefix}pedestal_link is {height:g} m high and arm {robot['name']} "
-                f"stands at {robot['pedestal_height']:g} m; the cell's pedestal reaches the arm"
+                f"stands at {robot['pedestal_height']:g} m; both as the files put them"
             )

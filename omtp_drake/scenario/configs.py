@@ -34,6 +34,9 @@ class RobotConfig:
     #: sits on top of it.
     xy: list[float] = field(default_factory=lambda: [0.5, 1.8])
     pedestal_height: float = 0.95
+    #: The scenario's model entry that is the pedestal as the student's file writes it
+    #: ('': the catalogue's box, ``pedestal_height`` high, at ``xy``).
+    pedestal_model: str = ""
     #: Rotation of the arm's base about world z.
     yaw: float = 0.0
     #: Prefix of the course's named poses for this arm (``R1`` -> ``R1Home``).

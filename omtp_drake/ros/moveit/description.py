@@ -31,12 +31,13 @@ def _model_texts(cell: Cell) -> list[str]:
     scenario = cell.runtime.station.scenario
     texts = [expand_xacro(MODELS_DIR / "floor.urdf.xacro")]
     for robot in scenario.robots:
-        texts.append(
-            expand_xacro(
-                MODELS_DIR / "pedestal.urdf.xacro",
-                {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
+        if not robot.pedestal_model:  # (the student's own is one of the models below)
+            texts.append(
+                expand_xacro(
+                    MODELS_DIR / "pedestal.urdf.xacro",
+                    {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
+                )
             )
-        )
         texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.joint_limit).read_text())
         if robot.gripper:
             texts.append(expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper}))
