@@ -70,7 +70,17 @@ def test_the_course_launch_is_the_built_in_lecture6_assignment1(course):
     (box,) = course.scenario.spawner.objects
     assert (box.name, box.xyz, box.rpy) == ("box", built_in.spawner.xyz, [0.0, 0.0, 0.0])
     as_built_in = dataclasses.replace(course.scenario.spawner, objects=[])
-    same = dataclasses.replace(course.scenario, spawner=as_built_in)
+    # The pedestals are the launch's own, as its files write them (the built-in's are the
+    # catalogue's box of the same size): model entries the arms stand on.
+    pedestals = {r.pedestal_model for r in course.scenario.robots}
+    assert pedestals == {"robot1_pedestal", "robot2_pedestal"}
+    assert {m.name for m in course.scenario.models} == pedestals
+    same = dataclasses.replace(
+        course.scenario,
+        spawner=as_built_in,
+        models=[],
+        robots=[dataclasses.replace(r, pedestal_model="") for r in course.scenario.robots],
+    )
     assert _scenario_fields(same) == _scenario_fields(built_in)
     # (frames: the links of the files that none of the cell's pieces has; see below)
     assert course.scenario.spawner.start_service == "/spawn_object_once"

@@ -107,7 +107,8 @@ def add_cell_models(
     camera_instances = _add_camera_frames(parser, scenario)
     part_instances, pool = _add_parts(parser, scenario) if parts else ({}, [])
     _add_extra_frames(plant, scenario)
-    described = add_described_models(parser, scenario.models)
+    pieces = _own_pieces(scenario)
+    described = add_described_models(parser, [m for m in scenario.models if m.name not in pieces])
     _filter_robot_collisions(plant, scene_graph, arm_handles)
     if conveyor is not None:
         fixed = [floor, *bins.values(), *(h.pedestal for h in arm_handles.values())]
@@ -136,16 +137,39 @@ def _add_extra_frames(plant: MultibodyPlant, scenario: Scenario) -> None:
         plant.AddFrame(FixedOffsetFrame(frame.name, plant.GetFrameByName(frame.parent), frame.X_PF()))
 
 
+def _own_pieces(scenario: Scenario) -> set[str]:
+    """The model entries that are course pieces as the student's files write them (bins,
+    pedestals): added with their piece, not with the other models."""
+    return {b.model for b in scenario.bins if b.model} | {
+        r.pedestal_model for r in scenario.robots if r.pedestal_model
+    }
+
+
+def _own_piece(parser: Parser, scenario: Scenario, name: str, what: str) -> ModelInstanceIndex:
+    """The scenario's model entry ``name`` (``what`` names the setting), added as its file writes it."""
+    models = {m.name: m for m in scenario.models}
+    if name not in models:
+        raise ConfigError(f"{what} {name!r} is no model of the scenario: {sorted(models)}")
+    return add_described_models(parser, [models[name]])[name]
+
+
 def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:
     """Each robot's pedestal and arm with its gripper, welded at the robot's pose."""
     plant = parser.plant()
     arm_handles: dict[str, ArmHandles] = {}
     for robot in scenario.robots:
         x, y = robot.xy
-        pedestal = _add_xacro(
-            parser, "pedestal.urdf.xacro", {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height}
-        )
-        _weld(plant, f"{robot.name}_pedestal_link", RigidTransform([x, y, 0.0]))
+        if robot.pedestal_model:  # the student's own, welded where their file puts it
+            pedestal = _own_piece(
+                parser, scenario, robot.pedestal_model, f"robots[{robot.name}].pedestal_model"
+            )
+        else:
+            pedestal = _add_xacro(
+                parser,
+                "pedestal.urdf.xacro",
+                {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
+            )
+            _weld(plant, f"{robot.name}_pedestal_link", RigidTransform([x, y, 0.0]))
         arm, gripper = arms.add_arm_models(parser, robot)
         _weld(plant, f"{robot.name}_base_link", arms.base_pose(robot))
         arm_handles[robot.name] = ArmHandles(robot, arm, gripper, pedestal)
@@ -155,13 +179,17 @@ def _add_arms(parser: Parser, scenario: Scenario) -> dict[str, ArmHandles]:
 def _add_bins(
     parser: Parser, scenario: Scenario
 ) -> tuple[dict[str, ModelInstanceIndex], dict[str, FixedOffsetFrame]]:
-    """The bins, each welded to a world frame of its own (its anchor)."""
+    """The bins, each welded to a world frame of its own (its anchor): the catalogue's, or
+    the student's own (``bin.model``: a model entry, loaded as its file writes it)."""
     plant = parser.plant()
     bins, anchors = {}, {}
     for b in scenario.bins:
-        bins[b.name] = _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
+        if b.model:
+            bins[b.name] = _own_piece(parser, scenario, b.model, f"bins[{b.name}].model")
+        else:
+            bins[b.name] = _add_xacro(parser, "bin.urdf.xacro", {"name": b.name})
         anchors[b.name] = plant.AddFrame(FixedOffsetFrame(f"{b.name}_anchor", plant.world_frame(), b.X_WB()))
-        plant.WeldFrames(anchors[b.name], plant.GetFrameByName(f"{b.name}_base_link"))
+        plant.WeldFrames(anchors[b.name], plant.GetFrameByName(f"{b.name}_base_link", bins[b.name]))
     return bins, anchors
 
 

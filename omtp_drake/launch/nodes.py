@@ -275,8 +275,13 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
     pose = [*X_WM.translation(), *RollPitchYaw(X_WM.rotation()).vector()]  # in world
     if r.kind == "urdf":
         urdf = UrdfModel.from_text(text, r.source)
-        if not add_urdf_model(out.pieces, urdf, X_WM, r.source, r.joints):
+        if not add_urdf_model(out.pieces, urdf, X_WM, r.source, r.joints, r.name):
             out.world.models.append(_own_model(text, r.source, workspace, r.name, pose))
+        while out.pieces.own:  # what the student wrote beside and in the course's pieces
+            own = out.pieces.own.pop(0)
+            out.world.models.append(
+                _own_model(own.text, own.where, workspace, own.name, own.pose, static=own.static)
+            )
         out.placed[r.name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(r.joints).items()}
         return
     doc = parse_xml(Path(r.source), text)
@@ -288,11 +293,14 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
     add_world_model(out.world, spawned, workspace)
 
 
-def _own_model(text: str, source: str, workspace: Workspace, name: str, pose: list[float]) -> ModelConfig:
+def _own_model(
+    text: str, source: str, workspace: Workspace, name: str, pose: list[float], *, static: bool = False
+) -> ModelConfig:
     """A spawned URDF that is none of the course's pieces, as it is (its own geometry,
     joints, inertia), where spawn_model puts it."""
+    xyz, rpy = tuple(pose[:3]), tuple(pose[3:])
     try:
-        return model_from_text(text, source, workspace, name=name, xyz=tuple(pose[:3]), rpy=tuple(pose[3:]))  # type: ignore[arg-type]
+        return model_from_text(text, source, workspace, name=name, xyz=xyz, rpy=rpy, static=static)  # type: ignore[arg-type]
     except ConfigError as e:
         if isinstance(e, WorkspaceError):
             raise

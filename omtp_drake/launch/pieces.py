@@ -29,6 +29,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.own_links import bin_walls, own_links, own_links_urdf, piece_urdf
 from omtp_drake.launch.plugins import check_break_beam, plugins_in, suction_checks
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import RobotConfig
@@ -56,46 +57,111 @@ class Pieces:
     models: list[tuple[UrdfModel, RigidTransform]] = field(default_factory=list)
     #: The links fixed to the world (their first placement), as the scenario's extra frames.
     frames: dict[str, RigidTransform] = field(default_factory=dict)
+    #: What the student added beside the pieces (:mod:`~omtp_drake.launch.own_links`): the
+    #: model's name, a URDF of those links as written, and where it came from.
+    own: list[OwnModel] = field(default_factory=list)
 
 
-def add_urdf_model(pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where: str, joints: dict) -> bool:
-    """Adds the pieces of ``model`` placed at ``X_WM`` (``joints``: spawn_model's ``-J``);
+@dataclass(frozen=True)
+class OwnModel:
+    """Links of a spawned URDF the cell loads as written: a model of the scenario."""
+
+    name: str
+    text: str  # the URDF
+    where: str
+    pose: list[float]  # x y z R P Y in the world
+    static: bool = True
+
+
+def add_urdf_model(
+    pieces: Pieces, model: UrdfModel, X_WM: RigidTransform, where: str, joints: dict, name: str = ""
+) -> bool:
+    """Adds the pieces of ``model`` (spawned as ``name``) placed at ``X_WM`` (``joints``:
+    spawn_model's ``-J``), and the links the student added beside them, as written;
     False when it is none of the course's pieces (the caller loads it as it is)."""
     X_M = model.link_poses()
-    found = False
-    for joint in model.joint_names():
-        if joint.endswith("shoulder_pan_joint"):
-            _add_robot(pieces, model, joint[: -len("shoulder_pan_joint")], X_WM, X_M, where, joints)
-            found = True
-    for link in model.links:
-        if link.endswith("pedestal_link"):
-            height = _box_height(model, link, where)
-            pieces.pedestals[link[: -len("pedestal_link")]] = (
-                (X_WM @ X_M[link]).translation(),
-                height,
-                where,
-            )
-            found = True
-        elif link.endswith("drop_point") and link[: -len("drop_point")] + "base_link" in X_M:
-            prefix = link[: -len("drop_point")]
-            pieces.bins.append(_placed(prefix.rstrip("_"), X_WM @ X_M[prefix + "base_link"], where))
-            found = True
-        elif link.endswith("optical_link"):
-            _add_break_beam(pieces, model, link, X_WM @ X_M[link], where)
-            found = True
-        elif link == "workcell":
-            found = True
-    if not found:
+    prefixes = _piece_prefixes(pieces, model, X_WM, X_M, where, joints, name)
+    if prefixes is None:
         return False  # loaded as it is: its own plugins are its model's (scenario.gazebo_tags)
     for reference, element in model.gazebo:
         for plugin in plugins_in(element, where, reference):
             if plugin.kind not in URDF_PLUGINS:
                 pieces.warnings.append(plugin.unknown_line())
     pieces.models.append((model, X_WM))
+    links, lines = own_links(model, prefixes, where)
+    pieces.warnings += lines
+    if links:
+        # Named as the spawned model (a piece's own name taken: ``<name>_links``).
+        own = name or model.name
+        pieces_names = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
+        own = f"{own}_links" if own in pieces_names else own
+        pieces.own.append(OwnModel(own, own_links_urdf(model, links, X_WM, joints, own), where, [0.0] * 6))
     for link in model.static_links():
-        if link != "world":  # Gazebo's name for the world itself
+        if link != "world" and link not in links:  # (world: Gazebo's name for the world itself)
             pieces.frames.setdefault(link, X_WM @ X_M[link])
     return True
+
+
+def _piece_prefixes(
+    pieces: Pieces, model: UrdfModel, X_WM, X_M, where: str, joints: dict, name: str
+) -> list[str] | None:
+    """Adds the course's pieces found in ``model``; the prefixes of their links ('' for
+    the workcell's), or None when there are none."""
+    prefixes: list[str] = []
+    for joint in model.joint_names():
+        if joint.endswith("shoulder_pan_joint"):
+            prefix = joint[: -len("shoulder_pan_joint")]
+            _add_robot(pieces, model, prefix, X_WM, X_M, where, joints)
+            prefixes += [prefix, *_gripper_prefixes(model, prefix)]
+    for link in model.links:
+        if link.endswith("pedestal_link"):
+            prefix = link[: -len("pedestal_link")]
+            height = _box_height(model, link, where)
+            pieces.pedestals[prefix] = ((X_WM @ X_M[link]).translation(), height, where)
+            prefixes.append(prefix)
+            # As the student's file writes it (the cell's arm stands on it: pedestal_model).
+            name = f"{prefix.rstrip('_')}_pedestal"
+            pieces.own.append(
+                OwnModel(name, own_links_urdf(model, [link], X_WM, joints, name), where, [0.0] * 6)
+            )
+        elif link.endswith("drop_point") and link[: -len("drop_point")] + "base_link" in X_M:
+            prefix = link[: -len("drop_point")]
+            pieces.bins.append(_bin(pieces, model, prefix, X_WM @ X_M[prefix + "base_link"], where, name))
+            prefixes.append(prefix)
+        elif link.endswith("optical_link"):
+            _add_break_beam(pieces, model, link, X_WM @ X_M[link], where)
+            prefixes.append(link[: -len("optical_link")])
+        elif link == "workcell":
+            prefixes.append("")
+    return prefixes if prefixes else None
+
+
+def _bin(
+    pieces: Pieces, model: UrdfModel, prefix: str, X_WB: RigidTransform, where: str, spawned: str
+) -> dict:
+    """The bin at ``prefix`` (in the model spawned as ``spawned``): a bin of box collisions
+    is loaded as the student's file writes it, a model entry named as Gazebo names it (its
+    walls give the cell's in-bin test and drop slots); any other, the catalogue's bin."""
+    placed = _placed(prefix.rstrip("_"), X_WB, where)
+    walls = bin_walls(model, prefix + "base_link")
+    if walls is not None:
+        taken = {placed["name"], *(own.name for own in pieces.own)}
+        name = spawned if spawned and spawned not in taken else f"{placed['name']}_model"
+        placed.update(model=name, walls=walls)
+        text = piece_urdf(model, prefix + "base_link", prefix, name)
+        pose = [*placed["xyz"], 0.0, 0.0, placed["yaw"]]
+        pieces.own.append(OwnModel(name, text, where, pose, static=False))
+    return placed
+
+
+def _gripper_prefixes(model: UrdfModel, prefix: str) -> list[str]:
+    """The prefix of the gripper on the arm's tool0 (the cell builds it with the arm)."""
+    tool = prefix + "tool0"
+    return [
+        j.child[: -len("base_link")]
+        for j in model.joints.values()
+        if j.parent == tool and j.child.endswith("base_link")
+    ]
 
 
 def _yaw_only(X: RigidTransform, what: str, where: str) -> float:
@@ -217,8 +283,9 @@ def merge_pedestals(pieces: Pieces) -> None:
                 f"{where}: pedestal {prefix}pedestal_link at {np.round(p_W[:2], 4).tolist()} is not under "
                 f"arm {robot['name']} at {robot['xy']}; the cell stands each arm on its pedestal"
             )
+        robot["pedestal_model"] = f"{prefix.rstrip('_')}_pedestal"
         if not math.isclose(height, robot["pedestal_height"], abs_tol=_TOL):
             pieces.warnings.append(
                 f"{where}: pedestal {prefix}pedestal_link is {height:g} m high and arm {robot['name']} "
-                f"stands at {robot['pedestal_height']:g} m; the cell's pedestal reaches the arm"
+                f"stands at {robot['pedestal_height']:g} m; both as the files put them"
             )

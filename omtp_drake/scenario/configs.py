@@ -34,6 +34,9 @@ class RobotConfig:
     #: sits on top of it.
     xy: list[float] = field(default_factory=lambda: [0.5, 1.8])
     pedestal_height: float = 0.95
+    #: The scenario's model entry that is the pedestal as the student's file writes it
+    #: ('': the catalogue's box, ``pedestal_height`` high, at ``xy``).
+    pedestal_model: str = ""
     #: Rotation of the arm's base about world z.
     yaw: float = 0.0
     #: Prefix of the course's named poses for this arm (``R1`` -> ``R1Home``).
@@ -114,9 +117,17 @@ class BinConfig:
     name: str = "bin_1"
     xyz: list[float] = field(default_factory=lambda: [-8.0, -2.2, 0.0])
     yaw: float = 0.0
+    #: The scenario's model entry that is this bin as the student's file writes it ('':
+    #: the catalogue's bin, models/bin.urdf.xacro); its ``<name>_base_link`` stands here.
+    model: str = ""
+    #: That bin's inner half width, floor top and rim height (m), from its walls.
+    walls: list[float] = field(default_factory=list)
 
     @property
     def geometry(self) -> BinGeometry:
+        if self.walls:
+            inner, floor_top, height = self.walls
+            return BinGeometry(inner_half_width=inner, floor_top=floor_top, height=height)
         return _BIN_GEOMETRY
 
     def X_WB(self) -> RigidTransform:
@@ -128,7 +139,7 @@ class BinConfig:
         inner footprint, above the bin's floor and less than 0.5 m above its rim?
         ``X_WB``: the bin's pose if it is not where the scenario put it."""
         p_B = (X_WB or self.X_WB()).inverse() @ np.asarray(p_W, dtype=float)
-        g = _BIN_GEOMETRY
+        g = self.geometry
         return bool(
             abs(p_B[0]) < g.inner_half_width
             and abs(p_B[1]) < g.inner_half_width
@@ -139,6 +150,14 @@ class BinConfig:
         """Raises :class:`ConfigError` for a position that is not 3 numbers in the cell."""
         check_len(f"bins[{self.name}].xyz", self.xyz, 3)
         check_in_cell(f"bins[{self.name}].xyz", self.xyz)
+        if self.walls:
+            check_len(f"bins[{self.name}].walls", self.walls, 3)
+            inner, floor_top, height = self.walls
+            if not (inner > 0 and floor_top < height):
+                raise ConfigError(
+                    f"bins[{self.name}].walls {self.walls!r}: needs an inner half width > 0 and "
+                    "the floor's top below the rim"
+                )
 
 
 _BIN_GEOMETRY = BinGeometry.from_model()

@@ -216,7 +216,9 @@ class Scenario:
         names: list[str] = []
         for robot in self.robots:
             robot.validate()
-            names += [robot.name, f"{robot.name}_pedestal"] + ([robot.gripper] if robot.gripper else [])
+            # (a pedestal of the student's own is a model entry: its name comes with the models)
+            pedestal = [] if robot.pedestal_model else [f"{robot.name}_pedestal"]
+            names += [robot.name, *pedestal] + ([robot.gripper] if robot.gripper else [])
         for camera in self.cameras:
             camera.validate()
             if camera.parent == "world":

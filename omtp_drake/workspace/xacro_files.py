@@ -168,6 +168,7 @@ def _explained(workspace: Workspace, path: Path, error: Exception) -> Exception:
     from xml.parsers.expat import ExpatError
 
     import xacro
+    import xacro.substitution_args  # (xacro imports it only once a $(...) is evaluated)
     from ament_index_python.packages import PackageNotFoundError
 
     chain: BaseException | None = error

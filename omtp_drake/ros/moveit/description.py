@@ -31,16 +31,20 @@ def _model_texts(cell: Cell) -> list[str]:
     scenario = cell.runtime.station.scenario
     texts = [expand_xacro(MODELS_DIR / "floor.urdf.xacro")]
     for robot in scenario.robots:
-        texts.append(
-            expand_xacro(
-                MODELS_DIR / "pedestal.urdf.xacro",
-                {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
+        if not robot.pedestal_model:  # (the student's own is one of the models below)
+            texts.append(
+                expand_xacro(
+                    MODELS_DIR / "pedestal.urdf.xacro",
+                    {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
+                )
             )
-        )
         texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.joint_limit).read_text())
         if robot.gripper:
             texts.append(expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper}))
-    texts += [expand_xacro(MODELS_DIR / "bin.urdf.xacro", {"name": b.name}) for b in scenario.bins]
+    # (a bin of the student's own is one of the models below, as their file writes it)
+    texts += [
+        expand_xacro(MODELS_DIR / "bin.urdf.xacro", {"name": b.name}) for b in scenario.bins if not b.model
+    ]
     for present, file in (
         (scenario.conveyor is not None, "conveyor.urdf.xacro"),
         (scenario.break_beam, "break_beam.urdf.xacro"),
