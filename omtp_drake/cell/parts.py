@@ -211,6 +211,10 @@ class PartStates:
             if at_slot and joint.is_locked(plant_context)
         ]
 
+    def any_free(self, plant_context: Context) -> bool:
+        """Whether some part's joint is free (awake, held, falling: a part that may move)."""
+        return not all(joint.is_locked(plant_context) for joint in self._part_slots.joints)
+
     def _at_slot(self, plant_context: Context) -> list[bool]:
         """Whether each part (in the order of ``parts``) is at its parking slot (in plain
         floats: a dozen parts cost less than numpy's small-array calls between plant
