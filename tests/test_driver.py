@@ -99,7 +99,7 @@ def test_the_spawner_does_not_look_while_the_part_it_waits_for_sleeps(monkeypatc
     assert rt.station.part_states.is_asleep(rt.station.plant.GetMyContextFromRoot(rt.context), "object_1")
     checks = []
     check = AutoSpawner.__call__
-    monkeypatch.setattr(AutoSpawner, "__call__", lambda self, c: checks.append(c.get_time()) or check(self, c))
+    monkeypatch.setattr(AutoSpawner, "__call__", lambda s, c: checks.append(c.get_time()) or check(s, c))
     rt.advance_to(3.0)
     assert checks == []
     rt.remove_part("object_1")

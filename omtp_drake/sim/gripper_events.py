@@ -17,9 +17,10 @@ nothing.
 
 The constraints (:func:`~omtp_drake.cell.suction_holds.sync_weld`) follow each weld
 gripper's state one plant step after a check decided an attach or a service's
-disable released a part, and every ``IDLE_SYNC_PERIOD`` (a release the controller
-commands, a fault's or a lost hold's is made at the next of those), where the
-per-step poll made them before.
+disable released a part, and every ``IDLE_SYNC_PERIOD`` while a weld holds a part (a
+release the controller commands, a fault's or a lost hold's is made at the next of
+those), where the per-step poll made them before. While no weld holds a part the
+driver does not stop for them: such a sync would find nothing to do.
 """
 
 from __future__ import annotations
