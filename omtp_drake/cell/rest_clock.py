@@ -53,7 +53,7 @@ class RestClock(LeafSystem):
 
     With ``periodic`` (the default) the clock samples itself. Without it, its owner
     (:class:`omtp_drake.sim.part_sleep.PartSleep`, the driver's) takes each sample
-    (:meth:`sample`, a forced event) at the same times, and only while some part is
+    (:meth:`sample`) at the same times, and only while some part is
     free: while every part is locked, a sample could only say "still since the first
     of these samples", so the owner records that time once (:meth:`all_locked_at`)
     and the clock counts it in (``still_since`` is the same as if it had sampled).
@@ -86,8 +86,6 @@ class RestClock(LeafSystem):
         period = 1.0 / config.check_rate_hz
         if periodic:
             self.DeclarePeriodicDiscreteUpdateEvent(period, 0.0, self._update)
-        else:
-            self.DeclareForcedDiscreteUpdateEvent(self._update)
         self._still_since = self.DeclareVectorOutputPort(
             "still_since",
             len(self._names),
@@ -135,9 +133,12 @@ class RestClock(LeafSystem):
         output.SetFromVector(self.still_since_values(context))
 
     def sample(self, context: Context) -> None:
-        """Takes a sample now (a clock built without ``periodic``; its owner calls this at
-        the sample times while some part is free)."""
-        self.ExecuteForcedEvents(context)
+        """Takes a sample now (a clock built without ``periodic``; its owner, a world edit
+        of the driver, calls this at the sample times while some part is free). Written
+        straight into the clock's state, as the owner's other edits are (no event to
+        dispatch): the same values as its periodic event's."""
+        context.get_mutable_discrete_state(self._state).SetFromVector(self._sampled(context))
+        context.get_mutable_discrete_state(self._all_locked).SetAtIndex(0, math.inf)
 
     def all_locked_at(self, context: Context, t: float) -> None:
         """Every part is locked at the sample time ``t`` and will be until the next sample
@@ -161,6 +162,11 @@ class RestClock(LeafSystem):
             context.get_mutable_discrete_state(self._all_locked).SetAtIndex(0, math.inf)
 
     def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
+        discrete_state.set_value(self._state, np.array(self._sampled(context)))
+        discrete_state.set_value(self._all_locked, np.array([math.inf]))
+
+    def _sampled(self, context: Context) -> list[float]:
+        """The parts' values after a sample now (the all-locked time counted in)."""
         # In plain floats: a dozen parts cost less than numpy's small-array calls
         # between plant steps (bench/README.md).
         x = self._plant_state.Eval(context).tolist()
@@ -170,11 +176,10 @@ class RestClock(LeafSystem):
         all_locked = context.get_discrete_state(self._all_locked)[0]
         if all_locked != math.inf:  # the samples not taken while every part was locked
             since = [min(s, all_locked) for s in since]
-            discrete_state.set_value(self._all_locked, np.array([math.inf]))
         now = []
         for (a, b, c, d, e, f), s in zip(self._velocity, since):
             still = (
                 x[a] * x[a] + x[b] * x[b] + x[c] * x[c] < w2 and x[d] * x[d] + x[e] * x[e] + x[f] * x[f] < v2
             )
             now.append(min(s, t) if still else math.inf)
-        discrete_state.set_value(self._state, np.array(now))
+        return now
