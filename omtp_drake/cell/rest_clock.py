@@ -138,7 +138,8 @@ class RestClock(LeafSystem):
         straight into the clock's state, as the owner's other edits are (no event to
         dispatch): the same values as its periodic event's."""
         context.get_mutable_discrete_state(self._state).SetFromVector(self._sampled(context))
-        context.get_mutable_discrete_state(self._all_locked).SetAtIndex(0, math.inf)
+        if context.get_discrete_state(self._all_locked)[0] != math.inf:
+            context.get_mutable_discrete_state(self._all_locked).SetAtIndex(0, math.inf)
 
     def all_locked_at(self, context: Context, t: float) -> None:
         """Every part is locked at the sample time ``t`` and will be until the next sample
