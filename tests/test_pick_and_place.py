@@ -11,16 +11,7 @@ from omtp_drake.cell import arms
 from omtp_drake.control.pick_and_place import Mode, bin_capacity
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import load_scenario
-from omtp_drake.tasks.run import TaskResult, TaskRun, prepare, run_task
-
-
-def assert_clean_success(result, bin_name, n):
-    ledger = result.ledger
-    assert result.success, result.to_dict()
-    assert ledger.in_bin[bin_name] == n
-    assert ledger.on_floor == ledger.on_belt == ledger.elsewhere == ledger.disposed == 0
-    assert sum(ledger.held.values()) == 0 and ledger.balanced
-    assert [p.part for p in result.picks if p.success] == [f"object_{k}" for k in range(1, n + 1)]
+from omtp_drake.tasks.run import TaskResult, TaskRun, prepare
 
 
 def plant_context(rt):
@@ -39,28 +30,6 @@ def finish(run, limit):
     while not run.done() and rt.time < limit:
         rt.advance(0.5)
     return run.history().picks
-
-
-def test_assignment4_robot2_places_parts_in_bin1():
-    powers = []
-    result = run_task(
-        "lecture6_assignment4", on_chunk=lambda run: powers.append(run.runtime.conveyor_power())
-    )
-    assert_clean_success(result, "bin_1", 2)
-    assert all(p.cycle_time < 8.5 for p in result.picks if p.success)
-    assert powers and set(powers) == {0.0}  # the scenario's belt stays stopped (no beam-stop helper)
-
-
-def test_lecture7_robot1_picks_from_the_belt_into_bin2():
-    result = run_task("lecture7_conveyor_pick")
-    assert_clean_success(result, "bin_2", 2)
-
-
-def test_fill_bin_ten_parts():
-    result = run_task("fill_bin")
-    assert_clean_success(result, "bin_1", 10)
-    # Simulated seconds (deterministic): issue 13's cycle targets.
-    assert result.summary["mean_cycle_time_s"] <= 6.0 and result.summary["max_cycle_time_s"] <= 7.0
 
 
 def test_limits_respected_during_a_run():
