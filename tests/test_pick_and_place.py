@@ -93,21 +93,25 @@ def test_camera_blackout_waits_then_continues():
 
 
 def test_blocked_arm_is_a_tracking_failure_diffik_restarts_and_the_part_is_placed():
-    """Issue 10 bug 1: after a tracking failure DiffIK restarts from the measured joints
-    (use_robot_state true for one controller period), and the pick is retried."""
+    """Issue 10 bug 1: after a tracking failure the arm's command restarts from the
+    measured joints (DiffIK is integrated from them for the way Home), and the pick is
+    retried."""
     run = TaskRun(prepare("lecture6_assignment4", parts=1))
     rt = run.runtime
     advance_until(run, Mode.TRANSFER)
     rt.advance(0.3)
     rt.block_arm("robot2", 1.5)
-    use_robot_state = run.controller.GetOutputPort("use_robot_state")
-    resets = []
+    own = lambda: run.controller.GetMyContextFromRoot(rt.context)  # noqa: E731
     while run.control().mode != Mode.HOME:
+        before = run.controller.joint_plan_output_port().Eval(own())
+        q = rt.joint_positions("robot2")
         rt.advance(0.05)
-    resets.append(use_robot_state.Eval(run.controller.GetMyContextFromRoot(rt.context)))
-    rt.advance(0.05)
-    resets.append(use_robot_state.Eval(run.controller.GetMyContextFromRoot(rt.context)))
-    assert resets == [True, False]
+    plan = run.controller.joint_plan_output_port().Eval(own())
+    t = run.control().mode_start
+    assert plan is not before and plan.t0 == pytest.approx(t + 0.01)
+    gap = np.abs(before.state(t)[:6] - q).max()
+    assert gap > 0.05  # the command ran ahead of the blocked arm
+    assert np.abs(plan.state(t + 0.16)[:6] - q).max() < 0.2 * gap  # back where the arm is
     picks = finish(run, 30)
     assert picks[0].reason == "tracking" and picks[0].part == "object_1"
     assert picks[-1].success and picks[-1].part == "object_1"
