@@ -117,6 +117,29 @@ def test_poses_at_many_times_are_pose_at_each_of_them():
             assert np.allclose(R[k], X.rotation().matrix(), atol=1e-12, rtol=0)
 
 
+def test_pose_table_gives_the_path_in_the_arm_base_at_its_samples():
+    """The controller's table (what its updates read) is X_BW @ pose_at(t) at
+    each sample time from the first at or after the fill, the end pose after the
+    path's end, and nothing between samples."""
+    from omtp_drake.control.pick_and_place.system import PoseTable
+
+    planner = PickPlanner(X_WR, 1.0)
+    path = planner.travel(0.3, tool_down(np.array([-7.3, -1.2, 1.0]), 0.3),
+                          tool_down(np.array([-8.0, -2.2, 0.9]), -1.0))
+    X_BW = X_WR.inverse()
+    table = PoseTable()
+    table.fill(path, 0.304, 0.01, X_BW)
+    assert table.path is path
+    assert table.pose(0.30) is None  # before the fill's first sample
+    assert table.pose(0.315) is None  # between samples
+    for t in np.arange(31, round(path.end_time / 0.01) + 40) * 0.01:
+        X_BE, X_expected = table.pose(t), X_BW @ path.pose_at(min(t, path.end_time))
+        assert X_BE.IsNearlyEqualTo(X_expected, 1e-12), t
+    empty = PoseTable()
+    empty.fill(Path(), 0.0, 0.01, X_BW)
+    assert empty.pose(0.0) is None
+
+
 @pytest.mark.parametrize("size, per_layer", [(0.05, 36), (0.1, 9), (0.2, 1)])
 def test_slots_fill_the_bin_in_layers_inside_its_walls(size, per_layer):
     planner = PickPlanner(X_WR, 1.0)

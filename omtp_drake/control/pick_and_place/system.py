@@ -16,10 +16,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from typing import Optional
 
 import numpy as np
 from pydrake.common.value import AbstractValue
-from pydrake.math import RigidTransform
+from pydrake.math import RigidTransform, RotationMatrix
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.systems.framework import (
     Context,
@@ -39,6 +40,7 @@ from omtp_drake.control.joint_plan import JerkStream, JointPlan, PlanAhead
 from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory
 from omtp_drake.control.pick_and_place.machine import PickMachine
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
+from omtp_drake.control.tool_paths import Path
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import BinConfig, RobotConfig, TaskConfig
 
@@ -88,7 +90,9 @@ class PickAndPlaceController(LeafSystem):
     ``diffik_rate_hz`` until the next update. State (all in the Context, changed only
     by the update): the control state, the history and the plan (abstract), the jerk
     (discrete). A scratch Context of the arm's model, for forward kinematics of the
-    measured joints, is a cache entry (it depends on ``robot_state`` only).
+    measured joints, is a cache entry (it depends on ``robot_state`` only); so is the
+    path's pose table (:class:`PoseTable`): the desired tool pose at each update time,
+    computed in one numpy call when the path changes, for the machine's tracking check.
 
     Frames: W world, B the arm's base_link, E ``<gripper>_tip`` (the cup face,
     +z out of the tool), C a camera, P a part's origin (its centre).
@@ -133,6 +137,13 @@ class PickAndPlaceController(LeafSystem):
             AbstractValue.Make(JointPlan.hold(0.0, self._motion.period, q0))
         )
         self._jerk = self.DeclareDiscreteState(self._nq)
+        self._table = self.DeclareCacheEntry(
+            description="desired tool poses at the update times",
+            value_producer=ValueProducer(
+                allocate=AbstractValue.Make(PoseTable()).Clone, calc=weak_method(self._calc_table)
+            ),
+            prerequisites_of_calc={self.abstract_state_ticket(self._control)},
+        )
         self._declare_output_ports()
         self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.update_rate_hz, 0.0, self._update)
 
@@ -219,6 +230,14 @@ class PickAndPlaceController(LeafSystem):
         """``X_WE`` at the measured joints."""
         return self._X_WB @ self._tip.CalcPoseInWorld(self._scratch.Eval(context))
 
+    def _calc_table(self, context: Context, value: AbstractValue) -> None:
+        # Runs after every update (an update marks all of the state changed); the
+        # table is refilled only when the path is a new one.
+        table: PoseTable = value.get_mutable_value()
+        path = context.get_abstract_state(self._control).get_value().path
+        if table.path is not path:
+            table.fill(path, context.get_time(), self._motion.period, RigidTransform())
+
     def _update(self, context: Context, state: State) -> None:
         """Reads the arm's and the gripper's ports, and a camera's only if the machine
         asks for its image (a camera computes an image when it is read); asks the
@@ -234,6 +253,7 @@ class PickAndPlaceController(LeafSystem):
             read_pick_image=lambda: self._image.Eval(context),
             read_bin_image=lambda: self._bin_image.Eval(context),
             read_search_images=lambda: tuple(port.Eval(context) for port in self._search_images),
+            X_WE_desired=self._table.Eval(context).pose(t),
         )
         decision = self._machine.step(inputs, s)
         plan: JointPlan = context.get_abstract_state(self._plan).get_value()
@@ -248,6 +268,49 @@ class PickAndPlaceController(LeafSystem):
         updated = history.with_step(decision.record, decision.tracking_error)
         if updated is not history:
             state.get_mutable_abstract_state(self._history).set_value(updated)
+
+
+class PoseTable:
+    """A path's desired tool poses ``X_BE`` at the sample times ``k h`` from the
+    first at or after ``t`` (when the path was first asked for) to the path's end,
+    from one :meth:`~omtp_drake.control.tool_paths.Path.poses` call. Mutable: the
+    value of the controller's cache entry, refilled when the path changes.
+
+    The controller's updates look the path up here (``h`` its period) for the
+    machine's tracking check, instead of evaluating it at every update."""
+
+    def __init__(self) -> None:
+        self.path: Optional[Path] = None
+        self._k0, self._h = 0, 1.0
+        self._X_BE: list[RigidTransform] = []
+
+    def fill(self, path: Path, t: float, h: float, X_BW: RigidTransform) -> None:
+        """The table of ``path`` (sample period ``h``) from ``t`` on."""
+        self.path, self._h = path, h
+        self._k0 = math.ceil(t / h - 1e-6)
+        if not path.segments:
+            self._X_BE = []
+            return
+        k1 = max(self._k0, math.ceil(path.end_time / h)) + 1
+        p_WE, R_WE = path.poses(np.arange(self._k0, k1 + 1) * h)
+        R_BW = X_BW.rotation().matrix()
+        # The last is the end pose, asked for at every sample once the path is done
+        # (an arm that waits holds it).
+        R_BE, p_BE = R_BW @ R_WE, p_WE @ R_BW.T + X_BW.translation()
+        self._X_BE = [RigidTransform(RotationMatrix(R), p) for R, p in zip(R_BE, p_BE)]
+
+    def pose(self, t: float) -> Optional[RigidTransform]:
+        """``X_BE`` at ``t`` if ``t`` is one of the table's sample times (after its
+        last, the path's end pose), else None."""
+        h, X_BE = self._h, self._X_BE
+        k = round(t / h)
+        i = k - self._k0
+        if i < 0 or not X_BE or abs(t - k * h) > 1e-9:
+            return None
+        return X_BE[i] if i < len(X_BE) else X_BE[-1]
+
+    def __deepcopy__(self, memo: dict) -> PoseTable:
+        return PoseTable()  # a cache: a cloned Context refills its own
 
 
 def stream_step(config: TaskConfig) -> float:
