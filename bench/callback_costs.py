@@ -10,10 +10,10 @@ A call costs several times what it costs timed alone, because the plant's step b
 two calls leaves the CPU caches cold; this measures it where it happens.
 
 Nested rows (marked ``in``) are also inside another row: the machine's step and the
-camera images inside the controller's update, the pose table inside the update and
-DiffIK's pose. The total adds the top-level rows only. The wrappers add about 1 us a
-call. ``Driver._apply_due`` counts the driver's stops (one call each; its time
-includes the edits and callbacks due there, so it is not added to the total).
+camera images and the joint plans (DiffIK integrated ahead) inside the controller's
+update. The total adds the top-level rows only. The wrappers add about 1 us a call.
+``Driver._apply_due`` counts the driver's stops (one call each; its time includes the
+edits and callbacks due there, so it is not added to the total).
 """
 
 from __future__ import annotations
@@ -25,8 +25,8 @@ import time
 
 #: (module, class, methods, nested): the callbacks to time.
 CALLBACKS = [
-    ("omtp_drake.control.pick_and_place.system", "PickAndPlaceController", ["_update", "_calc_pose"], False),
-    ("omtp_drake.control.pick_and_place.system", "PickAndPlaceController", ["_calc_table"], True),
+    ("omtp_drake.control.pick_and_place.system", "PickAndPlaceController", ["_update"], False),
+    ("omtp_drake.control.joint_plan", "PlanAhead", ["plan"], True),
     ("omtp_drake.control.pick_and_place.machine", "PickMachine", ["step"], True),
     ("omtp_drake.cell.suction", "SuctionGripper", ["_check", "_calc_state"], False),
     ("omtp_drake.cell.suction_holds", "ForceSuctionGripper", ["_calc_forces"], False),

@@ -38,7 +38,7 @@ CATEGORIES = [
     ("contact problem", "building SAP's problem: free motion, contact pairs and Jacobians, constraints",
      ["SapDriver<double>::CalcContactProblemCache", "CalcDiscreteContactPairs",
       "CalcAccelerationsDueToNonConstraintForcesCache"]),
-    ("DiffIK", "Drake's DifferentialInverseKinematicsIntegrator (QP every 10 ms)",
+    ("DiffIK", "Drake's differential IK: its QPs, integrated ahead along each decided path",
      ["DifferentialInverseKinematics"]),
     ("plant step, other", "the rest of MultibodyPlant's discrete step",
      ["MultibodyPlant<double>::CalcStepDiscrete", "DiscreteUpdateManager"]),

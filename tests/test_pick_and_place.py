@@ -11,16 +11,7 @@ from omtp_drake.cell import arms
 from omtp_drake.control.pick_and_place import Mode, bin_capacity
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import load_scenario
-from omtp_drake.tasks.run import TaskResult, TaskRun, prepare, run_task
-
-
-def assert_clean_success(result, bin_name, n):
-    ledger = result.ledger
-    assert result.success, result.to_dict()
-    assert ledger.in_bin[bin_name] == n
-    assert ledger.on_floor == ledger.on_belt == ledger.elsewhere == ledger.disposed == 0
-    assert sum(ledger.held.values()) == 0 and ledger.balanced
-    assert [p.part for p in result.picks if p.success] == [f"object_{k}" for k in range(1, n + 1)]
+from omtp_drake.tasks.run import TaskResult, TaskRun, prepare
 
 
 def plant_context(rt):
@@ -39,28 +30,6 @@ def finish(run, limit):
     while not run.done() and rt.time < limit:
         rt.advance(0.5)
     return run.history().picks
-
-
-def test_assignment4_robot2_places_parts_in_bin1():
-    powers = []
-    result = run_task(
-        "lecture6_assignment4", on_chunk=lambda run: powers.append(run.runtime.conveyor_power())
-    )
-    assert_clean_success(result, "bin_1", 2)
-    assert all(p.cycle_time < 8.5 for p in result.picks if p.success)
-    assert powers and set(powers) == {0.0}  # the scenario's belt stays stopped (no beam-stop helper)
-
-
-def test_lecture7_robot1_picks_from_the_belt_into_bin2():
-    result = run_task("lecture7_conveyor_pick")
-    assert_clean_success(result, "bin_2", 2)
-
-
-def test_fill_bin_ten_parts():
-    result = run_task("fill_bin")
-    assert_clean_success(result, "bin_1", 10)
-    # Simulated seconds (deterministic): issue 13's cycle targets.
-    assert result.summary["mean_cycle_time_s"] <= 6.0 and result.summary["max_cycle_time_s"] <= 7.0
 
 
 def test_limits_respected_during_a_run():
@@ -124,21 +93,25 @@ def test_camera_blackout_waits_then_continues():
 
 
 def test_blocked_arm_is_a_tracking_failure_diffik_restarts_and_the_part_is_placed():
-    """Issue 10 bug 1: after a tracking failure DiffIK restarts from the measured joints
-    (use_robot_state true for one controller period), and the pick is retried."""
+    """Issue 10 bug 1: after a tracking failure the arm's command restarts from the
+    measured joints (DiffIK is integrated from them for the way Home), and the pick is
+    retried."""
     run = TaskRun(prepare("lecture6_assignment4", parts=1))
     rt = run.runtime
     advance_until(run, Mode.TRANSFER)
     rt.advance(0.3)
     rt.block_arm("robot2", 1.5)
-    use_robot_state = run.controller.GetOutputPort("use_robot_state")
-    resets = []
+    own = lambda: run.controller.GetMyContextFromRoot(rt.context)  # noqa: E731
     while run.control().mode != Mode.HOME:
+        before = run.controller.joint_plan_output_port().Eval(own())
+        q = rt.joint_positions("robot2")
         rt.advance(0.05)
-    resets.append(use_robot_state.Eval(run.controller.GetMyContextFromRoot(rt.context)))
-    rt.advance(0.05)
-    resets.append(use_robot_state.Eval(run.controller.GetMyContextFromRoot(rt.context)))
-    assert resets == [True, False]
+    plan = run.controller.joint_plan_output_port().Eval(own())
+    t = run.control().mode_start
+    assert plan is not before and plan.t0 == pytest.approx(t + 0.01)
+    gap = np.abs(before.state(t)[:6] - q).max()
+    assert gap > 0.05  # the command ran ahead of the blocked arm
+    assert np.abs(plan.state(t + 0.16)[:6] - q).max() < 0.2 * gap  # back where the arm is
     picks = finish(run, 30)
     assert picks[0].reason == "tracking" and picks[0].part == "object_1"
     assert picks[-1].success and picks[-1].part == "object_1"

@@ -117,8 +117,8 @@ def test_poses_at_many_times_are_pose_at_each_of_them():
             assert np.allclose(R[k], X.rotation().matrix(), atol=1e-12, rtol=0)
 
 
-def test_pose_table_gives_the_path_in_the_arm_base_at_diffik_samples():
-    """The controller's table (what DiffIK reads every 10 ms) is X_BW @ pose_at(t) at
+def test_pose_table_gives_the_path_in_the_arm_base_at_its_samples():
+    """The controller's table (what its updates read) is X_BW @ pose_at(t) at
     each sample time from the first at or after the fill, the end pose after the
     path's end, and nothing between samples."""
     from omtp_drake.control.pick_and_place.system import PoseTable

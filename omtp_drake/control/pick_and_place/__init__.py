@@ -8,7 +8,8 @@ Modules (one job each):
 - ``machine_io``: the state machine's plain inputs (``MachineInput``) and answers (``Decision``)
 - ``recovery``: the machine's tool paths and the ends of failed attempts
 - ``machine``: the pure state machine (``PickMachine``: plain inputs in, a ``Decision`` out)
-- ``system``: the ``LeafSystem`` around it (``PickAndPlaceController``) and ``add_pick_and_place``
+- ``system``: the ``LeafSystem`` around it (``PickAndPlaceController``: the machine's decisions, the joint
+  plan of each new tool path) and ``add_pick_and_place`` (it and its jerk stream)
 
 Modules here import each other by module, never through this package.
 """

@@ -46,7 +46,7 @@ class MachineInput:
         bin_image: the bin camera's latest image (:data:`NO_IMAGE` without one).
         search_images: the other cameras' latest images.
         X_WE_desired: the control state's path at ``t``, when the caller has it at
-            hand (the controller's pose table for DiffIK); None: the machine
+            hand (the controller's pose table); None: the machine
             evaluates the path itself.
     """
 

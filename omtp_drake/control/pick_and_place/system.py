@@ -1,14 +1,15 @@
 """The pick-and-place controller of one robot as a Drake system: a thin
 ``LeafSystem`` around the state machine
 (:class:`~omtp_drake.control.pick_and_place.machine.PickMachine`), and the
-``add_pick_and_place`` factory that wires it and Drake's DiffIK to a station.
+``add_pick_and_place`` factory that wires it and its jerk stream to a station.
 
 The controller perceives parts **only through logical cameras** (the part's pose is
 the camera's ``X_WC`` times the reported ``X_CM``) and its own arm's joint
 encoders; it never reads ground truth. It asks :mod:`omtp_drake.control.pick_policy`
-for tool paths of the suction-cup face (``<gripper>_tip``) and feeds them, as desired
-poses, to Drake's ``DifferentialInverseKinematicsIntegrator``, whose joint positions
-drive the arm's position servo.
+for tool paths of the suction-cup face (``<gripper>_tip``); when it decides one, Drake's
+differential IK is integrated along it at once into a joint plan
+(:mod:`omtp_drake.control.joint_plan`), which a C++ ``LinearSystem`` plays to the arm's
+position servo between the controller's updates.
 """
 
 from __future__ import annotations
@@ -20,10 +21,6 @@ from typing import Optional
 import numpy as np
 from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform, RotationMatrix
-from pydrake.multibody.inverse_kinematics import (
-    DifferentialInverseKinematicsIntegrator,
-    DifferentialInverseKinematicsParameters,
-)
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.systems.framework import (
     Context,
@@ -34,11 +31,12 @@ from pydrake.systems.framework import (
     State,
     ValueProducer,
 )
-from pydrake.systems.primitives import ConstantValueSource
+from pydrake.systems.primitives import ConstantValueSource, Demultiplexer
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.suction import GripperState
+from omtp_drake.control.joint_plan import JerkStream, JointPlan, PlanAhead
 from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory
 from omtp_drake.control.pick_and_place.machine import PickMachine
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
@@ -60,11 +58,11 @@ class PickAndPlaceController(LeafSystem):
         - gripper_state
         - robot_state
         output_ports:
-        - X_BE_desired
-        - use_robot_state
+        - jerk
         - suction_command
         - control
         - history
+        - joint_plan
 
     Input ports:
       - ``camera_image``: the pick camera's LogicalCameraImage.
@@ -76,22 +74,25 @@ class PickAndPlaceController(LeafSystem):
       - ``robot_state``: the arm's measured [q; v].
 
     Output ports:
-      - ``X_BE_desired`` (RigidTransform): desired pose of the cup face E in the
-        arm's base frame B, for DiffIK.
-      - ``use_robot_state`` (bool): ask DiffIK to restart from the measured q.
+      - ``jerk`` (vector, n): the jerk the stream plays until the next update.
       - ``suction_command`` (vector [0 or 1]).
-      - ``control`` (:class:`ControlState`), ``history`` (:class:`PickHistory`).
+      - ``control`` (:class:`ControlState`), ``history`` (:class:`PickHistory`),
+        ``joint_plan`` (:class:`~omtp_drake.control.joint_plan.JointPlan`).
 
     Each periodic update (at ``update_rate_hz``) reads the input ports into a
     :class:`~omtp_drake.control.pick_and_place.machine_io.MachineInput` (the cameras'
-    only when the machine asks for an image), asks the
-    machine for its decision and writes it into the state. State (abstract): the
-    control state and the history. A scratch Context of the arm's model, for forward
-    kinematics of the measured joints, is a cache entry (it depends on
-    ``robot_state`` only). So is the path's pose table (:class:`PoseTable`): the
-    desired pose at each of DiffIK's sample times (``diffik_rate_hz``), computed in
-    one numpy call when the path changes, so that DiffIK's request every step is a
-    lookup.
+    only when the machine asks for an image), asks the machine for its decision and
+    writes it into the state. When the decision is a new tool path, DiffIK is
+    integrated along it at once into a joint plan
+    (:class:`~omtp_drake.control.joint_plan.PlanAhead`; from the measured joints when
+    the machine restarts the arm after a tracking failure); every update writes the
+    jerk of the plan's next period, which the stream (C++) integrates at
+    ``diffik_rate_hz`` until the next update. State (all in the Context, changed only
+    by the update): the control state, the history and the plan (abstract), the jerk
+    (discrete). A scratch Context of the arm's model, for forward kinematics of the
+    measured joints, is a cache entry (it depends on ``robot_state`` only); so is the
+    path's pose table (:class:`PoseTable`): the desired tool pose at each update time,
+    computed in one numpy call when the path changes, for the machine's tracking check.
 
     Frames: W world, B the arm's base_link, E ``<gripper>_tip`` (the cup face,
     +z out of the tool), C a camera, P a part's origin (its centre).
@@ -112,11 +113,13 @@ class PickAndPlaceController(LeafSystem):
         self._nq = control_plant.num_positions()
         self._tip = control_plant.GetFrameByName(f"{robot.gripper}_tip")
         self._X_WB = arms.base_pose(robot)
-        self._X_BW = self._X_WB.inverse()
         home_context = control_plant.CreateDefaultContext()
         control_plant.SetPositions(home_context, np.asarray(arms.named_pose("Home", robot)))
         X_W_home = self._X_WB @ self._tip.CalcPoseInWorld(home_context)
         self._machine = PickMachine(config, robot, bin, part_size, X_W_home)
+        self._motion = PlanAhead(
+            control_plant, robot, self._X_WB, 1.0 / config.update_rate_hz, stream_step(config)
+        )
         self.set_name(f"{robot.name}.pick_and_place")
         self._declare_input_ports(search_cameras)
         self._scratch = self.DeclareCacheEntry(
@@ -128,15 +131,19 @@ class PickAndPlaceController(LeafSystem):
             prerequisites_of_calc={self.input_port_ticket(self._robot_state.get_index())},
         )
         self._control = self.DeclareAbstractState(AbstractValue.Make(ControlState()))
-        self._diffik_period = 1.0 / config.diffik_rate_hz
+        self._history = self.DeclareAbstractState(AbstractValue.Make(PickHistory()))
+        q0 = arms.named_pose(robot.initial_pose, robot)
+        self._plan = self.DeclareAbstractState(
+            AbstractValue.Make(JointPlan.hold(0.0, self._motion.period, q0))
+        )
+        self._jerk = self.DeclareDiscreteState(self._nq)
         self._table = self.DeclareCacheEntry(
-            description="desired tool poses at DiffIK's sample times",
+            description="desired tool poses at the update times",
             value_producer=ValueProducer(
                 allocate=AbstractValue.Make(PoseTable()).Clone, calc=weak_method(self._calc_table)
             ),
             prerequisites_of_calc={self.abstract_state_ticket(self._control)},
         )
-        self._history = self.DeclareAbstractState(AbstractValue.Make(PickHistory()))
         self._declare_output_ports()
         self.DeclarePeriodicUnrestrictedUpdateEvent(1.0 / config.update_rate_hz, 0.0, self._update)
 
@@ -153,33 +160,21 @@ class PickAndPlaceController(LeafSystem):
         self._gripper = self.DeclareAbstractInputPort(
             "gripper_state", AbstractValue.Make(GripperState(False, False, "", None, math.nan))
         )
-        self._robot_state = self.DeclareVectorInputPort("robot_state", 2 * self._plant.num_positions())
+        self._robot_state = self.DeclareVectorInputPort("robot_state", 2 * self._nq)
 
     def _declare_output_ports(self) -> None:
         """The ports of the class doc's "Output ports" list."""
-        control_ticket = {self.abstract_state_ticket(self._control)}
-        self._pose_port = self.DeclareAbstractOutputPort(
-            "X_BE_desired",
-            lambda: AbstractValue.Make(RigidTransform()),
-            weak_method(self._calc_pose),
-            prerequisites_of_calc=control_ticket
-            | {self.time_ticket(), self.input_port_ticket(self._robot_state.get_index())},
-        )
         control = self._control  # (C++ holds these callbacks: they must not hold self)
-        self._use_robot_state_port = self.DeclareAbstractOutputPort(
-            "use_robot_state",
-            lambda: AbstractValue.Make(False),
-            lambda c, out: out.set_value(c.get_abstract_state(control).get_value().reset_ik),
-            prerequisites_of_calc=control_ticket,
-        )
+        self._jerk_port = self.DeclareStateOutputPort("jerk", self._jerk)
         self._suction_port = self.DeclareVectorOutputPort(
             "suction_command",
             1,
             lambda c, out: out.SetAtIndex(0, float(c.get_abstract_state(control).get_value().suction)),
-            prerequisites_of_calc=control_ticket,
+            prerequisites_of_calc={self.abstract_state_ticket(control)},
         )
         self._control_port = self.DeclareStateOutputPort("control", self._control)
         self._history_port = self.DeclareStateOutputPort("history", self._history)
+        self._plan_port = self.DeclareStateOutputPort("joint_plan", self._plan)
 
     def camera_image_input_port(self) -> InputPort:
         """``camera_image``: the pick camera's LogicalCameraImage."""
@@ -203,13 +198,9 @@ class PickAndPlaceController(LeafSystem):
         """``robot_state``: the arm's measured [q; v]."""
         return self._robot_state
 
-    def tool_pose_output_port(self) -> OutputPort:
-        """``X_BE_desired``: the desired cup-face pose in the arm's base, for DiffIK."""
-        return self._pose_port
-
-    def use_robot_state_output_port(self) -> OutputPort:
-        """``use_robot_state``: DiffIK restarts from the measured joints."""
-        return self._use_robot_state_port
+    def jerk_output_port(self) -> OutputPort:
+        """``jerk``: what the jerk stream integrates until the next update."""
+        return self._jerk_port
 
     def suction_command_output_port(self) -> OutputPort:
         """``suction_command``: [1] suction on, [0] off."""
@@ -222,6 +213,10 @@ class PickAndPlaceController(LeafSystem):
     def history_output_port(self) -> OutputPort:
         """``history``: the :class:`PickHistory` (what it has done)."""
         return self._history_port
+
+    def joint_plan_output_port(self) -> OutputPort:
+        """``joint_plan``: the :class:`~omtp_drake.control.joint_plan.JointPlan` played."""
+        return self._plan_port
 
     # ------------------------------------------------------------ calculations
 
@@ -241,39 +236,34 @@ class PickAndPlaceController(LeafSystem):
         table: PoseTable = value.get_mutable_value()
         path = context.get_abstract_state(self._control).get_value().path
         if table.path is not path:
-            table.fill(path, context.get_time(), self._diffik_period, self._X_BW)
-
-    def _calc_pose(self, context: Context, output: AbstractValue) -> None:
-        # DiffIK asks at every one of its steps: a lookup in the table, as a rule.
-        t = context.get_time()
-        X_BE = self._table.Eval(context).pose(t)
-        if X_BE is None:  # not a sample time of the table
-            X_WE = self._control_state(context).pose_at(t)
-            if X_WE is None:
-                X_WE = self._fk(context)
-            X_BE = self._X_BW @ X_WE
-        output.set_value(X_BE)
+            table.fill(path, context.get_time(), self._motion.period, RigidTransform())
 
     def _update(self, context: Context, state: State) -> None:
         """Reads the arm's and the gripper's ports, and a camera's only if the machine
         asks for its image (a camera computes an image when it is read); asks the
-        machine; writes its decision."""
+        machine; writes its decision, a new plan for a new path, the next jerk."""
         s = self._control_state(context)
         t = context.get_time()
-        X_BE = self._table.Eval(context).pose(t)  # the path at t, as DiffIK gets it
+        q = self._robot_state.Eval(context)[: self._nq]
         inputs = MachineInput(
             t=t,
             X_WE=self._fk(context),
             gripper=self._gripper.Eval(context),
-            q=tuple(self._robot_state.Eval(context)[: self._nq].tolist()),
+            q=tuple(q.tolist()),
             read_pick_image=lambda: self._image.Eval(context),
             read_bin_image=lambda: self._bin_image.Eval(context),
             read_search_images=lambda: tuple(port.Eval(context) for port in self._search_images),
-            X_WE_desired=None if X_BE is None else self._X_WB @ X_BE,
+            X_WE_desired=self._table.Eval(context).pose(t),
         )
         decision = self._machine.step(inputs, s)
+        plan: JointPlan = context.get_abstract_state(self._plan).get_value()
         if decision.control is not s:
             state.get_mutable_abstract_state(self._control).set_value(decision.control)
+            restart = decision.control.reset_ik and not s.reset_ik
+            if decision.control.path is not s.path or restart:
+                plan = self._motion.plan(decision.control.path, t, plan, q if restart else None)
+                state.get_mutable_abstract_state(self._plan).set_value(plan)
+        state.get_mutable_discrete_state(self._jerk).set_value(self._motion.jerk(plan, t))
         history: PickHistory = context.get_abstract_state(self._history).get_value()
         updated = history.with_step(decision.record, decision.tracking_error)
         if updated is not history:
@@ -286,9 +276,8 @@ class PoseTable:
     from one :meth:`~omtp_drake.control.tool_paths.Path.poses` call. Mutable: the
     value of the controller's cache entry, refilled when the path changes.
 
-    The transforms are built in one loop when the table is filled: a lookup at
-    DiffIK's rate then only indexes a list, instead of building a transform between
-    plant steps (figures: bench/README.md, "Measured")."""
+    The controller's updates look the path up here (``h`` its period) for the
+    machine's tracking check, instead of evaluating it at every update."""
 
     def __init__(self) -> None:
         self.path: Optional[Path] = None
@@ -324,11 +313,25 @@ class PoseTable:
         return PoseTable()  # a cache: a cloned Context refills its own
 
 
+def stream_step(config: TaskConfig) -> float:
+    """The jerk stream's step: DiffIK's (``1 / diffik_rate_hz``), a whole number of which
+    make the controller's period (ConfigError if not)."""
+    h, period = 1.0 / config.diffik_rate_hz, 1.0 / config.update_rate_hz
+    steps = round(period / h)
+    if steps < 1 or abs(steps * h - period) > 1e-9 * period:
+        raise ConfigError(
+            f"task.diffik_rate_hz ({config.diffik_rate_hz:g}) must be a whole multiple of "
+            f"task.update_rate_hz ({config.update_rate_hz:g}): the arm's command changes its "
+            "jerk at the controller's updates"
+        )
+    return h
+
+
 def add_pick_and_place(
     builder: DiagramBuilder, station, config: TaskConfig
-) -> tuple[PickAndPlaceController, DifferentialInverseKinematicsIntegrator]:
-    """Adds the controller and DiffIK of ``config.robot`` around ``station`` (a Station
-    already added to ``builder``) and connects them to its ports."""
+) -> tuple[PickAndPlaceController, JerkStream]:
+    """Adds the controller of ``config.robot`` and its jerk stream around ``station`` (a
+    Station already added to ``builder``) and connects them to its ports."""
     config.validate()
     scenario = station.scenario
     handles = station.arm(config.robot)
@@ -342,7 +345,12 @@ def add_pick_and_place(
             config, robot, scenario.bin(config.bin), plant, scenario.part_size, search_cameras=len(search)
         )
     )
-    diffik = builder.AddSystem(_diffik(plant, robot, config.diffik_rate_hz))
+    n = plant.num_positions()
+    q0 = arms.named_pose(robot.initial_pose, robot)
+    stream = builder.AddSystem(
+        JerkStream(q0, stream_step(config), 1.0 / config.update_rate_hz, f"{robot.name}.joint_stream")
+    )
+    command = builder.AddNamedSystem(f"{robot.name}.joint_command", Demultiplexer([n, 2 * n]))
 
     d = station.diagram
     if config.camera not in station.cameras:
@@ -360,31 +368,11 @@ def add_pick_and_place(
     suction = station.suction_name(config.robot)
     builder.Connect(d.GetOutputPort(f"{suction}.state"), controller.gripper_state_input_port())
     builder.Connect(d.GetOutputPort(f"{robot.name}.state_estimated"), controller.robot_state_input_port())
-    builder.Connect(controller.tool_pose_output_port(), diffik.GetInputPort("X_AE_desired"))
-    builder.Connect(controller.use_robot_state_output_port(), diffik.GetInputPort("use_robot_state"))
-    builder.Connect(d.GetOutputPort(f"{robot.name}.state_estimated"), diffik.GetInputPort("robot_state"))
-    builder.Connect(diffik.GetOutputPort("joint_positions"), d.GetInputPort(f"{robot.name}.position"))
+    builder.Connect(controller.jerk_output_port(), stream.get_input_port())
+    builder.Connect(stream.get_output_port(), command.get_input_port())
+    builder.Connect(command.get_output_port(0), d.GetInputPort(f"{robot.name}.position"))
     builder.Connect(controller.suction_command_output_port(), d.GetInputPort(f"{suction}.command"))
-    return controller, diffik
-
-
-def _diffik(
-    plant: MultibodyPlant, robot: RobotConfig, rate_hz: float
-) -> DifferentialInverseKinematicsIntegrator:
-    """Drake's DiffIK on the arm's model: the tip frame, the arm's joint velocity
-    and position limits, joints centred on Home."""
-    params = DifferentialInverseKinematicsParameters(plant.num_positions(), plant.num_velocities())
-    params.set_time_step(1.0 / rate_hz)
-    vmax = np.array(arms.VELOCITY_LIMITS[robot.model])
-    params.set_joint_velocity_limits((-vmax, vmax))
-    params.set_joint_position_limits((np.full(6, -robot.joint_limit), np.full(6, robot.joint_limit)))
-    params.set_nominal_joint_position(arms.named_pose("Home", robot))
-    params.set_joint_centering_gain(0.05 * np.eye(6))
-    diffik = DifferentialInverseKinematicsIntegrator(
-        plant, plant.world_frame(), plant.GetFrameByName(f"{robot.gripper}_tip"), 1.0 / rate_hz, params
-    )
-    diffik.set_name(f"{robot.name}.diffik")
-    return diffik
+    return controller, stream
 
 
 def history_of(controller: PickAndPlaceController, root_context: Context) -> PickHistory:
