@@ -8,8 +8,10 @@ is an opt-in: ``OMTP_HYPOTHESIS=explore pytest ...`` (``bench/bench_fuzz.py`` do
 that with many more examples); a failure it finds is kept as an ``@example``.
 """
 
+import compileall
 import logging
 import os
+import re
 from pathlib import Path
 
 import pytest
@@ -56,6 +58,18 @@ SLOW_FIRST = (
     "test_course_factory_states.py",
 )
 _TESTS = Path(__file__).resolve().parent
+
+
+def pytest_configure(config):
+    """omtp_drake's bytecode is written once, here, before the workers start. Many tests start
+    Python processes that import omtp_drake (grade's runs, Dask workers' runners, notebook kernels,
+    ROS 2 nodes): where nothing writes bytecode (PYTHONDONTWRITEBYTECODE=1, as in this machine's
+    shells) each of them compiled its ~340 modules again (~0.5 CPU s a process). Python reads
+    these files whatever that variable says, and checks them against their sources' dates. The
+    stand-in packages' launch files are data (read by the launch loader): left as they are."""
+    if hasattr(config, "workerinput"):  # an xdist worker: its controller did it
+        return
+    compileall.compile_dir(_TESTS.parent / "omtp_drake", quiet=1, rx=re.compile(r"[/\\]standins[/\\]"))
 
 
 def pytest_collection_modifyitems(items):
