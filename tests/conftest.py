@@ -8,8 +8,11 @@ is an opt-in: ``OMTP_HYPOTHESIS=explore pytest ...`` (``bench/bench_fuzz.py`` do
 that with many more examples); a failure it finds is kept as an ``@example``.
 """
 
+import compileall
 import logging
 import os
+import re
+from pathlib import Path
 
 import pytest
 from hypothesis import settings
@@ -27,6 +30,60 @@ if _profile not in _PROFILES:
 settings.load_profile(_profile)
 
 logging.getLogger("drake").setLevel(logging.ERROR)
+
+#: Test files (from tests/) that take the longest, longest first (their tests' seconds in a
+#: 2-core `-n 2` run of 2026-11-28: notebooks 64 s in one test, replay renders 44 + 34 + 22 s,
+#: grading and batch 10-42 s a test). They run first, each file in its own order, and the rest
+#: after them in collection order: with `--dist worksteal` (pyproject.toml's addopts) the two
+#: workers share out the short tests at the end and finish together, instead of one waiting
+#: for a long test that came last.
+SLOW_FIRST = (
+    "test_notebooks.py",
+    "test_grade_isolation.py",
+    "test_replay_render.py",
+    "test_batch.py",
+    "ros_conformance/test_time.py",
+    "test_grade_options.py",
+    "test_pick_and_place.py",
+    "test_grade_flexbe.py",
+    "test_ros_grade.py",
+    "test_grade_cache.py",
+    "test_memory.py",
+    "test_model_view.py",
+    "test_ros2_tutorial_robot.py",
+    "ros_conformance/test_threads.py",
+    "ros_conformance/test_settle.py",
+    "test_faults.py",
+    "test_heap.py",
+    "test_course_factory_states.py",
+)
+_TESTS = Path(__file__).resolve().parent
+
+
+def pytest_configure(config):
+    """omtp_drake's bytecode is written once, here, before the workers start. Many tests start
+    Python processes that import omtp_drake (grade's runs, Dask workers' runners, notebook kernels,
+    ROS 2 nodes): where nothing writes bytecode (PYTHONDONTWRITEBYTECODE=1, as in this machine's
+    shells) each of them compiled its ~340 modules again (~0.5 CPU s a process). Python reads
+    these files whatever that variable says, and checks them against their sources' dates. The
+    stand-in packages' launch files are data (read by the launch loader): left as they are."""
+    if hasattr(config, "workerinput"):  # an xdist worker: its controller did it
+        return
+    compileall.compile_dir(_TESTS.parent / "omtp_drake", quiet=1, rx=re.compile(r"[/\\]standins[/\\]"))
+
+
+def pytest_collection_modifyitems(items):
+    """The files of SLOW_FIRST first, in its order; a stable sort keeps each file's own order."""
+    rank = {name: i for i, name in enumerate(SLOW_FIRST)}
+
+    def key(item):
+        try:
+            name = Path(item.path).resolve().relative_to(_TESTS).as_posix()
+        except ValueError:
+            return len(rank)
+        return rank.get(name, len(rank))
+
+    items.sort(key=key)
 
 
 @pytest.fixture(scope="session")

@@ -265,12 +265,13 @@ def test_a_part_given_up_with_its_position_is_not_a_ledger_anomaly_and_survives_
     assert unrecorded.ledger_anomaly
 
 
-def test_a_run_whose_worker_dies_is_run_again_and_says_so(tmp_path, capsys):
+def test_a_run_whose_worker_dies_is_run_again_and_says_so(local_client, tmp_path, capsys):
+    """On the module's cluster (a new one costs ~10 CPU s): its nanny starts the killed worker
+    again."""
     out = tmp_path / "lost"
     run_fn = functools.partial(kill_the_worker_once, marker=str(tmp_path / "killed"))
-    with batch.connect(workers=2) as client:
-        [record] = run_batch(SCENARIO, [0], parts=1, duration=0.3, client=client, out=out, progress=False,
-                             run_fn=run_fn)
+    [record] = run_batch(SCENARIO, [0], parts=1, duration=0.3, client=local_client, out=out, progress=False,
+                         run_fn=run_fn)
     assert record.status == "finished" and record.result.sim_time_s == pytest.approx(0.3)
     assert (record.lost_workers, record.attempts, record.retries) == (1, 1, 1)
     saved = json.loads((out / "runs" / "seed0.json").read_text())
