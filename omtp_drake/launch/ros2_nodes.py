@@ -49,7 +49,7 @@ class Ros2NodeProgram:
         if not self.entry:
             return [python, str(self.path)]
         module, function = self.entry.split(":")
-        runner = f"import sys; from {module} import {function} as main; sys.exit(main())"
+        runner = f"from {module} import {function} as main; raise SystemExit(main())"
         return [python, "-c", runner]
 
 

@@ -128,7 +128,7 @@ class Scenario:
         for part in self.parts:
             if part.name == name:
                 return part.size
-        mesh = self._pool_mesh(name)
+        mesh = _pool_mesh(self, name)
         if mesh is None:
             return self.pool_part_size
         lo, hi = object_mesh(mesh)[1]
@@ -138,33 +138,15 @@ class Scenario:
         """The bounding box of the part ``name`` in its own frame: (centre, half extents),
         m. A cube: centred on its origin, half its edge; a pool part built as one of the
         spawner's mesh objects: its mesh's box, wherever the mesh puts it."""
-        mesh = None if any(p.name == name for p in self.parts) else self._pool_mesh(name)
+        mesh = None if any(p.name == name for p in self.parts) else _pool_mesh(self, name)
         if mesh is None:
             return np.zeros(3), np.full(3, self.part_size(name) / 2)
         lo, hi = (np.array(v) for v in object_mesh(mesh)[1])
         return (lo + hi) / 2, (hi - lo) / 2
 
     def pool_names(self) -> list[str]:
-        """The pool's parts in spawn order: ``object_k`` after the placed parts (a name a
-        placed part has is skipped)."""
-        placed = {p.name for p in self.parts}
-        names: list[str] = []
-        k = 1
-        while len(names) < self.part_pool:
-            if f"object_{k}" not in placed:
-                names.append(f"object_{k}")
-            k += 1
-        return names
-
-    def _pool_mesh(self, name: str) -> Optional[str]:
-        """The mesh file of the spawner's object pool part ``name`` is built as (None: a cube)."""
-        spawner = self.spawner
-        if spawner is None or not any(o.mesh_file for o in spawner.objects):
-            return None
-        pool = self.pool_names()
-        if name not in pool:
-            return None
-        return spawner.objects[draw(spawner, self.seed, pool.index(name)).kind].mesh_file or None
+        """The pool's parts in spawn order (:func:`pool_names`)."""
+        return pool_names(self)
 
     def required_task(self) -> TaskConfig:
         """The scenario's task (ConfigError when it has none)."""
@@ -342,6 +324,30 @@ class Scenario:
         bins = [b.name for b in self.bins]
         if task.bin not in bins:
             raise UnknownNameError("task.bin", task.bin, bins)
+
+
+def pool_names(scenario: Scenario) -> list[str]:
+    """The pool's parts in spawn order: ``object_k`` after the placed parts (a name a
+    placed part has is skipped)."""
+    placed = {p.name for p in scenario.parts}
+    names: list[str] = []
+    k = 1
+    while len(names) < scenario.part_pool:
+        if f"object_{k}" not in placed:
+            names.append(f"object_{k}")
+        k += 1
+    return names
+
+
+def _pool_mesh(scenario: Scenario, name: str) -> Optional[str]:
+    """The mesh file of the spawner's object pool part ``name`` is built as (None: a cube)."""
+    spawner = scenario.spawner
+    if spawner is None or not any(o.mesh_file for o in spawner.objects):
+        return None
+    pool = pool_names(scenario)
+    if name not in pool:
+        return None
+    return spawner.objects[draw(spawner, scenario.seed, pool.index(name)).kind].mesh_file or None
 
 
 def _check_finite(path: str, value: Any) -> None:
