@@ -200,19 +200,22 @@ def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(tmp_path, do
 
 @needs_ros2
 def test_the_launch_starts_the_workspaces_own_rclpy_node_beside_the_cell(tmp_path, domain):
-    """slider_arm_moves' reach.launch.py (a student's ament_python package: its node is a
-    console script of setup.py) includes the tutorial's launch and starts ``reach`` with
-    parameters and a remapping: the node moves the arm and reports the joint states it saw."""
-    report = tmp_path / "reached.json"
-    cell_args = ["--launch", "slider_arm_moves reach.launch.py", "--workspace", str(TUTORIAL_SRC)]
-    out = run_cell_until(
-        [*cell_args, "--arg", f"report:={report}", "--realtime"], "[reach-1] finished", domain, patience=240
-    )
-    assert "[reach-1] started" in out and "[reach]: sent [0.8, 0.6]" in out, out[-3000:]
-    assert "[reach-1] finished cleanly" in out, out[-3000:]
-    seen = json.loads(report.read_text())
-    assert seen["names"] == ["slider_joint", "arm_joint"]
-    assert seen["positions"] == pytest.approx([0.8, 0.6], abs=0.01)
+    """slider_arm_moves' settings.launch.py (a student's ament_python package: its node is a
+    console script of setup.py) starts ``settings`` with a name, a namespace, parameters and a
+    remapping: rclpy in the node reads them as ros2 launch gives them, and the node, still
+    spinning when the run ends, is stopped with Ctrl-C and ends cleanly."""
+    report = tmp_path / "settings.json"
+    cell_args = ["--launch", "slider_arm_moves settings.launch.py", "--workspace", str(TUTORIAL_SRC)]
+    out = run_cell_until([*cell_args, "--arg", f"report:={report}"], "settings written", domain, patience=240)
+    assert "[settings-1] started" in out, out[-3000:]
+    assert "[settings-1] finished cleanly" in out, out[-3000:]
+    assert json.loads(report.read_text()) == {
+        "name": "arm_settings",
+        "namespace": "/cell",
+        "slider": 0.8,
+        "arm": 0.6,
+        "topic": "/set_joint_trajectory",
+    }
 
 
 def test_the_workspaces_ros2_node_is_one_warning_where_it_does_not_run(caplog):
