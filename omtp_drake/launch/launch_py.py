@@ -250,7 +250,7 @@ def _node(launch: Launch, s: Any, workspace: Workspace) -> None:
     elif s.package in _CELL_DOES or s.package == "rviz2":
         _log.info("%s: node %s/%s: %s", s.where, s.package, s.executable, _CELL_DOES[s.package])
     elif s.package in workspace.packages:  # the workspace's own: mapped (and started) as ROS 2 nodes
-        remaps = {a: b for a, b in s.remappings}
+        remaps = dict(s.remappings)
         launch.nodes.append(
             Node(s.package, s.executable, full, s.namespace, shlex.join(args), remaps, s.where, True)
         )
