@@ -31,7 +31,9 @@ PATIENCE = 120.0
 def reader(participant, topic, mirror):
     qos = Qos(
         Policy.Reliability.Reliable(duration(seconds=1)),
-        Policy.History.KeepLast(100),
+        # Every sample kept until taken: on a busy machine this loop can fall seconds behind the
+        # free-running cell, and a bounded history would drop the sample where the part appears.
+        Policy.History.KeepAll,
         Policy.DataRepresentation(use_cdrv0_representation=True),
     )
     return DataReader(participant, Topic(participant, topic, mirror), qos=qos)
