@@ -140,9 +140,9 @@ def test_their_wider_bin_is_loaded_as_they_wrote_it(cell, runtime):
     from pydrake.geometry import Box, Role
 
     bins = {b.name: b for b in cell.scenario.bins}
-    assert bins["bin_2"].model == "bin_2_" and bins["bin_2"].walls == [0.28, 0.05, 0.4]
+    assert bins["bin_2"].model == "bin_2_" and bins["bin_2"].walls == [0.28, 0.28, 0.05, 0.4]
     geometry = bins["bin_2"].geometry
-    assert (geometry.inner_half_width, geometry.floor_top, geometry.height) == (0.28, 0.05, 0.4)
+    assert (geometry.inner_half_x, geometry.inner_half_y, geometry.floor_top) == (0.28, 0.28, 0.05)
     plant, inspector = runtime.station.plant, runtime.station.scene_graph.model_inspector()
     body = plant.GetBodyByName("bin_2_base_link")
     assert plant.GetModelInstanceName(body.model_instance()) == "bin_2_"
@@ -243,7 +243,7 @@ def test_a_bin_of_boxes_gives_its_walls_a_mesh_bin_none():
         + box(0.24, 0, 0.2, "0.02 0.4 0.4")
         + box(0, -0.19, 0.2, "0.5 0.02 0.4")
     )
-    assert bin_walls(bin_of(walls), "b_base_link") == [0.18, 0.1, 0.4]
+    assert bin_walls(bin_of(walls), "b_base_link") == [0.23, 0.18, 0.1, 0.4]  # (its rectangle)
     mesh = (
         '<collision><geometry><mesh filename="package://omtp_support/meshes/bin.dae"/></geometry></collision>'
     )
@@ -265,3 +265,18 @@ def test_their_pedestals_are_the_arms_pedestals_as_their_files_write_them(runtim
     assert isinstance(shape, Box) and shape.height() == pytest.approx(0.695)
     np.testing.assert_allclose(_X_WF(runtime, "robot2_pedestal_link")[:3, 3], [-7.8, -1.5, 0.0], atol=1e-9)
     assert runtime.station.arm("robot2").pedestal == body.model_instance()
+
+
+def test_a_rectangular_bin_counts_by_its_rectangle_turned_by_its_yaw():
+    """Inner 0.56 x 0.44 m, turned a quarter: near the end of its length is in (beyond the
+    narrower half width), just past its long wall is out."""
+    import math
+
+    from omtp_drake.scenario import BinConfig
+
+    bin_ = BinConfig(name="b", xyz=[1.0, 2.0, 0.0], yaw=math.pi / 2, walls=[0.28, 0.22, 0.05, 0.4])
+    assert bin_.contains([1.0, 2.0 + 0.27, 0.2])  # the bin's x is the world's y
+    assert not bin_.contains([1.0 + 0.23, 2.0, 0.2])  # across its width: out
+    assert bin_.contains([1.0 + 0.21, 2.0, 0.2])
+    assert not bin_.contains([1.0, 2.0 + 0.29, 0.2])
+    assert not bin_.contains([1.0, 2.0, 0.04])  # under its floor's top
