@@ -26,12 +26,49 @@ LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
 SHELF_TOP, PART_HALF = 0.6, 0.05
 
 
+def _ring(outer: np.ndarray, inner: np.ndarray, z0: float, z1: float):
+    """A closed solid: the rectangle of half lengths ``outer`` less ``inner``, from z0 to z1."""
+    import trimesh
+
+    def rect(h, z):
+        return [[-h[0], -h[1], z], [h[0], -h[1], z], [h[0], h[1], z], [-h[0], h[1], z]]
+
+    vertices = rect(outer, z0) + rect(outer, z1) + rect(inner, z1) + rect(inner, z0)
+    faces = []
+    for i in range(4):
+        j = (i + 1) % 4
+        for a, b in ((0, 4), (4, 8), (8, 12), (12, 0)):  # outer side, rim, inner side, under the rim
+            faces += [[a + i, a + j, b + j], [a + i, b + j, b + i]]
+    mesh = trimesh.Trimesh(vertices, faces)
+    mesh.fix_normals()
+    return mesh
+
+
+def write_bin_meshes(folder: Path) -> None:
+    """The course's bin meshes as Collada, in its layout (``visual/bin.dae``,
+    ``collision/bin_bottom.dae`` + ``bin_sides.dae``), written here: 1 x 0.8 m outside,
+    1/30 m walls, a 1/12 m floor, 2/3 m high (the xacro scales them by 0.6)."""
+    import trimesh
+
+    outer, wall, floor, height = np.array([0.5, 0.4]), 1 / 30, 1 / 12, 2 / 3
+    bottom = trimesh.creation.box(bounds=[[-0.5, -0.4, 0.0], [0.5, 0.4, floor]])
+    sides = _ring(outer, outer - wall, floor, height)
+    for name, mesh in (
+        ("collision/bin_bottom", bottom),
+        ("collision/bin_sides", sides),
+        ("visual/bin", bottom + sides),
+    ):
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / f"{name}.dae").write_bytes(trimesh.exchange.dae.export_collada(mesh))
+
+
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory) -> Path:
-    """The group's workspace with the student's edits copied over it."""
+    """The group's workspace with the student's edits copied over it (and their bin's meshes)."""
     src = tmp_path_factory.mktemp("shelf_ws") / "src"
     shutil.copytree(FIXTURES / "group_ws" / "src", src)
     shutil.copytree(FIXTURES / "shelf_edits", src, dirs_exist_ok=True)
+    write_bin_meshes(src / "omtp_support" / "meshes" / "bin")
     return src
 
 
@@ -265,6 +302,76 @@ def test_their_pedestals_are_the_arms_pedestals_as_their_files_write_them(runtim
     assert isinstance(shape, Box) and shape.height() == pytest.approx(0.695)
     np.testing.assert_allclose(_X_WF(runtime, "robot2_pedestal_link")[:3, 3], [-7.8, -1.5, 0.0], atol=1e-9)
     assert runtime.station.arm("robot2").pedestal == body.model_instance()
+
+
+def test_their_mesh_bin_is_their_geometry_kept_open(cell, runtime):
+    """Bin 1 is the course's bin of meshes (a floor and sides, .dae, scaled 0.6) made
+    rectangular and turned a quarter by their launch: it is their model, its inside measured
+    on its meshes, its collision convex pieces (one hull per mesh would close it)."""
+    from pydrake.geometry import Box, Convex, Role
+
+    bin_1 = cell.scenario.bin("bin_1")
+    assert bin_1.model == "bin_1_" and bin_1.yaw == pytest.approx(1.5708)
+    np.testing.assert_allclose(bin_1.walls, [0.28, 0.22, 0.05, 0.4], atol=1e-6)
+    assert {m.name: m for m in cell.scenario.models}["bin_1_"].open_links == ["bin_1_base_link"]
+    station = runtime.station
+    plant, inspector = station.plant, station.scene_graph.model_inspector()
+    body = plant.GetBodyByName("bin_1_base_link")
+    assert plant.GetModelInstanceName(body.model_instance()) == "bin_1_"
+    frame = plant.GetBodyFrameIdOrThrow(body.index())
+    ids = inspector.GetGeometries(frame, Role.kProximity)
+    # Convex pieces; those along its axes are boxes (the floor plate, the walls' slabs).
+    shapes = [inspector.GetShape(i) for i in ids]
+    assert len(shapes) > 2 and all(isinstance(shape, (Box, Convex)) for shape in shapes)
+    boxes = [
+        tuple(round(v, 6) for v in (s.width(), s.depth(), s.height())) for s in shapes if isinstance(s, Box)
+    ]
+    assert (0.6, 0.48, 0.05) in boxes  # (bin_bottom.dae, a closed box: one piece)
+    assert len(inspector.GetGeometries(frame, Role.kIllustration)) == 1  # (its visual mesh)
+    # Open: the middle of the bin and a point by its wall are outside every piece; inside
+    # its floor and its wall are not.
+    query = station.scene_graph.get_query_output_port().Eval(
+        station.scene_graph.GetMyContextFromRoot(runtime.context)
+    )
+
+    def nearest(p_B) -> float:
+        p_W = bin_1.X_WB() @ np.asarray(p_B, float)
+        found = query.ComputeSignedDistanceToPoint(p_W, 1.0)
+        return min(d.distance for d in found if inspector.GetFrameId(d.id_G) == frame)
+
+    assert nearest([0, 0, 0.2]) == pytest.approx(0.15, abs=1e-3)  # 0.15 over the floor
+    assert nearest([0.27, 0, 0.3]) == pytest.approx(0.01, abs=1e-3)  # 1 cm from its end wall
+    assert nearest([0, 0, 0.03]) < 0 and nearest([0, 0.23, 0.2]) < 0
+
+
+@pytest.fixture(scope="module")
+def loose_parts(cell):
+    """The cell of their launch with 0.1 m parts placed by hand (no spawner)."""
+    import dataclasses
+
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=2, pool_part_size=0.1)
+    scenario.task = None
+    runtime = FactoryRuntime(scenario, auto_spawn=False)
+    yield runtime
+    runtime.close()
+
+
+def test_a_part_dropped_in_their_mesh_bin_stays_in_it_one_beside_it_does_not(loose_parts):
+    """Dropped 0.225 m from the axis along the bin's length (world +y: the bin is turned),
+    beyond its narrower half width and the catalogue bin's walls: it lands on the bin's
+    floor and the ledger counts it there. One dropped beside its long side is not in it."""
+    rt = loose_parts
+    inside = rt.spawn_part(xyz=[-8.0, -2.2 + 0.225, 0.6])
+    beside = rt.spawn_part(xyz=[-8.0 + 0.32, -2.2, 0.3])
+    rt.advance(1.5)
+    p = rt.part_pose(inside).translation()
+    np.testing.assert_allclose(p, [-8.0, -2.2 + 0.225, 0.05 + 0.05], atol=0.01)
+    ledger = rt.ledger()
+    assert ledger.parts[inside] == "in_bin:bin_1" and ledger.in_bin["bin_1"] == 1
+    assert ledger.parts[beside] != "in_bin:bin_1"
+    assert rt.part_pose(beside).translation()[2] < 0.06  # on the floor beside the bin
 
 
 def test_a_rectangular_bin_counts_by_its_rectangle_turned_by_its_yaw():

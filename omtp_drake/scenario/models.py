@@ -45,6 +45,9 @@ class ModelConfig:
     #: package or Gazebo model name -> folder, for ``package://`` and ``model://``.
     packages: dict[str, str] = field(default_factory=dict)
     gazebo: GazeboExtensions = field(default_factory=GazeboExtensions)
+    #: Links whose collision meshes are loaded as convex pieces that keep them open (a
+    #: bin of mesh collisions; one convex hull would close it), see ``assets.drake_ready_meshes``.
+    open_links: list[str] = field(default_factory=list)
 
     def validate(self) -> None:
         """Raises ConfigError naming the file and the bad value."""
