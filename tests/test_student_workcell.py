@@ -387,3 +387,25 @@ def test_a_rectangular_bin_counts_by_its_rectangle_turned_by_its_yaw():
     assert bin_.contains([1.0 + 0.21, 2.0, 0.2])
     assert not bin_.contains([1.0, 2.0 + 0.29, 0.2])
     assert not bin_.contains([1.0, 2.0, 0.04])  # under its floor's top
+
+
+def test_a_mesh_bin_nobody_has_the_meshes_of_is_the_catalogues_with_one_warning():
+    from pydrake.math import RigidTransform
+
+    from omtp_drake.launch.pieces import Pieces, add_urdf_model
+    from omtp_drake.launch.urdf_model import UrdfModel
+
+    text = """<robot name="bin_3_"><link name="bin_3_base_link"><collision><geometry>
+      <mesh filename="package://omtp_support/meshes/bin/collision/bin_sides.dae"/></geometry></collision></link>
+      <link name="bin_3_drop_point"/><joint name="j" type="fixed"><parent link="bin_3_base_link"/>
+      <child link="bin_3_drop_point"/><origin xyz="0 0 1"/></joint></robot>"""
+    pieces = Pieces()
+    assert add_urdf_model(
+        pieces, UrdfModel.from_text(text, "bin.urdf"), RigidTransform([1, 2, 0]), "bin.urdf", {}
+    )
+    (bin_3,) = pieces.bins
+    assert "model" not in bin_3 and not pieces.own
+    assert pieces.warnings == [
+        "bin.urdf: bin 'bin_3': its collision meshes cannot be read or hold no floor and walls "
+        "around its axis; the catalogue's bin stands in"
+    ]

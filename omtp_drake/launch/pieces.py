@@ -155,6 +155,11 @@ def _bin(
     open_links: tuple[str, ...] = ()
     if walls is None and has_mesh_collision(model, link):
         walls, open_links = mesh_bin_walls(model, link, pieces.packages, where), (link,)
+        if walls is None:
+            pieces.warnings.append(
+                f"{where}: bin {placed['name']!r}: its collision meshes cannot be read or hold no "
+                "floor and walls around its axis; the catalogue's bin stands in"
+            )
     if walls is not None:
         taken = {placed["name"], *(own.name for own in pieces.own)}
         name = spawned if spawned and spawned not in taken else f"{placed['name']}_model"
