@@ -99,3 +99,13 @@ def test_the_pieces_are_cut_once_and_cached_by_the_meshs_content(tmp_path, monke
 
     monkeypatch.setattr(module, "write_pieces", never)
     assert assets.convex_piece_files(copy) == first
+
+
+def test_open_links_name_links_of_the_model():
+    from omtp_drake.errors import UnknownNameError
+    from omtp_drake.scenario import ModelConfig
+
+    text = '<robot name="b"><link name="b_base_link"/></robot>'
+    ModelConfig(name="b", file="b.urdf", description=text, open_links=["b_base_link"]).validate()
+    with pytest.raises(UnknownNameError, match=r"open_links 'b_link'; valid: b_base_link"):
+        ModelConfig(name="b", file="b.urdf", description=text, open_links=["b_link"]).validate()

@@ -11,6 +11,7 @@ The cell loads it with Drake's Parser (:mod:`omtp_drake.cell.described_models`).
 
 import os
 import re
+import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -66,6 +67,11 @@ class ModelConfig:
             raise ConfigError(f"{where}: format {self.format!r}, but the description is {found.upper()}")
         check_masses(self.description, where)
         self.gazebo.validate(where)
+        if self.open_links:
+            links = {e.get("name", "") for e in ET.fromstring(self.description).iter("link")}
+            for link in self.open_links:
+                if link not in links:
+                    raise UnknownNameError(f"link of {where}'s open_links", link, links)
 
 
 def model_from_file(
