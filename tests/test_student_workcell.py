@@ -351,7 +351,7 @@ def loose_parts(cell):
 
     from omtp_drake.sim.runtime import FactoryRuntime
 
-    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=2, pool_part_size=0.1)
+    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=4, pool_part_size=0.1)
     scenario.task = None
     runtime = FactoryRuntime(scenario, auto_spawn=False)
     yield runtime
@@ -372,6 +372,24 @@ def test_a_part_dropped_in_their_mesh_bin_stays_in_it_one_beside_it_does_not(loo
     assert ledger.parts[inside] == "in_bin:bin_1" and ledger.in_bin["bin_1"] == 1
     assert ledger.parts[beside] != "in_bin:bin_1"
     assert rt.part_pose(beside).translation()[2] < 0.06  # on the floor beside the bin
+
+
+def test_their_rectangular_bins_drop_spots_reach_its_corners(cell, loose_parts):
+    """The script's bin (``cell.bin``) of their mesh bin: its inner size is its rectangle; a
+    second part goes to a corner 0.22 m along its length (the narrower half width gave
+    0.16), and both are counted in it."""
+    from omtp_drake.script.bins import Bin
+
+    rt, config = loose_parts, cell.scenario.bin("bin_1")
+    bin_1 = Bin(rt, config)
+    np.testing.assert_allclose(bin_1.inner_size, [0.56, 0.44, 0.35], atol=1e-6)
+    centre = rt.spawn_part(xyz=bin_1.drop_point())
+    rt.advance(1.0)
+    spot_B = config.X_WB().inverse() @ bin_1.drop_point()
+    np.testing.assert_allclose(spot_B, [-0.22, -0.16, 0.4 + 0.05 + 0.05], atol=1e-6)
+    corner = rt.spawn_part(xyz=config.X_WB() @ spot_B)
+    rt.advance(1.0)
+    assert rt.ledger().parts[centre] == rt.ledger().parts[corner] == "in_bin:bin_1"
 
 
 def test_a_rectangular_bin_counts_by_its_rectangle_turned_by_its_yaw():
