@@ -276,7 +276,7 @@ def drake_ready_meshes(
                     ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
 
 
-_PIECES_VERSION = "3"
+_PIECES_VERSION = "4"
 
 
 def convex_piece_files(obj: Path) -> list[tuple[Path, list[float]]]:

@@ -56,11 +56,10 @@ def convex_pieces(vertices, faces, *, max_depth: float) -> list[np.ndarray]:
         if closed and body.is_convex:  # (a floor plate: itself, as deep as it is)
             pieces.append(np.asarray(body.vertices))
             continue
-        if closed:
-            body.fix_normals()  # outward, so that "behind a face" is inside the solid
         triangles = body.vertices[body.faces]
         for polygon, normal, members in _convex_polygons(body):
-            if closed:
+            if closed:  # outward (whichever way its triangles wind): behind it is the solid
+                normal = normal if _outside(triangles, polygon.mean(axis=0), normal) else -normal
                 depth = _depth_behind(polygon, normal, np.delete(triangles, members, axis=0), max_depth)
             else:
                 outward = normal if np.dot(polygon.mean(axis=0) - centre, normal) >= 0 else -normal
@@ -77,14 +76,17 @@ def _convex_polygons(mesh) -> list[tuple[np.ndarray, np.ndarray, list[int]]]:
     planes: dict[tuple, list[int]] = defaultdict(list)
     for i, (n, d) in enumerate(zip(normals, offsets)):
         if np.linalg.norm(n) > 0.5:  # (a degenerate triangle has a zero normal)
-            planes[(*np.round(n, _NORMAL_DECIMALS), round(float(d), _OFFSET_DECIMALS))].append(i)
+            sign = 1.0 if n[np.argmax(np.abs(n) > 1e-6)] > 0 else -1.0  # (either way round)
+            planes[(*np.round(sign * n, _NORMAL_DECIMALS), round(sign * float(d), _OFFSET_DECIMALS))].append(
+                i
+            )
     edges: dict[tuple[int, int], list[int]] = defaultdict(list)
     for i, face in enumerate(mesh.faces):
         for a, b in ((0, 1), (1, 2), (2, 0)):
             edges[_edge(face[a], face[b])].append(i)
     out = []
-    for members in planes.values():
-        normal = normals[members[0]]
+    for (*key, _), members in planes.items():
+        normal = np.asarray(key, float) / np.linalg.norm(key)
         u = np.cross(normal, [1.0, 0, 0] if abs(normal[0]) < 0.9 else [0, 1.0, 0])
         u /= np.linalg.norm(u)
         basis = np.array([u, np.cross(normal, u)])
@@ -162,11 +164,27 @@ def _depth_behind(polygon: np.ndarray, normal: np.ndarray, others: np.ndarray, m
     return depth
 
 
+def _outside(triangles: np.ndarray, point: np.ndarray, normal: np.ndarray) -> bool:
+    """Whether ``normal`` at ``point`` of the closed mesh ``triangles`` points out of it: a
+    ray from just in front of the point, nearly along it (off the mesh's edges), leaves
+    the solid an even number of times."""
+    size = float(np.ptp(triangles.reshape(-1, 3), axis=0).max())
+    direction = normal + np.array([2**0.5, 3**0.5, 5**0.5]) * 1e-3
+    hits = _ray_hits(triangles, point + 1e-6 * size * normal, direction / np.linalg.norm(direction))
+    return len(hits) % 2 == 0
+
+
 def ray_distance(triangles: np.ndarray, origin, direction) -> float | None:
     """The distance along the unit ``direction`` from ``origin`` to the nearest of
     ``triangles`` (k x 3 x 3) the ray meets in front of it (Moller-Trumbore), or None."""
+    hits = _ray_hits(triangles, origin, direction)
+    return float(hits.min()) if len(hits) else None
+
+
+def _ray_hits(triangles: np.ndarray, origin, direction) -> np.ndarray:
+    """The distances along the ray to each of ``triangles`` it meets in front of ``origin``."""
     if len(triangles) == 0:
-        return None
+        return np.zeros(0)
     origin, direction = np.asarray(origin, float), np.asarray(direction, float)
     a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
     e1, e2 = b - a, c - a
@@ -181,7 +199,7 @@ def ray_distance(triangles: np.ndarray, origin, direction) -> float | None:
     t = np.einsum("ij,ij->i", e2, q) * inv
     tol = 1e-9
     hit = ok & (u >= -tol) & (v >= -tol) & (u + v <= 1 + tol) & (t > 1e-9)
-    return float(t[hit].min()) if hit.any() else None
+    return t[hit]
 
 
 def axis_box(points: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:

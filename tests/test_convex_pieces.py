@@ -33,8 +33,15 @@ def _containing(pieces, p) -> list[int]:
     return [k for k, points in enumerate(pieces) if Delaunay(points).find_simplex(p) >= 0]
 
 
-def test_a_closed_cup_is_its_skin_its_inside_stays_open():
-    pieces = convex_pieces(*cup(), max_depth=PIECE_DEPTH)
+@pytest.mark.parametrize("winding", ["outward", "inward", "mixed"])
+def test_a_closed_cup_is_its_skin_its_inside_stays_open(winding):
+    vertices, faces = cup()
+    if winding == "inward":
+        faces = faces[:, ::-1]
+    elif winding == "mixed":  # (as some exporters leave them: no consistent side)
+        faces = faces.copy()
+        faces[::3] = faces[::3, ::-1]
+    pieces = convex_pieces(vertices, faces, max_depth=PIECE_DEPTH)
     for p in ([0, 0, 0.2], [0.27, 0, 0.3], [0, 0.17, 0.06], [0, 0, 0.39]):
         assert not _containing(pieces, p), p  # the cavity: no piece
     for p in ([0, 0, 0.03], [0.29, 0, 0.2], [0, -0.19, 0.35], [0.29, 0.19, 0.399], [0.29, 0.19, 0.01]):
