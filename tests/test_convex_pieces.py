@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import trimesh
-from scipy.spatial import Delaunay
+from scipy.spatial import ConvexHull
 
 from omtp_drake.convex_pieces import PIECE_DEPTH, axis_box, convex_pieces, ray_distance
 
@@ -30,7 +30,13 @@ def cup() -> tuple[np.ndarray, np.ndarray]:
 
 
 def _containing(pieces, p) -> list[int]:
-    return [k for k, points in enumerate(pieces) if Delaunay(points).find_simplex(p) >= 0]
+    """The pieces whose convex hull holds the point ``p`` (each hull's faces computed once)."""
+    if _HULLS.get("pieces") is not pieces:  # (held here, so a new list is never taken for it)
+        _HULLS.update(pieces=pieces, faces=[ConvexHull(points).equations for points in pieces])
+    return [k for k, faces in enumerate(_HULLS["faces"]) if np.all(faces[:, :3] @ p + faces[:, 3] <= 1e-9)]
+
+
+_HULLS: dict = {}
 
 
 @pytest.mark.parametrize("winding", ["outward", "inward", "mixed"])
