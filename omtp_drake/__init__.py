@@ -18,6 +18,7 @@ Modules and packages, bottom to top (one imports only from those below it; the o
 is held and checked by tests/test_layering.py):
 
 - ``errors``: one exception hierarchy for every user-facing error
+- ``convex_pieces``: a mesh as convex pieces that keep it open (an open bin's skin)
 - ``assets``: model files: the project's xacro sources and the classic UR arms
 - ``workspace``: a student's own ROS workspace: packages and Gazebo models by name
 - ``scenario``: the typed schema of ``diagrams/*.yaml`` and its loader

@@ -22,6 +22,7 @@ Two sources of models feed the factory, and a student's own descriptions join th
 
 from __future__ import annotations
 
+import copy
 import functools
 import hashlib
 import importlib.metadata
@@ -30,7 +31,7 @@ import math
 import os
 import tempfile
 import xml.etree.ElementTree as ET
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from pathlib import Path
 
 from omtp_drake.errors import ConfigError, UnknownNameError
@@ -231,7 +232,9 @@ def _collada_unit(src: Path) -> float:
     return 1.0
 
 
-def drake_ready_meshes(root: ET.Element, *, file: str, packages: Mapping[str, str]) -> None:
+def drake_ready_meshes(
+    root: ET.Element, *, file: str, packages: Mapping[str, str], open_links: Collection[str] = ()
+) -> None:
     """Every mesh of the URDF or SDF ``root`` pointed (in place) at the file Drake reads.
 
     Each ``<mesh filename=...>`` (URDF) or ``<mesh><uri>`` (SDF) is resolved as ROS and
@@ -243,7 +246,9 @@ def drake_ready_meshes(root: ET.Element, *, file: str, packages: Mapping[str, st
     package or file not found, a URL, another file type) is left out with its visual or
     collision, one warning naming the URI and the folders searched, and the model loads
     without it, as Gazebo logs ``Unable to find uri`` and goes on; so is a file no mesh
-    reader can read (the warning says why).
+    reader can read (the warning says why). The collision meshes of ``open_links`` (an open
+    bin, whose convex hull would be a closed block) are their :func:`convex_piece_files`
+    instead, each declared convex, with the mesh's origin and scale.
     """
     warned: set[str] = set()
     for link in list(root.iter()):
@@ -262,10 +267,68 @@ def drake_ready_meshes(root: ET.Element, *, file: str, packages: Mapping[str, st
                     )  # fmt: skip
                 link.remove(shape)
                 continue
+            if shape.tag == "collision" and link.get("name") in open_links:
+                _split_collision(link, shape, found)
+                continue
             _point_mesh(mesh, found)
             if shape.tag == "collision" and shape.find(_HYDRO_RIGID) is None:
                 if mesh.find(f"{{{_DRAKE_NS}}}declare_convex") is None:
                     ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+
+
+_PIECES_VERSION = "4"
+
+
+def convex_piece_files(obj: Path) -> list[tuple[Path, list[float]]]:
+    """The convex pieces of the mesh ``obj`` that keep it open
+    (:func:`omtp_drake.convex_pieces.write_pieces`): each an ``.obj`` and, when it is a box
+    along the mesh's axes, its centre and size (else no numbers). Made once and cached by
+    the mesh's content hash, as the converted meshes are."""
+    stat = obj.stat()
+    digest = _content_hash(str(obj), stat.st_mtime_ns, stat.st_size)
+    index = cache_entry(f"meshes/{digest}-pieces{_PIECES_VERSION}/index.txt")
+    if not index.exists():
+        from omtp_drake.convex_pieces import write_pieces
+
+        _log.info("cutting %s into convex pieces -> %s", obj, index.parent)
+        write_pieces(obj, index, write_atomic)
+    words = [line.split() for line in index.read_text().splitlines()]
+    return [(index.parent / w[0], [float(v) for v in w[1:]]) for w in words]
+
+
+def _split_collision(link: ET.Element, shape: ET.Element, obj: Path) -> None:
+    """``shape`` (a collision of ``link``) replaced by one collision per convex piece of
+    ``obj``, declared convex; in a URDF, a box piece is a ``<box>`` (its origin and size
+    through the collision's origin and the mesh's scale: Drake's box contact is sturdier)."""
+    at = list(link).index(shape)
+    link.remove(shape)
+    for k, (piece, box) in enumerate(convex_piece_files(obj)):
+        collision = copy.deepcopy(shape)
+        if collision.get("name"):
+            collision.set("name", f"{collision.get('name')}_piece_{k}")
+        geometry, mesh = collision.find("geometry"), collision.find("geometry/mesh")
+        if geometry is None or mesh is None:
+            continue
+        if box and mesh.get("filename") is not None:  # (a URDF)
+            scale = [float(v) for v in mesh.get("scale", "1 1 1").split()]
+            geometry.remove(mesh)
+            ET.SubElement(geometry, "box", size=" ".join(repr(v * s) for v, s in zip(box[3:], scale)))
+            _shift_origin(collision, [c * s for c, s in zip(box[:3], scale)])
+        else:
+            _point_mesh(mesh, piece)
+            ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+        link.insert(at + k, collision)
+
+
+def _shift_origin(element: ET.Element, offset: list[float]) -> None:
+    """Moves a URDF element's ``<origin>`` by ``offset`` (in its own frame)."""
+    from pydrake.math import RigidTransform, RollPitchYaw
+
+    origin = element.find("origin")
+    origin = origin if origin is not None else ET.SubElement(element, "origin")
+    rpy = RollPitchYaw([float(v) for v in origin.get("rpy", "0 0 0").split()])
+    X = RigidTransform(rpy, [float(v) for v in origin.get("xyz", "0 0 0").split()]) @ RigidTransform(offset)
+    origin.set("xyz", " ".join(repr(float(v)) for v in X.translation()))
 
 
 def _drake_file(uri: str, packages: Mapping[str, str], file: str, *, collision: bool) -> Path | str:

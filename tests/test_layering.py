@@ -21,6 +21,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "omtp_drake"
 #: Bottom to top: a unit imports only from a lower layer or from its own package.
 LAYERS = {
     "errors": 0,
+    "convex_pieces": 0,
     "assets": 1,
     "workspace": 1,
     "scenario": 2,

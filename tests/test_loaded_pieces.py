@@ -89,6 +89,45 @@ def test_a_tilted_belt_carries_the_spawned_parts_along_its_slope(tmp_path):
         rt.close()
 
 
+SPAWNS = "omtp_gazebo/launch/spawn_static_world_objects.launch"
+COURSE_BELT_INCLUDE = f"""    <include>
+      <uri>model://conveyor</uri>
+      {COURSE_BELT}
+    </include>
+"""
+
+
+def test_a_belt_tilted_by_spawn_model_carries_its_parts_along_its_slope(tmp_path):
+    # The same tilt given the launch way: the student took the conveyor out of the world
+    # and spawns it from their launch with spawn_model -x -y -z -R -P -Y.
+    spawn = (
+        '  <node name="conveyor_spawner" pkg="gazebo_ros" type="spawn_model" output="screen"\n'
+        '        args="-sdf -model conveyor -file $(find omtp_gazebo)/models/conveyor/model.sdf\n'
+        '              -x 1.2 -y 5 -z 0.25 -R 0.04 -P 0.05 -Y -1.5708"/>\n</launch>'
+    )
+    cell = _cell(
+        tmp_path,
+        [
+            (WORLD, COURSE_BELT_INCLUDE, ""),
+            (SPAWNS, "</launch>", spawn),
+            (OBJECTS, "position: [1.2, 1.8, 1.0]", "position: [1.2, 1.8, 1.05]"),
+        ],
+    )
+    rt = _runtime(cell)
+    try:
+        belt = rt.station.belt  # as the world case: 0.05 rad downhill toward -y, 0.04 sideways
+        np.testing.assert_allclose(belt.direction, [0.0, -np.cos(0.05), -np.sin(0.05)], atol=2e-3)
+        assert abs(belt.normal[0]) == pytest.approx(np.sin(0.04), abs=2e-3)
+        before, after = _ride(rt, 2.0)
+        assert belt.height(before) == pytest.approx(0.101, abs=2e-3)
+        travel = after - before
+        assert travel @ belt.direction == pytest.approx(0.4, abs=0.02)
+        assert np.linalg.norm(travel - (travel @ belt.direction) * belt.direction) < 5e-3
+        assert after[2] < before[2] - 0.015
+    finally:
+        rt.close()
+
+
 def test_the_spawners_parts_rest_on_the_belt_where_the_student_moved_it(tmp_path):
     # The conveyor moved 0.8 m along x and raised 0.3 m; the spawner's point moved with it.
     cell = _cell(

@@ -26,12 +26,49 @@ LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
 SHELF_TOP, PART_HALF = 0.6, 0.05
 
 
+def _ring(outer: np.ndarray, inner: np.ndarray, z0: float, z1: float):
+    """A closed solid: the rectangle of half lengths ``outer`` less ``inner``, from z0 to z1."""
+    import trimesh
+
+    def rect(h, z):
+        return [[-h[0], -h[1], z], [h[0], -h[1], z], [h[0], h[1], z], [-h[0], h[1], z]]
+
+    vertices = rect(outer, z0) + rect(outer, z1) + rect(inner, z1) + rect(inner, z0)
+    faces = []
+    for i in range(4):
+        j = (i + 1) % 4
+        for a, b in ((0, 4), (4, 8), (8, 12), (12, 0)):  # outer side, rim, inner side, under the rim
+            faces += [[a + i, a + j, b + j], [a + i, b + j, b + i]]
+    mesh = trimesh.Trimesh(vertices, faces)
+    mesh.fix_normals()
+    return mesh
+
+
+def write_bin_meshes(folder: Path) -> None:
+    """The course's bin meshes as Collada, in its layout (``visual/bin.dae``,
+    ``collision/bin_bottom.dae`` + ``bin_sides.dae``), written here: 1 x 0.8 m outside,
+    1/30 m walls, a 1/12 m floor, 2/3 m high (the xacro scales them by 0.6)."""
+    import trimesh
+
+    outer, wall, floor, height = np.array([0.5, 0.4]), 1 / 30, 1 / 12, 2 / 3
+    bottom = trimesh.creation.box(bounds=[[-0.5, -0.4, 0.0], [0.5, 0.4, floor]])
+    sides = _ring(outer, outer - wall, floor, height)
+    for name, mesh in (
+        ("collision/bin_bottom", bottom),
+        ("collision/bin_sides", sides),
+        ("visual/bin", bottom + sides),
+    ):
+        (folder / name).parent.mkdir(parents=True, exist_ok=True)
+        (folder / f"{name}.dae").write_bytes(trimesh.exchange.dae.export_collada(mesh))
+
+
 @pytest.fixture(scope="module")
 def workspace(tmp_path_factory) -> Path:
-    """The group's workspace with the student's edits copied over it."""
+    """The group's workspace with the student's edits copied over it (and their bin's meshes)."""
     src = tmp_path_factory.mktemp("shelf_ws") / "src"
     shutil.copytree(FIXTURES / "group_ws" / "src", src)
     shutil.copytree(FIXTURES / "shelf_edits", src, dirs_exist_ok=True)
+    write_bin_meshes(src / "omtp_support" / "meshes" / "bin")
     return src
 
 
@@ -140,9 +177,9 @@ def test_their_wider_bin_is_loaded_as_they_wrote_it(cell, runtime):
     from pydrake.geometry import Box, Role
 
     bins = {b.name: b for b in cell.scenario.bins}
-    assert bins["bin_2"].model == "bin_2_" and bins["bin_2"].walls == [0.28, 0.05, 0.4]
+    assert bins["bin_2"].model == "bin_2_" and bins["bin_2"].walls == [0.28, 0.28, 0.05, 0.4]
     geometry = bins["bin_2"].geometry
-    assert (geometry.inner_half_width, geometry.floor_top, geometry.height) == (0.28, 0.05, 0.4)
+    assert (geometry.inner_half_x, geometry.inner_half_y, geometry.floor_top) == (0.28, 0.28, 0.05)
     plant, inspector = runtime.station.plant, runtime.station.scene_graph.model_inspector()
     body = plant.GetBodyByName("bin_2_base_link")
     assert plant.GetModelInstanceName(body.model_instance()) == "bin_2_"
@@ -243,7 +280,7 @@ def test_a_bin_of_boxes_gives_its_walls_a_mesh_bin_none():
         + box(0.24, 0, 0.2, "0.02 0.4 0.4")
         + box(0, -0.19, 0.2, "0.5 0.02 0.4")
     )
-    assert bin_walls(bin_of(walls), "b_base_link") == [0.18, 0.1, 0.4]
+    assert bin_walls(bin_of(walls), "b_base_link") == [0.23, 0.18, 0.1, 0.4]  # (its rectangle)
     mesh = (
         '<collision><geometry><mesh filename="package://omtp_support/meshes/bin.dae"/></geometry></collision>'
     )
@@ -265,3 +302,128 @@ def test_their_pedestals_are_the_arms_pedestals_as_their_files_write_them(runtim
     assert isinstance(shape, Box) and shape.height() == pytest.approx(0.695)
     np.testing.assert_allclose(_X_WF(runtime, "robot2_pedestal_link")[:3, 3], [-7.8, -1.5, 0.0], atol=1e-9)
     assert runtime.station.arm("robot2").pedestal == body.model_instance()
+
+
+def test_their_mesh_bin_is_their_geometry_kept_open(cell, runtime):
+    """Bin 1 is the course's bin of meshes (a floor and sides, .dae, scaled 0.6) made
+    rectangular and turned a quarter by their launch: it is their model, its inside measured
+    on its meshes, its collision convex pieces (one hull per mesh would close it)."""
+    from pydrake.geometry import Box, Convex, Role
+
+    bin_1 = cell.scenario.bin("bin_1")
+    assert bin_1.model == "bin_1_" and bin_1.yaw == pytest.approx(1.5708)
+    np.testing.assert_allclose(bin_1.walls, [0.28, 0.22, 0.05, 0.4], atol=1e-6)
+    assert {m.name: m for m in cell.scenario.models}["bin_1_"].open_links == ["bin_1_base_link"]
+    station = runtime.station
+    plant, inspector = station.plant, station.scene_graph.model_inspector()
+    body = plant.GetBodyByName("bin_1_base_link")
+    assert plant.GetModelInstanceName(body.model_instance()) == "bin_1_"
+    frame = plant.GetBodyFrameIdOrThrow(body.index())
+    ids = inspector.GetGeometries(frame, Role.kProximity)
+    # Convex pieces; those along its axes are boxes (the floor plate, the walls' slabs).
+    shapes = [inspector.GetShape(i) for i in ids]
+    assert len(shapes) > 2 and all(isinstance(shape, (Box, Convex)) for shape in shapes)
+    boxes = [
+        tuple(round(v, 6) for v in (s.width(), s.depth(), s.height())) for s in shapes if isinstance(s, Box)
+    ]
+    assert (0.6, 0.48, 0.05) in boxes  # (bin_bottom.dae, a closed box: one piece)
+    assert len(inspector.GetGeometries(frame, Role.kIllustration)) == 1  # (its visual mesh)
+    # Open: the middle of the bin and a point by its wall are outside every piece; inside
+    # its floor and its wall are not.
+    query = station.scene_graph.get_query_output_port().Eval(
+        station.scene_graph.GetMyContextFromRoot(runtime.context)
+    )
+
+    def nearest(p_B) -> float:
+        p_W = bin_1.X_WB() @ np.asarray(p_B, float)
+        found = query.ComputeSignedDistanceToPoint(p_W, 1.0)
+        return min(d.distance for d in found if inspector.GetFrameId(d.id_G) == frame)
+
+    assert nearest([0, 0, 0.2]) == pytest.approx(0.15, abs=1e-3)  # 0.15 over the floor
+    assert nearest([0.27, 0, 0.3]) == pytest.approx(0.01, abs=1e-3)  # 1 cm from its end wall
+    assert nearest([0, 0, 0.03]) < 0 and nearest([0, 0.23, 0.2]) < 0
+
+
+@pytest.fixture(scope="module")
+def loose_parts(cell):
+    """The cell of their launch with 0.1 m parts placed by hand (no spawner)."""
+    import dataclasses
+
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=4, pool_part_size=0.1)
+    scenario.task = None
+    runtime = FactoryRuntime(scenario, auto_spawn=False)
+    yield runtime
+    runtime.close()
+
+
+def test_a_part_dropped_in_their_mesh_bin_stays_in_it_one_beside_it_does_not(loose_parts):
+    """Dropped 0.225 m from the axis along the bin's length (world +y: the bin is turned),
+    beyond its narrower half width and the catalogue bin's walls: it lands on the bin's
+    floor and the ledger counts it there. One dropped beside its long side is not in it."""
+    rt = loose_parts
+    inside = rt.spawn_part(xyz=[-8.0, -2.2 + 0.225, 0.6])
+    beside = rt.spawn_part(xyz=[-8.0 + 0.32, -2.2, 0.3])
+    rt.advance(1.5)
+    p = rt.part_pose(inside).translation()
+    np.testing.assert_allclose(p, [-8.0, -2.2 + 0.225, 0.05 + 0.05], atol=0.01)
+    ledger = rt.ledger()
+    assert ledger.parts[inside] == "in_bin:bin_1" and ledger.in_bin["bin_1"] == 1
+    assert ledger.parts[beside] != "in_bin:bin_1"
+    assert rt.part_pose(beside).translation()[2] < 0.06  # on the floor beside the bin
+
+
+def test_their_rectangular_bins_drop_spots_reach_its_corners(cell, loose_parts):
+    """The script's bin (``cell.bin``) of their mesh bin: its inner size is its rectangle; a
+    second part goes to a corner 0.22 m along its length (the narrower half width gave
+    0.16), and both are counted in it."""
+    from omtp_drake.script.bins import Bin
+
+    rt, config = loose_parts, cell.scenario.bin("bin_1")
+    bin_1 = Bin(rt, config)
+    np.testing.assert_allclose(bin_1.inner_size, [0.56, 0.44, 0.35], atol=1e-6)
+    centre = rt.spawn_part(xyz=bin_1.drop_point())
+    rt.advance(1.0)
+    spot_B = config.X_WB().inverse() @ bin_1.drop_point()
+    np.testing.assert_allclose(spot_B, [-0.22, -0.16, 0.4 + 0.05 + 0.05], atol=1e-6)
+    corner = rt.spawn_part(xyz=config.X_WB() @ spot_B)
+    rt.advance(1.0)
+    assert rt.ledger().parts[centre] == rt.ledger().parts[corner] == "in_bin:bin_1"
+
+
+def test_a_rectangular_bin_counts_by_its_rectangle_turned_by_its_yaw():
+    """Inner 0.56 x 0.44 m, turned a quarter: near the end of its length is in (beyond the
+    narrower half width), just past its long wall is out."""
+    import math
+
+    from omtp_drake.scenario import BinConfig
+
+    bin_ = BinConfig(name="b", xyz=[1.0, 2.0, 0.0], yaw=math.pi / 2, walls=[0.28, 0.22, 0.05, 0.4])
+    assert bin_.contains([1.0, 2.0 + 0.27, 0.2])  # the bin's x is the world's y
+    assert not bin_.contains([1.0 + 0.23, 2.0, 0.2])  # across its width: out
+    assert bin_.contains([1.0 + 0.21, 2.0, 0.2])
+    assert not bin_.contains([1.0, 2.0 + 0.29, 0.2])
+    assert not bin_.contains([1.0, 2.0, 0.04])  # under its floor's top
+
+
+def test_a_mesh_bin_nobody_has_the_meshes_of_is_the_catalogues_with_one_warning():
+    from pydrake.math import RigidTransform
+
+    from omtp_drake.launch.pieces import Pieces, add_urdf_model
+    from omtp_drake.launch.urdf_model import UrdfModel
+
+    text = """<robot name="bin_3_"><link name="bin_3_base_link"><collision><geometry>
+      <mesh filename="package://omtp_support/meshes/bin/collision/bin_sides.dae"/></geometry></collision></link>
+      <link name="bin_3_drop_point"/><joint name="j" type="fixed"><parent link="bin_3_base_link"/>
+      <child link="bin_3_drop_point"/><origin xyz="0 0 1"/></joint></robot>"""
+    pieces = Pieces()
+    assert add_urdf_model(
+        pieces, UrdfModel.from_text(text, "bin.urdf"), RigidTransform([1, 2, 0]), "bin.urdf", {}
+    )
+    (bin_3,) = pieces.bins
+    assert "model" not in bin_3 and not pieces.own
+    assert pieces.warnings == [
+        "bin.urdf: bin 'bin_3': its collision meshes cannot be read or hold no floor and walls "
+        "around its axis; the catalogue's bin stands in"
+    ]

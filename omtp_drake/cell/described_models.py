@@ -124,7 +124,7 @@ def prepared_description(model: ModelConfig, *, gazebo_look: bool) -> str:
     (:func:`~omtp_drake.assets.drake_ready_meshes`), a ``world`` link's joints moved by
     the model's pose, and (``gazebo_look``) the Gazebo materials and friction applied."""
     root = ET.fromstring(model.description)
-    drake_ready_meshes(root, file=model.file, packages=model.packages)
+    drake_ready_meshes(root, file=model.file, packages=model.packages, open_links=model.open_links)
     if model.format == "sdf":
         first = root.find("model")
         if first is not None:

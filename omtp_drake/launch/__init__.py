@@ -21,6 +21,7 @@ Modules (one job each):
 - ``urdf_model``: a URDF's links as frames (joint tree, link poses) and its <gazebo> tags
 - ``pieces``: the course's pieces in a spawned URDF: arms, grippers, pedestals, bins, the beam
 - ``own_links``: the links a student added beside those pieces (a shelf), loaded as written
+- ``mesh_bins``: a bin of mesh collisions (the course's own), measured and kept open
 - ``sdf_world``: a Gazebo world's models (includes by model://, poses, names), checked by Drake's parser
 - ``world_pieces``: the course's pieces in a world's models: cameras, the belt, the deletion wall
 - ``plugins``: the course's Gazebo plugins and their parameters, as the cell's systems take them

@@ -141,6 +141,7 @@ def _private(launch: Launch, node: Node) -> dict[str, Any]:
 
 def map_nodes(launch: Launch, workspace: Workspace) -> NodeMapping:
     out = NodeMapping()
+    out.pieces.packages = {k: str(v) for k, v in {**workspace.models, **workspace.packages}.items()}
     for node in launch.nodes:
         key = (node.pkg, node.type)
         if key == ("gazebo_ros", "gzserver"):
@@ -279,9 +280,9 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
             out.world.models.append(_own_model(text, r.source, workspace, r.name, pose))
         while out.pieces.own:  # what the student wrote beside and in the course's pieces
             own = out.pieces.own.pop(0)
-            out.world.models.append(
-                _own_model(own.text, own.where, workspace, own.name, own.pose, static=own.static)
-            )
+            entry = _own_model(own.text, own.where, workspace, own.name, own.pose, static=own.static)
+            entry.open_links = list(own.open_links)
+            out.world.models.append(entry)
         out.placed[r.name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(r.joints).items()}
         return
     doc = parse_xml(Path(r.source), text)

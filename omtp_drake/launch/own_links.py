@@ -124,10 +124,11 @@ def piece_urdf(model: UrdfModel, root_link: str, prefix: str, name: str) -> str:
 
 
 def bin_walls(model: UrdfModel, link: str) -> list[float] | None:
-    """``[inner half width, floor top, rim height]`` (m, in the link's frame) of a bin made
-    of box collisions: the floor is the box under the link's origin, the walls the others;
-    None when a collision is no box or there is no floor or no wall (a mesh bin: Drake
-    would collide with its convex hull, a closed block, so the catalogue's bin stands in)."""
+    """``[inner half length along x, along y, floor top, rim height]`` (m, in the link's
+    frame) of a bin made of box collisions: the floor is the box under the link's origin,
+    the walls the others (the nearest inner face on each axis); None when a collision is
+    no box or there is no floor or no wall on each axis (a mesh bin:
+    :mod:`~omtp_drake.launch.mesh_bins`)."""
     root = model.root_element
     element = root.find(f"link[@name='{link}']") if root is not None else None
     collisions = element.findall("collision") if element is not None else []
@@ -165,13 +166,9 @@ def bin_walls(model: UrdfModel, link: str) -> list[float] | None:
     walls = [b for b in boxes if b not in floors]
     if not floors or not walls:
         return None
-    inner = min(_inner_face(w) for w in walls)
-    return [round(float(v), 9) for v in (inner, max(f[4] for f in floors), max(b[4] for b in boxes))]
-
-
-def _inner_face(box: tuple[float, ...]) -> float:
-    """The distance from the bin's axis to a wall box's face nearest to it."""
-    x0, x1, y0, y1 = box[:4]
-    faces = [min(abs(x0), abs(x1))] if x0 * x1 > 0 else []
-    faces += [min(abs(y0), abs(y1))] if y0 * y1 > 0 else []
-    return min(faces) if faces else 0.0
+    # A wall on one side of the axis along x (or y) has an inner face across it.
+    halves = [[min(abs(w[a]), abs(w[a + 1])) for w in walls if w[a] * w[a + 1] > 0] for a in (0, 2)]
+    if not all(halves):
+        return None
+    inner = [min(h) for h in halves]
+    return [round(float(v), 9) for v in (*inner, max(f[4] for f in floors), max(b[4] for b in boxes))]

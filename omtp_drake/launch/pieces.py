@@ -29,6 +29,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import bin_walls, own_links, own_links_urdf, piece_urdf
 from omtp_drake.launch.plugins import check_break_beam, plugins_in, suction_checks
 from omtp_drake.launch.urdf_model import UrdfModel
@@ -60,6 +61,8 @@ class Pieces:
     #: What the student added beside the pieces (:mod:`~omtp_drake.launch.own_links`): the
     #: model's name, a URDF of those links as written, and where it came from.
     own: list[OwnModel] = field(default_factory=list)
+    #: package or Gazebo model name -> folder (a mesh bin's meshes are read to measure it).
+    packages: dict[str, str] = field(default_factory=dict)
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,8 @@ class OwnModel:
     where: str
     pose: list[float]  # x y z R P Y in the world
     static: bool = True
+    #: Links whose collision meshes load as convex pieces (a mesh bin: ModelConfig.open_links).
+    open_links: tuple[str, ...] = ()
 
 
 def add_urdf_model(
@@ -139,18 +144,29 @@ def _piece_prefixes(
 def _bin(
     pieces: Pieces, model: UrdfModel, prefix: str, X_WB: RigidTransform, where: str, spawned: str
 ) -> dict:
-    """The bin at ``prefix`` (in the model spawned as ``spawned``): a bin of box collisions
-    is loaded as the student's file writes it, a model entry named as Gazebo names it (its
-    walls give the cell's in-bin test and drop slots); any other, the catalogue's bin."""
+    """The bin at ``prefix`` (in the model spawned as ``spawned``): a bin of box or mesh
+    collisions is loaded as the student's file writes it, a model entry named as Gazebo
+    names it (its walls give the cell's in-bin test and drop slots; its collision meshes
+    convex pieces that keep it open, :mod:`~omtp_drake.launch.mesh_bins`); any other (no
+    collision, or a mesh nobody has), the catalogue's bin."""
     placed = _placed(prefix.rstrip("_"), X_WB, where)
-    walls = bin_walls(model, prefix + "base_link")
+    link = prefix + "base_link"
+    walls = bin_walls(model, link)
+    open_links: tuple[str, ...] = ()
+    if walls is None and has_mesh_collision(model, link):
+        walls, open_links = mesh_bin_walls(model, link, pieces.packages, where), (link,)
+        if walls is None:
+            pieces.warnings.append(
+                f"{where}: bin {placed['name']!r}: its collision meshes cannot be read or hold no "
+                "floor and walls around its axis; the catalogue's bin stands in"
+            )
     if walls is not None:
         taken = {placed["name"], *(own.name for own in pieces.own)}
         name = spawned if spawned and spawned not in taken else f"{placed['name']}_model"
         placed.update(model=name, walls=walls)
         text = piece_urdf(model, prefix + "base_link", prefix, name)
         pose = [*placed["xyz"], 0.0, 0.0, placed["yaw"]]
-        pieces.own.append(OwnModel(name, text, where, pose, static=False))
+        pieces.own.append(OwnModel(name, text, where, pose, static=False, open_links=open_links))
     return placed
 
 

@@ -95,19 +95,28 @@ RESERVED_NAMES = (
 
 @dataclass(frozen=True)
 class BinGeometry:
-    """The fixed sizes of every bin, read from ``models/bin.urdf.xacro``."""
+    """A bin's inside, in its base frame: the catalogue's (``models/bin.urdf.xacro``,
+    square) or a student's bin's (its walls)."""
 
-    #: Half the inner width (m): the inner faces of the walls.
-    inner_half_width: float
+    #: Half the inner length (m) along the bin's x: the inner faces of its walls across x.
+    inner_half_x: float
+    #: Half the inner length (m) along the bin's y.
+    inner_half_y: float
     #: Height (m) of the top of the bin's floor above its base frame.
     floor_top: float
     #: Height (m) of the rim above the base frame.
     height: float
 
+    @property
+    def inner_half_width(self) -> float:
+        """The narrower half inner length (m): room for a part whichever way it turns."""
+        return min(self.inner_half_x, self.inner_half_y)
+
     @classmethod
     def from_model(cls) -> "BinGeometry":
         d = model_dimensions("bin.urdf.xacro")
-        return cls(inner_half_width=d["outer"] / 2 - d["wall"], floor_top=d["floor_top"], height=d["height"])
+        half = d["outer"] / 2 - d["wall"]
+        return cls(inner_half_x=half, inner_half_y=half, floor_top=d["floor_top"], height=d["height"])
 
 
 @dataclass
@@ -120,14 +129,15 @@ class BinConfig:
     #: The scenario's model entry that is this bin as the student's file writes it ('':
     #: the catalogue's bin, models/bin.urdf.xacro); its ``<name>_base_link`` stands here.
     model: str = ""
-    #: That bin's inner half width, floor top and rim height (m), from its walls.
+    #: That bin's inner half lengths along its x and y, floor top and rim height (m), from
+    #: its walls.
     walls: list[float] = field(default_factory=list)
 
     @property
     def geometry(self) -> BinGeometry:
         if self.walls:
-            inner, floor_top, height = self.walls
-            return BinGeometry(inner_half_width=inner, floor_top=floor_top, height=height)
+            half_x, half_y, floor_top, height = self.walls
+            return BinGeometry(inner_half_x=half_x, inner_half_y=half_y, floor_top=floor_top, height=height)
         return _BIN_GEOMETRY
 
     def X_WB(self) -> RigidTransform:
@@ -136,13 +146,14 @@ class BinConfig:
 
     def contains(self, p_W, X_WB: Optional[RigidTransform] = None) -> bool:
         """Is the world point ``p_W`` (a part's centre) in the bin: inside the
-        inner footprint, above the bin's floor and less than 0.5 m above its rim?
-        ``X_WB``: the bin's pose if it is not where the scenario put it."""
+        inner rectangle (in the bin's frame: its yaw turns it), above the bin's floor and
+        less than 0.5 m above its rim? ``X_WB``: the bin's pose if it is not where the
+        scenario put it."""
         p_B = (X_WB or self.X_WB()).inverse() @ np.asarray(p_W, dtype=float)
         g = self.geometry
         return bool(
-            abs(p_B[0]) < g.inner_half_width
-            and abs(p_B[1]) < g.inner_half_width
+            abs(p_B[0]) < g.inner_half_x
+            and abs(p_B[1]) < g.inner_half_y
             and g.floor_top < p_B[2] < g.height + 0.5
         )
 
@@ -151,12 +162,12 @@ class BinConfig:
         check_len(f"bins[{self.name}].xyz", self.xyz, 3)
         check_in_cell(f"bins[{self.name}].xyz", self.xyz)
         if self.walls:
-            check_len(f"bins[{self.name}].walls", self.walls, 3)
-            inner, floor_top, height = self.walls
-            if not (inner > 0 and floor_top < height):
+            check_len(f"bins[{self.name}].walls", self.walls, 4)
+            half_x, half_y, floor_top, height = self.walls
+            if not (half_x > 0 and half_y > 0 and floor_top < height):
                 raise ConfigError(
-                    f"bins[{self.name}].walls {self.walls!r}: needs an inner half width > 0 and "
-                    "the floor's top below the rim"
+                    f"bins[{self.name}].walls {self.walls!r}: needs inner half lengths along x and y "
+                    "> 0 and the floor's top below the rim"
                 )
 
 

@@ -11,6 +11,7 @@ The cell loads it with Drake's Parser (:mod:`omtp_drake.cell.described_models`).
 
 import os
 import re
+import xml.etree.ElementTree as ET
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -45,6 +46,9 @@ class ModelConfig:
     #: package or Gazebo model name -> folder, for ``package://`` and ``model://``.
     packages: dict[str, str] = field(default_factory=dict)
     gazebo: GazeboExtensions = field(default_factory=GazeboExtensions)
+    #: Links whose collision meshes are loaded as convex pieces that keep them open (a
+    #: bin of mesh collisions; one convex hull would close it), see ``assets.drake_ready_meshes``.
+    open_links: list[str] = field(default_factory=list)
 
     def validate(self) -> None:
         """Raises ConfigError naming the file and the bad value."""
@@ -63,6 +67,11 @@ class ModelConfig:
             raise ConfigError(f"{where}: format {self.format!r}, but the description is {found.upper()}")
         check_masses(self.description, where)
         self.gazebo.validate(where)
+        if self.open_links:
+            links = {e.get("name", "") for e in ET.fromstring(self.description).iter("link")}
+            for link in self.open_links:
+                if link not in links:
+                    raise UnknownNameError(f"link of {where}'s open_links", link, links)
 
 
 def model_from_file(

@@ -43,7 +43,7 @@ class Bin:
     def inner_size(self) -> tuple[float, float, float]:
         """Inside the walls: x and y widths and the depth from the bin's floor to its rim (m)."""
         g = self._geometry
-        return 2 * g.inner_half_width, 2 * g.inner_half_width, g.height - g.floor_top
+        return 2 * g.inner_half_x, 2 * g.inner_half_y, g.height - g.floor_top
 
     def parts(self) -> list[str]:
         """The parts in the bin now (from the ledger)."""
@@ -67,8 +67,8 @@ class Bin:
         """
         size = self._runtime.scenario.pool_part_size if part_size is None else float(part_size)
         g = self._geometry
-        reach = g.inner_half_width - size / 2 - WALL_CLEARANCE
-        if not (size > 0 and reach >= 0):
+        reach = np.array([g.inner_half_x, g.inner_half_y]) - size / 2 - WALL_CLEARANCE
+        if not (size > 0 and reach.min() >= 0):
             raise ConfigError(
                 f"a part of {size} m does not fit in {self.name} (inner width {2 * g.inner_half_width:.3f} m)"
             )

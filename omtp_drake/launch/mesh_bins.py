@@ -1,0 +1,95 @@
+"""A bin of mesh collisions (the course's own bin: ``bin_bottom.dae`` + ``bin_sides.dae``),
+loaded as the student's file writes it.
+
+Gazebo collides with a collision mesh's triangles, so the course's bin is open there;
+Drake's point contact would collide with each mesh's convex hull, a closed block. Such a
+bin is the student's own model entry, its collision meshes loaded as convex pieces that
+keep it open (``ModelConfig.open_links``: :func:`omtp_drake.assets.convex_piece_files`).
+Its inside, for the cell's in-bin test and drop slots, is measured here on the very
+triangles its collisions have (:func:`mesh_bin_walls`): rays from the bin's axis.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+from pydrake.math import RigidTransform, RollPitchYaw
+
+from omtp_drake.assets import drake_mesh, mesh_source
+from omtp_drake.convex_pieces import ray_distance
+from omtp_drake.errors import ConfigError
+from omtp_drake.launch.urdf_model import UrdfModel
+
+
+def has_mesh_collision(model: UrdfModel, link: str) -> bool:
+    """Whether a collision of ``link`` is a mesh."""
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    return element is not None and element.find("collision/geometry/mesh") is not None
+
+
+def mesh_bin_walls(
+    model: UrdfModel, link: str, packages: Mapping[str, str], where: str
+) -> list[float] | None:
+    """``[inner half length along x, along y, floor top, rim height]`` (m, in the link's
+    frame) of a bin whose collisions are meshes (and boxes): the rim is their highest
+    point, the floor the first surface a ray down the link's z axis meets, the walls the
+    first ones rays along +-x and +-y meet halfway up (the nearer of each pair). None when
+    a collision is another shape or its mesh cannot be read, or a ray meets nothing."""
+    triangles = _collision_triangles(model, link, packages, where)
+    if triangles is None or not len(triangles):
+        return None
+    rim = float(triangles[..., 2].max())
+    down = ray_distance(triangles, [0.0, 0.0, rim + 1.0], [0.0, 0.0, -1.0])
+    if down is None:
+        return None
+    floor_top = rim + 1.0 - down
+    middle = [0.0, 0.0, (floor_top + rim) / 2]
+    halves = []
+    for axis in (0, 1):
+        hits = [ray_distance(triangles, middle, sign * np.eye(3)[axis]) for sign in (1, -1)]
+        if None in hits:
+            return None
+        halves.append(min(h for h in hits if h is not None))
+    if not (halves[0] > 0 and halves[1] > 0 and floor_top < rim):
+        return None
+    return [round(float(v), 9) for v in (*halves, floor_top, rim)]
+
+
+def _collision_triangles(
+    model: UrdfModel, link: str, packages: Mapping[str, str], where: str
+) -> np.ndarray | None:
+    """The triangles (k x 3 x 3, link frame) of ``link``'s collisions, as Drake loads them."""
+    import trimesh
+
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    out = []
+    for collision in element.findall("collision") if element is not None else []:
+        geometry = collision.find("geometry")
+        box = geometry.find("box") if geometry is not None else None
+        mesh = geometry.find("mesh") if geometry is not None else None
+        try:
+            X = _origin(collision)
+            if box is not None:
+                shape = trimesh.creation.box(extents=[float(v) for v in box.get("size", "").split()])
+            elif mesh is not None:
+                src, _ = mesh_source((mesh.get("filename") or "").strip(), packages, where)
+                if src is None:
+                    return None
+                shape = trimesh.load(str(drake_mesh(src, collision=True)), file_type="obj", force="mesh")
+                shape.apply_scale([float(v) for v in mesh.get("scale", "1 1 1").split()])
+            else:
+                return None
+        except (ValueError, ConfigError):
+            return None
+        out.append(X.multiply(shape.vertices.T).T[shape.faces])
+    return np.concatenate(out) if out else None
+
+
+def _origin(element) -> RigidTransform:
+    origin = element.find("origin")
+    xyz = [float(v) for v in (origin.get("xyz", "0 0 0") if origin is not None else "0 0 0").split()]
+    rpy = [float(v) for v in (origin.get("rpy", "0 0 0") if origin is not None else "0 0 0").split()]
+    return RigidTransform(RollPitchYaw(rpy), xyz)
