@@ -13,7 +13,7 @@ from omtp_drake.cli import main
 from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 from omtp_drake.scenario import load_scenario
 from omtp_drake.tasks.run import TaskRun, prepare, run_task
-from omtp_drake.viz.browser import find_browser, screenshot
+from omtp_drake.viz.browser import Shot, find_browser, screenshot, screenshots
 from omtp_drake.viz.meshcat import DEFAULT_VIEW, DetectionMarkers, frustum_segments, start_meshcat, view_for
 
 CHROMIUM = find_browser()
@@ -46,12 +46,32 @@ def masks(png) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     }
 
 
+@pytest.fixture(scope="module")
+def shots(replay, tmp_path_factory):
+    """The pictures the tests below judge, taken in one page load, from a running asyncio
+    loop as in a Jupyter kernel's cell (which Playwright's sync API refuses on its own)."""
+    out = tmp_path_factory.mktemp("shots")
+    wanted = {
+        "main": Shot(out / "replay.png", time=1.0),
+        "clean": Shot(out / "clean.png", time=1.0, hide=("/frusta", "/detections")),
+        "start": Shot(out / "start.png", time=0.0),
+        "end": Shot(out / "end.png"),                       # default: the end
+        "small": Shot(out / "nb.png", time=1.0, size=(320, 200)),
+    }
+
+    async def cell():
+        return screenshots(replay, list(wanted.values()), browser=CHROMIUM)
+
+    written = asyncio.run(cell())
+    assert written == [shot.png for shot in wanted.values()]
+    return {name: shot.png for name, shot in wanted.items()}
+
+
 @needs_chromium
-def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
+def test_replay_shows_robot2_frusta_and_marker(replay, shots):
     assert replay.stat().st_size > 1_000_000                # meshes and animation inside
     # At 1.0 s robot 2 is on its way down to the part, which camera 2 reports.
-    png = screenshot(replay, tmp_path / "replay.png", time=1.0, browser=CHROMIUM)
-    image, seen = masks(png)
+    image, seen = masks(shots["main"])
     assert image.shape == (800, 1280, 3)
     assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000   # a lit 3D scene, not a blank page
     centre = (slice(200, 600), slice(320, 960))
@@ -66,36 +86,36 @@ def test_replay_shows_robot2_frusta_and_marker(replay, tmp_path):
 
 
 @needs_chromium
-def test_frusta_and_markers_toggle_off(replay, tmp_path):
-    png = screenshot(replay, tmp_path / "clean.png", time=1.0, hide=["/frusta", "/detections"],
-                     browser=CHROMIUM)
-    _, seen = masks(png)
+def test_frusta_and_markers_toggle_off_for_their_shot_only(shots):
+    _, seen = masks(shots["clean"])
     assert seen["frustum_orange"].sum() < 20 and seen["marker"].sum() < 5
     assert seen["ur_blue"].sum() > 200                            # the robot is still there
-    with pytest.raises(UnknownNameError, match=r"unknown Meshcat path '/frustum'; valid: .*/frusta"):
-        screenshot(replay, tmp_path / "typo.png", hide=["/frustum"], browser=CHROMIUM)
+    # The next shot (t = 0 s) shows the frusta again: hiding was that shot's only.
+    assert masks(shots["start"])[1]["frustum_orange"].sum() > 200
 
 
 @needs_chromium
-def test_replay_time_moves_the_robot(replay, tmp_path):
-    start = colours(screenshot(replay, tmp_path / "start.png", time=0.0, browser=CHROMIUM))[0]
-    end = colours(screenshot(replay, tmp_path / "end.png", browser=CHROMIUM))[0]  # default: end
+def test_replay_time_moves_the_robot(shots):
+    start, end = colours(shots["start"])[0], colours(shots["end"])[0]
     changed = np.any(np.abs(start - end) > 30, axis=2)
     assert changed.sum() > 2000, "the robot did not move between 0 s and the end"
-    with pytest.raises(ConfigError, match=r"past the end of replay.html \(0\.\.3\.0"):
-        screenshot(replay, tmp_path / "late.png", time=9.0, browser=CHROMIUM)
-    assert not (tmp_path / "late.png").exists()
 
 
 @needs_chromium
-def test_screenshot_from_a_running_event_loop_as_in_a_notebook(replay, tmp_path):
-    # A Jupyter kernel runs an asyncio loop in the thread that runs the cells.
-    async def cell():
-        return screenshot(replay, tmp_path / "nb.png", time=1.0, size=(320, 200), browser=CHROMIUM)
-
-    image = colours(asyncio.run(cell()))[0]
+def test_a_shot_of_its_own_size(shots):
+    image = colours(shots["small"])[0]
     assert image.shape == (200, 320, 3)
     assert len(np.unique(image.reshape(-1, 3), axis=0)) > 500
+
+
+@needs_chromium
+def test_what_the_replay_lacks_is_refused_and_nothing_is_written(replay, tmp_path):
+    with pytest.raises(ConfigError, match=r"past the end of replay.html \(0\.\.3\.0"):
+        screenshots(replay, [Shot(tmp_path / "ok.png", time=1.0), Shot(tmp_path / "late.png", time=9.0)],
+                    browser=CHROMIUM)
+    with pytest.raises(UnknownNameError, match=r"unknown Meshcat path '/frustum'; valid: .*/frusta"):
+        screenshot(replay, tmp_path / "typo.png", hide=["/frustum"], browser=CHROMIUM)
+    assert list(tmp_path.iterdir()) == []
 
 
 @needs_chromium
@@ -126,6 +146,8 @@ def test_screenshot_input_errors(tmp_path, monkeypatch):
         screenshot(page, tmp_path / "x.png", size=(10, 800))
     with pytest.raises(ConfigError, match="replay time -1.0 must be >= 0"):
         screenshot(page, tmp_path / "x.png", time=-1.0)
+    with pytest.raises(ConfigError, match="at least one Shot"):
+        screenshots(page, [])
     not_a_browser = shutil.which("false")
     with pytest.raises(BrowserError, match=f"exited .* is '{not_a_browser}' a chromium"):
         screenshot(page, tmp_path / "x.png", browser=not_a_browser, timeout_s=30)

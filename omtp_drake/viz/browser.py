@@ -4,7 +4,9 @@
 ``--record`` (see :func:`omtp_drake.viz.meshcat.save_recording`), waits until
 every embedded Meshcat command has been applied, moves the recorded animation
 to ``time`` (seconds of simulated time; default: its end), and saves what a
-user would see in a 1280 x 800 browser window.
+user would see in a 1280 x 800 browser window. ``screenshots(replay.html, [Shot(...), ...])``
+takes several pictures of one replay (other times, sizes, hidden paths) in one page load: the
+browser's start and the replay's ~200 decoded commands are paid once, not once a picture.
 
 It drives the system's chromium (``find_browser``) through Playwright, which
 downloads nothing when given the browser's path, and it waits on the page's
@@ -23,6 +25,7 @@ import shutil
 import time as _time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional, TypeVar
 
@@ -81,19 +84,19 @@ _SETTLE = """
 })()
 """
 
-# Unticks the visibility checkbox of each path in Meshcat's scene tree (what a
-# user does in the controls); reports the paths that are not in the tree.
-_HIDE = """
-((paths) => {
+# Sets the visibility checkbox of each path in Meshcat's scene tree (what a user
+# does in the controls) to VISIBLE; reports the paths that are not in the tree.
+_SET_VISIBLE = """
+((paths, visible) => {
   const missing = [];
   for (const path of paths) {
     let node = viewer.scene_tree;
     for (const name of path.split("/").filter(Boolean)) { node = node && node.children[name]; }
-    if (node) { node.vis_controller.setValue(false); } else { missing.push(path); }
+    if (node) { node.vis_controller.setValue(visible); } else { missing.push(path); }
   }
   const top = Object.keys(viewer.scene_tree.children).map(name => "/" + name);
   return {missing: missing, valid: top};
-})(%s)
+})(%s, %s)
 """
 
 # Stops the replay's clock, puts every animation at TIME, and resolves after two
@@ -110,6 +113,17 @@ _SEEK = """
   return time;
 })(%r)
 """
+
+
+@dataclass(frozen=True)
+class Shot:
+    """One picture of a replay: written to ``png``, the replay at ``time`` (s; ``None``: its
+    end), in a ``size`` (width, height) window, with the Meshcat paths of ``hide`` switched off."""
+
+    png: str | Path
+    time: Optional[float] = None
+    size: tuple[int, int] = (1280, 800)
+    hide: Sequence[str] = ()
 
 
 def screenshot(
@@ -134,20 +148,38 @@ def screenshot(
     ``timeout_s``, and :class:`ConfigError` for a missing file or a bad size or
     time. Software rendering (SwiftShader) takes 3-15 s on 2 cores.
     """
+    (written,) = screenshots(html, [Shot(png, time, size, tuple(hide))], timeout_s=timeout_s, browser=browser)
+    return written
+
+
+def screenshots(
+    html: str | Path, shots: Sequence[Shot], *, timeout_s: float = 120.0, browser: Optional[str] = None
+) -> list[Path]:
+    """Renders the standalone replay ``html`` once and writes each of ``shots`` (see
+    :class:`Shot`; the rules of :func:`screenshot`), in their order; returns their paths.
+    Every shot is checked before the browser starts; a shot the replay refuses (a time past
+    its end, a path not in its scene) stops the run, and no PNG is written.
+    ``timeout_s`` bounds the whole run."""
     html = Path(html).resolve()
-    png = Path(png)
-    _check_request(html, size, time)
+    if not shots:
+        raise ConfigError("screenshots needs at least one Shot")
+    for shot in shots:
+        _check_request(html, shot.size, shot.time)
     browser = browser or find_browser()
     if browser is None:
         raise BrowserError(
             f"no headless browser found on PATH (looked for: "
             f"{', '.join(BROWSER_NAMES)}); on Debian: apt-get install chromium"
         )
-    image, shown = _outside_event_loop(_capture, browser, html, time, size, list(hide), timeout_s)
-    png.parent.mkdir(parents=True, exist_ok=True)
-    png.write_bytes(image)
-    _log.info("screenshot of %s at t = %.2f s written to %s", html.name, shown, png)
-    return png
+    images = _outside_event_loop(_capture, browser, html, list(shots), timeout_s)
+    written = []
+    for shot, (image, shown) in zip(shots, images):
+        png = Path(shot.png)
+        png.parent.mkdir(parents=True, exist_ok=True)
+        png.write_bytes(image)
+        _log.info("screenshot of %s at t = %.2f s written to %s", html.name, shown, png)
+        written.append(png)
+    return written
 
 
 def _outside_event_loop(function: Callable[..., T], *args: Any) -> T:
@@ -161,10 +193,9 @@ def _outside_event_loop(function: Callable[..., T], *args: Any) -> T:
         return pool.submit(function, *args).result()
 
 
-def _capture(
-    browser: str, html: Path, time: Optional[float], size: tuple[int, int], hide: list[str], timeout_s: float
-) -> tuple[bytes, float]:
-    """Launches ``browser``, renders ``html`` in it and returns (PNG bytes, replay time shown)."""
+def _capture(browser: str, html: Path, shots: list[Shot], timeout_s: float) -> list[tuple[bytes, float]]:
+    """Launches ``browser``, loads ``html`` in it once and returns each shot's (PNG bytes,
+    replay time shown)."""
     from playwright.sync_api import Error as PlaywrightError
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
     from playwright.sync_api import sync_playwright
@@ -181,8 +212,12 @@ def _capture(
                 f"the browser exited before starting ({first}); is {browser!r} a chromium?"
             ) from None
         try:
-            page = chromium.new_page(viewport={"width": size[0], "height": size[1]}, device_scale_factor=1)
-            return _render(page, html, time, hide, deadline)
+            width, height = shots[0].size
+            page = chromium.new_page(viewport={"width": width, "height": height}, device_scale_factor=1)
+            duration = _load(page, html, deadline)
+            for shot in shots:
+                _check_time(html, duration, shot.time)
+            return [_render(page, html, duration, shot, deadline) for shot in shots]
         except PlaywrightTimeout:
             raise BrowserError(f"chromium did not finish {html.name} within {timeout_s} s") from None
         except PlaywrightError as e:
@@ -219,9 +254,8 @@ def _evaluate(page: Page, expression: str, deadline: float) -> Any:
         raise BrowserError(f"the replay page failed: {str(e).splitlines()[0]}") from None
 
 
-def _render(
-    page: Page, html: Path, time: Optional[float], hide: list[str], deadline: float
-) -> tuple[bytes, float]:
+def _load(page: Page, html: Path, deadline: float) -> float:
+    """Opens ``html`` and waits until its replay's commands are applied; returns its duration (s)."""
     page.add_init_script(_TRACK_FETCHES)
     page.goto(html.as_uri(), wait_until="load", timeout=_ms_left(deadline))
     state = _evaluate(page, _SETTLE, deadline)
@@ -229,20 +263,36 @@ def _render(
         raise BrowserError(
             f"{html.name} is not a Meshcat replay: {(state or {}).get('why', 'the page did not load')}"
         )
-    duration = float(state["duration"])
+    return float(state["duration"])
+
+
+def _check_time(html: Path, duration: float, time: Optional[float]) -> None:
+    """Raises :class:`ConfigError` for a time past the end of the replay's animation."""
     if time is not None and duration > 0.0 and time > duration:
         raise ConfigError(f"replay time {time} s is past the end of {html.name} (0..{duration:.2f} s)")
-    if hide:
-        hidden = _evaluate(page, _HIDE % json.dumps(hide), deadline)
-        if hidden["missing"]:
-            raise UnknownNameError(
-                "Meshcat path",
-                hidden["missing"][0],
-                hidden["valid"] + ["/frusta/<camera>", "/detections/<camera>"],
-            )
-    shown = duration if time is None else float(time)
+
+
+def _set_visible(page: Page, paths: Sequence[str], visible: bool, deadline: float) -> None:
+    """Ticks (``visible``) or unticks the paths' checkboxes; a path not in the scene raises."""
+    if not paths:
+        return
+    result = _evaluate(page, _SET_VISIBLE % (json.dumps(list(paths)), json.dumps(visible)), deadline)
+    if result["missing"]:
+        valid = result["valid"] + ["/frusta/<camera>", "/detections/<camera>"]
+        raise UnknownNameError("Meshcat path", result["missing"][0], valid)
+
+
+def _render(page: Page, html: Path, duration: float, shot: Shot, deadline: float) -> tuple[bytes, float]:
+    """One shot of the loaded replay; what it hid is shown again afterwards (the next shot's
+    scene is the replay's own)."""
+    width, height = shot.size
+    page.set_viewport_size({"width": width, "height": height})
+    _set_visible(page, shot.hide, False, deadline)
+    shown = duration if shot.time is None else float(shot.time)
     if duration > 0.0:
         _evaluate(page, _SEEK % shown, deadline)
     else:
         _evaluate(page, "new Promise(r => requestAnimationFrame(() => requestAnimationFrame(r)))", deadline)
-    return page.screenshot(type="png", timeout=_ms_left(deadline)), shown
+    image = page.screenshot(type="png", timeout=_ms_left(deadline))
+    _set_visible(page, shot.hide, True, deadline)
+    return image, shown
