@@ -247,7 +247,8 @@ def _apply_gazebo_tags(root: ET.Element, model: ModelConfig) -> None:
 
 def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex) -> None:
     """A model not fixed by its own description: its root link welded at the model's pose
-    when static, else starting there (floating). An SDF ``<static>`` model Drake welds itself."""
+    (in the world, or in its ``parent`` frame of the cell) when static or hung on a parent,
+    else starting there (floating). An SDF ``<static>`` model Drake welds itself."""
     root = ET.fromstring(model.description)
     base = _root_link(root, model.format)
     if base is None:
@@ -257,7 +258,13 @@ def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceInd
     sdf_model = root.find("model")  # (None for a URDF)
     X_MF = _sdf_pose(sdf_model.findtext("pose") if sdf_model is not None else None)  # the file's own pose
     X_WL = model_pose(model) @ X_MF @ X_ML
-    if model.static:
+    if model.parent:  # on a link of the cell's pieces: moves with it
+        if not plant.HasFrameNamed(model.parent):
+            raise WorkspaceError(
+                f"{model.file}: model {model.name!r} hangs on {model.parent!r}; the cell has no such frame"
+            )
+        plant.WeldFrames(plant.GetFrameByName(model.parent), body.body_frame(), X_WL)
+    elif model.static:
         plant.WeldFrames(plant.world_frame(), body.body_frame(), X_WL)
     elif model.format == "urdf":  # (an SDF model's free bodies Drake placed from its <pose>)
         plant.SetDefaultFloatingBaseBodyPose(body, X_WL)

@@ -279,9 +279,9 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
             out.world.models.append(_own_model(text, r.source, workspace, r.name, pose))
         while out.pieces.own:  # what the student wrote beside and in the course's pieces
             own = out.pieces.own.pop(0)
-            out.world.models.append(
-                _own_model(own.text, own.where, workspace, own.name, own.pose, static=own.static)
-            )
+            entry = _own_model(own.text, own.where, workspace, own.name, own.pose, static=own.static)
+            entry.parent = own.parent  # (a link of the cell's arm or gripper: it hangs there)
+            out.world.models.append(entry)
         out.placed[r.name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(r.joints).items()}
         return
     doc = parse_xml(Path(r.source), text)

@@ -11,10 +11,14 @@ the path ``--robot`` and the world's own models take).
 
 A piece's links are the links named with its prefix (``robot1_``, ``vacuum_gripper1_``,
 ``bin_2_``, ``break_beam_``; the course's macros prefix every link they make) and the
-workcell's ``workcell`` link. Only links that stand still are loaded: fixed to the
-model's root link by fixed joints, or in a model Gazebo holds ``<static>``. A link the
-student hung on a moving joint of a course piece (a camera mount on an arm's wrist) is
-one warning line: the cell's arm is its own model, built from the catalogue.
+workcell's ``workcell`` link. Links that stand still (fixed to the model's root link by
+fixed joints, or in a model Gazebo holds ``<static>``) are fixed to the world. Links the
+student hung by fixed joints on a link of a course piece that moves (a camera mount on an
+arm's wrist, a plate on the vacuum gripper) are a :class:`Mount`: loaded as written and
+welded to the cell's body of that link (the cell builds the arm and gripper from its
+catalogue, with the course's link names) at the pose the file's joints give, so they move
+with it and weigh on it. A link on a moving joint of its own below a piece is one warning
+line (the cell adds no joints to its arms).
 """
 
 from __future__ import annotations
@@ -22,10 +26,11 @@ from __future__ import annotations
 import copy
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable
+from dataclasses import dataclass
 
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake.launch.urdf_model import UrdfModel
+from omtp_drake.launch.urdf_model import UrdfJoint, UrdfModel
 
 #: The workcell's own link (the hall's mesh: the cell's floor and conveyor stand for it).
 WORKCELL_LINK = "workcell"
@@ -48,23 +53,86 @@ def is_static(model: UrdfModel) -> bool:
 
 def own_links(model: UrdfModel, prefixes: Iterable[str], where: str) -> tuple[list[str], list[str]]:
     """The links of ``model`` no recognised piece (``prefixes``) claims that carry geometry
-    and stand still; and the warning lines of those that move (not loaded)."""
+    and stand still; and the warning lines of those on a moving joint of their own
+    (the links that move with a piece are :func:`mounts`)."""
     prefixes = tuple(p for p in prefixes if p)
-    mine = [
-        link
-        for link in model.links
-        if link not in ("world", WORKCELL_LINK)
-        and not link.startswith(prefixes)
-        and has_geometry(model, link)
-    ]
+    mine = [link for link in model.links if not _claimed(link, prefixes) and has_geometry(model, link)]
     still = set(model.links) if is_static(model) else set(model.static_links())
+    mounted = {link for mount in mounts(model, prefixes) for link in mount.links}
     warnings = [
-        f"{where}: link {link!r} moves with a course piece's joints; not loaded "
-        "(the cell builds the course's arms from its catalogue)"
+        f"{where}: link {link!r} moves on a joint of its own ({_own_joint(model, link, prefixes)!r}); "
+        "not loaded (the cell adds no joints to the course's pieces)"
         for link in mine
-        if link not in still
+        if link not in still and link not in mounted
     ]
     return [link for link in mine if link in still], warnings
+
+
+def _claimed(link: str, prefixes: tuple[str, ...]) -> bool:
+    return link in ("world", WORKCELL_LINK) or link.startswith(prefixes)
+
+
+def _parent_joint(model: UrdfModel, link: str) -> UrdfJoint | None:
+    return next((j for j in model.joints.values() if j.child == link), None)
+
+
+def _own_joint(model: UrdfModel, link: str, prefixes: tuple[str, ...]) -> str:
+    """The nearest moving joint above ``link`` that is not a piece's own."""
+    joint = _parent_joint(model, link)
+    while joint is not None and joint.type == "fixed" and not _claimed(joint.parent, prefixes):
+        joint = _parent_joint(model, joint.parent)
+    return joint.name if joint is not None else ""
+
+
+@dataclass(frozen=True)
+class Mount:
+    """Links a student hung by fixed joints on ``parent``, a moving link of a course piece."""
+
+    root: str  # the topmost of them (its joint's parent is ``parent``)
+    parent: str
+    links: tuple[str, ...]  # ``root`` and the links fixed below it, in the file's order
+    X_PR: RigidTransform  # ``root`` in ``parent``, from the file's joint
+
+
+def mounts(model: UrdfModel, prefixes: Iterable[str]) -> list[Mount]:
+    """The student's links fixed (through fixed joints) to a link of a course piece
+    (``prefixes``) that moves, one :class:`Mount` per link hung on the piece."""
+    prefixes = tuple(p for p in prefixes if p)
+    still = set(model.links) if is_static(model) else set(model.static_links())
+    found = []
+    for joint in model.joints.values():
+        if joint.type != "fixed" or joint.parent in still or not _claimed(joint.parent, prefixes):
+            continue
+        if _claimed(joint.child, prefixes):
+            continue
+        below, stack = {joint.child}, [joint.child]
+        while stack:
+            parent = stack.pop()
+            for j in model.joints.values():
+                if j.parent == parent and j.type == "fixed" and not _claimed(j.child, prefixes):
+                    below.add(j.child)
+                    stack.append(j.child)
+        links = tuple(link for link in model.links if link in below)
+        found.append(Mount(joint.child, joint.parent, links, joint.X_PJ))
+    return found
+
+
+def mount_urdf(model: UrdfModel, mount: Mount, name: str) -> str:
+    """A URDF of ``mount``'s links as ``model`` writes them, the fixed joints between them
+    and their ``<gazebo reference>`` tags (its root is welded to the piece by the cell)."""
+    root = model.root_element if model.root_element is not None else ET.Element("robot")
+    wanted = set(mount.links)
+    out = ET.Element("robot", name=name)
+    for element in root:
+        if element.tag == "link" and element.get("name") in wanted:
+            out.append(copy.deepcopy(element))
+        elif element.tag == "joint" and element.get("name") in model.joints:
+            joint = model.joints[element.get("name", "")]
+            if joint.parent in wanted and joint.child in wanted:
+                out.append(copy.deepcopy(element))
+        elif element.tag == "gazebo" and element.get("reference") in wanted:
+            out.append(copy.deepcopy(element))
+    return ET.tostring(out, encoding="unicode")
 
 
 def own_links_urdf(

@@ -29,7 +29,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
-from omtp_drake.launch.own_links import bin_walls, own_links, own_links_urdf, piece_urdf
+from omtp_drake.launch.own_links import bin_walls, mount_urdf, mounts, own_links, own_links_urdf, piece_urdf
 from omtp_drake.launch.plugins import check_break_beam, plugins_in, suction_checks
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import RobotConfig
@@ -69,8 +69,10 @@ class OwnModel:
     name: str
     text: str  # the URDF
     where: str
-    pose: list[float]  # x y z R P Y in the world
+    pose: list[float]  # x y z R P Y in the world (in ``parent``, when it has one)
     static: bool = True
+    #: The link of a course piece it is welded to (it moves with it); '' for the world.
+    parent: str = ""
 
 
 def add_urdf_model(
@@ -85,7 +87,7 @@ def add_urdf_model(
         return False  # loaded as it is: its own plugins are its model's (scenario.gazebo_tags)
     for reference, element in model.gazebo:
         for plugin in plugins_in(element, where, reference):
-            if plugin.kind not in URDF_PLUGINS:
+            if plugin.kind not in URDF_PLUGINS and not _loaded_with(model, reference, prefixes):
                 pieces.warnings.append(plugin.unknown_line())
     pieces.models.append((model, X_WM))
     links, lines = own_links(model, prefixes, where)
@@ -96,10 +98,22 @@ def add_urdf_model(
         pieces_names = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
         own = f"{own}_links" if own in pieces_names else own
         pieces.own.append(OwnModel(own, own_links_urdf(model, links, X_WM, joints, own), where, [0.0] * 6))
+    for mount in mounts(model, prefixes):  # on an arm or gripper: welded to the cell's link
+        taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
+        own = mount.root if mount.root not in taken else f"{mount.root}_model"
+        pose = [*mount.X_PR.translation(), *RollPitchYaw(mount.X_PR.rotation()).vector()]
+        text = mount_urdf(model, mount, own)
+        pieces.own.append(OwnModel(own, text, where, [float(v) for v in pose], parent=mount.parent))
     for link in model.static_links():
         if link != "world" and link not in links:  # (world: Gazebo's name for the world itself)
             pieces.frames.setdefault(link, X_WM @ X_M[link])
     return True
+
+
+def _loaded_with(model: UrdfModel, link: str, prefixes: list[str]) -> bool:
+    """Whether the student's ``link`` is loaded as written (its sensors with it)."""
+    own, _ = own_links(model, prefixes, "")
+    return link in own or any(link in m.links for m in mounts(model, prefixes))
 
 
 def _piece_prefixes(
