@@ -6,8 +6,9 @@ A model with a ROSLogicalCameraPlugin and a ``logical_camera`` sensor is a camer
 named as Gazebo names the plugin's parent (the model's name in the world), at the
 model's pose; a ROSConveyorBeltPlugin is the belt (the conveyor stands where its
 ``link`` puts it: the course's place, or where the student moved and turned it); an
-ObjectDisposalPlugin is the deletion wall (where the model stands). Any other plugin is
-one warning line; its model is loaded all the same.
+ObjectDisposalPlugin is the deletion wall (where the model stands); what the student
+added to those two models is loaded as written (:mod:`~omtp_drake.launch.world_additions`).
+Any other plugin is one warning line; its model is loaded all the same.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import check_deletion_wall, conveyor_power, logical_camera
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
+from omtp_drake.launch.world_additions import additions
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.workspace import Workspace
 
@@ -91,6 +93,9 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             pieces.warnings.append(plugin.unknown_line())
             continue
         known = True
+        own, lines = additions(model, kind, workspace)  # what the student added to it, as written
+        pieces.warnings += lines
+        pieces.models += [own] if own is not None else []
     if not known:
         pieces.models.append(model_config(model, workspace))
 
