@@ -91,6 +91,13 @@ def test_tf_echo_gives_their_tray(workspace, capsys):
     np.testing.assert_allclose(echoed, X_W_TRAY[:3, 3], atol=1e-3)
 
 
+def test_their_view_of_the_world_shows_the_tray_in_their_conveyor(workspace, capsys):
+    world = workspace / "omtp_gazebo" / "worlds" / "lecture6_assignment1.world"
+    assert main(["view", str(world), "--workspace", str(workspace), "--json"]) == 0, capsys.readouterr().err
+    models = {m["name"]: m for m in json.loads(capsys.readouterr().out)["models"]}
+    assert {"link", "reject_tray", "belt"} == set(models["conveyor_belt"]["links"])
+
+
 def test_what_would_move_on_a_course_model_is_one_warning_each(workspace):
     from omtp_drake.launch.sdf_world import world_model
     from omtp_drake.launch.world_additions import additions
