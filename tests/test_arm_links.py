@@ -1,7 +1,8 @@
 """What a student hangs on a course arm is loaded as written and moves with the arm: the
 group's workspace (tests/fixtures/group_ws) with their robot_system xacro holding a camera
 bracket, a camera and its optical frame on robot 1's wrist (tests/fixtures/wrist_camera_edits,
-the course's layout; spawn_robots.launch turns it on for robot 1 only). The links are bodies
+the course's layout; spawn_robots.launch turns it on for robot 1 only; the camera's links are
+named with the arm's prefix, as students name them, and are still theirs). The links are bodies
 welded to the cell's ``robot1_wrist_3_link`` where xacro and the joint chain put them, their
 mass on the arm, the Gazebo camera on them; the course's pick still works."""
 
@@ -24,7 +25,7 @@ from omtp_drake.launch import own_cell
 FIXTURES = Path(__file__).resolve().parent / "fixtures"
 STANDINS = Path(__file__).resolve().parent.parent / "omtp_drake" / "launch" / "standins"
 LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
-THEIRS = ("wrist_camera_bracket", "wrist_camera_link", "wrist_camera_optical")
+THEIRS = ("wrist_camera_bracket", "robot1_wrist_camera_link", "robot1_wrist_camera_optical")
 JOINTS = ("shoulder_pan", "shoulder_lift", "elbow", "wrist_1", "wrist_2", "wrist_3")
 #: robot 1's spawn pose in their spawn_robots.launch (-x 0.5 -y 1.8 -z 0.95).
 X_WM = np.eye(4)
@@ -150,7 +151,7 @@ def test_their_links_move_with_the_wrist_where_xacro_and_the_joint_chain_put_the
 
     camera: DepthCamera = runtime.station.depth_cameras["wrist_camera"]
     X_WO = camera.pose.Eval(camera.pose.get_system().GetMyContextFromRoot(runtime.context))
-    np.testing.assert_allclose(X_WO.GetAsMatrix4(), X["wrist_camera_optical"], atol=1e-3)
+    np.testing.assert_allclose(X_WO.GetAsMatrix4(), X["robot1_wrist_camera_optical"], atol=1e-3)
 
 
 def test_their_links_weigh_on_the_arm(moved):
@@ -175,9 +176,9 @@ def test_tf_echo_and_frames_give_their_camera_where_the_arm_holds_it(workspace, 
     q = arms.named_pose("R1PreGrasp")
     X = forward_kinematics(urdf, {f"robot1_{j}_joint": float(v) for j, v in zip(JOINTS, q)})
     argv = ["tf-echo", "--launch", LAUNCH, "--workspace", str(workspace), "--pose", "robot1=R1PreGrasp"]
-    assert main([*argv, "world", "wrist_camera_optical", "--json"]) == 0, capsys.readouterr().err
+    assert main([*argv, "world", "robot1_wrist_camera_optical", "--json"]) == 0, capsys.readouterr().err
     echoed = json.loads(capsys.readouterr().out)["translation"]
-    np.testing.assert_allclose(echoed, X["wrist_camera_optical"][:3, 3], atol=1e-3)
+    np.testing.assert_allclose(echoed, X["robot1_wrist_camera_optical"][:3, 3], atol=1e-3)
     out = tmp_path / "frames"
     argv = ["frames", "--launch", LAUNCH, "--workspace", str(workspace), "-o", str(out)]
     assert main(argv) == 0, capsys.readouterr().err
@@ -190,7 +191,7 @@ def test_the_frame_tree_hangs_their_links_on_the_wrist(moved):
     runtime, _ = moved
     buffer = TfBuffer.from_context(runtime.station, runtime.context)
     assert buffer.parent("wrist_camera_bracket") == "robot1_wrist_3_link"
-    assert buffer.parent("wrist_camera_link") == "wrist_camera_bracket"
+    assert buffer.parent("robot1_wrist_camera_link") == "wrist_camera_bracket"
 
 
 def test_their_view_of_robot_1_lists_their_links(workspace, capsys):

@@ -9,9 +9,12 @@ collisions, inertia, Gazebo materials and friction), each fixed where the file's
 chain puts it, as one model entry of the scenario (:class:`~omtp_drake.scenario.ModelConfig`,
 the path ``--robot`` and the world's own models take).
 
-A piece's links are the links named with its prefix (``robot1_``, ``vacuum_gripper1_``,
-``bin_2_``, ``break_beam_``; the course's macros prefix every link they make) and the
-workcell's ``workcell`` link. Links that stand still (fixed to the model's root link by
+A piece's links (:class:`Claims`) are those the course's macros give it, with its prefix
+(an arm's ``robot1_base_link`` ... ``robot1_tool0``, a gripper's ``vacuum_gripper1_base_link``
+and ``_suction_cup``, ``robot1_pedestal_link``, the beam's ``break_beam_base_link``,
+``_optical_link``, ``_world_interface``; every ``bin_2_`` link of a bin, which is loaded
+with them) and the workcell's ``workcell`` link: a ``robot1_camera_link`` of the student's
+is theirs. Links that stand still (fixed to the model's root link by
 fixed joints, or in a model Gazebo holds ``<static>``) are fixed to the world. Links the
 student hung by fixed joints on a link of a course piece that moves (a camera mount on an
 arm's wrist, a plate on the vacuum gripper) are a :class:`Mount`: loaded as written and
@@ -51,11 +54,31 @@ def is_static(model: UrdfModel) -> bool:
     return False
 
 
-def own_links(model: UrdfModel, prefixes: Iterable[str], where: str) -> tuple[list[str], list[str]]:
-    """The links of ``model`` no recognised piece (``prefixes``) claims that carry geometry
-    and stand still; and the warning lines of those on a moving joint of their own
-    (the links that move with a piece are :func:`mounts`)."""
-    prefixes = tuple(p for p in prefixes if p)
+@dataclass(frozen=True)
+class Claims:
+    """The links the recognised pieces take as their own: by name (the links the course's
+    macros give an arm, a gripper, a pedestal, the beam) or by prefix (a bin's: the bin is
+    loaded with all of them); ``world`` and the workcell's link always."""
+
+    names: frozenset[str] = frozenset()
+    prefixes: tuple[str, ...] = ()
+
+    def __contains__(self, link: object) -> bool:
+        return isinstance(link, str) and (
+            link in ("world", WORKCELL_LINK) or link in self.names or link.startswith(self.prefixes)
+        )
+
+
+def _as_claims(claims: Claims | Iterable[str]) -> Claims:
+    """``claims`` itself, or the claims of the link prefixes ``claims``."""
+    return claims if isinstance(claims, Claims) else Claims(prefixes=tuple(p for p in claims if p))
+
+
+def own_links(model: UrdfModel, claims: Claims | Iterable[str], where: str) -> tuple[list[str], list[str]]:
+    """The links of ``model`` no recognised piece claims (``claims``, or link prefixes)
+    that carry geometry and stand still; and the warning lines of those on a moving joint
+    of their own (the links that move with a piece are :func:`mounts`)."""
+    prefixes = _as_claims(claims)
     mine = [link for link in model.links if not _claimed(link, prefixes) and has_geometry(model, link)]
     still = set(model.links) if is_static(model) else set(model.static_links())
     mounted = {link for mount in mounts(model, prefixes) for link in mount.links}
@@ -68,15 +91,15 @@ def own_links(model: UrdfModel, prefixes: Iterable[str], where: str) -> tuple[li
     return [link for link in mine if link in still], warnings
 
 
-def _claimed(link: str, prefixes: tuple[str, ...]) -> bool:
-    return link in ("world", WORKCELL_LINK) or link.startswith(prefixes)
+def _claimed(link: str, claims: Claims) -> bool:
+    return link in claims
 
 
 def _parent_joint(model: UrdfModel, link: str) -> UrdfJoint | None:
     return next((j for j in model.joints.values() if j.child == link), None)
 
 
-def _own_joint(model: UrdfModel, link: str, prefixes: tuple[str, ...]) -> str:
+def _own_joint(model: UrdfModel, link: str, prefixes: Claims) -> str:
     """The nearest moving joint above ``link`` that is not a piece's own."""
     joint = _parent_joint(model, link)
     while joint is not None and joint.type == "fixed" and not _claimed(joint.parent, prefixes):
@@ -94,10 +117,10 @@ class Mount:
     X_PR: RigidTransform  # ``root`` in ``parent``, from the file's joint
 
 
-def mounts(model: UrdfModel, prefixes: Iterable[str]) -> list[Mount]:
+def mounts(model: UrdfModel, claims: Claims | Iterable[str]) -> list[Mount]:
     """The student's links fixed (through fixed joints) to a link of a course piece
-    (``prefixes``) that moves, one :class:`Mount` per link hung on the piece."""
-    prefixes = tuple(p for p in prefixes if p)
+    (``claims``, or link prefixes) that moves, one :class:`Mount` per link hung on it."""
+    prefixes = _as_claims(claims)
     still = set(model.links) if is_static(model) else set(model.static_links())
     found = []
     for joint in model.joints.values():
