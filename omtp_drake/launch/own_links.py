@@ -143,8 +143,13 @@ def mounts(model: UrdfModel, claims: Claims | Iterable[str]) -> list[Mount]:
 def mount_urdf(model: UrdfModel, mount: Mount, name: str) -> str:
     """A URDF of ``mount``'s links as ``model`` writes them, the fixed joints between them
     and their ``<gazebo reference>`` tags (its root is welded to the piece by the cell)."""
+    return _subset_urdf(model, set(mount.links), name)
+
+
+def _subset_urdf(model: UrdfModel, wanted: set[str], name: str) -> str:
+    """A URDF named ``name`` of the links ``wanted`` as ``model`` writes them, the joints
+    between them and their ``<gazebo reference>`` tags, in the file's order."""
     root = model.root_element if model.root_element is not None else ET.Element("robot")
-    wanted = set(mount.links)
     out = ET.Element("robot", name=name)
     for element in root:
         if element.tag == "link" and element.get("name") in wanted:
@@ -193,7 +198,6 @@ def own_links_urdf(
 def piece_urdf(model: UrdfModel, root_link: str, prefix: str, name: str) -> str:
     """A URDF of the piece at ``root_link``: the links below it named with ``prefix`` and
     the joints between them, as ``model`` writes them (``<gazebo reference>`` tags too)."""
-    root = model.root_element if model.root_element is not None else ET.Element("robot")
     keep, stack = {root_link}, [root_link]
     while stack:
         parent = stack.pop()
@@ -201,17 +205,7 @@ def piece_urdf(model: UrdfModel, root_link: str, prefix: str, name: str) -> str:
             if joint.parent == parent and joint.child.startswith(prefix) and joint.child not in keep:
                 keep.add(joint.child)
                 stack.append(joint.child)
-    out = ET.Element("robot", name=name)
-    for element in root:
-        if element.tag == "link" and element.get("name") in keep:
-            out.append(copy.deepcopy(element))
-        elif element.tag == "joint" and element.get("name") in model.joints:
-            joint = model.joints[element.get("name", "")]
-            if joint.parent in keep and joint.child in keep:
-                out.append(copy.deepcopy(element))
-        elif element.tag == "gazebo" and element.get("reference") in keep:
-            out.append(copy.deepcopy(element))
-    return ET.tostring(out, encoding="unicode")
+    return _subset_urdf(model, keep, name)
 
 
 def bin_walls(model: UrdfModel, link: str) -> list[float] | None:
