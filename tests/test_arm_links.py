@@ -170,6 +170,16 @@ def test_their_links_weigh_on_the_arm(moved):
     assert joint.parent_body().name() == "robot1_wrist_3_link" and joint.num_velocities() == 0
 
 
+def test_their_links_are_part_of_robot_1s_gazebo_model(moved):
+    from omtp_drake.cell.gazebo_models import gazebo_models
+
+    runtime, _ = moved
+    plant = runtime.station.plant
+    models = {m.name: m for m in gazebo_models(plant, runtime.station.scenario)}
+    bracket = plant.GetBodyByName("wrist_camera_bracket").model_instance()
+    assert bracket in models["robot1"].instances and "wrist_camera_bracket" not in models
+
+
 def test_tf_echo_and_frames_give_their_camera_where_the_arm_holds_it(workspace, urdf, capsys, tmp_path):
     from omtp_drake.cell import arms
 
