@@ -84,6 +84,18 @@ def test_their_tray_stands_where_the_world_puts_it_and_holds_a_part(runtime):
     assert abs(p_T[0]) < 0.5 and abs(p_T[1]) < 0.25, p_T
 
 
+def test_their_tray_is_welded_to_the_cells_conveyor_and_part_of_its_gazebo_model(cell, runtime):
+    from omtp_drake.cell.gazebo_models import gazebo_models
+
+    assert {m.name: m.parent for m in cell.scenario.models}["conveyor_belt_own"] == "conveyor_base"
+    plant = runtime.station.plant
+    tray = plant.GetBodyByName("reject_tray")
+    (joint,) = [plant.get_joint(j) for j in plant.GetJointIndices(tray.model_instance())]
+    assert joint.parent_body().name() == "conveyor_base" and joint.num_velocities() == 0
+    models = {m.name: m for m in gazebo_models(plant, cell.scenario)}
+    assert tray.model_instance() in models["conveyor_belt"].instances and "conveyor_belt_own" not in models
+
+
 def test_tf_echo_gives_their_tray(workspace, capsys):
     argv = ["tf-echo", "--launch", LAUNCH, "--workspace", str(workspace), "world", "reject_tray", "--json"]
     assert main(argv) == 0, capsys.readouterr().err
@@ -114,7 +126,9 @@ def test_what_would_move_on_a_course_model_is_one_warning_each(workspace):
         ET.fromstring("<geometry><sphere><radius>0.1</radius></sphere></geometry>")
     )
     model = world_model("conveyor_belt", (1.2, 5.0, 0.0, 0.0, 0.0, -1.5708), element, "conveyor.sdf")
-    entry, warnings = additions(model, "conveyor", Workspace())
+    from pydrake.math import RigidTransform
+
+    entry, warnings = additions(model, "conveyor", Workspace(), ("conveyor_base", RigidTransform()))
     assert entry is not None and [
         link.get("name") for link in ET.fromstring(entry.description).iter("link")
     ] == ["reject_tray"]

@@ -6,8 +6,9 @@ the student added to such a ``<model>`` is not dropped: a link the course's mode
 not have (a guard rail beside the belt), and a visual or collision the course's link
 does not have (a bigger plate on the deletion wall), are one model entry of the scenario
 (:class:`~omtp_drake.scenario.ModelConfig`, loaded by Drake's Parser as the file writes
-them: geometry, inertia, materials, friction), fixed where the file puts them, named
-``<model>_own``.
+them: geometry, inertia, materials, friction), named ``<model>_own``, welded where the file
+puts them to the cell's body of the piece (``ModelConfig.parent``: ``conveyor_base``,
+``deletion_wall``), so they are part of its Gazebo model (what the logical cameras list).
 
 They are loaded when they stand still in Gazebo: a link of a ``<static>`` model (the
 wall, the conveyor's ``conveyor_belt_fixed``), or one a ``fixed`` joint holds to such a
@@ -42,17 +43,19 @@ COURSE_LINKS: dict[str, dict[str, tuple[str, ...]]] = {
 _GEOMETRY = ("visual", "collision")
 
 
-def additions(model: WorldModel, kind: str, workspace: Workspace) -> tuple[ModelConfig | None, list[str]]:
+def additions(
+    model: WorldModel, kind: str | None, workspace: Workspace, body: tuple[str, RigidTransform] | None
+) -> tuple[ModelConfig | None, list[str]]:
     """The model entry of what the student added to ``model`` (a course piece of ``kind``;
-    None: nothing) and the warning lines of what is not loaded (see module doc)."""
-    course = COURSE_LINKS.get(kind)
-    if course is None:
+    None: nothing), hung on ``body`` (the cell's body of the piece and its pose in world),
+    and the warning lines of what is not loaded (see module doc)."""
+    course = COURSE_LINKS.get(kind or "")
+    if course is None or body is None:
         return None, []
     links = _links(model.element, "", RigidTransform(), model.static)
     still = {path for path, (_, _, static) in links.items() if static}
     still |= _held(model.element, still)
-    out = ET.Element("model", name=f"{model.name}_own")
-    ET.SubElement(out, "static").text = "true"
+    out = ET.Element("model", name=f"{model.name}_own")  # (no <static>: the cell welds it to ``body``)
     warnings = []
     for path, (link, X_ML, _) in links.items():
         own = link.get("name", "")
@@ -80,10 +83,12 @@ def additions(model: WorldModel, kind: str, workspace: Workspace) -> tuple[Model
         pose.text = " ".join(repr(float(v)) for v in [*xyz, *rpy])
         kept.insert(0, pose)
         out.append(kept)
-    if len(out) == 1:
+    if out.find("link") is None:
         return None, warnings
     folder = model.folder or Path(model.where.split(":")[0]).parent
-    xyz, rpy = model.X_WM.translation(), RollPitchYaw(model.X_WM.rotation()).vector()
+    parent, X_WP = body
+    X_PM = X_WP.inverse() @ model.X_WM
+    xyz, rpy = X_PM.translation(), RollPitchYaw(X_PM.rotation()).vector()
     entry = model_from_text(
         model_text(out, model.version, folder),
         model.where,
@@ -93,6 +98,7 @@ def additions(model: WorldModel, kind: str, workspace: Workspace) -> tuple[Model
         rpy=(float(rpy[0]), float(rpy[1]), float(rpy[2])),
         static=True,
     )
+    entry.parent = parent
     return entry, warnings
 
 

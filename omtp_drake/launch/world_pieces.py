@@ -93,11 +93,29 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             pieces.warnings.append(plugin.unknown_line())
             continue
         known = True
-        own, lines = additions(model, kind, workspace)  # what the student added to it, as written
+        # What the student added to it, as written, on the cell's body of the piece.
+        own, lines = additions(model, kind, workspace, _piece_body(pieces, kind))
         pieces.warnings += lines
         pieces.models += [own] if own is not None else []
     if not known:
         pieces.models.append(model_config(model, workspace))
+
+
+def _piece_body(pieces: WorldPieces, kind: str | None) -> tuple[str, RigidTransform] | None:
+    """The cell's body of the piece ``kind`` just added and where the cell welds it."""
+    if kind == "conveyor" and pieces.conveyor is not None:
+        c = pieces.conveyor
+        if "xyz" not in c:
+            return "conveyor_base", X_W_CONVEYOR
+        return "conveyor_base", RigidTransform(
+            RollPitchYaw(c.get("roll", 0.0), c.get("pitch", 0.0), c["yaw"]), c["xyz"]
+        )
+    if kind == "deletion_wall":
+        moved = pieces.deletion_wall_pose
+        return "deletion_wall", RigidTransform(
+            RollPitchYaw(moved[3:]), moved[:3]
+        ) if moved else X_W_DELETION_WALL
+    return None
 
 
 def _moved(X_WA: RigidTransform, X_WC: RigidTransform, tol: float = _TOL) -> bool:
