@@ -45,7 +45,7 @@ MODELS_DIR = Path(__file__).resolve().parent.parent / "models"
 UR_MODELS = ("ur5", "ur10")
 
 # Bump when the conversion below changes, so stale caches are not reused.
-_CONVERTER_VERSION = "4"
+_CONVERTER_VERSION = "5"
 _DRAKE_NS = "http://drake.mit.edu"
 
 
@@ -209,7 +209,8 @@ def convert_mesh(src: Path, dst: Path) -> None:
         scene = scene.scaled(_collada_unit(src))
     if dst.suffix == ".obj":
         mesh = scene.to_mesh()
-        write_atomic(dst, mesh.export(file_type="obj", include_texture=False).encode())
+        # With its normals: Drake's VTK renderer (a camera's view) refuses an OBJ without them.
+        write_atomic(dst, mesh.export(file_type="obj", include_texture=False, include_normals=True).encode())
         return
     if ext == ".dae":
         # glTF is y-up: Drake turns a glTF +90 deg about x when loading it, so turn the

@@ -240,19 +240,21 @@ ARM_WITH_MOUNT = """<robot name="robot1">
 </robot>"""
 
 
-def test_a_link_on_a_pieces_moving_joint_is_one_warning_a_still_one_is_loaded():
+def test_a_link_on_a_pieces_moving_joint_hangs_on_it_a_still_one_is_loaded():
     from pydrake.math import RigidTransform, RollPitchYaw
 
-    from omtp_drake.launch.own_links import own_links, own_links_urdf
+    from omtp_drake.launch.own_links import mounts, own_links, own_links_urdf
     from omtp_drake.launch.urdf_model import UrdfModel
 
     model = UrdfModel.from_text(ARM_WITH_MOUNT, "arm.urdf")
     links, warnings = own_links(model, ["robot1_"], "arm.urdf")
-    assert links == ["tool_rack"]  # (rack_frame: no geometry, a frame as before)
-    assert warnings == [
-        "arm.urdf: link 'camera_mount' moves with a course piece's joints; not loaded "
-        "(the cell builds the course's arms from its catalogue)"
-    ]
+    assert links == ["tool_rack"] and warnings == []  # (rack_frame: no geometry, a frame as before)
+    (mount,) = mounts(model, ["robot1_"])  # (tests/test_arm_links.py: the cell welds it to the arm)
+    assert (mount.root, mount.parent, mount.links) == (
+        "camera_mount",
+        "robot1_shoulder_link",
+        ("camera_mount",),
+    )
     X_WM = RigidTransform(RollPitchYaw(0, 0, 0.1), [0.5, 0, 0])
     text = ET.fromstring(own_links_urdf(model, links, X_WM, {}, "robot1_extras"))
     (joint,) = text.findall("joint")

@@ -32,7 +32,7 @@ def _add_arm_servo(
     """The arm's position servo and its exported ports."""
     name = handles.config.name
     sampler, controller, handles.control_plant = arms.add_arm_controller(
-        builder, plant, handles.arm, handles.config, gravity
+        builder, plant, handles.arm, handles.config, gravity, payloads=handles.payloads
     )
     handles.sampler = sampler
     handles.controller = controller

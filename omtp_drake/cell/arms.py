@@ -23,8 +23,9 @@ from pydrake.systems.primitives import Demultiplexer, LinearSystem, MatrixGain, 
 from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro, ur_urdf
+from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.errors import ConfigError, UnknownNameError
-from omtp_drake.scenario import RobotConfig
+from omtp_drake.scenario import ModelConfig, RobotConfig
 
 #: Joint order of every pose: pan, lift, elbow, wrist 1, wrist 2, wrist 3.
 JOINT_NAMES = (
@@ -127,8 +128,11 @@ def lock_arm(plant: MultibodyPlant, plant_context: Context, arm: ModelInstanceIn
                 joint.Unlock(plant_context)
 
 
-def make_control_plant(robot: RobotConfig, gravity: Sequence[float]) -> MultibodyPlant:
-    """A continuous plant of the arm alone (plus its gripper), base welded at the origin.
+def make_control_plant(
+    robot: RobotConfig, gravity: Sequence[float], payloads: Sequence[ModelConfig] = ()
+) -> MultibodyPlant:
+    """A continuous plant of the arm alone (plus its gripper and the ``payloads`` hung on
+    them: model entries whose ``parent`` is one of their links), base welded at the origin.
 
     Used for inverse dynamics and differential IK. The pedestal only translates
     and yaws the base, so ``gravity`` (the factory's, in world) is rotated into
@@ -139,6 +143,7 @@ def make_control_plant(robot: RobotConfig, gravity: Sequence[float]) -> Multibod
     plant.mutable_gravity_field().set_gravity_vector(base_pose(robot).rotation().inverse() @ g_W)
     arm, _ = add_arm_models(Parser(plant), robot)
     plant.WeldFrames(plant.world_frame(), plant.GetFrameByName(f"{robot.name}_base_link", arm))
+    add_described_models(Parser(plant), list(payloads))
     plant.Finalize()
     return plant
 
@@ -211,6 +216,8 @@ def add_arm_controller(
     arm: ModelInstanceIndex,
     robot: RobotConfig,
     gravity: Sequence[float],
+    *,
+    payloads: Sequence[ModelConfig] = (),
 ) -> tuple[CommandSampler, Diagram, MultibodyPlant]:
     """Adds the position servo of one arm and connects it to ``plant``.
 
@@ -229,7 +236,7 @@ def add_arm_controller(
     long as the diagram: the servo only refers to it (pydrake does not keep it
     alive; a collected plant crashes the simulation).
     """
-    control_plant = make_control_plant(robot, gravity)
+    control_plant = make_control_plant(robot, gravity, payloads)
     n = control_plant.num_positions()
     if robot.ki > 0:
         servo: Diagram = InverseDynamicsController(

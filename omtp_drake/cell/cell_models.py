@@ -26,7 +26,7 @@ from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.cell.parts import parking_pose
 from omtp_drake.cell.spawned_objects import object_part_urdf
 from omtp_drake.errors import ConfigError
-from omtp_drake.scenario import RobotConfig, Scenario
+from omtp_drake.scenario import ModelConfig, RobotConfig, Scenario
 from omtp_drake.scenario.configs import pose6
 from omtp_drake.scenario.conveyor_spawner import pool_kinds
 
@@ -56,6 +56,9 @@ class ArmHandles:
     #: The servo (computed torque; with ``ki > 0`` a PID whose integral is its
     #: continuous state).
     controller: Optional[Diagram] = None
+    #: What the student hung on the arm or its gripper (model entries with a ``parent``):
+    #: in the servo's model too, so it carries their weight as the plant does.
+    payloads: list[ModelConfig] = field(default_factory=list)
 
 
 @dataclass
@@ -109,7 +112,13 @@ def add_cell_models(
     _add_extra_frames(plant, scenario)
     pieces = _own_pieces(scenario)
     described = add_described_models(parser, [m for m in scenario.models if m.name not in pieces])
-    _filter_robot_collisions(plant, scene_graph, arm_handles)
+    hung = _hung(plant, scenario, described)
+    _filter_robot_collisions(plant, scene_graph, arm_handles, hung)
+    by_name = {m.name: m for m in scenario.models}
+    for handles in arm_handles.values():
+        on_arm = [handles.arm] + ([handles.gripper] if handles.gripper else [])
+        names = {plant.GetModelInstanceName(h) for i in on_arm for h in hung.get(i, [])}
+        handles.payloads = [by_name[n] for n in names]
     if conveyor is not None:
         fixed = [floor, *bins.values(), *(h.pedestal for h in arm_handles.values())]
         _filter_belt_collisions(plant, scene_graph, conveyor, fixed)
@@ -284,14 +293,31 @@ def _filter_belt_collisions(
     )
 
 
+def _hung(
+    plant: MultibodyPlant, scenario: Scenario, described: dict[str, ModelInstanceIndex]
+) -> dict[ModelInstanceIndex, list[ModelInstanceIndex]]:
+    """The described models hung on a link of another model (``parent``), by that model."""
+    hung: dict[ModelInstanceIndex, list[ModelInstanceIndex]] = {}
+    for model in scenario.models:
+        if model.parent and model.name in described:
+            owner = plant.GetFrameByName(model.parent).body().model_instance()
+            hung.setdefault(owner, []).append(described[model.name])
+    return hung
+
+
 def _filter_robot_collisions(
-    plant: MultibodyPlant, scene_graph: SceneGraph, arm_handles: dict[str, ArmHandles]
+    plant: MultibodyPlant,
+    scene_graph: SceneGraph,
+    arm_handles: dict[str, ArmHandles],
+    hung: dict[ModelInstanceIndex, list[ModelInstanceIndex]],
 ) -> None:
-    """No contact between the links of one arm, its gripper and its pedestal."""
+    """No contact between the links of one arm, its gripper, its pedestal and what the
+    student hung on them (``hung``: a camera on the wrist is clamped there, as one robot)."""
     inspector = scene_graph.model_inspector()
     for handles in arm_handles.values():
         geometries = []
         instances = [handles.arm, handles.pedestal] + ([handles.gripper] if handles.gripper else [])
+        instances += [h for i in list(instances) for h in hung.get(i, [])]
         for instance in instances:
             for body_index in plant.GetBodyIndices(instance):
                 frame_id = plant.GetBodyFrameIdOrThrow(body_index)

@@ -247,8 +247,12 @@ def _apply_gazebo_tags(root: ET.Element, model: ModelConfig) -> None:
 
 def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex) -> None:
     """A model not fixed by its own description: its root link welded at the model's pose
-    when static, else starting there (floating). An SDF ``<static>`` model Drake welds itself."""
+    when static, else starting there (floating); one hung on a ``parent`` frame of the
+    cell, welded there (:func:`_hang`). An SDF ``<static>`` model Drake welds itself."""
     root = ET.fromstring(model.description)
+    if model.parent:
+        _hang(plant, model, instance, root)
+        return
     base = _root_link(root, model.format)
     if base is None:
         return
@@ -261,6 +265,27 @@ def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceInd
         plant.WeldFrames(plant.world_frame(), body.body_frame(), X_WL)
     elif model.format == "urdf":  # (an SDF model's free bodies Drake placed from its <pose>)
         plant.SetDefaultFloatingBaseBodyPose(body, X_WL)
+
+
+def _hang(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex, root: ET.Element) -> None:
+    """Each link of ``model`` no joint moves, welded to its ``parent`` frame of the cell
+    (a link of a course piece: they move with it) at the model's pose in that frame."""
+    if not plant.HasFrameNamed(model.parent):
+        raise WorkspaceError(
+            f"{model.file}: model {model.name!r} hangs on {model.parent!r}; the cell has no such frame"
+        )
+    parent = plant.GetFrameByName(model.parent)
+    element = root.find("model") if model.format == "sdf" else root
+    if element is None:
+        return
+    X_PM = model_pose(model) @ _sdf_pose(element.findtext("pose") if model.format == "sdf" else None)
+    children = {c.get("link") for c in element.findall("joint/child")}  # (URDF)
+    children |= {(c.text or "").strip() for c in element.findall("joint/child")}  # (SDF)
+    for link in element.findall("link"):
+        name = link.get("name", "")
+        if name not in children:
+            X_ML = _sdf_pose(link.findtext("pose")) if model.format == "sdf" else RigidTransform()
+            plant.WeldFrames(parent, plant.GetBodyByName(name, instance).body_frame(), X_PM @ X_ML)
 
 
 def _add_model_frame(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex) -> None:

@@ -16,6 +16,8 @@ plant model instance(s)        Gazebo model
 ``floor``                      ``workcell_`` (the factory hall's mesh)
 ``conveyor``                   ``conveyor_belt``, nesting ``conveyor_belt_fixed`` and
                                ``conveyor_belt_moving``
+a model hung on a link         the model of that link (a student's camera bracket on
+(``ModelConfig.parent``)       ``robot1_wrist_3_link`` is part of ``robot1``)
 anything else                  its own name (``deletion_wall``, ``logical_camera_1``,
                                ``object_3``...)
 =============================  =====================================================
@@ -33,6 +35,7 @@ plant's order. :func:`gazebo_models` is the one place this naming lives.
 
 from __future__ import annotations
 
+import dataclasses
 import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Optional
@@ -124,6 +127,8 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
     bins = {b.name for b in scenario.bins}
     robots = {r.name for r in scenario.robots}
     pedestals = {f"{r}_pedestal" for r in robots}
+    #: Links the student hung on a piece's link are that piece's model's in Gazebo.
+    hung = {m.name: m.parent for m in scenario.models if m.parent}
     by_name: dict[str, GazeboModel] = {}
     for i in range(2, plant.num_model_instances()):  # 0, 1: world and default
         instance = ModelInstanceIndex(i)
@@ -134,6 +139,9 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
         elif name in bins or name in pedestals:
             origin = None if name in bins else RigidTransform()
             by_name[f"{name}_"] = GazeboModel(f"{name}_", (instance,), origin)
+        elif name in hung and _owner(plant, by_name, hung[name]) is not None:
+            owner = by_name[_owner(plant, by_name, hung[name]) or ""]
+            by_name[owner.name] = dataclasses.replace(owner, instances=(*owner.instances, instance))
         elif name == "break_beam":
             by_name["break_beam_"] = GazeboModel("break_beam_", (instance,), break_beam_origin(scenario))
         elif name == "floor":
@@ -159,6 +167,12 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
     order = sorted(range(len(by_name)), key=lambda k: _rank(list(by_name)[k], spawned) + (k,))
     models = list(by_name.values())
     return tuple(models[k] for k in order)
+
+
+def _owner(plant: MultibodyPlant, by_name: dict[str, GazeboModel], frame: str) -> Optional[str]:
+    """The Gazebo model (listed so far) of the body of ``frame``."""
+    instance = plant.GetFrameByName(frame).body().model_instance()
+    return next((name for name, model in by_name.items() if instance in model.instances), None)
 
 
 def break_beam_origin(scenario: Scenario) -> RigidTransform:

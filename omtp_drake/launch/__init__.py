@@ -20,10 +20,11 @@ Modules (one job each):
 - ``controller_spawners``: controller_manager's spawners: which controllers start on which robot
 - ``urdf_model``: a URDF's links as frames (joint tree, link poses) and its <gazebo> tags
 - ``pieces``: the course's pieces in a spawned URDF: arms, grippers, pedestals, bins, the beam
-- ``own_links``: the links a student added beside those pieces (a shelf), loaded as written
+- ``own_links``: links a student added beside or on those pieces (a shelf, a wrist camera), as written
 - ``mesh_bins``: a bin of mesh collisions (the course's own), measured and kept open
 - ``sdf_world``: a Gazebo world's models (includes by model://, poses, names), checked by Drake's parser
 - ``world_pieces``: the course's pieces in a world's models: cameras, the belt, the deletion wall
+- ``world_additions``: what a student added to the belt's or the wall's model (a tray), loaded as written
 - ``plugins``: the course's Gazebo plugins and their parameters, as the cell's systems take them
 - ``description``: the robot description a launch loads (``view --launch``, as rviz shows it)
 - ``standins``: the project's stand-ins for the packages the course's files need and no student has

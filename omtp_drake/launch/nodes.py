@@ -282,6 +282,7 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
             own = out.pieces.own.pop(0)
             entry = _own_model(own.text, own.where, workspace, own.name, own.pose, static=own.static)
             entry.open_links = list(own.open_links)
+            entry.parent = own.parent  # (a link of the cell's arm or gripper: it hangs there)
             out.world.models.append(entry)
         out.placed[r.name] = {link: X_WM @ X_ML for link, X_ML in urdf.link_poses(r.joints).items()}
         return

@@ -9,12 +9,19 @@ collisions, inertia, Gazebo materials and friction), each fixed where the file's
 chain puts it, as one model entry of the scenario (:class:`~omtp_drake.scenario.ModelConfig`,
 the path ``--robot`` and the world's own models take).
 
-A piece's links are the links named with its prefix (``robot1_``, ``vacuum_gripper1_``,
-``bin_2_``, ``break_beam_``; the course's macros prefix every link they make) and the
-workcell's ``workcell`` link. Only links that stand still are loaded: fixed to the
-model's root link by fixed joints, or in a model Gazebo holds ``<static>``. A link the
-student hung on a moving joint of a course piece (a camera mount on an arm's wrist) is
-one warning line: the cell's arm is its own model, built from the catalogue.
+A piece's links (:class:`Claims`) are those the course's macros give it, with its prefix
+(an arm's ``robot1_base_link`` ... ``robot1_tool0``, a gripper's ``vacuum_gripper1_base_link``
+and ``_suction_cup``, ``robot1_pedestal_link``, the beam's ``break_beam_base_link``,
+``_optical_link``, ``_world_interface``; every ``bin_2_`` link of a bin, which is loaded
+with them) and the workcell's ``workcell`` link: a ``robot1_camera_link`` of the student's
+is theirs. Links that stand still (fixed to the model's root link by
+fixed joints, or in a model Gazebo holds ``<static>``) are fixed to the world. Links the
+student hung by fixed joints on a link of a course piece that moves (a camera mount on an
+arm's wrist, a plate on the vacuum gripper) are a :class:`Mount`: loaded as written and
+welded to the cell's body of that link (the cell builds the arm and gripper from its
+catalogue, with the course's link names) at the pose the file's joints give, so they move
+with it and weigh on it. A link on a moving joint of its own below a piece is one warning
+line (the cell adds no joints to its arms).
 """
 
 from __future__ import annotations
@@ -22,10 +29,11 @@ from __future__ import annotations
 import copy
 import xml.etree.ElementTree as ET
 from collections.abc import Iterable
+from dataclasses import dataclass
 
 from pydrake.math import RigidTransform, RollPitchYaw
 
-from omtp_drake.launch.urdf_model import UrdfModel
+from omtp_drake.launch.urdf_model import UrdfJoint, UrdfModel
 
 #: The workcell's own link (the hall's mesh: the cell's floor and conveyor stand for it).
 WORKCELL_LINK = "workcell"
@@ -46,25 +54,113 @@ def is_static(model: UrdfModel) -> bool:
     return False
 
 
-def own_links(model: UrdfModel, prefixes: Iterable[str], where: str) -> tuple[list[str], list[str]]:
-    """The links of ``model`` no recognised piece (``prefixes``) claims that carry geometry
-    and stand still; and the warning lines of those that move (not loaded)."""
-    prefixes = tuple(p for p in prefixes if p)
-    mine = [
-        link
-        for link in model.links
-        if link not in ("world", WORKCELL_LINK)
-        and not link.startswith(prefixes)
-        and has_geometry(model, link)
-    ]
+@dataclass(frozen=True)
+class Claims:
+    """The links the recognised pieces take as their own: by name (the links the course's
+    macros give an arm, a gripper, a pedestal, the beam) or by prefix (a bin's: the bin is
+    loaded with all of them); ``world`` and the workcell's link always."""
+
+    names: frozenset[str] = frozenset()
+    prefixes: tuple[str, ...] = ()
+
+    def __contains__(self, link: object) -> bool:
+        return isinstance(link, str) and (
+            link in ("world", WORKCELL_LINK) or link in self.names or link.startswith(self.prefixes)
+        )
+
+
+def _as_claims(claims: Claims | Iterable[str]) -> Claims:
+    """``claims`` itself, or the claims of the link prefixes ``claims``."""
+    return claims if isinstance(claims, Claims) else Claims(prefixes=tuple(p for p in claims if p))
+
+
+def own_links(model: UrdfModel, claims: Claims | Iterable[str], where: str) -> tuple[list[str], list[str]]:
+    """The links of ``model`` no recognised piece claims (``claims``, or link prefixes)
+    that carry geometry and stand still; and the warning lines of those on a moving joint
+    of their own (the links that move with a piece are :func:`mounts`)."""
+    prefixes = _as_claims(claims)
+    mine = [link for link in model.links if not _claimed(link, prefixes) and has_geometry(model, link)]
     still = set(model.links) if is_static(model) else set(model.static_links())
+    mounted = {link for mount in mounts(model, prefixes) for link in mount.links}
     warnings = [
-        f"{where}: link {link!r} moves with a course piece's joints; not loaded "
-        "(the cell builds the course's arms from its catalogue)"
+        f"{where}: link {link!r} moves on a joint of its own ({_own_joint(model, link, prefixes)!r}); "
+        "not loaded (the cell adds no joints to the course's pieces)"
         for link in mine
-        if link not in still
+        if link not in still and link not in mounted
     ]
     return [link for link in mine if link in still], warnings
+
+
+def _claimed(link: str, claims: Claims) -> bool:
+    return link in claims
+
+
+def _parent_joint(model: UrdfModel, link: str) -> UrdfJoint | None:
+    return next((j for j in model.joints.values() if j.child == link), None)
+
+
+def _own_joint(model: UrdfModel, link: str, prefixes: Claims) -> str:
+    """The nearest moving joint above ``link`` that is not a piece's own."""
+    joint = _parent_joint(model, link)
+    while joint is not None and joint.type == "fixed" and not _claimed(joint.parent, prefixes):
+        joint = _parent_joint(model, joint.parent)
+    return joint.name if joint is not None else ""
+
+
+@dataclass(frozen=True)
+class Mount:
+    """Links a student hung by fixed joints on ``parent``, a moving link of a course piece."""
+
+    root: str  # the topmost of them (its joint's parent is ``parent``)
+    parent: str
+    links: tuple[str, ...]  # ``root`` and the links fixed below it, in the file's order
+    X_PR: RigidTransform  # ``root`` in ``parent``, from the file's joint
+
+
+def mounts(model: UrdfModel, claims: Claims | Iterable[str]) -> list[Mount]:
+    """The student's links fixed (through fixed joints) to a link of a course piece
+    (``claims``, or link prefixes) that moves, one :class:`Mount` per link hung on it."""
+    prefixes = _as_claims(claims)
+    still = set(model.links) if is_static(model) else set(model.static_links())
+    found = []
+    for joint in model.joints.values():
+        if joint.type != "fixed" or joint.parent in still or not _claimed(joint.parent, prefixes):
+            continue
+        if _claimed(joint.child, prefixes):
+            continue
+        below, stack = {joint.child}, [joint.child]
+        while stack:
+            parent = stack.pop()
+            for j in model.joints.values():
+                if j.parent == parent and j.type == "fixed" and not _claimed(j.child, prefixes):
+                    below.add(j.child)
+                    stack.append(j.child)
+        links = tuple(link for link in model.links if link in below)
+        found.append(Mount(joint.child, joint.parent, links, joint.X_PJ))
+    return found
+
+
+def mount_urdf(model: UrdfModel, mount: Mount, name: str) -> str:
+    """A URDF of ``mount``'s links as ``model`` writes them, the fixed joints between them
+    and their ``<gazebo reference>`` tags (its root is welded to the piece by the cell)."""
+    return _subset_urdf(model, set(mount.links), name)
+
+
+def _subset_urdf(model: UrdfModel, wanted: set[str], name: str) -> str:
+    """A URDF named ``name`` of the links ``wanted`` as ``model`` writes them, the joints
+    between them and their ``<gazebo reference>`` tags, in the file's order."""
+    root = model.root_element if model.root_element is not None else ET.Element("robot")
+    out = ET.Element("robot", name=name)
+    for element in root:
+        if element.tag == "link" and element.get("name") in wanted:
+            out.append(copy.deepcopy(element))
+        elif element.tag == "joint" and element.get("name") in model.joints:
+            joint = model.joints[element.get("name", "")]
+            if joint.parent in wanted and joint.child in wanted:
+                out.append(copy.deepcopy(element))
+        elif element.tag == "gazebo" and element.get("reference") in wanted:
+            out.append(copy.deepcopy(element))
+    return ET.tostring(out, encoding="unicode")
 
 
 def own_links_urdf(
@@ -102,7 +198,6 @@ def own_links_urdf(
 def piece_urdf(model: UrdfModel, root_link: str, prefix: str, name: str) -> str:
     """A URDF of the piece at ``root_link``: the links below it named with ``prefix`` and
     the joints between them, as ``model`` writes them (``<gazebo reference>`` tags too)."""
-    root = model.root_element if model.root_element is not None else ET.Element("robot")
     keep, stack = {root_link}, [root_link]
     while stack:
         parent = stack.pop()
@@ -110,17 +205,7 @@ def piece_urdf(model: UrdfModel, root_link: str, prefix: str, name: str) -> str:
             if joint.parent == parent and joint.child.startswith(prefix) and joint.child not in keep:
                 keep.add(joint.child)
                 stack.append(joint.child)
-    out = ET.Element("robot", name=name)
-    for element in root:
-        if element.tag == "link" and element.get("name") in keep:
-            out.append(copy.deepcopy(element))
-        elif element.tag == "joint" and element.get("name") in model.joints:
-            joint = model.joints[element.get("name", "")]
-            if joint.parent in keep and joint.child in keep:
-                out.append(copy.deepcopy(element))
-        elif element.tag == "gazebo" and element.get("reference") in keep:
-            out.append(copy.deepcopy(element))
-    return ET.tostring(out, encoding="unicode")
+    return _subset_urdf(model, keep, name)
 
 
 def bin_walls(model: UrdfModel, link: str) -> list[float] | None:

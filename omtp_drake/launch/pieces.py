@@ -30,7 +30,15 @@ from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
-from omtp_drake.launch.own_links import bin_walls, own_links, own_links_urdf, piece_urdf
+from omtp_drake.launch.own_links import (
+    Claims,
+    bin_walls,
+    mount_urdf,
+    mounts,
+    own_links,
+    own_links_urdf,
+    piece_urdf,
+)
 from omtp_drake.launch.plugins import check_break_beam, plugins_in, suction_checks
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import RobotConfig
@@ -40,6 +48,17 @@ UR_UPPER_ARMS = {"ur10": 0.612, "ur5": 0.425}
 _TOL = 1e-3
 #: The plugins a spawned URDF's pieces carry (read where their pieces are read).
 URDF_PLUGINS = ("suction", "break_beam", "controllers")
+#: The links the course's macros give each piece, after its prefix (ur_description's arms,
+#: Melodic's and later; omtp_support's gripper, pedestal, break beam): the pieces' own.
+PIECE_LINKS = {
+    "arm": (
+        "base_link", "base", "base_link_inertia", "shoulder_link", "upper_arm_link", "forearm_link",
+        "wrist_1_link", "wrist_2_link", "wrist_3_link", "ee_link", "flange", "tool0",
+    ),
+    "gripper": ("base_link", "suction_cup"),
+    "pedestal": ("pedestal_link",),
+    "break_beam": ("world_interface", "base_link", "optical_link"),
+}  # fmt: skip
 
 
 @dataclass
@@ -72,10 +91,12 @@ class OwnModel:
     name: str
     text: str  # the URDF
     where: str
-    pose: list[float]  # x y z R P Y in the world
+    pose: list[float]  # x y z R P Y in the world (in ``parent``, when it has one)
     static: bool = True
     #: Links whose collision meshes load as convex pieces (a mesh bin: ModelConfig.open_links).
     open_links: tuple[str, ...] = ()
+    #: The link of a course piece it is welded to (it moves with it); '' for the world.
+    parent: str = ""
 
 
 def add_urdf_model(
@@ -85,15 +106,15 @@ def add_urdf_model(
     spawn_model's ``-J``), and the links the student added beside them, as written;
     False when it is none of the course's pieces (the caller loads it as it is)."""
     X_M = model.link_poses()
-    prefixes = _piece_prefixes(pieces, model, X_WM, X_M, where, joints, name)
-    if prefixes is None:
+    claims = _piece_prefixes(pieces, model, X_WM, X_M, where, joints, name)
+    if claims is None:
         return False  # loaded as it is: its own plugins are its model's (scenario.gazebo_tags)
     for reference, element in model.gazebo:
         for plugin in plugins_in(element, where, reference):
-            if plugin.kind not in URDF_PLUGINS:
+            if plugin.kind not in URDF_PLUGINS and not _loaded_with(model, reference, claims):
                 pieces.warnings.append(plugin.unknown_line())
     pieces.models.append((model, X_WM))
-    links, lines = own_links(model, prefixes, where)
+    links, lines = own_links(model, claims, where)
     pieces.warnings += lines
     if links:
         # Named as the spawned model (a piece's own name taken: ``<name>_links``).
@@ -101,29 +122,46 @@ def add_urdf_model(
         pieces_names = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
         own = f"{own}_links" if own in pieces_names else own
         pieces.own.append(OwnModel(own, own_links_urdf(model, links, X_WM, joints, own), where, [0.0] * 6))
+    for mount in mounts(model, claims):  # on an arm or gripper: welded to the cell's link
+        taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
+        own = mount.root if mount.root not in taken else f"{mount.root}_model"
+        pose = [*mount.X_PR.translation(), *RollPitchYaw(mount.X_PR.rotation()).vector()]
+        text = mount_urdf(model, mount, own)
+        pieces.own.append(OwnModel(own, text, where, [float(v) for v in pose], parent=mount.parent))
     for link in model.static_links():
         if link != "world" and link not in links:  # (world: Gazebo's name for the world itself)
             pieces.frames.setdefault(link, X_WM @ X_M[link])
     return True
 
 
+def _loaded_with(model: UrdfModel, link: str, claims: Claims) -> bool:
+    """Whether the student's ``link`` is loaded as written (its sensors with it)."""
+    own, _ = own_links(model, claims, "")
+    return link in own or any(link in m.links for m in mounts(model, claims))
+
+
 def _piece_prefixes(
     pieces: Pieces, model: UrdfModel, X_WM, X_M, where: str, joints: dict, name: str
-) -> list[str] | None:
-    """Adds the course's pieces found in ``model``; the prefixes of their links ('' for
-    the workcell's), or None when there are none."""
-    prefixes: list[str] = []
+) -> Claims | None:
+    """Adds the course's pieces found in ``model``; the links they claim (the course's
+    links of each piece, every link of a bin), or None when there are none."""
+    names: list[str] = []
+    prefixes: list[str] = []  # (a bin's: loaded with all its links)
+    found = False
     for joint in model.joint_names():
         if joint.endswith("shoulder_pan_joint"):
             prefix = joint[: -len("shoulder_pan_joint")]
             _add_robot(pieces, model, prefix, X_WM, X_M, where, joints)
-            prefixes += [prefix, *_gripper_prefixes(model, prefix)]
+            names += [prefix + link for link in PIECE_LINKS["arm"]]
+            for gripper in _gripper_prefixes(model, prefix):
+                names += [gripper + link for link in PIECE_LINKS["gripper"]]
+            found = True
     for link in model.links:
         if link.endswith("pedestal_link"):
             prefix = link[: -len("pedestal_link")]
             height = _box_height(model, link, where)
             pieces.pedestals[prefix] = ((X_WM @ X_M[link]).translation(), height, where)
-            prefixes.append(prefix)
+            names += [prefix + link for link in PIECE_LINKS["pedestal"]]
             # As the student's file writes it (the cell's arm stands on it: pedestal_model).
             name = f"{prefix.rstrip('_')}_pedestal"
             pieces.own.append(
@@ -135,10 +173,11 @@ def _piece_prefixes(
             prefixes.append(prefix)
         elif link.endswith("optical_link"):
             _add_break_beam(pieces, model, link, X_WM @ X_M[link], where)
-            prefixes.append(link[: -len("optical_link")])
-        elif link == "workcell":
-            prefixes.append("")
-    return prefixes if prefixes else None
+            names += [link[: -len("optical_link")] + suffix for suffix in PIECE_LINKS["break_beam"]]
+        elif link != "workcell":
+            continue
+        found = True
+    return Claims(frozenset(names), tuple(p for p in prefixes if p)) if found else None
 
 
 def _bin(
@@ -176,7 +215,9 @@ def _gripper_prefixes(model: UrdfModel, prefix: str) -> list[str]:
     return [
         j.child[: -len("base_link")]
         for j in model.joints.values()
-        if j.parent == tool and j.child.endswith("base_link")
+        if j.parent == tool
+        and j.child.endswith("base_link")
+        and j.child[: -len("base_link")] + "suction_cup" in model.links
     ]
 
 

@@ -6,8 +6,9 @@ A model with a ROSLogicalCameraPlugin and a ``logical_camera`` sensor is a camer
 named as Gazebo names the plugin's parent (the model's name in the world), at the
 model's pose; a ROSConveyorBeltPlugin is the belt (the conveyor stands where its
 ``link`` puts it: the course's place, or where the student moved and turned it); an
-ObjectDisposalPlugin is the deletion wall (where the model stands). Any other plugin is
-one warning line; its model is loaded all the same.
+ObjectDisposalPlugin is the deletion wall (where the model stands); what the student
+added to those two models is loaded as written (:mod:`~omtp_drake.launch.world_additions`).
+Any other plugin is one warning line; its model is loaded all the same.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import check_deletion_wall, conveyor_power, logical_camera
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
+from omtp_drake.launch.world_additions import additions
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.workspace import Workspace
 
@@ -91,8 +93,29 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             pieces.warnings.append(plugin.unknown_line())
             continue
         known = True
+        # What the student added to it, as written, on the cell's body of the piece.
+        own, lines = additions(model, kind, workspace, _piece_body(pieces, kind))
+        pieces.warnings += lines
+        pieces.models += [own] if own is not None else []
     if not known:
         pieces.models.append(model_config(model, workspace))
+
+
+def _piece_body(pieces: WorldPieces, kind: str | None) -> tuple[str, RigidTransform] | None:
+    """The cell's body of the piece ``kind`` just added and where the cell welds it."""
+    if kind == "conveyor" and pieces.conveyor is not None:
+        c = pieces.conveyor
+        if "xyz" not in c:
+            return "conveyor_base", X_W_CONVEYOR
+        return "conveyor_base", RigidTransform(
+            RollPitchYaw(c.get("roll", 0.0), c.get("pitch", 0.0), c["yaw"]), c["xyz"]
+        )
+    if kind == "deletion_wall":
+        moved = pieces.deletion_wall_pose
+        return "deletion_wall", RigidTransform(
+            RollPitchYaw(moved[3:]), moved[:3]
+        ) if moved else X_W_DELETION_WALL
+    return None
 
 
 def _moved(X_WA: RigidTransform, X_WC: RigidTransform, tol: float = _TOL) -> bool:

@@ -43,6 +43,9 @@ class ModelConfig:
     #: Welded where it stands (Gazebo's ``<static>``); a URDF with a ``world`` link is
     #: fixed by its own joint.
     static: bool = False
+    #: A frame of the cell the model is welded to (a link of a course piece: it moves with
+    #: it); ``xyz``/``rpy`` are then its pose in that frame. '' for the world.
+    parent: str = ""
     #: package or Gazebo model name -> folder, for ``package://`` and ``model://``.
     packages: dict[str, str] = field(default_factory=dict)
     gazebo: GazeboExtensions = field(default_factory=GazeboExtensions)

@@ -1,0 +1,136 @@
+"""What a student added to a course model of their world, loaded as it is written.
+
+The cell builds the conveyor and the deletion wall from its catalogue where the world's
+model (recognised by its plugin, :mod:`omtp_drake.launch.world_pieces`) puts them. What
+the student added to such a ``<model>`` is not dropped: a link the course's model does
+not have (a guard rail beside the belt), and a visual or collision the course's link
+does not have (a bigger plate on the deletion wall), are one model entry of the scenario
+(:class:`~omtp_drake.scenario.ModelConfig`, loaded by Drake's Parser as the file writes
+them: geometry, inertia, materials, friction), named ``<model>_own``, welded where the file
+puts them to the cell's body of the piece (``ModelConfig.parent``: ``conveyor_base``,
+``deletion_wall``), so they are part of its Gazebo model (what the logical cameras list).
+
+They are loaded when they stand still in Gazebo: a link of a ``<static>`` model (the
+wall, the conveyor's ``conveyor_belt_fixed``), or one a ``fixed`` joint holds to such a
+link. One that would move (a free link of the conveyor's top model, a link on a moving
+joint, geometry on the moving ``belt``) is one warning line: the cell's belt is its own
+body, and it adds no joints to the course's pieces.
+"""
+
+from __future__ import annotations
+
+import copy
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from pydrake.math import RigidTransform, RollPitchYaw
+
+from omtp_drake.launch.sdf_world import WorldModel, model_text, sdf_pose
+from omtp_drake.scenario import ModelConfig
+from omtp_drake.scenario.models import model_from_text
+from omtp_drake.workspace import Workspace
+
+#: The links of the course's models (``omtp_gazebo/models/*/model.sdf``), by the plugin
+#: that makes them a piece, with the visuals and collisions the course gives them: the
+#: catalogue builds these.
+COURSE_LINKS: dict[str, dict[str, tuple[str, ...]]] = {
+    "conveyor": {
+        "conveyor_belt_fixed::link": (),
+        "conveyor_belt_moving::belt": ("belt_collision", "belt_visual"),
+    },
+    "deletion_wall": {"sensing_link": ("collision", "visual")},
+}
+_GEOMETRY = ("visual", "collision")
+
+
+def additions(
+    model: WorldModel, kind: str | None, workspace: Workspace, body: tuple[str, RigidTransform] | None
+) -> tuple[ModelConfig | None, list[str]]:
+    """The model entry of what the student added to ``model`` (a course piece of ``kind``;
+    None: nothing), hung on ``body`` (the cell's body of the piece and its pose in world),
+    and the warning lines of what is not loaded (see module doc)."""
+    course = COURSE_LINKS.get(kind or "")
+    if course is None or body is None:
+        return None, []
+    links = _links(model.element, "", RigidTransform(), model.static)
+    still = {path for path, (_, _, static) in links.items() if static}
+    still |= _held(model.element, still)
+    out = ET.Element("model", name=f"{model.name}_own")  # (no <static>: the cell welds it to ``body``)
+    warnings = []
+    for path, (link, X_ML, _) in links.items():
+        own = link.get("name", "")
+        if path in course:
+            extras = [c for c in link if c.tag in _GEOMETRY and c.get("name") not in course[path]]
+            if not extras:
+                continue
+            kept = ET.Element("link", name=f"{path.replace('::', '_')}_own")
+            kept.extend(copy.deepcopy(c) for c in extras)
+            what = f"{', '.join(c.get('name', '') for c in extras)} of the course's link {path!r}"
+        else:
+            kept = copy.deepcopy(link)
+            for pose in kept.findall("pose"):
+                kept.remove(pose)
+            what = f"link {path!r}"
+        if path not in still:
+            warnings.append(
+                f"{model.where}: {what} of model {model.name!r} moves (not static, no fixed joint to a "
+                "static link); not loaded (the cell builds the course's moving parts from its catalogue)"
+            )
+            continue
+        kept.set("name", kept.get("name") or own)
+        xyz, rpy = X_ML.translation(), RollPitchYaw(X_ML.rotation()).vector()
+        pose = ET.Element("pose")
+        pose.text = " ".join(repr(float(v)) for v in [*xyz, *rpy])
+        kept.insert(0, pose)
+        out.append(kept)
+    if out.find("link") is None:
+        return None, warnings
+    folder = model.folder or Path(model.where.split(":")[0]).parent
+    parent, X_WP = body
+    X_PM = X_WP.inverse() @ model.X_WM
+    xyz, rpy = X_PM.translation(), RollPitchYaw(X_PM.rotation()).vector()
+    entry = model_from_text(
+        model_text(out, model.version, folder),
+        model.where,
+        workspace,
+        name=out.get("name", ""),
+        xyz=(float(xyz[0]), float(xyz[1]), float(xyz[2])),
+        rpy=(float(rpy[0]), float(rpy[1]), float(rpy[2])),
+        static=True,
+    )
+    entry.parent = parent
+    return entry, warnings
+
+
+def _links(
+    element: ET.Element, prefix: str, X_MN: RigidTransform, static: bool
+) -> dict[str, tuple[ET.Element, RigidTransform, bool]]:
+    """``path -> (link, X_ML, static)`` of the model ``element``'s links, its nested
+    models' too (``nested::link``), posed in the top model's frame."""
+    found = {}
+    for link in element.findall("link"):
+        X_NL = sdf_pose(link.findtext("pose"), "")
+        found[prefix + link.get("name", "")] = (link, X_MN @ X_NL, static)
+    for nested in element.findall("model"):
+        X_MC = X_MN @ sdf_pose(nested.findtext("pose"), "")
+        nested_static = static or (nested.findtext("static") or "").strip() in ("true", "1")
+        found.update(_links(nested, f"{prefix}{nested.get('name', '')}::", X_MC, nested_static))
+    return found
+
+
+def _held(element: ET.Element, still: set[str]) -> set[str]:
+    """The links a ``fixed`` joint of the top model holds (through others) to a link in ``still``."""
+    joints = [
+        ((j.findtext("parent") or "").strip(), (j.findtext("child") or "").strip())
+        for j in element.findall("joint")
+        if j.get("type") == "fixed"
+    ]
+    held: set[str] = set()
+    grew = True
+    while grew:
+        grew = False
+        for parent, child in joints:
+            if (parent in still or parent in held) and child not in still | held:
+                held.add(child)
+                grew = True
+    return held

@@ -1,0 +1,138 @@
+"""What a student adds to a course model of their world is loaded as written: the group's
+workspace (tests/fixtures/group_ws) with their conveyor model holding a tray beside the belt
+(tests/fixtures/rail_edits, the course's layout: a link in the static ``conveyor_belt_fixed``).
+The conveyor is still the course's belt (its plugin recognised); the tray is a body where
+the world's include and the model's poses put it, and a part dropped on it stays there."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from omtp_drake.cli import main
+from omtp_drake.launch import own_cell
+
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory) -> Path:
+    src = tmp_path_factory.mktemp("rail_ws") / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    shutil.copytree(FIXTURES / "rail_edits", src, dirs_exist_ok=True)
+    return src
+
+
+@pytest.fixture(scope="module")
+def cell(workspace):
+    return own_cell(LAUNCH, workspace=[workspace], environ={})
+
+
+def _X(x: float, y: float, z: float, yaw: float) -> np.ndarray:
+    X = np.eye(4)
+    X[:3, :3] = [[np.cos(yaw), -np.sin(yaw), 0], [np.sin(yaw), np.cos(yaw), 0], [0, 0, 1]]
+    X[:3, 3] = [x, y, z]
+    return X
+
+
+#: The tray in world, from the files' numbers: the world's <include> pose of the conveyor
+#: (1.2 5 0, yaw -1.5708) and the tray link's <pose> in the static nested model (2 0.6 0.9, yaw 0.1).
+X_W_TRAY = _X(1.2, 5.0, 0.0, -1.5708) @ _X(2.0, 0.6, 0.9, 0.1)
+TRAY_TOP = 0.9 + 0.02
+
+
+def test_their_tray_is_a_model_of_their_cell_and_the_belt_stays_the_courses(cell):
+    models = {m.name: m for m in cell.scenario.models}
+    tray = models["conveyor_belt_own"]
+    assert tray.static and tray.format == "sdf"
+    sdf = ET.fromstring(tray.description)
+    assert [link.get("name") for link in sdf.iter("link")] == ["reject_tray"]
+    assert sdf.find(".//link/collision/geometry/box/size").text == "1.0 0.5 0.04"
+    # The course's pieces of the same world: the belt, the wall, the cameras.
+    assert cell.scenario.conveyor is not None and cell.scenario.deletion_wall
+    assert not [w for w in cell.warnings if "reject_tray" in w], cell.warnings
+
+
+@pytest.fixture(scope="module")
+def runtime(cell):
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    runtime = FactoryRuntime(cell.scenario, auto_spawn=False)
+    yield runtime
+    runtime.close()
+
+
+def test_their_tray_stands_where_the_world_puts_it_and_holds_a_part(runtime):
+    from pydrake.math import RigidTransform
+
+    plant = runtime.station.plant
+    context = plant.GetMyContextFromRoot(runtime.context)
+    X_WT = plant.GetBodyByName("reject_tray").EvalPoseInWorld(context).GetAsMatrix4()
+    np.testing.assert_allclose(X_WT, X_W_TRAY, atol=1e-3)
+    part = runtime.pool.spawn(runtime.context, RigidTransform(X_W_TRAY[:3, 3] + [0.0, 0.0, 0.25]))
+    runtime.advance(1.5)
+    p = plant.GetBodyByName(part).EvalPoseInWorld(context).translation()
+    # On the tray (not on the floor 0.9 m below): its top under the part, the part over it.
+    assert TRAY_TOP < p[2] < TRAY_TOP + 0.15, p
+    p_T = np.linalg.inv(X_W_TRAY) @ [*p, 1.0]
+    assert abs(p_T[0]) < 0.5 and abs(p_T[1]) < 0.25, p_T
+
+
+def test_their_tray_is_welded_to_the_cells_conveyor_and_part_of_its_gazebo_model(cell, runtime):
+    from omtp_drake.cell.gazebo_models import gazebo_models
+
+    assert {m.name: m.parent for m in cell.scenario.models}["conveyor_belt_own"] == "conveyor_base"
+    plant = runtime.station.plant
+    tray = plant.GetBodyByName("reject_tray")
+    (joint,) = [plant.get_joint(j) for j in plant.GetJointIndices(tray.model_instance())]
+    assert joint.parent_body().name() == "conveyor_base" and joint.num_velocities() == 0
+    models = {m.name: m for m in gazebo_models(plant, cell.scenario)}
+    assert tray.model_instance() in models["conveyor_belt"].instances and "conveyor_belt_own" not in models
+
+
+def test_tf_echo_gives_their_tray(workspace, capsys):
+    argv = ["tf-echo", "--launch", LAUNCH, "--workspace", str(workspace), "world", "reject_tray", "--json"]
+    assert main(argv) == 0, capsys.readouterr().err
+    echoed = json.loads(capsys.readouterr().out)["translation"]
+    np.testing.assert_allclose(echoed, X_W_TRAY[:3, 3], atol=1e-3)
+
+
+def test_their_view_of_the_world_shows_the_tray_in_their_conveyor(workspace, capsys):
+    world = workspace / "omtp_gazebo" / "worlds" / "lecture6_assignment1.world"
+    assert main(["view", str(world), "--workspace", str(workspace), "--json"]) == 0, capsys.readouterr().err
+    models = {m["name"]: m for m in json.loads(capsys.readouterr().out)["models"]}
+    assert {"link", "reject_tray", "belt"} == set(models["conveyor_belt"]["links"])
+
+
+def test_what_would_move_on_a_course_model_is_one_warning_each(workspace):
+    from omtp_drake.launch.sdf_world import world_model
+    from omtp_drake.launch.world_additions import additions
+    from omtp_drake.workspace import Workspace
+
+    text = (workspace / "omtp_gazebo" / "models" / "conveyor" / "model.sdf").read_text()
+    element = ET.fromstring(text).find("model")
+    top = ET.SubElement(element, "link", name="loose_plate")  # a free link of the top model
+    ET.SubElement(ET.SubElement(top, "visual", name="v"), "geometry").append(
+        ET.fromstring("<box><size>1 1 1</size></box>")
+    )
+    belt = element.find("model[@name='conveyor_belt_moving']/link[@name='belt']")
+    ET.SubElement(belt, "collision", name="cleat").append(
+        ET.fromstring("<geometry><sphere><radius>0.1</radius></sphere></geometry>")
+    )
+    model = world_model("conveyor_belt", (1.2, 5.0, 0.0, 0.0, 0.0, -1.5708), element, "conveyor.sdf")
+    from pydrake.math import RigidTransform
+
+    entry, warnings = additions(model, "conveyor", Workspace(), ("conveyor_base", RigidTransform()))
+    assert entry is not None and [
+        link.get("name") for link in ET.fromstring(entry.description).iter("link")
+    ] == ["reject_tray"]
+    assert len(warnings) == 2
+    plate, cleat = warnings
+    assert "link 'loose_plate' of model 'conveyor_belt' moves" in plate and "not loaded" in plate
+    assert "cleat of the course's link 'conveyor_belt_moving::belt'" in cleat and "not loaded" in cleat
