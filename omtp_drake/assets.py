@@ -46,6 +46,7 @@ UR_MODELS = ("ur5", "ur10")
 
 # Bump when the conversion below changes, so stale caches are not reused.
 _CONVERTER_VERSION = "5"
+_PIECES_VERSION = "4"  # (convex_piece_files)
 _DRAKE_NS = "http://drake.mit.edu"
 
 
@@ -275,9 +276,6 @@ def drake_ready_meshes(
             if shape.tag == "collision" and shape.find(_HYDRO_RIGID) is None:
                 if mesh.find(f"{{{_DRAKE_NS}}}declare_convex") is None:
                     ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
-
-
-_PIECES_VERSION = "4"
 
 
 def convex_piece_files(obj: Path) -> list[tuple[Path, list[float]]]:
