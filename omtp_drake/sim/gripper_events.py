@@ -118,10 +118,17 @@ class GripperEvents:
             driver = self._driver_check(robot, gripper, memory)
             if after < driver < first:
                 first = driver
+            weld = isinstance(gripper, WeldSuctionGripper)
+            if weld and memory.pending_body >= 0:
+                # An attach already decided: its weld one step after the deciding check,
+                # also when the driver stopped inside that step (a caller's stop).
+                sync = _pending_sync(memory, self._step)
+                if after < sync < first:
+                    first = sync
+                continue
             # A check on the gripper's own poll that may decide an attach: the weld one
             # step later (after a check the driver runs, before_advance schedules it).
             polled = robot not in self._served and driver == math.inf
-            weld = isinstance(gripper, WeldSuctionGripper)
             if polled and weld and self._may_decide(gripper, context, memory):
                 check = max(
                     _poll_at_or_after(gripper, next_check_after(gripper, memory), CHECK_TOLERANCE),
@@ -159,6 +166,7 @@ class GripperEvents:
         rule decided an attach or a disable released a part."""
         now = root_context.get_time()
         after = now + _EPS
+        self._overdue_attaches(root_context, after)
         for robot, gripper in self._grippers.items():
             runs = self._runs[robot]
             due = any(t <= after for t in runs)
@@ -171,6 +179,15 @@ class GripperEvents:
             gripper.ExecuteForcedEvents(context)
             if isinstance(gripper, WeldSuctionGripper) and self._needs_sync(gripper, context, root_context):
                 self._syncs.append(_step_after(now, self._step))
+
+    def _overdue_attaches(self, root_context: Context, after: float) -> None:
+        """Makes now a decided attach whose step has passed without a stop (a check no
+        stop announced: the command switched on inside an advance and the first check
+        decided, ``consecutive_checks: 1``), instead of never."""
+        for gripper in self._welds:
+            memory = memory_of(gripper, gripper.GetMyContextFromRoot(root_context))
+            if memory.pending_body >= 0 and _pending_sync(memory, self._step) <= after:
+                sync_weld(gripper, self._plant, root_context)
 
     def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
         """After a rule run: an attach is pending, or the command's disable released a
@@ -233,6 +250,12 @@ def _first_sample(offset: float, period: float, t: float) -> float:
     while offset + k * period < t:
         k += 1
     return offset + k * period
+
+
+def _pending_sync(memory: GripperMemory, step: float) -> float:
+    """When the attach ``memory`` holds pending is made: one plant step after the check
+    that decided it."""
+    return _step_after(memory.pending_since, step)
 
 
 def _step_after(t: float, step: float) -> float:
