@@ -83,12 +83,16 @@ def test_service_commands_keep_the_plugins_timing_and_the_weld_follows_one_step_
 
 
 def test_an_idle_gripper_runs_no_python(cell, monkeypatch):
-    """Neither gripper commanded: a second of simulation runs the rule of neither."""
-    calls = []
-    rule = SuctionGripper._next
+    """Neither gripper commanded: a second of simulation runs the rule of neither, nor
+    the weld's sync (no weld holds a part: it would find nothing to do)."""
+    from omtp_drake.sim import gripper_events
+
+    calls, syncs = [], []
+    rule, sync = SuctionGripper._next, gripper_events.sync_weld
     monkeypatch.setattr(SuctionGripper, "_next", lambda self, *a: calls.append(self) or rule(self, *a))
+    monkeypatch.setattr(gripper_events, "sync_weld", lambda *a: syncs.append(a) or sync(*a))
     cell.wait(1.0)
-    assert calls == []
+    assert calls == [] and syncs == []
     assert all(g.polling is None for g in cell.runtime.station.grippers.values())
 
 

@@ -17,9 +17,10 @@ nothing.
 
 The constraints (:func:`~omtp_drake.cell.suction_holds.sync_weld`) follow each weld
 gripper's state one plant step after a check decided an attach or a service's
-disable released a part, and every ``IDLE_SYNC_PERIOD`` (a release the controller
-commands, a fault's or a lost hold's is made at the next of those), where the
-per-step poll made them before.
+disable released a part, and every ``IDLE_SYNC_PERIOD`` while a weld holds a part (a
+release the controller commands, a fault's or a lost hold's is made at the next of
+those), where the per-step poll made them before. While no weld holds a part the
+driver does not stop for them: such a sync would find nothing to do.
 """
 
 from __future__ import annotations
@@ -63,7 +64,10 @@ class GripperEvents:
         self._grippers: dict[str, SuctionGripper] = dict(station.grippers)
         self._welds = [g for g in self._grippers.values() if isinstance(g, WeldSuctionGripper)]
         self._step = station.plant.time_step()
-        self.period = IDLE_SYNC_PERIOD if self._welds else math.inf
+        #: Whether a weld gripper's constraints hold a part, or its state says it holds
+        #: one they do not (a fresh Context): only then can the idle sync change anything.
+        #: Both change only at a sync (here), never inside an advance.
+        self._holding = False
         #: Grippers commanded by services (their rule runs here); the others poll.
         self._served: set[str] = {r for r, g in self._grippers.items() if g.polling is None}
         #: Times at which a gripper's rule is due (robot -> times), and weld syncs.
@@ -85,6 +89,13 @@ class GripperEvents:
                 "but the station built the gripper for service commands (no polling); only the "
                 "scenario's task robot's gripper is driven by a controller"
             )
+
+    @property
+    def period(self) -> float:
+        """The idle sync's period while a weld holds a part (its release, whenever the
+        gripper lets go, is made at the next multiple); inf while none does: a sync would
+        find nothing to do, and an attach is made by a scheduled sync."""
+        return IDLE_SYNC_PERIOD if self._holding else math.inf
 
     # ------------------------------------------------------------------ services
 
@@ -207,10 +218,23 @@ class GripperEvents:
         now = root_context.get_time()
         scheduled = any(abs(t - now) <= _EPS for t in self._syncs)
         self._syncs = [t for t in self._syncs if t > now + _EPS]
-        every = scheduled or _is_multiple(now, self.period)
+        every = scheduled or _is_multiple(now, IDLE_SYNC_PERIOD)
+        synced = False
         for gripper in self._welds:
             if every or gripper.pending_part(gripper.GetMyContextFromRoot(root_context)):
                 sync_weld(gripper, self._plant, root_context)
+                synced = True
+        if synced:
+            self._holding = self._any_holding(root_context)
+
+    def _any_holding(self, root_context: Context) -> bool:
+        """Whether a weld gripper's constraints hold a part or its state says attached."""
+        plant_context = self._plant.GetMyContextFromRoot(root_context)
+        return any(
+            g.constraints.held_body(self._plant, plant_context) is not None
+            or g.get_state(g.GetMyContextFromRoot(root_context)).attached
+            for g in self._welds
+        )
 
 
 def _first_after(times: list[float], after: float, first: float) -> float:
