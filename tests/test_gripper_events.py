@@ -162,7 +162,8 @@ def test_an_attach_decided_where_no_stop_was_announced_is_welded_at_the_next_sto
     """consecutive_checks: 1 and a run advanced by the controller's ticks: the command
     switches on inside an advance and the first poll decides, so no stop was announced
     for the weld one step later; it is made as the run goes on from the next stop, not
-    never (the idle sync no longer runs while nothing is held)."""
+    never (the idle sync no longer runs while nothing is held), and the idle sync then
+    runs while it holds: the controller's release lets the part go into the bin."""
     from omtp_drake.tasks.run import TaskRun, prepare
 
     scenario = prepare("lecture6_assignment4", parts=1)
@@ -174,3 +175,7 @@ def test_an_attach_decided_where_no_stop_was_announced_is_welded_at_the_next_sto
     state, decided = rt.gripper_state("robot2"), _memory(run).last_check
     assert state.attached and _held_body(run) is not None, state
     assert decided < state.since <= decided + 0.05 + 1e-9, (decided, state.since)
+    while not run.done() and rt.time < 10.0:
+        rt.advance(0.05)
+    assert run.done() and _held_body(run) is None, run.history().picks
+    assert rt.ledger().in_bin["bin_1"] == 1, rt.ledger()

@@ -194,11 +194,13 @@ class GripperEvents:
     def _overdue_attaches(self, root_context: Context, after: float) -> None:
         """Makes now a decided attach whose step has passed without a stop (a check no
         stop announced: the command switched on inside an advance and the first check
-        decided, ``consecutive_checks: 1``), instead of never."""
+        decided, ``consecutive_checks: 1``), instead of never; the idle sync then runs
+        while it holds, as after an attach made at its step."""
         for gripper in self._welds:
             memory = memory_of(gripper, gripper.GetMyContextFromRoot(root_context))
             if memory.pending_body >= 0 and _pending_sync(memory, self._step) <= after:
                 sync_weld(gripper, self._plant, root_context)
+                self._holding = self._any_holding(root_context)
 
     def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
         """After a rule run: an attach is pending, or the command's disable released a
