@@ -1,6 +1,7 @@
 """What each of our Python callbacks costs in a run (issue 20, bench/README.md item 9).
 
-    python bench/callback_costs.py [fill_bin | lecture7_conveyor_pick | belt] [--seed 0] [--time-step 0.002]
+    python bench/callback_costs.py [fill_bin | lecture7_conveyor_pick | belt] [--seed 0]
+        [--time-step 0.002] [--cpu]
 
 Wraps each system callback and world edit of ``omtp_drake`` with ``perf_counter`` (no
 profiler: a sampling profiler's own cost blurs calls of 10-200 us), runs the case once,
@@ -10,8 +11,9 @@ two calls leaves the CPU caches cold; this measures it where it happens.
 
 Nested rows (marked ``in``) are also inside another row: the machine's step and the
 camera images and the joint plans (DiffIK integrated ahead) inside the controller's
-update. The total adds the top-level rows only. The wrappers add about 1 us a
-call.
+update. The total adds the top-level rows only. The wrappers add about 1 us a call.
+``Driver._apply_due`` counts the driver's stops (one call each; its time includes the
+edits and callbacks due there, so it is not added to the total).
 """
 
 from __future__ import annotations
@@ -33,34 +35,39 @@ CALLBACKS = [
     ("omtp_drake.cell.logical_camera", "LogicalCamera", ["_update"], False),
     ("omtp_drake.cell.logical_camera", "LogicalCamera", ["_calc_image"], True),
     ("omtp_drake.cell.rest_clock", "RestClock", ["_update"], False),
-    ("omtp_drake.sim.part_sleep", "PartSleep", ["__call__"], False),
+    ("omtp_drake.sim.part_sleep", "PartSleep", ["__call__", "before_advance"], False),
     ("omtp_drake.sim.gripper_events", "GripperEvents", ["__call__", "before_advance", "next_time"], False),
-    ("omtp_drake.sim.driver", "AutoSpawner", ["__call__"], False),
+    ("omtp_drake.sim.driver", "AutoSpawner", ["__call__", "next_time"], False),
+    ("omtp_drake.tasks.run", "TaskRun", ["_write_off_lost_parts"], False),
+    # One call per stop of the driver (its time includes the edits and callbacks due there).
+    ("omtp_drake.sim.driver", "Driver", ["_apply_due"], True),
     ("omtp_drake.sim.driver", "DeletionWall", ["__call__"], False),
     ("omtp_drake.sim.driver", "BeltWrap", ["__call__"], False),
 ]
 
 
-def instrument() -> tuple[dict[str, float], collections.Counter, set[str]]:
-    """Wraps the callbacks (before any system is built); returns the seconds and the
-    calls per callback as they accumulate, and the nested ones' names."""
+def instrument(clock=time.perf_counter) -> tuple[dict[str, float], collections.Counter, set[str]]:
+    """Wraps the callbacks (before any system is built); returns the seconds (of
+    ``clock``) and the calls per callback as they accumulate, and the nested ones' names."""
     seconds: dict[str, float] = collections.defaultdict(float)
     calls: collections.Counter = collections.Counter()
     nested: set[str] = set()
     for module, name, methods, inside in CALLBACKS:
         cls = getattr(importlib.import_module(module), name)
         for method in methods:
-            function = cls.__dict__[method]
+            function = cls.__dict__.get(method)
+            if function is None:  # (an older checkout, compared with bench_versions-style runs)
+                continue
             key = f"{name}.{method}"
             if inside:
                 nested.add(key)
 
             def timed(*args, _function=function, _key=key, **kwargs):
-                start = time.perf_counter()
+                start = clock()
                 try:
                     return _function(*args, **kwargs)
                 finally:
-                    seconds[_key] += time.perf_counter() - start
+                    seconds[_key] += clock() - start
                     calls[_key] += 1
 
             setattr(cls, method, timed)
@@ -76,8 +83,14 @@ def main() -> None:
     parser.add_argument(
         "--time-step", type=float, default=None, help="the plant's step (default: the scenario's)"
     )
+    parser.add_argument(
+        "--cpu",
+        action="store_true",
+        help="time each call by the thread's CPU time, not the wall clock (a busy machine)",
+    )
     args = parser.parse_args()
-    seconds, calls, nested = instrument()
+    seconds, calls, nested = instrument(time.thread_time if args.cpu else time.perf_counter)
+    cpu0 = time.process_time()
     from speed import belt_scenario  # bench/speed.py
 
     from omtp_drake.sim.runtime import FactoryRuntime
@@ -103,7 +116,10 @@ def main() -> None:
         f"{args.case}{step}: {simulated:.1f} s simulated, run loop {per_second:.1f} ms per simulated s",
         end="",
     )
-    print(" (with the wrappers)")
+    print(
+        f", process CPU {1e3 * (time.process_time() - cpu0) / simulated:.1f} ms per simulated s"
+        " (with the wrappers)"
+    )
     print("| callback | calls per simulated s | us per call | ms per simulated s |\n|---|---:|---:|---:|")
     for key in sorted(seconds, key=lambda k: -seconds[k]):
         label = f"{key} (in)" if key in nested else key

@@ -87,6 +87,27 @@ def test_auto_spawner_can_be_switched_off_for_a_students_own_spawns():
         FactoryRuntime("omtp_factory").auto_spawn = True
 
 
+def test_the_spawner_does_not_look_while_the_part_it_waits_for_sleeps(monkeypatch):
+    """fill_bin's spawner (one at a time) waits for its part on the floor: once the part
+    sleeps there (it cannot move by itself) the spawner makes no check; removed, the next
+    part comes at the next 50 ms check, as when it looked at every one."""
+    from omtp_drake.sim.driver import AutoSpawner
+
+    rt = FactoryRuntime("fill_bin")
+    rt.advance_to(2.0)
+    assert rt.parts_in_world() == ["object_1"] and rt.ledger().parts["object_1"] == "on_floor"
+    assert rt.station.part_states.is_asleep(rt.station.plant.GetMyContextFromRoot(rt.context), "object_1")
+    checks = []
+    check = AutoSpawner.__call__
+    monkeypatch.setattr(AutoSpawner, "__call__", lambda s, c: checks.append(c.get_time()) or check(s, c))
+    rt.advance_to(3.0)
+    assert checks == []
+    rt.remove_part("object_1")
+    rt.advance_to(3.2)
+    assert checks[0] == pytest.approx(3.05) and rt.parts_in_world() == ["object_2"]
+    assert rt.part_pose("object_2").translation()[2] < 0.3  # spawned at 3.05 s, fallen since
+
+
 def test_driver_rejects_an_edit_without_a_period():
     rt = FactoryRuntime("omtp_factory")
 

@@ -83,12 +83,16 @@ def test_service_commands_keep_the_plugins_timing_and_the_weld_follows_one_step_
 
 
 def test_an_idle_gripper_runs_no_python(cell, monkeypatch):
-    """Neither gripper commanded: a second of simulation runs the rule of neither."""
-    calls = []
-    rule = SuctionGripper._next
+    """Neither gripper commanded: a second of simulation runs the rule of neither, nor
+    the weld's sync (no weld holds a part: it would find nothing to do)."""
+    from omtp_drake.sim import gripper_events
+
+    calls, syncs = [], []
+    rule, sync = SuctionGripper._next, gripper_events.sync_weld
     monkeypatch.setattr(SuctionGripper, "_next", lambda self, *a: calls.append(self) or rule(self, *a))
+    monkeypatch.setattr(gripper_events, "sync_weld", lambda *a: syncs.append(a) or sync(*a))
     cell.wait(1.0)
-    assert calls == []
+    assert calls == [] and syncs == []
     assert all(g.polling is None for g in cell.runtime.station.grippers.values())
 
 
@@ -152,3 +156,26 @@ def test_a_vacuum_failure_drops_at_once_and_the_weld_goes_at_the_next_idle_sync(
         if abs(rt.time - (s + 2 * h)) < 1e-9:  # let go at its poll one step after the tick
             assert not rt.gripper_state("robot2").attached
     assert released == pytest.approx([s + 0.05])
+
+
+def test_an_attach_decided_where_no_stop_was_announced_is_welded_at_the_next_stop():
+    """consecutive_checks: 1 and a run advanced by the controller's ticks: the command
+    switches on inside an advance and the first poll decides, so no stop was announced
+    for the weld one step later; it is made as the run goes on from the next stop, not
+    never (the idle sync no longer runs while nothing is held), and the idle sync then
+    runs while it holds: the controller's release lets the part go into the bin."""
+    from omtp_drake.tasks.run import TaskRun, prepare
+
+    scenario = prepare("lecture6_assignment4", parts=1)
+    scenario.suction.consecutive_checks = 1
+    run = TaskRun(scenario)
+    rt = run.runtime
+    while not rt.gripper_state("robot2").attached and rt.time < 5.0:
+        rt.advance(0.05)
+    state, decided = rt.gripper_state("robot2"), _memory(run).last_check
+    assert state.attached and _held_body(run) is not None, state
+    assert decided < state.since <= decided + 0.05 + 1e-9, (decided, state.since)
+    while not run.done() and rt.time < 10.0:
+        rt.advance(0.05)
+    assert run.done() and _held_body(run) is None, run.history().picks
+    assert rt.ledger().in_bin["bin_1"] == 1, rt.ledger()

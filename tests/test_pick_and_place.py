@@ -62,6 +62,31 @@ def test_limits_respected_during_a_run():
     assert peaks["commanded"] <= 1.1, peaks
 
 
+def _run_in_steps(step):
+    """lecture6_assignment4 with one part, advanced ``step`` at a time until done: its
+    picks, when the weld was made, its ledger."""
+    run = TaskRun(prepare("lecture6_assignment4", parts=1))
+    rt, attached = run.runtime, None
+    while not run.done() and rt.time < 12:
+        rt.advance(step)
+        state = rt.gripper_state("robot2")
+        attached = attached or (round(state.since, 6) if state.attached else None)  # (time sums)
+    assert run.done(), (step, run.history().picks)
+    return run.history().picks, attached, replace(rt.ledger(), time=0.0)  # (done at a stop of its own)
+
+
+def test_a_run_advanced_in_steps_shorter_than_the_plants_is_the_same_run():
+    """A caller's stop inside the plant step between the check that decided an attach and
+    the step that makes its weld (5 ms advances of a 10 ms plant step) lost that stop: the
+    weld came at the next idle sync (30 ms late), or never once that sync ran only while a
+    weld holds a part (the part timed out, the run never ended). The stops a caller adds
+    change nothing (bench/README.md has the same at a 5 ms plant step)."""
+    picks, attached, ledger = _run_in_steps(0.01)
+    assert [p.success for p in picks] == [True] and ledger.in_bin["bin_1"] == 1, (picks, ledger)
+    for step in (0.002, 0.005):
+        assert _run_in_steps(step) == (picks, attached, ledger), step
+
+
 def test_controller_sees_only_cameras_gripper_and_joints():
     run = TaskRun(prepare("lecture6_assignment4", parts=1))
     controller = run.controller

@@ -222,3 +222,62 @@ def test_rest_clock_counts_a_part_still_only_below_both_speeds():
     Simulator(diagram, context).AdvanceTo(0.12)
     since = clock.still_since(clock.GetMyContextFromRoot(context))
     assert since == {"slow": 0.0, "fast": math.inf, "spinning": math.inf, "turning_slowly": 0.0}
+
+
+def test_a_rest_clock_its_owner_samples_says_what_a_periodic_one_says():
+    """The station's clock is sampled by the driver only while some part is free, and
+    records once that all are locked: at every sample time it says what a clock sampling
+    itself at 20 Hz says, while parts move, all lie locked, and one is freed again."""
+    import math
+
+    import numpy as np
+    from pydrake.multibody.math import SpatialVelocity
+    from pydrake.multibody.plant import AddMultibodyPlantSceneGraph
+    from pydrake.multibody.tree import SpatialInertia
+    from pydrake.systems.analysis import Simulator
+    from pydrake.systems.framework import DiagramBuilder
+
+    from omtp_drake.cell.rest_clock import RestClock
+    from omtp_drake.scenario import SleepConfig
+
+    builder = DiagramBuilder()
+    plant, _ = AddMultibodyPlantSceneGraph(builder, time_step=0.01)
+    plant.mutable_gravity_field().set_gravity_vector([0, 0, 0])
+    parts = {n: plant.AddModelInstance(n) for n in ("a", "b")}
+    for name, instance in parts.items():
+        plant.AddRigidBody(name, instance, SpatialInertia.SolidCubeWithDensity(1000.0, 0.1))
+    plant.Finalize()
+    periodic = RestClock.AddToDiagram(builder, plant, parts, SleepConfig())
+    owned = builder.AddNamedSystem("owned_clock", RestClock(plant, parts, SleepConfig(), periodic=False))
+    builder.Connect(plant.get_state_output_port(), owned.plant_state_input_port())
+    diagram = builder.Build()
+    context = diagram.CreateDefaultContext()
+    plant_context = plant.GetMyMutableContextFromRoot(context)
+    bodies = {n: plant.GetBodyByName(n, i) for n, i in parts.items()}
+    joints = {n: plant.get_joint(plant.GetJointIndices(i)[0]) for n, i in parts.items()}
+    moving = SpatialVelocity([0, 0, 0], [0.5, 0, 0])
+    plant.SetFreeBodySpatialVelocity(plant_context, bodies["a"], moving)
+    simulator = Simulator(diagram, context)
+    owned_context = owned.GetMyMutableContextFromRoot(context)
+    seen = []
+    for k in range(40):
+        t = 0.05 * k
+        simulator.AdvanceTo(t)
+        if k == 6:  # both locked (asleep or parked) from 0.3 s
+            for joint in joints.values():
+                joint.Lock(plant_context)
+        if k == 20:  # "a" freed at 1.0 s, moving again, then still from 1.4 s
+            joints["a"].Unlock(plant_context)
+            plant.SetFreeBodySpatialVelocity(plant_context, bodies["a"], moving)
+        if k == 28:
+            plant.SetFreeBodySpatialVelocity(plant_context, bodies["a"], SpatialVelocity.Zero())
+        if any(not j.is_locked(plant_context) for j in joints.values()):
+            owned.sample(owned_context)
+        else:
+            owned.all_locked_at(owned_context, t)
+        seen.append(owned.still_since_values(owned_context).tolist())
+        expected = periodic.still_since_values(periodic.GetMyContextFromRoot(context))
+        if k > 0:
+            np.testing.assert_array_equal(seen[-2], expected)  # what each said before this sample
+    assert seen[5] == [math.inf, 0.0] and seen[10] == pytest.approx([0.3, 0.0])
+    assert seen[25] == [math.inf, 0.0] and seen[30] == pytest.approx([1.4, 0.0])

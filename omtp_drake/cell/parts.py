@@ -186,8 +186,11 @@ class PartStates:
 
     def is_asleep(self, plant_context: Context, name: str) -> bool:
         """Part ``name`` sleeps: in the world, its joint locked (see :mod:`omtp_drake.cell.rest_clock`)."""
-        self._free_joint(name)
-        return name in self.locked(plant_context)[1]
+        if not self._free_joint(name).is_locked(plant_context):
+            return False
+        (i, j, k), (x, y, z) = self._part_slots.slots[self._part_slots.names.index(name)]
+        q = self.plant.GetPositions(plant_context)
+        return not (abs(q[i] - x) < 1e-9 and abs(q[j] - y) < 1e-9 and abs(q[k] - z) < 1e-9)
 
     def locked(self, plant_context: Context) -> tuple[list[str], list[str]]:
         """(parked, asleep): the parts whose joints are locked, split by where they are,
@@ -210,6 +213,10 @@ class PartStates:
             for name, joint, at_slot in zip(slots.names, slots.joints, self._at_slot(plant_context))
             if at_slot and joint.is_locked(plant_context)
         ]
+
+    def any_free(self, plant_context: Context) -> bool:
+        """Whether some part's joint is free (awake, held, falling: a part that may move)."""
+        return not all(joint.is_locked(plant_context) for joint in self._part_slots.joints)
 
     def _at_slot(self, plant_context: Context) -> list[bool]:
         """Whether each part (in the order of ``parts``) is at its parking slot (in plain

@@ -20,6 +20,7 @@ import numpy as np
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.systems.framework import (
+    BasicVector,
     Context,
     DiagramBuilder,
     DiscreteValues,
@@ -28,6 +29,7 @@ from pydrake.systems.framework import (
     OutputPort,
 )
 
+from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import SleepConfig
 
@@ -48,9 +50,22 @@ class RestClock(LeafSystem):
     moved slower than ``config.linear_speed`` and ``config.angular_speed``; inf
     while it moves. Sampled every ``1 / config.check_rate_hz`` s. A locked part
     (parked or asleep) has zero velocity, so it counts as still.
+
+    With ``periodic`` (the default) the clock samples itself. Without it, its owner
+    (:class:`omtp_drake.sim.part_sleep.PartSleep`, the driver's) takes each sample
+    (:meth:`sample`) at the same times, and only while some part is
+    free: while every part is locked, a sample could only say "still since the first
+    of these samples", so the owner records that time once (:meth:`all_locked_at`)
+    and the clock counts it in (``still_since`` is the same as if it had sampled).
     """
 
-    def __init__(self, plant: MultibodyPlant, parts: dict[str, ModelInstanceIndex], config: SleepConfig):
+    def __init__(
+        self,
+        plant: MultibodyPlant,
+        parts: dict[str, ModelInstanceIndex],
+        config: SleepConfig,
+        periodic: bool = True,
+    ):
         super().__init__()
         config.validate()
         self._names = list(parts)
@@ -66,8 +81,17 @@ class RestClock(LeafSystem):
         self._limits_squared = (config.angular_speed**2, config.linear_speed**2)
         self._plant_state = self.DeclareVectorInputPort("plant_state", plant.num_multibody_states())
         self._state = self.DeclareDiscreteState(np.full(len(self._names), math.inf))
-        self.DeclarePeriodicDiscreteUpdateEvent(1.0 / config.check_rate_hz, 0.0, self._update)
-        self._still_since = self.DeclareStateOutputPort("still_since", self._state)
+        #: The first sample time since which every part has been locked (inf: not so).
+        self._all_locked = self.DeclareDiscreteState(np.array([math.inf]))
+        period = 1.0 / config.check_rate_hz
+        if periodic:
+            self.DeclarePeriodicDiscreteUpdateEvent(period, 0.0, self._update)
+        self._still_since = self.DeclareVectorOutputPort(
+            "still_since",
+            len(self._names),
+            weak_method(self._calc_still_since),  # C++ holds it (see cell.lifetime)
+            prerequisites_of_calc={self.all_state_ticket()},
+        )
 
     @staticmethod
     def AddToDiagram(
@@ -75,9 +99,10 @@ class RestClock(LeafSystem):
         plant: MultibodyPlant,
         parts: dict[str, ModelInstanceIndex],
         config: SleepConfig,
+        periodic: bool = True,
     ) -> RestClock:
         """Adds a RestClock of ``parts`` to ``builder`` and connects it to ``plant``."""
-        clock = builder.AddSystem(RestClock(plant, parts, config))
+        clock = builder.AddSystem(RestClock(plant, parts, config, periodic))
         clock.set_name("rest_clock")
         builder.Connect(plant.get_state_output_port(), clock.plant_state_input_port())
         return clock
@@ -100,26 +125,62 @@ class RestClock(LeafSystem):
     def still_since_values(self, context: Context) -> np.ndarray:
         """The times since which the parts have been still (inf: moving), in the order
         of :attr:`part_names` (a copy)."""
-        return context.get_discrete_state(self._state).CopyToVector()
+        since = context.get_discrete_state(self._state).CopyToVector()
+        all_locked = context.get_discrete_state(self._all_locked)[0]
+        return since if all_locked == math.inf else np.minimum(since, all_locked)
+
+    def _calc_still_since(self, context: Context, output: BasicVector) -> None:
+        output.SetFromVector(self.still_since_values(context))
+
+    def sample(self, context: Context) -> None:
+        """Takes a sample now (a clock built without ``periodic``; its owner, a world edit
+        of the driver, calls this at the sample times while some part is free). Written
+        straight into the clock's state, as the owner's other edits are (no event to
+        dispatch): the same values as its periodic event's."""
+        context.get_mutable_discrete_state(self._state).SetFromVector(self._sampled(context))
+        if context.get_discrete_state(self._all_locked)[0] != math.inf:
+            context.get_mutable_discrete_state(self._all_locked).SetAtIndex(0, math.inf)
+
+    def all_locked_at(self, context: Context, t: float) -> None:
+        """Every part is locked at the sample time ``t`` and will be until the next sample
+        taken: recorded once, instead of samples that would each say still since the first."""
+        state = context.get_mutable_discrete_state(self._all_locked)
+        if state[0] == math.inf:
+            state.SetAtIndex(0, t)
 
     def restart(self, context: Context, name: str, t: float) -> None:
         """Part ``name`` counts as still only from ``t`` on (a part just woken)."""
         if name not in self._names:
             raise UnknownNameError("part", name, self._names)
+        self._count_locked_time(context)
         state = context.get_mutable_discrete_state(self._state)
         state.SetAtIndex(self._names.index(name), t)
 
+    def _count_locked_time(self, context: Context) -> None:
+        """Folds the recorded all-locked time into each part's value."""
+        if context.get_discrete_state(self._all_locked)[0] != math.inf:
+            context.get_mutable_discrete_state(self._state).SetFromVector(self.still_since_values(context))
+            context.get_mutable_discrete_state(self._all_locked).SetAtIndex(0, math.inf)
+
     def _update(self, context: Context, discrete_state: DiscreteValues) -> None:
+        discrete_state.set_value(self._state, np.array(self._sampled(context)))
+        discrete_state.set_value(self._all_locked, np.array([math.inf]))
+
+    def _sampled(self, context: Context) -> list[float]:
+        """The parts' values after a sample now (the all-locked time counted in)."""
         # In plain floats: a dozen parts cost less than numpy's small-array calls
         # between plant steps (bench/README.md).
         x = self._plant_state.Eval(context).tolist()
         t = context.get_time()
         w2, v2 = self._limits_squared
         since = context.get_discrete_state(self._state).value().tolist()
+        all_locked = context.get_discrete_state(self._all_locked)[0]
+        if all_locked != math.inf:  # the samples not taken while every part was locked
+            since = [min(s, all_locked) for s in since]
         now = []
         for (a, b, c, d, e, f), s in zip(self._velocity, since):
             still = (
                 x[a] * x[a] + x[b] * x[b] + x[c] * x[c] < w2 and x[d] * x[d] + x[e] * x[e] + x[f] * x[f] < v2
             )
             now.append(min(s, t) if still else math.inf)
-        discrete_state.set_value(self._state, np.array(now))
+        return now

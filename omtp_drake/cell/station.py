@@ -289,7 +289,8 @@ def build_station(
     cameras, depth_cameras = _add_cameras(builder, plant, scene_graph, scenario, models, meshcat)
     rest_clock = None
     if scenario.sleep.enabled and models.parts:
-        rest_clock = RestClock.AddToDiagram(builder, plant, models.parts, scenario.sleep)
+        # Sampled by the driver's PartSleep, only while a part is free (its class doc).
+        rest_clock = RestClock.AddToDiagram(builder, plant, models.parts, scenario.sleep, periodic=False)
 
     _export_plant_ports(builder, plant, scene_graph)
     visualizer = _add_visualizer(builder, scene_graph, meshcat)

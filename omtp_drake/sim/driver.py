@@ -214,7 +214,14 @@ class AutoSpawner:
     ``spawner.start_time``; with ``one_at_a_time`` only when no other part is
     loose (the spawn happens at the first check the world is clear); at most
     ``spawner.max_parts`` (0: no limit). ``enabled`` switches it off (a
-    student's own script spawning parts itself)."""
+    student's own script spawning parts itself).
+
+    It checks at the multiples of ``SPAWN_CHECK_PERIOD`` (an
+    :class:`EventSource` with no period of its own), and only at those where a spawn
+    may happen: from the first at or after the spawn is due, and not while a loose
+    part it found at its last check sleeps (it cannot move, so the world cannot be
+    clear, until the driver wakes it or it is disposed of or written off, all between
+    advances)."""
 
     station: Station
     pool: PartPool
@@ -222,13 +229,48 @@ class AutoSpawner:
     #: Automatic spawns so far and the time of the next one.
     spawned: int = 0
     next_spawn: float = field(default=math.nan)
+    #: A loose sleeping part the last check found (the world is not clear while it
+    #: sleeps where it was); "" when none.
+    blocker: str = ""
+    #: No stops besides its checks' (see :meth:`next_time`).
+    period: float = math.inf
 
-    @property
-    def period(self) -> float:
-        """SPAWN_CHECK_PERIOD while it may still spawn; inf (never) once it is off or done."""
+    def _done(self) -> bool:
         spawner = self.station.scenario.spawner
-        done = spawner is None or spawner.period <= 0 or self._enough(spawner)
-        return math.inf if (done or not self.enabled) else SPAWN_CHECK_PERIOD
+        return spawner is None or spawner.period <= 0 or self._enough(spawner) or not self.enabled
+
+    def next_time(self, root_context: Context) -> float:
+        """The next check: the first multiple of SPAWN_CHECK_PERIOD after now and at or
+        after the spawn is due; inf once it is off or done, or while the blocker sleeps."""
+        if self._done():
+            return math.inf
+        if self.blocker and self._still_blocked(root_context):
+            return math.inf
+        now = root_context.get_time()
+        k = math.floor(now / SPAWN_CHECK_PERIOD + _EPS) + 1  # (the driver's next multiple)
+        due = self.next_spawn + self._delay() - _EPS
+        if k * SPAWN_CHECK_PERIOD < due:
+            k = max(k, math.ceil(due / SPAWN_CHECK_PERIOD - _EPS))
+            while k * SPAWN_CHECK_PERIOD < due:
+                k += 1
+        return k * SPAWN_CHECK_PERIOD
+
+    def before_advance(self, root_context: Context) -> None:
+        pass
+
+    def _still_blocked(self, root_context: Context) -> bool:
+        """Whether the blocker still sleeps where it was (asleep, not written off)."""
+        if self.blocker in self.pool.written_off:
+            return False
+        plant_context = self.station.plant.GetMyContextFromRoot(root_context)
+        return self.station.part_states.is_asleep(plant_context, self.blocker)  # (disposed: parked)
+
+    def _delay(self) -> float:
+        """The course's plugin waits its drawn spawn_timing_variance after the tick."""
+        spawner = self.station.scenario.spawner
+        if spawner is None or not spawner.objects:
+            return 0.0
+        return draw(spawner, self.station.scenario.seed, self.pool.spawn_count).delay
 
     def _enough(self, spawner: SpawnerConfig) -> bool:
         """max_parts spawned (parts written off do not count: they are replaced)."""
@@ -241,20 +283,21 @@ class AutoSpawner:
             self.next_spawn = spawner.start_time if spawner is not None else math.inf
 
     def __call__(self, root_context: Context) -> None:
-        if not self.enabled:
-            return
+        self.blocker = ""
         spawner = self.station.scenario.spawner
-        t = root_context.get_time()
-        if spawner is None or spawner.period <= 0 or self._enough(spawner):
+        if spawner is None or self._done():
             return
-        # The course's plugin waits its drawn spawn_timing_variance after the tick.
-        delay = (
-            draw(spawner, self.station.scenario.seed, self.pool.spawn_count).delay if spawner.objects else 0.0
-        )
+        t = root_context.get_time()
+        delay = self._delay()
         if t < self.next_spawn + delay - _EPS:
             return
-        if spawner.one_at_a_time and _any_loose(self.station, root_context, self.pool):
-            return  # waits for a clear world
+        if spawner.one_at_a_time:
+            loose, held = _first_loose(self.station, root_context, self.pool)
+            if loose:  # waits for a clear world
+                plant_context = self.station.plant.GetMyContextFromRoot(root_context)
+                if not held and self.station.part_states.is_asleep(plant_context, loose):
+                    self.blocker = loose
+                return
         if not self.pool.queue(root_context):
             raise SimulationError(
                 f"t={t:.2f}: the spawner found no parked part; raise part_pool (now {len(self.station.pool)})"
@@ -276,18 +319,19 @@ def loose_parts(station: Station, root_context: Context, pool: PartPool) -> list
     ]
 
 
-def _any_loose(station: Station, root_context: Context, pool: PartPool) -> bool:
-    """Whether :func:`loose_parts` has any: a held part (a held part over a bin counts
-    as loose; the grippers' states are read first, the cheapest test), else a part out
-    of the bins (the newest first: the older ones are mostly in a bin, the newest
-    usually loose)."""
-    if held_parts(station, root_context):
-        return True
+def _first_loose(station: Station, root_context: Context, pool: PartPool) -> tuple[str, bool]:
+    """A part :func:`loose_parts` has ("" when none), and whether it is held: a held part
+    (a held part over a bin counts as loose; the grippers' states are read first, the
+    cheapest test), else a part out of the bins (the newest first: the older ones are
+    mostly in a bin, the newest usually loose)."""
+    held = held_parts(station, root_context)
+    if held:
+        return next(iter(held.values())), True
     written_off = pool.written_off
-    return any(
-        n not in written_off and bin_of(station, root_context, n) is None
-        for n in reversed(pool.in_world(root_context))
-    )
+    for n in reversed(pool.in_world(root_context)):
+        if n not in written_off and bin_of(station, root_context, n) is None:
+            return n, False
+    return "", False
 
 
 def spawn(

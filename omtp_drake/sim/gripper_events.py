@@ -17,9 +17,10 @@ nothing.
 
 The constraints (:func:`~omtp_drake.cell.suction_holds.sync_weld`) follow each weld
 gripper's state one plant step after a check decided an attach or a service's
-disable released a part, and every ``IDLE_SYNC_PERIOD`` (a release the controller
-commands, a fault's or a lost hold's is made at the next of those), where the
-per-step poll made them before.
+disable released a part, and every ``IDLE_SYNC_PERIOD`` while a weld holds a part (a
+release the controller commands, a fault's or a lost hold's is made at the next of
+those), where the per-step poll made them before. While no weld holds a part the
+driver does not stop for them: such a sync would find nothing to do.
 """
 
 from __future__ import annotations
@@ -63,7 +64,10 @@ class GripperEvents:
         self._grippers: dict[str, SuctionGripper] = dict(station.grippers)
         self._welds = [g for g in self._grippers.values() if isinstance(g, WeldSuctionGripper)]
         self._step = station.plant.time_step()
-        self.period = IDLE_SYNC_PERIOD if self._welds else math.inf
+        #: Whether a weld gripper's constraints hold a part, or its state says it holds
+        #: one they do not (a fresh Context): only then can the idle sync change anything.
+        #: Both change only at a sync (here), never inside an advance.
+        self._holding = False
         #: Grippers commanded by services (their rule runs here); the others poll.
         self._served: set[str] = {r for r, g in self._grippers.items() if g.polling is None}
         #: Times at which a gripper's rule is due (robot -> times), and weld syncs.
@@ -85,6 +89,13 @@ class GripperEvents:
                 "but the station built the gripper for service commands (no polling); only the "
                 "scenario's task robot's gripper is driven by a controller"
             )
+
+    @property
+    def period(self) -> float:
+        """The idle sync's period while a weld holds a part (its release, whenever the
+        gripper lets go, is made at the next multiple); inf while none does: a sync would
+        find nothing to do, and an attach is made by a scheduled sync."""
+        return IDLE_SYNC_PERIOD if self._holding else math.inf
 
     # ------------------------------------------------------------------ services
 
@@ -118,10 +129,17 @@ class GripperEvents:
             driver = self._driver_check(robot, gripper, memory)
             if after < driver < first:
                 first = driver
+            weld = isinstance(gripper, WeldSuctionGripper)
+            if weld and memory.pending_body >= 0:
+                # An attach already decided: its weld one step after the deciding check,
+                # also when the driver stopped inside that step (a caller's stop).
+                sync = _pending_sync(memory, self._step)
+                if after < sync < first:
+                    first = sync
+                continue
             # A check on the gripper's own poll that may decide an attach: the weld one
             # step later (after a check the driver runs, before_advance schedules it).
             polled = robot not in self._served and driver == math.inf
-            weld = isinstance(gripper, WeldSuctionGripper)
             if polled and weld and self._may_decide(gripper, context, memory):
                 check = max(
                     _poll_at_or_after(gripper, next_check_after(gripper, memory), CHECK_TOLERANCE),
@@ -159,6 +177,7 @@ class GripperEvents:
         rule decided an attach or a disable released a part."""
         now = root_context.get_time()
         after = now + _EPS
+        self._overdue_attaches(root_context, after)
         for robot, gripper in self._grippers.items():
             runs = self._runs[robot]
             due = any(t <= after for t in runs)
@@ -171,6 +190,17 @@ class GripperEvents:
             gripper.ExecuteForcedEvents(context)
             if isinstance(gripper, WeldSuctionGripper) and self._needs_sync(gripper, context, root_context):
                 self._syncs.append(_step_after(now, self._step))
+
+    def _overdue_attaches(self, root_context: Context, after: float) -> None:
+        """Makes now a decided attach whose step has passed without a stop (a check no
+        stop announced: the command switched on inside an advance and the first check
+        decided, ``consecutive_checks: 1``), instead of never; the idle sync then runs
+        while it holds, as after an attach made at its step."""
+        for gripper in self._welds:
+            memory = memory_of(gripper, gripper.GetMyContextFromRoot(root_context))
+            if memory.pending_body >= 0 and _pending_sync(memory, self._step) <= after:
+                sync_weld(gripper, self._plant, root_context)
+                self._holding = self._any_holding(root_context)
 
     def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
         """After a rule run: an attach is pending, or the command's disable released a
@@ -190,10 +220,23 @@ class GripperEvents:
         now = root_context.get_time()
         scheduled = any(abs(t - now) <= _EPS for t in self._syncs)
         self._syncs = [t for t in self._syncs if t > now + _EPS]
-        every = scheduled or _is_multiple(now, self.period)
+        every = scheduled or _is_multiple(now, IDLE_SYNC_PERIOD)
+        synced = False
         for gripper in self._welds:
             if every or gripper.pending_part(gripper.GetMyContextFromRoot(root_context)):
                 sync_weld(gripper, self._plant, root_context)
+                synced = True
+        if synced:
+            self._holding = self._any_holding(root_context)
+
+    def _any_holding(self, root_context: Context) -> bool:
+        """Whether a weld gripper's constraints hold a part or its state says attached."""
+        plant_context = self._plant.GetMyContextFromRoot(root_context)
+        return any(
+            g.constraints.held_body(self._plant, plant_context) is not None
+            or g.get_state(g.GetMyContextFromRoot(root_context)).attached
+            for g in self._welds
+        )
 
 
 def _first_after(times: list[float], after: float, first: float) -> float:
@@ -233,6 +276,12 @@ def _first_sample(offset: float, period: float, t: float) -> float:
     while offset + k * period < t:
         k += 1
     return offset + k * period
+
+
+def _pending_sync(memory: GripperMemory, step: float) -> float:
+    """When the attach ``memory`` holds pending is made: one plant step after the check
+    that decided it."""
+    return _step_after(memory.pending_since, step)
 
 
 def _step_after(t: float, step: float) -> float:

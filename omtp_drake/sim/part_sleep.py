@@ -15,6 +15,11 @@ Touching is geometric (SceneGraph's penetration query between collision
 geometries), as for the deletion wall. Between checks a sleeping part is as
 fixed as the floor: a part dropped onto it rests on it until the next check
 wakes it (at most one check period, 50 ms by default).
+
+The rest clock's samples are :class:`PartSleep`'s too (right before the advance
+from each check time, where the clock's own periodic event would run), taken only
+while some part is free: while every part is locked (parked or asleep) nothing can
+come to rest, and the clock records that once instead.
 """
 
 from __future__ import annotations
@@ -35,7 +40,9 @@ _EPS = 1e-9
 
 
 class PartSleep:
-    """The world edit that puts resting parts to sleep and wakes them (module doc)."""
+    """The world edit that puts resting parts to sleep and wakes them, and samples the
+    rest clock (module doc; an :class:`~omtp_drake.sim.driver.EventSource` with no
+    stops of its own)."""
 
     def __init__(self, station: Station):
         if station.rest_clock is None:
@@ -55,6 +62,24 @@ class PartSleep:
         self._owner: dict[int, str] = {g.get_value(): "" for g in geometries.anchored}
         for name, ids in geometries.parts.items():
             self._owner.update((g.get_value(), name) for g in ids)
+
+    def next_time(self, root_context: Context) -> float:
+        """No stops besides the checks (the clock samples at the check times)."""
+        return math.inf
+
+    def before_advance(self, root_context: Context) -> None:
+        """At a sample time, right before the advance (where the clock's own periodic
+        event would run, after every edit made at this time): the clock's sample while a
+        part is free, else the record that all are locked."""
+        t = root_context.get_time()
+        if abs(round(t / self.period) * self.period - t) >= _EPS * max(1.0, abs(t)):
+            return  # not a sample time (a stop of another edit, or the caller's)
+        clock_context = self._clock.GetMyMutableContextFromRoot(root_context)
+        plant_context = self._station.plant.GetMyContextFromRoot(root_context)
+        if self._station.part_states.any_free(plant_context):
+            self._clock.sample(clock_context)
+        else:
+            self._clock.all_locked_at(clock_context, t)
 
     def __call__(self, root_context: Context) -> None:
         t = root_context.get_time()
