@@ -218,6 +218,27 @@ def test_the_launch_starts_the_workspaces_own_rclpy_node_beside_the_cell(tmp_pat
     }
 
 
+@needs_ros2
+def test_the_launched_node_and_the_cell_exchange_messages(tmp_path, domain):
+    """slider_arm_moves' reach.launch.py includes the tutorial's launch and starts ``reach``
+    (parameters, a remapping) the moment the cell is up: the node's trajectory reaches the cell
+    and the cell's /joint_states reach the node, which reports the pose it saw and ends by itself.
+    (It once never matched the cell's topics in 3 of about 17 runs: a Fast DDS peer's type lookup
+    answered by the cell's Cyclone participant; omtp_drake.ros2.network.cell_participant_profile.)"""
+    report = tmp_path / "reached.json"
+    cell_args = ["--launch", "slider_arm_moves reach.launch.py", "--workspace", str(TUTORIAL_SRC)]
+    out = run_cell_until(
+        [*cell_args, "--arg", f"report:={report}", "--realtime"], "[reach-1] finished", domain, patience=120
+    )
+    assert "[reach-1] finished cleanly" in out, out[-3000:]
+    assert "Inconsistent TypeObject" not in out, out[-3000:]
+    # No parts, no spawner: nothing Gazebo's model services would act on, so no line about them.
+    assert "not served on ROS 2" not in out, out[-3000:]
+    seen = json.loads(report.read_text())
+    assert seen["names"] == ["slider_joint", "arm_joint"]
+    assert seen["positions"] == pytest.approx([0.8, 0.6], abs=0.01)
+
+
 def test_the_workspaces_ros2_node_is_one_warning_where_it_does_not_run(caplog):
     cell = cell_of(launch="slider_arm_moves reach.launch.py", workspace=TUTORIAL_SRC, with_nodes=True)
     assert [n.program.entry for n in cell.nodes if n.program] == ["slider_arm_moves.reach:main"]

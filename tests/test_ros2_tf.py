@@ -18,8 +18,9 @@ import numpy as np
 from test_ros2 import (  # one home of the DDS tests' helpers
     PATIENCE,
     SCRIPTS,
-    _domain_dds_files,
+    _dds_files,
     _end,
+    _leaked_dds_files,
     _loopback_env,
     _session_members,
     domain,
@@ -138,6 +139,7 @@ def _matrix(t: dict) -> np.ndarray:
 def test_a_late_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, domain):
     env = _loopback_env(domain)
     out = tmp_path / "tf.json"
+    shm_before = _dds_files()
     cell = subprocess.Popen(
         [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--domain-id", str(domain)]
         + ["--bag", str(tmp_path / "run.mcap")],
@@ -170,7 +172,7 @@ def test_a_late_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, 
     assert reader.returncode == 0, reader_err[-3000:]
     assert cell.returncode == 0, cell_err[-3000:]
     assert not _session_members(cell.pid) and not _session_members(reader.pid)
-    assert not _domain_dds_files(domain), "Fast DDS left shared memory behind"
+    assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     seen = json.loads(out.read_text())
     assert seen["types"]["/tf"] == ["tf2_msgs/msg/TFMessage"]
     assert seen["types"]["/tf_static"] == ["tf2_msgs/msg/TFMessage"]

@@ -18,7 +18,8 @@ and rclpy has no runtime type support in Python, so Cyclone DDS writes them besi
 
 Modules (one job each):
 
-- ``network``: the run's DDS domain and discovery range, and rclpy or one error naming the extra
+- ``network``: the run's DDS domain and discovery range, the cell's Fast DDS profile (no type
+  lookups: ``fastdds_profile.xml``), and rclpy or one error naming the extra
 - ``messages``: the Gazebo plugin layer's messages as ROS 2 messages, and the clock and markers
 - ``topics``: the topics the cell publishes (the plugin layer's, by ROS 2 names and QoS)
 - ``commands``: the plugins' trajectory topics and the services a peer calls, run between steps

@@ -32,7 +32,7 @@ from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.course_topics import CourseTopics
 from omtp_drake.ros2.dds_types import CycloneParticipant
 from omtp_drake.ros2.gazebo_world import GazeboWorldTopics
-from omtp_drake.ros2.network import Ros2Network, import_rclpy
+from omtp_drake.ros2.network import Ros2Network, cell_participant_profile, import_rclpy
 from omtp_drake.ros2.ros2_control import Ros2Control
 from omtp_drake.ros2.tf_publisher import TfTopics
 from omtp_drake.ros2.topics import CellTopics
@@ -56,6 +56,29 @@ def urdf_for_ros2(cell: Cell) -> str:
     return re.sub(r'filename="/', 'filename="file:///', robot_description(cell))
 
 
+def _cell_node(context: Any, network: Ros2Network) -> Any:
+    """The node :data:`NODE_NAME` in ``context`` (initialized here on ``network``'s domain), its
+    participant made with the cell's Fast DDS profile
+    (:func:`~omtp_drake.ros2.network.cell_participant_profile`)."""
+    import rclpy
+    from rclpy.parameter import Parameter
+    from rclpy.signals import SignalHandlerOptions
+
+    with cell_participant_profile():  # the participant comes with the context's first node
+        rclpy.init(
+            context=context, domain_id=network.domain_id, signal_handler_options=SignalHandlerOptions.NO
+        )
+        try:
+            return rclpy.create_node(
+                NODE_NAME,
+                context=context,
+                parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
+            )
+        except BaseException:
+            context.try_shutdown()
+            raise
+
+
 class Ros2Cell:
     """``cell`` as the ROS 2 node :data:`NODE_NAME` on ``network``.
 
@@ -66,8 +89,6 @@ class Ros2Cell:
     def __init__(self, cell: Cell, network: Ros2Network, bag: Optional[Ros2Bag] = None):
         rclpy = import_rclpy()
         from rclpy.executors import SingleThreadedExecutor
-        from rclpy.parameter import Parameter
-        from rclpy.signals import SignalHandlerOptions
 
         self.cell = cell
         self.network = network
@@ -75,17 +96,8 @@ class Ros2Cell:
         self.description = urdf_for_ros2(cell)
         network.apply()
         self._context = rclpy.Context()
-        rclpy.init(
-            context=self._context,
-            domain_id=network.domain_id,
-            signal_handler_options=SignalHandlerOptions.NO,
-        )
+        self.node = _cell_node(self._context, network)
         try:
-            self.node = rclpy.create_node(
-                NODE_NAME,
-                context=self._context,
-                parameter_overrides=[Parameter("use_sim_time", Parameter.Type.BOOL, True)],
-            )
             if bag is not None:  # --bag: what the node publishes goes into the bag too
                 record_publishers(self.node, bag, lambda: cell.time)
             plugins = gazebo_plugins(cell)

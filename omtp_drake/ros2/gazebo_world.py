@@ -14,7 +14,8 @@ No ``gazebo_msgs`` wheel is on PyPI, so the states go out through Cyclone DDS
 (:mod:`omtp_drake.ros2.dds_types`), and Gazebo's model services (``spawn_entity``,
 ``delete_entity``, ``get_entity_state``, ``set_entity_state``; ROS 1's ``spawn_urdf_model``...)
 cannot be served on ROS 2 at all (Cyclone cannot answer a Fast DDS client's request):
-:data:`NO_GAZEBO_SERVICES` says so once when the node starts. ROS 2's std_srvs has the
+:data:`NO_GAZEBO_SERVICES` says so once when the node starts, if the cell has what they act on
+in the course (parts, or its spawner). ROS 2's std_srvs has the
 spawner's own type, so its services are served as under ros-run.
 """
 
@@ -78,7 +79,10 @@ class GazeboWorldTopics:
         found = spawner(self.world, self.empty_calls)
         if found is not None:
             self._serve(node, found, run_on_cell)
-        _log.warning(NO_GAZEBO_SERVICES)
+        # What the services act on in the course: its parts (spawned, deleted, their states read and
+        # set) and its spawner. A world of fixed models and robots (the tutorial robot's) has neither.
+        if found is not None or self.world.models.parts:
+            _log.warning(NO_GAZEBO_SERVICES)
 
     def _serve(
         self, node: Any, found: Any, run_on_cell: Callable[[Callable[[], str]], tuple[bool, str]]

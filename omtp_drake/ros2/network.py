@@ -17,10 +17,13 @@ middleware reads them when it creates its participant.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import logging
 import os
+from collections.abc import Iterator
 from dataclasses import dataclass
+from pathlib import Path
 from types import ModuleType
 from typing import Optional
 
@@ -30,6 +33,11 @@ from omtp_drake.errors import ConfigError, MissingExtraError
 MAX_DOMAIN_ID = 232
 #: The largest domain id whose ports stay below Linux's ephemeral range (the ROS 2 docs' safe range).
 SAFE_DOMAIN_ID = 101
+
+#: Fast DDS's participant profile for the cell (:func:`cell_participant_profile`).
+FASTDDS_PROFILE = Path(__file__).with_name("fastdds_profile.xml")
+#: The variable Fast DDS reads its default profile from (once per process).
+PROFILE_VARIABLE = "FASTDDS_DEFAULT_PROFILES_FILE"
 
 #: What installs the middleware: the project's extra.
 INSTALL_HINT = 'pip install -e ".[ros2]"'
@@ -108,6 +116,47 @@ def choose_network(domain_id: Optional[int] = None, *, subnet: bool = False) -> 
         else:
             domain_id = 1 + os.getpid() % SAFE_DOMAIN_ID
     return Ros2Network(domain_id, subnet)
+
+
+@contextlib.contextmanager
+def cell_participant_profile() -> Iterator[None]:
+    """While the block creates the cell's rclpy participant, Fast DDS's default profile is
+    :data:`FASTDDS_PROFILE`: ``fastdds.type_propagation`` disabled, so the cell's endpoints
+    announce no XTypes type information and its participant serves no TypeLookup. A peer then
+    matches the cell's topics by type name, as ROS 2 matched before XTypes, and never asks the
+    cell for a type.
+
+    Why: a Fast DDS 3.2 peer that discovers an endpoint of a type it does not hold yet (a node
+    starting: its publishers come after its participant) asks for the type, and its TypeLookup
+    request reaches every participant of the domain. The cell has two (rclpy's Fast DDS and
+    Cyclone DDS, :mod:`omtp_drake.ros2.dds_types`), and both answered. The peer takes the first
+    reply; Cyclone's held only the nested types Cyclone shares with ROS (``std_msgs/Header``,
+    ``builtin_interfaces/Time``), so the peer dropped the request ("Inconsistent TypeObject")
+    and never matched any of the cell's topics with a Header (``/joint_states``,
+    ``/set_joint_trajectory``, the cameras): measured in 4 of 12 starts right after the cell.
+    Also the cell's Fast DDS answered lookups of Cyclone's types, the red
+    ``TYPELOOKUP_SERVICE_REPLY_LISTENER`` lines of every peer.
+
+    Fast DDS reads the profile once per process, at its first participant; the variable is
+    restored after the block, so the nodes a launch starts do not inherit it. A profile of the
+    user's own (the variable already set) is kept, with one warning.
+    """
+    own = os.environ.get(PROFILE_VARIABLE)
+    if own is not None:
+        _log.warning(
+            "%s=%s is kept for the cell's participant; unless it sets fastdds.type_propagation to "
+            "disabled (as %s does), a node starting beside the cell may never match its topics",
+            PROFILE_VARIABLE,
+            own,
+            FASTDDS_PROFILE,
+        )
+        yield
+        return
+    os.environ[PROFILE_VARIABLE] = str(FASTDDS_PROFILE)
+    try:
+        yield
+    finally:
+        os.environ.pop(PROFILE_VARIABLE, None)
 
 
 def import_rclpy() -> ModuleType:
