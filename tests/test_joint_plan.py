@@ -35,17 +35,6 @@ def test_a_plan_starts_where_the_command_is_goes_through_the_knots_and_ends_at_r
         assert np.allclose(trajectory.value(t).ravel(), plan.state(t)[:2], atol=1e-12)
 
 
-def test_a_plan_can_take_over_inside_its_first_piece_and_keep_its_grid():
-    t0, at = 0.0, 0.03  # the state is given at 0.03, the pieces stay on the 0.05 grid
-    knots = cubic(t0 + H * np.arange(1, 21))
-    start = np.concatenate([cubic(np.array([at]))[0], np.array([0.4, 0.0, 0.0, 0.3])])
-    plan = JointPlan.through(t0, H, start, knots, at=at)
-    assert np.allclose(plan.state(at), start, atol=1e-12)
-    for t, k in zip(t0 + H * np.arange(3, 19), knots[2:-2]):
-        assert np.allclose(plan.state(t)[:2], k, atol=1e-12)
-    assert plan.t0 == t0 and plan.jerk(at).shape == (2,)
-
-
 def test_the_jerk_of_each_piece_integrated_at_the_stream_step_is_the_plan():
     plan = JointPlan.through(0.0, H, np.array([0.1, 0.0, 0.5, 0.0, 0.0, 1.0]), cubic(H * np.arange(1, 11)))
     A, B = jerk_dynamics(2, h)

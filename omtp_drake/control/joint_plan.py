@@ -12,9 +12,7 @@ starting from the command's position, velocity and acceleration when it is decid
 ending at rest. Each of its pieces is one cubic of constant jerk, so
 :class:`JerkStream` (a discrete ``LinearSystem``, C++) integrates the plan exactly at
 the command rate from the jerk of the current piece, which the controller writes once
-per period: between two periods no Python runs at the plant step. The scripting layer's
-commander (:mod:`omtp_drake.script.arm_commander`) plays a script's joint trajectories
-with the same two pieces, a plan taking over between two of its grid's points.
+per period: between two periods no Python runs at the plant step.
 
 Frames: W world, B the arm's base_link, E the tool frame (``<gripper>_tip``).
 """
@@ -126,32 +124,21 @@ class JointPlan:
         return JointPlan(t0, period, np.tile(np.asarray(q, dtype=float), (4, 1)))
 
     @staticmethod
-    def through(
-        t0: float, period: float, start: np.ndarray, knots: np.ndarray, at: float | None = None
-    ) -> JointPlan:
+    def through(t0: float, period: float, start: np.ndarray, knots: np.ndarray) -> JointPlan:
         """From ``start`` = [q; v; a] at ``t0`` (C2: the command's state there) near
         ``knots[m - 1]`` at ``t0 + m period``, at rest at the last knot two periods after it.
 
         The first three control points give ``start``; the others are the quasi-interpolant
         ``(-K[j-1] + 8 K[j] - K[j+1]) / 6`` of the knots (K[0] = q, the last knot repeated),
-        which a cubic through the knots reproduces.
-
-        ``at`` (in ``[t0, t0 + period)``, default ``t0``): ``start`` is the state at
-        ``at`` instead, inside the first piece (a plan that takes over between two of
-        the ``t0 + m period`` grid's points, keeping its pieces on that grid)."""
+        which a cubic through the knots reproduces."""
         H = period
         q0, v0, a0 = np.split(np.asarray(start, dtype=float), 3)
         K = np.vstack([q0, knots, np.tile(knots[-1], (4, 1))])  # K[m]: at t0 + m period
         Q = np.empty((len(knots) + 5, len(q0)))  # Q[j] is centred on t0 + (j - 1) period
+        Q[0] = q0 + H * H * a0 / 3 - H * v0
+        Q[1] = q0 - H * H * a0 / 6
+        Q[2] = q0 + H * H * a0 / 3 + H * v0
         Q[3:] = (-K[1:-2] + 8 * K[2:-1] - K[3:]) / 6
-        u = 0.0 if at is None else (at - t0) / H
-        if u == 0.0:
-            Q[0] = q0 + H * H * a0 / 3 - H * v0
-            Q[1] = q0 - H * H * a0 / 6
-            Q[2] = q0 + H * H * a0 / 3 + H * v0
-        else:  # the cubic with this state at u and Q[3]: always one (q, v, a and jerk fix it)
-            B = _basis(u, H)
-            Q[:3] = np.linalg.solve(B[:, :3], np.vstack([q0, v0, a0]) - np.outer(B[:, 3], Q[3]))
         return JointPlan(t0, period, Q)
 
     @property
@@ -182,9 +169,14 @@ class JointPlan:
     def state(self, t: float) -> np.ndarray:
         """[q; v; a] at ``t``."""
         i, u = self._piece(t)
-        b, db, ddb = _basis(u, self.period) @ self.control[i : i + 4]
+        Q, H = self.control[i : i + 4], self.period
+        b = np.array([(1 - u) ** 3, 3 * u**3 - 6 * u**2 + 4, -3 * u**3 + 3 * u**2 + 3 * u + 1, u**3]) / 6
+        db = np.array([-3 * (1 - u) ** 2, 9 * u**2 - 12 * u, -9 * u**2 + 6 * u + 3, 3 * u**2]) / (6 * H)
+        ddb = np.array([6 * (1 - u), 18 * u - 12, -18 * u + 6, 6 * u]) / (6 * H * H)
         at_rest = t < self.t0 or t >= self.end_time
-        return np.concatenate([b, (0.0 if at_rest else 1.0) * db, (0.0 if at_rest else 1.0) * ddb])
+        return np.concatenate(
+            [b @ Q, (0.0 if at_rest else 1.0) * (db @ Q), (0.0 if at_rest else 1.0) * (ddb @ Q)]
+        )
 
     def trajectory(self) -> PiecewisePolynomial:
         """The plan as a PiecewisePolynomial (exact: cubic Hermite pieces)."""
@@ -197,15 +189,6 @@ class JointPlan:
 
     def __deepcopy__(self, memo: dict) -> JointPlan:
         return self  # immutable: Drake clones abstract state at every update
-
-
-def _basis(u: float, H: float) -> np.ndarray:
-    """Rows: the uniform cubic B-spline's weights of a piece's four control points for
-    q, v and a at ``u`` (0 to 1) into a piece of length ``H``."""
-    b = np.array([(1 - u) ** 3, 3 * u**3 - 6 * u**2 + 4, -3 * u**3 + 3 * u**2 + 3 * u + 1, u**3]) / 6
-    db = np.array([-3 * (1 - u) ** 2, 9 * u**2 - 12 * u, -9 * u**2 + 6 * u + 3, 3 * u**2]) / (6 * H)
-    ddb = np.array([6 * (1 - u), 18 * u - 12, -18 * u + 6, 6 * u]) / (6 * H * H)
-    return np.vstack([b, db, ddb])
 
 
 def jerk_dynamics(n: int, h: float) -> tuple[np.ndarray, np.ndarray]:
