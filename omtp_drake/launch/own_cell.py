@@ -192,6 +192,11 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
         document["conveyor"] = {**world.conveyor, "stop_on_beam": mapping.stop_on_beam}
     elif mapping.stop_on_beam:
         raise WorkspaceError("breakbeam_conveyor_stop.py runs but the world has no conveyor")
+    names = dict(pieces.plugin_names)
+    if world.conveyor_service is not None:
+        names["conveyor_control_service"] = world.conveyor_service
+    if names != {"grippers": []}:
+        document["plugin_names"] = names
     if pieces.suction_checks is not None:
         document["suction"] = {"consecutive_checks": pieces.suction_checks}
     if mapping.spawner is not None:
