@@ -26,6 +26,7 @@ OVERLAY = {
     "vacuum_gripper.gazebo.xacro": "omtp_support/urdf/vacuum_gripper/vacuum_gripper.gazebo.xacro",
     "break_beam.gazebo.xacro": "omtp_support/urdf/break_beam/break_beam.gazebo.xacro",
     "conveyor.sdf": "omtp_gazebo/models/conveyor/model.sdf",
+    "logical_camera2.sdf": "omtp_gazebo/models/logical_camera2/model.sdf",
 }
 
 
@@ -47,6 +48,10 @@ def test_their_parameters_are_read_once_into_the_scenario(workspace):
     assert (names.beam_state_topic, names.beam_change_topic) == ("/cell/beam/state", "/cell/beam/change")
     assert names.beam_frame_id == "break_beam_optical_link"
     assert names.conveyor_control_service == "/omtp/belt/power"
+    assert names.camera_topics == {
+        "logical_camera_1": "/omtp/logical_camera_1",
+        "logical_camera_2": "/cell/bin_camera",
+    }
 
 
 def test_a_rospy_script_on_their_names_picks_a_part_into_their_bin(workspace, tmp_path):
@@ -63,6 +68,7 @@ def test_a_rospy_script_on_their_names_picks_a_part_into_their_bin(workspace, tm
         "enabled": True,
         "attached": True,
         "beam_frames": ["break_beam_optical_link"],
+        "bin_camera": True,
     }
 
 
@@ -70,6 +76,7 @@ def test_a_rospy_script_on_their_names_picks_a_part_into_their_bin(workspace, tm
 def test_the_ros2_graph_has_their_names_and_not_the_courses(workspace, tmp_path):
     out = tmp_path / "graph.json"
     wanted = ["/cell/gripper1/my_state", "/cell/beam/state", "/cell/gripper1/suction", "/omtp/belt/power"]
+    wanted += ["/cell/bin_camera/poses"]
     node = [str(Path(__file__).parent / "ros2_scripts" / "graph_names_node.py"), str(out), *wanted]
     with hold_domain() as domain:
         run_cell_with_node(["--launch", LAUNCH, "--workspace", str(workspace)], node, domain)
@@ -79,7 +86,9 @@ def test_the_ros2_graph_has_their_names_and_not_the_courses(workspace, tmp_path)
     assert "/cell/beam/change" in graph["topics"]
     assert graph["services"]["/cell/gripper1/suction"] == ["std_srvs/srv/SetBool"]
     assert graph["services"]["/omtp/belt/power"] == ["std_srvs/srv/SetBool"]
+    assert graph["topics"]["/cell/bin_camera/poses"] == ["geometry_msgs/msg/PoseArray"]
     old = {"/gripper1/state", "/break_beam_sensor", "/gripper1/control", "/omtp/conveyor/control"}
+    old |= {"/omtp/logical_camera_2/poses"}
     assert not old & (set(graph["topics"]) | set(graph["services"]))
 
 

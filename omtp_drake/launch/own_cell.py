@@ -195,6 +195,8 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
     names = dict(pieces.plugin_names)
     if world.conveyor_service is not None:
         names["conveyor_control_service"] = world.conveyor_service
+    if world.camera_topics:
+        names["camera_topics"] = world.camera_topics
     if names != {"grippers": []}:
         document["plugin_names"] = names
     if pieces.suction_checks is not None:

@@ -9,7 +9,8 @@ ROSLogicalCameraPlugin         a logical camera (``cameras``)        the ``logic
                                                                      horizontal_fov,
                                                                      aspect_ratio,
                                                                      update_rate;
-                                                                     robotNamespace;
+                                                                     robotNamespace,
+                                                                     image_topic_ros;
                                                                      position/orientation
                                                                      noise (gaussian)
 ROSVacuumGripperPlugin         the robot's suction gripper           grasp_check
@@ -62,8 +63,6 @@ KINDS = {
     "libObjectDisposalPlugin.so": "deletion_wall",
     "libgazebo_ros_control.so": "controllers",
 }
-#: The ROS namespace of the cell's logical cameras' topics (``/omtp/<camera>``).
-CAMERA_NAMESPACE = "omtp"
 
 
 @dataclass(frozen=True)
@@ -136,12 +135,6 @@ def logical_camera(plugin: GazeboPlugin, sensor: ET.Element, name: str, xyz, rpy
     """The scenario's camera entry of a ROSLogicalCameraPlugin and its ``logical_camera``
     sensor, at ``xyz``/``rpy`` in world."""
     where = plugin.where
-    namespace = (plugin.text("robotNamespace", "/") or "/").strip("/")
-    if namespace != CAMERA_NAMESPACE:
-        raise WorkspaceError(
-            f"{where}: logical camera {name!r}: robotNamespace {namespace!r} is not supported; valid: "
-            f"{CAMERA_NAMESPACE} (the cell publishes /{CAMERA_NAMESPACE}/{name})"
-        )
     values = sensor.find("logical_camera")
     if values is None:
         raise WorkspaceError(f"{where}: sensor {sensor.get('name')!r} has no <logical_camera> values")
@@ -270,3 +263,9 @@ def beam_names(plugin: GazeboPlugin) -> dict[str, str]:
 def conveyor_service(plugin: GazeboPlugin) -> str:
     """A ROSConveyorBeltPlugin's control service in its ``robot_namespace``."""
     return _ros_name(plugin, "topic", "conveyor/control", "robot_namespace")
+
+
+def camera_topic(plugin: GazeboPlugin, name: str) -> str:
+    """A ROSLogicalCameraPlugin's topic: ``image_topic_ros`` (the model's name by default) in
+    its ``robotNamespace`` (the course's models: ``omtp``, so ``/omtp/<model>``)."""
+    return _ros_name(plugin, "image_topic_ros", name, "robotNamespace")

@@ -19,6 +19,8 @@ ROSProximityRayPlugin      ``robotNamespace`` (none),               ``/break_bea
                            ``frame_id`` (the sensor's ``_frame``)
 ROSConveyorBeltPlugin      ``robot_namespace`` (none),              ``/omtp/conveyor/control``
                            ``topic`` (``conveyor/control``)
+ROSLogicalCameraPlugin     ``robotNamespace`` (``/``),              ``/omtp/<camera>``
+                           ``image_topic_ros`` (the model's name)
 =========================  =======================================  ==============================
 """
 
@@ -82,6 +84,12 @@ class PluginNames:
     beam_change_topic: str = "/break_beam_sensor_change"
     beam_frame_id: str = "break_beam_sensor_frame"
     conveyor_control_service: str = "/omtp/conveyor/control"
+    #: Logical camera -> its topic (a camera not listed: ``/omtp/<camera>``).
+    camera_topics: dict[str, str] = field(default_factory=dict)
+
+    def camera_topic(self, camera: str) -> str:
+        """``camera``'s topic."""
+        return self.camera_topics.get(camera, f"/omtp/{camera}")
 
     def gripper(self, robot: str) -> Optional["GripperNames"]:
         """``robot``'s gripper's names when a file set them."""
@@ -97,6 +105,7 @@ class PluginNames:
             ("plugin_names.beam_change_topic", self.beam_change_topic),
             ("plugin_names.conveyor_control_service", self.conveyor_control_service),
         ]
+        names += [(f"plugin_names.camera_topics[{c}]", t) for c, t in self.camera_topics.items()]
         for what, name in names:
             check_name(what, name)
         services = [g.control_service for g in self.grippers] + [self.conveyor_control_service]
