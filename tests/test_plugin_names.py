@@ -48,10 +48,8 @@ def test_their_parameters_are_read_once_into_the_scenario(workspace):
     assert (names.beam_state_topic, names.beam_change_topic) == ("/cell/beam/state", "/cell/beam/change")
     assert names.beam_frame_id == "break_beam_optical_link"
     assert names.conveyor_control_service == "/omtp/belt/power"
-    assert names.camera_topics == {
-        "logical_camera_1": "/omtp/logical_camera_1",
-        "logical_camera_2": "/cell/bin_camera",
-    }
+    assert names.camera_topics == {"logical_camera_2": "/cell/bin_camera"}  # camera 1's: the course's
+    assert names.camera_topic("logical_camera_1") == "/omtp/logical_camera_1"
 
 
 def test_a_rospy_script_on_their_names_picks_a_part_into_their_bin(workspace, tmp_path):

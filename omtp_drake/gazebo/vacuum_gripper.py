@@ -17,7 +17,6 @@ state topic and control service, for each arm whose gripper is ``vacuum_gripperN
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -30,8 +29,6 @@ if TYPE_CHECKING:
 
 #: The plugin publishes its state at every world update: at every poll of the transport.
 STATE_PERIOD = 0.0
-#: The course's gripper models, ``vacuum_gripperN``, and their plugins' names, ``gripperN``.
-_GRIPPER_MODEL = re.compile(r"vacuum_gripper(\d+)")
 
 
 @dataclass(frozen=True)
@@ -55,11 +52,7 @@ def gripper_plugins(cell: Cell) -> dict[str, GripperNames]:
     from the student's ``<plugin>``), else the course's (``gripperN`` for ``vacuum_gripperN``)."""
     plugins = {}
     for robot in cell.station.grippers:
-        names = cell.scenario.plugin_names.gripper(robot)
-        match = _GRIPPER_MODEL.fullmatch(cell.station.arm(robot).config.gripper or "")
-        if names is None and match is not None:
-            name = f"gripper{match.group(1)}"
-            names = GripperNames(robot, name, f"/{name}/control", f"/{name}/state")
+        names = cell.scenario.plugin_names.gripper(robot, cell.station.arm(robot).config.gripper or "")
         if names is not None:
             plugins[robot] = names
     return plugins

@@ -60,6 +60,9 @@ def check_name(what: str, name: str) -> None:
 
 #: A gripper's resolved names.
 _GRIPPER_NAMES = ("control_service", "state_topic")
+#: The course's gripper models, ``vacuum_gripperN``, whose plugins the course's xacro names
+#: ``gripperN``.
+_COURSE_GRIPPER = re.compile(r"vacuum_gripper(\d+)")
 
 
 @dataclass
@@ -91,9 +94,26 @@ class PluginNames:
         """``camera``'s topic."""
         return self.camera_topics.get(camera, f"/omtp/{camera}")
 
-    def gripper(self, robot: str) -> Optional["GripperNames"]:
-        """``robot``'s gripper's names when a file set them."""
-        return next((g for g in self.grippers if g.robot == robot), None)
+    def gripper(self, robot: str, model: str = "") -> Optional["GripperNames"]:
+        """``robot``'s gripper's names: as a file set them, else the course's for its gripper
+        ``model`` (``/gripperN/...`` for ``vacuum_gripperN``; None for another model)."""
+        found = next((g for g in self.grippers if g.robot == robot), None)
+        return found if found is not None else course_gripper(robot, model)
+
+    def without_defaults(self, grippers: dict[str, str]) -> dict:
+        """The entries that differ from the defaults (``grippers``: robot -> its gripper
+        model), as a scenario document's ``plugin_names``: a file that names its plugins as
+        the course does gives the scenario the course's files give."""
+        default = PluginNames()
+        out: dict = {
+            key: value
+            for key, value in vars(self).items()
+            if key not in ("grippers", "camera_topics") and value != getattr(default, key)
+        }
+        own = [vars(g) for g in self.grippers if g != course_gripper(g.robot, grippers.get(g.robot, ""))]
+        cameras = {c: t for c, t in self.camera_topics.items() if t != default.camera_topic(c)}
+        out.update({"grippers": own} if own else {}, **({"camera_topics": cameras} if cameras else {}))
+        return out
 
     def validate(self) -> None:
         names = [
@@ -114,3 +134,12 @@ class PluginNames:
             raise ConfigError(
                 f"plugin_names: service {twice[0]!r} is advertised twice; each plugin needs its own"
             )
+
+
+def course_gripper(robot: str, model: str) -> Optional[GripperNames]:
+    """The course's names of the gripper ``model`` on ``robot`` (None: not the course's)."""
+    match = _COURSE_GRIPPER.fullmatch(model)
+    if match is None:
+        return None
+    name = f"gripper{match.group(1)}"
+    return GripperNames(robot, name, f"/{name}/control", f"/{name}/state")
