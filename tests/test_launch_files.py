@@ -154,8 +154,8 @@ def _edit(path: Path, old: str, new: str) -> None:
         (
             "omtp_gazebo/models/logical_camera1/model.sdf",
             "<robotNamespace>omtp</robotNamespace>",
-            "<robotNamespace>factory</robotNamespace>",
-            "robotNamespace 'factory' is not supported; valid: omtp",
+            "<robotNamespace>my factory</robotNamespace>",
+            "(ros_logical_camera_1) <robotNamespace>: namespace 'my factory' is not valid",
         ),
         (
             "omtp_support/urdf/bin/bin.xacro",

@@ -200,6 +200,48 @@ def test_a_gazebo_sensor_on_a_link_that_does_not_exist_is_one_error(tmp_path):
     assert main(main_args) == 2
 
 
+def test_a_gazebo_sensor_on_a_joint_is_one_error_where_the_xacro_writes_it(tmp_path, capsys):
+    """The tutorial's depth camera moved from ``camera_link`` to ``camera_joint`` (a joint's
+    ``<gazebo>`` holds joint sensors in Gazebo, which the cell has not): one line naming the
+    included xacro and its line, the value and the valid links, before anything is built
+    (it was a RuntimeError from the plant's GetBodyByName)."""
+    ws = tmp_path / "src"
+    shutil.copytree(FIXTURES / "tutorial_ws" / "src", ws)
+    gazebo = ws / "slider_arm_description" / "urdf" / "slider_arm.gazebo.xacro"
+    text = gazebo.read_text()
+    sensor = text.index('<sensor type="depth"')
+    at = text.rindex('reference="camera_link"', 0, sensor)
+    gazebo.write_text(text[:at] + 'reference="camera_joint"' + text[at + len('reference="camera_link"') :])
+    line = 1 + text[:at].count("\n")
+    robot = ws / "slider_arm_description" / "urdf" / "slider_arm.urdf.xacro"
+    assert main(["view", str(robot), "--workspace", str(ws), "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{gazebo}:{line}: <gazebo reference='camera_joint'>: is a joint" in err
+    assert "valid links: world, base_link, slider_link, arm_link, camera_link, camera_link_optical" in err
+    assert "\n" not in err and "GetBodyByName" not in err
+
+
+def test_a_scenario_models_sensor_on_no_link_is_one_error():
+    """A scenario document's typed model entry whose sensor names no link of its model: one
+    error naming the file, the sensor, the value and the valid links (not GetBodyByName's)."""
+    import dataclasses
+
+    from omtp_drake.errors import UnknownNameError
+    from omtp_drake.scenario import scenario_from_dict, with_robot
+
+    robot = FIXTURES / "tutorial_ws" / "src" / "slider_arm_description" / "urdf" / "slider_arm.urdf.xacro"
+    scenario = with_robot(None, robot, [FIXTURES / "tutorial_ws" / "src"])
+    document = {"name": "mine", "models": [dataclasses.asdict(m) for m in scenario.models]}
+    (sensor,) = [s for m in document["models"] for s in m["gazebo"]["sensors"]]
+    sensor["link"] = "camera_joint"
+    with pytest.raises(UnknownNameError) as e:
+        scenario_from_dict(document, source="mine.yaml", name="mine")
+    assert str(e.value) == (
+        f"unknown link of {robot}'s sensor 'tip_camera' 'camera_joint'; valid: arm_link, base_link, "
+        "camera_link, camera_link_optical, slider_link, world"
+    )
+
+
 def test_view_lists_every_model_of_a_world(capsys):
     assert main(["view", str(TABLE_CUBE), "--json"]) == 0
     info = json.loads(capsys.readouterr().out)

@@ -21,8 +21,11 @@ Modules, one plugin each:
 - ``parts``: the parts in the world as ground truth (ROS 2's ``/omtp/parts``)
 - ``services``: what a plugin serves: a service's name, neutral request and reply
 - ``vacuum_gripper``: the course's vacuum gripper plugin: ``/gripperN/state`` and ``/gripperN/control``
+  (or the names its ``<plugin>`` sets; the scenario's ``plugin_names``)
 - ``conveyor``: the course's conveyor belt plugin: ``/omtp/conveyor/control`` (belt power)
+  (or its ``<plugin>``'s name)
 - ``proximity_ray``: the course's break beam: ``/break_beam_sensor`` and ``/break_beam_sensor_change``
+  (or its ``<plugin>``'s names)
 - ``world``: the world the plugins share: its Gazebo models and its physics updates
 - ``models``: the cell's models and links under Gazebo's names: poses and twists
 - ``model_states``: Gazebo's ``/gazebo/model_states`` and ``/gazebo/link_states`` (both branches' rates)

@@ -2,7 +2,8 @@
 each logical camera reports, when, on which topic.
 
 - ``/omtp/<camera>`` for every logical camera (the plugin's ``robotNamespace`` ``omtp``
-  and the camera model's name), and ``/omtp/logical_camera``, the lecture's single
+  and the camera model's name; a student's ``robotNamespace`` and ``image_topic_ros``, read
+  once into the scenario's ``plugin_names``), and ``/omtp/logical_camera``, the lecture's single
   camera (:func:`single_camera`);
 - one message per new image of the camera (its rate), stamped with the image's time:
   the camera's pose in the world and every Gazebo model in view with its origin's pose
@@ -64,8 +65,9 @@ class NewImages:
 def logical_camera_publications(cell: Cell, views: dict[str, GazeboCameraView]) -> list[Publication]:
     """The topics above of ``cell``'s cameras, from ``views`` (:func:`camera_views`; a
     transport shares them with its tf)."""
+    topics = cell.scenario.plugin_names
     out = [
-        Publication(f"/omtp/{name}", LogicalCameraImage, NewImages(cell, view), plugin=name)
+        Publication(topics.camera_topic(name), LogicalCameraImage, NewImages(cell, view), plugin=name)
         for name, view in views.items()
     ]
     single = single_camera(cell)

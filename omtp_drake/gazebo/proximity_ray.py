@@ -1,9 +1,11 @@
 """The course's break beam (``omtp_gazebo``'s ``ROSProximityRayPlugin`` on the beam's ray
 sensor): its two topics, when the cell has a beam.
 
-- Names: after the sensor, as the plugin names them by default (the course's xacro sets
-  no ``output_state_topic`` nor ``robotNamespace``): ``/break_beam_sensor`` and
-  ``/break_beam_sensor_change``, in the frame ``break_beam_sensor_frame``.
+- Names: the plugin's parameters as the student's file sets them (``robotNamespace``,
+  ``output_state_topic``, ``output_change_topic``, ``frame_id``; by default after the ray
+  sensor), read once into the scenario's ``plugin_names``; the course's xacro sets none of
+  them: ``/break_beam_sensor`` and ``/break_beam_sensor_change``, in the frame
+  ``break_beam_sensor_frame``.
 - ``/break_beam_sensor``: one message per scan of the ray sensor (its rate, 10 Hz: the
   cell's beam, :class:`~omtp_drake.cell.conveyor.BreakBeam`), stamped with the scan's time.
 - ``/break_beam_sensor_change``: the same message, only when ``object_detected`` changed
@@ -22,9 +24,6 @@ from omtp_drake.gazebo.schedule import Publication, Sampled
 if TYPE_CHECKING:
     from omtp_drake.cell.conveyor import BreakBeam
     from omtp_drake.script import Cell
-
-#: The beam's ray sensor, after which the plugin names its topics and frame.
-BREAK_BEAM_SENSOR = "break_beam_sensor"
 
 
 @dataclass(frozen=True)
@@ -57,9 +56,10 @@ class Changes:
 
 def _scans(cell: Cell, beam: BreakBeam) -> Sampled[Proximity]:
     low, high = beam.range
+    frame = cell.scenario.plugin_names.beam_frame_id
 
     def message(stamp: float) -> Proximity:
-        return Proximity(stamp, f"{BREAK_BEAM_SENSOR}_frame", bool(cell.break_beam()), low, high)
+        return Proximity(stamp, frame, bool(cell.break_beam()), low, high)
 
     return Sampled(beam.rate_hz, message)
 
@@ -69,9 +69,11 @@ def beam_publications(cell: Cell) -> list[Publication]:
     beam = cell.station.break_beam
     if beam is None:
         return []
-    topic = f"/{BREAK_BEAM_SENSOR}"
-    plugin = f"{BREAK_BEAM_SENSOR}_controller"
+    names = cell.scenario.plugin_names
+    plugin = "break_beam_sensor_controller"
     return [
-        Publication(topic, Proximity, _scans(cell, beam), latched=True, plugin=plugin),
-        Publication(f"{topic}_change", Proximity, Changes(_scans(cell, beam)), latched=True, plugin=plugin),
+        Publication(names.beam_state_topic, Proximity, _scans(cell, beam), latched=True, plugin=plugin),
+        Publication(
+            names.beam_change_topic, Proximity, Changes(_scans(cell, beam)), latched=True, plugin=plugin
+        ),
     ]

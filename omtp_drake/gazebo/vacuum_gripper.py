@@ -1,9 +1,11 @@
 """The course's vacuum gripper plugin (``omtp_gazebo``'s ``ROSVacuumGripperPlugin``): its
 state topic and control service, for each arm whose gripper is ``vacuum_gripperN``.
 
-- Names: the course's xacro names the plugin ``gripperN`` and sets ``<control_topic>`` and
-  ``<state_topic>`` to ``gripperN/control`` and ``gripperN/state`` (no robot namespace), so
-  ``/gripperN/control`` and ``/gripperN/state``.
+- Names: the plugin's own parameters as the student's file sets them (``robot_namespace``,
+  ``control_topic``, ``state_topic``), read once into the scenario's ``plugin_names``
+  (:mod:`omtp_drake.scenario.plugin_names`). Without a file (a built-in scenario), the
+  course's xacro's: it names the plugin ``gripperN`` and sets ``gripperN/control`` and
+  ``gripperN/state`` (no robot namespace), so ``/gripperN/control`` and ``/gripperN/state``.
 - ``/gripperN/state``: ``enabled`` (the vacuum is on) and ``attached`` (a part is held), at
   every world update of the plugin (the course's publishes at every physics step; here
   once per step of the transport), stamped with the update's time (the course's message
@@ -15,20 +17,18 @@ state topic and control service, for each arm whose gripper is ``vacuum_gripperN
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from omtp_drake.gazebo.schedule import Periodic, Publication
 from omtp_drake.gazebo.services import PluginService, ServiceReply
+from omtp_drake.scenario.plugin_names import GripperNames
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
 
 #: The plugin publishes its state at every world update: at every poll of the transport.
 STATE_PERIOD = 0.0
-#: The course's gripper models, ``vacuum_gripperN``, and their plugins' names, ``gripperN``.
-_GRIPPER_MODEL = re.compile(r"vacuum_gripper(\d+)")
 
 
 @dataclass(frozen=True)
@@ -47,23 +47,24 @@ class VacuumGripperControl:
     enable: bool
 
 
-def gripper_plugins(cell: Cell) -> dict[str, str]:
-    """Robot -> the name of its gripper's plugin (``gripperN`` for ``vacuum_gripperN``),
-    the namespace of the gripper's ``control`` service and ``state`` topic."""
+def gripper_plugins(cell: Cell) -> dict[str, GripperNames]:
+    """Robot -> its gripper plugin's names: as the scenario's ``plugin_names`` has them (read
+    from the student's ``<plugin>``), else the course's (``gripperN`` for ``vacuum_gripperN``)."""
     plugins = {}
     for robot in cell.station.grippers:
-        match = _GRIPPER_MODEL.fullmatch(cell.station.arm(robot).config.gripper or "")
-        if match is not None:
-            plugins[robot] = f"gripper{match.group(1)}"
+        names = cell.scenario.plugin_names.gripper(robot, cell.station.arm(robot).config.gripper or "")
+        if names is not None:
+            plugins[robot] = names
     return plugins
 
 
 class VacuumGripperPlugin:
-    """The plugin ``name`` (``gripperN``) of ``robot``'s gripper on ``cell``."""
+    """The plugin of ``robot``'s gripper on ``cell``, under its ``names``."""
 
-    def __init__(self, cell: Cell, robot: str, name: str):
+    def __init__(self, cell: Cell, robot: str, names: GripperNames):
         self._gripper = cell.gripper(robot)
-        self.name = name
+        self.names = names
+        self.name = names.plugin
 
     def state(self, t: float) -> VacuumGripperState:
         state = self._gripper.state()
@@ -75,19 +76,19 @@ class VacuumGripperPlugin:
         return ServiceReply(True, f"vacuum {'on' if request.enable else 'off'}{held}")
 
     def publication(self) -> Publication:
-        """``/gripperN/state``."""
+        """``/gripperN/state`` (or the file's ``state_topic``)."""
         return Publication(
-            f"/{self.name}/state", VacuumGripperState, Periodic(STATE_PERIOD, self.state), plugin=self.name
+            self.names.state_topic, VacuumGripperState, Periodic(STATE_PERIOD, self.state), plugin=self.name
         )
 
     def service(self) -> PluginService:
-        """``/gripperN/control``."""
-        return PluginService(f"/{self.name}/control", VacuumGripperControl, self.control, plugin=self.name)
+        """``/gripperN/control`` (or the file's ``control_topic``)."""
+        return PluginService(self.names.control_service, VacuumGripperControl, self.control, plugin=self.name)
 
 
 def vacuum_grippers(cell: Cell) -> list[VacuumGripperPlugin]:
     """The gripper plugins of ``cell``."""
-    return [VacuumGripperPlugin(cell, robot, name) for robot, name in gripper_plugins(cell).items()]
+    return [VacuumGripperPlugin(cell, robot, names) for robot, names in gripper_plugins(cell).items()]
 
 
 def gripper_publications(cell: Cell) -> list[Publication]:

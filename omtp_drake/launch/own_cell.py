@@ -39,6 +39,7 @@ from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
 from omtp_drake.launch.standins import standin_dirs
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import Scenario, scenario_from_dict, scenario_text
+from omtp_drake.scenario.plugin_names import GripperNames, PluginNames
 from omtp_drake.workspace import Workspace
 
 
@@ -167,6 +168,19 @@ def _frame(name: str, X_WL: RigidTransform) -> dict:
     return {"name": name, "parent": "world", "xyz": xyz, "rpy": rpy}
 
 
+def _plugin_names(mapping: NodeMapping) -> dict:
+    """The plugins' names the files set, where they differ from the course's."""
+    pieces, world = mapping.pieces, mapping.world
+    names = PluginNames(
+        grippers=[GripperNames(**g) for g in pieces.plugin_names["grippers"]],
+        camera_topics=dict(world.camera_topics),
+        **{k: v for k, v in pieces.plugin_names.items() if k != "grippers"},
+    )
+    if world.conveyor_service is not None:
+        names.conveyor_control_service = world.conveyor_service
+    return names.without_defaults({r["name"]: r.get("gripper", "") for r in pieces.robots})
+
+
 def _document(mapping: NodeMapping, name: str, description: str) -> dict:
     """The scenario document of what the nodes made of the cell."""
     pieces, world = mapping.pieces, mapping.world
@@ -192,6 +206,9 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
         document["conveyor"] = {**world.conveyor, "stop_on_beam": mapping.stop_on_beam}
     elif mapping.stop_on_beam:
         raise WorkspaceError("breakbeam_conveyor_stop.py runs but the world has no conveyor")
+    names = _plugin_names(mapping)
+    if names:
+        document["plugin_names"] = names
     if pieces.suction_checks is not None:
         document["suction"] = {"consecutive_checks": pieces.suction_checks}
     if mapping.spawner is not None:

@@ -39,7 +39,7 @@ from omtp_drake.launch.own_links import (
     own_links_urdf,
     piece_urdf,
 )
-from omtp_drake.launch.plugins import check_break_beam, plugins_in, suction_checks
+from omtp_drake.launch.plugins import beam_names, check_break_beam, gripper_names, plugins_in, suction_checks
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import RobotConfig
 
@@ -72,6 +72,9 @@ class Pieces:
     #: Where the student moved the break beam's base (empty: the course's pose).
     break_beam_pose: list[float] = field(default_factory=list)
     suction_checks: int | None = None
+    #: The course's plugins' ROS names read from their ``<plugin>``s (the scenario's
+    #: ``plugin_names``: ``grippers`` and the beam's).
+    plugin_names: dict = field(default_factory=lambda: {"grippers": []})
     warnings: list[str] = field(default_factory=list)
     #: The spawned URDF models and where they were placed (their links are tf frames).
     models: list[tuple[UrdfModel, RigidTransform]] = field(default_factory=list)
@@ -256,7 +259,7 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
         "yaw": _yaw_only(X_WB, f"arm {name}", where),
         "pose_prefix": f"R{digits}" if digits else RobotConfig().pose_prefix,
         "initial_pose": RobotConfig().initial_pose,
-        "gripper": _gripper(pieces, model, prefix, where),
+        "gripper": _gripper(pieces, model, prefix, where, name),
     }
     if any(j.startswith(prefix) for j in joints):
         given = " ".join(f"-J {k} {v}" for k, v in joints.items())
@@ -267,8 +270,9 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
     pieces.robots.append(robot)
 
 
-def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str) -> str:
-    """The gripper on the arm's tool0 (its name, '' for none); its plugin's attach rule."""
+def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str, robot: str) -> str:
+    """The gripper on the arm's tool0 (its name, '' for none); its plugin's attach rule and
+    ROS names (the plugin whose ``suction_cup_link`` is this gripper's cup, or the only one)."""
     tool = prefix + "tool0"
     for joint in model.joints.values():
         if joint.parent == tool and joint.child.endswith("base_link"):
@@ -276,6 +280,8 @@ def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str) -> str:
             if gripper + "suction_cup" not in model.links:
                 continue
             plugins = [p for ref, g in model.gazebo for p in plugins_in(g, where, ref) if p.kind == "suction"]
+            cup = gripper + "suction_cup"
+            plugins = [p for p in plugins if p.text("suction_cup_link") in (None, cup)] or plugins
             if not plugins:
                 pieces.warnings.append(
                     f"{where}: gripper {gripper.rstrip('_')!r} has no ROSVacuumGripperPlugin"
@@ -285,6 +291,13 @@ def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str) -> str:
                 if pieces.suction_checks not in (None, checks):
                     raise WorkspaceError(f"{where}: the grippers' attach_steps differ; the cell has one rule")
                 pieces.suction_checks = checks
+            if len(plugins) > 1:
+                raise WorkspaceError(
+                    f"{where}: gripper {gripper.rstrip('_')!r} has {len(plugins)} "
+                    "ROSVacuumGripperPlugins; valid: one"
+                )
+            if plugins:
+                pieces.plugin_names["grippers"].append(gripper_names(plugins[0], robot))
             return gripper.rstrip("_")
     return ""
 
@@ -313,6 +326,7 @@ def _add_break_beam(pieces: Pieces, model: UrdfModel, link: str, X_WO: RigidTran
         return
     for plugin in beams:
         check_break_beam(plugin)
+        pieces.plugin_names.update(beam_names(plugin))
     # The cell's beam leaves its optical link along +x, an offset along x from its base.
     X_BO = RigidTransform([model_dimensions("break_beam.urdf.xacro")["optical_offset"], 0, 0])
     X_WB = X_WO @ X_BO.inverse()

@@ -9,17 +9,30 @@ ROSLogicalCameraPlugin         a logical camera (``cameras``)        the ``logic
                                                                      horizontal_fov,
                                                                      aspect_ratio,
                                                                      update_rate;
-                                                                     robotNamespace;
+                                                                     robotNamespace,
+                                                                     image_topic_ros;
                                                                      position/orientation
                                                                      noise (gaussian)
 ROSVacuumGripperPlugin         the robot's suction gripper           grasp_check
-                                                                     attach_steps
+                                                                     attach_steps;
+                                                                     robot_namespace,
+                                                                     control_topic,
+                                                                     state_topic
 ROSProximityRayPlugin          the break beam                        the ray sensor's range
-                                                                     and update_rate
-ROSConveyorBeltPlugin          the conveyor                          power
+                                                                     and update_rate;
+                                                                     robotNamespace,
+                                                                     output_state_topic,
+                                                                     output_change_topic,
+                                                                     frame_id
+ROSConveyorBeltPlugin          the conveyor                          power;
+                                                                     robot_namespace, topic
 ObjectDisposalPlugin           the deletion wall                     update_rate
 gazebo_ros_control             the arms' controllers, joint states   --
 =============================  ====================================  ======================
+
+The ROS names (topics, services, frame) are resolved as the plugin's node handle does
+(:func:`omtp_drake.scenario.plugin_names.resolve_ros_name`) into the scenario's
+``plugin_names``, which both transports serve.
 
 A value the plugin's counterpart cannot take is one WorkspaceError naming the file and
 the value; a plugin the cell has no counterpart for is one warning line (the caller
@@ -38,6 +51,7 @@ from typing import Any
 from omtp_drake.cell.conveyor import BreakBeam
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.scenario import ConveyorConfig, LogicalCameraConfig
+from omtp_drake.scenario.plugin_names import resolve_ros_name
 from omtp_drake.sim.driver import DISPOSAL_PERIOD
 
 #: Plugin library -> what it becomes in the cell.
@@ -49,8 +63,6 @@ KINDS = {
     "libObjectDisposalPlugin.so": "deletion_wall",
     "libgazebo_ros_control.so": "controllers",
 }
-#: The ROS namespace of the cell's logical cameras' topics (``/omtp/<camera>``).
-CAMERA_NAMESPACE = "omtp"
 
 
 @dataclass(frozen=True)
@@ -123,12 +135,6 @@ def logical_camera(plugin: GazeboPlugin, sensor: ET.Element, name: str, xyz, rpy
     """The scenario's camera entry of a ROSLogicalCameraPlugin and its ``logical_camera``
     sensor, at ``xyz``/``rpy`` in world."""
     where = plugin.where
-    namespace = (plugin.text("robotNamespace", "/") or "/").strip("/")
-    if namespace != CAMERA_NAMESPACE:
-        raise WorkspaceError(
-            f"{where}: logical camera {name!r}: robotNamespace {namespace!r} is not supported; valid: "
-            f"{CAMERA_NAMESPACE} (the cell publishes /{CAMERA_NAMESPACE}/{name})"
-        )
     values = sensor.find("logical_camera")
     if values is None:
         raise WorkspaceError(f"{where}: sensor {sensor.get('name')!r} has no <logical_camera> values")
@@ -211,3 +217,55 @@ def check_deletion_wall(plugin: GazeboPlugin) -> None:
             f"{plugin.where}: ObjectDisposalPlugin update_rate {rate:g} is not supported; valid: "
             f"{1 / DISPOSAL_PERIOD:g} (the cell's deletion wall)"
         )
+
+
+def _ros_name(plugin: GazeboPlugin, tag: str, default: str, namespace_tag: str) -> str:
+    """The plugin's ``<tag>`` (``default`` when absent) in its ``<namespace_tag>``, resolved
+    as its node handle does; a bad name is one WorkspaceError naming the plugin."""
+    value = plugin.text(tag, default) or ""
+    namespace = plugin.text(namespace_tag, "") or ""
+    try:
+        return resolve_ros_name(value, namespace)
+    except ConfigError as e:
+        what = namespace_tag if str(e).startswith("namespace") else tag
+        raise WorkspaceError(
+            f"{plugin.where}: {PurePath(plugin.filename).name} ({plugin.name}) <{what}>: {e}"
+        ) from None
+
+
+def gripper_names(plugin: GazeboPlugin, robot: str) -> dict[str, str]:
+    """``robot``'s ROSVacuumGripperPlugin's names (the scenario's ``plugin_names.grippers``
+    entry): its control service and state topic in its ``robot_namespace``."""
+    return {
+        "robot": robot,
+        "plugin": plugin.name,
+        "control_service": _ros_name(plugin, "control_topic", "gripper/control", "robot_namespace"),
+        "state_topic": _ros_name(plugin, "state_topic", "gripper/state", "robot_namespace"),
+    }
+
+
+def beam_names(plugin: GazeboPlugin) -> dict[str, str]:
+    """A ROSProximityRayPlugin's topics and frame, after its sensor by default."""
+    sensor = plugin.sensor.get("name", "") if plugin.sensor is not None else ""
+    frame = plugin.text("frame_id", f"{sensor}_frame") or ""
+    if not frame or any(c.isspace() for c in frame):
+        raise WorkspaceError(
+            f"{plugin.where}: ROSProximityRayPlugin ({plugin.name}) <frame_id> {frame!r} is not valid; "
+            "valid: a frame name without spaces"
+        )
+    return {
+        "beam_state_topic": _ros_name(plugin, "output_state_topic", sensor, "robotNamespace"),
+        "beam_change_topic": _ros_name(plugin, "output_change_topic", f"{sensor}_change", "robotNamespace"),
+        "beam_frame_id": frame,
+    }
+
+
+def conveyor_service(plugin: GazeboPlugin) -> str:
+    """A ROSConveyorBeltPlugin's control service in its ``robot_namespace``."""
+    return _ros_name(plugin, "topic", "conveyor/control", "robot_namespace")
+
+
+def camera_topic(plugin: GazeboPlugin, name: str) -> str:
+    """A ROSLogicalCameraPlugin's topic: ``image_topic_ros`` (the model's name by default) in
+    its ``robotNamespace`` (the course's models: ``omtp``, so ``/omtp/<model>``)."""
+    return _ros_name(plugin, "image_topic_ros", name, "robotNamespace")

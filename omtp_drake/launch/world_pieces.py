@@ -22,7 +22,13 @@ from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_DELETION_WALL
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
-from omtp_drake.launch.plugins import check_deletion_wall, conveyor_power, logical_camera
+from omtp_drake.launch.plugins import (
+    camera_topic,
+    check_deletion_wall,
+    conveyor_power,
+    conveyor_service,
+    logical_camera,
+)
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
 from omtp_drake.launch.world_additions import additions
 from omtp_drake.scenario import ModelConfig
@@ -37,7 +43,11 @@ _BELT_TOL = 5e-3
 @dataclass
 class WorldPieces:
     cameras: list[dict] = field(default_factory=list)
+    #: Camera -> its plugin's topic (``robotNamespace`` and ``image_topic_ros``).
+    camera_topics: dict[str, str] = field(default_factory=dict)
     conveyor: dict | None = None
+    #: The conveyor plugin's control service (its ``robot_namespace`` and ``topic``).
+    conveyor_service: str | None = None
     deletion_wall: bool = False
     warnings: list[str] = field(default_factory=list)
     #: The models that are none of the course's pieces, as they are in their files.
@@ -76,9 +86,11 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
                 )
             xyz, rpy = model.pose[:3], model.pose[3:]
             pieces.cameras.append(logical_camera(plugin, sensors[0], model.name, xyz, rpy))
+            pieces.camera_topics[model.name] = camera_topic(plugin, model.name)
         elif kind == "conveyor":
             X_WF = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
             pieces.conveyor = {"power": conveyor_power(plugin)}
+            pieces.conveyor_service = conveyor_service(plugin)
             if X_WF is not X_W_CONVEYOR:
                 pose = pose_list(X_WF)
                 pieces.conveyor.update(xyz=pose[:3], yaw=pose[5])

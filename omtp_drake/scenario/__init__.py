@@ -7,6 +7,7 @@ Modules (one job each):
 - ``conveyor_spawner``: the course's conveyor spawner plugin: its parameters read once, its draws
 - ``camera``: a logical camera's settings
 - ``suction``: a vacuum gripper's settings
+- ``plugin_names``: the ROS names of the course's plugins, as a student's ``<plugin>`` sets them
 - ``latency``: the simulated time a ROS script's calls take
 - ``models``: a model from a description file (URDF, xacro, SDF): name, pose, Gazebo tags
 - ``gazebo_tags``: a description's ``<gazebo>`` tags as typed settings: materials, friction, sensors, plugins

@@ -10,6 +10,7 @@ naming the file, the tag and the text. What the values mean is checked apart, by
 
 import math
 import xml.etree.ElementTree as ET
+from pathlib import Path
 from typing import Optional
 
 from omtp_drake.errors import ConfigError
@@ -89,8 +90,8 @@ def parse_gazebo_tags(text: str, where: str) -> GazeboExtensions:
         joints = {joint.get("name", "") for joint in root.findall("joint")}
         for gazebo in root.findall("gazebo"):
             reference = gazebo.get("reference", "")
-            if reference and reference not in links and reference not in joints:
-                _check_unknown_reference(gazebo, reference, links, text, where)
+            if reference and reference not in links:
+                _check_unknown_reference(gazebo, reference, links, joints, text, where)
             elif reference:
                 _link_tags(read, gazebo, reference, out)
             for plugin in gazebo.findall("plugin"):
@@ -107,34 +108,46 @@ def parse_gazebo_tags(text: str, where: str) -> GazeboExtensions:
 
 
 def _check_unknown_reference(
-    gazebo: ET.Element, reference: str, links: list[str], text: str, where: str
+    gazebo: ET.Element, reference: str, links: list[str], joints: set[str], text: str, where: str
 ) -> None:
-    """A ``<gazebo reference>`` that names no link or joint: Gazebo's URDF reader drops it
-    without a word, so a sensor or plugin in it would silently not exist; one error naming
-    the file, the line and the links (a material or friction alone is left out, as Gazebo
-    does)."""
-    if gazebo.find("sensor") is None and gazebo.find("plugin") is None:
+    """A ``<gazebo reference>`` that names no link. One that names nothing: Gazebo's URDF
+    reader drops it without a word, so a sensor or plugin in it would silently not exist.
+    A joint's: Gazebo gives the joint its physics settings, and a sensor there is a joint
+    sensor (force-torque), which this cell has not. Either is one error naming the file,
+    the line and the links (a material or friction alone is left out, as Gazebo does)."""
+    if reference in joints:
+        if gazebo.find("sensor") is None:
+            return
+        named = "is a joint; a sensor sits on a link here (joint sensors are not simulated)"
+    elif gazebo.find("sensor") is None and gazebo.find("plugin") is None:
         return
+    else:
+        named = "no link or joint of that name"
     raise ConfigError(
-        f"{reference_line(where, text, reference)}: <gazebo reference={reference!r}>: no link or joint "
-        f"of that name; valid links: {', '.join(links)}"
+        f"{reference_line(where, text, reference)}: <gazebo reference={reference!r}>: {named}; "
+        f"valid links: {', '.join(links)}"
     )
 
 
 def reference_line(where: str, text: str, reference: str) -> str:
     """``file:line`` of ``reference="NAME"``: in the file ``where`` when it is written there
-    (a xacro's own line), else in the expanded ``text``."""
+    (a xacro's own line), else in a xacro or URDF beside it or below its folder (the file a
+    xacro includes), else in the expanded ``text``."""
     needle = f'reference="{reference}"'
-    try:
-        with open(where) as f:
-            source = f.read()
-    except (OSError, UnicodeDecodeError):
-        source = ""
-    for body in (source, text):
-        index = body.find(needle)
+    top = Path(where)
+    files = [top]
+    if top.is_file():
+        files += sorted(p for p in top.parent.rglob("*") if p.suffix in (".xacro", ".urdf") and p != top)
+    for path in files:
+        try:
+            source = path.read_text()
+        except (OSError, UnicodeDecodeError):
+            continue
+        index = source.find(needle)
         if index >= 0:
-            return f"{where}:{body.count(chr(10), 0, index) + 1}"
-    return where
+            return f"{path}:{source.count(chr(10), 0, index) + 1}"
+    index = text.find(needle)
+    return f"{where}:{text.count(chr(10), 0, index) + 1}" if index >= 0 else where
 
 
 def _link_tags(read: _Reader, gazebo: ET.Element, link: str, out: GazeboExtensions) -> None:

@@ -70,11 +70,13 @@ class ModelConfig:
             raise ConfigError(f"{where}: format {self.format!r}, but the description is {found.upper()}")
         check_masses(self.description, where)
         self.gazebo.validate(where)
-        if self.open_links:
-            links = {e.get("name", "") for e in ET.fromstring(self.description).iter("link")}
-            for link in self.open_links:
-                if link not in links:
-                    raise UnknownNameError(f"link of {where}'s open_links", link, links)
+        links = {e.get("name", "") for e in ET.fromstring(self.description).iter("link")}
+        for link in self.open_links:
+            if link not in links:
+                raise UnknownNameError(f"link of {where}'s open_links", link, links)
+        for sensor in self.gazebo.sensors:  # a typed entry's sensor sits on a link of its model
+            if sensor.link not in links:
+                raise UnknownNameError(f"link of {where}'s sensor {sensor.name!r}", sensor.link, links)
 
 
 def model_from_file(

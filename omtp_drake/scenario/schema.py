@@ -41,6 +41,7 @@ from omtp_drake.scenario.conveyor_spawner import draw, object_mesh
 from omtp_drake.scenario.faults import FaultConfig
 from omtp_drake.scenario.latency import RosLatencyConfig
 from omtp_drake.scenario.models import ModelConfig
+from omtp_drake.scenario.plugin_names import PluginNames
 from omtp_drake.scenario.suction import SuctionConfig
 
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
@@ -112,6 +113,8 @@ class Scenario:
     #: yaw`` in world; empty: where the course has them).
     break_beam_pose: list[float] = field(default_factory=list)
     deletion_wall_pose: list[float] = field(default_factory=list)
+    #: The course's plugins' ROS names as the student's ``<plugin>`` parameters set them.
+    plugin_names: PluginNames = field(default_factory=PluginNames)
     #: What goes wrong in a run, and when (see :mod:`omtp_drake.scenario.faults`).
     faults: list[FaultConfig] = field(default_factory=list)
     #: Parts at rest fall asleep (leave the contact solver) until touched.
@@ -220,6 +223,7 @@ class Scenario:
             model.validate()
             names.append(model.name)
         self.suction.validate()
+        self.plugin_names.validate()
         self.sleep.validate()
         self.ros_latency.validate()
         return names
