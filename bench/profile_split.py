@@ -1,10 +1,15 @@
 """Where a run's time goes: splits a native py-spy profile into the simulation's parts.
 
-Record a profile (py-spy samples Drake's C++ with --native), then split it:
+Record a profile (py-spy samples Drake's C++ with --native; attach it to the running
+process with ``-p``: a child py-spy starts itself loses most samples here, see
+``profile_parts``), then split it:
 
-    py-spy record --native -r 250 -f raw -o fill_bin.raw -- \\
-        python -c "from omtp_drake.tasks.run import run_task; run_task('fill_bin')"
-    python bench/profile_split.py fill_bin.raw
+    OMTP_DRAKE_HEAP=glibc python -c "from omtp_drake.tasks.run import run_task; \\
+        run_task('fill_bin')" & sleep 2
+    py-spy record --native -r 100 -f raw -o fill_bin.raw -p $!
+    python bench/profile_split.py fill_bin.raw [--modules]
+
+(``--modules``: "our Python" by omtp_drake module, the innermost of ours in each sample.)
 
 (``profile_parts`` does both, for ``omtp-drake bench``'s profile rows.)
 
@@ -24,6 +29,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 #: (category, what it is, frame patterns), in priority order.
@@ -48,6 +54,10 @@ CATEGORIES = [
      ["Simulator<double>::"]),
 ]
 
+
+#: Seconds after the child starts before py-spy attaches (Python and its imports are up;
+#: the run's build may still be going, and is split apart from the run).
+ATTACH_AFTER_S = 2.0
 
 #: A frame of the run: the driver advancing the simulation.
 RUN_FRAME = re.compile(r"advance_to \(.*omtp_drake/sim/driver\.py")
@@ -99,14 +109,22 @@ def profile_parts(scenario: str = "fill_bin", rate: int = 100) -> tuple[tuple[tu
     with tempfile.TemporaryDirectory() as folder:
         raw = Path(folder) / "profile.raw"
         code = f"from omtp_drake.tasks.run import run_task; run_task({scenario!r})"
-        command = [spy, "record", "--native", "-r", str(rate), "-f", "raw", "-o", str(raw)]
         # py-spy's native sampling loses a process whose heap omtp_drake.sim.heap tuned (a
         # fill_bin run: 1 sample, 747 errors; 1,615 samples with glibc's heap), so the child
         # keeps glibc's heap: the shares are of that heap's run (its page faults show as
         # kernel time inside the functions that touch fresh pages).
         env = {**os.environ, "OMTP_DRAKE_HEAP": "glibc"}
-        child = [*command, "--", sys.executable, "-c", code]
-        done = subprocess.run(child, capture_output=True, text=True, env=env)
+        # py-spy attaches to the running child (``-p``) rather than starting it: a child
+        # that py-spy starts itself lost almost every sample on this machine ("Failed to
+        # copy PyThreadState head pointer": 6 samples and 8,428 errors in a fill_bin run),
+        # one it attaches to after Python started is sampled whole (27,363 samples, 4 errors).
+        child = subprocess.Popen([sys.executable, "-c", code], env=env)
+        try:
+            time.sleep(ATTACH_AFTER_S)  # the run's build and imports take longer
+            command = [spy, "record", "--native", "-r", str(rate), "-f", "raw", "-o", str(raw)]
+            done = subprocess.run([*command, "-p", str(child.pid)], capture_output=True, text=True)
+        finally:
+            child.wait()
         if done.returncode != 0 or not raw.is_file():
             return (), f"(no profile rows: py-spy failed: {done.stderr.strip().splitlines()[-1:]})"
         samples, totals, build = split(str(raw))
@@ -123,12 +141,30 @@ def profile_parts(scenario: str = "fill_bin", rate: int = 100) -> tuple[tuple[tu
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("profile", help="a py-spy --native -f raw file")
+    parser.add_argument("--modules", action="store_true", help="our Python by omtp_drake module")
     args = parser.parse_args()
     samples, totals, build = split(args.profile)
     print("| part | share | what |\n|---|---:|---|")
     for name, what, _ in CATEGORIES + [OTHER]:
         print(f"| {name} | {100 * totals[name] / samples:.1f} % | {what} |")
     print(f"\n({samples} samples inside the run; the build and the rest of run_task: {build} more)")
+    if args.modules:
+        print("\n| our Python: module | share of the run |\n|---|---:|")
+        for module, n in ours_by_module(args.profile).most_common():
+            print(f"| {module} | {100 * n / samples:.1f} % |")
+
+
+def ours_by_module(path: str) -> collections.Counter:
+    """The run's "our Python" samples per omtp_drake module (the innermost frame of ours)."""
+    modules: collections.Counter = collections.Counter()
+    for line in open(path):
+        stack, _, count = line.rstrip().rpartition(" ")
+        frames = stack.split(";")
+        if any(RUN_FRAME.search(f) for f in frames) and _category(frames) == "our Python":
+            leaf = [f for f in frames if "omtp_drake/" in f][-1]
+            found = re.search(r"omtp_drake/([\w/]+)\.py", leaf)
+            modules[found.group(1).replace("/", ".") if found else leaf] += int(count)
+    return modules
 
 
 if __name__ == "__main__":

@@ -134,6 +134,21 @@ def test_profile_split_counts_the_run_and_prints_the_build_apart(tmp_path):
     assert (totals["contact solve"], totals["our Python"]) == (3, 1)
 
 
+
+def test_profile_split_counts_our_python_by_module(tmp_path):
+    """Our Python's samples go to the module of the innermost frame of ours; a sample
+    with Drake below ours is Drake's, and the build is not the run's."""
+    splitter = speed._profile_split_module()
+    run = "run_task (omtp_drake/tasks/run.py:300);advance_to (x/omtp_drake/sim/driver.py:380)"
+    raw = tmp_path / "p.raw"
+    raw.write_text(
+        f"{run};__call__ (x/omtp_drake/sim/part_sleep.py:90);locked (x/omtp_drake/cell/parts.py:200) 2\n"
+        f"{run};_check (x/omtp_drake/cell/suction.py:10) 1\n"
+        f"{run};_check (x/omtp_drake/cell/suction.py:10);drake::geometry::QueryObject<double>::X 4\n"
+        "run_task (omtp_drake/tasks/run.py:300);build_station (x/omtp_drake/cell/station.py:1) 5\n"
+    )
+    assert splitter.ours_by_module(str(raw)) == {"cell.parts": 2, "cell.suction": 1}
+
 def test_replay_drives_the_bare_plant_with_recorded_commands():
     """Robot 2 commanded from Home to Home + 0.2 rad on its pan joint at 0.1 s: the bare
     plant replaying that starts at Home and settles on the new command; robot 1, whose
