@@ -18,7 +18,6 @@ from typing import Optional
 
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
-from scipy.optimize import brentq
 
 from omtp_drake.control.tool_paths import (
     Path,
@@ -275,5 +274,7 @@ def _overlap(previous: Segment, following: Segment, blend_up: float, blend_down:
 
     if moved(limit) <= allowed:
         return limit
+    from scipy.optimize import brentq  # here: scipy's import is ~1 CPU s of every run's start-up
+
     # moved grows with tau from 0 (at most ``allowed``) to more than ``allowed``.
     return float(brentq(lambda tau: moved(tau) - allowed, 0.0, limit, xtol=1e-12))

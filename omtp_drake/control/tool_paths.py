@@ -25,7 +25,6 @@ from typing import Optional, Union
 
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
-from scipy.spatial.transform import Rotation
 
 
 class SegmentKind(Enum):
@@ -130,6 +129,8 @@ class Segment:
             )
             shape = (r0, a0, z0, y0, r1 - r0, wrap(a1 - a0), z1 - z0, wrap(y1 - y0))
         elif self.kind is SegmentKind.LINE:
+            from scipy.spatial.transform import Rotation  # here: ~1 CPU s of import a run without paths skips
+
             shape = Rotation.from_matrix(R_SG).as_rotvec()  # the slerp's axis times its angle
         object.__setattr__(self, "_cache", (p0, p1, R0, R_SG, shape))
 
@@ -148,6 +149,8 @@ class Segment:
         else:
             s = progress_array(np.clip((t - self.t0) / self.duration, 0.0, 1.0), self.ramp)
             if self.kind is SegmentKind.LINE:
+                from scipy.spatial.transform import Rotation
+
                 p = (1 - s)[:, None] * p0 + s[:, None] * p1
                 R = Rotation.from_rotvec(s[:, None] * shape).as_matrix()  # the slerp at s
             else:
