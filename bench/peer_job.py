@@ -221,7 +221,7 @@ def arm_urdf(directory, mujoco: bool = False):
     import xml.etree.ElementTree as ET
     from pathlib import Path
 
-    from omtp_drake.assets import ur_description_dir
+    from omtp_drake.ur_arms import ur_description_dir
 
     root = ET.parse(ur_description_dir() / "urdf" / "ur5_robot.urdf").getroot()
     package = "package://example-robot-data/robots/ur_description/"

@@ -19,7 +19,8 @@ is held and checked by tests/test_layering.py):
 
 - ``errors``: one exception hierarchy for every user-facing error
 - ``convex_pieces``: a mesh as convex pieces that keep it open (an open bin's skin)
-- ``assets``: model files: the project's xacro sources and the classic UR arms
+- ``assets``: model files: the project's xacro sources, meshes for Drake, the model cache
+- ``ur_arms``: the classic UR arms from example-robot-data, prefixed and Drake-ready
 - ``workspace``: a student's own ROS workspace: packages and Gazebo models by name
 - ``scenario``: the typed schema of ``diagrams/*.yaml`` and its loader
 - ``cell``: what the factory is made of, as Drake systems and models

@@ -1,4 +1,4 @@
-"""Model files: the project's xacro sources, any description's meshes, the classic UR arms.
+"""Model files: the project's xacro sources, any description's meshes, the model cache.
 
 Two sources of models feed the factory, and a student's own descriptions join them:
 
@@ -9,7 +9,7 @@ Two sources of models feed the factory, and a student's own descriptions join th
 * The classic UR5 / UR10 of the installed ``example-robot-data`` package. Drake
   1.51 cannot use them as shipped (``.stl`` collision meshes are rejected,
   Meshcat does not draw ``.stl``, ``.dae`` doubles the replay size, the URDF
-  welds ``base_link`` to a ``world`` link). :func:`ur_urdf` converts the meshes
+  welds ``base_link`` to a ``world`` link). :func:`omtp_drake.ur_arms.ur_urdf` converts the meshes
   once (``.stl`` -> ``.obj``, ``.dae`` -> ``.gltf``), writes a URDF whose link
   and joint names carry a prefix (``robot1_base_link``), and caches both under
   :func:`cache_dir`. Nothing converted is committed to the repository.
@@ -47,7 +47,7 @@ UR_MODELS = ("ur5", "ur10")
 # Bump when the conversion below changes, so stale caches are not reused.
 _CONVERTER_VERSION = "5"
 _PIECES_VERSION = "4"  # (convex_piece_files)
-_DRAKE_NS = "http://drake.mit.edu"
+DRAKE_NS = "http://drake.mit.edu"
 
 
 # ----------------------------------------------------------------------------
@@ -298,8 +298,8 @@ def drake_ready_meshes(
                 continue
             _point_mesh(mesh, found)
             if shape.tag == "collision" and shape.find(_HYDRO_RIGID) is None:
-                if mesh.find(f"{{{_DRAKE_NS}}}declare_convex") is None:
-                    ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+                if mesh.find(f"{{{DRAKE_NS}}}declare_convex") is None:
+                    ET.SubElement(mesh, f"{{{DRAKE_NS}}}declare_convex")
 
 
 def convex_piece_files(obj: Path) -> list[tuple[Path, list[float]]]:
@@ -339,7 +339,7 @@ def _split_collision(link: ET.Element, shape: ET.Element, obj: Path) -> None:
             _shift_origin(collision, [c * s for c, s in zip(box[:3], scale)])
         else:
             _point_mesh(mesh, piece)
-            ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
+            ET.SubElement(mesh, f"{{{DRAKE_NS}}}declare_convex")
         link.insert(at + k, collision)
 
 
@@ -367,7 +367,7 @@ def _drake_file(uri: str, packages: Mapping[str, str], file: str, *, collision: 
         return f"cannot be read ({e})"
 
 
-_HYDRO_RIGID = f"{{{_DRAKE_NS}}}proximity_properties/{{{_DRAKE_NS}}}rigid_hydroelastic"
+_HYDRO_RIGID = f"{{{DRAKE_NS}}}proximity_properties/{{{DRAKE_NS}}}rigid_hydroelastic"
 
 
 def _point_mesh(mesh: ET.Element, path: Path) -> None:
@@ -405,119 +405,6 @@ def _file_or_none(path: Path) -> Path | None:
         return None
 
 
-# ----------------------------------------------------------------------------
-# UR arms from example-robot-data
-
-
 @functools.cache
 def _erd_version() -> str:
     return importlib.metadata.version("example-robot-data")
-
-
-@functools.cache
-def ur_description_dir() -> Path:
-    """The installed ``ur_description`` folder of ``example-robot-data``."""
-    dist = importlib.metadata.distribution("example-robot-data")
-    path = Path(str(dist.locate_file("cmeel.prefix/share/example-robot-data/robots/ur_description")))
-    if not (path / "urdf").is_dir():
-        raise ConfigError(f"example-robot-data is installed but has no ur_description at {path}")
-    return path
-
-
-def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
-    """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
-
-    Args:
-        model: ``"ur5"`` or ``"ur10"``.
-        prefix: prepended to link, joint and actuator names (``"robot1_"``).
-        joint_limit: symmetric position limit of every joint (the course: pi).
-
-    The ``world`` link and its joint are dropped (the station welds
-    ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
-    removed, collision meshes are declared convex and mesh paths point into the
-    cache. The robot is named ``prefix`` without its trailing underscore.
-    """
-    if model not in UR_MODELS:
-        raise UnknownNameError("arm model", model, UR_MODELS)
-    src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
-    name = prefix.rstrip("_") or model
-    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}.urdf")
-    if dst.exists():
-        return dst
-
-    ET.register_namespace("drake", _DRAKE_NS)
-    root = ET.parse(src).getroot()
-    root.set("name", name)
-    _drop_world_and_ee_collision(root)
-    _prefix_names(root, prefix, joint_limit)
-    _point_meshes_to(root)
-    write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
-    return dst
-
-
-def _drop_world_and_ee_collision(root: ET.Element) -> None:
-    """Removes ``<gazebo>``, the ``world`` link and its joint, and ``ee_link``'s collision box."""
-    for el in root.findall("gazebo"):
-        root.remove(el)
-    for joint in root.findall("joint"):
-        if _attr(_child(joint, "parent"), "link") == "world":
-            root.remove(joint)
-    for link in root.findall("link"):
-        if link.get("name") == "world":
-            root.remove(link)
-        if link.get("name") == "ee_link":
-            for col in link.findall("collision"):
-                link.remove(col)
-
-
-def _prefix_names(root: ET.Element, prefix: str, joint_limit: float) -> None:
-    """Prefixes link, joint, transmission and actuator names; sets revolute limits to +/- ``joint_limit``."""
-    for link in root.findall("link"):
-        link.set("name", prefix + _attr(link, "name"))
-    for joint in root.findall("joint"):
-        joint.set("name", prefix + _attr(joint, "name"))
-        for tag in ("parent", "child"):
-            el = _child(joint, tag)
-            el.set("link", prefix + _attr(el, "link"))
-        limit = joint.find("limit")
-        if limit is not None and joint.get("type") == "revolute":
-            limit.set("lower", repr(-joint_limit))
-            limit.set("upper", repr(joint_limit))
-    for trans in root.findall("transmission"):
-        trans.set("name", prefix + _attr(trans, "name"))
-        trans_joint = _child(trans, "joint")
-        trans_joint.set("name", prefix + _attr(trans_joint, "name"))
-        actuator = _child(trans, "actuator")
-        actuator.set("name", prefix + _attr(actuator, "name"))
-
-
-def _point_meshes_to(root: ET.Element) -> None:
-    """Points every mesh at its converted file (:func:`drake_mesh`); collision meshes are declared convex."""
-    package = "package://example-robot-data/robots/ur_description/"
-    for kind in ("visual", "collision"):
-        for mesh in root.iterfind(f"link/{kind}/geometry/mesh"):
-            filename = _attr(mesh, "filename")
-            if not filename.startswith(package):
-                raise ConfigError(f"UR model: mesh {filename!r} is not in {package}")
-            src = ur_description_dir() / filename[len(package) :]
-            mesh.set("filename", str(drake_mesh(src, collision=kind == "collision")))
-            if kind == "collision":
-                ET.SubElement(mesh, f"{{{_DRAKE_NS}}}declare_convex")
-
-
-def _child(element: ET.Element, tag: str) -> ET.Element:
-    found = element.find(tag)
-    if found is None:
-        raise ConfigError(f"UR model: <{element.tag} name={element.get('name')!r}> has no <{tag}>")
-    return found
-
-
-def _attr(element: ET.Element, name: str) -> str:
-    value = element.get(name)
-    if value is None:
-        raise ConfigError(f"UR model: <{element.tag}> has no attribute {name!r}")
-    return value
-
-
-def _limit_tag(limit: float) -> str:
-    return f"lim{round(limit * 1e4)}"

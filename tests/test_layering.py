@@ -23,6 +23,7 @@ LAYERS = {
     "errors": 0,
     "convex_pieces": 0,
     "assets": 1,
+    "ur_arms": 2,
     "workspace": 1,
     "scenario": 2,
     "cell": 3,

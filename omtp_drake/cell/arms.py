@@ -22,10 +22,11 @@ from pydrake.systems.framework import Context, Diagram, DiagramBuilder, OutputPo
 from pydrake.systems.primitives import Demultiplexer, LinearSystem, MatrixGain, Multiplexer
 from pydrake.trajectories import PiecewisePolynomial
 
-from omtp_drake.assets import MODELS_DIR, expand_xacro, ur_urdf
+from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import ModelConfig, RobotConfig
+from omtp_drake.ur_arms import ur_urdf
 
 #: Joint order of every pose: pan, lift, elbow, wrist 1, wrist 2, wrist 3.
 JOINT_NAMES = (

@@ -29,7 +29,8 @@ STANDINS_DIR = Path(__file__).resolve().parent / "standins"
 @functools.cache
 def standin_dirs() -> tuple[Path, ...]:
     """The folder of the stand-in packages (laid out in the model cache on first use)."""
-    from omtp_drake.assets import cache_entry, ur_description_dir
+    from omtp_drake.assets import cache_entry
+    from omtp_drake.ur_arms import ur_description_dir
 
     digest = hashlib.sha1()
     sources = sorted(p for p in STANDINS_DIR.rglob("*") if p.is_file())

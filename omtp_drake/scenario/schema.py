@@ -192,7 +192,7 @@ class Scenario:
         self._validate_plant_config()
         if self.task is not None:
             self._validate_task(self.task)
-        self._validate_faults()
+        _validate_faults(self)
         self._validate_names(names)
 
     def _validate_pieces(self) -> list[str]:
@@ -283,35 +283,6 @@ class Scenario:
             if getattr(config, key) not in valid:
                 raise UnknownNameError(f"plant_config.{key}", getattr(config, key), valid)
 
-    def _validate_faults(self) -> None:
-        seen: set[str] = set()
-        grippers = [r.name for r in self.robots if r.gripper]
-        parts = [p.name for p in self.parts] + [
-            f"object_{k}" for k in range(1, len(self.parts) + self.part_pool + 1)
-        ]
-        known = {
-            "robot": [r.name for r in self.robots],
-            "camera": [c.name for c in self.cameras],
-            "bin": [b.name for b in self.bins],
-            "part": parts,
-        }
-        for fault in self.faults:
-            fault.validate()
-            where = f"faults[{fault.name}]"
-            if fault.name in seen:
-                raise ConfigError(f"fault names must be unique; repeated: {fault.name}")
-            seen.add(fault.name)
-            for key, valid in known.items():
-                value = getattr(fault, key)
-                if value and value not in valid:
-                    raise UnknownNameError(f"{where}.{key}", value, valid)
-            if fault.kind == "vacuum_failure" and fault.robot not in grippers:
-                raise UnknownNameError(f"{where}.robot (a robot with a gripper)", fault.robot, grippers)
-            if fault.kind == "belt_stop" and self.conveyor is None:
-                raise ConfigError(f"{where}: belt_stop needs the scenario's conveyor")
-            if fault.event == "beam" and not self.break_beam:
-                raise ConfigError(f"{where}: event beam needs break_beam: true")
-
     def _validate_task(self, task: TaskConfig) -> None:
         task.validate()
         robots = {r.name: r for r in self.robots}
@@ -328,6 +299,37 @@ class Scenario:
         bins = [b.name for b in self.bins]
         if task.bin not in bins:
             raise UnknownNameError("task.bin", task.bin, bins)
+
+
+def _validate_faults(scenario: Scenario) -> None:
+    """Each fault checks itself; names unique; what it names exists in ``scenario``."""
+    seen: set[str] = set()
+    grippers = [r.name for r in scenario.robots if r.gripper]
+    parts = [p.name for p in scenario.parts] + [
+        f"object_{k}" for k in range(1, len(scenario.parts) + scenario.part_pool + 1)
+    ]
+    known = {
+        "robot": [r.name for r in scenario.robots],
+        "camera": [c.name for c in scenario.cameras],
+        "bin": [b.name for b in scenario.bins],
+        "part": parts,
+    }
+    for fault in scenario.faults:
+        fault.validate()
+        where = f"faults[{fault.name}]"
+        if fault.name in seen:
+            raise ConfigError(f"fault names must be unique; repeated: {fault.name}")
+        seen.add(fault.name)
+        for key, valid in known.items():
+            value = getattr(fault, key)
+            if value and value not in valid:
+                raise UnknownNameError(f"{where}.{key}", value, valid)
+        if fault.kind == "vacuum_failure" and fault.robot not in grippers:
+            raise UnknownNameError(f"{where}.robot (a robot with a gripper)", fault.robot, grippers)
+        if fault.kind == "belt_stop" and scenario.conveyor is None:
+            raise ConfigError(f"{where}: belt_stop needs the scenario's conveyor")
+        if fault.event == "beam" and not scenario.break_beam:
+            raise ConfigError(f"{where}: event beam needs break_beam: true")
 
 
 def pool_names(scenario: Scenario) -> list[str]:

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Any, Optional
 
-from omtp_drake.assets import MODELS_DIR, expand_xacro, ur_urdf
+from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell.arms import JOINT_NAMES, NAMED_POSES, check_joint_positions, named_pose, tool_frame_names
 from omtp_drake.cell.conveyor import BreakBeam
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
@@ -38,6 +38,7 @@ from omtp_drake.sim.ros_control import Controller, RosControl
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
 from omtp_drake.sim.trajectory_request import RequestPoint, TrajectoryRequest, trajectory_request
+from omtp_drake.ur_arms import ur_urdf
 
 __all__ = [
     "JOINT_NAMES",

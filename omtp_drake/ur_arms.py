@@ -1,0 +1,124 @@
+"""The classic UR arms (UR5, UR10) of the course, from ``example-robot-data``'s ``ur_description``:
+a Drake-ready URDF per arm, its links and joints prefixed as the course's ``robotN_`` arms, written
+once into the model cache (:func:`~omtp_drake.assets.cache_entry`) with its meshes converted.
+"""
+
+from __future__ import annotations
+
+import functools
+import importlib.metadata
+import math
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+from omtp_drake.assets import DRAKE_NS, UR_MODELS, cache_entry, drake_mesh, write_atomic
+from omtp_drake.errors import ConfigError, UnknownNameError
+
+
+@functools.cache
+def ur_description_dir() -> Path:
+    """The installed ``ur_description`` folder of ``example-robot-data``."""
+    dist = importlib.metadata.distribution("example-robot-data")
+    path = Path(str(dist.locate_file("cmeel.prefix/share/example-robot-data/robots/ur_description")))
+    if not (path / "urdf").is_dir():
+        raise ConfigError(f"example-robot-data is installed but has no ur_description at {path}")
+    return path
+
+
+def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
+    """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
+
+    Args:
+        model: ``"ur5"`` or ``"ur10"``.
+        prefix: prepended to link, joint and actuator names (``"robot1_"``).
+        joint_limit: symmetric position limit of every joint (the course: pi).
+
+    The ``world`` link and its joint are dropped (the station welds
+    ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
+    removed, collision meshes are declared convex and mesh paths point into the
+    cache. The robot is named ``prefix`` without its trailing underscore.
+    """
+    if model not in UR_MODELS:
+        raise UnknownNameError("arm model", model, UR_MODELS)
+    src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
+    name = prefix.rstrip("_") or model
+    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}.urdf")
+    if dst.exists():
+        return dst
+
+    ET.register_namespace("drake", DRAKE_NS)
+    root = ET.parse(src).getroot()
+    root.set("name", name)
+    _drop_world_and_ee_collision(root)
+    _prefix_names(root, prefix, joint_limit)
+    _point_meshes_to(root)
+    write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
+    return dst
+
+
+def _drop_world_and_ee_collision(root: ET.Element) -> None:
+    """Removes ``<gazebo>``, the ``world`` link and its joint, and ``ee_link``'s collision box."""
+    for el in root.findall("gazebo"):
+        root.remove(el)
+    for joint in root.findall("joint"):
+        if _attr(_child(joint, "parent"), "link") == "world":
+            root.remove(joint)
+    for link in root.findall("link"):
+        if link.get("name") == "world":
+            root.remove(link)
+        if link.get("name") == "ee_link":
+            for col in link.findall("collision"):
+                link.remove(col)
+
+
+def _prefix_names(root: ET.Element, prefix: str, joint_limit: float) -> None:
+    """Prefixes link, joint, transmission and actuator names; sets revolute limits to +/- ``joint_limit``."""
+    for link in root.findall("link"):
+        link.set("name", prefix + _attr(link, "name"))
+    for joint in root.findall("joint"):
+        joint.set("name", prefix + _attr(joint, "name"))
+        for tag in ("parent", "child"):
+            el = _child(joint, tag)
+            el.set("link", prefix + _attr(el, "link"))
+        limit = joint.find("limit")
+        if limit is not None and joint.get("type") == "revolute":
+            limit.set("lower", repr(-joint_limit))
+            limit.set("upper", repr(joint_limit))
+    for trans in root.findall("transmission"):
+        trans.set("name", prefix + _attr(trans, "name"))
+        trans_joint = _child(trans, "joint")
+        trans_joint.set("name", prefix + _attr(trans_joint, "name"))
+        actuator = _child(trans, "actuator")
+        actuator.set("name", prefix + _attr(actuator, "name"))
+
+
+def _point_meshes_to(root: ET.Element) -> None:
+    """Points every mesh at its converted file (:func:`drake_mesh`); collision meshes are declared convex."""
+    package = "package://example-robot-data/robots/ur_description/"
+    for kind in ("visual", "collision"):
+        for mesh in root.iterfind(f"link/{kind}/geometry/mesh"):
+            filename = _attr(mesh, "filename")
+            if not filename.startswith(package):
+                raise ConfigError(f"UR model: mesh {filename!r} is not in {package}")
+            src = ur_description_dir() / filename[len(package) :]
+            mesh.set("filename", str(drake_mesh(src, collision=kind == "collision")))
+            if kind == "collision":
+                ET.SubElement(mesh, f"{{{DRAKE_NS}}}declare_convex")
+
+
+def _child(element: ET.Element, tag: str) -> ET.Element:
+    found = element.find(tag)
+    if found is None:
+        raise ConfigError(f"UR model: <{element.tag} name={element.get('name')!r}> has no <{tag}>")
+    return found
+
+
+def _attr(element: ET.Element, name: str) -> str:
+    value = element.get(name)
+    if value is None:
+        raise ConfigError(f"UR model: <{element.tag}> has no attribute {name!r}")
+    return value
+
+
+def _limit_tag(limit: float) -> str:
+    return f"lim{round(limit * 1e4)}"
