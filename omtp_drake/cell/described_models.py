@@ -23,14 +23,13 @@ from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import FixedOffsetFrame, ModelInstanceIndex
 
-from omtp_drake.assets import drake_ready_meshes
+from omtp_drake.assets import DRAKE_NS, drake_ready_meshes
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.scenario import ModelConfig
 
 _log = logging.getLogger(__name__)
 
-_DRAKE_NS = "http://drake.mit.edu"
-ET.register_namespace("drake", _DRAKE_NS)
+ET.register_namespace("drake", DRAKE_NS)
 
 #: Diffuse colours of Gazebo's stock materials (``gazebo.material``), RGBA.
 GAZEBO_COLORS: dict[str, tuple[float, float, float, float]] = {
@@ -240,9 +239,9 @@ def _apply_gazebo_tags(root: ET.Element, model: ModelConfig) -> None:
         if link is None:
             continue
         for collision in link.findall("collision"):
-            props = ET.SubElement(collision, f"{{{_DRAKE_NS}}}proximity_properties")
-            ET.SubElement(props, f"{{{_DRAKE_NS}}}mu_dynamic", value=str(min(friction.mu1, friction.mu2)))
-            ET.SubElement(props, f"{{{_DRAKE_NS}}}mu_static", value=str(max(friction.mu1, friction.mu2)))
+            props = ET.SubElement(collision, f"{{{DRAKE_NS}}}proximity_properties")
+            ET.SubElement(props, f"{{{DRAKE_NS}}}mu_dynamic", value=str(min(friction.mu1, friction.mu2)))
+            ET.SubElement(props, f"{{{DRAKE_NS}}}mu_static", value=str(max(friction.mu1, friction.mu2)))
 
 
 def _place(plant: MultibodyPlant, model: ModelConfig, instance: ModelInstanceIndex) -> None:
