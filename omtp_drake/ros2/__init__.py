@@ -12,9 +12,10 @@ subscriptions, the logical cameras and the parts as poses and rviz2 markers; the
 grippers and the belt as ``std_srvs/SetBool`` services; the grippers' state and the break
 beam in the course's types (Cyclone DDS) and as ``std_msgs/Bool``. ``/tf`` and ``/tf_static`` as
 robot_state_publisher publishes them, and ``/gazebo/model_states``: no ``tf2_msgs`` (nor
-``gazebo_msgs``) wheel is on PyPI, the wheels there ship no C headers to build one against,
-and rclpy has no runtime type support in Python, so Cyclone DDS writes them beside rclpy
-(``dds_types``).
+``gazebo_msgs``) wheel is on PyPI, so Cyclone DDS writes them beside rclpy (``dds_types``).
+Gazebo's model services (``/spawn_entity``...) need real type support (Cyclone cannot answer a
+Fast DDS client): ``gazebo_msgs`` is built for rclpy once, into the model cache, with the rosidl
+generators the rclpy wheels bring, their headers and the system's compiler (``interface_build``).
 
 Modules (one job each):
 
@@ -31,6 +32,9 @@ Modules (one job each):
 - ``launched_nodes``: the launch's own ROS 2 nodes, run beside the cell as ``ros2 launch`` runs them
 - ``tf_publisher``: ``/tf`` and ``/tf_static``, written by Cyclone DDS
 - ``gazebo_world``: Gazebo's model and link states (Cyclone DDS) and the spawner's services
+- ``gazebo_services``: Gazebo's model services (``gazebo_msgs``, built here) over the plugin layer's rules
+- ``interface_build``: rclpy type support for ``gazebo_msgs`` from ``interfaces/``, built once into the cache
+- ``interface_generate``: its rosidl generation step, in a process of its own
 - ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C
