@@ -1,6 +1,7 @@
-"""rclpy type support for the interface packages no PyPI wheel ships (``gazebo_msgs``), built
-once into the model cache from the definitions in ``interfaces/`` (written here, fields as
-the ROS 2 packages declare them, so type names and hashes are theirs).
+"""rclpy type support for the interface packages no PyPI wheel ships (``gazebo_msgs``'s entity
+services, ``control_msgs``' FollowJointTrajectory), built once into the model cache from the
+definitions in ``interfaces/`` (written here, fields as the ROS 2 packages declare them, so type
+names and hashes are theirs).
 
 The build is what ``rosidl_generate_interfaces`` does under colcon, without colcon or
 CMake: the rosidl generators rclpy's wheels bring (``rosidl_adapter``, ``rosidl_generator_c``
@@ -31,7 +32,18 @@ from omtp_drake.assets import cache_entry
 from omtp_drake.errors import OmtpError
 
 #: The packages built here, each with the packages its definitions use.
-PACKAGES = {"gazebo_msgs": ("builtin_interfaces", "geometry_msgs", "std_msgs", "service_msgs")}
+PACKAGES = {
+    "gazebo_msgs": ("builtin_interfaces", "geometry_msgs", "std_msgs", "service_msgs"),
+    "control_msgs": (
+        "builtin_interfaces",
+        "geometry_msgs",
+        "std_msgs",
+        "trajectory_msgs",
+        "action_msgs",
+        "unique_identifier_msgs",
+        "service_msgs",
+    ),
+}
 DEFINITIONS = Path(__file__).resolve().parent / "interfaces"
 #: The middleware type supports built (Fast DDS's, and the introspection one rclpy's
 #: serialization and the dynamic type support use); ``rosidl_typesupport_c`` dispatches.
