@@ -89,10 +89,15 @@ def _build_all(folder: Path) -> None:
 
 
 def activate() -> Path:
-    """Builds (once) and puts the packages on ``sys.path``; returns their folder."""
+    """Builds (once) and puts the packages on ``sys.path``, and on ``PYTHONPATH`` for the
+    processes this one starts (a launch file's own nodes import them as under ``ros2 launch``
+    with the packages installed); returns their folder."""
     folder = interfaces_path()
     if str(folder) not in sys.path:
         sys.path.insert(0, str(folder))
+    paths = [p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]
+    if str(folder) not in paths:
+        os.environ["PYTHONPATH"] = os.pathsep.join([str(folder), *paths])
     return folder
 
 
