@@ -1,7 +1,8 @@
 """rclpy type support for the interface packages no PyPI wheel ships (``gazebo_msgs``'s entity
-services, ``control_msgs``' FollowJointTrajectory), built once into the model cache from the
-definitions in ``interfaces/`` (written here, fields as the ROS 2 packages declare them, so type
-names and hashes are theirs).
+services and states, ``control_msgs``' FollowJointTrajectory, ``tf2_msgs``' TFMessage: what the
+cell serves, and what a peer needs to read its Cyclone-written topics with rclpy), built once into
+the model cache from the definitions in ``interfaces/`` (written here, fields as the ROS 2
+packages declare them, so type names and hashes are theirs).
 
 The build is what ``rosidl_generate_interfaces`` does under colcon, without colcon or
 CMake: the rosidl generators rclpy's wheels bring (``rosidl_adapter``, ``rosidl_generator_c``
@@ -34,6 +35,7 @@ from omtp_drake.errors import OmtpError
 #: The packages built here, each with the packages its definitions use.
 PACKAGES = {
     "gazebo_msgs": ("builtin_interfaces", "geometry_msgs", "std_msgs", "service_msgs"),
+    "tf2_msgs": ("builtin_interfaces", "geometry_msgs", "std_msgs"),
     "control_msgs": (
         "builtin_interfaces",
         "geometry_msgs",
