@@ -44,8 +44,8 @@ QUEUE_S = 60.0
 
 #: Why the action is missing where control_msgs cannot be built, said once (with why).
 NO_ACTION = (
-    "follow_joint_trajectory is not served: control_msgs has no PyPI package and its type support "
-    "could not be built here; send trajectories on ~/joint_trajectory"
+    "follow_joint_trajectory is not served (send trajectories on ~/joint_trajectory): control_msgs "
+    "has no PyPI package and its type support could not be built here"
 )
 
 
