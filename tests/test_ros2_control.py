@@ -8,6 +8,8 @@ comes from the broadcaster at the YAML's rate (counted over simulated time)."""
 from __future__ import annotations
 
 import json
+import os
+import shutil
 from pathlib import Path
 
 import numpy as np
@@ -88,3 +90,30 @@ def test_a_launch_files_spawners_activate_the_controllers_in_their_order(tmp_pat
         len(warnings) == 1
         and "'gripper_controller' is declared by no gazebo_ros2_control plugin" in warnings[0]
     )
+
+
+@needs_ros2
+@pytest.mark.skipif(
+    shutil.which("cc") is None or shutil.which("c++") is None, reason="no compiler: apt-get install g++"
+)
+def test_a_follow_joint_trajectory_goal_is_followed_within_the_goal_tolerances(tmp_path, domain, monkeypatch):
+    """A student's rclpy action client (control_msgs built here): a goal naming an unknown joint is
+    rejected; a good one succeeds (status 4, SUCCESSFUL) with feedback at the action monitor rate,
+    and the joints end at its last point within the controller's goal tolerances."""
+    from omtp_drake.ros2 import interface_build
+
+    paths = (str(interface_build.interfaces_path()), os.environ.get("PYTHONPATH", ""))
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(p for p in paths if p))
+    out = tmp_path / "seen.json"
+    _, cell_err = run_cell_with_node(
+        [str(ROBOT)], [str(SCRIPTS / "follow_joint_trajectory_node.py"), str(out)], domain
+    )
+    seen = json.loads(out.read_text())
+    assert seen["bad_accepted"] is False
+    assert "goal rejected" in cell_err and "elbow_joint" in cell_err, cell_err[-2000:]
+    assert seen["accepted"] is True
+    assert (seen["status"], seen["error_code"]) == (4, 0)  # GoalStatus.STATUS_SUCCEEDED, SUCCESSFUL
+    # 2 s of trajectory judged at 20 Hz: about 40 feedback messages before the end.
+    assert 30 <= seen["feedback"] <= 50 and seen["feedback_joints"] == ["shoulder_joint", "slide_joint"]
+    for joint, value in LAST.items():
+        assert seen["after"][joint] == pytest.approx(value, abs=GOAL_TOLERANCE[joint])

@@ -12,9 +12,11 @@ subscriptions, the logical cameras and the parts as poses and rviz2 markers; the
 grippers and the belt as ``std_srvs/SetBool`` services; the grippers' state and the break
 beam in the course's types (Cyclone DDS) and as ``std_msgs/Bool``. ``/tf`` and ``/tf_static`` as
 robot_state_publisher publishes them, and ``/gazebo/model_states``: no ``tf2_msgs`` (nor
-``gazebo_msgs``) wheel is on PyPI, the wheels there ship no C headers to build one against,
-and rclpy has no runtime type support in Python, so Cyclone DDS writes them beside rclpy
-(``dds_types``).
+``gazebo_msgs``) wheel is on PyPI, so Cyclone DDS writes them beside rclpy (``dds_types``).
+Gazebo's model services (``/spawn_entity``...) need real type support (Cyclone cannot answer a
+Fast DDS client), and so does ``follow_joint_trajectory``: ``gazebo_msgs`` and ``control_msgs`` are
+built for rclpy once, into the model cache, with the rosidl
+generators the rclpy wheels bring, their headers and the system's compiler (``interface_build``).
 
 Modules (one job each):
 
@@ -26,11 +28,15 @@ Modules (one job each):
 - ``course_types``: the course's ``omtp_gazebo`` messages (gripper state, proximity) as Cyclone DDS mirrors
 - ``course_topics``: the plugins' topics of those types (Cyclone) and their ``std_msgs/Bool`` views (rclpy)
 - ``ros2_control``: gazebo_ros2_control's controller topics (joint_trajectory, commands, joint_states)
+- ``trajectory_action``: the trajectory controllers' ``follow_joint_trajectory`` (``control_msgs``)
 - ``dds_types``: the types rclpy lacks (tf2_msgs, gazebo_msgs) as Cyclone DDS mirrors, and Cyclone's config
 - ``cdr``: ``/tf`` and Gazebo's states packed as the mirrors' XCDR1 bytes, in one ``struct`` call
 - ``launched_nodes``: the launch's own ROS 2 nodes, run beside the cell as ``ros2 launch`` runs them
 - ``tf_publisher``: ``/tf`` and ``/tf_static``, written by Cyclone DDS
 - ``gazebo_world``: Gazebo's model and link states (Cyclone DDS) and the spawner's services
+- ``gazebo_services``: Gazebo's model services (``gazebo_msgs``, built here) over the plugin layer's rules
+- ``interface_build``: rclpy type support for ``gazebo_msgs``, ``control_msgs`` (``interfaces/``), built once
+- ``interface_generate``: its rosidl generation step, in a process of its own
 - ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time
 - ``run``: ``omtp-drake ros2``: a scenario's cell on ROS 2 until its timeout or Ctrl-C

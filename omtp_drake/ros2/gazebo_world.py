@@ -10,13 +10,12 @@ the spawner's services     ``std_srvs/srv/Empty``                 start / stop (
 ``/spawned_part``          ``std_msgs/Header`` (transient local)  each spawn (``frame_id``: the object)
 =========================  =====================================  ======================================
 
-No ``gazebo_msgs`` wheel is on PyPI, so the states go out through Cyclone DDS
-(:mod:`omtp_drake.ros2.dds_types`), and Gazebo's model services (``spawn_entity``,
-``delete_entity``, ``get_entity_state``, ``set_entity_state``; ROS 1's ``spawn_urdf_model``...)
-cannot be served on ROS 2 at all (Cyclone cannot answer a Fast DDS client's request):
-:data:`NO_GAZEBO_SERVICES` says so once when the node starts, if the cell has what they act on
-in the course (parts, or its spawner). ROS 2's std_srvs has the
-spawner's own type, so its services are served as under ros-run.
+No ``gazebo_msgs`` wheel is on PyPI: the states go out through Cyclone DDS
+(:mod:`omtp_drake.ros2.dds_types`); Gazebo's model services (``spawn_entity``,
+``delete_entity``, ``get_entity_state``, ``set_entity_state``) are served with real type support
+built here (:mod:`omtp_drake.ros2.gazebo_services`), if the cell has what they act on in the
+course (parts, or its spawner). ROS 2's std_srvs has the spawner's own type, so its services are
+served as under ros-run.
 """
 
 from __future__ import annotations
@@ -30,19 +29,13 @@ from omtp_drake.gazebo.spawner import spawner
 from omtp_drake.gazebo.world import GazeboWorld
 from omtp_drake.ros2 import cdr, messages
 from omtp_drake.ros2.dds_types import CdrTopic, CycloneParticipant, LinkStates_, ModelStates_
+from omtp_drake.ros2.gazebo_services import serve_gazebo_services
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
     from omtp_drake.script import Cell
 
 _log = logging.getLogger("gazebo")
-
-#: Why Gazebo's model services are missing on ROS 2, said once where a user meets them.
-NO_GAZEBO_SERVICES = (
-    "Gazebo's model services (spawn_entity, delete_entity, get_entity_state, set_entity_state) are not "
-    "served on ROS 2: gazebo_msgs has no PyPI package; read /gazebo/model_states and /gazebo/link_states, "
-    "and spawn parts through the spawner's services, or use ros-run (ROS 1) for the services"
-)
 
 
 def _numbers(states: Any) -> tuple[list[tuple[float, ...]], list[tuple[float, ...]]]:
@@ -79,10 +72,12 @@ class GazeboWorldTopics:
         found = spawner(self.world, self.empty_calls)
         if found is not None:
             self._serve(node, found, run_on_cell)
-        # What the services act on in the course: its parts (spawned, deleted, their states read and
-        # set) and its spawner. A world of fixed models and robots (the tutorial robot's) has neither.
+        # Gazebo's model services act on the course's parts (spawned, deleted, their states read and
+        # set): served where the cell has parts or its spawner, as gazebo_msgs can be built here
+        # (omtp_drake.ros2.gazebo_services). A world of fixed models and robots (the tutorial robot's)
+        # has neither, and builds nothing.
         if found is not None or self.world.models.parts:
-            _log.warning(NO_GAZEBO_SERVICES)
+            serve_gazebo_services(node, self.world, run_on_cell)
 
     def _serve(
         self, node: Any, found: Any, run_on_cell: Callable[[Callable[[], str]], tuple[bool, str]]

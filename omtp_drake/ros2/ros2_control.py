@@ -14,9 +14,9 @@ topic                               type                                   contr
                                                                            JointGroup*Controller
 ==================================  =====================================  =============================
 
-Not served: the trajectory controller's ``~/controller_state`` and its
-``~/follow_joint_trajectory`` action are ``control_msgs`` types, which no PyPI package
-provides (docs/ros_control.md). A refused command is one error line on the node's log.
+Each trajectory controller's ``~/follow_joint_trajectory`` action
+(``control_msgs/action/FollowJointTrajectory``, built here: :mod:`omtp_drake.ros2.trajectory_action`).
+Not served: its ``~/controller_state`` topic. A refused command is one error line on the node's log.
 Without a launch file the YAML's controllers are active, as if each was spawned in order
 (:func:`~omtp_drake.scenario.ros_control_parse.spawned_only`).
 """
@@ -30,7 +30,8 @@ from typing import TYPE_CHECKING, Any
 from omtp_drake.errors import ConfigError
 from omtp_drake.gazebo.messages import JointStates
 from omtp_drake.gazebo.schedule import topic
-from omtp_drake.ros2 import messages
+from omtp_drake.ros2 import interface_build, messages
+from omtp_drake.ros2.trajectory_action import FollowJointTrajectoryServers
 from omtp_drake.sim.ros_control import Controller, Periodic, RosControl
 from omtp_drake.sim.trajectory_request import TrajectoryRequest
 
@@ -41,11 +42,23 @@ if TYPE_CHECKING:
 #: cell runs faster than real time; a reliable KEEP_LAST writer drops what overflows).
 QUEUE_S = 60.0
 
-#: Why the action and the state topic are missing, said once where a user meets them.
-NO_CONTROL_MSGS = (
-    "follow_joint_trajectory and controller_state need control_msgs, which no PyPI package provides: "
-    "send trajectories on ~/joint_trajectory"
+#: Why the action is missing where control_msgs cannot be built, said once (with why).
+NO_ACTION = (
+    "follow_joint_trajectory is not served (send trajectories on ~/joint_trajectory): control_msgs "
+    "has no PyPI package and its type support could not be built here"
 )
+
+
+def _actions(
+    node: Any, cell: Cell, control: RosControl, on_cell: Callable[[Callable[[], None]], None]
+) -> FollowJointTrajectoryServers | None:
+    """The trajectory controllers' actions, or None and one warning saying why not."""
+    try:
+        interface_build.activate()
+    except interface_build.InterfacesUnavailable as e:
+        node.get_logger().warning(f"{NO_ACTION}: {e}")
+        return None
+    return FollowJointTrajectoryServers(node, cell, control, on_cell)
 
 
 class Ros2Control:
@@ -75,8 +88,9 @@ class Ros2Control:
         for controller in self._control.of_kind("forward"):
             name = topic(controller.namespace, f"{controller.name}/commands")
             node.create_subscription(Float64MultiArray, name, self._handler(controller, _values), 10)
+        self.actions: FollowJointTrajectoryServers | None = None
         if self._control.of_kind("trajectory"):
-            node.get_logger().info(NO_CONTROL_MSGS)
+            self.actions = _actions(node, cell, self._control, self._work.put)
 
     def _handler(self, controller: Controller, convert: Callable[[Any], Any]) -> Callable[[Any], None]:
         def on_message(msg: Any) -> None:
@@ -105,7 +119,9 @@ class Ros2Control:
             work()
 
     def publish(self, t: float) -> None:
-        """The broadcasters' joint states due at ``t``."""
+        """The broadcasters' joint states due at ``t``, and the action goals' feedback and outcomes."""
+        if self.actions is not None:
+            self.actions.check(t)
         for controller, periodic, publisher in self._broadcasters:
             if periodic.due(t):
                 sample = self._control.joint_state(self._cell.runtime.context, controller)

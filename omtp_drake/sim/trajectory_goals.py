@@ -11,7 +11,9 @@ says why not (``INVALID_JOINTS``, ``OLD_HEADER_TIMESTAMP``, ``INVALID_GOAL``);
   commanded;
 - from the trajectory's end, every joint within its goal tolerance of the last point and
   moving slower than ``stopped_velocity_tolerance``: succeeded; still outside after
-  ``goal_time`` more: aborted, ``GOAL_TOLERANCE_VIOLATED``, the joints held.
+  ``goal_time`` more: aborted, ``GOAL_TOLERANCE_VIOLATED``, the joints held. On ROS 2
+  (``ros2=True``) a ``goal_time`` of 0 sets no limit: ROS 2's joint_trajectory_controller
+  (Humble to Kilted) then waits for the goal tolerances as long as it takes.
 
 Tolerances: the controller's ``constraints`` (``trajectory``, ``goal``, ``goal_time``,
 ``stopped_velocity_tolerance``), a goal's own per joint replacing them where it gives a
@@ -35,6 +37,10 @@ from omtp_drake.sim.ros_control import (
     RosControl,
 )
 from omtp_drake.sim.trajectory_request import TrajectoryRequest
+
+#: How often a ROS 2 joint_trajectory_controller judges its goal and sends feedback (its
+#: ``action_monitor_rate`` parameter's default, Hz).
+ACTION_MONITOR_RATE_HZ = 20.0
 
 #: control_msgs/FollowJointTrajectoryResult's error codes.
 SUCCESSFUL, INVALID_GOAL, INVALID_JOINTS, OLD_HEADER_TIMESTAMP = 0, -1, -2, -3
@@ -70,6 +76,7 @@ class Goal:
         path: Mapping[str, float],
         goal: Mapping[str, float],
         goal_time: float,
+        ros2: bool = False,
     ):
         config = controller.config
         joints = list(config.joints)
@@ -80,6 +87,8 @@ class Goal:
         self._path = _tolerances({j: t.trajectory for j, t in config.tolerances.items()}, path, joints)
         self._goal = _tolerances({j: t.goal for j, t in config.tolerances.items()}, goal, joints)
         self._goal_time = goal_time if goal_time > 0 else config.goal_time
+        if ros2 and self._goal_time <= 0:
+            self._goal_time = float("inf")
         self.outcome: Optional[GoalOutcome] = None
 
     def check(self, root_context: Context) -> Optional[GoalOutcome]:
@@ -127,8 +136,9 @@ def start_goal(
     path: Mapping[str, float],
     goal: Mapping[str, float],
     goal_time: float,
+    ros2: bool = False,
 ) -> Goal | GoalOutcome:
-    """The started goal, or the outcome of a rejected one."""
+    """The started goal, or the outcome of a rejected one (``ros2``: ROS 2's goal time rule)."""
     try:
         command = control.follow(root_context, controller, request)
     except JointNamesError as e:
@@ -138,4 +148,4 @@ def start_goal(
     except ConfigError as e:
         return GoalOutcome("rejected", INVALID_GOAL, str(e))
     finish = command.spline.finish if command.spline is not None else root_context.get_time()
-    return Goal(control, controller, command.tag, finish, path, goal, goal_time)
+    return Goal(control, controller, command.tag, finish, path, goal, goal_time, ros2)
