@@ -23,6 +23,7 @@ from omtp_drake.cell.cell_models import X_W_DELETION_WALL
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import (
+    camera_listing,
     camera_topic,
     check_deletion_wall,
     conveyor_power,
@@ -45,6 +46,8 @@ class WorldPieces:
     cameras: list[dict] = field(default_factory=list)
     #: Camera -> its plugin's topic (``robotNamespace`` and ``image_topic_ros``).
     camera_topics: dict[str, str] = field(default_factory=dict)
+    #: Camera -> what its plugin publishes (its entry of ``plugin_names.camera_listings``).
+    camera_listings: dict[str, dict] = field(default_factory=dict)
     conveyor: dict | None = None
     #: The conveyor plugin's control service (its ``robot_namespace`` and ``topic``).
     conveyor_service: str | None = None
@@ -87,6 +90,10 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             xyz, rpy = model.pose[:3], model.pose[3:]
             pieces.cameras.append(logical_camera(plugin, sensors[0], model.name, xyz, rpy))
             pieces.camera_topics[model.name] = camera_topic(plugin, model.name)
+            listing, lines = camera_listing(plugin)
+            pieces.warnings += lines
+            if listing:
+                pieces.camera_listings[model.name] = listing
         elif kind == "conveyor":
             X_WF = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
             pieces.conveyor = {"power": conveyor_power(plugin)}
