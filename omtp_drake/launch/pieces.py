@@ -202,6 +202,8 @@ def _bin(
                 f"{where}: bin {placed['name']!r}: its collision meshes cannot be read or hold no "
                 "floor and walls around its axis; the catalogue's bin stands in"
             )
+    elif walls is None:
+        pieces.warnings.append(_catalogue_bin_line(model, link, placed["name"], where))
     if walls is not None:
         taken = {placed["name"], *(own.name for own in pieces.own)}
         name = spawned if spawned and spawned not in taken else f"{placed['name']}_model"
@@ -210,6 +212,20 @@ def _bin(
         pose = [*placed["xyz"], 0.0, 0.0, placed["yaw"]]
         pieces.own.append(OwnModel(name, text, where, pose, static=False, open_links=open_links))
     return placed
+
+
+def _catalogue_bin_line(model: UrdfModel, link: str, name: str, where: str) -> str:
+    """The warning for a bin the cell cannot take as written (no collision at all, or
+    collisions that are neither a box floor and walls nor meshes): Gazebo loads it as it
+    is (without a collision a part dropped in falls through it)."""
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    if element is None or element.find("collision") is None:
+        what = f"link {link!r} has no <collision>: in Gazebo a part dropped in falls through it"
+    else:
+        shapes = sorted({g.tag for c in element.findall("collision") for g in c.findall("geometry/*")})
+        what = f"link {link!r}'s collisions ({', '.join(shapes) or 'no geometry'}) are no box floor and walls"
+    return f"{where}: bin {name!r}: {what}; the catalogue's bin stands in"
 
 
 def _gripper_prefixes(model: UrdfModel, prefix: str) -> list[str]:
