@@ -77,6 +77,12 @@ class WorldModel:
     folder: Path | None = None
     #: The SDF version of the file the model element was read from.
     version: str = "1.6"
+    #: That file, for its elements' lines (None: not known).
+    doc: XmlFile | None = None
+
+    def where_of(self, element: ET.Element) -> str:
+        """``file:line`` of an element of the model (the model's place when not known)."""
+        return self.doc.where(element) if self.doc is not None and self.doc.line(element) else self.where
 
     def sensors(self, kind: str) -> list[ET.Element]:
         return [s for s in self.element.iter("sensor") if s.get("type") == kind]
@@ -330,7 +336,7 @@ def world_model(
     if X_WM is None:
         X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
     static = _is_true(element.findtext("static"))
-    return WorldModel(name, X_WM, element, where, plugins, tuple(pose), static, folder, version)
+    return WorldModel(name, X_WM, element, where, plugins, tuple(pose), static, folder, version, doc)
 
 
 def _sdf_name(config: Path) -> str:

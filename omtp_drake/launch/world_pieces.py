@@ -7,7 +7,8 @@ named as Gazebo names the plugin's parent (the model's name in the world), at th
 model's pose; a ROSConveyorBeltPlugin is the belt (the conveyor stands where its
 ``link`` puts it: the course's place, or where the student moved and turned it); an
 ObjectDisposalPlugin is the deletion wall (where the model stands); what the student
-added to those two models is loaded as written (:mod:`~omtp_drake.launch.world_additions`).
+added to those models (and to a camera's) is loaded as written
+(:mod:`~omtp_drake.launch.world_additions`).
 Any other plugin is one warning line; its model is loaded all the same.
 """
 
@@ -129,6 +130,9 @@ def _piece_body(pieces: WorldPieces, kind: str | None) -> tuple[str, RigidTransf
         return "conveyor_base", RigidTransform(
             RollPitchYaw(c.get("roll", 0.0), c.get("pitch", 0.0), c["yaw"]), c["xyz"]
         )
+    if kind == "logical_camera" and pieces.cameras:
+        camera = pieces.cameras[-1]
+        return f"{camera['name']}_frame", RigidTransform(RollPitchYaw(camera["rpy"]), camera["xyz"])
     if kind == "deletion_wall":
         moved = pieces.deletion_wall_pose
         return "deletion_wall", RigidTransform(
