@@ -33,6 +33,8 @@ from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import (
     Claims,
     bin_walls,
+    inner_additions,
+    inner_additions_urdf,
     mount_urdf,
     mounts,
     own_links,
@@ -131,10 +133,24 @@ def add_urdf_model(
         pose = [*mount.X_PR.translation(), *RollPitchYaw(mount.X_PR.rotation()).vector()]
         text = mount_urdf(model, mount, own)
         pieces.own.append(OwnModel(own, text, where, [float(v) for v in pose], parent=mount.parent))
+    _add_inner_additions(pieces, model, claims, where)
     for link in model.static_links():
         if link != "world" and link not in links:  # (world: Gazebo's name for the world itself)
             pieces.frames.setdefault(link, X_WM @ X_M[link])
     return True
+
+
+def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where: str) -> None:
+    """What the student added inside a link of a course arm, gripper or the beam (which the
+    cell builds; :func:`~omtp_drake.launch.own_links.inner_additions`): one model entry
+    ``<link>_own`` each, welded to the cell's link of that name (pedestals and bins are
+    loaded as written already)."""
+    built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
+    for link, extras in inner_additions(model, built).items():
+        taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
+        own = f"{link}_own" if f"{link}_own" not in taken else f"{link}_own_model"
+        text = inner_additions_urdf(link, extras, own)
+        pieces.own.append(OwnModel(own, text, where, [0.0] * 6, parent=link))
 
 
 def _loaded_with(model: UrdfModel, link: str, claims: Claims) -> bool:
