@@ -61,6 +61,11 @@ PIECE_LINKS = {
     "pedestal": ("pedestal_link",),
     "break_beam": ("world_interface", "base_link", "optical_link"),
 }  # fmt: skip
+#: An arm's six joints, after its prefix (ur_description's).
+PIECE_JOINTS = (
+    "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+    "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
+)  # fmt: skip
 
 
 @dataclass
@@ -293,6 +298,9 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
         "initial_pose": RobotConfig().initial_pose,
         "gripper": _gripper(pieces, model, prefix, where, name),
     }
+    limits, lines = arm_joint_limit(model, prefix, where)
+    pieces.warnings += lines
+    robot.update(limits)
     if any(j.startswith(prefix) for j in joints):
         given = " ".join(f"-J {k} {v}" for k, v in joints.items())
         pieces.warnings.append(
@@ -300,6 +308,39 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
             f"{robot['pose_prefix']}{robot['initial_pose']} instead"
         )
     pieces.robots.append(robot)
+
+
+def arm_joint_limit(model: UrdfModel, prefix: str, where: str) -> tuple[dict, list[str]]:
+    """The arm's joint position limits as its URDF writes them, as the scenario's robot
+    fields: ``joint_limit`` when one symmetric limit holds every joint (none when it is the
+    course's pi), ``joint_limits`` when each has its own symmetric one (ur_description's
+    unlimited arm: 2 pi, its elbow pi); and a warning line for limits that are not
+    symmetric (the cell's arm, its servo and MoveIt's bounds take symmetric ones: the
+    course's are kept)."""
+    root = model.root_element
+    limits = {}
+    for name in PIECE_JOINTS:
+        element = root.find(f"joint[@name='{prefix}{name}']/limit") if root is not None else None
+        if element is None:
+            continue
+        try:
+            limits[name] = (float(element.get("lower", "nan")), float(element.get("upper", "nan")))
+        except ValueError:
+            limits[name] = (math.nan, math.nan)
+    if not limits:
+        return {}, []
+    uppers = [round(upper, 9) for _, upper in limits.values()]
+    symmetric = all(abs(lower + upper) < 1e-9 for lower, upper in limits.values())
+    if symmetric and len(limits) == len(PIECE_JOINTS) and all(0 < u <= 2 * math.pi + 1e-9 for u in uppers):
+        uppers = [min(u, 2 * math.pi) for u in uppers]
+        if len(set(uppers)) > 1:
+            return {"joint_limits": uppers}, []
+        return ({} if abs(uppers[0] - math.pi) < 1e-9 else {"joint_limit": uppers[0]}), []
+    written = ", ".join(f"{name} [{lo:g}, {up:g}]" for name, (lo, up) in limits.items())
+    return {}, [
+        f"{where}: arm {prefix.rstrip('_')!r}: joint limits {written} are not symmetric limits in "
+        f"(0, 2 pi] of its six joints; the cell's arm takes those and keeps the course's +/-{math.pi:g}"
+    ]
 
 
 def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str, robot: str) -> str:

@@ -38,7 +38,7 @@ def _model_texts(cell: Cell) -> list[str]:
                     {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
                 )
             )
-        texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.joint_limit).read_text())
+        texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.limits()).read_text())
         if robot.gripper:
             texts.append(expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper}))
     # (a bin of the student's own is one of the models below, as their file writes it)
