@@ -12,6 +12,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+from test_ros2 import hold_domain, needs_ros2, run_cell_with_node
 
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.gazebo.logical_camera import PluginListing, model_id
@@ -74,6 +75,22 @@ def test_each_camera_lists_only_what_it_knows_named_as_the_plugin_names_it(works
     assert seen_by["course_frame"] is False and seen_by["bin_frame"] is True
     # The hall's origin, where their launch spawns it (no -x -y -z: the world's origin).
     assert max(abs(v) for v in seen_by["hall"]) < 1e-3, seen_by["hall"]
+
+
+@needs_ros2
+def test_on_ros2_each_camera_lists_only_what_it_knows_named_as_the_plugin_names_it(workspace, tmp_path):
+    """``omtp-drake ros2``: the cameras' rviz2 markers label what the plugin publishes (a
+    model's name, or its type when anonymized): camera 1 the hall only, camera 2 two
+    ``model``s (the belt and the bin)."""
+    out = tmp_path / "markers.json"
+    node = [str(Path(__file__).parent / "ros2_scripts" / "camera_markers_node.py"), str(out)]
+    node += ["logical_camera_1", "logical_camera_2"]
+    with hold_domain() as domain:
+        run_cell_with_node(["--launch", LAUNCH, "--workspace", str(workspace)], node, domain)
+    assert json.loads(out.read_text()) == {
+        "logical_camera_1": ["workcell_"],
+        "logical_camera_2": ["model", "model"],
+    }
 
 
 def _camera(xml: str):
