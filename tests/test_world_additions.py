@@ -184,18 +184,21 @@ def _wall(text: str, tmp_path: Path):
     )
 
 
-def test_a_changed_course_element_is_one_warning_naming_its_line_and_both_shapes(workspace, tmp_path):
-    """Their wall's collision made wider: the cell's wall (and its disposal) keeps the course's
-    box, said once at the element's line; the course's own box, as written, says nothing."""
+def test_a_changed_course_element_is_told_at_its_line_with_both_shapes(workspace, tmp_path):
+    """Their wall's collision made wider differs from the cell's box, said at the element's
+    line (the world then loads their wall as written: tests/test_moved_pieces.py); the
+    course's own box, as written, is the cell's."""
     from pydrake.math import RigidTransform
 
-    from omtp_drake.launch.world_additions import additions
+    from omtp_drake.launch.world_additions import additions, wall_changed
     from omtp_drake.workspace import Workspace
 
     course = (workspace / "omtp_gazebo" / "models" / "deletion_wall" / "model.sdf").read_text()
     body = ("deletion_wall", RigidTransform())
     assert additions(_wall(course, tmp_path), "deletion_wall", Workspace(), body) == (None, [])
+    assert not wall_changed(_wall(course, tmp_path))
     wider = course.replace("<size>0.1 1 1</size>", "<size>0.1 2 1</size>", 1)
+    assert wall_changed(_wall(wider, tmp_path))
     entry, warnings = additions(_wall(wider, tmp_path), "deletion_wall", Workspace(), body)
     line = 1 + wider[: wider.index('<collision name="collision"')].count("\n")
     assert entry is None and warnings == [

@@ -156,6 +156,17 @@ def changed_lines(
     return lines
 
 
+def wall_changed(model: WorldModel) -> bool:
+    """Whether the student changed the course's deletion wall (a collision or visual of
+    its ``sensing_link`` is not the cell's box): then the wall is loaded as they wrote it."""
+    links = _links(model.element, "", RigidTransform(), model.static)
+    return any(
+        changed_lines(model, "deletion_wall", path, link, X_ML)
+        for path, (link, X_ML, _) in links.items()
+        if path in COURSE_LINKS["deletion_wall"]
+    )
+
+
 def _as_cell(size: tuple[float, ...], X_MG: RigidTransform, cell) -> bool:
     """Whether a box of ``size`` at ``X_MG`` is the cell's (:data:`CELL_GEOMETRY`)."""
     cell_size, X_MC = cell

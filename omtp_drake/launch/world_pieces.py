@@ -32,7 +32,7 @@ from omtp_drake.launch.plugins import (
     logical_camera,
 )
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
-from omtp_drake.launch.world_additions import additions
+from omtp_drake.launch.world_additions import additions, wall_changed
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.workspace import Workspace
 
@@ -58,6 +58,8 @@ class WorldPieces:
     models: list[ModelConfig] = field(default_factory=list)
     #: Where the student moved the deletion wall (empty: the course's pose).
     deletion_wall_pose: list[float] = field(default_factory=list)
+    #: The wall's model as the student wrote it, when they changed the course's wall.
+    deletion_wall_model: str = ""
     #: The world's ``<gravity>`` (None: the cell's).
     gravity: list[float] | None = None
 
@@ -109,6 +111,11 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             if _moved(model.X_WM, X_W_DELETION_WALL):
                 pieces.deletion_wall_pose = pose_list(model.X_WM)
             pieces.deletion_wall = True
+            if wall_changed(model):  # their wall, as written: the plugin disposes there
+                pieces.deletion_wall_model = model.name
+                pieces.models.append(model_config(model, workspace))
+                known = True
+                continue
         else:
             pieces.warnings.append(plugin.unknown_line())
             continue

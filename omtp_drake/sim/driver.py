@@ -119,11 +119,22 @@ class DeletionWall:
         self._station = station
         self._pool = pool
         plant, inspector = station.plant, station.scene_graph.model_inspector()
-        wall = plant.GetBodyByName("deletion_wall")
-        self._wall = set(inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(wall.index()), Role.kProximity))
+        # The catalogue's wall, or the student's wall model as written (every collision of it).
+        own = station.scenario.deletion_wall_model
+        if own:
+            walls = [plant.get_body(b) for b in plant.GetBodyIndices(plant.GetModelInstanceByName(own))]
+        else:
+            walls = [plant.GetBodyByName("deletion_wall")]
+        self._wall = {
+            g
+            for wall in walls
+            for g in inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(wall.index()), Role.kProximity)
+        }
         parts = station.part_states.geometries.parts
         self._part_of = {g: n for n, geometries in parts.items() for g in geometries}
-        self._near = _NearWall.of(station, wall, self._wall) if plant.IsAnchored(wall) else None
+        wall = walls[0]
+        one = len(walls) == 1 and plant.IsAnchored(wall)
+        self._near = _NearWall.of(station, wall, self._wall) if one else None
 
     def __call__(self, root_context: Context) -> None:
         plant = self._station.plant

@@ -48,7 +48,7 @@ def _model_texts(cell: Cell) -> list[str]:
     for present, file in (
         (scenario.conveyor is not None, "conveyor.urdf.xacro"),
         (scenario.break_beam, "break_beam.urdf.xacro"),
-        (scenario.deletion_wall, "deletion_wall.urdf.xacro"),
+        (scenario.deletion_wall and not scenario.deletion_wall_model, "deletion_wall.urdf.xacro"),
     ):
         if present:
             texts.append(expand_xacro(MODELS_DIR / file))
