@@ -121,15 +121,10 @@ class DeletionWall:
         plant, inspector = station.plant, station.scene_graph.model_inspector()
         # The catalogue's wall, or the student's wall model as written (every collision of it).
         own = station.scenario.deletion_wall_model
-        if own:
-            walls = [plant.get_body(b) for b in plant.GetBodyIndices(plant.GetModelInstanceByName(own))]
-        else:
-            walls = [plant.GetBodyByName("deletion_wall")]
-        self._wall = {
-            g
-            for wall in walls
-            for g in inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(wall.index()), Role.kProximity)
-        }
+        bodies = plant.GetBodyIndices(plant.GetModelInstanceByName(own)) if own else []
+        walls = [plant.get_body(b) for b in bodies] or [plant.GetBodyByName("deletion_wall")]
+        frames = [plant.GetBodyFrameIdOrThrow(wall.index()) for wall in walls]
+        self._wall = {g for frame in frames for g in inspector.GetGeometries(frame, Role.kProximity)}
         parts = station.part_states.geometries.parts
         self._part_of = {g: n for n, geometries in parts.items() for g in geometries}
         wall = walls[0]
