@@ -9,6 +9,7 @@ import functools
 import importlib.metadata
 import math
 import xml.etree.ElementTree as ET
+from collections.abc import Sequence
 from pathlib import Path
 
 from omtp_drake.assets import DRAKE_NS, UR_MODELS, cache_entry, drake_mesh, write_atomic
@@ -25,13 +26,14 @@ def ur_description_dir() -> Path:
     return path
 
 
-def ur_urdf(model: str, prefix: str, *, joint_limit: float = math.pi) -> Path:
+def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = math.pi) -> Path:
     """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
 
     Args:
         model: ``"ur5"`` or ``"ur10"``.
         prefix: prepended to link, joint and actuator names (``"robot1_"``).
-        joint_limit: symmetric position limit of every joint (the course: pi).
+        joint_limit: symmetric position limit of every joint (the course: pi), or of each
+            revolute joint in the file's order (pan, lift, elbow, wrist 1, 2, 3).
 
     The ``world`` link and its joint are dropped (the station welds
     ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
@@ -71,8 +73,19 @@ def _drop_world_and_ee_collision(root: ET.Element) -> None:
                 link.remove(col)
 
 
-def _prefix_names(root: ET.Element, prefix: str, joint_limit: float) -> None:
-    """Prefixes link, joint, transmission and actuator names; sets revolute limits to +/- ``joint_limit``."""
+def _prefix_names(root: ET.Element, prefix: str, joint_limit: float | Sequence[float]) -> None:
+    """Prefixes link, joint, transmission and actuator names; sets revolute limits to +/- ``joint_limit``
+    (one for all, or one each in the file's order)."""
+    revolute = [
+        j for j in root.findall("joint") if j.get("type") == "revolute" and j.find("limit") is not None
+    ]
+    if isinstance(joint_limit, (int, float)):
+        each = [float(joint_limit)] * len(revolute)
+    else:
+        each = [float(v) for v in joint_limit]
+    if len(each) != len(revolute):
+        raise ConfigError(f"UR model: {len(each)} joint limits for {len(revolute)} revolute joints")
+    limits = {id(j): v for j, v in zip(revolute, each)}
     for link in root.findall("link"):
         link.set("name", prefix + _attr(link, "name"))
     for joint in root.findall("joint"):
@@ -81,9 +94,9 @@ def _prefix_names(root: ET.Element, prefix: str, joint_limit: float) -> None:
             el = _child(joint, tag)
             el.set("link", prefix + _attr(el, "link"))
         limit = joint.find("limit")
-        if limit is not None and joint.get("type") == "revolute":
-            limit.set("lower", repr(-joint_limit))
-            limit.set("upper", repr(joint_limit))
+        if limit is not None and id(joint) in limits:
+            limit.set("lower", repr(-limits[id(joint)]))
+            limit.set("upper", repr(limits[id(joint)]))
     for trans in root.findall("transmission"):
         trans.set("name", prefix + _attr(trans, "name"))
         trans_joint = _child(trans, "joint")
@@ -120,5 +133,10 @@ def _attr(element: ET.Element, name: str) -> str:
     return value
 
 
-def _limit_tag(limit: float) -> str:
-    return f"lim{round(limit * 1e4)}"
+def _limit_tag(limit: float | Sequence[float]) -> str:
+    if isinstance(limit, (int, float)):
+        return f"lim{round(limit * 1e4)}"
+    values = [float(v) for v in limit]
+    if len(set(values)) == 1:
+        return f"lim{round(values[0] * 1e4)}"  # (the same file as one limit for all)
+    return "lim" + "_".join(str(round(v * 1e4)) for v in values)

@@ -137,13 +137,13 @@ def _edit(path: Path, old: str, new: str) -> None:
             "omtp_gazebo/models/logical_camera1/model.sdf",
             "<near>0.2</near>",
             "<near>-0.2</near>",
-            "logical_camera1/model.sdf: logical camera 'logical_camera_1': near=-0.2 is invalid",
+            "logical_camera1/model.sdf:4: logical camera 'logical_camera_1': near=-0.2 is invalid",
         ),
         (
             "omtp_gazebo/models/conveyor/model.sdf",
             "<power>0</power>",
             "<power>150</power>",
-            "conveyor/model.sdf: ROSConveyorBeltPlugin conveyor.power must be in [0, 100], got 150.0",
+            "conveyor/model.sdf:32: ROSConveyorBeltPlugin conveyor.power must be in [0, 100], got 150.0",
         ),
         (
             "omtp_support/urdf/break_beam/break_beam.gazebo.xacro",

@@ -101,3 +101,29 @@ def test_a_moved_break_beam_stops_the_belt_where_it_now_stands(tmp_path):
     # Stopped at the beam: its front edge past y = -1.0 by at most the travel of the beam's
     # and the stop helper's 10 Hz checks (2 x 2 cm) and the stop; not at the course's beam.
     assert -1.0 - 0.06 <= rt.part_pose(part).translation()[1] - 0.1 <= -1.0
+
+
+WALL = "omtp_gazebo/models/deletion_wall/model.sdf"
+
+
+@pytest.mark.parametrize("width, disposed", [(1, 0), (2, 1)])
+def test_their_wider_wall_is_loaded_as_written_and_disposes_where_it_reaches(tmp_path, width, disposed):
+    """The student widened the wall's collision to 2 m: the wall is their model as written
+    (the cell's 1 m box is not built) and a part dropped on its top 0.8 m off the belt's
+    axis is disposed of; with the course's 1 m wall the same part falls past it."""
+    edits = [(WALL, "<size>0.1 1 1</size>", f"<size>0.1 {width} 1</size>")] if width != 1 else []
+    cell = _cell(tmp_path, edits)
+    assert cell.scenario.deletion_wall
+    assert cell.scenario.deletion_wall_model == ("deletion_wall" if width != 1 else "")
+    assert not [w for w in cell.warnings if "sensing_link" in w], cell.warnings
+    rt = _runtime(cell)
+    try:
+        assert rt.station.plant.HasBodyNamed("deletion_wall") == (width == 1)
+        # The wall across the belt's end (0.1 m thick along y, its top at z 1.925): a part
+        # dropped 1 cm onto its top, 0.8 m along it from its middle (x 1.2).
+        part = rt.spawn_part(xyz=[2.0, -5.1, 1.925 + 0.1 + 0.01])
+        rt.advance(0.5)
+        assert (part not in rt.parts_in_world()) == bool(disposed)
+        assert rt.ledger().disposed == disposed
+    finally:
+        rt.close()

@@ -429,3 +429,33 @@ def test_a_mesh_bin_nobody_has_the_meshes_of_is_the_catalogues_with_one_warning(
         "bin.urdf: bin 'bin_3': its collision meshes cannot be read or hold no floor and walls "
         "around its axis; the catalogue's bin stands in"
     ]
+
+
+@pytest.mark.parametrize(
+    "collision, what",
+    [
+        ("", "link 'bin_3_base_link' has no <collision>: in Gazebo a part dropped in falls through it"),
+        (
+            '<collision><geometry><cylinder radius="0.3" length="0.05"/></geometry></collision>',
+            "link 'bin_3_base_link''s collisions (cylinder) are no box floor and walls",
+        ),
+    ],
+)
+def test_a_bin_the_cell_cannot_take_as_written_is_the_catalogues_with_one_warning(collision, what):
+    """Not silently: a bin with no collision (Gazebo lets parts fall through it), or with
+    collisions that are no box floor and walls, gets one line naming where it was spawned."""
+    from pydrake.math import RigidTransform
+
+    from omtp_drake.launch.pieces import Pieces, add_urdf_model
+    from omtp_drake.launch.urdf_model import UrdfModel
+
+    text = f"""<robot name="bin_3_"><link name="bin_3_base_link"><visual><geometry>
+      <box size="0.6 0.6 0.4"/></geometry></visual>{collision}</link>
+      <link name="bin_3_drop_point"/><joint name="j" type="fixed"><parent link="bin_3_base_link"/>
+      <child link="bin_3_drop_point"/><origin xyz="0 0 1"/></joint></robot>"""
+    pieces = Pieces()
+    where = "spawn.launch:12 (-param /bin_3_description)"
+    assert add_urdf_model(pieces, UrdfModel.from_text(text, "bin.urdf"), RigidTransform([1, 2, 0]), where, {})
+    (bin_3,) = pieces.bins
+    assert "model" not in bin_3 and not pieces.own
+    assert pieces.warnings == [f"{where}: bin 'bin_3': {what}; the catalogue's bin stands in"]

@@ -1,6 +1,7 @@
 """What a student adds to a course model of their world is loaded as written: the group's
 workspace (tests/fixtures/group_ws) with their conveyor model holding a tray beside the belt
-(tests/fixtures/rail_edits, the course's layout: a link in the static ``conveyor_belt_fixed``).
+(tests/fixtures/rail_edits, the course's layout: a link in the static ``conveyor_belt_fixed``),
+and their camera 1 with a mount plate, a lens hood and a loose cable (tests/fixtures/camera_edits).
 The conveyor is still the course's belt (its plugin recognised); the tray is a body where
 the world's include and the model's poses put it, and a part dropped on it stays there."""
 
@@ -26,6 +27,8 @@ def workspace(tmp_path_factory) -> Path:
     src = tmp_path_factory.mktemp("rail_ws") / "src"
     shutil.copytree(FIXTURES / "group_ws" / "src", src)
     shutil.copytree(FIXTURES / "rail_edits", src, dirs_exist_ok=True)
+    camera = src / "omtp_gazebo" / "models" / "logical_camera1" / "model.sdf"
+    shutil.copyfile(FIXTURES / "camera_edits" / "logical_camera1.sdf", camera)
     return src
 
 
@@ -136,3 +139,94 @@ def test_what_would_move_on_a_course_model_is_one_warning_each(workspace):
     plate, cleat = warnings
     assert "link 'loose_plate' of model 'conveyor_belt' moves" in plate and "not loaded" in plate
     assert "cleat of the course's link 'conveyor_belt_moving::belt'" in cleat and "not loaded" in cleat
+
+
+#: Camera 1 in world (the world's include: 1.2 2.0 1.95, pitched 90 deg: its x looks down).
+X_W_CAMERA = np.array([[0.0, 0.0, 1.0, 1.2], [0.0, 1.0, 0.0, 2.0], [-1.0, 0.0, 0.0, 1.95], [0, 0, 0, 1.0]])
+
+
+def test_what_they_added_to_a_camera_is_loaded_as_written_on_the_cells_camera(cell, runtime):
+    """The plate inside the camera's link and the hood held to it: one model entry hung on
+    the cell's camera frame, where the file puts them; the loose cable is one warning."""
+    from omtp_drake.cell.gazebo_models import gazebo_models
+
+    own = {m.name: m for m in cell.scenario.models}["logical_camera_1_own"]
+    assert own.parent == "logical_camera_1_frame"
+    sdf = ET.fromstring(own.description)
+    assert [link.get("name") for link in sdf.iter("link")] == ["logical_camera_1_link_own", "lens_hood"]
+    plate = sdf.find(".//link[@name='logical_camera_1_link_own']")
+    assert [c.get("name") for c in plate.iter("collision")] == ["mount_plate_collision"]
+    (cable,) = [w for w in cell.warnings if "loose_cable" in w]
+    assert "logical_camera1/model.sdf" in cable and "not loaded" in cable
+    plant = runtime.station.plant
+    context = plant.GetMyContextFromRoot(runtime.context)
+    X_WH = plant.GetBodyByName("lens_hood").EvalPoseInWorld(context).GetAsMatrix4()
+    np.testing.assert_allclose(X_WH, X_W_CAMERA @ _X(0.06, 0.0, 0.0, 0.0), atol=1e-3)
+    X_WP = plant.GetBodyByName("logical_camera_1_link_own").EvalPoseInWorld(context).GetAsMatrix4()
+    np.testing.assert_allclose(X_WP, X_W_CAMERA, atol=1e-3)  # (the plate's pose is its collision's)
+    # Part of the camera's Gazebo model; the cell's camera frame is where it was.
+    models = {m.name: m for m in gazebo_models(plant, cell.scenario)}
+    hood = plant.GetBodyByName("lens_hood").model_instance()
+    assert hood in models["logical_camera_1"].instances and "logical_camera_1_own" not in models
+    X_WC = plant.GetFrameByName("logical_camera_1_frame").CalcPoseInWorld(context).GetAsMatrix4()
+    np.testing.assert_allclose(X_WC, X_W_CAMERA, atol=1e-5)  # (the world writes 1.5708)
+
+
+def _wall(text: str, tmp_path: Path):
+    from omtp_drake.launch.sdf_world import world_model
+    from omtp_drake.launch.xml_lines import parse_xml
+
+    path = tmp_path / "model.sdf"
+    path.write_text(text)
+    doc = parse_xml(path)
+    return world_model(
+        "deletion_wall", (1.2, -5.1, 1.425, 0, 0, 1.5708), doc.root.find("model"), str(path), doc=doc
+    )
+
+
+def test_a_changed_course_element_is_told_at_its_line_with_both_shapes(workspace, tmp_path):
+    """Their wall's collision made wider differs from the cell's box, said at the element's
+    line (the world then loads their wall as written: tests/test_moved_pieces.py); the
+    course's own box, as written, is the cell's."""
+    from pydrake.math import RigidTransform
+
+    from omtp_drake.launch.world_additions import additions, wall_changed
+    from omtp_drake.workspace import Workspace
+
+    course = (workspace / "omtp_gazebo" / "models" / "deletion_wall" / "model.sdf").read_text()
+    body = ("deletion_wall", RigidTransform())
+    assert additions(_wall(course, tmp_path), "deletion_wall", Workspace(), body) == (None, [])
+    assert not wall_changed(_wall(course, tmp_path))
+    wider = course.replace("<size>0.1 1 1</size>", "<size>0.1 2 1</size>", 1)
+    assert wall_changed(_wall(wider, tmp_path))
+    entry, warnings = additions(_wall(wider, tmp_path), "deletion_wall", Workspace(), body)
+    line = 1 + wider[: wider.index('<collision name="collision"')].count("\n")
+    assert entry is None and warnings == [
+        f"{tmp_path / 'model.sdf'}:{line}: <collision name='collision'> of the course's link 'sensing_link' "
+        "in model 'deletion_wall' is box 0.1 2 1 at 0 0 0; the cell's deletion_wall is its own "
+        "(0.1 x 1 x 1 at 0 0 0) and keeps it: not loaded (the plugin's behaviour is on the cell's body)"
+    ]
+
+
+def test_the_courses_thinner_belt_is_the_cells_belt(workspace):
+    """The course's belt_collision is 6 mm thick at -3 mm (the fixtures' 1 cm at -5 mm): the
+    same footprint and top, what a part feels, so no warning; a belt raised 2 cm is one."""
+    from pydrake.math import RigidTransform
+
+    from omtp_drake.launch.sdf_world import world_model
+    from omtp_drake.launch.world_additions import changed_lines
+
+    text = (workspace / "omtp_gazebo" / "models" / "conveyor" / "model.sdf").read_text()
+    model = world_model(
+        "conveyor_belt", (1.2, 5.0, 0.0, 0.0, 0.0, -1.5708), ET.fromstring(text).find("model"), "c.sdf"
+    )
+    belt = model.element.find("model[@name='conveyor_belt_moving']/link[@name='belt']")
+    X_MB = RigidTransform([5.0, 0.0, 0.92 - 0.003])
+    belt.find("collision/geometry/box/size").text = "10 0.6 0.006"
+    assert changed_lines(model, "conveyor", "conveyor_belt_moving::belt", belt, X_MB) == []
+    raised = RigidTransform([5.0, 0.0, 0.94 - 0.003])
+    (line,) = changed_lines(model, "conveyor", "conveyor_belt_moving::belt", belt, raised)
+    assert (
+        line.startswith("c.sdf: <collision name='belt_collision'>")
+        and "box 10 0.6 0.006 at 5 0 0.937" in line
+    )

@@ -86,12 +86,13 @@ def check_joint_positions(q, robot: RobotConfig) -> np.ndarray:
         )
     if not np.all(np.isfinite(q)):
         raise ConfigError(f"joint positions of {robot.name} must be finite, got {q.tolist()}")
-    outside = np.flatnonzero(np.abs(q) > robot.joint_limit + 1e-9)
+    limits = robot.limits()
+    outside = np.flatnonzero(np.abs(q) > limits + 1e-9)
     if len(outside):
         i = int(outside[0])
         raise ConfigError(
             f"joint {JOINT_NAMES[i]} of {robot.name} at {q[i]:.4f} rad is outside "
-            f"its limits [-{robot.joint_limit:.4f}, {robot.joint_limit:.4f}] rad"
+            f"its limits [-{limits[i]:.4f}, {limits[i]:.4f}] rad"
         )
     return q
 
@@ -105,7 +106,7 @@ def add_arm_models(
     Returns (arm instance, gripper instance or None).
     """
     plant = parser.plant()
-    (arm,) = parser.AddModels(str(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.joint_limit)))
+    (arm,) = parser.AddModels(str(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.limits())))
     gripper = None
     if robot.gripper:
         text = expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper})

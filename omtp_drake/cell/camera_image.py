@@ -56,12 +56,15 @@ class DetectedModel:
         visible_fraction: the share of the model's image that is not hidden by
             other geometry (see :class:`~omtp_drake.cell.logical_camera.LogicalCamera`); 1.0 when the camera
             does not test occlusion.
+        frame: its tf frame as the camera's plugin names it ("": ``<camera>_<name>_frame``
+            for a named model, none for an unnamed one).
     """
 
     name: str
     type: str
     X_CM: RigidTransform
     visible_fraction: float = 1.0
+    frame: str = ""
 
 
 @dataclass(frozen=True)

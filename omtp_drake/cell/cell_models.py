@@ -218,7 +218,7 @@ def _add_fixtures(parser: Parser, scenario: Scenario) -> Optional[ModelInstanceI
         _add_xacro(parser, "break_beam.urdf.xacro")
         moved = scenario.break_beam_pose
         _weld(plant, "break_beam_base_link", pose6(moved) if moved else X_W_BREAK_BEAM)
-    if scenario.deletion_wall:
+    if scenario.deletion_wall and not scenario.deletion_wall_model:  # (else: a model entry)
         _add_xacro(parser, "deletion_wall.urdf.xacro")
         moved = scenario.deletion_wall_pose
         _weld(plant, "deletion_wall", pose6(moved) if moved else X_W_DELETION_WALL)

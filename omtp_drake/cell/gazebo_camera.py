@@ -26,7 +26,7 @@ This is the ROS image's list (``/omtp/logical_camera_N``); the Python layer's
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Optional
+from typing import TYPE_CHECKING, Optional, Protocol
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -42,11 +42,22 @@ if TYPE_CHECKING:
     from omtp_drake.cell.station import Station
 
 
-class GazeboCameraView:
-    """The course plugin's model list for camera ``camera`` of ``station``."""
+class ModelListing(Protocol):
+    """How a camera's plugin publishes a model in view (None: it does not): the plugin
+    layer's rules (:mod:`omtp_drake.gazebo.logical_camera`)."""
 
-    def __init__(self, station: Station, camera: str):
+    def model(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]: ...
+
+    def nested(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]: ...
+
+
+class GazeboCameraView:
+    """The course plugin's model list for camera ``camera`` of ``station``, each model
+    published as ``listing`` says (None: every model by its name, nested ones unnamed)."""
+
+    def __init__(self, station: Station, camera: str, listing: Optional[ModelListing] = None):
         plant = station.plant
+        self._listing = listing
         inspector = station.scene_graph.model_inspector()
         self._camera = station.cameras[camera]
         self._name = camera
@@ -137,7 +148,12 @@ class GazeboCameraView:
             model = self._models[k]
             X_WM = model.X_WM if model.X_WM is not None else X_WB[self._origins[k]]
             X_CM = reported.get(model.name, X_CW @ X_WM)
-            listed.append(DetectedModel(model.name, model.type, X_CM))
-            # Nested models carry no name: the plugin broadcasts no frame for them.
-            listed += [DetectedModel("", model_type(name), X_CM @ X_MN) for name, X_MN in model.nested]
+            if self._listing is None:
+                listed.append(DetectedModel(model.name, model.type, X_CM))
+                # Nested models carry no name: the plugin broadcasts no frame for them.
+                listed += [DetectedModel("", model_type(name), X_CM @ X_MN) for name, X_MN in model.nested]
+                continue
+            top = self._listing.model(model.name, X_CM)
+            nested = [self._listing.nested(name, X_CM @ X_MN) for name, X_MN in model.nested]
+            listed += [m for m in (top, *nested) if m is not None]
         return LogicalCameraImage(own.time, self._name, own.X_WC, tuple(listed))

@@ -343,13 +343,16 @@ def _add_cameras(
     and depth sensors of the scenario's models (:mod:`omtp_drake.cell.depth_camera`)."""
     cameras: dict[str, LogicalCamera] = {}
     for cam in scenario.cameras:
+        # (what a student hung on the camera is part of its model: blind to it too)
+        frame = f"{cam.name}_frame"
+        hung = [plant.GetModelInstanceByName(m.name) for m in scenario.models if m.parent == frame]
         cameras[cam.name] = add_logical_camera(
             builder,
             plant,
             scene_graph,
             plant.GetFrameByName(f"{cam.name}_frame"),
             cam,
-            exclude=[models.cameras[cam.name], models.floor],
+            exclude=[models.cameras[cam.name], models.floor, *hung],
             seed=scenario.seed,
         )
         builder.ExportOutput(cameras[cam.name].image_output_port(), f"{cam.name}.image")

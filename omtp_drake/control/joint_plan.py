@@ -53,7 +53,7 @@ def diffik_parameters(
     params.set_time_step(time_step)
     vmax = np.array(arms.VELOCITY_LIMITS[robot.model])
     params.set_joint_velocity_limits((-vmax, vmax))
-    params.set_joint_position_limits((np.full(n, -robot.joint_limit), np.full(n, robot.joint_limit)))
+    params.set_joint_position_limits((-robot.limits(), robot.limits()))
     params.set_nominal_joint_position(arms.named_pose("Home", robot))
     params.set_joint_centering_gain(0.05 * np.eye(n))
     return params

@@ -11,16 +11,37 @@ each logical camera reports, when, on which topic.
   (:class:`~omtp_drake.cell.gazebo_camera.GazeboCameraView`: robots, pedestals, bins, the
   belt, parts...). The message is the cell's
   :class:`~omtp_drake.cell.camera_image.LogicalCameraImage`; a transport gives it its type.
+
+Which models it publishes, and how it names them, are the plugin's rules
+(:class:`PluginListing`, from the camera's ``plugin_names.camera_listings`` entry, which
+:func:`omtp_drake.launch.plugins.camera_listing` reads from the student's ``<plugin>``):
+
+- with ``known_model_types`` or ``known_model_names``, only a model whose type
+  (:func:`~omtp_drake.cell.gazebo_models.model_type`, ARIAC's ``DetermineModelType``) is a
+  known type, or whose name (after its last ``|``) is a known name, is published; nested
+  models too, each by its own type and name;
+- a published model's type is its type, or ``model`` with ``anonymize_models``; its tf
+  frame, child of ``<camera>_frame``, is ``<model_frame_prefix><name>_frame`` (the prefix
+  by default ``<camera>_``; with ``anonymize_models`` the name is ``model_<id>``, ``<id>``
+  ARIAC's ``DetermineModelId``: ``object_3`` -> ``model_3``). Nested models get their type
+  (never anonymized) and no frame, as the plugin's;
+- a plugin whose Load stopped (a ``<known_model_types>`` without ``<type>``) advertises
+  nothing.
 """
 
 from __future__ import annotations
 
 import math
+import re
 from typing import TYPE_CHECKING, Optional
 
-from omtp_drake.cell.camera_image import LogicalCameraImage
+from pydrake.math import RigidTransform
+
+from omtp_drake.cell.camera_image import DetectedModel, LogicalCameraImage
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
+from omtp_drake.cell.gazebo_models import model_type
 from omtp_drake.gazebo.schedule import Publication
+from omtp_drake.scenario.plugin_names import CameraListing
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -41,9 +62,51 @@ def single_camera(cell: Cell) -> Optional[str]:
     return DEFAULT_SINGLE_CAMERA if DEFAULT_SINGLE_CAMERA in cameras else None
 
 
+def model_id(name: str) -> str:
+    """ARIAC's ``DetermineModelId``: the name after its last ``|``; when it ends in
+    ``_<digits>`` after at least two characters, those digits (``object_3`` -> ``3``)."""
+    name = name.rsplit("|", 1)[-1]
+    match = re.fullmatch(r".{2,}_(\d*)", name)
+    return match.group(1) if match is not None else name
+
+
+class PluginListing:
+    """How the logical camera ``camera``'s plugin publishes a model (see the module doc)."""
+
+    def __init__(self, camera: str, listing: CameraListing):
+        self._listing = listing
+        self._prefix = listing.model_frame_prefix if listing.model_frame_prefix is not None else f"{camera}_"
+        self._filtered = listing.known_model_types is not None or listing.known_model_names is not None
+        self._types = set(listing.known_model_types or ())
+        self._names = set(listing.known_model_names or ())
+
+    def publishes(self, name: str) -> bool:
+        """Whether the plugin publishes the model ``name`` (its ``ModelToPublish``)."""
+        if not self._listing.advertised:
+            return False
+        known = model_type(name) in self._types or name.rsplit("|", 1)[-1] in self._names
+        return known or not self._filtered
+
+    def model(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]:
+        if not self.publishes(name):
+            return None
+        if self._listing.anonymize_models:
+            return DetectedModel("", "model", X_CM, frame=f"{self._prefix}model_{model_id(name)}_frame")
+        trimmed = name.rsplit("|", 1)[-1]
+        return DetectedModel(trimmed, model_type(name), X_CM, frame=f"{self._prefix}{trimmed}_frame")
+
+    def nested(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]:
+        return DetectedModel("", model_type(name), X_CM) if self.publishes(name) else None
+
+
 def camera_views(cell: Cell) -> dict[str, GazeboCameraView]:
-    """Camera -> the course plugin's view of it (what its topic, and tf's frames, list)."""
-    return {name: GazeboCameraView(cell.station, name) for name in cell.station.cameras}
+    """Camera -> the course plugin's view of it (what its topic, and tf's frames, list),
+    by its plugin's rules."""
+    names = cell.scenario.plugin_names
+    return {
+        name: GazeboCameraView(cell.station, name, PluginListing(name, names.camera_listing(name)))
+        for name in cell.station.cameras
+    }
 
 
 class NewImages:
@@ -69,9 +132,10 @@ def logical_camera_publications(cell: Cell, views: dict[str, GazeboCameraView]) 
     out = [
         Publication(topics.camera_topic(name), LogicalCameraImage, NewImages(cell, view), plugin=name)
         for name, view in views.items()
+        if topics.camera_listing(name).advertised
     ]
     single = single_camera(cell)
-    if single is not None:
+    if single is not None and topics.camera_listing(single).advertised:
         out.append(
             Publication(
                 SINGLE_CAMERA_TOPIC, LogicalCameraImage, NewImages(cell, views[single]), plugin=single

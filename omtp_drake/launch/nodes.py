@@ -291,7 +291,9 @@ def _spawn(out: NodeMapping, node: Node, launch: Launch, workspace: Workspace) -
     if model is None:
         raise WorkspaceError(f"{r.source}: has no <model>")
     out.warnings += strip_strays(doc, model)
-    spawned = world_model(r.name, tuple(pose), model, r.source, version=sdf_version(doc), folder=r.folder)
+    spawned = world_model(
+        r.name, tuple(pose), model, r.source, version=sdf_version(doc), folder=r.folder, doc=doc
+    )
     add_world_model(out.world, spawned, workspace)
 
 

@@ -39,7 +39,7 @@ from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
 from omtp_drake.launch.standins import standin_dirs
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import Scenario, scenario_from_dict, scenario_text
-from omtp_drake.scenario.plugin_names import GripperNames, PluginNames
+from omtp_drake.scenario.plugin_names import CameraListing, GripperNames, PluginNames
 from omtp_drake.workspace import Workspace
 
 
@@ -174,6 +174,7 @@ def _plugin_names(mapping: NodeMapping) -> dict:
     names = PluginNames(
         grippers=[GripperNames(**g) for g in pieces.plugin_names["grippers"]],
         camera_topics=dict(world.camera_topics),
+        camera_listings={c: CameraListing(**v) for c, v in world.camera_listings.items()},
         **{k: v for k, v in pieces.plugin_names.items() if k != "grippers"},
     )
     if world.conveyor_service is not None:
@@ -202,6 +203,8 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
         document["break_beam_pose"] = pieces.break_beam_pose
     if world.deletion_wall_pose:
         document["deletion_wall_pose"] = world.deletion_wall_pose
+    if world.deletion_wall_model:
+        document["deletion_wall_model"] = world.deletion_wall_model
     if world.conveyor is not None:
         document["conveyor"] = {**world.conveyor, "stop_on_beam": mapping.stop_on_beam}
     elif mapping.stop_on_beam:

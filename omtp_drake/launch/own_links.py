@@ -37,6 +37,9 @@ from omtp_drake.launch.urdf_model import UrdfJoint, UrdfModel
 
 #: The workcell's own link (the hall's mesh: the cell's floor and conveyor stand for it).
 WORKCELL_LINK = "workcell"
+#: The course's own meshes (``ur_description``'s, ``omtp_support``'s): a visual or collision
+#: with one of them in a piece's link is the course's.
+_COURSE_MESHES = ("ur_description/meshes/", "omtp_support/meshes/")
 
 
 def has_geometry(model: UrdfModel, link: str) -> bool:
@@ -257,3 +260,42 @@ def bin_walls(model: UrdfModel, link: str) -> list[float] | None:
         return None
     inner = [min(h) for h in halves]
     return [round(float(v), 9) for v in (*inner, max(f[4] for f in floors), max(b[4] for b in boxes))]
+
+
+def inner_additions(model: UrdfModel, links: Iterable[str]) -> dict[str, list[ET.Element]]:
+    """The visuals and collisions a student added inside the course's ``links`` of
+    ``model`` (URDF's are unnamed, so told apart by the course's files' content): the
+    course's files give each of these links (``ur_description``'s, the vacuum gripper's, the
+    beam's) at most one visual and one collision, so beyond one of a kind the ones that are
+    not the course's mesh (:data:`_COURSE_MESHES`) are the student's, and with none of the
+    course's mesh, all but the first."""
+    root = model.root_element
+    out: dict[str, list[ET.Element]] = {}
+    for link in links:
+        element = root.find(f"link[@name='{link}']") if root is not None else None
+        if element is None:
+            continue
+        extras = []
+        for tag in ("visual", "collision"):
+            found = element.findall(tag)
+            if len(found) < 2:
+                continue
+            course = [e for e in found if _is_course_mesh(e)] or found[:1]
+            extras += [e for e in found if not any(e is c for c in course[:1])]
+        if extras:
+            out[link] = extras
+    return out
+
+
+def _is_course_mesh(element: ET.Element) -> bool:
+    mesh = element.find("geometry/mesh")
+    return mesh is not None and any(m in mesh.get("filename", "") for m in _COURSE_MESHES)
+
+
+def inner_additions_urdf(link: str, extras: list[ET.Element], name: str) -> str:
+    """A URDF named ``name`` of one link ``<link>_own`` holding ``extras`` as written (the
+    cell welds it to its own ``link``)."""
+    out = ET.Element("robot", name=name)
+    own = ET.SubElement(out, "link", name=f"{link}_own")
+    own.extend(copy.deepcopy(e) for e in extras)
+    return ET.tostring(out, encoding="unicode")

@@ -33,6 +33,8 @@ from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import (
     Claims,
     bin_walls,
+    inner_additions,
+    inner_additions_urdf,
     mount_urdf,
     mounts,
     own_links,
@@ -59,6 +61,11 @@ PIECE_LINKS = {
     "pedestal": ("pedestal_link",),
     "break_beam": ("world_interface", "base_link", "optical_link"),
 }  # fmt: skip
+#: An arm's six joints, after its prefix (ur_description's).
+PIECE_JOINTS = (
+    "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+    "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
+)  # fmt: skip
 
 
 @dataclass
@@ -131,10 +138,24 @@ def add_urdf_model(
         pose = [*mount.X_PR.translation(), *RollPitchYaw(mount.X_PR.rotation()).vector()]
         text = mount_urdf(model, mount, own)
         pieces.own.append(OwnModel(own, text, where, [float(v) for v in pose], parent=mount.parent))
+    _add_inner_additions(pieces, model, claims, where)
     for link in model.static_links():
         if link != "world" and link not in links:  # (world: Gazebo's name for the world itself)
             pieces.frames.setdefault(link, X_WM @ X_M[link])
     return True
+
+
+def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where: str) -> None:
+    """What the student added inside a link of a course arm, gripper or the beam (which the
+    cell builds; :func:`~omtp_drake.launch.own_links.inner_additions`): one model entry
+    ``<link>_own`` each, welded to the cell's link of that name (pedestals and bins are
+    loaded as written already)."""
+    built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
+    for link, extras in inner_additions(model, built).items():
+        taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
+        own = f"{link}_own" if f"{link}_own" not in taken else f"{link}_own_model"
+        text = inner_additions_urdf(link, extras, own)
+        pieces.own.append(OwnModel(own, text, where, [0.0] * 6, parent=link))
 
 
 def _loaded_with(model: UrdfModel, link: str, claims: Claims) -> bool:
@@ -202,6 +223,8 @@ def _bin(
                 f"{where}: bin {placed['name']!r}: its collision meshes cannot be read or hold no "
                 "floor and walls around its axis; the catalogue's bin stands in"
             )
+    elif walls is None:
+        pieces.warnings.append(_catalogue_bin_line(model, link, placed["name"], where))
     if walls is not None:
         taken = {placed["name"], *(own.name for own in pieces.own)}
         name = spawned if spawned and spawned not in taken else f"{placed['name']}_model"
@@ -210,6 +233,20 @@ def _bin(
         pose = [*placed["xyz"], 0.0, 0.0, placed["yaw"]]
         pieces.own.append(OwnModel(name, text, where, pose, static=False, open_links=open_links))
     return placed
+
+
+def _catalogue_bin_line(model: UrdfModel, link: str, name: str, where: str) -> str:
+    """The warning for a bin the cell cannot take as written (no collision at all, or
+    collisions that are neither a box floor and walls nor meshes): Gazebo loads it as it
+    is (without a collision a part dropped in falls through it)."""
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    if element is None or element.find("collision") is None:
+        what = f"link {link!r} has no <collision>: in Gazebo a part dropped in falls through it"
+    else:
+        shapes = sorted({g.tag for c in element.findall("collision") for g in c.findall("geometry/*")})
+        what = f"link {link!r}'s collisions ({', '.join(shapes) or 'no geometry'}) are no box floor and walls"
+    return f"{where}: bin {name!r}: {what}; the catalogue's bin stands in"
 
 
 def _gripper_prefixes(model: UrdfModel, prefix: str) -> list[str]:
@@ -261,6 +298,9 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
         "initial_pose": RobotConfig().initial_pose,
         "gripper": _gripper(pieces, model, prefix, where, name),
     }
+    limits, lines = arm_joint_limit(model, prefix, where)
+    pieces.warnings += lines
+    robot.update(limits)
     if any(j.startswith(prefix) for j in joints):
         given = " ".join(f"-J {k} {v}" for k, v in joints.items())
         pieces.warnings.append(
@@ -268,6 +308,39 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
             f"{robot['pose_prefix']}{robot['initial_pose']} instead"
         )
     pieces.robots.append(robot)
+
+
+def arm_joint_limit(model: UrdfModel, prefix: str, where: str) -> tuple[dict, list[str]]:
+    """The arm's joint position limits as its URDF writes them, as the scenario's robot
+    fields: ``joint_limit`` when one symmetric limit holds every joint (none when it is the
+    course's pi), ``joint_limits`` when each has its own symmetric one (ur_description's
+    unlimited arm: 2 pi, its elbow pi); and a warning line for limits that are not
+    symmetric (the cell's arm, its servo and MoveIt's bounds take symmetric ones: the
+    course's are kept)."""
+    root = model.root_element
+    limits = {}
+    for name in PIECE_JOINTS:
+        element = root.find(f"joint[@name='{prefix}{name}']/limit") if root is not None else None
+        if element is None:
+            continue
+        try:
+            limits[name] = (float(element.get("lower", "nan")), float(element.get("upper", "nan")))
+        except ValueError:
+            limits[name] = (math.nan, math.nan)
+    if not limits:
+        return {}, []
+    uppers = [round(upper, 9) for _, upper in limits.values()]
+    symmetric = all(abs(lower + upper) < 1e-9 for lower, upper in limits.values())
+    if symmetric and len(limits) == len(PIECE_JOINTS) and all(0 < u <= 2 * math.pi + 1e-9 for u in uppers):
+        uppers = [min(u, 2 * math.pi) for u in uppers]
+        if len(set(uppers)) > 1:
+            return {"joint_limits": uppers}, []
+        return ({} if abs(uppers[0] - math.pi) < 1e-9 else {"joint_limit": uppers[0]}), []
+    written = ", ".join(f"{name} [{lo:g}, {up:g}]" for name, (lo, up) in limits.items())
+    return {}, [
+        f"{where}: arm {prefix.rstrip('_')!r}: joint limits {written} are not symmetric limits in "
+        f"(0, 2 pi] of its six joints; the cell's arm takes those and keeps the course's +/-{math.pi:g}"
+    ]
 
 
 def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str, robot: str) -> str:

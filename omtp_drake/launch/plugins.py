@@ -12,7 +12,11 @@ ROSLogicalCameraPlugin         a logical camera (``cameras``)        the ``logic
                                                                      robotNamespace,
                                                                      image_topic_ros;
                                                                      position/orientation
-                                                                     noise (gaussian)
+                                                                     noise (gaussian);
+                                                                     known_model_types,
+                                                                     known_model_names,
+                                                                     anonymize_models,
+                                                                     model_frame_prefix
 ROSVacuumGripperPlugin         the robot's suction gripper           grasp_check
                                                                      attach_steps;
                                                                      robot_namespace,
@@ -269,3 +273,51 @@ def camera_topic(plugin: GazeboPlugin, name: str) -> str:
     """A ROSLogicalCameraPlugin's topic: ``image_topic_ros`` (the model's name by default) in
     its ``robotNamespace`` (the course's models: ``omtp``, so ``/omtp/<model>``)."""
     return _ros_name(plugin, "image_topic_ros", name, "robotNamespace")
+
+
+#: sdformat's spellings of a bool (``Param::Get<bool>``, case-insensitive).
+_BOOLS = {"true": True, "1": True, "false": False, "0": False}
+
+
+def camera_listing(plugin: GazeboPlugin) -> tuple[dict, list[str]]:
+    """A ROSLogicalCameraPlugin's publishing rules (the scenario's
+    ``plugin_names.camera_listings`` entry, :class:`~omtp_drake.scenario.plugin_names.CameraListing`)
+    and the lines Gazebo would log for them: a ``<known_model_types>`` without ``<type>``
+    stops the plugin's Load (it then publishes nothing); an ``activation_topic`` is a Gazebo
+    transport topic nothing in the cell publishes on (the camera stays on)."""
+    element, lines = plugin.element, []
+    entry: dict[str, Any] = {}
+    where = f"{plugin.where}: ROSLogicalCameraPlugin ({plugin.name})"
+    types = element.find("known_model_types")
+    if types is not None:
+        entry["known_model_types"] = [(t.text or "").strip() for t in types.findall("type")]
+        if not entry["known_model_types"]:
+            lines.append(
+                f"{where}: Unable to find <type> elements in the <known_model_types> section; "
+                "the plugin stops loading, as Gazebo's: the camera publishes nothing"
+            )
+            entry["advertised"] = False
+    names = element.find("known_model_names")
+    if names is not None:
+        entry["known_model_names"] = [(n.text or "").strip() for n in names.findall("name")]
+    anonymize = plugin.text("anonymize_models")
+    if anonymize is not None:
+        if anonymize.lower() not in _BOOLS:
+            raise WorkspaceError(
+                f"{where} <anonymize_models> {anonymize!r} is not a bool; valid: true, false, 1, 0"
+            )
+        entry["anonymize_models"] = _BOOLS[anonymize.lower()]
+    prefix = element.findtext("model_frame_prefix")
+    if prefix is not None:
+        if any(c.isspace() for c in prefix.strip()):
+            raise WorkspaceError(
+                f"{where} <model_frame_prefix> {prefix.strip()!r} is not valid; "
+                "valid: a tf frame prefix without spaces"
+            )
+        entry["model_frame_prefix"] = prefix.strip()
+    if plugin.text("activation_topic") is not None:
+        lines.append(
+            f"{where}: <activation_topic> {plugin.text('activation_topic')!r} is a Gazebo transport "
+            "topic; nothing in the cell publishes on it, so the camera stays on"
+        )
+    return entry, lines

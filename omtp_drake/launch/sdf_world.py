@@ -21,6 +21,7 @@ well formed, a ``<pose>`` that is not 6 numbers) is one error. The cases are lis
 from __future__ import annotations
 
 import copy
+import dataclasses
 import logging
 import math
 import re
@@ -76,6 +77,12 @@ class WorldModel:
     folder: Path | None = None
     #: The SDF version of the file the model element was read from.
     version: str = "1.6"
+    #: That file, for its elements' lines (None: not known).
+    doc: XmlFile | None = None
+
+    def where_of(self, element: ET.Element) -> str:
+        """``file:line`` of an element of the model (the model's place when not known)."""
+        return self.doc.where(element) if self.doc is not None and self.doc.line(element) else self.where
 
     def sensors(self, kind: str) -> list[ET.Element]:
         return [s for s in self.element.iter("sensor") if s.get("type") == kind]
@@ -142,7 +149,7 @@ class _WorldReader:
             folder = self.doc.path.parent
             self.out.warnings += check_model(self.doc, element, self.version, folder, self.workspace)
             name = element.get("name", "")
-            self._add(world_model(name, pose, element, where, X_WM=X_WM, version=self.version))
+            self._add(world_model(name, pose, element, where, X_WM=X_WM, version=self.version, doc=self.doc))
         elif tag == "frame":
             self.frames[element.get("name", "")] = self._pose(element, where)[1]
         elif tag == "gravity":
@@ -196,7 +203,9 @@ class _WorldReader:
         placed = (element.findtext("name") or "").strip() or model.get("name", folder.name)
         static = element.findtext("static")
         version = sdf_version(model_doc)
-        found = world_model(placed, pose, model, str(sdf_file), X_WM=X_WM, version=version, folder=folder)
+        found = world_model(
+            placed, pose, model, str(sdf_file), X_WM=X_WM, version=version, folder=folder, doc=model_doc
+        )
         if static is not None:
             found.static = _is_true(static)
         self._add(found)
@@ -314,16 +323,20 @@ def world_model(
     X_WM: RigidTransform | None = None,
     version: str = "1.6",
     folder: Path | None = None,
+    doc: XmlFile | None = None,
 ) -> WorldModel:
     """The model ``element`` named ``name`` at ``pose`` (x y z roll pitch yaw) in world
-    (``X_WM``: the pose in world when it is relative to another frame)."""
+    (``X_WM``: the pose in world when it is relative to another frame); ``doc``, the file
+    it is read from, gives each plugin its own ``file:line``."""
     plugins = plugins_in(element, where)
     for link in element.iter("link"):
         plugins += plugins_in(link, where, link=link.get("name", ""))
+    if doc is not None:
+        plugins = [dataclasses.replace(p, where=doc.where(p.element)) for p in plugins]
     if X_WM is None:
         X_WM = RigidTransform(RollPitchYaw(pose[3:]), pose[:3])
     static = _is_true(element.findtext("static"))
-    return WorldModel(name, X_WM, element, where, plugins, tuple(pose), static, folder, version)
+    return WorldModel(name, X_WM, element, where, plugins, tuple(pose), static, folder, version, doc)
 
 
 def _sdf_name(config: Path) -> str:

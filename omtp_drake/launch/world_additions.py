@@ -1,20 +1,23 @@
 """What a student added to a course model of their world, loaded as it is written.
 
-The cell builds the conveyor and the deletion wall from its catalogue where the world's
-model (recognised by its plugin, :mod:`omtp_drake.launch.world_pieces`) puts them. What
-the student added to such a ``<model>`` is not dropped: a link the course's model does
-not have (a guard rail beside the belt), and a visual or collision the course's link
-does not have (a bigger plate on the deletion wall), are one model entry of the scenario
-(:class:`~omtp_drake.scenario.ModelConfig`, loaded by Drake's Parser as the file writes
-them: geometry, inertia, materials, friction), named ``<model>_own``, welded where the file
-puts them to the cell's body of the piece (``ModelConfig.parent``: ``conveyor_base``,
-``deletion_wall``), so they are part of its Gazebo model (what the logical cameras list).
+The cell builds the conveyor, the deletion wall and the logical cameras from its catalogue
+where the world's model (recognised by its plugin, :mod:`omtp_drake.launch.world_pieces`)
+puts them. What the student added to such a ``<model>`` is not dropped: a link the
+course's model does not have (a guard rail beside the belt, a lens hood on a camera), and
+a visual or collision the course's link does not have (a bigger plate on the deletion
+wall), are one model entry of the scenario (:class:`~omtp_drake.scenario.ModelConfig`,
+loaded by Drake's Parser as the file writes them: geometry, inertia, materials,
+friction), named ``<model>_own``, welded where the file puts them to the cell's body of the
+piece (``ModelConfig.parent``: ``conveyor_base``, ``deletion_wall``, ``<camera>_frame``), so
+they are part of its Gazebo model (what the logical cameras list).
 
 They are loaded when they stand still in Gazebo: a link of a ``<static>`` model (the
-wall, the conveyor's ``conveyor_belt_fixed``), or one a ``fixed`` joint holds to such a
-link. One that would move (a free link of the conveyor's top model, a link on a moving
-joint, geometry on the moving ``belt``) is one warning line: the cell's belt is its own
-body, and it adds no joints to the course's pieces.
+wall, the conveyor's ``conveyor_belt_fixed``), the link holding a logical camera's sensor
+(the course's camera model floats without gravity; the cell holds it where the world puts
+it), or one a ``fixed`` joint holds to such a link. One that would move (a free link of
+the conveyor's top model, a link on a moving joint, geometry on the moving ``belt``) is
+one warning line: the cell's belt is its own body, and it adds no joints to the course's
+pieces.
 """
 
 from __future__ import annotations
@@ -41,6 +44,8 @@ COURSE_LINKS: dict[str, dict[str, tuple[str, ...]]] = {
     "deletion_wall": {"sensing_link": ("collision", "visual")},
 }
 _GEOMETRY = ("visual", "collision")
+#: The course's logical camera link's own geometry (``logical_camera*/model.sdf``).
+_CAMERA_GEOMETRY = ("collision", "visual")
 
 
 def additions(
@@ -49,17 +54,20 @@ def additions(
     """The model entry of what the student added to ``model`` (a course piece of ``kind``;
     None: nothing), hung on ``body`` (the cell's body of the piece and its pose in world),
     and the warning lines of what is not loaded (see module doc)."""
-    course = COURSE_LINKS.get(kind or "")
+    links = _links(model.element, "", RigidTransform(), model.static)
+    course = _course_links(kind, links)
     if course is None or body is None:
         return None, []
-    links = _links(model.element, "", RigidTransform(), model.static)
     still = {path for path, (_, _, static) in links.items() if static}
+    if kind == "logical_camera":
+        still |= set(course)  # (the cell holds the camera where the world puts it)
     still |= _held(model.element, still)
     out = ET.Element("model", name=f"{model.name}_own")  # (no <static>: the cell welds it to ``body``)
     warnings = []
     for path, (link, X_ML, _) in links.items():
         own = link.get("name", "")
         if path in course:
+            warnings += changed_lines(model, kind, path, link, X_ML)
             extras = [c for c in link if c.tag in _GEOMETRY and c.get("name") not in course[path]]
             if not extras:
                 continue
@@ -100,6 +108,93 @@ def additions(
     )
     entry.parent = parent
     return entry, warnings
+
+
+#: The cell's own geometry of the course's named elements where it acts (the catalogue's):
+#: piece -> (link, element name) -> its box (m) and pose in the piece's model; for the belt
+#: what a part feels: its footprint, and its top (the pose's z) rather than its thickness.
+CELL_GEOMETRY: dict[str, dict[tuple[str, str], tuple[tuple[float, ...], RigidTransform]]] = {
+    "deletion_wall": {
+        ("sensing_link", "collision"): ((0.1, 1.0, 1.0), RigidTransform()),
+        ("sensing_link", "visual"): ((0.1, 1.0, 1.0), RigidTransform()),
+    },
+    "conveyor": {
+        ("conveyor_belt_moving::belt", "belt_collision"): ((10.0, 0.6), RigidTransform([5.0, 0.0, 0.92]))
+    },
+}
+_TOL = 1e-3
+
+
+def changed_lines(
+    model: WorldModel, kind: str | None, path: str, link: ET.Element, X_ML: RigidTransform
+) -> list[str]:
+    """One line for each of the course's elements of ``link`` (at ``X_ML`` in the model)
+    that the student changed from the cell's (:data:`CELL_GEOMETRY`): the cell's piece
+    keeps its own, since its plugin's behaviour is on the cell's body."""
+    lines = []
+    for element in link:
+        cell = CELL_GEOMETRY.get(kind or "", {}).get((path, element.get("name", "")))
+        if element.tag not in _GEOMETRY or cell is None:
+            continue
+        size_text = element.findtext("geometry/box/size")
+        try:
+            size = tuple(float(v) for v in (size_text or "").split())
+        except ValueError:
+            size = ()
+        X_MG = X_ML @ sdf_pose(element.findtext("pose"), model.where_of(element))
+        if _as_cell(size, X_MG, cell):
+            continue
+        shape = f"box {size_text.strip()}" if size_text else "no box"
+        xyz = " ".join(f"{v:g}" for v in X_MG.translation())
+        cell_size = " x ".join(f"{v:g}" for v in cell[0])
+        lines.append(
+            f"{model.where_of(element)}: <{element.tag} name={element.get('name')!r}> of the course's link "
+            f"{path!r} in model {model.name!r} is {shape} at {xyz}; the cell's {kind} is its own "
+            f"({cell_size} at {' '.join(f'{v:g}' for v in cell[1].translation())}) and keeps it: "
+            "not loaded (the plugin's behaviour is on the cell's body)"
+        )
+    return lines
+
+
+def wall_changed(model: WorldModel) -> bool:
+    """Whether the student changed the course's deletion wall (a collision or visual of
+    its ``sensing_link`` is not the cell's box): then the wall is loaded as they wrote it."""
+    links = _links(model.element, "", RigidTransform(), model.static)
+    return any(
+        changed_lines(model, "deletion_wall", path, link, X_ML)
+        for path, (link, X_ML, _) in links.items()
+        if path in COURSE_LINKS["deletion_wall"]
+    )
+
+
+def _as_cell(size: tuple[float, ...], X_MG: RigidTransform, cell) -> bool:
+    """Whether a box of ``size`` at ``X_MG`` is the cell's (:data:`CELL_GEOMETRY`)."""
+    cell_size, X_MC = cell
+    if len(size) != 3 or not (X_MG.rotation().inverse() @ X_MC.rotation()).IsNearlyIdentity(_TOL):
+        return False
+    p, c = X_MG.translation(), X_MC.translation()
+    if len(cell_size) == 2:  # the belt: footprint, and the top where the cell's is
+        top = p[2] + size[2] / 2
+        return (
+            max(abs(size[0] - cell_size[0]), abs(size[1] - cell_size[1]), abs(top - c[2])) < _TOL
+            and max(abs(p[0] - c[0]), abs(p[1] - c[1])) < _TOL
+        )
+    return max(abs(a - b) for a, b in zip(size, cell_size)) < _TOL and max(abs(p - c)) < _TOL
+
+
+def _course_links(
+    kind: str | None, links: dict[str, tuple[ET.Element, RigidTransform, bool]]
+) -> dict[str, tuple[str, ...]] | None:
+    """The course's links of a piece of ``kind`` and their course geometry (None: no piece
+    the cell builds): a logical camera's is the link holding its ``logical_camera`` sensor,
+    with the course's ``visual`` and ``collision`` (its ``camera.dae`` housing)."""
+    if kind == "logical_camera":
+        return {
+            path: _CAMERA_GEOMETRY
+            for path, (link, _, _) in links.items()
+            if any(s.get("type") == "logical_camera" for s in link.findall("sensor"))
+        }
+    return COURSE_LINKS.get(kind or "")
 
 
 def _links(

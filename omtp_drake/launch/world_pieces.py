@@ -7,7 +7,8 @@ named as Gazebo names the plugin's parent (the model's name in the world), at th
 model's pose; a ROSConveyorBeltPlugin is the belt (the conveyor stands where its
 ``link`` puts it: the course's place, or where the student moved and turned it); an
 ObjectDisposalPlugin is the deletion wall (where the model stands); what the student
-added to those two models is loaded as written (:mod:`~omtp_drake.launch.world_additions`).
+added to those models (and to a camera's) is loaded as written
+(:mod:`~omtp_drake.launch.world_additions`).
 Any other plugin is one warning line; its model is loaded all the same.
 """
 
@@ -23,6 +24,7 @@ from omtp_drake.cell.cell_models import X_W_DELETION_WALL
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import (
+    camera_listing,
     camera_topic,
     check_deletion_wall,
     conveyor_power,
@@ -30,7 +32,7 @@ from omtp_drake.launch.plugins import (
     logical_camera,
 )
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
-from omtp_drake.launch.world_additions import additions
+from omtp_drake.launch.world_additions import additions, wall_changed
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.workspace import Workspace
 
@@ -45,6 +47,8 @@ class WorldPieces:
     cameras: list[dict] = field(default_factory=list)
     #: Camera -> its plugin's topic (``robotNamespace`` and ``image_topic_ros``).
     camera_topics: dict[str, str] = field(default_factory=dict)
+    #: Camera -> what its plugin publishes (its entry of ``plugin_names.camera_listings``).
+    camera_listings: dict[str, dict] = field(default_factory=dict)
     conveyor: dict | None = None
     #: The conveyor plugin's control service (its ``robot_namespace`` and ``topic``).
     conveyor_service: str | None = None
@@ -54,6 +58,8 @@ class WorldPieces:
     models: list[ModelConfig] = field(default_factory=list)
     #: Where the student moved the deletion wall (empty: the course's pose).
     deletion_wall_pose: list[float] = field(default_factory=list)
+    #: The wall's model as the student wrote it, when they changed the course's wall.
+    deletion_wall_model: str = ""
     #: The world's ``<gravity>`` (None: the cell's).
     gravity: list[float] | None = None
 
@@ -87,6 +93,10 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             xyz, rpy = model.pose[:3], model.pose[3:]
             pieces.cameras.append(logical_camera(plugin, sensors[0], model.name, xyz, rpy))
             pieces.camera_topics[model.name] = camera_topic(plugin, model.name)
+            listing, lines = camera_listing(plugin)
+            pieces.warnings += lines
+            if listing:
+                pieces.camera_listings[model.name] = listing
         elif kind == "conveyor":
             X_WF = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
             pieces.conveyor = {"power": conveyor_power(plugin)}
@@ -101,6 +111,11 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             if _moved(model.X_WM, X_W_DELETION_WALL):
                 pieces.deletion_wall_pose = pose_list(model.X_WM)
             pieces.deletion_wall = True
+            if wall_changed(model):  # their wall, as written: the plugin disposes there
+                pieces.deletion_wall_model = model.name
+                pieces.models.append(model_config(model, workspace))
+                known = True
+                continue
         else:
             pieces.warnings.append(plugin.unknown_line())
             continue
@@ -122,6 +137,9 @@ def _piece_body(pieces: WorldPieces, kind: str | None) -> tuple[str, RigidTransf
         return "conveyor_base", RigidTransform(
             RollPitchYaw(c.get("roll", 0.0), c.get("pitch", 0.0), c["yaw"]), c["xyz"]
         )
+    if kind == "logical_camera" and pieces.cameras:
+        camera = pieces.cameras[-1]
+        return f"{camera['name']}_frame", RigidTransform(RollPitchYaw(camera["rpy"]), camera["xyz"])
     if kind == "deletion_wall":
         moved = pieces.deletion_wall_pose
         return "deletion_wall", RigidTransform(

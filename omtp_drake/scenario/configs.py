@@ -47,6 +47,10 @@ class RobotConfig:
     gripper: str = "vacuum_gripper1"
     #: Symmetric joint position limit (the course limits every joint to pi).
     joint_limit: float = math.pi
+    #: Each joint's own symmetric limit (pan, lift, elbow, wrist 1, 2, 3), where the arm's
+    #: file gives them apart (ur_description's unlimited arm: 2 pi, the elbow pi); empty:
+    #: ``joint_limit`` for every joint.
+    joint_limits: list[float] = field(default_factory=list)
     #: Rate (Hz) at which the servo samples the position command and
     #: differentiates it into a desired velocity (a real UR: 125 Hz). Match a
     #: discrete commander's rate (DiffIK runs at 100 Hz) so velocities are smooth.
@@ -62,6 +66,10 @@ class RobotConfig:
     kd: float = 60.0
     ki: float = 0.0
 
+    def limits(self) -> np.ndarray:
+        """Each joint's symmetric position limit (rad): ``joint_limits``, else ``joint_limit``."""
+        return np.array(self.joint_limits, dtype=float) if self.joint_limits else np.full(6, self.joint_limit)
+
     def validate(self) -> None:
         """Raises :class:`ConfigError` (or :class:`UnknownNameError` for the model)
         naming the field, its value and the valid range."""
@@ -75,6 +83,12 @@ class RobotConfig:
         check_rate(f"{where}.command_rate_hz", self.command_rate_hz)
         if not 0 < self.joint_limit <= 2 * math.pi:
             raise ConfigError(f"{where}.joint_limit must be in (0, 2 pi], got {self.joint_limit}")
+        if self.joint_limits and (
+            len(self.joint_limits) != 6 or not all(0 < v <= 2 * math.pi for v in self.joint_limits)
+        ):
+            raise ConfigError(
+                f"{where}.joint_limits must be 6 limits in (0, 2 pi] (or empty), got {self.joint_limits}"
+            )
         for gain in ("kp", "kd", "ki"):
             if getattr(self, gain) < 0:
                 raise ConfigError(f"{where}.{gain} must be >= 0, got {getattr(self, gain)}")

@@ -22,6 +22,11 @@ ROSConveyorBeltPlugin      ``robot_namespace`` (none),              ``/omtp/conv
 ROSLogicalCameraPlugin     ``robotNamespace`` (``/``),              ``/omtp/<camera>``
                            ``image_topic_ros`` (the model's name)
 =========================  =======================================  ==============================
+
+A logical camera's plugin also says which models it publishes and how it names them
+(``known_model_types``, ``known_model_names``, ``anonymize_models``, ``model_frame_prefix``):
+:class:`CameraListing`, one per camera a file set them for (the plugin layer's
+:mod:`omtp_drake.gazebo.logical_camera` applies them).
 """
 
 import re
@@ -78,6 +83,28 @@ class GripperNames:
 
 
 @dataclass
+class CameraListing:
+    """What one ROSLogicalCameraPlugin publishes, as its ``<plugin>`` says (the defaults:
+    every model in view, by its name, frames ``<camera>_<model>_frame``).
+
+    Attributes:
+        known_model_types: its ``<known_model_types>``' ``<type>``s (None: no such element).
+        known_model_names: its ``<known_model_names>``' ``<name>``s (None: no such element).
+            With either, only models of a listed type or name are published.
+        anonymize_models: every model's type is ``model``, its frame ``model_<id>``.
+        model_frame_prefix: the prefix of the models' tf frames (None: ``<camera>_``).
+        advertised: False when the plugin stopped loading (a ``<known_model_types>``
+            without ``<type>``: Gazebo logs an error and the camera publishes nothing).
+    """
+
+    known_model_types: Optional[list[str]] = None
+    known_model_names: Optional[list[str]] = None
+    anonymize_models: bool = False
+    model_frame_prefix: Optional[str] = None
+    advertised: bool = True
+
+
+@dataclass
 class PluginNames:
     """The course's plugins' ROS names (the module doc's table)."""
 
@@ -89,6 +116,12 @@ class PluginNames:
     conveyor_control_service: str = "/omtp/conveyor/control"
     #: Logical camera -> its topic (a camera not listed: ``/omtp/<camera>``).
     camera_topics: dict[str, str] = field(default_factory=dict)
+    #: Logical camera -> what it publishes (a camera not listed: the defaults).
+    camera_listings: dict[str, CameraListing] = field(default_factory=dict)
+
+    def camera_listing(self, camera: str) -> CameraListing:
+        """What ``camera``'s plugin publishes."""
+        return self.camera_listings.get(camera, CameraListing())
 
     def camera_topic(self, camera: str) -> str:
         """``camera``'s topic."""
@@ -108,11 +141,13 @@ class PluginNames:
         out: dict = {
             key: value
             for key, value in vars(self).items()
-            if key not in ("grippers", "camera_topics") and value != getattr(default, key)
+            if key not in ("grippers", "camera_topics", "camera_listings") and value != getattr(default, key)
         }
         own = [vars(g) for g in self.grippers if g != course_gripper(g.robot, grippers.get(g.robot, ""))]
         cameras = {c: t for c, t in self.camera_topics.items() if t != default.camera_topic(c)}
         out.update({"grippers": own} if own else {}, **({"camera_topics": cameras} if cameras else {}))
+        listings = {c: vars(v) for c, v in self.camera_listings.items() if v != CameraListing()}
+        out.update({"camera_listings": listings} if listings else {})
         return out
 
     def validate(self) -> None:
@@ -128,6 +163,13 @@ class PluginNames:
         names += [(f"plugin_names.camera_topics[{c}]", t) for c, t in self.camera_topics.items()]
         for what, name in names:
             check_name(what, name)
+        for camera, listing in self.camera_listings.items():
+            prefix = listing.model_frame_prefix
+            if prefix is not None and any(c.isspace() for c in prefix):
+                raise ConfigError(
+                    f"plugin_names.camera_listings[{camera}].model_frame_prefix {prefix!r} is not valid; "
+                    "valid: a tf frame prefix without spaces"
+                )
         services = [g.control_service for g in self.grippers] + [self.conveyor_control_service]
         twice = sorted({s for s in services if services.count(s) > 1})
         if twice:

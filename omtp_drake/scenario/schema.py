@@ -113,6 +113,9 @@ class Scenario:
     #: yaw`` in world; empty: where the course has them).
     break_beam_pose: list[float] = field(default_factory=list)
     deletion_wall_pose: list[float] = field(default_factory=list)
+    #: The scenario's model entry that is the deletion wall as the student's file writes it
+    #: ('': the catalogue's box, at ``deletion_wall_pose``); what touches its collisions is disposed of.
+    deletion_wall_model: str = ""
     #: The course's plugins' ROS names as the student's ``<plugin>`` parameters set them.
     plugin_names: PluginNames = field(default_factory=PluginNames)
     #: What goes wrong in a run, and when (see :mod:`omtp_drake.scenario.faults`).
@@ -243,6 +246,11 @@ class Scenario:
                 raise ConfigError("a spawner needs parts: set part_pool > 0")
         check_pose6("break_beam_pose", self.break_beam_pose)
         check_pose6("deletion_wall_pose", self.deletion_wall_pose)
+        if self.deletion_wall_model and self.deletion_wall_model not in {m.name for m in self.models}:
+            raise ConfigError(
+                f"deletion_wall_model {self.deletion_wall_model!r} is no model entry; valid: "
+                + (", ".join(m.name for m in self.models) or "none (no models)")
+            )
         if self.conveyor is not None:
             self.conveyor.validate()
             if self.conveyor.stop_on_beam and not self.break_beam:
@@ -259,7 +267,8 @@ class Scenario:
             raise ConfigError(
                 f"name {pool_like[0]!r}: names object_<k> are the part pool's; only parts may take one"
             )
-        taken = sorted(set(names) & set(RESERVED_NAMES))
+        # (the deletion wall's name is free when the wall is a model entry: the cell builds none)
+        taken = sorted(set(names) & set(RESERVED_NAMES) - {self.deletion_wall_model} - {""})
         if taken:
             raise ConfigError(
                 f"name {taken[0]!r} is taken by the cell; reserved names: {', '.join(RESERVED_NAMES)}"

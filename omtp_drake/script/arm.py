@@ -329,7 +329,7 @@ def _joint_goal(target: Sequence[float] | np.ndarray, config: RobotConfig) -> np
     except ConfigError as e:
         error = e
     # Six finite numbers pass without limits: the limits were what refused them.
-    arms.check_joint_positions(target, replace(config, joint_limit=math.inf))
+    arms.check_joint_positions(target, replace(config, joint_limit=math.inf, joint_limits=[]))
     raise UnreachableError(f"{config.name}: the goal is outside the joint limits: {error}")
 
 
@@ -367,9 +367,7 @@ def other_arm_positions(runtime: FactoryRuntime, name: str) -> dict[str, np.ndar
     """The measured positions of the arms other than ``name``, within their joint limits (a
     wrist measured a hair beyond its limit is on it: they only place the other arms' bodies)."""
     return {
-        other: np.clip(
-            runtime.joint_positions(other), -handles.config.joint_limit, handles.config.joint_limit
-        )
+        other: np.clip(runtime.joint_positions(other), -handles.config.limits(), handles.config.limits())
         for other, handles in runtime.station.arms.items()
         if other != name
     }

@@ -119,11 +119,17 @@ class DeletionWall:
         self._station = station
         self._pool = pool
         plant, inspector = station.plant, station.scene_graph.model_inspector()
-        wall = plant.GetBodyByName("deletion_wall")
-        self._wall = set(inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(wall.index()), Role.kProximity))
+        # The catalogue's wall, or the student's wall model as written (every collision of it).
+        own = station.scenario.deletion_wall_model
+        bodies = plant.GetBodyIndices(plant.GetModelInstanceByName(own)) if own else []
+        walls = [plant.get_body(b) for b in bodies] or [plant.GetBodyByName("deletion_wall")]
+        frames = [plant.GetBodyFrameIdOrThrow(wall.index()) for wall in walls]
+        self._wall = {g for frame in frames for g in inspector.GetGeometries(frame, Role.kProximity)}
         parts = station.part_states.geometries.parts
         self._part_of = {g: n for n, geometries in parts.items() for g in geometries}
-        self._near = _NearWall.of(station, wall, self._wall) if plant.IsAnchored(wall) else None
+        wall = walls[0]
+        one = len(walls) == 1 and plant.IsAnchored(wall)
+        self._near = _NearWall.of(station, wall, self._wall) if one else None
 
     def __call__(self, root_context: Context) -> None:
         plant = self._station.plant

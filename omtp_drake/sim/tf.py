@@ -80,9 +80,9 @@ class _DetectedFrames:
             return  # the camera has not sampled yet
         frames: dict[str, tuple[str, RigidTransform]] = {}
         for model in image.models:
-            if not model.name:
-                continue  # anonymized: no frame
-            name = detected_frame_name(camera, model.name)
+            if not model.name and not model.frame:
+                continue  # anonymized by the Python layer's camera, or nested: no frame
+            name = model.frame or detected_frame_name(camera, model.name)
             if name in self._static:
                 _log.warning(
                     "%s sees %r but a plant frame is already called %s; no frame for the detection",
@@ -91,7 +91,7 @@ class _DetectedFrames:
                     name,
                 )
                 continue
-            frames[name] = (model.name, model.X_CM)
+            frames[name] = (model.name or name, model.X_CM)
         times = self._image_times[camera]
         i = bisect.bisect_left(times, image.time - TIME_EPS)
         if i < len(times) and abs(times[i] - image.time) <= TIME_EPS:

@@ -38,7 +38,7 @@ def _model_texts(cell: Cell) -> list[str]:
                     {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
                 )
             )
-        texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.joint_limit).read_text())
+        texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.limits()).read_text())
         if robot.gripper:
             texts.append(expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper}))
     # (a bin of the student's own is one of the models below, as their file writes it)
@@ -48,7 +48,7 @@ def _model_texts(cell: Cell) -> list[str]:
     for present, file in (
         (scenario.conveyor is not None, "conveyor.urdf.xacro"),
         (scenario.break_beam, "break_beam.urdf.xacro"),
-        (scenario.deletion_wall, "deletion_wall.urdf.xacro"),
+        (scenario.deletion_wall and not scenario.deletion_wall_model, "deletion_wall.urdf.xacro"),
     ):
         if present:
             texts.append(expand_xacro(MODELS_DIR / file))

@@ -42,8 +42,8 @@ def _ik_seed(cell: Cell, robot: str, joint_state: Message) -> np.ndarray:
     for i, name in enumerate(_joint_names(robot)):
         if name in given:
             q[i] = float(given[name])
-    limit = arm.config.joint_limit
-    return np.clip(q, -limit, limit)
+    limits = arm.config.limits()
+    return np.clip(q, -limits, limits)
 
 
 def _ik_target(cell: Cell, pose: Message) -> Any:

@@ -53,7 +53,8 @@ class MoveGroupTargets:
 
     def _bounds(self) -> JointBounds:
         """The group's joints and their position bounds."""
-        return JointBounds.symmetric(joint_names(self._robot), self._arm.config.joint_limit)
+        limits = self._arm.config.limits()
+        return JointBounds(tuple(joint_names(self._robot)), -limits, limits)
 
     def _short(self, link: str) -> str:
         link = link or self._eef

@@ -1,0 +1,141 @@
+"""A student's logical camera plugin says which models it publishes and how it names them
+(``known_model_types``, ``known_model_names``, ``anonymize_models``, ``model_frame_prefix``;
+tests/fixtures/camera_listings laid over a copy of tests/fixtures/group_ws): read once into
+the scenario's ``plugin_names.camera_listings``, applied by the plugin layer to what both
+transports serve (the camera topics and tf's detected frames)."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import pytest
+from test_ros2 import hold_domain, needs_ros2, run_cell_with_node
+
+from omtp_drake.errors import WorkspaceError
+from omtp_drake.gazebo.logical_camera import PluginListing, model_id
+from omtp_drake.launch import own_cell
+from omtp_drake.launch.plugins import camera_listing, plugins_in
+from omtp_drake.scenario.plugin_names import CameraListing
+
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+EDITS = FIXTURES / "camera_listings"
+LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
+OVERLAY = {
+    "logical_camera1.sdf": "omtp_gazebo/models/logical_camera1/model.sdf",
+    "logical_camera2.sdf": "omtp_gazebo/models/logical_camera2/model.sdf",
+}
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory) -> Path:
+    src = tmp_path_factory.mktemp("listings") / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    for edit, target in OVERLAY.items():
+        shutil.copyfile(EDITS / edit, src / target)
+    return src
+
+
+def test_their_rules_are_read_once_into_the_scenario(workspace):
+    names = own_cell(LAUNCH, workspace=[workspace], environ={}).scenario.plugin_names
+    assert names.camera_listings == {
+        "logical_camera_1": CameraListing(
+            known_model_types=["object", "workcell"], model_frame_prefix="belt_cam_"
+        ),
+        "logical_camera_2": CameraListing(
+            known_model_types=["bin_1"], known_model_names=["conveyor_belt"], anonymize_models=True
+        ),
+    }
+
+
+def test_the_course_files_give_the_course_listing():
+    names = own_cell(LAUNCH, workspace=[FIXTURES / "group_ws" / "src"], environ={}).scenario.plugin_names
+    assert names.camera_listings == {}
+    assert names.camera_listing("logical_camera_1") == CameraListing()
+
+
+def test_each_camera_lists_only_what_it_knows_named_as_the_plugin_names_it(workspace, tmp_path):
+    """Under ``ros-run``: camera 1 lists the hall only (it sees the belt and its nested
+    models too, and no part is spawned), its frame under their prefix and not the course's;
+    camera 2 lists the bin and the belt as ``model``, not the belt's nested models, nor the
+    pedestal or the hall it also sees."""
+    from omtp_drake.cli import main
+
+    seen, report = tmp_path / "seen.json", tmp_path / "report.json"
+    argv = ["ros-run", str(EDITS / "watch_cameras.py"), str(seen), "--launch", LAUNCH]
+    argv += ["--workspace", str(workspace), "--timeout", "30", "--json", str(report), "-q"]
+    assert main(argv) == 0
+    result = json.loads(report.read_text())
+    assert result["exception"] is None, result["traceback"]
+    seen_by = json.loads(seen.read_text())
+    assert seen_by["logical_camera_1"] == ["workcell"]
+    assert seen_by["logical_camera_2"] == ["model"]
+    assert seen_by["course_frame"] is False and seen_by["bin_frame"] is True
+    # The hall's origin, where their launch spawns it (no -x -y -z: the world's origin).
+    assert max(abs(v) for v in seen_by["hall"]) < 1e-3, seen_by["hall"]
+
+
+@needs_ros2
+def test_on_ros2_each_camera_lists_only_what_it_knows_named_as_the_plugin_names_it(workspace, tmp_path):
+    """``omtp-drake ros2``: the cameras' rviz2 markers label what the plugin publishes (a
+    model's name, or its type when anonymized): camera 1 the hall only, camera 2 two
+    ``model``s (the belt and the bin)."""
+    out = tmp_path / "markers.json"
+    node = [str(Path(__file__).parent / "ros2_scripts" / "camera_markers_node.py"), str(out)]
+    node += ["logical_camera_1", "logical_camera_2"]
+    with hold_domain() as domain:
+        run_cell_with_node(["--launch", LAUNCH, "--workspace", str(workspace)], node, domain)
+    assert json.loads(out.read_text()) == {
+        "logical_camera_1": ["workcell_"],
+        "logical_camera_2": ["model", "model"],
+    }
+
+
+def _camera(xml: str):
+    plugin = f'<plugin name="cam" filename="libROSLogicalCameraPlugin.so">{xml}</plugin>'
+    return plugins_in(ET.fromstring(f"<model>{plugin}</model>"), "cams.world:12")[0]
+
+
+def test_the_plugins_rules_name_as_ariac_does():
+    """ModelToPublish: a known type or a known name; the frames and ids as ARIAC's helpers."""
+    from pydrake.math import RigidTransform
+
+    listing = PluginListing("cam", CameraListing(known_model_types=["object"], known_model_names=["bin_1_"]))
+    assert [listing.publishes(n) for n in ("object_3", "object_clone_2", "bin_1_", "bin_2_", "robot1")] == [
+        True, True, True, False, False,
+    ]
+    assert listing.model("object_3", RigidTransform()).frame == "cam_object_3_frame"
+    anonymous = PluginListing("cam", CameraListing(anonymize_models=True, model_frame_prefix=""))
+    seen = anonymous.model("object_12", RigidTransform())
+    assert (seen.name, seen.type, seen.frame) == ("", "model", "model_12_frame")
+    assert [model_id(n) for n in ("object_3", "robot2", "bin_1_", "a_3", "ns|part_7")] == [
+        "3", "robot2", "", "a_3", "7",
+    ]
+    # Nested models: published by their own type and rules, never named.
+    assert anonymous.nested("conveyor_belt_fixed", RigidTransform()).type == "conveyor_belt_fixed"
+
+
+def test_a_types_list_without_types_stops_the_plugin_as_gazebo_does():
+    entry, lines = camera_listing(_camera("<known_model_types/>"))
+    assert entry == {"known_model_types": [], "advertised": False}
+    (line,) = lines
+    assert line.startswith("cams.world:12: ROSLogicalCameraPlugin (cam): Unable to find <type> elements")
+    assert not PluginListing("c", CameraListing(**entry)).publishes("object_1")
+
+
+@pytest.mark.parametrize(
+    "xml, tag, valid",
+    [
+        ("<anonymize_models>maybe</anonymize_models>", "anonymize_models", "valid: true, false, 1, 0"),
+        ("<model_frame_prefix>my cam</model_frame_prefix>", "model_frame_prefix", "valid: a tf frame prefix"),
+    ],
+)
+def test_a_bad_value_is_one_error_naming_the_place_the_value_and_the_valid_choices(xml, tag, valid):
+    with pytest.raises(WorkspaceError) as raised:
+        camera_listing(_camera(xml))
+    message = str(raised.value)
+    assert message.startswith(f"cams.world:12: ROSLogicalCameraPlugin (cam) <{tag}>"), message
+    assert repr(ET.fromstring(f"<x>{xml}</x>")[0].text) in message and valid in message
+    assert "\n" not in message

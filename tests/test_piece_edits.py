@@ -1,0 +1,114 @@
+"""What a student writes in a course piece the cell builds from its catalogue is not dropped
+(tests/fixtures/gripper_edits laid over a copy of tests/fixtures/group_ws, and their robot 2
+unlimited as ur_description's ``joint_limited="false"`` makes it):
+
+- a second visual and a second collision in the vacuum gripper's ``base_link`` are loaded as
+  written, on the cell's link; the course's own geometry of the link stays the catalogue's
+  (URDF visuals are unnamed: the course's files give that link one of each, so the second of
+  each is theirs);
+- an arm's joint limits are the cell's arm's (symmetric ones; others are one warning)."""
+
+from __future__ import annotations
+
+import shutil
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from omtp_drake.launch import own_cell
+from omtp_drake.launch.own_links import inner_additions
+from omtp_drake.launch.urdf_model import UrdfModel
+
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
+
+
+@pytest.fixture(scope="module")
+def cell(tmp_path_factory):
+    src = tmp_path_factory.mktemp("gripper_ws") / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    shutil.copytree(FIXTURES / "gripper_edits", src, dirs_exist_ok=True)
+    system = src / "omtp_support" / "urdf" / "robot_system" / "robot_system.urdf.xacro"
+    text = system.read_text()
+    system.write_text(text.replace('<xacro:ur5_robot prefix="${robot_prefix}" joint_limited="true"/>',
+                                   '<xacro:ur5_robot prefix="${robot_prefix}" joint_limited="false"/>'))
+    return own_cell(LAUNCH, workspace=[src], environ={})
+
+
+def test_their_led_ring_and_bumper_are_a_model_hung_on_each_gripper(cell):
+    models = {m.name: m for m in cell.scenario.models}
+    for n in (1, 2):
+        own = models[f"vacuum_gripper{n}_base_link_own"]
+        assert own.parent == f"vacuum_gripper{n}_base_link"
+        (link,) = ET.fromstring(own.description).iter("link")
+        assert [v.find("geometry/cylinder").get("radius") for v in link.iter("visual")] == ["0.04"]
+        assert [c.find("geometry/box").get("size") for c in link.iter("collision")] == ["0.09 0.09 0.01"]
+
+
+def test_they_stand_on_the_cells_gripper_where_the_file_puts_them(cell):
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    runtime = FactoryRuntime(cell.scenario, auto_spawn=False)
+    try:
+        plant = runtime.station.plant
+        context = plant.GetMyContextFromRoot(runtime.context)
+        for n in (1, 2):
+            X_WG = plant.GetBodyByName(f"vacuum_gripper{n}_base_link").EvalPoseInWorld(context)
+            X_WO = plant.GetBodyByName(f"vacuum_gripper{n}_base_link_own").EvalPoseInWorld(context)
+            np.testing.assert_allclose(X_WO.GetAsMatrix4(), X_WG.GetAsMatrix4(), atol=1e-9)
+        # Robot 2 unlimited as ur_description makes it (+/- 2 pi, the elbow +/- pi), robot 1
+        # the course's +/- pi.
+        for robot, joint_name, limit in (
+            ("robot1", "shoulder_pan", np.pi),
+            ("robot2", "shoulder_pan", 2 * np.pi),
+            ("robot2", "elbow", np.pi),
+            ("robot2", "wrist_3", 2 * np.pi),
+        ):
+            joint = plant.GetJointByName(f"{robot}_{joint_name}_joint")
+            assert joint.position_upper_limits()[0] == pytest.approx(limit)
+            assert joint.position_lower_limits()[0] == pytest.approx(-limit)
+    finally:
+        runtime.close()
+
+
+def _link(body: str) -> UrdfModel:
+    return UrdfModel.from_text(f'<robot name="r"><link name="g">{body}</link></robot>', "g.urdf")
+
+
+MESH = '<{0}><geometry><mesh filename="package://omtp_support/meshes/vacuum_gripper/{0}/g.dae"/></geometry></{0}>'
+BOX = '<{0}><geometry><box size="0.1 0.1 0.1"/></geometry></{0}>'
+
+
+def test_the_courses_mesh_is_told_apart_by_its_file_wherever_it_stands():
+    """Theirs written first, the course's mesh after it: theirs is still theirs."""
+    model = _link(BOX.format("visual") + MESH.format("visual") + MESH.format("collision"))
+    (extra,) = inner_additions(model, ["g"])["g"]
+    assert extra.find("geometry/box") is not None
+    # One of each kind: the course's (or its stand-in); nothing of theirs.
+    assert inner_additions(_link(BOX.format("visual") + BOX.format("collision")), ["g"]) == {}
+
+
+def test_their_unlimited_arm_is_the_scenarios(cell):
+    robot1, robot2 = cell.scenario.robots
+    assert robot1.joint_limits == [] and robot1.joint_limit == pytest.approx(np.pi)
+    unlimited = [2 * np.pi, 2 * np.pi, np.pi, 2 * np.pi, 2 * np.pi, 2 * np.pi]
+    assert robot2.joint_limits == pytest.approx(unlimited)
+    assert not [w for w in cell.warnings if "joint limits" in w]
+
+
+def test_limits_that_are_not_one_symmetric_limit_are_one_warning():
+    from omtp_drake.launch.pieces import PIECE_JOINTS, arm_joint_limit
+
+    joints = "".join(
+        f'<joint name="r_{j}" type="revolute"><parent link="a"/><child link="b{k}"/>'
+        f'<limit lower="{-1.5 if k == 0 else -3.14}" upper="3.14" effort="1" velocity="1"/></joint>'
+        for k, j in enumerate(PIECE_JOINTS)
+    )
+    links = "".join(f'<link name="b{k}"/>' for k in range(6))
+    model = UrdfModel.from_text(f'<robot name="r"><link name="a"/>{links}{joints}</robot>', "arm.urdf")
+    limits, (line,) = arm_joint_limit(model, "r_", "spawn.launch:9")
+    assert limits == {}
+    assert line.startswith("spawn.launch:9: arm 'r': joint limits shoulder_pan_joint [-1.5, 3.14], ")
+    assert line.endswith("keeps the course's +/-3.14159")
