@@ -98,7 +98,8 @@ SPAWN_WATCH = """
     rospy.init_node("spawn_watch")
     rospy.Subscriber("/spawned_part", Header, lambda h: spawned.append([h.seq, h.frame_id, h.stamp.to_sec()]))
     rospy.ServiceProxy("/spawn_object_once", Empty)()
-    rospy.sleep(25.0)
+    while len(spawned) < 2 and rospy.get_time() < 25.0:  # (the second is due by 21.5 s)
+        rospy.sleep(0.05)
     link_state = rospy.ServiceProxy("/gazebo/get_link_state", GetLinkState)
     links = [link_state("object_%d::%s_base_link" % (k, kind), "world").success for k, (_, kind, _) in
              enumerate(spawned, start=1)]

@@ -121,9 +121,15 @@ def test_a_finished_ros_session_frees_its_cell(tmp_path, monkeypatch, capsys):
     assert "rospy" not in sys.modules
 
 
-def test_twelve_cell_builds_do_not_grow_memory():
+#: Cell builds after the first; the bound is 2.5 MB a build (a third of what a build kept
+#: when it leaked).
+BUILDS = 6
+
+
+def test_repeated_cell_builds_do_not_grow_memory():
     """Before the cycles were broken, each build kept about 8 MB (about 94 MB for 12); now
-    12 builds grow by about 12 MB, most of it the allocator's first step."""
+    12 builds grew by about 12 MB, most of it the allocator's first step; 6 builds after a
+    first grew by 0.7 MB (2026-11-29, in this file's run)."""
     status = Path("/proc/self/status")
     if not status.is_file():
         pytest.skip("resident memory is read from /proc/self/status (Linux)")
@@ -136,11 +142,11 @@ def test_twelve_cell_builds_do_not_grow_memory():
         pass
     _collect()
     first = rss_mb()
-    for _ in range(12):
+    for _ in range(BUILDS):
         with Cell(SCENARIO):
             pass
         _collect()
-    assert rss_mb() - first < 30.0
+    assert rss_mb() - first < 2.5 * BUILDS, rss_mb() - first
 
 
 class _Holder(LeafSystem):

@@ -129,6 +129,14 @@ class GazeboCameraView:
         self._last = (sample, image)
         return image
 
+    def image_of(self, sample: CameraSample) -> LogicalCameraImage:
+        """The list for ``sample``, one of the camera's samples (the last or an earlier one)."""
+        if self._last is not None and self._last[0] is sample:
+            return self._last[1]
+        image = self._list(sample, self._camera.image_of(sample))
+        self._last = (sample, image)
+        return image
+
     def _list(self, sample: CameraSample, own: LogicalCameraImage) -> LogicalCameraImage:
         """The list for ``sample``, whose image (of the camera's own) is ``own``."""
         if sample.X_WB is None:

@@ -235,11 +235,14 @@ class LogicalCamera(LeafSystem):
         state.get_mutable_abstract_state(self._sample).set_value(sample)
 
     def _calc_image(self, context: Context, output: AbstractValue) -> None:
-        sample: CameraSample = context.get_abstract_state(self._sample).get_value()
+        output.set_value(self.image_of(context.get_abstract_state(self._sample).get_value()))
+
+    def image_of(self, sample: CameraSample) -> LogicalCameraImage:
+        """The image of ``sample``: what the ``image`` output gives while ``sample`` is the
+        camera's last (an image is a function of its sample, the noise seeded by its time)."""
         if sample.X_WB is None:
-            output.set_value(self._no_image)
-        else:
-            output.set_value(self._capture(sample.time, sample.X_WB.get_value()))
+            return self._no_image
+        return self._capture(sample.time, sample.X_WB.get_value())
 
     def sample(self, context: Context) -> CameraSample:
         """The camera's last sample: its time and the body poses then."""

@@ -21,18 +21,18 @@ Typical use::
 from __future__ import annotations
 
 import bisect
+import functools
 import json
 import logging
 import math
 from collections.abc import Callable, Collection
-from dataclasses import dataclass
 from typing import Optional
 
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.systems.framework import Context, EventStatus
 
 from omtp_drake.cell.frames import TIME_EPS, FrameTree
-from omtp_drake.cell.logical_camera import LogicalCameraImage
+from omtp_drake.cell.logical_camera import CameraSample, LogicalCameraImage
 from omtp_drake.cell.poses import PoseStamped, TransformStamped, detected_frame_name, interpolate_pose
 from omtp_drake.cell.station import Station
 from omtp_drake.errors import ConfigError, FrameError, UnknownNameError
@@ -41,16 +41,40 @@ from omtp_drake.sim.tf_poses import PlantFramePoses, Snapshot
 _log = logging.getLogger(__name__)
 
 
-@dataclass(frozen=True)
 class _Image:
-    """One sample of a camera and the frames it gives: frame name -> (model, X_CM)."""
+    """One sample of a camera, its image and the frames that gives: frame name -> (model,
+    X_CM). Both are made when first asked for (an image is a function of its sample, and
+    most samples are never looked at): a run pays for the images its lookups read."""
 
-    image: LogicalCameraImage
-    frames: dict[str, tuple[str, RigidTransform]]
+    __slots__ = ("sample", "_make", "_name_frames", "_image", "_frames")
+
+    def __init__(
+        self,
+        sample: CameraSample,
+        make: Callable[[CameraSample], LogicalCameraImage],
+        name_frames: Callable[[LogicalCameraImage], dict[str, tuple[str, RigidTransform]]],
+    ):
+        self.sample = sample
+        self._make = make
+        self._name_frames = name_frames
+        self._image: Optional[LogicalCameraImage] = None
+        self._frames: Optional[dict[str, tuple[str, RigidTransform]]] = None
 
     @property
     def time(self) -> float:
-        return self.image.time
+        return self.sample.time
+
+    @property
+    def image(self) -> LogicalCameraImage:
+        if self._image is None:
+            self._image = self._make(self.sample)
+        return self._image
+
+    @property
+    def frames(self) -> dict[str, tuple[str, RigidTransform]]:
+        if self._frames is None:
+            self._frames = self._name_frames(self.image)
+        return self._frames
 
 
 def _at_or_before(times: list[float], time: float) -> int:
@@ -74,10 +98,25 @@ class _DetectedFrames:
         self._images: dict[str, list[_Image]] = {c: [] for c in cameras}
         self._image_times: dict[str, list[float]] = {c: [] for c in cameras}
 
-    def add(self, camera: str, image: LogicalCameraImage) -> None:
-        """Stores ``image`` of ``camera`` (one at the same time is replaced)."""
-        if not math.isfinite(image.time):
+    def add(
+        self, camera: str, sample: CameraSample, make: Callable[[CameraSample], LogicalCameraImage]
+    ) -> None:
+        """Stores ``sample`` of ``camera``, whose image is ``make(sample)`` (one at the same
+        time is replaced, unless it is the same sample)."""
+        if sample.X_WB is None or not math.isfinite(sample.time):
             return  # the camera has not sampled yet
+        times, images = self._image_times[camera], self._images[camera]
+        i = bisect.bisect_left(times, sample.time - TIME_EPS)
+        if i < len(times) and abs(times[i] - sample.time) <= TIME_EPS:
+            if images[i].sample is not sample:
+                images[i] = _Image(sample, make, functools.partial(self._frames_of, camera))
+        else:
+            images.insert(i, _Image(sample, make, functools.partial(self._frames_of, camera)))
+            times.insert(i, sample.time)
+
+    def _frames_of(self, camera: str, image: LogicalCameraImage) -> dict[str, tuple[str, RigidTransform]]:
+        """The frames ``image`` of ``camera`` gives: one a named model (none for a name a
+        plant frame has)."""
         frames: dict[str, tuple[str, RigidTransform]] = {}
         for model in image.models:
             if not model.name and not model.frame:
@@ -92,13 +131,7 @@ class _DetectedFrames:
                 )
                 continue
             frames[name] = (model.name or name, model.X_CM)
-        times = self._image_times[camera]
-        i = bisect.bisect_left(times, image.time - TIME_EPS)
-        if i < len(times) and abs(times[i] - image.time) <= TIME_EPS:
-            self._images[camera][i] = _Image(image, frames)
-        else:
-            self._images[camera].insert(i, _Image(image, frames))
-            times.insert(i, image.time)
+        return frames
 
     def trim(self, time: float) -> None:
         """Drops each camera's images older than the one it held at ``time``."""
@@ -184,7 +217,9 @@ class TfBuffer:
 
     ``record(root_context)`` stores a snapshot at the Context's time: the world
     pose of every named frame of the plant (see :class:`FrameTree`) and the
-    last image of every logical camera of the station. Snapshots older than
+    last sample of every logical camera of the station (its image, and the frames
+    that gives, are made from the sample when a lookup first reads them: an image
+    is a function of its sample, and most are never read). Snapshots older than
     ``cache_time`` before the newest one are dropped; a snapshot at the time of
     an existing one replaces it.
 
@@ -224,7 +259,9 @@ class TfBuffer:
         self._snapshots: list[Snapshot] = []
         self._times: list[float] = []
         self._detected = _DetectedFrames(self._cameras, self._static.keys())
-        self._images: Optional[Callable[[str, Context], LogicalCameraImage]] = None
+        self._camera_systems = [(camera, station.cameras[camera]) for camera in self._cameras]
+        #: camera -> how its image of a sample is made (none: the camera's own image_of)
+        self._images: dict[str, Callable[[CameraSample], LogicalCameraImage]] = {}
 
     @classmethod
     def from_context(cls, station: Station, root_context: Context, cache_time: float = 10.0) -> TfBuffer:
@@ -254,27 +291,23 @@ class TfBuffer:
         time = root_context.get_time()
         plant_context = self._plant.GetMyContextFromRoot(root_context)
         X_WB = tuple(self._plant.get_body_poses_output_port().Eval(plant_context))
-        station_context = self._station.diagram.GetMyContextFromRoot(root_context)
         i = bisect.bisect_left(self._times, time - TIME_EPS)
         if i < len(self._times) and abs(self._times[i] - time) <= TIME_EPS:
             self._snapshots[i] = Snapshot(time, X_WB)
         else:
             self._snapshots.insert(i, Snapshot(time, X_WB))
             self._times.insert(i, time)
-        for camera in self._cameras:
-            if self._images is not None:
-                image = self._images(camera, root_context)
-            else:
-                image = self._station.diagram.GetOutputPort(f"{camera}.image").Eval(station_context)
-            self._detected.add(camera, image)
+        for camera, system in self._camera_systems:
+            sample = system.sample(system.GetMyContextFromRoot(root_context))
+            self._detected.add(camera, sample, self._images.get(camera) or system.image_of)
         self._trim()
 
-    def use_images(self, images: Callable[[str, Context], LogicalCameraImage]) -> None:
-        """Reads each camera's image from ``images(camera, root_context)`` from now on
-        instead of the station's ``<camera>.image`` port (the ROS layer gives the
-        course plugin's model list, whose models get the detected frames); the
+    def use_images(self, images: Callable[[str], Callable[[CameraSample], LogicalCameraImage]]) -> None:
+        """Makes each camera's image of a sample with ``images(camera)(sample)`` from now on
+        instead of the camera's own (the station's ``<camera>.image``; the ROS layer gives
+        the course plugin's model list, whose models get the detected frames); the
         detected frames recorded so far are forgotten."""
-        self._images = images
+        self._images = {camera: images(camera) for camera in self._cameras}
         self._detected.clear()
 
     def _trim(self) -> None:

@@ -2,6 +2,7 @@
 groups, named states, end effectors and disabled collision pairs, its
 ``joint_limits.yaml``, and the ``/robot_description*`` parameters."""
 
+import json
 import textwrap
 import xml.etree.ElementTree as ET
 
@@ -147,6 +148,45 @@ def _limits(velocity):
 ELBOW_TRAVEL = abs(NAMED_POSES["R2Home"][2] - HIGH[2])
 
 
+#: srdf_named_states.py's first move alone (to the student's "high"), timed: what the
+#: joint-limit tests read (the whole script runs in test_student_named_states_replace_the_cells).
+HIGH_TIME_SCRIPT = """\
+import json
+import sys
+
+import moveit_commander
+import rospy
+
+rospy.init_node("high_time")
+group = moveit_commander.MoveGroupCommander("robot2")
+start = rospy.get_time()
+group.set_named_target("high")
+ok = group.go(wait=True)
+group.stop()
+result = {"high_ok": ok, "high_time": rospy.get_time() - start, "high_q": group.get_current_joint_values()}
+with open(sys.argv[1], "w") as f:
+    json.dump(result, f)
+"""
+
+
+@pytest.fixture(scope="module")
+def high_time(tmp_path_factory):
+    """``high_time(limits_text)`` -> (report, what the script wrote) of HIGH_TIME_SCRIPT with a
+    config of those limits; run once per module for each (the course's limits serve two tests)."""
+    runs: dict = {}
+
+    def run(limits_text):
+        if limits_text not in runs:
+            tmp = tmp_path_factory.mktemp("limits")
+            script, out = tmp / "high_time.py", tmp / "out.json"
+            script.write_text(HIGH_TIME_SCRIPT)
+            report = run_script(script, [str(out)], scenario=A4, moveit_config=_package(tmp, limits_text))
+            runs[limits_text] = report, json.loads(out.read_text())
+        return runs[limits_text]
+
+    return run
+
+
 @pytest.mark.parametrize(
     "limits, slowest",
     [
@@ -155,12 +195,11 @@ ELBOW_TRAVEL = abs(NAMED_POSES["R2Home"][2] - HIGH[2])
     ],
     ids=["max_velocity", "default_velocity_scaling_factor"],
 )
-def test_moveit_config_joint_limits_time_the_plans(course_run, tmp_path, limits, slowest):
-    fast_pkg = _package(tmp_path / "fast", _limits((3.15, 3.15, 3.15, 3.2, 3.2, 3.2)))
-    slow_pkg = _package(tmp_path / "slow", limits)
-    fast, fast_out = course_run("srdf_named_states.py", scenario=A4, out_arg=True, moveit_config=fast_pkg)
-    slow, slow_out = course_run("srdf_named_states.py", scenario=A4, out_arg=True, moveit_config=slow_pkg)
+def test_moveit_config_joint_limits_time_the_plans(high_time, limits, slowest):
+    fast, fast_out = high_time(_limits((3.15, 3.15, 3.15, 3.2, 3.2, 3.2)))
+    slow, slow_out = high_time(limits)
     assert fast.ok and slow.ok, (fast.summary(), slow.summary())
+    assert fast_out["high_ok"] and slow_out["high_ok"]
     np.testing.assert_allclose(slow_out["high_q"], HIGH, atol=1e-3)
     # The elbow cannot cover its travel faster than its limit allows; with the course's limits it does.
     assert slow_out["high_time"] >= ELBOW_TRAVEL / slowest

@@ -101,7 +101,7 @@ def _cell_graph(cell: Cell) -> tuple[dict[str, Source], dict[str, Service]]:
     from omtp_drake.ros.gazebo.sensor_topics import cell_sources
 
     views = camera_views(cell)
-    cell.tf.use_images(lambda camera, context: views[camera].image(context))
+    cell.tf.use_images(lambda camera: views[camera].image_of)
     return cell_sources(cell, views), {}
 
 
