@@ -1,6 +1,7 @@
 """``grade`` passes ros-run's options on: ``--moveit`` for the class, ``grade.yaml`` per script."""
 
 import csv
+import json
 
 import pytest
 
@@ -48,24 +49,31 @@ def statuses(grades):
     return {g.script: g.status for g in grades}
 
 
-def test_grade_moveit_melodic_is_passed_to_every_script(mixed_class, tmp_path, capsys):
+def test_grade_moveit_melodic_is_passed_to_every_script_and_grade_yaml_overrides_it(
+    mixed_class, tmp_path, capsys
+):
+    """One grade (a grade's cluster and its runs cost seconds): ``--moveit melodic`` for the
+    class reaches every script (Noetic's habit fails under it), and grade.yaml gives one script
+    its own MoveIt."""
+    (mixed_class / "noetic_in_yaml.py").write_text(NOETIC)
+    (mixed_class / "grade.yaml").write_text("noetic_in_yaml.py:\n  moveit: noetic\n")
     argv = ["grade", str(mixed_class), "--scenario", "lecture6_assignment3", "--workers", "1"]
     assert main(argv + ["--moveit", "melodic", "--out", str(tmp_path / "out")]) == 1
     assert "melodic_student.py ok " in capsys.readouterr().out
     rows = {r["script"]: r for r in csv.DictReader(open(tmp_path / "out" / "grades.csv"))}
-    assert rows["melodic_student.py"]["status"] == "ok"
-    assert rows["noetic_student.py"]["status"] == "exception"
+    assert {name: row["status"] for name, row in rows.items()} == {
+        "melodic_student.py": "ok", "noetic_in_yaml.py": "ok", "noetic_student.py": "exception"}
     message = (
         "TypeError: cannot unpack non-iterable RobotTrajectory object (at noetic_student.py:8 in <module>)"
     )
     assert rows["noetic_student.py"]["message"] == message
+    options = {p.stem: json.loads(p.read_text())["isolation"]["options"]
+               for p in (tmp_path / "out" / "runs").glob("*.json")}
+    assert options == {"melodic_student": {"moveit": "melodic"}, "noetic_in_yaml": {"moveit": "noetic"},
+                       "noetic_student": {"moveit": "melodic"}}
 
 
-def test_grade_yaml_gives_a_script_its_own_moveit(mixed_class):
-    (mixed_class / "grade.yaml").write_text("melodic_student.py:\n  moveit: melodic\n")
-    grades = grade_folder(mixed_class, "lecture6_assignment3", workers=1)
-    assert statuses(grades) == {"melodic_student.py": "ok", "noetic_student.py": "ok"}
-    assert grades[0].isolation["options"] == {"moveit": "melodic"} and grades[1].isolation["options"] == {}
+def test_grade_yaml_must_name_scripts_of_the_folder(mixed_class):
     (mixed_class / "grade.yaml").write_text("carol.py:\n  moveit: melodic\n")
     with pytest.raises(ConfigError, match="no script 'carol.py' in the folder; scripts: melodic_student.py"):
         grade_folder(mixed_class, "lecture6_assignment3", workers=1)

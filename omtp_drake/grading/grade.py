@@ -22,7 +22,8 @@ import os
 import shutil
 import tempfile
 import uuid
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional
@@ -54,7 +55,16 @@ if TYPE_CHECKING:
 
 _log = logging.getLogger(__name__)
 
-__all__ = ["COLLISION", "EXCEPTION", "OK", "Grade", "GradeSettings", "grade_folder", "grade_one"]
+__all__ = [
+    "COLLISION",
+    "EXCEPTION",
+    "OK",
+    "Grade",
+    "GradeSettings",
+    "grade_folder",
+    "grade_one",
+    "grading_client",
+]
 
 #: The run's report, in its folder's copy.
 _REPORT = ".omtp_report.json"
@@ -271,8 +281,10 @@ def grade_folder(
     sandbox: str = "auto",
     options: Optional[Mapping[str, str]] = None,
     flexbe: Optional[FlexbeGrading] = None,
+    client: Any = None,
 ) -> list[Grade]:
-    """Every script of ``folder`` on ``scenario``, on ``workers`` local Dask workers;
+    """Every script of ``folder`` on ``scenario``, on ``workers`` local Dask workers (or on
+    ``client``'s, one of :func:`grading_client`, shared by several grades);
     the grades in script order (also written to ``out``, see the module doc).
 
     ``limits`` per run (default :class:`Limits`); ``sandbox``: ``auto``, ``bwrap`` or
@@ -307,7 +319,11 @@ def grade_folder(
     with tempfile.TemporaryDirectory(prefix="omtp-grade-logs-") as tmp:
         logs = Path(out) / "runs" if out is not None else Path(tmp)
         logs.mkdir(parents=True, exist_ok=True)
-        grades = _grade_all(scripts, settings, per_script, workers, logs)
+        if client is not None:
+            grades = _grade_all(scripts, settings, per_script, client, logs)
+        else:
+            with grading_client(workers) as own:
+                grades = _grade_all(scripts, settings, per_script, own, logs)
         if out is not None:
             write_grades(grades, Path(out))
     return grades
@@ -322,39 +338,48 @@ def prepare_cell(scenario: str) -> None:
     Cell(load_scenario(scenario), auto_spawn=False).close()
 
 
+@contextmanager
+def grading_client(workers: Optional[int] = None) -> Iterator[Any]:
+    """A Dask client of a new local cluster of ``workers`` processes for grades
+    (:func:`omtp_drake.batch.connect`), on which a task is never retried: a worker's death
+    is its script's verdict. Several grades may share it (``grade_folder(..., client=)``):
+    its workers start once."""
+    import dask
+    import distributed  # noqa: F401  (its config defaults first: dask.config.set would drop them on exit)
+
+    from omtp_drake.ros.comm._core import batch_connect
+
+    with dask.config.set({"distributed.scheduler.allowed-failures": 0}), batch_connect(workers) as client:
+        yield client
+
+
 def _grade_all(
     scripts: Sequence[Path],
     settings: GradeSettings,
     per_script: Mapping[str, Mapping[str, Any]],
-    workers: Optional[int],
+    client: Any,
     logs: Path,
 ) -> list[Grade]:
-    """The runs on the cluster, never more at once than the workers' threads (a worker
+    """The runs on ``client``'s cluster, never more at once than the workers' threads (a worker
     holds only the task it runs); a task whose worker died (or that failed) is its row."""
-    import dask
-    import distributed  # noqa: F401  (its config defaults first: dask.config.set would drop them on exit)
     from distributed import as_completed
-
-    from omtp_drake.ros.comm._core import batch_connect
 
     grades: dict[str, Grade] = {}
     todo = list(scripts)
-    # Never retried: a worker's death is its task's verdict.
     try:
-        with dask.config.set({"distributed.scheduler.allowed-failures": 0}), batch_connect(workers) as client:
-            running = as_completed()
-            names: dict[str, Path] = {}
-            while todo or running.count():
-                while todo and running.count() < max(1, sum(client.nthreads().values())):
-                    s = todo.pop(0)
-                    key = f"grade-{s.stem}-{uuid.uuid4().hex[:8]}"
-                    args = (str(s.resolve()), settings, dict(per_script[s.name]), str(logs))
-                    running.add(client.submit(grade_one, *args, key=key, pure=False))
-                    names[key] = s
-                future = next(running)
-                script = names.pop(future.key)
-                grades[script.name] = _grade_of(future, script, settings, logs)
-                future.release()
+        running = as_completed()
+        names: dict[str, Path] = {}
+        while todo or running.count():
+            while todo and running.count() < max(1, sum(client.nthreads().values())):
+                s = todo.pop(0)
+                key = f"grade-{s.stem}-{uuid.uuid4().hex[:8]}"
+                args = (str(s.resolve()), settings, dict(per_script[s.name]), str(logs))
+                running.add(client.submit(grade_one, *args, key=key, pure=False))
+                names[key] = s
+            future = next(running)
+            script = names.pop(future.key)
+            grades[script.name] = _grade_of(future, script, settings, logs)
+            future.release()
     finally:  # interrupted (Ctrl-C): the runs still under way go too
         for s in scripts:
             _clean_up_after(s, logs)

@@ -178,18 +178,58 @@ class Guard:
 def process_table() -> dict[int, tuple[int, int, int]]:
     """pid -> (parent pid, session id, start time) of every process but zombies (from /proc)."""
     table = {}
-    for entry in os.scandir("/proc"):
-        if not entry.name.isdigit():
-            continue
-        try:
-            with open(f"/proc/{entry.name}/stat", "rb") as f:
-                stat = f.read()
-        except OSError:
-            continue
-        fields = stat[stat.rfind(b")") + 2 :].split()
-        if fields[0] != b"Z":
-            table[int(entry.name)] = (int(fields[1]), int(fields[3]), int(fields[19]))
+    for name in os.listdir("/proc"):
+        if name.isdigit() and (entry := _stat(name)) is not None:
+            table[int(name)] = entry
     return table
+
+
+def _stat(pid: str) -> Optional[tuple[int, int, int]]:
+    """(parent pid, session id, start time) of the process ``pid``; None when it is gone or a zombie."""
+    try:
+        fd = os.open(f"/proc/{pid}/stat", os.O_RDONLY)
+    except OSError:
+        return None
+    try:
+        stat = os.read(fd, 4096)
+    except OSError:
+        return None
+    finally:
+        os.close(fd)
+    fields = stat[stat.rfind(b")") + 2 :].split(None, 20)
+    return None if not fields or fields[0] == b"Z" else (int(fields[1]), int(fields[3]), int(fields[19]))
+
+
+class ProcessScan:
+    """:func:`process_table` for a watcher that looks often (every 50 ms, for the whole of a run):
+    each look lists /proc, reads the processes it has not read before and those of ``ours``,
+    and keeps the first reading of the others. A process that was not one of a run's when
+    first read never becomes one (a run's processes are born to it, or in its session, and
+    ``setsid`` only leaves a session), so its parent and session need no second reading;
+    a full table read each look cost the grader's worker about 3 ms, some 6 % of a core
+    per run under way."""
+
+    def __init__(self) -> None:
+        self._others: dict[int, tuple[int, int, int]] = {}
+
+    def table(self, ours: Iterable[int]) -> dict[int, tuple[int, int, int]]:
+        """The table now; ``ours``: the pids whose entries are read again (the run's, seen so far)."""
+        again = set(ours)
+        table: dict[int, tuple[int, int, int]] = {}
+        for name in os.listdir("/proc"):
+            if not name.isdigit():
+                continue
+            pid = int(name)
+            entry = self._others.get(pid) if pid not in again else None
+            if entry is None and (entry := _stat(name)) is None:
+                continue
+            table[pid] = entry
+        return table
+
+    def remember_others(self, table: dict[int, tuple[int, int, int]], ours: Iterable[int]) -> None:
+        """Keeps ``table``'s entries but ``ours`` (the run's processes in it) as not the run's."""
+        mine = set(ours)
+        self._others = {p: e for p, e in table.items() if p not in mine}
 
 
 def descendants(roots: Iterable[int], table: dict[int, tuple[int, int, int]]) -> set[int]:

@@ -36,7 +36,7 @@ from pathlib import Path
 from typing import IO, Any, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.grading.guard import ENV, descendants, process_table, read_records
+from omtp_drake.grading.guard import ENV, ProcessScan, descendants, process_table, read_records
 
 _log = logging.getLogger(__name__)
 
@@ -309,9 +309,11 @@ def _watch(
     ``most`` processes or passes ``deadline`` (``outcome`` says which); how many processes
     besides the sandbox's ``own`` and the run's main one there were at the last look."""
     left, main = 0, proc.pid if own == 0 else 0
+    scan = ProcessScan()
     while proc.poll() is None:
-        table = process_table()
+        table = scan.table(seen)
         tree = _run_processes(proc.pid, seen, table)
+        scan.remember_others(table, tree)
         seen.update(tree)
         if not main:  # the first process under the sandbox's own chain is the run's
             main = next(iter(_chain_children(proc.pid, own - 1, table)), 0)
