@@ -104,7 +104,7 @@ class CellTopics:
         views = camera_views(cell)
         self._due += [LogicalCameraTopics(node, cell, p) for p in logical_camera_publications(cell, views)]
         # tf's detected frames are the plugin's, as on ROS 1 (its listing: names and prefix).
-        cell.tf.use_images(lambda camera, context: views[camera].image(context))
+        cell.tf.use_images(lambda camera: views[camera].image_of)
 
     def publish(self, t: float) -> None:
         """``/clock`` first, then what is due at ``t``."""
