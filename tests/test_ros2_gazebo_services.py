@@ -57,6 +57,9 @@ def test_a_students_rclpy_client_spawns_moves_and_deletes_a_box(tmp_path, domain
     assert seen["delete"] == [True, "DeleteModel: successfully deleted model"]
     assert seen["deleted"]["success"] is False
     assert seen["delete_unknown"] == [False, "DeleteModel: model does not exist"]
+    # /pause_physics: /clock stands still for 1 s of wall time; /unpause_physics: it runs again.
+    assert seen["paused_clock"][0] == seen["paused_clock"][1]
+    assert seen["unpaused_clock"] > seen["paused_clock"][1]
     assert gazebo_services.NOT_SERVED not in cell_err
 
 
@@ -69,7 +72,7 @@ def test_without_a_compiler_the_services_are_off_with_one_warning(tmp_path, monk
     with pytest.raises(interface_build.InterfacesUnavailable, match=r"no cc or c\+\+ compiler on PATH"):
         interface_build.interfaces_path()
     with caplog.at_level(logging.WARNING, logger="gazebo"):
-        served = gazebo_services.serve_gazebo_services(node=None, world=None, run_on_cell=None)  # type: ignore[arg-type]
+        served = gazebo_services.serve_gazebo_services(node=None, api=None, run_on_cell=None)  # type: ignore[arg-type]
     assert served is False
     (line,) = [r.getMessage() for r in caplog.records]
     assert line.startswith(gazebo_services.NOT_SERVED) and "apt-get install gcc g++" in line

@@ -21,6 +21,7 @@ from __future__ import annotations
 import logging
 import re
 import threading
+import time
 from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.gazebo.joint_states import JOINT_STATE_RATE_HZ
@@ -141,6 +142,9 @@ class Ros2Cell:
         publishes what is due (the plugins' world edits run inside the advance)."""
         self.commands.run_pending()
         self.control.run_pending()
+        if self.gazebo.physics.paused:  # /pause_physics: time stands still until /unpause_physics
+            time.sleep(dt)
+            return
         self.cell.runtime.advance_to(self.cell.time + dt)
         self.topics.publish(self.cell.time)
         self._course_topics(self.cell.time)

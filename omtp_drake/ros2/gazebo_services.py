@@ -9,20 +9,23 @@ service                  type                             what (the layer's rule
 ``/get_entity_state``    ``gazebo_msgs/srv/GetEntityState`` a model's or ``model::link``'s state
 ``/set_entity_state``    ``gazebo_msgs/srv/SetEntityState`` moves a part (pose and twist)
 ``/reset_world``         ``std_srvs/srv/Empty``           the parts back where they entered
+``/pause_physics``       ``std_srvs/srv/Empty``           simulated time stops (:class:`PhysicsServices`)
+``/unpause_physics``     ``std_srvs/srv/Empty``           it runs again
 =======================  ===============================  ==========================================
 
 ``gazebo_msgs`` is built here from its definitions (:mod:`omtp_drake.ros2.interface_build`):
 real rclpy type support, so a peer's ``from gazebo_msgs.srv import SpawnEntity`` client talks
 to these. Where it cannot be built (no compiler), :func:`serve_gazebo_services` says why once
-and serves none. A request the layer refuses (a model that is no part) answers
-``success: False`` with the layer's message, as gazebo_ros's plugins answer a bad request.
+and serves none of them (the ``std_srvs`` ones are served regardless). A request the layer
+refuses (a model that is no part) answers ``success: False`` with the layer's message, as
+gazebo_ros's plugins answer a bad request.
 """
 
 from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -32,9 +35,6 @@ from omtp_drake.gazebo.spawn import Reply
 from omtp_drake.gazebo.world_services import WorldServices
 from omtp_drake.ros.tf.convert import unit_quaternion
 from omtp_drake.ros2 import interface_build, messages
-
-if TYPE_CHECKING:
-    from omtp_drake.gazebo.world import GazeboWorld
 
 _log = logging.getLogger("gazebo")
 
@@ -47,16 +47,53 @@ NOT_SERVED = (
 RunOnCell = Callable[[Callable[[], str]], tuple[bool, str]]
 
 
-def serve_gazebo_services(node: Any, world: GazeboWorld, run_on_cell: RunOnCell) -> bool:
-    """Serves the services above on ``node`` (rclpy) for ``world``; False (and one warning
-    saying why) when ``gazebo_msgs`` cannot be built here."""
+def serve_gazebo_services(node: Any, api: WorldServices, run_on_cell: RunOnCell) -> bool:
+    """Serves the ``gazebo_msgs`` services above on ``node`` (rclpy) over ``api``; False (and one
+    warning saying why) when ``gazebo_msgs`` cannot be built here."""
     try:
         interface_build.activate()
     except interface_build.InterfacesUnavailable as e:
         _log.warning("%s: %s", NOT_SERVED, e)
         return False
-    _GazeboServices(node, WorldServices(world), run_on_cell)
+    _GazeboServices(node, api, run_on_cell)
     return True
+
+
+class PhysicsServices:
+    """gazebo_ros_init's ``/pause_physics``, ``/unpause_physics`` and ``/reset_world``
+    (``std_srvs/srv/Empty``, served in every world, as gazebo_ros loads that plugin with every
+    world): while paused the node does not advance the cell (nor ``/clock``), as Gazebo's paused
+    physics; unpaused, realtime pacing counts from then (Gazebo does not catch up)."""
+
+    def __init__(self, node: Any, api: WorldServices, run_on_cell: RunOnCell):
+        from std_srvs.srv import Empty
+
+        self.api = api
+        #: Whether a peer paused the physics (read by the node between steps).
+        self.paused = False
+        self._run_on_cell = run_on_cell
+        node.create_service(Empty, "/pause_physics", lambda q, r: self._call(r, lambda: self._pause(True)))
+        node.create_service(Empty, "/unpause_physics", lambda q, r: self._call(r, lambda: self._pause(False)))
+        node.create_service(Empty, "/reset_world", lambda q, r: self._call(r, self._reset_world))
+
+    def _call(self, response: Any, work: Callable[[], str]) -> Any:
+        # std_srvs/Empty has no success field: a failed call is logged, as rclcpp's would be.
+        ok, message = self._run_on_cell(work)
+        if not ok:
+            _log.error("%s", message)
+        return response
+
+    def _pause(self, on: bool) -> str:
+        cell = self.api.world.cell
+        if self.paused and not on:
+            cell.runtime.simulator.ResetStatistics()
+        self.paused = on
+        _log.info("gazebo: physics %s at t = %.3f s", "paused" if on else "running", cell.time)
+        return "paused" if on else "running"
+
+    def _reset_world(self) -> str:
+        self.api.spawner.reset_world()
+        return "reset_world"
 
 
 def _rigid(msg: Any, what: str) -> RigidTransform:
@@ -72,7 +109,6 @@ class _GazeboServices:
 
     def __init__(self, node: Any, api: WorldServices, run_on_cell: RunOnCell):
         from gazebo_msgs.srv import DeleteEntity, GetEntityState, SetEntityState, SpawnEntity
-        from std_srvs.srv import Empty
 
         self.api = api
         self._run_on_cell = run_on_cell
@@ -80,7 +116,6 @@ class _GazeboServices:
         node.create_service(DeleteEntity, "/delete_entity", self.delete)
         node.create_service(GetEntityState, "/get_entity_state", self.get_state)
         node.create_service(SetEntityState, "/set_entity_state", self.set_state)
-        node.create_service(Empty, "/reset_world", self.reset_world)
 
     def _on_cell(self, work: Callable[[], Any]) -> Any:
         """``work()``'s reply, or a failed one with the error's message (logged)."""
@@ -141,12 +176,4 @@ class _GazeboServices:
             )
         )
         response.success = reply.success
-        return response
-
-    def reset_world(self, request: Any, response: Any) -> Any:
-        def work() -> Reply:
-            self.api.spawner.reset_world()
-            return Reply(True, "reset_world")
-
-        self._on_cell(work)
         return response

@@ -8,6 +8,7 @@ name                       type                                   what
 ``/gazebo/link_states``    ``gazebo_msgs/LinkStates`` (Cyclone)   every link of them, the plugin's rate
 the spawner's services     ``std_srvs/srv/Empty``                 start / stop (the course's names, type)
 ``/spawned_part``          ``std_msgs/Header`` (transient local)  each spawn (``frame_id``: the object)
+``/pause_physics`` ...     ``std_srvs/srv/Empty``                 gazebo_ros_init's (``gazebo_services``)
 =========================  =====================================  ======================================
 
 No ``gazebo_msgs`` wheel is on PyPI: the states go out through Cyclone DDS
@@ -27,9 +28,10 @@ from typing import TYPE_CHECKING, Any, Optional
 from omtp_drake.gazebo.model_states import state_publications
 from omtp_drake.gazebo.spawner import spawner
 from omtp_drake.gazebo.world import GazeboWorld
+from omtp_drake.gazebo.world_services import WorldServices
 from omtp_drake.ros2 import cdr, messages
 from omtp_drake.ros2.dds_types import CdrTopic, CycloneParticipant, LinkStates_, ModelStates_
-from omtp_drake.ros2.gazebo_services import serve_gazebo_services
+from omtp_drake.ros2.gazebo_services import PhysicsServices, serve_gazebo_services
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
@@ -76,8 +78,10 @@ class GazeboWorldTopics:
         # set): served where the cell has parts or its spawner, as gazebo_msgs can be built here
         # (omtp_drake.ros2.gazebo_services). A world of fixed models and robots (the tutorial robot's)
         # has neither, and builds nothing.
+        api = WorldServices(self.world)
+        self.physics = PhysicsServices(node, api, run_on_cell)
         if found is not None or self.world.models.parts:
-            serve_gazebo_services(node, self.world, run_on_cell)
+            serve_gazebo_services(node, api, run_on_cell)
 
     def _serve(
         self, node: Any, found: Any, run_on_cell: Callable[[Callable[[], str]], tuple[bool, str]]

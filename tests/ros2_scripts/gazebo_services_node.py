@@ -1,16 +1,20 @@
 """A student's rclpy client of Gazebo's model services (gazebo_ros's ROS 2 names and types):
 spawns a box as the course's spawner writes it, reads its state, moves it, deletes it,
-and asks for a model that does not exist. Writes what it got as JSON to argv[2].
+asks for a model that does not exist, then pauses and unpauses the physics, watching /clock.
+Writes what it got as JSON to argv[2].
 
 Run as ``python gazebo_services_node.py DOMAIN OUT`` with gazebo_msgs on PYTHONPATH."""
 
 import json
 import sys
+import time
 
 import rclpy
 from gazebo_msgs.msg import EntityState
 from gazebo_msgs.srv import DeleteEntity, GetEntityState, SetEntityState, SpawnEntity
 from geometry_msgs.msg import Pose
+from rosgraph_msgs.msg import Clock
+from std_srvs.srv import Empty
 
 BOX = """<?xml version="1.0"?>
 <robot name="box">
@@ -27,6 +31,12 @@ def call(node, client, request):
     if future.result() is None:
         raise SystemExit(f"no reply from {client.srv_name}")
     return future.result()
+
+
+def spin_for(node, seconds):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        rclpy.spin_once(node, timeout_sec=0.05)
 
 
 def state(node, get, name, frame=""):
@@ -63,6 +73,19 @@ def main():
     seen["deleted"] = state(node, get, "my_box")
     reply = call(node, delete, DeleteEntity.Request(name="no_such_model"))
     seen["delete_unknown"] = [reply.success, reply.status_message]
+    clock = []
+    on_clock = lambda m: clock.append(m.clock.sec + m.clock.nanosec * 1e-9)  # noqa: E731
+    node.create_subscription(Clock, "/clock", on_clock, 10)
+    pause = node.create_client(Empty, "/pause_physics")
+    unpause = node.create_client(Empty, "/unpause_physics")
+    call(node, pause, Empty.Request())
+    spin_for(node, 0.5)  # what was sent before the pause arrives
+    before = clock[-1]
+    spin_for(node, 1.0)
+    seen["paused_clock"] = [before, clock[-1]]
+    call(node, unpause, Empty.Request())
+    spin_for(node, 1.0)
+    seen["unpaused_clock"] = clock[-1]
     with open(out, "w") as f:
         json.dump(seen, f)
     node.destroy_node()
