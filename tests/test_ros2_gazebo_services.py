@@ -46,6 +46,9 @@ def test_a_students_rclpy_client_spawns_moves_and_deletes_a_box(tmp_path, domain
     from omtp_drake.ros2 import gazebo_services
 
     assert seen["spawn"] == [True, "SpawnModel: Successfully spawned entity"]
+    # Any other model: refused with the layer's one message (what is supported).
+    assert seen["spawn_other"][0] is False
+    assert "this cell spawns the course's parts only" in seen["spawn_other"][1]
     # Asked at z 1.3 above the belt: there, or falling onto it (x, y as asked).
     assert seen["spawned"]["success"]
     assert seen["spawned"]["xyz"][:2] == pytest.approx([1.2, 2.5], abs=0.01)

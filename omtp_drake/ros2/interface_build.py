@@ -80,6 +80,7 @@ def interfaces_path() -> Path:
 def _build_all(folder: Path) -> None:
     """Every package of :data:`PACKAGES` into ``folder``, which appears whole or not at all."""
     staged = Path(tempfile.mkdtemp(dir=folder.parent, prefix=folder.name + "."))
+    staged.chmod(0o755)  # readable as the cache's other entries (a shared, read-only cache layer)
     try:
         for package in PACKAGES:
             _build(package, staged)

@@ -61,6 +61,12 @@ def main():
     pose.position.x, pose.position.y, pose.position.z = 1.2, 2.5, 1.3
     reply = call(node, spawn, SpawnEntity.Request(name="my_box", xml=BOX, initial_pose=pose))
     seen["spawn"] = [reply.success, reply.status_message]
+    other = (
+        '<robot name="crate"><link name="l"><visual><geometry><box size="1 1 1"/></geometry>'
+        "</visual></link></robot>"
+    )
+    reply = call(node, spawn, SpawnEntity.Request(name="crate", xml=other, initial_pose=pose))
+    seen["spawn_other"] = [reply.success, reply.status_message]
     seen["spawned"] = state(node, get, "my_box")
     seen["link"] = state(node, get, "my_box::box_base_link", "world")
     moved = Pose()
