@@ -29,7 +29,8 @@ class Student(Node):
         self.arm = ActionClient(self, FollowJointTrajectory, "/arm_controller/follow_joint_trajectory")
 
     def on_state(self, msg):
-        self.states.append(dict(zip(msg.name, msg.position)))
+        stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+        self.states.append((stamp, dict(zip(msg.name, msg.position))))
 
     def wait(self, future):
         end = time.monotonic() + PATIENCE
@@ -69,12 +70,16 @@ def main(out):
         seen["status"] = result.status
         seen["error_code"] = result.result.error_code
         seen["feedback"] = len(feedback)
+        seen["feedback_stamps"] = [f.header.stamp.sec + 1e-9 * f.header.stamp.nanosec for f in feedback]
         seen["feedback_joints"] = list(feedback[-1].joint_names) if feedback else []
-        count = len(node.states)
+        # The joints after the goal: a state stamped after its 2 s trajectory's end (counted from
+        # the first feedback, at the goal's start; the subscription's queue may still hold older
+        # states when the result comes, and a busy client may have lost the last feedback).
+        done = seen["feedback_stamps"][0] + 2.0 if feedback else 0.0
         end = time.monotonic() + PATIENCE
-        while len(node.states) < count + 3 and time.monotonic() < end:
+        while not any(t > done + 0.1 for t, _ in node.states) and time.monotonic() < end:
             rclpy.spin_once(node, timeout_sec=0.05)
-        seen["after"] = node.states[-1]
+        seen["after"] = next(state for t, state in node.states if t > done + 0.1)
     finally:
         node.destroy_node()
         rclpy.shutdown()
