@@ -112,11 +112,15 @@ def dask_cluster():
     port = _free_port()
     address = f"tcp://127.0.0.1:{port}"
     common = ["--no-dashboard"]
+    # Without the profiler and the 20 ms event-loop checks, as batch.connect's local clusters.
+    env = {**os.environ, **{f"DASK_{k.upper().replace('.', '__').replace('-', '_')}": str(v)
+                            for k, v in cluster._LOCAL_CLUSTER_CONFIG.items()}}  # fmt: skip
     procs = [
         subprocess.Popen(
             [str(BIN / "dask"), "scheduler", "--host", "127.0.0.1", "--port", str(port), *common],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
+            env=env,
         )
     ]
     try:
@@ -125,6 +129,7 @@ def dask_cluster():
                 [str(BIN / "dask"), "worker", address, "--nthreads", "1", "--no-nanny", *common],
                 stdout=subprocess.DEVNULL,
                 stderr=subprocess.DEVNULL,
+                env=env,
             )
         )
         from distributed import Client

@@ -436,3 +436,33 @@ def test_the_guard_records_its_refusals_an_uncaught_exception_and_the_processes_
         for pid in (tmp_path / "kids").read_text().split():
             with contextlib.suppress(OSError):
                 os.kill(int(pid), signal.SIGKILL)
+
+
+def test_the_watchers_scan_reads_new_processes_and_the_runs_own_again():
+    """guard.ProcessScan, the run watcher's look every 50 ms: a process born after a look is
+    in the next one, with its parent; the run's own are read again at each look (one that died,
+    a zombie until reaped, is no longer there); another's first reading is kept."""
+    import subprocess
+    import time
+
+    from omtp_drake.grading.guard import ProcessScan, descendants, process_table
+
+    me = os.getpid()
+    scan = ProcessScan()
+    first = scan.table([me])
+    assert first[me] == process_table()[me] and 1 in first
+    scan.remember_others(first, [me])
+    child = subprocess.Popen(["sleep", "30"])
+    try:
+        second = scan.table([me])
+        assert second[child.pid][0] == me and child.pid in descendants([me], second)
+        assert second[1] == first[1]
+        scan.remember_others(second, [me, child.pid])
+        child.kill()  # not reaped: a zombie, which process_table leaves out
+        deadline = time.monotonic() + 10.0
+        while child.pid in scan.table([me, child.pid]) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert child.pid not in scan.table([me, child.pid])
+    finally:
+        child.kill()
+        child.wait()
