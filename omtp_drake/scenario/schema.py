@@ -58,7 +58,7 @@ MAX_PART_POOL = 100
 def _default_plant_config() -> MultibodyPlantConfig:
     # 10 ms steps, as Drake's manipulation station with SAP: the tasks' outcomes and
     # cycle times are the same at 5, 8 and 10 ms. 16 and 20 ms cost 13-32 % less CPU but
-    # the pressed cup's contact flickers, parts press 15 mm into a bin's floor, and at
+    # the pressed cup's contact flickers, parts sleep 15 mm deep in a bin's floor, and at
     # 20 ms 5 cm cubes fail (bench/README.md, "The plant step"). SAP softens near-rigid
     # contacts by (threshold x step)^2: the threshold 0.5 keeps at 10 ms the stiffness
     # a threshold of 1.0 gives at 5 ms (how far the cup presses into a part). The force
