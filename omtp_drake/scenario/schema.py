@@ -46,9 +46,9 @@ from omtp_drake.scenario.suction import SuctionConfig
 
 #: The shortest plant step (s): 0.1 ms; shorter ones only make a run crawl.
 MIN_TIME_STEP = 1e-4
-#: The longest plant step (s) the study of issue 46 supports: every task scenario, the vacuum
-#: failure and the belt at the beam gave the same outcomes at 16 and 20 ms as at 10 ms
-#: (bench/bench_plant_step.py; figures: bench/README.md, "The plant step").
+#: The longest plant step (s) a scenario may ask for. At 16 and 20 ms the task scenarios'
+#: outcomes hold, but not the suction's contact nor how parts rest in a bin, so the default
+#: stays 10 ms (figures: bench/README.md, "The plant step").
 MAX_TIME_STEP = 0.02
 #: The most parts a pool may hold: every one is a body in the plant, and the build
 #: time grows faster than linearly with them (figures: bench/README.md, "Measured").
@@ -57,12 +57,13 @@ MAX_PART_POOL = 100
 
 def _default_plant_config() -> MultibodyPlantConfig:
     # 10 ms steps, as Drake's manipulation station with SAP: the tasks' outcomes and
-    # cycle times are the same at 5, 8 and 10 ms, and 10 ms costs the least CPU per
-    # simulated second. SAP softens near-rigid contacts by (threshold x step)^2: the
-    # threshold 0.5 keeps at 10 ms the stiffness a threshold of 1.0 gives at 5 ms (how
-    # far the cup presses into a part). The force suction backend sags more at 10 ms
-    # (SuctionConfig). Commands (100 Hz), DiffIK, cameras and checks fall on step
-    # boundaries. SAP is needed for the run-time constraints and the belt's
+    # cycle times are the same at 5, 8 and 10 ms. 16 and 20 ms cost 13-32 % less CPU but
+    # the pressed cup's contact flickers, parts sleep 15 mm deep in a bin's floor, and at
+    # 20 ms 5 cm cubes fail (bench/README.md, "The plant step"). SAP softens near-rigid
+    # contacts by (threshold x step)^2: the threshold 0.5 keeps at 10 ms the stiffness
+    # a threshold of 1.0 gives at 5 ms (how far the cup presses into a part). The force
+    # suction backend sags more at 10 ms (SuctionConfig). Commands (100 Hz), DiffIK,
+    # cameras and checks fall on step boundaries. SAP is needed for the run-time constraints and the belt's
     # velocity-controlled actuator; point contact is cheaper than hydroelastic here.
     # Unsampled output ports (poses and contacts computed from the current state when
     # read) spare every Python system a call each step. Figures: bench/README.md, "Measured".
