@@ -113,7 +113,7 @@ def test_the_deletion_walls_quick_test_never_misses_a_touch():
     finds is flagged, and parts well clear of the wall skip the query."""
     from pydrake.math import RigidTransform, RollPitchYaw
 
-    from omtp_drake.sim.driver import DeletionWall
+    from omtp_drake.sim.deletion_wall import DeletionWall
 
     rt = FactoryRuntime(belt_world(pool=1))
     wall = next(e for e in rt.driver.edits if isinstance(e, DeletionWall))

@@ -11,7 +11,8 @@ from omtp_drake.cell.parts import PARK_X0
 from omtp_drake.demos import named_pose_tour
 from omtp_drake.errors import ConfigError, SimulationError, UnknownNameError
 from omtp_drake.scenario import PartConfig, load_scenario
-from omtp_drake.sim.driver import BeltWrap, DeletionWall, Driver
+from omtp_drake.sim.deletion_wall import DeletionWall
+from omtp_drake.sim.driver import BeltWrap, Driver
 from omtp_drake.sim.gripper_events import GripperEvents
 from omtp_drake.sim.runtime import FactoryRuntime
 

@@ -42,7 +42,8 @@ from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.launch.pieces import Pieces, add_urdf_model
 from omtp_drake.launch.ros2_nodes import Ros2NodeProgram, find_program, ros_arguments
 from omtp_drake.launch.roslaunch import Launch, Node, get_param
-from omtp_drake.launch.sdf_world import read_world, sdf_version, strip_strays, world_model
+from omtp_drake.launch.sdf_warnings import strip_strays
+from omtp_drake.launch.sdf_world import read_world, sdf_version, world_model
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.launch.world_pieces import WorldPieces, add_world_model
 from omtp_drake.launch.world_pieces import add_world as add_world_pieces

@@ -56,7 +56,7 @@ from omtp_drake.cell.conveyor import BreakBeam
 from omtp_drake.errors import ConfigError, WorkspaceError
 from omtp_drake.scenario import ConveyorConfig, LogicalCameraConfig
 from omtp_drake.scenario.plugin_names import resolve_ros_name
-from omtp_drake.sim.driver import DISPOSAL_PERIOD
+from omtp_drake.sim.deletion_wall import DISPOSAL_PERIOD
 
 #: Plugin library -> what it becomes in the cell.
 KINDS = {

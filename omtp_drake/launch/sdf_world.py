@@ -34,6 +34,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.cell.described_models import drake_errors
 from omtp_drake.errors import ConfigError, MissingPackageError, WorkspaceError
 from omtp_drake.launch.plugins import GazeboPlugin, plugins_in
+from omtp_drake.launch.sdf_warnings import not_sdf_line, strip_strays
 from omtp_drake.launch.xml_lines import XmlFile, parse_xml
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.scenario.models import model_from_text
@@ -161,7 +162,7 @@ class _WorldReader:
         elif tag in UNSUPPORTED_WORLD_TAGS:
             self.out.warnings.append(f"{where}: <{tag}> is not in the cell; ignored")
         elif tag not in IGNORED_WORLD_TAGS:
-            self.out.warnings.append(_not_sdf_line(element, where))
+            self.out.warnings.append(not_sdf_line(element, where))
 
     def _pose(self, element: ET.Element, where: str) -> tuple[tuple[float, ...], RigidTransform]:
         """The element's pose as written, and in world (``relative_to`` resolved)."""
@@ -249,33 +250,6 @@ def sdf_version(doc: XmlFile) -> str:
             f"{doc.where(doc.root)}: <sdf version={version!r}> is not an SDF version (e.g. 1.6)"
         )
     return version
-
-
-def strip_strays(doc: XmlFile, element: ET.Element) -> list[str]:
-    """Removes the namespaced elements under ``element`` (a stray ``<xacro:...>`` call in a
-    model: no SDF element has a prefix) and returns sdformat's warning for each, naming
-    ``file:line``; Drake's parser gets the model without them, as Gazebo loads it."""
-    warnings = []
-    for parent in list(element.iter()):
-        for child in list(parent):
-            if isinstance(child.tag, str) and ":" in child.tag:
-                line = f"{doc.where(child)}: XML element <{child.tag}> under <{parent.tag}>"
-                warnings.append(f"{line} is not defined in SDF (a xacro call?); ignored")
-                parent.remove(child)
-    return warnings
-
-
-def _not_sdf_line(element: ET.Element, where: str) -> str:
-    """sdformat's warning for an element SDF does not define under ``<world>``."""
-    tag = element.tag
-    if tag == "joint":
-        return (
-            f"{where}: XML element <joint> (name {element.get('name', '')!r}) under <world> is not an SDF "
-            "world's joint (a URDF joint?); ignored, as Gazebo does"
-        )
-    if tag.startswith("xacro:") or ":" in tag:
-        return f"{where}: XML element <{tag}> under <world> is not defined in SDF (a xacro call?); ignored"
-    return f"{where}: XML element <{tag}> under <world> is not defined in SDF; ignored"
 
 
 def _vector3(text: str | None, where: str, what: str) -> tuple[float, float, float]:

@@ -4,6 +4,7 @@ Modules (one job each):
 
 - ``runtime``: a scenario's cell, ready to run, with the course's services on it
 - ``driver``: the Simulator's owner: advances the cell and applies world edits between advances
+- ``deletion_wall``: the course's deletion wall (object disposal), a world edit at 5 Hz
 - ``heap``: the process's heap thresholds, tuned for the plant's step (no page faults per step)
 - ``gripper_events``: the world edit that runs a gripper's rule when something happens, and its weld
 - ``part_sleep``: the world edit that puts resting parts to sleep and wakes touched ones
