@@ -129,9 +129,13 @@ def collect() -> list[DocCommand]:
             joined = f"{joined} {line.rstrip(chr(92)).strip()}" if joined else line.rstrip(chr(92)).strip()
             if line.endswith("\\"):
                 continue
-            match = re.search(r"(?:^\$ |^|&& |\.venv/bin/)omtp-drake (.*)", joined)
-            if match:
-                found.append(DocCommand(f"{name}:{number}", match.group(1).split("  #")[0].strip()))
+            for part in joined.split(" && "):  # each command of a chain
+                match = re.search(r"(?:^\$ |^|\.venv/bin/)omtp-drake (.*)", part)
+                if match:
+                    text = match.group(1).split("  #")[0].strip()
+                    if "$(" in part[: match.start()] and text.endswith(")"):
+                        text = text[:-1].strip()  # substituted into another command: $(omtp-drake ...)
+                    found.append(DocCommand(f"{name}:{number}", text))
             joined = ""
         for match in re.finditer(r"`omtp-drake ([^`]*)`", prose):
             words = " ".join(match.group(1).split())

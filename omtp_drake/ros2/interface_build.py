@@ -204,12 +204,3 @@ def _write_init(package: str, target: Path) -> None:
         f"for _name in {names!r}:\n"
         "    _ctypes.CDLL(_os.path.join(_os.path.dirname(__file__), _name), mode=_ctypes.RTLD_GLOBAL)\n"
     )
-
-
-if __name__ == "__main__":
-    # ``export PYTHONPATH=$(python -m omtp_drake.ros2.interface_build)``: a peer's own rclpy
-    # process imports the packages (built first if the cache lacks them).
-    try:
-        sys.stdout.write(f"{interfaces_path()}\n")
-    except InterfacesUnavailable as e:
-        sys.exit(f"omtp_drake.ros2.interface_build: {e}")

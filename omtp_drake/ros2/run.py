@@ -184,3 +184,20 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         help="let DDS discovery reach other machines of the local network (default: this machine only)",
     )
     p.set_defaults(func=cmd_ros2, ros2_nodes=[])
+
+    p = sub.add_parser(
+        "ros2-interfaces",
+        help="print the folder of the ROS 2 interface packages no wheel ships (gazebo_msgs, control_msgs, "
+        "tf2_msgs), building them first with the system's compiler if the cache lacks them: "
+        "export PYTHONPATH=$(omtp-drake ros2-interfaces) lets a node of yours import them",
+    )
+    p.set_defaults(func=cmd_ros2_interfaces)
+
+
+def cmd_ros2_interfaces(args: argparse.Namespace) -> int:
+    """``omtp-drake ros2-interfaces``: the built packages' folder on stdout (an error line
+    without a compiler, exit code 2)."""
+    from omtp_drake.ros2.interface_build import interfaces_path
+
+    print_line(str(interfaces_path()))
+    return 0
