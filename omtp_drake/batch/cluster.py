@@ -37,6 +37,7 @@ from omtp_drake.batch.sandbox import RunFunction, run_in_child, simulate, thread
 from omtp_drake.batch.store import ResultStore
 from omtp_drake.batch.sweep import BatchPlan, RunSpec, plan_batch
 from omtp_drake.errors import ConfigError, check_duration, describe_exception
+from omtp_drake.viz.meshcat import free_meshcats_here
 
 # dask is imported where used: importing this module stays cheap (the
 # ``omtp-drake batch`` command is registered in omtp_drake.cli).
@@ -143,6 +144,7 @@ def connect(workers: Optional[int] = None, scheduler: Optional[str] = None) -> I
     import dask
     from distributed import Client, LocalCluster
 
+    free_meshcats_here()  # before the client's event loop thread runs Python
     if scheduler:
         try:
             client = Client(scheduler, timeout=_CONNECT_TIMEOUT_S)

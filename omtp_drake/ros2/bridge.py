@@ -37,6 +37,7 @@ from omtp_drake.ros2.network import Ros2Network, cell_participant_profile, impor
 from omtp_drake.ros2.ros2_control import Ros2Control
 from omtp_drake.ros2.tf_publisher import TfTopics
 from omtp_drake.ros2.topics import CellTopics
+from omtp_drake.viz.meshcat import free_meshcats_here
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
@@ -120,6 +121,7 @@ class Ros2Cell:
         except BaseException:
             self._context.try_shutdown()
             raise
+        free_meshcats_here()  # before the executor's thread runs Python
         self._thread = threading.Thread(target=self._spin, name="omtp_cell rclpy executor", daemon=True)
         self._thread.start()
         self._closed = False

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import logging
 import math
 from collections.abc import Sequence
@@ -34,6 +35,17 @@ def start_meshcat(view: tuple[Sequence[float], Sequence[float]] = DEFAULT_VIEW) 
     meshcat.SetCameraPose(list(eye), list(target))
     _log.info("Meshcat is at %s", meshcat.web_url())
     return meshcat
+
+
+def free_meshcats_here() -> None:
+    """Frees, now and on this thread, the garbage cycles that may hold a Meshcat.
+
+    Drake's Meshcat must be destroyed on the thread that made it (else the process aborts:
+    ``IsThread(main_thread_id_)`` in meshcat.cc), and a cell that held one is freed by
+    Python's cycle collector on whichever thread happens to trigger it. Call this before
+    starting a thread of Python code (a Dask client's event loop, rclpy's executor), so
+    the cells dropped on this thread are freed here, not there."""
+    gc.collect()
 
 
 def start_recording(visualizer: MeshcatVisualizer) -> None:
