@@ -155,6 +155,8 @@ def test_the_controller_state_follows_a_trajectory_at_each_update(tmp_path, doma
     stamps = np.array([s["stamp"] for s in states])
     assert np.all(np.diff(stamps) > 0), stamps
     assert np.allclose(stamps * UPDATE_HZ, np.round(stamps * UPDATE_HZ), atol=1e-6), stamps
+    # Every update, not the YAML's state_publish_rate (50 Hz): two states received 10 ms apart.
+    assert np.diff(stamps).min() == pytest.approx(1.0 / UPDATE_HZ, abs=1e-6), stamps
     for s in states:
         assert s["error"] == pytest.approx(np.subtract(s["reference"], s["feedback"]), abs=1e-12)
         assert s["output"] == s["reference"] and s["speed_scaling_factor"] == 1.0
