@@ -3,7 +3,8 @@ a trajectory controller and a broadcaster in its YAML), with a plain rclpy node 
 process (tests/ros2_scripts/ros2_control_node.py) on loopback, in a domain of its own: the
 joints start at their initial values, follow a trajectory sent to
 ``/arm_controller/joint_trajectory`` within the controller's tolerances, and ``/joint_states``
-comes from the broadcaster at the YAML's rate (counted over simulated time)."""
+comes from the broadcaster at the YAML's rate (counted over simulated time); the trajectory
+controller's ``~/controller_state`` follows the trajectory at each controller update."""
 
 from __future__ import annotations
 
@@ -30,6 +31,9 @@ GOAL_TOLERANCE = {"shoulder_joint": 0.01, "slide_joint": 0.005}
 INITIAL = {"shoulder_joint": 0.3, "slide_joint": 0.05}
 LAST = {"shoulder_joint": 0.8, "slide_joint": 0.1}
 BROADCASTER_HZ = 25.0
+#: The controller manager's update_rate: the trajectory controller's state rate on ROS 2 (the YAML's
+#: Humble-era state_publish_rate: 50 is ignored, as ros2_controllers ignores it since Iron).
+UPDATE_HZ = 100.0
 
 __all__ = ["domain"]  # the fixture, used by name
 
@@ -125,3 +129,51 @@ def test_a_follow_joint_trajectory_goal_is_followed_within_the_goal_tolerances(t
     assert stamps[-1] - stamps[0] <= 2.0 + 0.1, stamps  # the 2 s, up to the tick after its end
     for joint, value in LAST.items():
         assert seen["after"][joint] == pytest.approx(value, abs=GOAL_TOLERANCE[joint])
+
+
+@needs_ros2
+@pytest.mark.skipif(
+    shutil.which("cc") is None or shutil.which("c++") is None, reason="no compiler: apt-get install g++"
+)
+def test_the_controller_state_follows_a_trajectory_at_each_update(tmp_path, domain, monkeypatch):
+    """A student's rclpy node on /arm_controller/controller_state (control_msgs built here) while a
+    trajectory sent on ~/joint_trajectory plays: the controller's joints, a reference moving from
+    where the joints were to the trajectory's points, a feedback following it and within the goal
+    tolerances at the end, error = reference - feedback, stamped on the update rate's grid."""
+    from omtp_drake.ros2 import interface_build
+
+    paths = (str(interface_build.interfaces_path()), os.environ.get("PYTHONPATH", ""))
+    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(p for p in paths if p))
+    out = tmp_path / "seen.json"
+    run_cell_with_node([str(ROBOT)], [str(SCRIPTS / "controller_state_node.py"), str(out)], domain)
+    seen = json.loads(out.read_text())
+    states, start = seen["states"], seen["start"]
+    joints = ["shoulder_joint", "slide_joint"]
+    assert all(s["joint_names"] == joints for s in states)
+    # The cell runs as fast as it can and the client's queue is 10 deep, so it loses states: the
+    # stamps say the rate (every one on the 10 ms grid, increasing), not the count received.
+    stamps = np.array([s["stamp"] for s in states])
+    assert np.all(np.diff(stamps) > 0), stamps
+    assert np.allclose(stamps * UPDATE_HZ, np.round(stamps * UPDATE_HZ), atol=1e-6), stamps
+    # Every update, not the YAML's state_publish_rate (50 Hz): two states received 10 ms apart.
+    assert np.diff(stamps).min() == pytest.approx(1.0 / UPDATE_HZ, abs=1e-6), stamps
+    for s in states:
+        assert s["error"] == pytest.approx(np.subtract(s["reference"], s["feedback"]), abs=1e-12)
+        assert s["output"] == s["reference"] and s["speed_scaling_factor"] == 1.0
+    before = dict(zip(joints, seen["before"]["feedback"]))
+    for joint, value in INITIAL.items():
+        assert before[joint] == pytest.approx(value, abs=GOAL_TOLERANCE[joint])
+    # Through the first point (1 s in: shoulder -0.5, slide 0.15) to the last (2 s in), then held.
+    during = [s for s in states if start < s["stamp"] < start + 2.0]
+    assert during, "no state while the trajectory played"
+    near = min(during, key=lambda s: abs(s["stamp"] - (start + 1.0)))
+    if abs(near["stamp"] - (start + 1.0)) < 0.02:  # a busy client may have lost the states there
+        assert near["reference"] == pytest.approx([-0.5, 0.15], abs=0.05)
+    after = [s for s in states if s["stamp"] > start + 2.5]
+    assert after, "no state after the trajectory's end"
+    assert after[-1]["reference"] == pytest.approx([LAST[j] for j in joints], abs=1e-9)
+    for k, joint in enumerate(joints):
+        assert after[-1]["feedback"][k] == pytest.approx(LAST[joint], abs=GOAL_TOLERANCE[joint])
+    # Toward the goal: the feedback ends nearer the last point than it started.
+    distance = [np.abs(np.subtract(s["feedback"], [LAST[j] for j in joints])).max() for s in states]
+    assert distance[-1] < distance[0]

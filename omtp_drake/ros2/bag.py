@@ -13,8 +13,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from omtp_drake.ros.bag.definitions import concatenated, installed_text
+from omtp_drake.ros.bag.definitions import concatenated, installed_text, ros2_name
 from omtp_drake.ros.bag.writer import Ros2Bag
+from omtp_drake.ros2.interface_build import DEFINITIONS
 
 #: rosbag2's offered QoS of a reliable, transient-local publisher of depth 1 (a latched topic).
 LATCHED_QOS = (
@@ -54,6 +55,17 @@ class _RecordedPublisher:
         return getattr(self._publisher, name)
 
 
+def message_text(type_name: str) -> str | None:
+    """The ``.msg`` text of ``type_name``: an installed wheel's, else one of the packages built
+    here (:mod:`omtp_drake.ros2.interface_build`, ``control_msgs``...)."""
+    text = installed_text(type_name)
+    if text is None:
+        package, _, short = ros2_name(type_name).split("/")
+        path = DEFINITIONS / package / "msg" / f"{short}.msg"
+        text = path.read_text() if path.is_file() else None
+    return text
+
+
 def record_publishers(node: Any, bag: Ros2Bag, clock: Callable[[], float]) -> None:
     """From now on each publisher ``node`` creates also writes into ``bag``, at ``clock()``'s time."""
     from rclpy.qos import DurabilityPolicy
@@ -63,7 +75,7 @@ def record_publishers(node: Any, bag: Ros2Bag, clock: Callable[[], float]) -> No
     def create_recorded(msg_type: Any, topic: str, qos: Any, **kwargs: Any) -> Any:
         publisher = create(msg_type, topic, qos, **kwargs)
         name = ros_type(msg_type)
-        bag.add_type(name, concatenated(name, installed_text))
+        bag.add_type(name, concatenated(name, message_text))
         latched = publisher.qos_profile.durability == DurabilityPolicy.TRANSIENT_LOCAL
         return _RecordedPublisher(publisher, name, bag, clock, LATCHED_QOS if latched else "")
 

@@ -10,13 +10,19 @@ topic                               type                                   contr
                                                                            ``update_rate`` (else the
                                                                            controller manager's)
 ``/<ns>/<ctrl>/joint_trajectory``   ``trajectory_msgs/JointTrajectory``    JointTrajectoryController
+``/<ns>/<ctrl>/controller_state``   ``control_msgs/JointTrajectory         JointTrajectoryController, at
+                                    ControllerState`` (built here)         each of its updates
 ``/<ns>/<ctrl>/commands``           ``std_msgs/Float64MultiArray``         ForwardCommandController,
                                                                            JointGroup*Controller
 ==================================  =====================================  =============================
 
 Each trajectory controller's ``~/follow_joint_trajectory`` action
 (``control_msgs/action/FollowJointTrajectory``, built here: :mod:`omtp_drake.ros2.trajectory_action`).
-Not served: its ``~/controller_state`` topic. A refused command is one error line on the node's log.
+``control_msgs`` is built by :mod:`omtp_drake.ros2.interface_build`; without a compiler the
+action and ``~/controller_state`` are off, with one warning. The state's ``reference`` is the
+command now, ``feedback`` the joints measured, ``error`` their difference (positions and
+velocities), ``output`` the position command (a position controller's); accelerations and
+``time_from_start`` are not filled. A refused command is one error line on the node's log.
 Without a launch file the YAML's controllers are active, as if each was spawned in order
 (:func:`~omtp_drake.scenario.ros_control_parse.spawned_only`).
 """
@@ -32,7 +38,7 @@ from omtp_drake.gazebo.messages import JointStates
 from omtp_drake.gazebo.schedule import topic
 from omtp_drake.ros2 import interface_build, messages
 from omtp_drake.ros2.trajectory_action import FollowJointTrajectoryServers
-from omtp_drake.sim.ros_control import Controller, Periodic, RosControl
+from omtp_drake.sim.ros_control import Controller, ControllerStateSample, Periodic, RosControl
 from omtp_drake.sim.trajectory_request import TrajectoryRequest
 
 if TYPE_CHECKING:
@@ -42,23 +48,21 @@ if TYPE_CHECKING:
 #: cell runs faster than real time; a reliable KEEP_LAST writer drops what overflows).
 QUEUE_S = 60.0
 
-#: Why the action is missing where control_msgs cannot be built, said once (with why).
-NO_ACTION = (
-    "follow_joint_trajectory is not served (send trajectories on ~/joint_trajectory): control_msgs "
-    "has no PyPI package and its type support could not be built here"
+#: Why the action and the state topic are missing where control_msgs cannot be built, said once.
+NO_CONTROL_MSGS = (
+    "follow_joint_trajectory and controller_state are not served (send trajectories on "
+    "~/joint_trajectory): control_msgs has no PyPI package and its type support could not be built here"
 )
 
 
-def _actions(
-    node: Any, cell: Cell, control: RosControl, on_cell: Callable[[Callable[[], None]], None]
-) -> FollowJointTrajectoryServers | None:
-    """The trajectory controllers' actions, or None and one warning saying why not."""
+def _control_msgs(node: Any) -> bool:
+    """Whether ``control_msgs`` can be imported (built here once), else one warning saying why not."""
     try:
         interface_build.activate()
     except interface_build.InterfacesUnavailable as e:
-        node.get_logger().warning(f"{NO_ACTION}: {e}")
-        return None
-    return FollowJointTrajectoryServers(node, cell, control, on_cell)
+        node.get_logger().warning(f"{NO_CONTROL_MSGS}: {e}")
+        return False
+    return True
 
 
 class Ros2Control:
@@ -77,8 +81,9 @@ class Ros2Control:
         self._broadcasters: list[tuple[Controller, Periodic, Any]] = []
         for controller in self._control.of_kind("joint_states"):
             period = self._control.period(controller)
-            depth = max(100, int(QUEUE_S / period))
-            publisher = node.create_publisher(JointState, topic(controller.namespace, "joint_states"), depth)
+            publisher = node.create_publisher(
+                JointState, topic(controller.namespace, "joint_states"), _depth(period)
+            )
             self._broadcasters.append((controller, Periodic(period), publisher))
         for controller in self._control.of_kind("trajectory"):
             name = topic(controller.namespace, f"{controller.name}/joint_trajectory")
@@ -89,8 +94,24 @@ class Ros2Control:
             name = topic(controller.namespace, f"{controller.name}/commands")
             node.create_subscription(Float64MultiArray, name, self._handler(controller, _values), 10)
         self.actions: FollowJointTrajectoryServers | None = None
-        if self._control.of_kind("trajectory"):
-            self.actions = _actions(node, cell, self._control, self._work.put)
+        self._states: list[tuple[Controller, Periodic, Any]] = []
+        if self._control.of_kind("trajectory") and _control_msgs(node):
+            self.actions = FollowJointTrajectoryServers(node, cell, self._control, self._work.put)
+            self._states = self._state_publishers()
+
+    def _state_publishers(self) -> list[tuple[Controller, Periodic, Any]]:
+        """Each trajectory controller's ``~/controller_state`` publisher and its schedule."""
+        from control_msgs.msg import JointTrajectoryControllerState
+
+        out = []
+        for controller in self._control.of_kind("trajectory"):
+            period = self._control.state_period(controller)
+            if period is None:
+                continue
+            name = topic(controller.namespace, f"{controller.name}/controller_state")
+            publisher = self._node.create_publisher(JointTrajectoryControllerState, name, _depth(period))
+            out.append((controller, Periodic(period), publisher))
+        return out
 
     def _handler(self, controller: Controller, convert: Callable[[Any], Any]) -> Callable[[Any], None]:
         def on_message(msg: Any) -> None:
@@ -132,6 +153,36 @@ class Ros2Control:
                 )
                 msg.effort = list(sample.effort)
                 publisher.publish(msg)
+        for controller, periodic, publisher in self._states:
+            if periodic.due(t):
+                state = self._control.controller_state(self._cell.runtime.context, controller)
+                publisher.publish(_state_message(publisher.msg_type, state, controller.config.interface))
+
+
+def _depth(period: float) -> int:
+    """A publisher's KEEP_LAST depth: :data:`QUEUE_S` of messages every ``period`` s."""
+    return max(100, int(QUEUE_S / period))
+
+
+def _state_message(msg_type: Any, state: ControllerStateSample, interface: str) -> Any:
+    """The ``control_msgs/JointTrajectoryControllerState`` of ``state``, whose controller commands
+    ``interface``."""
+    from trajectory_msgs.msg import JointTrajectoryPoint
+
+    msg = msg_type(header=messages.header(state.stamp), joint_names=list(state.joints))
+    msg.reference = JointTrajectoryPoint(
+        positions=list(state.reference_position), velocities=list(state.reference_velocity)
+    )
+    msg.feedback = JointTrajectoryPoint(
+        positions=list(state.feedback_position), velocities=list(state.feedback_velocity)
+    )
+    msg.error = JointTrajectoryPoint(
+        positions=list(state.error_position), velocities=list(state.error_velocity)
+    )
+    if interface == "position":
+        msg.output = JointTrajectoryPoint(positions=list(state.reference_position))
+    msg.speed_scaling_factor = 1.0
+    return msg
 
 
 def _values(msg: Any) -> list[float]:

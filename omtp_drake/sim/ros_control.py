@@ -21,6 +21,12 @@ these their topic names and message types.
   points stops the joints where they are commanded now. A new trajectory replaces
   the one playing. A refused trajectory is a ConfigError (the transports log it,
   as the controllers do, and keep what played).
+- A trajectory controller's **state** (:meth:`RosControl.controller_state`: the command
+  now, the joints measured, their difference) is published every
+  :meth:`RosControl.state_period`: on ROS 1 at its ``state_publish_rate`` (50 Hz by
+  default, 0: never), never faster than its updates; on ROS 2 at each of its updates
+  (its :meth:`~RosControl.period`), as joint_trajectory_controller does since Iron
+  (ros2_controllers #520 removed Humble's ``state_publish_rate``: a YAML's is ignored).
 - A **forward** controller (``JointGroupPositionController``, ``JointPositionController``,
   ``ForwardCommandController``...) takes one value per joint: a position (held), a
   velocity or an effort, by its type.
@@ -86,6 +92,28 @@ class JointStateSample:
     effort: tuple[float, ...]
 
 
+@dataclass(frozen=True)
+class ControllerStateSample:
+    """What a trajectory controller's state topic carries: per joint, the ``reference`` its
+    command asks now (ROS 1: ``desired``), the ``feedback`` measured (ROS 1: ``actual``)."""
+
+    stamp: float
+    joints: tuple[str, ...]
+    reference_position: tuple[float, ...]
+    reference_velocity: tuple[float, ...]
+    feedback_position: tuple[float, ...]
+    feedback_velocity: tuple[float, ...]
+
+    @property
+    def error_position(self) -> tuple[float, ...]:
+        """Reference minus feedback."""
+        return tuple(r - f for r, f in zip(self.reference_position, self.feedback_position))
+
+    @property
+    def error_velocity(self) -> tuple[float, ...]:
+        return tuple(r - f for r, f in zip(self.reference_velocity, self.feedback_velocity))
+
+
 class Periodic:
     """Due at every multiple of ``period`` s of simulated time (the first due at 0)."""
 
@@ -130,6 +158,22 @@ class RosControl:
         if rate <= 0 and controller.setup.plugin == "gazebo_ros2_control":
             rate = ROS2_DEFAULT_UPDATE_RATE
         return max(1.0 / rate, step) if rate > 0 else step
+
+    def state_period(self, controller: Controller) -> float | None:
+        """Seconds between two state messages of ``controller`` (a trajectory controller),
+        None when it publishes none (see the module doc)."""
+        if controller.setup.plugin == "gazebo_ros2_control":
+            return self.period(controller)
+        rate = controller.config.state_publish_rate
+        return max(1.0 / rate, self.period(controller)) if rate > 0 else None
+
+    def controller_state(self, root_context: Context, controller: Controller) -> ControllerStateSample:
+        """``controller``'s state now (a trajectory controller's)."""
+        joints = tuple(controller.config.joints)
+        q_d, v_d = self.desired(root_context, controller)
+        q, v = self.system.measured(root_context, controller.model, joints)
+        values = (tuple(map(float, x)) for x in (q_d, v_d, q, v))
+        return ControllerStateSample(root_context.get_time(), joints, *values)
 
     def joint_state(self, root_context: Context, controller: Controller) -> JointStateSample:
         joints = controller.config.joints

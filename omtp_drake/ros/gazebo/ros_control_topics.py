@@ -65,8 +65,8 @@ def attach_ros_control(session: Graph) -> None:
     for controller in control.of_kind("trajectory"):
         name = topic(controller.namespace, f"{controller.name}/state")
         session.sources.setdefault(name, PushedSource(JointTrajectoryControllerState))
-        if controller.config.state_publish_rate > 0:
-            period = max(1.0 / controller.config.state_publish_rate, control.period(controller))
+        period = control.state_period(controller)
+        if period is not None:
             session.cell.runtime.driver.every(period, _state_publisher(session, control, controller, name))
 
 
@@ -89,19 +89,21 @@ def _state_publisher(session: Graph, control: RosControl, controller: Controller
     def publish() -> None:
         if not session.num_subscribers(name):
             return
-        context = session.cell.runtime.context
-        q_d, v_d = control.desired(context, controller)
-        q, v = control.system.measured(context, controller.model, controller.config.joints)
+        state = control.controller_state(session.cell.runtime.context, controller)
         message = JointTrajectoryControllerState(
-            header=Header(stamp=Time(session.cell.time)),
-            joint_names=list(controller.config.joints),
-            desired=JointTrajectoryPoint(positions=list(map(float, q_d)), velocities=list(map(float, v_d))),
-            actual=JointTrajectoryPoint(positions=list(map(float, q)), velocities=list(map(float, v))),
+            header=Header(stamp=Time(state.stamp)),
+            joint_names=list(state.joints),
+            desired=JointTrajectoryPoint(
+                positions=list(state.reference_position), velocities=list(state.reference_velocity)
+            ),
+            actual=JointTrajectoryPoint(
+                positions=list(state.feedback_position), velocities=list(state.feedback_velocity)
+            ),
             error=JointTrajectoryPoint(
-                positions=list(map(float, q_d - q)), velocities=list(map(float, v_d - v))
+                positions=list(state.error_position), velocities=list(state.error_velocity)
             ),
         )
-        session.publish(name, message, session.cell.time)
+        session.publish(name, message, state.stamp)
 
     return publish
 
