@@ -185,12 +185,12 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     )
     p.set_defaults(func=cmd_ros2, ros2_nodes=[])
 
-    p = sub.add_parser(
-        "ros2-interfaces",
-        help="print the folder of the ROS 2 interface packages no wheel ships (gazebo_msgs, control_msgs, "
+    about = (
+        "print the folder of the ROS 2 interface packages no wheel ships (gazebo_msgs, control_msgs, "
         "tf2_msgs), building them first with the system's compiler if the cache lacks them: "
-        "export PYTHONPATH=$(omtp-drake ros2-interfaces) lets a node of yours import them",
+        "export PYTHONPATH=$(omtp-drake ros2-interfaces) lets a node of yours import them"
     )
+    p = sub.add_parser("ros2-interfaces", help=about, description=about)
     p.set_defaults(func=cmd_ros2_interfaces)
 
 
