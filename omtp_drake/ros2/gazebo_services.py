@@ -50,10 +50,7 @@ RunOnCell = Callable[[Callable[[], str]], tuple[bool, str]]
 def serve_gazebo_services(node: Any, api: WorldServices, run_on_cell: RunOnCell) -> bool:
     """Serves the ``gazebo_msgs`` services above on ``node`` (rclpy) over ``api``; False (and one
     warning saying why) when ``gazebo_msgs`` cannot be built here."""
-    try:
-        interface_build.activate()
-    except interface_build.InterfacesUnavailable as e:
-        _log.warning("%s: %s", NOT_SERVED, e)
+    if not interface_build.activated(NOT_SERVED, _log.warning):
         return False
     _GazeboServices(node, api, run_on_cell)
     return True

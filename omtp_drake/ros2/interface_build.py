@@ -27,6 +27,7 @@ import subprocess
 import sys
 import sysconfig
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 from omtp_drake.assets import cache_entry
@@ -102,6 +103,17 @@ def activate() -> Path:
     if str(folder) not in paths:
         os.environ["PYTHONPATH"] = os.pathsep.join([str(folder), *paths])
     return folder
+
+
+def activated(missing: str, warn: Callable[[str], None]) -> bool:
+    """:func:`activate`, True; or, where the packages cannot be built, ``warn("<missing>: <why>")``
+    (what is off without them, and why) and False: the one rule of every server needing them."""
+    try:
+        activate()
+    except InterfacesUnavailable as e:
+        warn(f"{missing}: {e}")
+        return False
+    return True
 
 
 def _key() -> str:

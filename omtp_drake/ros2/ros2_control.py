@@ -57,12 +57,7 @@ NO_CONTROL_MSGS = (
 
 def _control_msgs(node: Any) -> bool:
     """Whether ``control_msgs`` can be imported (built here once), else one warning saying why not."""
-    try:
-        interface_build.activate()
-    except interface_build.InterfacesUnavailable as e:
-        node.get_logger().warning(f"{NO_CONTROL_MSGS}: {e}")
-        return False
-    return True
+    return interface_build.activated(NO_CONTROL_MSGS, node.get_logger().warning)
 
 
 class Ros2Control:
