@@ -1,20 +1,23 @@
-"""/tf, /tf_static and /gazebo/model_states over ROS 2 (Cyclone DDS beside rclpy's Fast DDS):
-the mirrors serialize as rclpy does, and a late reader in another process
-(tests/ros2_scripts/tf_reader.py: a raw DDS reader for tf2_msgs, rclpy for the rest) gets
-every link of the cell's URDF at the plant's pose (1 mm), and a Fast DDS subscriber reads
-a Cyclone writer's ``sequence<struct>`` type. Loopback only, a domain of its own, nothing
-left behind.
+"""/tf, /tf_static and /gazebo/model_states over ROS 2, by rclpy with tf2_msgs and gazebo_msgs
+built here, or by Cyclone DDS beside rclpy where they cannot be built: the packed bytes are
+those rclpy serializes, and a late plain rclpy reader in another process
+(tests/ros2_scripts/rclpy_tf_reader.py) gets every link of the cell's URDF at the plant's pose
+(1 mm) by either route (Cyclone's: a Fast DDS subscriber matching a Cyclone writer's
+``sequence<struct>`` type). Loopback only, a domain of its own, nothing left behind.
 """
 
 from __future__ import annotations
 
 import json
+import os
+import shutil
 import signal
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
 
 import numpy as np
+import pytest
 from test_ros2 import (  # one home of the DDS tests' helpers
     PATIENCE,
     SCRIPTS,
@@ -28,6 +31,11 @@ from test_ros2 import (  # one home of the DDS tests' helpers
 )
 
 __all__ = ["domain"]  # the fixture, used by name
+
+needs_compiler = pytest.mark.skipif(
+    shutil.which("cc") is None or shutil.which("c++") is None,
+    reason="no C/C++ compiler to build tf2_msgs and gazebo_msgs: apt-get install g++",
+)
 
 
 def _rclpy_pairs():
@@ -118,6 +126,49 @@ def test_the_mirrors_without_an_rclpy_type_match_their_msg_definitions():
     assert cdr.model_states([], [], []) == d.ModelStates_().serialize(use_version_2=False)
 
 
+@needs_ros2
+@needs_compiler
+def test_the_packed_bytes_are_what_rclpy_serializes_with_the_built_types(monkeypatch):
+    """The rclpy route publishes the packed bytes as a serialized message: they are the bytes
+    rclpy's type support (built here) writes for TFMessage and ModelStates, and read back."""
+    from rclpy.serialization import deserialize_message, serialize_message
+
+    from omtp_drake.ros2 import cdr
+    from omtp_drake.ros2.interface_build import interfaces_path
+
+    monkeypatch.syspath_prepend(str(interfaces_path()))
+    from gazebo_msgs.msg import LinkStates, ModelStates
+    from tf2_msgs.msg import TFMessage
+
+    stamped = _rclpy_pairs()[_mirror("TransformStamped_")][0]
+    numbers = (12, 345, 0.1, -0.2, 0.3, 0.1, 0.2, 0.3, 0.9)
+    packed = cdr.tf_message([("robot1_base_link", "a")] * 2, [numbers] * 2)
+    message = TFMessage(transforms=[stamped, stamped])
+    assert deserialize_message(packed, TFMessage) == message
+    _same_but_padding(packed, serialize_message(message))
+    pose, twist = _rclpy_pairs()[_mirror("Pose_")][0], _rclpy_pairs()[_mirror("Twist_")][0]
+    poses, twists = [(1.5, 2.5, -3.5, 0.1, 0.2, 0.3, 0.9)] * 2, [(0.1, -0.2, 0.3, 0, 0, 4)] * 2
+    for kind, names in ((ModelStates, ["a", "bc"]), (LinkStates, ["a::l", "bc::m"])):
+        packed = cdr.model_states(names, poses, twists)
+        message = kind(name=names, pose=[pose, pose], twist=[twist, twist])
+        assert deserialize_message(packed, kind) == message
+        _same_but_padding(packed, serialize_message(message))
+
+
+def _same_but_padding(ours: bytes, theirs: bytes) -> None:
+    """Byte for byte where rclpy writes values; where it leaves padding uninitialized, ours is 0
+    (the values themselves: the callers read the bytes back)."""
+    assert len(ours) == len(theirs)
+    differ = [i for i in range(len(ours)) if ours[i] != theirs[i]]
+    assert all(ours[i] == 0 for i in differ), differ
+
+
+def _mirror(name: str) -> type:
+    from omtp_drake.ros2 import dds_types
+
+    return getattr(dds_types, name)
+
+
 def _chain(name: str, edges: dict[str, tuple[str, np.ndarray]]) -> np.ndarray:
     """X_W<name> (4x4) composed from the parent -> child transforms."""
     X = np.eye(4)
@@ -135,19 +186,46 @@ def _matrix(t: dict) -> np.ndarray:
     return RigidTransform(Quaternion(w, x, y, z), t["xyz"]).GetAsMatrix4()
 
 
+def _without_the_built_types(tmp_path, env: dict[str, str]) -> None:
+    """``env`` as a machine's where tf2_msgs and gazebo_msgs cannot be built: no compiler on PATH,
+    and a model cache without them (the real cache's other entries, linked)."""
+    from omtp_drake.assets import cache_dir
+
+    real = cache_dir()
+    cache = tmp_path / "cache" / real.name
+    cache.mkdir(parents=True)
+    for entry in real.iterdir():
+        if not entry.name.startswith("ros2_interfaces"):
+            (cache / entry.name).symlink_to(entry)
+    (tmp_path / "bin").mkdir()
+    env.update(OMTP_DRAKE_CACHE=str(cache.parent), PATH=str(tmp_path / "bin"))
+
+
 @needs_ros2
-def test_a_late_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, domain):
+@needs_compiler
+@pytest.mark.parametrize("route", ["rclpy", "cyclone"])
+def test_a_late_rclpy_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, domain, route):
+    """A plain rclpy node in another process (tf2_msgs and gazebo_msgs built here on its
+    PYTHONPATH) joins late: /tf_static (transient local), /tf and /gazebo/model_states, whichever
+    route writes them: rclpy with the built types (the node ``omtp_cell`` publishes /tf), or
+    Cyclone DDS where they cannot be built (forced here as the no-compiler test forces it: one
+    warning, and /tf has no ROS node). ``--bag`` records them either way."""
+    from omtp_drake.ros2.interface_build import interfaces_path
+    from omtp_drake.ros2.packed_topics import BY_CYCLONE
+
     env = _loopback_env(domain)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(interfaces_path()), env.get("PYTHONPATH")) if p)
+    cell_env = dict(env)
+    if route == "cyclone":
+        _without_the_built_types(tmp_path, cell_env)
     out = tmp_path / "tf.json"
     shm_before = _dds_files()
+    spawn = dict(stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     cell = subprocess.Popen(
         [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--domain-id", str(domain)]
         + ["--bag", str(tmp_path / "run.mcap")],
-        env=env,
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        start_new_session=True,
+        env=cell_env,
+        **spawn,  # type: ignore[call-overload]
     )
     reader = None
     try:
@@ -155,12 +233,9 @@ def test_a_late_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, 
         first = cell.stdout.readline()  # the node is up: /tf_static went out before this line
         assert "as node /omtp_cell" in first, first + (cell.stderr.read() if cell.poll() is not None else "")
         reader = subprocess.Popen(
-            [sys.executable, str(SCRIPTS / "tf_reader.py"), str(domain), str(out)],
+            [sys.executable, str(SCRIPTS / "rclpy_tf_reader.py"), str(out)],
             env=env,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-            start_new_session=True,
+            **spawn,  # type: ignore[call-overload]
         )
         _, reader_err = reader.communicate(timeout=PATIENCE)
         cell.send_signal(signal.SIGINT)
@@ -177,8 +252,12 @@ def test_a_late_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_path, 
     assert seen["types"]["/tf"] == ["tf2_msgs/msg/TFMessage"]
     assert seen["types"]["/tf_static"] == ["tf2_msgs/msg/TFMessage"]
     assert seen["types"]["/gazebo/model_states"] == ["gazebo_msgs/msg/ModelStates"]
-    # A Fast DDS subscriber read the Cyclone writer's PoseArray (header + sequence<Pose>).
-    assert seen["probe"] == {"frame_id": "probe", "poses": [[0.5, 1.0], [1.5, 1.0]]}
+    warned = [line for line in cell_err.splitlines() if BY_CYCLONE in line]
+    if route == "rclpy":
+        assert seen["tf_publishers"] == ["omtp_cell"] and not warned
+    else:
+        assert seen["tf_publishers"] != ["omtp_cell"]
+        assert len(warned) == 1 and "no cc or c++ compiler on PATH" in warned[0], cell_err[-3000:]
     _check_links(seen)
     _check_bag(tmp_path / "run.mcap", seen)
     models = dict(zip(seen["models"]["name"], seen["models"]["xyz"]))
@@ -220,7 +299,7 @@ def _check_links(seen: dict) -> None:
 
 
 def _check_bag(path, seen: dict) -> None:
-    """``--bag``: what the reader got, in a ROS 2 bag (rclpy's topics and Cyclone's)."""
+    """``--bag``: what the reader got, in a ROS 2 bag."""
     from mcap.reader import make_reader
     from mcap_ros2.decoder import DecoderFactory
 

@@ -11,9 +11,11 @@ publishes it), the plugins' topics (joint states, cameras' ``image_raw``,
 subscriptions, the logical cameras and the parts as poses and rviz2 markers; the
 grippers and the belt as ``std_srvs/SetBool`` services; the grippers' state and the break
 beam in the course's types (Cyclone DDS) and as ``std_msgs/Bool``. ``/tf`` and ``/tf_static`` as
-robot_state_publisher publishes them, and ``/gazebo/model_states``: no ``tf2_msgs`` (nor
-``gazebo_msgs``) wheel is on PyPI, so Cyclone DDS writes them beside rclpy (``dds_types``).
-Gazebo's model services (``/spawn_entity``...) need real type support (Cyclone cannot answer a
+robot_state_publisher publishes them, and ``/gazebo/model_states`` and ``link_states``: no
+``tf2_msgs`` (nor ``gazebo_msgs``) wheel is on PyPI, so rclpy publishes them with their type
+support built here, or, where it cannot be built, Cyclone DDS writes them beside rclpy
+(``packed_topics``). A volatile topic's message is built only while someone would get it
+(``audience``). Gazebo's model services (``/spawn_entity``...) need real type support (Cyclone cannot answer a
 Fast DDS client), and so does ``follow_joint_trajectory``: ``gazebo_msgs`` and ``control_msgs`` are
 built for rclpy once, into the model cache, with the rosidl
 generators the rclpy wheels bring, their headers and the system's compiler (``interface_build``).
@@ -31,11 +33,13 @@ Modules (one job each):
 - ``trajectory_action``: the trajectory controllers' ``follow_joint_trajectory`` (``control_msgs``)
 - ``dds_types``: the types rclpy lacks (tf2_msgs, gazebo_msgs) as Cyclone DDS mirrors, and Cyclone's config
 - ``cdr``: ``/tf`` and Gazebo's states packed as the mirrors' XCDR1 bytes, in one ``struct`` call
+- ``packed_topics``: those topics by rclpy with the built types, else by Cyclone DDS (one warning)
+- ``audience``: the one rule of when a message is built at all (someone would receive it)
 - ``launched_nodes``: the launch's own ROS 2 nodes, run beside the cell as ``ros2 launch`` runs them
-- ``tf_publisher``: ``/tf`` and ``/tf_static``, written by Cyclone DDS
-- ``gazebo_world``: Gazebo's model and link states (Cyclone DDS) and the spawner's services
+- ``tf_publisher``: ``/tf`` and ``/tf_static``
+- ``gazebo_world``: Gazebo's model and link states and the spawner's services
 - ``gazebo_services``: Gazebo's model services (``gazebo_msgs``, built here) over the plugin layer's rules
-- ``interface_build``: rclpy type support for ``gazebo_msgs``, ``control_msgs`` (``interfaces/``), built once
+- ``interface_build``: rclpy type support for ``gazebo_msgs``, ``control_msgs``, ``tf2_msgs``, built once
 - ``interface_generate``: its rosidl generation step, in a process of its own
 - ``bag``: ``--bag``: what the node publishes, into a ROS 2 bag
 - ``bridge``: ``Ros2Cell``: the cell as one ROS 2 node, stepped in simulated time

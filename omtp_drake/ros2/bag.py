@@ -2,8 +2,9 @@
 bag (:class:`~omtp_drake.ros.bag.writer.Ros2Bag`), with its simulated stamps.
 
 rclpy's messages go in as rclpy serializes them (the bytes a ``ros2 bag record`` would
-store) under their installed ``.msg`` definitions; the Cyclone topics (``/tf``...) are
-bagged by :mod:`omtp_drake.ros2.tf_publisher` as it writes them. Latched topics
+store) under their installed ``.msg`` definitions (or those of the packages built here); the
+topics Cyclone DDS writes where those cannot be built (``/tf``...) are bagged by their
+writers (:class:`~omtp_drake.ros2.dds_types.CdrTopic`). Latched topics
 (``/robot_description``) carry their transient-local QoS in the channel's metadata, so
 ``ros2 bag play`` offers them latched again.
 """
@@ -32,7 +33,11 @@ def ros_type(msg_type: type) -> str:
 
 
 class _RecordedPublisher:
-    """An rclpy publisher whose messages also go into the bag (anything else is the publisher's)."""
+    """An rclpy publisher whose messages also go into the bag (anything else is the publisher's);
+    a message given as its serialized bytes (:mod:`omtp_drake.ros2.packed_topics`) goes in as is."""
+
+    #: Its messages reach the bag (:func:`omtp_drake.ros2.audience.heard`).
+    recorded = True
 
     def __init__(self, publisher: Any, type_name: str, bag: Ros2Bag, clock: Callable[[], float], qos: str):
         from rclpy.serialization import serialize_message
@@ -48,7 +53,7 @@ class _RecordedPublisher:
         self._publisher.publish(msg)
         header = getattr(msg, "header", None)
         stamp = None if header is None else header.stamp.sec + header.stamp.nanosec * 1e-9
-        data = self._serialize(msg)
+        data = msg if isinstance(msg, bytes) else self._serialize(msg)
         self._bag.write_cdr(self._publisher.topic_name, self._type, data, self._clock(), stamp, self._qos)
 
     def __getattr__(self, name: str) -> Any:

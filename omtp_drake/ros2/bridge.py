@@ -34,6 +34,7 @@ from omtp_drake.ros2.course_topics import CourseTopics
 from omtp_drake.ros2.dds_types import CycloneParticipant
 from omtp_drake.ros2.gazebo_world import GazeboWorldTopics
 from omtp_drake.ros2.network import Ros2Network, cell_participant_profile, import_rclpy
+from omtp_drake.ros2.packed_topics import PackedTopics
 from omtp_drake.ros2.ros2_control import Ros2Control
 from omtp_drake.ros2.tf_publisher import TfTopics
 from omtp_drake.ros2.topics import CellTopics
@@ -108,13 +109,16 @@ class Ros2Cell:
             self.topics = CellTopics(self.node, cell, plugins, self.description)
             self.commands = CellCommands(self.node, cell, plugins.subscriptions, plugins.services)
             self.control = Ros2Control(self.node, cell)
-            # /tf, /tf_static (omtp_drake.ros2.tf_publisher), Gazebo's states and the course's own
-            # types over one Cyclone DDS participant; /tf at the joint states' rate, as
+            # The course's own types over a Cyclone DDS participant; /tf, /tf_static
+            # (omtp_drake.ros2.tf_publisher) and Gazebo's states by rclpy with the types built
+            # here, else by Cyclone too (packed_topics); /tf at the joint states' rate, as
             # robot_state_publisher follows /joint_states
             self._dds = dds = CycloneParticipant(network)
             self._course_topics = CourseTopics(self.node, dds, plugins.publications, bag)
-            self._tf_topics = TfTopics(cell, dds, bag)
-            self.gazebo = GazeboWorldTopics(self.node, cell, dds, self.commands.run_on_cell, bag)
+            #: Who writes /tf and Gazebo's states (``.route``: "rclpy" or "cyclone").
+            self.packed = PackedTopics(self.node, dds, bag)
+            self._tf_topics = TfTopics(cell, self.packed)
+            self.gazebo = GazeboWorldTopics(self.node, cell, self.packed, self.commands.run_on_cell)
             self.tf = Periodic(1.0 / JOINT_STATE_RATE_HZ, self._tf_topics)
             self._executor = SingleThreadedExecutor(context=self._context)
             self._executor.add_node(self.node)

@@ -1,5 +1,7 @@
-"""ROS 2 messages rclpy has no wheel for (``tf2_msgs``, ``gazebo_msgs``), written over DDS
-by Cyclone DDS beside rclpy's Fast DDS: their mirrors, the writers, and Cyclone's config.
+"""ROS 2 messages rclpy has no wheel for (``tf2_msgs``, ``gazebo_msgs``, the course's own), written
+over DDS by Cyclone DDS beside rclpy's Fast DDS: their mirrors, the writers, and Cyclone's config
+(``/tf`` and Gazebo's states go this way only where their type support cannot be built:
+:mod:`omtp_drake.ros2.packed_topics`).
 
 A mirror is a Cyclone ``IdlStruct`` with ROS 2's DDS type name
 (``tf2_msgs::msg::dds_::TFMessage_``) and ROS 2's fields in ROS 2's order, so its XCDR1

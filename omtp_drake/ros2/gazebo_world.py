@@ -4,15 +4,16 @@ gazebo_ros_state's rules) and the course's spawner (:mod:`omtp_drake.gazebo.spaw
 =========================  =====================================  ======================================
 name                       type                                   what
 =========================  =====================================  ======================================
-``/gazebo/model_states``   ``gazebo_msgs/ModelStates`` (Cyclone)  every model in the world, plugin's rate
-``/gazebo/link_states``    ``gazebo_msgs/LinkStates`` (Cyclone)   every link of them, the plugin's rate
+``/gazebo/model_states``   ``gazebo_msgs/ModelStates``            every model in the world, plugin's rate
+``/gazebo/link_states``    ``gazebo_msgs/LinkStates``             every link of them, the plugin's rate
 the spawner's services     ``std_srvs/srv/Empty``                 start / stop (the course's names, type)
 ``/spawned_part``          ``std_msgs/Header`` (transient local)  each spawn (``frame_id``: the object)
 ``/pause_physics`` ...     ``std_srvs/srv/Empty``                 gazebo_ros_init's (``gazebo_services``)
 =========================  =====================================  ======================================
 
-No ``gazebo_msgs`` wheel is on PyPI: the states go out through Cyclone DDS
-(:mod:`omtp_drake.ros2.dds_types`); Gazebo's model services (``spawn_entity``,
+No ``gazebo_msgs`` wheel is on PyPI: the states go out with its type support built here, else
+through Cyclone DDS (:mod:`omtp_drake.ros2.packed_topics`), only while someone would get them;
+Gazebo's model services (``spawn_entity``,
 ``delete_entity``, ``get_entity_state``, ``set_entity_state``) are served with real type support
 built here (:mod:`omtp_drake.ros2.gazebo_services`), if the cell has what they act on in the
 course (parts, or its spawner). ROS 2's std_srvs has the spawner's own type, so its services are
@@ -30,11 +31,11 @@ from omtp_drake.gazebo.spawner import spawner
 from omtp_drake.gazebo.world import GazeboWorld
 from omtp_drake.gazebo.world_services import WorldServices
 from omtp_drake.ros2 import cdr, messages
-from omtp_drake.ros2.dds_types import CdrTopic, CycloneParticipant, LinkStates_, ModelStates_
+from omtp_drake.ros2.dds_types import LinkStates_, ModelStates_
 from omtp_drake.ros2.gazebo_services import PhysicsServices, serve_gazebo_services
+from omtp_drake.ros2.packed_topics import PackedTopics
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.bag.writer import Ros2Bag
     from omtp_drake.script import Cell
 
 _log = logging.getLogger("gazebo")
@@ -50,22 +51,21 @@ def _numbers(states: Any) -> tuple[list[tuple[float, ...]], list[tuple[float, ..
 
 
 class GazeboWorldTopics:
-    """The topics and services above for ``cell`` on ``node`` (rclpy) and ``dds`` (Cyclone);
-    ``run_on_cell(work)`` runs a service's ``work`` on the cell's thread and returns
+    """The topics and services above for ``cell`` on ``node`` (rclpy), the states by ``topics``'
+    route; ``run_on_cell(work)`` runs a service's ``work`` on the cell's thread and returns
     (success, message) (:meth:`omtp_drake.ros2.commands.CellCommands.run_on_cell`)."""
 
     def __init__(
         self,
         node: Any,
         cell: Cell,
-        dds: CycloneParticipant,
+        topics: PackedTopics,
         run_on_cell: Callable[[Callable[[], str]], tuple[bool, str]],
-        bag: Optional[Ros2Bag] = None,
     ):
         self.world = GazeboWorld(cell)
         self._cell = cell
         self._states = [
-            (p.poll, CdrTopic(dds, p.topic, mirror, bag, depth=1))
+            (p.poll, topics.topic(p.topic, mirror, depth=1))
             for p, mirror in zip(state_publications(self.world, "ros2"), (ModelStates_, LinkStates_))
         ]
         #: Spawner calls that spawned nothing (each logged once).

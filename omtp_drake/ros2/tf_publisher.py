@@ -1,11 +1,12 @@
-"""``/tf`` and ``/tf_static`` of the cell over ROS 2, written by Cyclone DDS (rclpy has no
-``tf2_msgs``; see :mod:`omtp_drake.ros2.dds_types`).
+"""``/tf`` and ``/tf_static`` of the cell over ROS 2, as robot_state_publisher publishes them:
+``tf2_msgs`` is built here for rclpy, else written by Cyclone DDS (no PyPI wheel has it; the
+route is :mod:`omtp_drake.ros2.packed_topics`').
 
 =============================  ============================  ====================================
 topic                          type                          when
 =============================  ============================  ====================================
 ``/tf_static``                 ``tf2_msgs/TFMessage``        once, at the start (transient local)
-``/tf``                        ``tf2_msgs/TFMessage``        joint state rate (50 Hz)
+``/tf``                        ``tf2_msgs/TFMessage``        joint state rate (50 Hz), while heard
 =============================  ============================  ====================================
 
 Which frames go where, and their stamps, is :mod:`omtp_drake.sim.tf_broadcast`'s
@@ -14,14 +15,14 @@ Which frames go where, and their stamps, is :mod:`omtp_drake.sim.tf_broadcast`'s
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Optional
+from typing import TYPE_CHECKING
 
 from omtp_drake.ros2 import cdr
-from omtp_drake.ros2.dds_types import CdrTopic, CycloneParticipant, TFMessage_
+from omtp_drake.ros2.dds_types import TFMessage_
+from omtp_drake.ros2.packed_topics import PackedTopics
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 
 if TYPE_CHECKING:
-    from omtp_drake.ros.bag.writer import Ros2Bag
     from omtp_drake.script import Cell
 
 
@@ -38,17 +39,20 @@ def tf_message(edges: list[TfEdge]) -> bytes:
 
 
 class TfTopics:
-    """The topics above for ``cell``, written by ``dds``; with ``bag``, each message into it too."""
+    """The topics above for ``cell``, by ``topics``' route (tf2_ros's QoS: ``/tf_static`` depth 1,
+    ``/tf`` depth 100)."""
 
-    def __init__(self, cell: Cell, dds: CycloneParticipant, bag: Optional[Ros2Bag] = None):
+    def __init__(self, cell: Cell, topics: PackedTopics):
         self._cell = cell
         self._broadcast = TfBroadcast(cell.station.plant, cell.tf)
-        self._static = CdrTopic(dds, "/tf_static", TFMessage_, bag, latched=True, depth=1)
-        self._tf = CdrTopic(dds, "/tf", TFMessage_, bag)
+        self._static = topics.topic("/tf_static", TFMessage_, latched=True, depth=1)
+        self._tf = topics.topic("/tf", TFMessage_)
         self._static.write(tf_message(self._broadcast.static(cell.runtime.context)), cell.time)
 
     def __call__(self, t: float) -> None:
-        """``/tf`` at ``t`` (the joint state rate's caller)."""
+        """``/tf`` at ``t`` (the joint state rate's caller), if anyone would get it."""
+        if not self._tf.wanted():
+            return
         edges = self._broadcast.moving(self._cell.runtime.context) + self._broadcast.detected()
         self._tf.write(tf_message(edges), self._cell.time, t)
 
