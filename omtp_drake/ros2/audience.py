@@ -22,3 +22,9 @@ def heard(publisher: Any) -> bool:
     """Whether a message ``publisher`` (rclpy's, or the bag's wrapper of one) published now would
     reach anyone (see the module doc)."""
     return getattr(publisher, "recorded", False) or publisher.get_subscription_count() > 0
+
+
+def dds_heard(writer: Any, bag: Any) -> bool:
+    """The same for a Cyclone DDS ``writer`` (:mod:`omtp_drake.ros2.dds_types`) whose messages go
+    into ``bag`` too (None: no bag)."""
+    return bag is not None or bool(writer.get_matched_subscriptions())

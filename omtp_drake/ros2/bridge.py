@@ -6,8 +6,8 @@ One node, ``/omtp_cell``, in its own rclpy context (the domain and discovery ran
 :mod:`omtp_drake.ros2.topics` and serves the commands of
 :mod:`omtp_drake.ros2.commands`. rclpy's executor runs on a thread of its own, so
 that peers are answered while the cell steps; the cell itself only changes on the
-thread that calls :meth:`Ros2Cell.step`. Its parameter ``use_sim_time`` is true: the
-node's own clock is ``/clock`` too.
+thread that calls :meth:`Ros2Cell.step`. Its parameter ``use_sim_time`` is true, as
+gazebo_ros's nodes': its own clock reads the simulated time (:class:`CellClock`).
 
 Typical use (what ``omtp-drake ros2`` does)::
 
@@ -82,6 +82,33 @@ def _cell_node(context: Any, network: Ros2Network) -> Any:
             raise
 
 
+class CellClock:
+    """``node``'s clock (rclpy's ROS clock: what its action servers, logs and parameter events
+    stamp) set to the cell's simulated time at each step.
+
+    With ``use_sim_time`` rclpy's time source follows ``/clock`` by subscribing to it, and this
+    node publishes ``/clock`` itself at every step: each of its own messages came back through
+    Fast DDS into its executor (a delivery on the publishing thread, a take and a callback on the
+    executor's), 100 a simulated second, listened to or not. Measured on ``lecture6_assignment1``
+    with nobody else listening: the executor thread 98-160 CPU ms per simulated s, and the
+    stepping thread 150 more. The cell knows its own time: the clock is set directly, and the time
+    source's subscription dropped (the node subscribes to no topic it publishes).
+    """
+
+    def __init__(self, node: Any):
+        for subscription in [s for s in node.subscriptions if s.topic_name == "/clock"]:
+            node.destroy_subscription(subscription)
+        self._clock = node.get_clock()
+
+    def __call__(self, t: float) -> None:
+        """The clock reads ``t`` (simulated s) from now on."""
+        from rclpy.time import Time
+
+        self._clock.set_ros_time_override(
+            Time(nanoseconds=int(round(t * 1e9)), clock_type=self._clock.clock_type)
+        )
+
+
 class Ros2Cell:
     """``cell`` as the ROS 2 node :data:`NODE_NAME` on ``network``.
 
@@ -101,6 +128,8 @@ class Ros2Cell:
         self._context = rclpy.Context()
         self.node = _cell_node(self._context, network)
         try:
+            self._clock = CellClock(self.node)
+            self._clock(cell.time)
             if bag is not None:  # --bag: what the node publishes goes into the bag too
                 record_publishers(self.node, bag, lambda: cell.time)
             plugins = gazebo_plugins(cell)
@@ -152,6 +181,7 @@ class Ros2Cell:
             time.sleep(dt)
             return
         self.cell.runtime.advance_to(self.cell.time + dt)
+        self._clock(self.cell.time)
         self.topics.publish(self.cell.time)
         self._course_topics(self.cell.time)
         self.control.publish(self.cell.time)

@@ -15,8 +15,9 @@ topic                              type                                what
 
 When, and what the messages say, is the plugin layer's (:mod:`omtp_drake.gazebo.vacuum_gripper`,
 :mod:`omtp_drake.gazebo.proximity_ray`); a latched topic is transient local (depth 1) here,
-its view too, so a late reader gets the last message. The views of a topic that is not
-latched go out only while someone subscribes (the gripper's state goes out at every step).
+its view too, so a late reader gets the last message. A topic that is not latched, and each of
+its views, goes out only while someone would get it (:mod:`omtp_drake.ros2.audience`: the
+gripper's state is due at every step).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from omtp_drake.gazebo.proximity_ray import Proximity
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.gazebo.vacuum_gripper import VacuumGripperState
 from omtp_drake.ros2 import cdr
+from omtp_drake.ros2.audience import dds_heard, heard
 from omtp_drake.ros2.course_types import Proximity_, VacuumGripperState_, ros_type
 from omtp_drake.ros2.dds_types import CycloneParticipant, Header_, Time_, write_cdr
 
@@ -136,12 +138,14 @@ class CourseTopic:
 
     def __call__(self, t: float) -> None:
         for message in self._poll(t):
-            data = self._kind.data(message)
-            write_cdr(self._writer, data)
-            if self._bag is not None:
-                self._bag.write_cdr(self._topic, self._type_name, data, t, getattr(message, "stamp", None))
+            if self._latched or dds_heard(self._writer, self._bag):
+                data = self._kind.data(message)
+                write_cdr(self._writer, data)
+                if self._bag is not None:
+                    stamp = getattr(message, "stamp", None)
+                    self._bag.write_cdr(self._topic, self._type_name, data, t, stamp)
             for name, view in self._views.items():
-                if self._latched or view.get_subscription_count() > 0:
+                if self._latched or heard(view):
                     view.publish(self._bool(data=bool(getattr(message, name))))
 
 

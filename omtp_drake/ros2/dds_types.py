@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import MissingExtraError
+from omtp_drake.ros2.audience import dds_heard
 
 if TYPE_CHECKING:
     from omtp_drake.ros2.network import Ros2Network
@@ -235,10 +236,8 @@ class CdrTopic:
             bag.add_type(self.type_name, concatenated(self.type_name, installed_text))
 
     def wanted(self) -> bool:
-        """Whether a message would reach anyone: a matched reader, or the bag."""
-        return self._writer is not None and (
-            self._bag is not None or bool(self._writer.get_matched_subscriptions())
-        )
+        """Whether a message would reach anyone: a matched reader, or the bag (``audience``)."""
+        return self._writer is not None and dds_heard(self._writer, self._bag)
 
     def write(self, data: bytes, now: float, stamp: "float | None" = None) -> None:
         """Writes ``data`` at simulated time ``now`` (``stamp``: the message's own, for the bag)."""

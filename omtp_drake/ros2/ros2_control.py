@@ -23,6 +23,8 @@ action and ``~/controller_state`` are off, with one warning. The state's ``refer
 command now, ``feedback`` the joints measured, ``error`` their difference (positions and
 velocities), ``output`` the position command (a position controller's); accelerations and
 ``time_from_start`` are not filled. A refused command is one error line on the node's log.
+A message is built on its schedule only while someone would get it
+(:func:`~omtp_drake.ros2.audience.heard`).
 Without a launch file the YAML's controllers are active, as if each was spawned in order
 (:func:`~omtp_drake.scenario.ros_control_parse.spawned_only`).
 """
@@ -37,6 +39,7 @@ from omtp_drake.errors import ConfigError
 from omtp_drake.gazebo.messages import JointStates
 from omtp_drake.gazebo.schedule import topic
 from omtp_drake.ros2 import interface_build, messages
+from omtp_drake.ros2.audience import heard
 from omtp_drake.ros2.trajectory_action import FollowJointTrajectoryServers
 from omtp_drake.sim.ros_control import Controller, ControllerStateSample, Periodic, RosControl
 from omtp_drake.sim.trajectory_request import TrajectoryRequest
@@ -139,7 +142,7 @@ class Ros2Control:
         if self.actions is not None:
             self.actions.check(t)
         for controller, periodic, publisher in self._broadcasters:
-            if periodic.due(t):
+            if periodic.due(t) and heard(publisher):
                 sample = self._control.joint_state(self._cell.runtime.context, controller)
                 msg = messages.to_ros(
                     JointStates(
@@ -149,7 +152,7 @@ class Ros2Control:
                 msg.effort = list(sample.effort)
                 publisher.publish(msg)
         for controller, periodic, publisher in self._states:
-            if periodic.due(t):
+            if periodic.due(t) and heard(publisher):
                 state = self._control.controller_state(self._cell.runtime.context, controller)
                 publisher.publish(_state_message(publisher.msg_type, state, controller.config.interface))
 

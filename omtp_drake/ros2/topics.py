@@ -3,8 +3,10 @@
 The Gazebo plugins' topics are :func:`omtp_drake.gazebo.plugins.gazebo_plugins`'s: the
 rules (rates, frames, stamps, encodings) are the plugin layer's, the same as under
 ``ros-run``; here each gets its ROS 2 type (``sensor_msgs/JointState``, ``Image``,
-``CameraInfo``, ``PointCloud2``) and a queue depth (:data:`QUEUE_DEPTH`). A lazy one
-(the cameras) is polled only while the topic has a subscriber.
+``CameraInfo``, ``PointCloud2``) and a queue depth (:data:`QUEUE_DEPTH`). Every message
+of a volatile topic here goes out only while someone would get it
+(:func:`~omtp_drake.ros2.audience.heard`: a subscriber, or the bag); the plugins' schedules run
+regardless, but a lazy publication (the cameras) is not even polled meanwhile.
 
 ============================================  =========================================  ==============
 topic                                         type                                       when
@@ -46,6 +48,7 @@ from typing import TYPE_CHECKING, Any
 from omtp_drake.gazebo.plugins import GazeboPlugins
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.ros2 import messages
+from omtp_drake.ros2.audience import heard
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -60,8 +63,8 @@ QUEUE_DEPTH = {"JointStates": 50, "Image": 5, "CameraInfo": 5, "PointCloud": 5}
 
 
 class PluginPublisher:
-    """A publication of the plugin layer as an rclpy publisher (a lazy one is polled
-    only while the topic has a subscriber)."""
+    """A publication of the plugin layer as an rclpy publisher: polled at every step (a lazy one
+    only while heard), its messages converted and sent only while heard (latched ones always)."""
 
     def __init__(self, node: Any, publication: Publication):
         msg_type = messages.TYPES[publication.message]
@@ -69,12 +72,14 @@ class PluginPublisher:
         self._publisher = node.create_publisher(msg_type, publication.topic, depth)
         self._poll = publication.poll
         self._lazy = publication.lazy
+        self._latched = publication.latched
 
     def __call__(self, t: float) -> None:
-        if self._lazy and self._publisher.get_subscription_count() == 0:
+        if self._lazy and not heard(self._publisher):
             return
-        for message in self._poll(t):
-            self._publisher.publish(messages.to_ros(message))
+        for message in self._poll(t):  # mostly none: asked only when one is due
+            if self._latched or heard(self._publisher):
+                self._publisher.publish(messages.to_ros(message))
 
 
 class CellTopics:
@@ -108,15 +113,15 @@ class CellTopics:
 
     def publish(self, t: float) -> None:
         """``/clock`` first, then what is due at ``t``."""
-        self._clock.publish(messages.clock(t))
+        if heard(self._clock):
+            self._clock.publish(messages.clock(t))
         for due in self._due:
             due(t)
 
 
 class LogicalCameraTopics:
     """A logical camera plugin's topic ``/omtp/<camera>`` as ``/omtp/<camera>/poses`` and
-    ``/markers`` (these only while subscribed): the course's ``LogicalCameraImage`` type
-    is no PyPI package."""
+    ``/markers`` (each while heard): the course's ``LogicalCameraImage`` type is no PyPI package."""
 
     def __init__(self, node: Any, cell: Cell, publication: Publication):
         from geometry_msgs.msg import PoseArray
@@ -129,15 +134,16 @@ class LogicalCameraTopics:
 
     def __call__(self, t: float) -> None:
         for image in self._poll(t):
-            self._poses.publish(messages.logical_pose_array(image))
-            if self._markers.get_subscription_count() > 0:
+            if heard(self._poses):
+                self._poses.publish(messages.logical_pose_array(image))
+            if heard(self._markers):
                 sizes = {name: self._cell.scenario.part_size(name) for name in self._cell.station.parts}
                 self._markers.publish(messages.logical_markers(image, sizes))
 
 
 class PartsTopics:
     """``/omtp/parts/poses`` and ``/markers``: :mod:`omtp_drake.gazebo.parts` as a
-    ``PoseArray`` and rviz2's markers (these only while subscribed)."""
+    ``PoseArray`` and rviz2's markers (each while heard)."""
 
     def __init__(self, node: Any, publication: Publication):
         from geometry_msgs.msg import PoseArray
@@ -149,8 +155,9 @@ class PartsTopics:
 
     def __call__(self, t: float) -> None:
         for m in self._poll(t):
-            self._poses.publish(messages.part_poses(m.stamp, m.frame_id, m.poses))
-            if self._markers.get_subscription_count() > 0:
+            if heard(self._poses):
+                self._poses.publish(messages.part_poses(m.stamp, m.frame_id, m.poses))
+            if heard(self._markers):
                 models = list(zip(m.names, m.poses, m.sizes))
                 self._markers.publish(
                     messages.model_markers(messages.header(m.stamp, m.frame_id), "parts", models)
