@@ -64,6 +64,13 @@ def test_a_students_rclpy_client_spawns_moves_and_deletes_a_box(tmp_path, domain
     assert seen["paused_clock"][0] == seen["paused_clock"][1]
     assert seen["unpaused_clock"] > seen["paused_clock"][1]
     assert gazebo_services.NOT_SERVED not in cell_err
+    # /reset_simulation: answered, refused in one error line (the layer's, as ROS 1's
+    # NotSupportedError), and time did not go back.
+    refused = [line for line in cell_err.splitlines() if "/reset_simulation" in line]
+    assert len(refused) == 1, cell_err[-3000:]
+    assert "(Gazebo sets simulated time back to 0) is not supported" in refused[0]
+    assert "/reset_world puts the parts back" in refused[0]
+    assert seen["after_reset_simulation"] >= seen["unpaused_clock"]
 
 
 @needs_ros2

@@ -3,7 +3,8 @@
 ``get_model_state``, ``set_model_state``, ``get_link_state`` (an entity is a model,
 ``model::link``, or the world: ``""``, ``world``, ``map``; an unknown one answers
 ``success: False`` with Gazebo's status message and error line), ``delete_model`` (a
-part), the spawn services and ``reset_world`` (:mod:`omtp_drake.gazebo.spawn`). Moving or
+part), the spawn services and ``reset_world`` (:mod:`omtp_drake.gazebo.spawn`);
+``reset_simulation`` is refused (:meth:`WorldServices.reset_simulation`). Moving or
 deleting a model that is no part is one NotSupportedError (the arms are welded and
 servoed here). Poses and twists are in the reference entity's frame, the velocity
 differences expressed in that frame, as Gazebo computes them.
@@ -17,7 +18,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -51,6 +52,18 @@ class WorldServices:
         self.models = world.models
         self._get_count: dict[str, int] = {}
         self.spawner = PartSpawner(world.cell, world.models, self.reference)
+
+    def reset_simulation(self, name: str, reset_world: str) -> NoReturn:
+        """gazebo_ros's ``reset_simulation`` (``World::Reset``: simulated time back to 0, the world
+        as loaded, ``/clock`` jumping back), served as ``name``: one NotSupportedError pointing at
+        ``reset_world`` (the transport's name of it). Refused, not done by halves: the cell's
+        state is not the Drake Context alone (the plugins' schedules, the spawner's and the
+        ledger's counts, the controllers' goals, the tf buffer, a script's pending sleeps), and
+        nothing yet puts all of it back at t = 0."""
+        raise NotSupportedError(
+            f"{name} (Gazebo sets simulated time back to 0) is not supported: "
+            f"simulated time cannot go back here; {reset_world} puts the parts back without the clock"
+        )
 
     def reference(self, name: str) -> Any:
         """The body of reference entity ``name`` (None: the world); KeyError when none."""

@@ -9,6 +9,7 @@ service                  type                             what (the layer's rule
 ``/get_entity_state``    ``gazebo_msgs/srv/GetEntityState`` a model's or ``model::link``'s state
 ``/set_entity_state``    ``gazebo_msgs/srv/SetEntityState`` moves a part (pose and twist)
 ``/reset_world``         ``std_srvs/srv/Empty``           the parts back where they entered
+``/reset_simulation``    ``std_srvs/srv/Empty``           refused: one error line (the layer's)
 ``/pause_physics``       ``std_srvs/srv/Empty``           simulated time stops (:class:`PhysicsServices`)
 ``/unpause_physics``     ``std_srvs/srv/Empty``           it runs again
 =======================  ===============================  ==========================================
@@ -57,10 +58,12 @@ def serve_gazebo_services(node: Any, api: WorldServices, run_on_cell: RunOnCell)
 
 
 class PhysicsServices:
-    """gazebo_ros_init's ``/pause_physics``, ``/unpause_physics`` and ``/reset_world``
-    (``std_srvs/srv/Empty``, served in every world, as gazebo_ros loads that plugin with every
-    world): while paused the node does not advance the cell (nor ``/clock``), as Gazebo's paused
-    physics; unpaused, realtime pacing counts from then (Gazebo does not catch up)."""
+    """gazebo_ros_init's ``/pause_physics``, ``/unpause_physics``, ``/reset_world`` and
+    ``/reset_simulation`` (``std_srvs/srv/Empty``, served in every world, as gazebo_ros loads that
+    plugin with every world): while paused the node does not advance the cell (nor ``/clock``), as
+    Gazebo's paused physics; unpaused, realtime pacing counts from then (Gazebo does not catch up).
+    ``/reset_simulation`` is the layer's refusal (``std_srvs/Empty`` carries no failure: the
+    caller gets its empty reply, the node one error line), as ROS 1's is one NotSupportedError."""
 
     def __init__(self, node: Any, api: WorldServices, run_on_cell: RunOnCell):
         from std_srvs.srv import Empty
@@ -72,6 +75,7 @@ class PhysicsServices:
         node.create_service(Empty, "/pause_physics", lambda q, r: self._call(r, lambda: self._pause(True)))
         node.create_service(Empty, "/unpause_physics", lambda q, r: self._call(r, lambda: self._pause(False)))
         node.create_service(Empty, "/reset_world", lambda q, r: self._call(r, self._reset_world))
+        node.create_service(Empty, "/reset_simulation", lambda q, r: self._call(r, self._reset_simulation))
 
     def _call(self, response: Any, work: Callable[[], str]) -> Any:
         # std_srvs/Empty has no success field: a failed call is logged, as rclcpp's would be.
@@ -91,6 +95,9 @@ class PhysicsServices:
     def _reset_world(self) -> str:
         self.api.spawner.reset_world()
         return "reset_world"
+
+    def _reset_simulation(self) -> str:
+        return self.api.reset_simulation("/reset_simulation", "/reset_world")
 
 
 def _rigid(msg: Any, what: str) -> RigidTransform:

@@ -1,6 +1,7 @@
 """A student's rclpy client of Gazebo's model services (gazebo_ros's ROS 2 names and types):
 spawns a box as the course's spawner writes it, reads its state, moves it, deletes it,
-asks for a model that does not exist, then pauses and unpauses the physics, watching /clock.
+asks for a model that does not exist, then pauses and unpauses the physics, watching /clock,
+and asks for /reset_simulation.
 Writes what it got as JSON to argv[2].
 
 Run as ``python gazebo_services_node.py DOMAIN OUT`` with gazebo_msgs on PYTHONPATH."""
@@ -92,6 +93,10 @@ def main():
     call(node, unpause, Empty.Request())
     spin_for(node, 1.0)
     seen["unpaused_clock"] = clock[-1]
+    # Gazebo's /reset_simulation sets time back to 0: here it is refused (a reply all the same).
+    call(node, node.create_client(Empty, "/reset_simulation"), Empty.Request())
+    spin_for(node, 0.5)
+    seen["after_reset_simulation"] = min(clock[clock.index(seen["unpaused_clock"]) :])
     with open(out, "w") as f:
         json.dump(seen, f)
     node.destroy_node()

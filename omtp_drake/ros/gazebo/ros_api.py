@@ -28,7 +28,6 @@ from typing import TYPE_CHECKING, Any, Optional
 
 import numpy as np
 
-from omtp_drake.errors import NotSupportedError
 from omtp_drake.ros.comm._core import (
     LINK_STATES,
     MODEL_STATES,
@@ -193,10 +192,7 @@ class GazeboApi:
         return EmptyService._response_class()
 
     def reset_simulation(self, _request: Any) -> Any:
-        raise NotSupportedError(
-            "/gazebo/reset_simulation (Gazebo sets simulated time back to 0) is not supported: "
-            "simulated time cannot go back here; /gazebo/reset_world puts the parts back without the clock"
-        )
+        self.api.reset_simulation("/gazebo/reset_simulation", "/gazebo/reset_world")  # refused
 
     def services(self) -> list[Service]:
         def spawner(name: str) -> Callable[[Any], Any]:
