@@ -69,10 +69,13 @@ def test_nobody_listening_nothing_is_sent_and_a_late_subscriber_gets_the_plugins
             peer = rclpy.create_node("peer", context=context)
             stamps: list[float] = []
             on_joints = lambda m: stamps.append(m.header.stamp.sec + m.header.stamp.nanosec * 1e-9)  # noqa: E731
-            peer.create_subscription(JointState, "/joint_states", on_joints, 100)
+            subscription = peer.create_subscription(JointState, "/joint_states", on_joints, 100)
             (joint_states,) = [p for p in node.node.publishers if p.topic_name == "/joint_states"]
             deadline = time.monotonic() + PATIENCE
-            while joint_states.get_subscription_count() == 0 and time.monotonic() < deadline:
+            # Matched on both sides (a reader drops what a writer it has not discovered sends).
+            while time.monotonic() < deadline and not (
+                joint_states.get_subscription_count() and subscription.get_publisher_count()
+            ):
                 time.sleep(0.01)
             # Heard from t = 0.33 on: a schedule restarted there would stamp 0.33, 0.35...
             for _ in range(20):
