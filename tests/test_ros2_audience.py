@@ -7,6 +7,8 @@ In-process (a peer node in a second rclpy context), loopback, a domain of its ow
 
 from __future__ import annotations
 
+import os
+import sys
 import time
 from collections import Counter
 
@@ -22,6 +24,9 @@ def network(monkeypatch):
         network = Ros2Network(domain)
         for name, value in network.environment().items():
             monkeypatch.setenv(name, value)  # restored after the test (the node writes them)
+        # The node puts the packages it builds on both (interface_build.activate): restored too.
+        monkeypatch.setenv("PYTHONPATH", os.environ.get("PYTHONPATH", ""))
+        monkeypatch.setattr(sys, "path", list(sys.path))
         yield network
 
 
