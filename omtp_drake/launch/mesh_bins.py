@@ -30,14 +30,15 @@ def has_mesh_collision(model: UrdfModel, link: str) -> bool:
 
 
 def mesh_bin_walls(
-    model: UrdfModel, link: str, packages: Mapping[str, str], where: str
+    model: UrdfModel, link: str, packages: Mapping[str, str], where: str, kind: str = "collision"
 ) -> list[float] | None:
     """``[inner half length along x, along y, floor top, rim height]`` (m, in the link's
-    frame) of a bin whose collisions are meshes (and boxes): the rim is their highest
-    point, the floor the first surface a ray down the link's z axis meets, the walls the
-    first ones rays along +-x and +-y meet halfway up (the nearer of each pair). None when
-    a collision is another shape or its mesh cannot be read, or a ray meets nothing."""
-    triangles = _collision_triangles(model, link, packages, where)
+    frame) of a bin whose collisions (``kind``: or visuals) are meshes (and boxes): the
+    rim is their highest point, the floor the first surface a ray down the link's z axis
+    meets, the walls the first ones rays along +-x and +-y meet halfway up (the nearer of
+    each pair). None when one is another shape or its mesh cannot be read, or a ray meets
+    nothing."""
+    triangles = _shape_triangles(model, link, packages, where, kind)
     if triangles is None or not len(triangles):
         return None
     rim = float(triangles[..., 2].max())
@@ -57,16 +58,17 @@ def mesh_bin_walls(
     return [round(float(v), 9) for v in (*halves, floor_top, rim)]
 
 
-def _collision_triangles(
-    model: UrdfModel, link: str, packages: Mapping[str, str], where: str
+def _shape_triangles(
+    model: UrdfModel, link: str, packages: Mapping[str, str], where: str, kind: str
 ) -> np.ndarray | None:
-    """The triangles (k x 3 x 3, link frame) of ``link``'s collisions, as Drake loads them."""
+    """The triangles (k x 3 x 3, link frame) of ``link``'s ``kind`` elements (collision or
+    visual), as Drake loads them."""
     import trimesh
 
     root = model.root_element
     element = root.find(f"link[@name='{link}']") if root is not None else None
     out = []
-    for collision in element.findall("collision") if element is not None else []:
+    for collision in element.findall(kind) if element is not None else []:
         geometry = collision.find("geometry")
         box = geometry.find("box") if geometry is not None else None
         mesh = geometry.find("mesh") if geometry is not None else None

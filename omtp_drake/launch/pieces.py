@@ -210,14 +210,24 @@ def _bin(
     """The bin at ``prefix`` (in the model spawned as ``spawned``): a bin of box or mesh
     collisions is loaded as the student's file writes it, a model entry named as Gazebo
     names it (its walls give the cell's in-bin test and drop slots; its collision meshes
-    convex pieces that keep it open, :mod:`~omtp_drake.launch.mesh_bins`); any other (no
-    collision, or a mesh nobody has), the catalogue's bin."""
+    convex pieces that keep it open, :mod:`~omtp_drake.launch.mesh_bins`); so is a bin
+    with no collision at all, as Gazebo loads it (a part dropped in falls through; its
+    visual's inside, where it can be measured, is the in-bin test); any other (other
+    shapes, or a mesh nobody has), the catalogue's bin."""
     placed = _placed(prefix.rstrip("_"), X_WB, where)
     link = prefix + "base_link"
     walls = bin_walls(model, link)
     open_links: tuple[str, ...] = ()
-    if walls is None and has_mesh_collision(model, link):
+    as_written = walls is not None
+    if walls is None and not _has_collision(model, link):
+        walls, as_written = mesh_bin_walls(model, link, pieces.packages, where, kind="visual"), True
+        pieces.warnings.append(
+            f"{where}: bin {placed['name']!r}: link {link!r} has no <collision>; loaded as written, "
+            "as Gazebo does: a part dropped in falls through it"
+        )
+    elif walls is None and has_mesh_collision(model, link):
         walls, open_links = mesh_bin_walls(model, link, pieces.packages, where), (link,)
+        as_written = walls is not None
         if walls is None:
             pieces.warnings.append(
                 f"{where}: bin {placed['name']!r}: its collision meshes cannot be read or hold no "
@@ -225,27 +235,30 @@ def _bin(
             )
     elif walls is None:
         pieces.warnings.append(_catalogue_bin_line(model, link, placed["name"], where))
-    if walls is not None:
+    if as_written:
         taken = {placed["name"], *(own.name for own in pieces.own)}
         name = spawned if spawned and spawned not in taken else f"{placed['name']}_model"
-        placed.update(model=name, walls=walls)
+        placed.update(model=name, walls=walls or [])
         text = piece_urdf(model, prefix + "base_link", prefix, name)
         pose = [*placed["xyz"], 0.0, 0.0, placed["yaw"]]
         pieces.own.append(OwnModel(name, text, where, pose, static=False, open_links=open_links))
     return placed
 
 
-def _catalogue_bin_line(model: UrdfModel, link: str, name: str, where: str) -> str:
-    """The warning for a bin the cell cannot take as written (no collision at all, or
-    collisions that are neither a box floor and walls nor meshes): Gazebo loads it as it
-    is (without a collision a part dropped in falls through it)."""
+def _has_collision(model: UrdfModel, link: str) -> bool:
     root = model.root_element
     element = root.find(f"link[@name='{link}']") if root is not None else None
-    if element is None or element.find("collision") is None:
-        what = f"link {link!r} has no <collision>: in Gazebo a part dropped in falls through it"
-    else:
-        shapes = sorted({g.tag for c in element.findall("collision") for g in c.findall("geometry/*")})
-        what = f"link {link!r}'s collisions ({', '.join(shapes) or 'no geometry'}) are no box floor and walls"
+    return element is not None and element.find("collision") is not None
+
+
+def _catalogue_bin_line(model: UrdfModel, link: str, name: str, where: str) -> str:
+    """The warning for a bin the cell cannot take as written (collisions that are neither
+    a box floor and walls nor meshes): Gazebo loads it as it is."""
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    collisions = element.findall("collision") if element is not None else []
+    shapes = sorted({g.tag for c in collisions for g in c.findall("geometry/*")})
+    what = f"link {link!r}'s collisions ({', '.join(shapes) or 'no geometry'}) are no box floor and walls"
     return f"{where}: bin {name!r}: {what}; the catalogue's bin stands in"
 
 
