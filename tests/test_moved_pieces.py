@@ -127,3 +127,50 @@ def test_their_wider_wall_is_loaded_as_written_and_disposes_where_it_reaches(tmp
         assert rt.ledger().disposed == disposed
     finally:
         rt.close()
+
+
+CONVEYOR = "omtp_gazebo/models/conveyor/model.sdf"
+
+
+def test_their_shorter_wider_belt_carries_parts_to_its_own_end(tmp_path):
+    """The student's belt is 4 m long (from the course's upstream end, world y 5 ... 1) and
+    1 m wide: the cell's belt is theirs, as the world writes it, and the conveyor plugin
+    moves its parts there: a part 0.35 m off the centre line rests on it (beyond the
+    course's belt and frame, 0.3 and 0.35 m), one riding it goes along its axis and falls
+    off where it ends, onto the floor (on the course's 10 m belt it would still ride)."""
+    cell = _cell(
+        tmp_path,
+        [
+            (CONVEYOR, "<size>10 0.6 0.01</size>", "<size>4 1.0 0.01</size>"),
+            (CONVEYOR, "<pose>5 0 -0.005 0 0 0</pose>", "<pose>2 0 -0.005 0 0 0</pose>"),
+        ],
+    )
+    assert not [w for w in cell.warnings if "belt_collision" in w], cell.warnings
+    conveyor = cell.scenario.conveyor
+    assert conveyor.belt_size == pytest.approx([4.0, 1.0])
+    assert conveyor.xyz == pytest.approx([1.2, 3.0, 0.0], abs=1e-3)
+    rt = _runtime(cell)
+    belt = rt.station.belt
+    assert (belt.half_length, belt.half_width) == pytest.approx((2.0, 0.5))
+    riding = rt.spawn_part(xyz=[1.2, 1.6, REST_Z])
+    wide = rt.spawn_part(xyz=[1.2 + 0.35, 3.0, REST_Z])
+    rt.advance(0.5)
+    assert rt.part_pose(wide).translation()[2] == pytest.approx(REST_Z, abs=2e-3)  # on their wider belt
+    rt.set_conveyor_power(100)
+    rt.advance(1.0)
+    p = rt.part_pose(riding).translation()
+    assert p[1] == pytest.approx(1.6 - 0.2, abs=0.02) and p[2] == pytest.approx(REST_Z, abs=2e-3)
+    assert abs(p[0] - 1.2) < 1e-3  # along the belt's axis
+    rt.advance(5.0)
+    p = rt.part_pose(riding).translation()
+    assert 0.3 < p[1] < 1.0 and p[2] < 0.15, p  # off its end (y 1.0), on the floor
+    assert rt.part_pose(wide).translation()[2] == pytest.approx(REST_Z, abs=2e-3)
+
+
+@pytest.mark.parametrize("size", [[0.1, 0.6], [10.0, 0.0], [10.0], [float("nan"), 0.6]])
+def test_a_belt_size_out_of_reach_is_one_error_naming_it(size):
+    from omtp_drake.errors import ConfigError
+    from omtp_drake.scenario import ConveyorConfig
+
+    with pytest.raises(ConfigError, match=r"conveyor\.belt_size"):
+        ConveyorConfig(belt_size=size).validate()

@@ -32,7 +32,7 @@ from omtp_drake.launch.plugins import (
     logical_camera,
 )
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
-from omtp_drake.launch.world_additions import additions, wall_changed
+from omtp_drake.launch.world_additions import additions, belt_box, wall_changed
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.workspace import Workspace
 
@@ -98,9 +98,11 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             if listing:
                 pieces.camera_listings[model.name] = listing
         elif kind == "conveyor":
-            X_WF = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
+            X_WF, size = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
             pieces.conveyor = {"power": conveyor_power(plugin)}
             pieces.conveyor_service = conveyor_service(plugin)
+            if size:  # their belt's length and width, as written
+                pieces.conveyor["belt_size"] = size
             if X_WF is not X_W_CONVEYOR:
                 pose = pose_list(X_WF)
                 pieces.conveyor.update(xyz=pose[:3], yaw=pose[5])
@@ -161,10 +163,13 @@ def pose_list(X: RigidTransform) -> list[float]:
     return [round(float(v), 9) for v in values]
 
 
-def _belt_pose(model: WorldModel, link_path: str, where: str) -> RigidTransform:
+def _belt_pose(model: WorldModel, link_path: str, where: str) -> tuple[RigidTransform, list[float]]:
     """``X_WF`` of the conveyor base frame the plugin's belt link (``model::nested::link``)
     puts in world: where the course has it (within 5 mm: the course's world turns the
-    conveyor by -1.571, not -pi/2), or where the student moved, raised or tilted it."""
+    conveyor by -1.571, not -pi/2), or where the student moved, raised or tilted it; and
+    the length and width of their belt where it is not the course's (empty: the course's).
+    The belt is its ``belt_collision`` box (:func:`belt_box`) where it is one: its middle
+    is F's centre line, its top the belt's."""
     names = link_path.split("::")[1:] if "::" in link_path else [link_path]
     element, X = model.element, model.X_WM
     for name in names[:-1]:
@@ -177,11 +182,14 @@ def _belt_pose(model: WorldModel, link_path: str, where: str) -> RigidTransform:
     if link is None:
         raise WorkspaceError(f"{where}: ROSConveyorBeltPlugin link {link_path!r} is not in the model")
     X_WL = X @ sdf_pose(link.findtext("pose"), where)
-    # The belt link's x axis is the way parts ride: F's -y (F turned a quarter from it); its
-    # origin is the belt's middle, half the belt's thickness under its top (the course's model).
     d = model_dimensions("conveyor.urdf.xacro")
-    X_LF = RigidTransform(
-        RotationMatrix.MakeZRotation(np.pi / 2), [0.0, 0.0, -(d["top"] - d["belt_thickness"] / 2)]
-    )
-    X_WF = X_WL @ X_LF
-    return X_W_CONVEYOR if not _moved(X_WF, X_W_CONVEYOR, _BELT_TOL) else X_WF
+    box = belt_box(link, model.where_of(link))
+    course = ((d["length"], d["width"], d["belt_thickness"]), RigidTransform())
+    size, X_LG = box if box is not None else course
+    # The belt's x axis is the way parts ride: F's -y (F turned a quarter from it); its
+    # middle is on F's centre line, half its thickness under its top.
+    X_GF = RigidTransform(RotationMatrix.MakeZRotation(np.pi / 2), [0.0, 0.0, size[2] / 2 - d["top"]])
+    X_WF = X_WL @ X_LG @ X_GF
+    changed = max(abs(size[0] - d["length"]), abs(size[1] - d["width"])) > _TOL
+    belt = [float(size[0]), float(size[1])] if changed else []
+    return (X_W_CONVEYOR if not _moved(X_WF, X_W_CONVEYOR, _BELT_TOL) else X_WF), belt
