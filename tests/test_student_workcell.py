@@ -433,3 +433,43 @@ def test_a_bin_of_other_shapes_is_the_catalogues_one_with_no_collision_as_writte
         f"{where}: bin 'bin_3': link 'bin_3_base_link' has no <collision>; loaded as written, as Gazebo "
         "does: a part dropped in falls through it"
     ]
+
+
+def test_a_table_they_wrote_inside_the_halls_link_holds_a_part(tmp_path):
+    """Their work table written *inside* the workcell's ``workcell`` link (beside the
+    course's hall mesh, which the cell's floor, belt and wall stand in for) is loaded as
+    written on that link, part of the hall's Gazebo model: a part dropped on it rests on
+    its top (without it the part falls to the floor)."""
+    import dataclasses
+
+    from omtp_drake.cell.gazebo_models import gazebo_models
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    src = tmp_path / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    hall = src / "omtp_support" / "urdf" / "workcell" / "workcell.urdf.xacro"
+    text = hall.read_text()
+    mesh = '<geometry><mesh filename="package://omtp_support/meshes/workcell/visual/workcell.dae"/></geometry>\n'
+    mesh += "      </visual>\n"
+    table = """      <collision>
+        <origin xyz="6 4 0.25" rpy="0 0 0"/>
+        <geometry><box size="1 1 0.5"/></geometry>
+      </collision>
+"""
+    assert mesh in text
+    hall.write_text(text.replace(mesh, mesh + table))
+    cell = own_cell(LAUNCH, workspace=[src], environ={})
+    own = {m.name: m for m in cell.scenario.models}["workcell_own"]
+    assert own.parent == "workcell"
+    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=1, pool_part_size=0.1)
+    scenario.task = None
+    runtime = FactoryRuntime(scenario, auto_spawn=False)
+    try:
+        models = {m.name: m for m in gazebo_models(runtime.station.plant, scenario)}
+        assert "workcell_own" not in models and len(models["workcell_"].instances) == 2
+        # The hall's frame is the world turned a quarter: (6, 4) in it is (-4, 6) in the world.
+        part = runtime.spawn_part(xyz=[-4.0, 6.0, 1.0])
+        runtime.advance(1.0)
+        np.testing.assert_allclose(runtime.part_pose(part).translation(), [-4.0, 6.0, 0.55], atol=0.01)
+    finally:
+        runtime.close()

@@ -272,15 +272,20 @@ def inner_additions(model: UrdfModel, links: Iterable[str]) -> dict[str, list[ET
     beam's) at most one visual and one collision, so beyond one of a kind the ones that are
     not the course's mesh (:data:`_COURSE_MESHES`) are the student's, and with none of the
     course's mesh, all but the first; in a link the course gives none (:data:`_BARE_LINKS`),
-    every one."""
+    every one; in the workcell's hall link (the course's gives it only its meshes), every
+    one that is not the course's mesh."""
     root = model.root_element
     out: dict[str, list[ET.Element]] = {}
     for link in links:
         element = root.find(f"link[@name='{link}']") if root is not None else None
         if element is None:
             continue
-        if link.endswith(_BARE_LINKS):
-            extras = [e for e in element if e.tag in ("visual", "collision")]
+        if link.endswith(_BARE_LINKS) or link == WORKCELL_LINK:
+            extras = [
+                e
+                for e in element
+                if e.tag in ("visual", "collision") and not (link == WORKCELL_LINK and _is_course_mesh(e))
+            ]
             if extras:
                 out[link] = extras
             continue

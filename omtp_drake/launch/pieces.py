@@ -31,6 +31,7 @@ from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import (
+    WORKCELL_LINK,
     Claims,
     bin_walls,
     inner_additions,
@@ -146,11 +147,13 @@ def add_urdf_model(
 
 
 def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where: str) -> None:
-    """What the student added inside a link of a course arm, gripper or the beam (which the
-    cell builds; :func:`~omtp_drake.launch.own_links.inner_additions`): one model entry
-    ``<link>_own`` each, welded to the cell's link of that name (pedestals and bins are
-    loaded as written already)."""
+    """What the student added inside a link of a course arm, gripper or the beam, or of the
+    workcell's hall (which the cell builds, or stands its floor, belt and wall in for;
+    :func:`~omtp_drake.launch.own_links.inner_additions`): one model entry ``<link>_own``
+    each, welded to the cell's link of that name (pedestals and bins are loaded as written
+    already)."""
     built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
+    built += [WORKCELL_LINK] if WORKCELL_LINK in model.links else []
     for link, extras in inner_additions(model, built).items():
         taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
         own = f"{link}_own" if f"{link}_own" not in taken else f"{link}_own_model"
