@@ -174,3 +174,47 @@ def test_a_belt_size_out_of_reach_is_one_error_naming_it(size):
 
     with pytest.raises(ConfigError, match=r"conveyor\.belt_size"):
         ConveyorConfig(belt_size=size).validate()
+
+
+LEDGE = """      <collision name="ledge">
+        <pose>0 0.85 0.55 0 0 0</pose>
+        <geometry><box><size>0.4 0.3 0.1</size></box></geometry>
+      </collision>
+      <sensor name="disposal_contact\""""
+
+
+def test_only_the_collision_their_walls_contact_sensor_watches_disposes(tmp_path):
+    """Their wall, widened to 1.2 m, with a ledge beside it (a second collision): Gazebo's
+    disposal plugin acts on the contacts of the one collision its contact sensor watches
+    (``collision``), so a part resting on the ledge stays; one dropped on the wall goes."""
+    wider = (WALL, "<size>0.1 1 1</size>", "<size>0.1 1.2 1</size>")
+    cell = _cell(tmp_path, [wider, (WALL, '      <sensor name="disposal_contact"', LEDGE)])
+    assert cell.scenario.deletion_wall_model == "deletion_wall"
+    assert cell.scenario.deletion_wall_collision == "sensing_link::collision"
+    rt = _runtime(cell)
+    try:
+        # The wall turned a quarter: its y is the world's -x; the ledge's top at z 2.025.
+        on_ledge = rt.spawn_part(xyz=[1.2 - 0.85, -5.1, 2.025 + 0.1 + 0.01])
+        on_wall = rt.spawn_part(xyz=[1.2, -5.1, 1.925 + 0.1 + 0.01])
+        rt.advance(1.0)
+        assert on_wall not in rt.parts_in_world() and rt.ledger().disposed == 1
+        p = rt.part_pose(on_ledge).translation()
+        np.testing.assert_allclose(p, [0.35, -5.1, 2.025 + 0.1], atol=0.01)
+    finally:
+        rt.close()
+
+
+def test_a_disposal_sensor_that_is_not_there_is_one_error_one_watching_two_a_warning(tmp_path):
+    from omtp_drake.errors import WorkspaceError
+
+    renamed = (WALL, "<contact_sensor_name>disposal_contact<", "<contact_sensor_name>wall_contact<")
+    expected = r"<contact_sensor_name> 'wall_contact': no contact sensor .*valid: disposal_contact"
+    with pytest.raises(WorkspaceError, match=expected) as e:
+        _cell(tmp_path / "a", [renamed])
+    assert "deletion_wall/model.sdf" in str(e.value) and "\n" not in str(e.value)
+    two = (WALL, "<contact><collision>collision</collision></contact>",
+           "<contact><collision>collision</collision><collision>collision</collision></contact>")
+    cell = _cell(tmp_path / "b", [two])
+    assert not cell.scenario.deletion_wall and cell.scenario.deletion_wall_model == "deletion_wall"
+    (line,) = [w for w in cell.warnings if "ObjectDisposalPlugin" in w]
+    assert "watches no single collision" in line and "disposes of nothing" in line

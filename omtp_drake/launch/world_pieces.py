@@ -24,11 +24,13 @@ from omtp_drake.cell.cell_models import X_W_DELETION_WALL
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import (
+    GazeboPlugin,
     camera_listing,
     camera_topic,
     check_deletion_wall,
     conveyor_power,
     conveyor_service,
+    disposal_collision,
     logical_camera,
 )
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
@@ -60,6 +62,8 @@ class WorldPieces:
     deletion_wall_pose: list[float] = field(default_factory=list)
     #: The wall's model as the student wrote it, when they changed the course's wall.
     deletion_wall_model: str = ""
+    #: ``link::collision`` of that model whose contacts dispose (its plugin's contact sensor's).
+    deletion_wall_collision: str = ""
     #: The world's ``<gravity>`` (None: the cell's).
     gravity: list[float] | None = None
 
@@ -109,13 +113,7 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
                 if abs(pose[3]) > _TOL or abs(pose[4]) > _TOL:  # tilted: its parts ride the slope
                     pieces.conveyor.update(roll=pose[3], pitch=pose[4])
         elif kind == "deletion_wall":
-            check_deletion_wall(plugin)
-            if _moved(model.X_WM, X_W_DELETION_WALL):
-                pieces.deletion_wall_pose = pose_list(model.X_WM)
-            pieces.deletion_wall = True
-            if wall_changed(model):  # their wall, as written: the plugin disposes there
-                pieces.deletion_wall_model = model.name
-                pieces.models.append(model_config(model, workspace))
+            if _add_deletion_wall(pieces, model, plugin, workspace):
                 known = True
                 continue
         else:
@@ -128,6 +126,30 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
         pieces.models += [own] if own is not None else []
     if not known:
         pieces.models.append(model_config(model, workspace))
+
+
+def _add_deletion_wall(
+    pieces: WorldPieces, model: WorldModel, plugin: GazeboPlugin, workspace: Workspace
+) -> bool:
+    """The deletion wall of ``model``'s ObjectDisposalPlugin ``plugin``: where it stands,
+    and what disposes (the collision its contact sensor watches). True when the wall is
+    the student's model as written (they changed it, or its sensor watches nothing)."""
+    check_deletion_wall(plugin)
+    if _moved(model.X_WM, X_W_DELETION_WALL):
+        pieces.deletion_wall_pose = pose_list(model.X_WM)
+    watched = disposal_collision(plugin, model.element)
+    pieces.deletion_wall = bool(watched)
+    if not watched:
+        pieces.warnings.append(
+            f"{plugin.where}: ObjectDisposalPlugin ({plugin.name}): its contact sensor watches no single "
+            'collision of the wall; as in Gazebo ("requires a single collision") it disposes of nothing'
+        )
+    if watched and not wall_changed(model):
+        return False  # the course's wall: the catalogue's, disposing on its one box
+    pieces.deletion_wall_model = model.name
+    pieces.deletion_wall_collision = watched
+    pieces.models.append(model_config(model, workspace))
+    return True
 
 
 def _piece_body(pieces: WorldPieces, kind: str | None) -> tuple[str, RigidTransform] | None:
