@@ -105,7 +105,8 @@ def urdf_text(doc) -> str:
 
 @functools.cache
 def model_dimensions(file: str) -> Mapping[str, float]:
-    """The numeric ``<xacro:property name=... value=...>`` of ``models/<file>``.
+    """The numeric ``<xacro:property name=... value=...>`` (and ``<xacro:arg default=...>``)
+    of ``models/<file>``.
 
     The model files are the one home of the cell's fixed sizes (a bin's walls,
     the belt's width and height); code that needs one reads it here instead of
@@ -114,11 +115,14 @@ def model_dimensions(file: str) -> Mapping[str, float]:
     path = MODELS_DIR / file
     if not path.is_file():
         raise UnknownNameError("model file", file, sorted(p.name for p in MODELS_DIR.glob("*.xacro")))
-    tag = "{http://www.ros.org/wiki/xacro}property"
+    xacro = "{http://www.ros.org/wiki/xacro}"
     values = {}
-    for element in ET.parse(path).getroot().iter(tag):
-        try:
-            values[element.attrib["name"]] = float(element.attrib.get("value", ""))
+    for element in ET.parse(path).getroot().iter():
+        if element.tag not in (f"{xacro}property", f"{xacro}arg"):
+            continue
+        try:  # (an argument's default: the size a scenario may change)
+            value = element.attrib.get("value", element.attrib.get("default", ""))
+            values[element.attrib["name"]] = float(value)
         except ValueError:
             continue  # an expression, not a number
     return values

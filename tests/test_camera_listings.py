@@ -139,3 +139,23 @@ def test_a_bad_value_is_one_error_naming_the_place_the_value_and_the_valid_choic
     assert message.startswith(f"cams.world:12: ROSLogicalCameraPlugin (cam) <{tag}>"), message
     assert repr(ET.fromstring(f"<x>{xml}</x>")[0].text) in message and valid in message
     assert "\n" not in message
+
+
+def test_a_model_not_seen_yet_under_their_frame_prefix_is_said_so_not_unknown(workspace):
+    """tf under their camera 1's ``model_frame_prefix`` (``belt_cam_``): a part it has not
+    seen yet is "not seen" by that camera (what its images show), as under the course's
+    prefix, not an unknown frame; the hall it sees is there."""
+    from omtp_drake.errors import FrameError
+    from omtp_drake.gazebo.logical_camera import camera_views
+    from omtp_drake.script import Cell
+
+    cell = Cell(launch=LAUNCH, workspace=[workspace], auto_spawn=False)
+    try:
+        views = camera_views(cell)
+        cell.tf.use_images(lambda camera: views[camera].image_of)
+        cell.wait(0.25)
+        assert "belt_cam_workcell__frame" in cell.tf.all_frame_names()
+        with pytest.raises(FrameError, match=r"logical_camera_1 has not seen 'object_1' \(its images from"):
+            cell.tf.lookup_transform("world", "belt_cam_object_1_frame")
+    finally:
+        cell.close()

@@ -147,6 +147,7 @@ def _build_world(tmp_dir: Path, *, seed: int = 0, noise_seed: Optional[int] = No
         "cam_with_own": LogicalCameraConfig(name="cam_with_own"),
         "typed": LogicalCameraConfig(name="typed", known_types=["object", "conveyor"]),
         "named": LogicalCameraConfig(name="named", known_names=["object_3", "bin_1"]),
+        "either": LogicalCameraConfig(name="either", known_types=["object"], known_names=["conveyor"]),
         "anonymous": LogicalCameraConfig(name="anonymous", anonymize=True),
         "noisy": LogicalCameraConfig(name="noisy", position_noise_sigma=0.001,
                                      orientation_noise_sigma=0.01, seed=noise_seed),
@@ -529,6 +530,8 @@ def test_types_and_filters(world: World) -> None:
         ("conveyor", "conveyor")]
     assert world.seen(root, "typed") == ["object_1", "object_3", "conveyor"]
     assert world.seen(root, "named") == ["object_3", "bin_1"]
+    # Either list, as the course plugin's known_model_types / known_model_names.
+    assert world.seen(root, "either") == ["object_1", "object_3", "conveyor"]
     anonymous = world.capture(root, "anonymous").models
     assert [(m.name, m.type) for m in anonymous] == [
         ("", "object"), ("", "object"), ("", "bin"), ("", "conveyor")]

@@ -127,3 +127,94 @@ def test_their_wider_wall_is_loaded_as_written_and_disposes_where_it_reaches(tmp
         assert rt.ledger().disposed == disposed
     finally:
         rt.close()
+
+
+CONVEYOR = "omtp_gazebo/models/conveyor/model.sdf"
+
+
+def test_their_shorter_wider_belt_carries_parts_to_its_own_end(tmp_path):
+    """The student's belt is 4 m long (from the course's upstream end, world y 5 ... 1) and
+    1 m wide: the cell's belt is theirs, as the world writes it, and the conveyor plugin
+    moves its parts there: a part 0.35 m off the centre line rests on it (beyond the
+    course's belt and frame, 0.3 and 0.35 m), one riding it goes along its axis and falls
+    off where it ends, onto the floor (on the course's 10 m belt it would still ride)."""
+    cell = _cell(
+        tmp_path,
+        [
+            (CONVEYOR, "<size>10 0.6 0.01</size>", "<size>4 1.0 0.01</size>"),
+            (CONVEYOR, "<pose>5 0 -0.005 0 0 0</pose>", "<pose>2 0 -0.005 0 0 0</pose>"),
+        ],
+    )
+    assert not [w for w in cell.warnings if "belt_collision" in w], cell.warnings
+    conveyor = cell.scenario.conveyor
+    assert conveyor.belt_size == pytest.approx([4.0, 1.0])
+    assert conveyor.xyz == pytest.approx([1.2, 3.0, 0.0], abs=1e-3)
+    rt = _runtime(cell)
+    belt = rt.station.belt
+    assert (belt.half_length, belt.half_width) == pytest.approx((2.0, 0.5))
+    riding = rt.spawn_part(xyz=[1.2, 1.6, REST_Z])
+    wide = rt.spawn_part(xyz=[1.2 + 0.35, 3.0, REST_Z])
+    rt.advance(0.5)
+    assert rt.part_pose(wide).translation()[2] == pytest.approx(REST_Z, abs=2e-3)  # on their wider belt
+    rt.set_conveyor_power(100)
+    rt.advance(1.0)
+    p = rt.part_pose(riding).translation()
+    assert p[1] == pytest.approx(1.6 - 0.2, abs=0.02) and p[2] == pytest.approx(REST_Z, abs=2e-3)
+    assert abs(p[0] - 1.2) < 1e-3  # along the belt's axis
+    rt.advance(5.0)
+    p = rt.part_pose(riding).translation()
+    assert 0.3 < p[1] < 1.0 and p[2] < 0.15, p  # off its end (y 1.0), on the floor
+    assert rt.part_pose(wide).translation()[2] == pytest.approx(REST_Z, abs=2e-3)
+
+
+@pytest.mark.parametrize("size", [[0.1, 0.6], [10.0, 0.0], [10.0], [float("nan"), 0.6]])
+def test_a_belt_size_out_of_reach_is_one_error_naming_it(size):
+    from omtp_drake.errors import ConfigError
+    from omtp_drake.scenario import ConveyorConfig
+
+    with pytest.raises(ConfigError, match=r"conveyor\.belt_size"):
+        ConveyorConfig(belt_size=size).validate()
+
+
+LEDGE = """      <collision name="ledge">
+        <pose>0 0.85 0.55 0 0 0</pose>
+        <geometry><box><size>0.4 0.3 0.1</size></box></geometry>
+      </collision>
+      <sensor name="disposal_contact\""""
+
+
+def test_only_the_collision_their_walls_contact_sensor_watches_disposes(tmp_path):
+    """Their wall, widened to 1.2 m, with a ledge beside it (a second collision): Gazebo's
+    disposal plugin acts on the contacts of the one collision its contact sensor watches
+    (``collision``), so a part resting on the ledge stays; one dropped on the wall goes."""
+    wider = (WALL, "<size>0.1 1 1</size>", "<size>0.1 1.2 1</size>")
+    cell = _cell(tmp_path, [wider, (WALL, '      <sensor name="disposal_contact"', LEDGE)])
+    assert cell.scenario.deletion_wall_model == "deletion_wall"
+    assert cell.scenario.deletion_wall_collision == "sensing_link::collision"
+    rt = _runtime(cell)
+    try:
+        # The wall turned a quarter: its y is the world's -x; the ledge's top at z 2.025.
+        on_ledge = rt.spawn_part(xyz=[1.2 - 0.85, -5.1, 2.025 + 0.1 + 0.01])
+        on_wall = rt.spawn_part(xyz=[1.2, -5.1, 1.925 + 0.1 + 0.01])
+        rt.advance(1.0)
+        assert on_wall not in rt.parts_in_world() and rt.ledger().disposed == 1
+        p = rt.part_pose(on_ledge).translation()
+        np.testing.assert_allclose(p, [0.35, -5.1, 2.025 + 0.1], atol=0.01)
+    finally:
+        rt.close()
+
+
+def test_a_disposal_sensor_that_is_not_there_is_one_error_one_watching_two_a_warning(tmp_path):
+    from omtp_drake.errors import WorkspaceError
+
+    renamed = (WALL, "<contact_sensor_name>disposal_contact<", "<contact_sensor_name>wall_contact<")
+    expected = r"<contact_sensor_name> 'wall_contact': no contact sensor .*valid: disposal_contact"
+    with pytest.raises(WorkspaceError, match=expected) as e:
+        _cell(tmp_path / "a", [renamed])
+    assert "deletion_wall/model.sdf" in str(e.value) and "\n" not in str(e.value)
+    two = (WALL, "<contact><collision>collision</collision></contact>",
+           "<contact><collision>collision</collision><collision>collision</collision></contact>")
+    cell = _cell(tmp_path / "b", [two])
+    assert not cell.scenario.deletion_wall and cell.scenario.deletion_wall_model == "deletion_wall"
+    (line,) = [w for w in cell.warnings if "ObjectDisposalPlugin" in w]
+    assert "watches no single collision" in line and "disposes of nothing" in line

@@ -70,16 +70,21 @@ def test_the_course_launch_is_the_built_in_lecture6_assignment1(course):
     (box,) = course.scenario.spawner.objects
     assert (box.name, box.xyz, box.rpy) == ("box", built_in.spawner.xyz, [0.0, 0.0, 0.0])
     as_built_in = dataclasses.replace(course.scenario.spawner, objects=[])
-    # The pedestals are the launch's own, as its files write them (the built-in's are the
-    # catalogue's box of the same size): model entries the arms stand on.
+    # The pedestals and the bin are the launch's own, as its files write them (the built-in's
+    # are the catalogue's of the same size): model entries the arms stand on, the bin's inside
+    # measured on its collision meshes, the catalogue bin's.
     pedestals = {r.pedestal_model for r in course.scenario.robots}
     assert pedestals == {"robot1_pedestal", "robot2_pedestal"}
-    assert {m.name for m in course.scenario.models} == pedestals
+    assert {m.name for m in course.scenario.models} == pedestals | {"bin_1_"}
+    (bin_1,) = course.scenario.bins
+    assert bin_1.model == "bin_1_"
+    np.testing.assert_allclose(bin_1.walls, [0.19, 0.19, 0.12, 0.475], atol=1e-6)
     same = dataclasses.replace(
         course.scenario,
         spawner=as_built_in,
         models=[],
         robots=[dataclasses.replace(r, pedestal_model="") for r in course.scenario.robots],
+        bins=[dataclasses.replace(b, model="", walls=[]) for b in course.scenario.bins],
     )
     assert _scenario_fields(same) == _scenario_fields(built_in)
     # (frames: the links of the files that none of the cell's pieces has; see below)

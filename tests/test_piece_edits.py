@@ -112,3 +112,33 @@ def test_limits_that_are_not_one_symmetric_limit_are_one_warning():
     assert limits == {}
     assert line.startswith("spawn.launch:9: arm 'r': joint limits shoulder_pan_joint [-1.5, 3.14], ")
     assert line.endswith("keeps the course's +/-3.14159")
+
+
+def test_a_collision_in_a_link_the_course_leaves_bare_is_theirs_where_they_put_it(cell):
+    """The beam's ``optical_link`` is a bare frame in the course's files: the lens cap they
+    wrote in it (a visual and a collision) is loaded, hung on the cell's link, its box 1 cm
+    behind the emitter; the beam still senses from where it was."""
+    from pydrake.geometry import Box, Role
+
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    own = {m.name: m for m in cell.scenario.models}["break_beam_optical_link_own"]
+    assert own.parent == "break_beam_optical_link"
+    (link,) = ET.fromstring(own.description).iter("link")
+    assert [c.find("geometry/box").get("size") for c in link.iter("collision")] == ["0.02 0.06 0.06"]
+    runtime = FactoryRuntime(cell.scenario, auto_spawn=False)
+    try:
+        station = runtime.station
+        plant, inspector = station.plant, station.scene_graph.model_inspector()
+        context = plant.GetMyContextFromRoot(runtime.context)
+        X_WO = plant.GetFrameByName("break_beam_optical_link").CalcPoseInWorld(context)
+        body = plant.GetBodyByName("break_beam_optical_link_own")
+        (geometry,) = inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(body.index()), Role.kProximity)
+        shape = inspector.GetShape(geometry)
+        assert isinstance(shape, Box) and (shape.width(), shape.depth(), shape.height()) == (0.02, 0.06, 0.06)
+        X_WG = body.EvalPoseInWorld(context) @ inspector.GetPoseInFrame(geometry)
+        expected = X_WO.GetAsMatrix4() @ np.array([-0.01, 0.0, 0.0, 1.0])
+        np.testing.assert_allclose(X_WG.translation(), expected[:3], atol=1e-6)
+        np.testing.assert_allclose(station.break_beam.p_WE, X_WO.translation(), atol=1e-6)
+    finally:
+        runtime.close()

@@ -188,7 +188,8 @@ def test_with_time_step_changes_only_the_step_and_refuses_a_bad_one():
      "x.yaml: cameras[c].xyz must be a list of numbers, got ['a', 'b', 'c']"),
     ("seed: 1.5\n", "x.yaml: seed must be an integer, got 1.5"),
     ("conveyor: 3\n",
-     "x.yaml: conveyor must be a mapping of keys (power, stop_on_beam, xyz, yaw, roll, pitch), got 3"),
+     "x.yaml: conveyor must be a mapping of keys (power, stop_on_beam, xyz, yaw, roll, pitch, "
+     "belt_size), got 3"),
     ("robots: [3]\n", "x.yaml: robots[0] must be a mapping of keys (name, model,"),
     ("parts:\n  - {name: p, pose: {translation: [1, 2]}}\n",
      "x.yaml: parts[p].pose.translation must be 3 numbers, got [1, 2]"),

@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from bin_meshes import write_bin_meshes
 
 from omtp_drake.cli import main
 from omtp_drake.launch import own_cell
@@ -24,42 +25,6 @@ FIXTURES = Path(__file__).resolve().parent / "fixtures"
 LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
 #: The shelf's board top (m) and the sorted part's half edge.
 SHELF_TOP, PART_HALF = 0.6, 0.05
-
-
-def _ring(outer: np.ndarray, inner: np.ndarray, z0: float, z1: float):
-    """A closed solid: the rectangle of half lengths ``outer`` less ``inner``, from z0 to z1."""
-    import trimesh
-
-    def rect(h, z):
-        return [[-h[0], -h[1], z], [h[0], -h[1], z], [h[0], h[1], z], [-h[0], h[1], z]]
-
-    vertices = rect(outer, z0) + rect(outer, z1) + rect(inner, z1) + rect(inner, z0)
-    faces = []
-    for i in range(4):
-        j = (i + 1) % 4
-        for a, b in ((0, 4), (4, 8), (8, 12), (12, 0)):  # outer side, rim, inner side, under the rim
-            faces += [[a + i, a + j, b + j], [a + i, b + j, b + i]]
-    mesh = trimesh.Trimesh(vertices, faces)
-    mesh.fix_normals()
-    return mesh
-
-
-def write_bin_meshes(folder: Path) -> None:
-    """The course's bin meshes as Collada, in its layout (``visual/bin.dae``,
-    ``collision/bin_bottom.dae`` + ``bin_sides.dae``), written here: 1 x 0.8 m outside,
-    1/30 m walls, a 1/12 m floor, 2/3 m high (the xacro scales them by 0.6)."""
-    import trimesh
-
-    outer, wall, floor, height = np.array([0.5, 0.4]), 1 / 30, 1 / 12, 2 / 3
-    bottom = trimesh.creation.box(bounds=[[-0.5, -0.4, 0.0], [0.5, 0.4, floor]])
-    sides = _ring(outer, outer - wall, floor, height)
-    for name, mesh in (
-        ("collision/bin_bottom", bottom),
-        ("collision/bin_sides", sides),
-        ("visual/bin", bottom + sides),
-    ):
-        (folder / name).parent.mkdir(parents=True, exist_ok=True)
-        (folder / f"{name}.dae").write_bytes(trimesh.exchange.dae.export_collada(mesh))
 
 
 @pytest.fixture(scope="module")
@@ -433,31 +398,78 @@ def test_a_mesh_bin_nobody_has_the_meshes_of_is_the_catalogues_with_one_warning(
     ]
 
 
-@pytest.mark.parametrize(
-    "collision, what",
-    [
-        ("", "link 'bin_3_base_link' has no <collision>: in Gazebo a part dropped in falls through it"),
-        (
-            '<collision><geometry><cylinder radius="0.3" length="0.05"/></geometry></collision>',
-            "link 'bin_3_base_link''s collisions (cylinder) are no box floor and walls",
-        ),
-    ],
-)
-def test_a_bin_the_cell_cannot_take_as_written_is_the_catalogues_with_one_warning(collision, what):
-    """Not silently: a bin with no collision (Gazebo lets parts fall through it), or with
-    collisions that are no box floor and walls, gets one line naming where it was spawned."""
+def test_a_bin_of_other_shapes_is_the_catalogues_one_with_no_collision_as_written():
+    """Not silently: a bin whose collisions are no box floor and walls (a cylinder) gets one
+    line naming where it was spawned and the catalogue's bin; one with no collision at all
+    is loaded as written (Gazebo's parts fall through it: ``tests/test_bin_collisions.py``),
+    its visual's box measuring nothing, with one line saying so."""
     from pydrake.math import RigidTransform
 
     from omtp_drake.launch.pieces import Pieces, add_urdf_model
     from omtp_drake.launch.urdf_model import UrdfModel
 
-    text = f"""<robot name="bin_3_"><link name="bin_3_base_link"><visual><geometry>
-      <box size="0.6 0.6 0.4"/></geometry></visual>{collision}</link>
-      <link name="bin_3_drop_point"/><joint name="j" type="fixed"><parent link="bin_3_base_link"/>
-      <child link="bin_3_drop_point"/><origin xyz="0 0 1"/></joint></robot>"""
-    pieces = Pieces()
     where = "spawn.launch:12 (-param /bin_3_description)"
-    assert add_urdf_model(pieces, UrdfModel.from_text(text, "bin.urdf"), RigidTransform([1, 2, 0]), where, {})
-    (bin_3,) = pieces.bins
-    assert "model" not in bin_3 and not pieces.own
-    assert pieces.warnings == [f"{where}: bin 'bin_3': {what}; the catalogue's bin stands in"]
+    results = []
+    cylinder = '<collision><geometry><cylinder radius="0.3" length="0.05"/></geometry></collision>'
+    for collision in (cylinder, ""):
+        text = f"""<robot name="bin_3_"><link name="bin_3_base_link"><visual><geometry>
+          <box size="0.6 0.6 0.4"/></geometry></visual>{collision}</link>
+          <link name="bin_3_drop_point"/><joint name="j" type="fixed"><parent link="bin_3_base_link"/>
+          <child link="bin_3_drop_point"/><origin xyz="0 0 1"/></joint></robot>"""
+        pieces = Pieces()
+        model = UrdfModel.from_text(text, "bin.urdf")
+        assert add_urdf_model(pieces, model, RigidTransform([1, 2, 0]), where, {}, "bin_3_")
+        results.append(pieces)
+    cylinder, bare = results
+    (bin_3,) = cylinder.bins
+    assert "model" not in bin_3 and not cylinder.own
+    assert cylinder.warnings == [
+        f"{where}: bin 'bin_3': link 'bin_3_base_link''s collisions (cylinder) are no box floor and "
+        "walls; the catalogue's bin stands in"
+    ]
+    (bin_3,) = bare.bins
+    assert bin_3["model"] == "bin_3_" and bin_3["walls"] == [] and [o.name for o in bare.own] == ["bin_3_"]
+    assert bare.warnings == [
+        f"{where}: bin 'bin_3': link 'bin_3_base_link' has no <collision>; loaded as written, as Gazebo "
+        "does: a part dropped in falls through it"
+    ]
+
+
+def test_a_table_they_wrote_inside_the_halls_link_holds_a_part(tmp_path):
+    """Their work table written *inside* the workcell's ``workcell`` link (beside the
+    course's hall mesh, which the cell's floor, belt and wall stand in for) is loaded as
+    written on that link, part of the hall's Gazebo model: a part dropped on it rests on
+    its top (without it the part falls to the floor)."""
+    import dataclasses
+
+    from omtp_drake.cell.gazebo_models import gazebo_models
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    src = tmp_path / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    hall = src / "omtp_support" / "urdf" / "workcell" / "workcell.urdf.xacro"
+    text = hall.read_text()
+    mesh = '<geometry><mesh filename="package://omtp_support/meshes/workcell/visual/workcell.dae"/></geometry>\n'
+    mesh += "      </visual>\n"
+    table = """      <collision>
+        <origin xyz="6 4 0.25" rpy="0 0 0"/>
+        <geometry><box size="1 1 0.5"/></geometry>
+      </collision>
+"""
+    assert mesh in text
+    hall.write_text(text.replace(mesh, mesh + table))
+    cell = own_cell(LAUNCH, workspace=[src], environ={})
+    own = {m.name: m for m in cell.scenario.models}["workcell_own"]
+    assert own.parent == "workcell"
+    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=1, pool_part_size=0.1)
+    scenario.task = None
+    runtime = FactoryRuntime(scenario, auto_spawn=False)
+    try:
+        models = {m.name: m for m in gazebo_models(runtime.station.plant, scenario)}
+        assert "workcell_own" not in models and len(models["workcell_"].instances) == 2
+        # The hall's frame is the world turned a quarter: (6, 4) in it is (-4, 6) in the world.
+        part = runtime.spawn_part(xyz=[-4.0, 6.0, 1.0])
+        runtime.advance(1.0)
+        np.testing.assert_allclose(runtime.part_pose(part).translation(), [-4.0, 6.0, 0.55], atol=0.01)
+    finally:
+        runtime.close()

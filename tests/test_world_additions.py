@@ -208,13 +208,15 @@ def test_a_changed_course_element_is_told_at_its_line_with_both_shapes(workspace
     ]
 
 
-def test_the_courses_thinner_belt_is_the_cells_belt(workspace):
-    """The course's belt_collision is 6 mm thick at -3 mm (the fixtures' 1 cm at -5 mm): the
-    same footprint and top, what a part feels, so no warning; a belt raised 2 cm is one."""
+def test_a_belt_box_is_the_cells_belt_as_written_another_shape_is_one_line(workspace):
+    """The course's belt_collision is 6 mm thick at -3 mm (the fixtures' 1 cm at -5 mm), a
+    raised one 2 cm higher: each a box along the belt, which the cell's belt is made as (no
+    line; ``tests/test_moved_pieces.py`` rides one); a cylinder is one line (the cell keeps
+    its own belt)."""
     from pydrake.math import RigidTransform
 
     from omtp_drake.launch.sdf_world import world_model
-    from omtp_drake.launch.world_additions import changed_lines
+    from omtp_drake.launch.world_additions import belt_box, changed_lines
 
     text = (workspace / "omtp_gazebo" / "models" / "conveyor" / "model.sdf").read_text()
     model = world_model(
@@ -223,10 +225,13 @@ def test_the_courses_thinner_belt_is_the_cells_belt(workspace):
     belt = model.element.find("model[@name='conveyor_belt_moving']/link[@name='belt']")
     X_MB = RigidTransform([5.0, 0.0, 0.92 - 0.003])
     belt.find("collision/geometry/box/size").text = "10 0.6 0.006"
+    assert belt_box(belt, "c.sdf")[0] == (10.0, 0.6, 0.006)
     assert changed_lines(model, "conveyor", "conveyor_belt_moving::belt", belt, X_MB) == []
     raised = RigidTransform([5.0, 0.0, 0.94 - 0.003])
+    assert changed_lines(model, "conveyor", "conveyor_belt_moving::belt", belt, raised) == []
+    geometry = belt.find("collision/geometry")
+    geometry.remove(geometry.find("box"))
+    ET.SubElement(geometry, "cylinder")
+    assert belt_box(belt, "c.sdf") is None
     (line,) = changed_lines(model, "conveyor", "conveyor_belt_moving::belt", belt, raised)
-    assert (
-        line.startswith("c.sdf: <collision name='belt_collision'>")
-        and "box 10 0.6 0.006 at 5 0 0.937" in line
-    )
+    assert line.startswith("c.sdf: <collision name='belt_collision'>") and "is no box at 5 0 0.937" in line

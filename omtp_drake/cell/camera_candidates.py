@@ -62,12 +62,7 @@ class CameraCandidates:
         for i in range(plant.num_model_instances()):
             instance = ModelInstanceIndex(i)
             name = plant.GetModelInstanceName(instance)
-            if (
-                i in _RESERVED_INSTANCES
-                or i in exclude
-                or (config.known_types and model_type(name) not in config.known_types)
-                or (config.known_names and name not in config.known_names)
-            ):
+            if i in _RESERVED_INSTANCES or i in exclude or not _known(config, name):
                 continue
             bodies = plant.GetBodyIndices(instance)
             boxes = []
@@ -109,3 +104,12 @@ class CameraCandidates:
         p_CB = T[:, :, 3] + (R_CB @ self._box_centre)[:, :, 0] + T_CW[:, 3]
         seen = np.logical_or.reduceat(self._frustum.overlaps(p_CB, R_CB, self._box_half), self._box_starts)
         return np.flatnonzero(seen)
+
+
+def _known(config: LogicalCameraConfig, name: str) -> bool:
+    """The course plugin's rule (``known_model_types`` / ``known_model_names``,
+    :class:`omtp_drake.gazebo.logical_camera.PluginListing`): with neither list every model;
+    else one whose type is a known type or whose name is a known name (either list)."""
+    if not config.known_types and not config.known_names:
+        return True
+    return model_type(name) in config.known_types or name in config.known_names

@@ -208,7 +208,7 @@ def _add_fixtures(parser: Parser, scenario: Scenario) -> Optional[ModelInstanceI
     plant = parser.plant()
     conveyor = None
     if scenario.conveyor is not None:
-        conveyor = _add_xacro(parser, "conveyor.urdf.xacro")
+        conveyor = _add_xacro(parser, "conveyor.urdf.xacro", scenario.conveyor.model_args())
         _weld(plant, "conveyor_base", scenario.conveyor.X_WF())
         for index in plant.GetJointActuatorIndices():
             actuator = plant.get_joint_actuator(index)

@@ -14,6 +14,7 @@ into the servo's desired state.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -58,9 +59,16 @@ class BeltGeometry:
     X_WF: RigidTransform = X_W_CONVEYOR
 
     @classmethod
-    def from_model(cls, X_WF: RigidTransform = X_W_CONVEYOR) -> BeltGeometry:
+    def from_model(cls, X_WF: RigidTransform = X_W_CONVEYOR, size: Sequence[float] = ()) -> BeltGeometry:
+        """The catalogue's belt at ``X_WF``, ``size`` (length, width) long and wide when given."""
         d = model_dimensions("conveyor.urdf.xacro")
-        return cls(d["width"] / 2, d["length"] / 2, d["top"], X_WF)
+        length, width = size if len(size) == 2 else (d["length"], d["width"])
+        return cls(width / 2, length / 2, d["top"], X_WF)
+
+    @classmethod
+    def of(cls, conveyor: ConveyorConfig) -> BeltGeometry:
+        """The belt of the scenario's ``conveyor``: where and as long and wide as it is."""
+        return cls.from_model(conveyor.X_WF(), conveyor.belt_size)
 
     @property
     def top(self) -> float:

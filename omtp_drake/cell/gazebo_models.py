@@ -139,6 +139,9 @@ def gazebo_models(plant: MultibodyPlant, scenario: Scenario) -> tuple[GazeboMode
         elif name in bins or name in pedestals:
             origin = None if name in bins else RigidTransform()
             by_name[f"{name}_"] = GazeboModel(f"{name}_", (instance,), origin)
+        elif hung.get(name) == "workcell" and "workcell_" in by_name:  # (in the hall's link)
+            hall = by_name["workcell_"]
+            by_name["workcell_"] = dataclasses.replace(hall, instances=(*hall.instances, instance))
         elif name in hung and _owner(plant, by_name, hung[name]) is not None:
             owner = by_name[_owner(plant, by_name, hung[name]) or ""]
             by_name[owner.name] = dataclasses.replace(owner, instances=(*owner.instances, instance))

@@ -128,7 +128,8 @@ class LogicalCamera(LeafSystem):
 
     Candidates: every model instance of the plant except world, default and
     ``exclude`` (the camera's own model), that has geometry (proximity or
-    illustration) and passes ``known_types`` / ``known_names``. A model with a
+    illustration) and is known (its type in ``known_types`` or its name in ``known_names``,
+    as the course plugin's lists; every model when both are empty). A model with a
     HalfSpace (unbounded, e.g. a floor) is never reported. The bounding box of
     a body is the axis-aligned box, in the body frame, of its geometries'
     oriented bounding boxes (meshes: of their vertices).

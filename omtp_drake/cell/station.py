@@ -138,7 +138,7 @@ class Station:
     def belt(self) -> Optional[BeltGeometry]:
         """Where the belt is (None without a conveyor)."""
         conveyor = self.scenario.conveyor
-        return BeltGeometry.from_model(conveyor.X_WF()) if conveyor is not None else None
+        return BeltGeometry.of(conveyor) if conveyor is not None else None
 
     # ------------------------------------------------------------------ contexts
 

@@ -75,7 +75,7 @@ class PluginListing:
 
     def __init__(self, camera: str, listing: CameraListing):
         self._listing = listing
-        self._prefix = listing.model_frame_prefix if listing.model_frame_prefix is not None else f"{camera}_"
+        self._prefix = listing.frame_prefix(camera)
         self._filtered = listing.known_model_types is not None or listing.known_model_names is not None
         self._types = set(listing.known_model_types or ())
         self._names = set(listing.known_model_names or ())

@@ -12,6 +12,7 @@ triangles its collisions have (:func:`mesh_bin_walls`): rays from the bin's axis
 from __future__ import annotations
 
 from collections.abc import Mapping
+from pathlib import Path
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -30,14 +31,15 @@ def has_mesh_collision(model: UrdfModel, link: str) -> bool:
 
 
 def mesh_bin_walls(
-    model: UrdfModel, link: str, packages: Mapping[str, str], where: str
+    model: UrdfModel, link: str, packages: Mapping[str, str], where: str, kind: str = "collision"
 ) -> list[float] | None:
     """``[inner half length along x, along y, floor top, rim height]`` (m, in the link's
-    frame) of a bin whose collisions are meshes (and boxes): the rim is their highest
-    point, the floor the first surface a ray down the link's z axis meets, the walls the
-    first ones rays along +-x and +-y meet halfway up (the nearer of each pair). None when
-    a collision is another shape or its mesh cannot be read, or a ray meets nothing."""
-    triangles = _collision_triangles(model, link, packages, where)
+    frame) of a bin whose collisions (``kind``: or visuals) are meshes (and boxes): the
+    rim is their highest point, the floor the first surface a ray down the link's z axis
+    meets, the walls the first ones rays along +-x and +-y meet halfway up (the nearer of
+    each pair). None when one is another shape or its mesh cannot be read, or a ray meets
+    nothing."""
+    triangles = _shape_triangles(model, link, packages, where, kind)
     if triangles is None or not len(triangles):
         return None
     rim = float(triangles[..., 2].max())
@@ -57,35 +59,63 @@ def mesh_bin_walls(
     return [round(float(v), 9) for v in (*halves, floor_top, rim)]
 
 
-def _collision_triangles(
-    model: UrdfModel, link: str, packages: Mapping[str, str], where: str
+def _shape_triangles(
+    model: UrdfModel, link: str, packages: Mapping[str, str], where: str, kind: str
 ) -> np.ndarray | None:
-    """The triangles (k x 3 x 3, link frame) of ``link``'s collisions, as Drake loads them."""
-    import trimesh
-
+    """The triangles (k x 3 x 3, link frame) of ``link``'s ``kind`` elements (collision or
+    visual), as Drake loads them (read from the converted ``.obj``: no mesh library is
+    imported for a mesh converted before)."""
     root = model.root_element
     element = root.find(f"link[@name='{link}']") if root is not None else None
     out = []
-    for collision in element.findall("collision") if element is not None else []:
+    for collision in element.findall(kind) if element is not None else []:
         geometry = collision.find("geometry")
         box = geometry.find("box") if geometry is not None else None
         mesh = geometry.find("mesh") if geometry is not None else None
         try:
             X = _origin(collision)
             if box is not None:
-                shape = trimesh.creation.box(extents=[float(v) for v in box.get("size", "").split()])
+                triangles = _box_triangles([float(v) for v in box.get("size", "").split()])
             elif mesh is not None:
                 src, _ = mesh_source((mesh.get("filename") or "").strip(), packages, where)
                 if src is None:
                     return None
-                shape = trimesh.load(str(drake_mesh(src, collision=True)), file_type="obj", force="mesh")
-                shape.apply_scale([float(v) for v in mesh.get("scale", "1 1 1").split()])
+                scale = np.array([float(v) for v in mesh.get("scale", "1 1 1").split()])
+                triangles = _obj_triangles(drake_mesh(src, collision=True)) * scale
             else:
                 return None
-        except (ValueError, ConfigError):
+        except (ValueError, OSError, ConfigError):
             return None
-        out.append(X.multiply(shape.vertices.T).T[shape.faces])
+        out.append(X.multiply(triangles.reshape(-1, 3).T).T.reshape(-1, 3, 3))
     return np.concatenate(out) if out else None
+
+
+def _box_triangles(size: list[float]) -> np.ndarray:
+    """The 12 triangles of a box of ``size`` about its centre."""
+    if len(size) != 3:
+        raise ValueError(f"box size {size}")
+    corners = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]) * np.array(size) / 2
+    quads = ((0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3))
+    return np.array([corners[[q[0], q[i], q[i + 1]]] for q in quads for i in (1, 2)])
+
+
+def _obj_triangles(path: Path) -> np.ndarray:
+    """The triangles of the Wavefront ``.obj`` file ``path`` (its ``v`` and ``f`` lines;
+    polygons as fans)."""
+    vertices, faces = [], []
+    for line in path.read_text().splitlines():
+        words = line.split()
+        if not words:
+            continue
+        if words[0] == "v":
+            vertices.append([float(v) for v in words[1:4]])
+        elif words[0] == "f":
+            index = [int(w.split("/")[0]) for w in words[1:]]
+            faces += [(index[0], index[i], index[i + 1]) for i in range(1, len(index) - 1)]
+    points = np.array(vertices, dtype=float).reshape(-1, 3)
+    rows = np.array(faces, dtype=int).reshape(-1, 3)
+    rows = np.where(rows > 0, rows - 1, rows + len(points))  # (1-based; negative: from the end)
+    return points[rows]
 
 
 def _origin(element) -> RigidTransform:

@@ -405,8 +405,8 @@ def rest_standins_on_belt(spawner: dict, conveyor: dict | None, part_size: float
     object's pose stays as its file gives it."""
     if conveyor is None or spawner["reference_frame"] not in WORLD_FRAMES:
         return
-    config = ConveyorConfig(**{k: v for k, v in conveyor.items() if k in ("xyz", "yaw", "roll", "pitch")})
-    belt = BeltGeometry.from_model(config.X_WF())
+    keys = ("xyz", "yaw", "roll", "pitch", "belt_size")
+    belt = BeltGeometry.of(ConveyorConfig(**{k: v for k, v in conveyor.items() if k in keys}))
     for item in spawner["objects"]:
         p_W = np.array(item["xyz"], dtype=float)
         if item["mesh_file"] or not belt.over(p_W) or belt.height(p_W) > 2 * part_size:

@@ -205,6 +205,8 @@ def _document(mapping: NodeMapping, name: str, description: str) -> dict:
         document["deletion_wall_pose"] = world.deletion_wall_pose
     if world.deletion_wall_model:
         document["deletion_wall_model"] = world.deletion_wall_model
+    if world.deletion_wall_collision:
+        document["deletion_wall_collision"] = world.deletion_wall_collision
     if world.conveyor is not None:
         document["conveyor"] = {**world.conveyor, "stop_on_beam": mapping.stop_on_beam}
     elif mapping.stop_on_beam:

@@ -40,6 +40,9 @@ WORKCELL_LINK = "workcell"
 #: The course's own meshes (``ur_description``'s, ``omtp_support``'s): a visual or collision
 #: with one of them in a piece's link is the course's.
 _COURSE_MESHES = ("ur_description/meshes/", "omtp_support/meshes/")
+#: The pieces' links the course's files give no visual and no collision (ur_description's
+#: frames, the break beam's): whatever such a link of the student's holds is theirs.
+_BARE_LINKS = ("tool0", "flange", "base", "world_interface", "optical_link")
 
 
 def has_geometry(model: UrdfModel, link: str) -> bool:
@@ -268,12 +271,23 @@ def inner_additions(model: UrdfModel, links: Iterable[str]) -> dict[str, list[ET
     course's files give each of these links (``ur_description``'s, the vacuum gripper's, the
     beam's) at most one visual and one collision, so beyond one of a kind the ones that are
     not the course's mesh (:data:`_COURSE_MESHES`) are the student's, and with none of the
-    course's mesh, all but the first."""
+    course's mesh, all but the first; in a link the course gives none (:data:`_BARE_LINKS`),
+    every one; in the workcell's hall link (the course's gives it only its meshes), every
+    one that is not the course's mesh."""
     root = model.root_element
     out: dict[str, list[ET.Element]] = {}
     for link in links:
         element = root.find(f"link[@name='{link}']") if root is not None else None
         if element is None:
+            continue
+        if link.endswith(_BARE_LINKS) or link == WORKCELL_LINK:
+            extras = [
+                e
+                for e in element
+                if e.tag in ("visual", "collision") and not (link == WORKCELL_LINK and _is_course_mesh(e))
+            ]
+            if extras:
+                out[link] = extras
             continue
         extras = []
         for tag in ("visual", "collision"):

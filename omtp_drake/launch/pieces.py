@@ -31,6 +31,7 @@ from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import (
+    WORKCELL_LINK,
     Claims,
     bin_walls,
     inner_additions,
@@ -146,11 +147,13 @@ def add_urdf_model(
 
 
 def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where: str) -> None:
-    """What the student added inside a link of a course arm, gripper or the beam (which the
-    cell builds; :func:`~omtp_drake.launch.own_links.inner_additions`): one model entry
-    ``<link>_own`` each, welded to the cell's link of that name (pedestals and bins are
-    loaded as written already)."""
+    """What the student added inside a link of a course arm, gripper or the beam, or of the
+    workcell's hall (which the cell builds, or stands its floor, belt and wall in for;
+    :func:`~omtp_drake.launch.own_links.inner_additions`): one model entry ``<link>_own``
+    each, welded to the cell's link of that name (pedestals and bins are loaded as written
+    already)."""
     built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
+    built += [WORKCELL_LINK] if WORKCELL_LINK in model.links else []
     for link, extras in inner_additions(model, built).items():
         taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
         own = f"{link}_own" if f"{link}_own" not in taken else f"{link}_own_model"
@@ -210,14 +213,24 @@ def _bin(
     """The bin at ``prefix`` (in the model spawned as ``spawned``): a bin of box or mesh
     collisions is loaded as the student's file writes it, a model entry named as Gazebo
     names it (its walls give the cell's in-bin test and drop slots; its collision meshes
-    convex pieces that keep it open, :mod:`~omtp_drake.launch.mesh_bins`); any other (no
-    collision, or a mesh nobody has), the catalogue's bin."""
+    convex pieces that keep it open, :mod:`~omtp_drake.launch.mesh_bins`); so is a bin
+    with no collision at all, as Gazebo loads it (a part dropped in falls through; its
+    visual's inside, where it can be measured, is the in-bin test); any other (other
+    shapes, or a mesh nobody has), the catalogue's bin."""
     placed = _placed(prefix.rstrip("_"), X_WB, where)
     link = prefix + "base_link"
     walls = bin_walls(model, link)
     open_links: tuple[str, ...] = ()
-    if walls is None and has_mesh_collision(model, link):
+    as_written = walls is not None
+    if walls is None and not _has_collision(model, link):
+        walls, as_written = mesh_bin_walls(model, link, pieces.packages, where, kind="visual"), True
+        pieces.warnings.append(
+            f"{where}: bin {placed['name']!r}: link {link!r} has no <collision>; loaded as written, "
+            "as Gazebo does: a part dropped in falls through it"
+        )
+    elif walls is None and has_mesh_collision(model, link):
         walls, open_links = mesh_bin_walls(model, link, pieces.packages, where), (link,)
+        as_written = walls is not None
         if walls is None:
             pieces.warnings.append(
                 f"{where}: bin {placed['name']!r}: its collision meshes cannot be read or hold no "
@@ -225,27 +238,30 @@ def _bin(
             )
     elif walls is None:
         pieces.warnings.append(_catalogue_bin_line(model, link, placed["name"], where))
-    if walls is not None:
+    if as_written:
         taken = {placed["name"], *(own.name for own in pieces.own)}
         name = spawned if spawned and spawned not in taken else f"{placed['name']}_model"
-        placed.update(model=name, walls=walls)
+        placed.update(model=name, walls=walls or [])
         text = piece_urdf(model, prefix + "base_link", prefix, name)
         pose = [*placed["xyz"], 0.0, 0.0, placed["yaw"]]
         pieces.own.append(OwnModel(name, text, where, pose, static=False, open_links=open_links))
     return placed
 
 
-def _catalogue_bin_line(model: UrdfModel, link: str, name: str, where: str) -> str:
-    """The warning for a bin the cell cannot take as written (no collision at all, or
-    collisions that are neither a box floor and walls nor meshes): Gazebo loads it as it
-    is (without a collision a part dropped in falls through it)."""
+def _has_collision(model: UrdfModel, link: str) -> bool:
     root = model.root_element
     element = root.find(f"link[@name='{link}']") if root is not None else None
-    if element is None or element.find("collision") is None:
-        what = f"link {link!r} has no <collision>: in Gazebo a part dropped in falls through it"
-    else:
-        shapes = sorted({g.tag for c in element.findall("collision") for g in c.findall("geometry/*")})
-        what = f"link {link!r}'s collisions ({', '.join(shapes) or 'no geometry'}) are no box floor and walls"
+    return element is not None and element.find("collision") is not None
+
+
+def _catalogue_bin_line(model: UrdfModel, link: str, name: str, where: str) -> str:
+    """The warning for a bin the cell cannot take as written (collisions that are neither
+    a box floor and walls nor meshes): Gazebo loads it as it is."""
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    collisions = element.findall("collision") if element is not None else []
+    shapes = sorted({g.tag for c in collisions for g in c.findall("geometry/*")})
+    what = f"link {link!r}'s collisions ({', '.join(shapes) or 'no geometry'}) are no box floor and walls"
     return f"{where}: bin {name!r}: {what}; the catalogue's bin stands in"
 
 

@@ -223,6 +223,39 @@ def check_deletion_wall(plugin: GazeboPlugin) -> None:
         )
 
 
+def disposal_collision(plugin: GazeboPlugin, model: ET.Element) -> str:
+    """``link::collision`` of the wall ``model`` whose contacts an ObjectDisposalPlugin acts
+    on, as the course's SideContactPlugin finds it: the ``<contact>`` sensor named by its
+    ``contact_sensor_name`` on a link of the model, watching its one ``<collision>``
+    (``__default__``: the link's first). '' when that sensor watches no single collision
+    (Gazebo logs "requires a single collision" and the plugin disposes of nothing). No
+    such sensor is one WorkspaceError (Gazebo's plugin cannot load without it)."""
+    name = plugin.text("contact_sensor_name", "") or ""
+    sensors = {
+        s.get("name", ""): (link, s)
+        for link in model.iter("link")
+        for s in link.findall("sensor")
+        if s.get("type") == "contact"
+    }
+    if name not in sensors:
+        valid = ", ".join(sorted(sensors)) or "none"
+        raise WorkspaceError(
+            f"{plugin.where}: ObjectDisposalPlugin ({plugin.name}) <contact_sensor_name> {name!r}: no "
+            f"contact sensor of that name on a link of the model; valid: {valid}"
+        )
+    link, sensor = sensors[name]
+    watched = [(c.text or "").strip() for c in sensor.findall("contact/collision")]
+    if len(watched) != 1:
+        return ""
+    collision = watched[0]
+    if collision == "__default__":
+        first = link.find("collision")
+        collision = first.get("name", "") if first is not None else ""
+    if collision not in {c.get("name", "") for c in link.findall("collision")}:
+        return ""  # (the sensor watches a collision the link has not: no contact reaches it)
+    return f"{link.get('name', '')}::{collision}"
+
+
 def _ros_name(plugin: GazeboPlugin, tag: str, default: str, namespace_tag: str) -> str:
     """The plugin's ``<tag>`` (``default`` when absent) in its ``<namespace_tag>``, resolved
     as its node handle does; a bad name is one WorkspaceError naming the plugin."""

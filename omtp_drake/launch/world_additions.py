@@ -125,16 +125,38 @@ CELL_GEOMETRY: dict[str, dict[tuple[str, str], tuple[tuple[float, ...], RigidTra
 _TOL = 1e-3
 
 
+def belt_box(link: ET.Element, where: str) -> tuple[tuple[float, float, float], RigidTransform] | None:
+    """The size and pose in ``link`` of the conveyor's ``belt_collision`` when it is a box
+    lying along the link's x (the way the plugin moves the link, so its parts ride it
+    lengthwise): the cell's belt is then as long, wide and high as this box, where it
+    is. None for any other shape or a turned box (the cell keeps its own belt)."""
+    collision = link.find("collision[@name='belt_collision']")
+    size_text = collision.findtext("geometry/box/size") if collision is not None else None
+    if collision is None or size_text is None:
+        return None
+    try:
+        size = tuple(float(v) for v in size_text.split())
+    except ValueError:
+        return None
+    X_LG = sdf_pose(collision.findtext("pose"), where)
+    if len(size) != 3 or not X_LG.rotation().IsNearlyIdentity(_TOL):
+        return None
+    return (size[0], size[1], size[2]), X_LG
+
+
 def changed_lines(
     model: WorldModel, kind: str | None, path: str, link: ET.Element, X_ML: RigidTransform
 ) -> list[str]:
     """One line for each of the course's elements of ``link`` (at ``X_ML`` in the model)
     that the student changed from the cell's (:data:`CELL_GEOMETRY`): the cell's piece
-    keeps its own, since its plugin's behaviour is on the cell's body."""
+    keeps its own, since its plugin's behaviour is on the cell's body. (A belt box lying
+    along the belt, :func:`belt_box`, is no change: the cell's belt is made as written.)"""
     lines = []
     for element in link:
         cell = CELL_GEOMETRY.get(kind or "", {}).get((path, element.get("name", "")))
         if element.tag not in _GEOMETRY or cell is None:
+            continue
+        if kind == "conveyor" and belt_box(link, model.where_of(element)) is not None:
             continue
         size_text = element.findtext("geometry/box/size")
         try:

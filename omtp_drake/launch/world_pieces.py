@@ -24,15 +24,17 @@ from omtp_drake.cell.cell_models import X_W_DELETION_WALL
 from omtp_drake.cell.conveyor import X_W_CONVEYOR
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch.plugins import (
+    GazeboPlugin,
     camera_listing,
     camera_topic,
     check_deletion_wall,
     conveyor_power,
     conveyor_service,
+    disposal_collision,
     logical_camera,
 )
 from omtp_drake.launch.sdf_world import World, WorldModel, model_config, sdf_pose
-from omtp_drake.launch.world_additions import additions, wall_changed
+from omtp_drake.launch.world_additions import additions, belt_box, wall_changed
 from omtp_drake.scenario import ModelConfig
 from omtp_drake.workspace import Workspace
 
@@ -60,6 +62,8 @@ class WorldPieces:
     deletion_wall_pose: list[float] = field(default_factory=list)
     #: The wall's model as the student wrote it, when they changed the course's wall.
     deletion_wall_model: str = ""
+    #: ``link::collision`` of that model whose contacts dispose (its plugin's contact sensor's).
+    deletion_wall_collision: str = ""
     #: The world's ``<gravity>`` (None: the cell's).
     gravity: list[float] | None = None
 
@@ -98,22 +102,18 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
             if listing:
                 pieces.camera_listings[model.name] = listing
         elif kind == "conveyor":
-            X_WF = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
+            X_WF, size = _belt_pose(model, plugin.text("link", "") or "", plugin.where)
             pieces.conveyor = {"power": conveyor_power(plugin)}
             pieces.conveyor_service = conveyor_service(plugin)
+            if size:  # their belt's length and width, as written
+                pieces.conveyor["belt_size"] = size
             if X_WF is not X_W_CONVEYOR:
                 pose = pose_list(X_WF)
                 pieces.conveyor.update(xyz=pose[:3], yaw=pose[5])
                 if abs(pose[3]) > _TOL or abs(pose[4]) > _TOL:  # tilted: its parts ride the slope
                     pieces.conveyor.update(roll=pose[3], pitch=pose[4])
         elif kind == "deletion_wall":
-            check_deletion_wall(plugin)
-            if _moved(model.X_WM, X_W_DELETION_WALL):
-                pieces.deletion_wall_pose = pose_list(model.X_WM)
-            pieces.deletion_wall = True
-            if wall_changed(model):  # their wall, as written: the plugin disposes there
-                pieces.deletion_wall_model = model.name
-                pieces.models.append(model_config(model, workspace))
+            if _add_deletion_wall(pieces, model, plugin, workspace):
                 known = True
                 continue
         else:
@@ -126,6 +126,30 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
         pieces.models += [own] if own is not None else []
     if not known:
         pieces.models.append(model_config(model, workspace))
+
+
+def _add_deletion_wall(
+    pieces: WorldPieces, model: WorldModel, plugin: GazeboPlugin, workspace: Workspace
+) -> bool:
+    """The deletion wall of ``model``'s ObjectDisposalPlugin ``plugin``: where it stands,
+    and what disposes (the collision its contact sensor watches). True when the wall is
+    the student's model as written (they changed it, or its sensor watches nothing)."""
+    check_deletion_wall(plugin)
+    if _moved(model.X_WM, X_W_DELETION_WALL):
+        pieces.deletion_wall_pose = pose_list(model.X_WM)
+    watched = disposal_collision(plugin, model.element)
+    pieces.deletion_wall = bool(watched)
+    if not watched:
+        pieces.warnings.append(
+            f"{plugin.where}: ObjectDisposalPlugin ({plugin.name}): its contact sensor watches no single "
+            'collision of the wall; as in Gazebo ("requires a single collision") it disposes of nothing'
+        )
+    if watched and not wall_changed(model):
+        return False  # the course's wall: the catalogue's, disposing on its one box
+    pieces.deletion_wall_model = model.name
+    pieces.deletion_wall_collision = watched
+    pieces.models.append(model_config(model, workspace))
+    return True
 
 
 def _piece_body(pieces: WorldPieces, kind: str | None) -> tuple[str, RigidTransform] | None:
@@ -161,10 +185,13 @@ def pose_list(X: RigidTransform) -> list[float]:
     return [round(float(v), 9) for v in values]
 
 
-def _belt_pose(model: WorldModel, link_path: str, where: str) -> RigidTransform:
+def _belt_pose(model: WorldModel, link_path: str, where: str) -> tuple[RigidTransform, list[float]]:
     """``X_WF`` of the conveyor base frame the plugin's belt link (``model::nested::link``)
     puts in world: where the course has it (within 5 mm: the course's world turns the
-    conveyor by -1.571, not -pi/2), or where the student moved, raised or tilted it."""
+    conveyor by -1.571, not -pi/2), or where the student moved, raised or tilted it; and
+    the length and width of their belt where it is not the course's (empty: the course's).
+    The belt is its ``belt_collision`` box (:func:`belt_box`) where it is one: its middle
+    is F's centre line, its top the belt's."""
     names = link_path.split("::")[1:] if "::" in link_path else [link_path]
     element, X = model.element, model.X_WM
     for name in names[:-1]:
@@ -177,11 +204,14 @@ def _belt_pose(model: WorldModel, link_path: str, where: str) -> RigidTransform:
     if link is None:
         raise WorkspaceError(f"{where}: ROSConveyorBeltPlugin link {link_path!r} is not in the model")
     X_WL = X @ sdf_pose(link.findtext("pose"), where)
-    # The belt link's x axis is the way parts ride: F's -y (F turned a quarter from it); its
-    # origin is the belt's middle, half the belt's thickness under its top (the course's model).
     d = model_dimensions("conveyor.urdf.xacro")
-    X_LF = RigidTransform(
-        RotationMatrix.MakeZRotation(np.pi / 2), [0.0, 0.0, -(d["top"] - d["belt_thickness"] / 2)]
-    )
-    X_WF = X_WL @ X_LF
-    return X_W_CONVEYOR if not _moved(X_WF, X_W_CONVEYOR, _BELT_TOL) else X_WF
+    box = belt_box(link, model.where_of(link))
+    course = ((d["length"], d["width"], d["belt_thickness"]), RigidTransform())
+    size, X_LG = box if box is not None else course
+    # The belt's x axis is the way parts ride: F's -y (F turned a quarter from it); its
+    # middle is on F's centre line, half its thickness under its top.
+    X_GF = RigidTransform(RotationMatrix.MakeZRotation(np.pi / 2), [0.0, 0.0, size[2] / 2 - d["top"]])
+    X_WF = X_WL @ X_LG @ X_GF
+    changed = max(abs(size[0] - d["length"]), abs(size[1] - d["width"])) > _TOL
+    belt = [float(size[0]), float(size[1])] if changed else []
+    return (X_W_CONVEYOR if not _moved(X_WF, X_W_CONVEYOR, _BELT_TOL) else X_WF), belt

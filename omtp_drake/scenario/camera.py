@@ -32,8 +32,10 @@ class LogicalCameraConfig:
             axis of a reported position (in the camera frame) [m]; 0 = off.
         orientation_noise_sigma: std. dev. of the Gaussian roll, pitch and yaw
             of the rotation that perturbs a reported orientation [rad]; 0 = off.
-        known_types: report only models of these types; empty = all types.
-        known_names: report only models of these names; empty = all names.
+        known_types: report only models of these types, or of ``known_names``;
+            both empty = every model (the course plugin's ``known_model_types``).
+        known_names: report only models of these names, or of ``known_types``;
+            both empty = every model (the plugin's ``known_model_names``).
         anonymize: report every model with an empty name (its type is kept).
         seed: noise seed of this camera; ``None`` = the scenario's seed.
         occlusion: report a model only when at least ``min_visible_fraction``

@@ -226,11 +226,22 @@ class ConveyorConfig:
     #: may tilt the belt, whose parts then ride along its tilted axis.
     roll: float = 0.0
     pitch: float = 0.0
+    #: The belt's length and width (m) as a student's world writes its ``belt_collision``
+    #: (empty: the course's, 10 x 0.6); it stands where F puts its middle.
+    belt_size: list[float] = field(default_factory=list)
 
     def validate(self) -> None:
         if not 0 <= self.power <= 100:
             raise ConfigError(f"conveyor.power must be in [0, 100], got {self.power}")
         check_len("conveyor.xyz", self.xyz, 3)
+        if self.belt_size:
+            check_len("conveyor.belt_size", self.belt_size, 2)
+            length, width = self.belt_size
+            if not (0.2 <= length <= 30.0 and 0.05 <= width <= 3.0):
+                raise ConfigError(
+                    f"conveyor.belt_size {self.belt_size!r}: needs a length in [0.2, 30] and a width "
+                    "in [0.05, 3] (m)"
+                )
         for key in ("roll", "pitch", "yaw"):
             value = getattr(self, key)
             if not math.isfinite(value) or abs(value) > 2 * math.pi:
@@ -244,6 +255,10 @@ class ConveyorConfig:
     def X_WF(self) -> RigidTransform:
         """The conveyor's base frame F in world."""
         return RigidTransform(RollPitchYaw(self.roll, self.pitch, self.yaw), self.xyz)
+
+    def model_args(self) -> dict[str, float]:
+        """The arguments of ``models/conveyor.urdf.xacro`` for this belt (none: the course's)."""
+        return {"length": self.belt_size[0], "width": self.belt_size[1]} if self.belt_size else {}
 
 
 def check_pose6(what: str, pose: list[float]) -> None:

@@ -103,6 +103,10 @@ class CameraListing:
     model_frame_prefix: Optional[str] = None
     advertised: bool = True
 
+    def frame_prefix(self, camera: str) -> str:
+        """The prefix of the tf frames of the models ``camera`` publishes."""
+        return self.model_frame_prefix if self.model_frame_prefix is not None else f"{camera}_"
+
 
 @dataclass
 class PluginNames:

@@ -117,6 +117,9 @@ class Scenario:
     #: The scenario's model entry that is the deletion wall as the student's file writes it
     #: ('': the catalogue's box, at ``deletion_wall_pose``); what touches its collisions is disposed of.
     deletion_wall_model: str = ""
+    #: ``link::collision`` of that model whose contacts dispose (the one its plugin's contact
+    #: sensor watches, as Gazebo's; '': every collision of it).
+    deletion_wall_collision: str = ""
     #: The course's plugins' ROS names as the student's ``<plugin>`` parameters set them.
     plugin_names: PluginNames = field(default_factory=PluginNames)
     #: What goes wrong in a run, and when (see :mod:`omtp_drake.scenario.faults`).
@@ -251,6 +254,11 @@ class Scenario:
             raise ConfigError(
                 f"deletion_wall_model {self.deletion_wall_model!r} is no model entry; valid: "
                 + (", ".join(m.name for m in self.models) or "none (no models)")
+            )
+        if self.deletion_wall_collision and not self.deletion_wall_model:
+            raise ConfigError(
+                f"deletion_wall_collision {self.deletion_wall_collision!r} needs deletion_wall_model "
+                "(the wall's model entry whose link::collision it names)"
             )
         if self.conveyor is not None:
             self.conveyor.validate()

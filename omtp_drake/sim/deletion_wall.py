@@ -1,6 +1,7 @@
-"""The course's deletion wall (its object disposal plugin): every part touching the wall is
-disposed of, at the plugin's 5 Hz, as a world edit of the :class:`~omtp_drake.sim.driver.Driver`
-(disposing of a part writes the plant's Context, which no system may do)."""
+"""The course's deletion wall (its object disposal plugin): every part touching the wall (the
+collision its contact sensor watches) is disposed of, at the plugin's 5 Hz, as a world edit
+of the :class:`~omtp_drake.sim.driver.Driver` (disposing of a part writes the plant's
+Context, which no system may do)."""
 
 from __future__ import annotations
 
@@ -37,12 +38,20 @@ class DeletionWall:
         self._station = station
         self._pool = pool
         plant, inspector = station.plant, station.scene_graph.model_inspector()
-        # The catalogue's wall, or the student's wall model as written (every collision of it).
-        own = station.scenario.deletion_wall_model
+        # The catalogue's wall, or the student's wall model as written: the collision its
+        # plugin's contact sensor watches (``link::collision``; '': every collision of it).
+        own, watched = station.scenario.deletion_wall_model, station.scenario.deletion_wall_collision
         bodies = plant.GetBodyIndices(plant.GetModelInstanceByName(own)) if own else []
         walls = [plant.get_body(b) for b in bodies] or [plant.GetBodyByName("deletion_wall")]
+        link, _, collision = watched.partition("::")
+        walls = [wall for wall in walls if not watched or wall.name() == link]
         frames = [plant.GetBodyFrameIdOrThrow(wall.index()) for wall in walls]
-        self._wall = {g for frame in frames for g in inspector.GetGeometries(frame, Role.kProximity)}
+        self._wall = {
+            g
+            for frame in frames
+            for g in inspector.GetGeometries(frame, Role.kProximity)
+            if not watched or inspector.GetName(g).rsplit("::", 1)[-1] == collision
+        }
         parts = station.part_states.geometries.parts
         self._part_of = {g: n for n, geometries in parts.items() for g in geometries}
         wall = walls[0]

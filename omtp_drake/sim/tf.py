@@ -94,6 +94,8 @@ class _DetectedFrames:
     def __init__(self, cameras: tuple[str, ...], static: Collection[str]):
         self._cameras = cameras
         self._static = static
+        #: camera -> the prefix of its detected frames (the plugin's ``model_frame_prefix``)
+        self.prefixes = {camera: f"{camera}_" for camera in cameras}
         #: camera -> its distinct images, oldest first, and their times
         self._images: dict[str, list[_Image]] = {c: [] for c in cameras}
         self._image_times: dict[str, list[float]] = {c: [] for c in cameras}
@@ -177,8 +179,8 @@ class _DetectedFrames:
         """FrameError when ``name`` is a camera's detected-frame name for a model
         none of its held images sees (the error says what they show)."""
         for camera in self._cameras:
-            prefix = f"{camera}_"
-            if name.startswith(prefix) and name.endswith("_frame") and len(name) > len(prefix) + 6:
+            prefix = self.prefixes[camera]
+            if prefix and name.startswith(prefix) and name.endswith("_frame") and len(name) > len(prefix) + 6:
                 model = name[len(prefix) : -len("_frame")]
                 images = self._images[camera]
                 seen = sorted({m for image in images for m, _ in image.frames.values()})
@@ -305,9 +307,11 @@ class TfBuffer:
     def use_images(self, images: Callable[[str], Callable[[CameraSample], LogicalCameraImage]]) -> None:
         """Makes each camera's image of a sample with ``images(camera)(sample)`` from now on
         instead of the camera's own (the station's ``<camera>.image``; the ROS layer gives
-        the course plugin's model list, whose models get the detected frames); the
-        detected frames recorded so far are forgotten."""
+        the course plugin's model list, whose models get the detected frames, under the
+        plugin's ``model_frame_prefix``); the detected frames recorded so far are forgotten."""
         self._images = {camera: images(camera) for camera in self._cameras}
+        names = self._station.scenario.plugin_names
+        self._detected.prefixes = {c: names.camera_listing(c).frame_prefix(c) for c in self._cameras}
         self._detected.clear()
 
     def _trim(self) -> None:

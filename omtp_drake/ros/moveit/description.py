@@ -45,13 +45,14 @@ def _model_texts(cell: Cell) -> list[str]:
     texts += [
         expand_xacro(MODELS_DIR / "bin.urdf.xacro", {"name": b.name}) for b in scenario.bins if not b.model
     ]
-    for present, file in (
-        (scenario.conveyor is not None, "conveyor.urdf.xacro"),
-        (scenario.break_beam, "break_beam.urdf.xacro"),
-        (scenario.deletion_wall and not scenario.deletion_wall_model, "deletion_wall.urdf.xacro"),
+    belt = scenario.conveyor.model_args() if scenario.conveyor is not None else {}
+    for present, file, args in (
+        (scenario.conveyor is not None, "conveyor.urdf.xacro", belt),
+        (scenario.break_beam, "break_beam.urdf.xacro", {}),
+        (scenario.deletion_wall and not scenario.deletion_wall_model, "deletion_wall.urdf.xacro", {}),
     ):
         if present:
-            texts.append(expand_xacro(MODELS_DIR / file))
+            texts.append(expand_xacro(MODELS_DIR / file, args))
     texts += [
         expand_xacro(MODELS_DIR / "logical_camera.urdf.xacro", {"name": c.name}) for c in scenario.cameras
     ]
