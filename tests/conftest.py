@@ -12,14 +12,13 @@ import compileall
 import logging
 import os
 import re
+import sys
 from pathlib import Path
 
 import pytest
 from hypothesis import settings
 
-from omtp_drake.cell.station import build_station
 from omtp_drake.errors import UnknownNameError
-from omtp_drake.scenario import load_scenario
 
 settings.register_profile("repeatable", derandomize=True, database=None, print_blob=True)
 settings.register_profile("explore", derandomize=False, print_blob=True)
@@ -68,8 +67,48 @@ def pytest_configure(config):
     these files whatever that variable says, and checks them against their sources' dates. The
     stand-in packages' launch files are data (read by the launch loader): left as they are."""
     if hasattr(config, "workerinput"):  # an xdist worker: its controller did it
+        _share_assertion_rewrites(config)
         return
     compileall.compile_dir(_TESTS.parent / "omtp_drake", quiet=1, rx=re.compile(r"[/\\]standins[/\\]"))
+
+
+def _share_assertion_rewrites(config):
+    """The test files' rewritten asserts are written once and read by every process (pytest
+    keeps them in tests/__pycache__, checked against their sources' hashes; where nothing
+    writes bytecode, each xdist worker rewrote all ~100 test files again as it collected them:
+    ~4.8 of its ~10 CPU s of collection). Both workers write what they rewrite while they
+    collect (pytest_collection below); the first (gw0) collects in file order, the second
+    first rewrites the files from the last back until it meets one gw0 wrote, then collects
+    reading them all. A tree whose files are written rewrites nothing. It uses pytest's own
+    functions (private: if one is missing, nothing is done)."""
+    if config.getoption("assertmode") != "rewrite" or config.workerinput.get("workerid") != "gw1":
+        return
+    try:
+        from _pytest.assertion import rewrite
+
+        state = config.stash[rewrite.assertstate_key]
+        for source in sorted(_TESTS.rglob("test_*.py"), reverse=True):
+            pyc = rewrite.get_cache_dir(source) / (source.name[:-3] + rewrite.PYC_TAIL)
+            if rewrite._read_pyc(source, pyc) is not None:
+                return
+            if rewrite.try_makedirs(pyc.parent):
+                source_hash, code = rewrite._rewrite_test(source, config)
+                rewrite._write_pyc(state, code, source_hash, pyc)
+    except (AttributeError, ImportError, KeyError, OSError, SyntaxError):
+        return
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_collection(session):
+    """Bytecode is written while the test files are imported (their rewritten asserts, see
+    _share_assertion_rewrites), and only then: what the tests import as they run (a student's
+    module in a tmp folder) is not written, as before."""
+    before = sys.dont_write_bytecode
+    sys.dont_write_bytecode = False
+    try:
+        return (yield)
+    finally:
+        sys.dont_write_bytecode = before
 
 
 def pytest_collection_modifyitems(items):
@@ -92,5 +131,8 @@ def factory():
 
     Shared: never add its diagram to another builder (build your own station).
     """
+    from omtp_drake.cell.station import build_station  # here: xdist's controller needs neither
+    from omtp_drake.scenario import load_scenario
+
     return build_station(load_scenario("omtp_factory"))
 

@@ -165,9 +165,12 @@ def test_batch_on_a_dask_scheduler_and_workers(dask_cluster, tmp_path, capsys):
 def test_faults_are_recorded_retried_and_resume_skips_done_runs(local_client, tmp_path, monkeypatch):
     out = tmp_path / "faults"
     kwargs = dict(parts=1, duration=0.5, out=out, progress=False)
-    # 10 s: a 0.5 s run takes about 1 s here, over 4 s on a machine busy enough; the hang (seed 3)
-    # is the only run that may reach it.
-    records = run_batch(SCENARIO, range(5), client=local_client, timeout=10.0, run_fn=faulty, **kwargs)
+    # The runs that end first, under a timeout they never reach (a finished 0.5 s run takes
+    # 0.8-1.8 s, 4.9 s pinned to one core beside a busy loop); then, in the same folder, the
+    # hang (seed 3) alone, the others read back: its timeout can be short, as no run that must
+    # finish shares it. It is reached twice (the run is retried): this test's length.
+    run_batch(SCENARIO, [0, 1, 2, 4], client=local_client, timeout=30.0, run_fn=faulty, **kwargs)
+    records = run_batch(SCENARIO, range(5), client=local_client, timeout=1.0, run_fn=faulty, **kwargs)
     by_seed = {r.seed: r for r in records}
     assert {s: r.status for s, r in by_seed.items()} == {
         0: "finished",
@@ -178,7 +181,8 @@ def test_faults_are_recorded_retried_and_resume_skips_done_runs(local_client, tm
     }
     assert "SIGABRT" in by_seed[1].message
     assert "RuntimeError: injected failure" in by_seed[2].message
-    assert "timeout of 10 s" in by_seed[3].message
+    assert "timeout of 1 s" in by_seed[3].message
+    assert [r.resumed for r in records] == [True, True, True, False, True]
     for seed in (1, 2, 3):  # retried once, on the other worker
         record = by_seed[seed]
         assert record.attempts == 2 and record.result is None
