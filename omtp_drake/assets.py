@@ -83,13 +83,14 @@ def _expansion_entry(path: Path, mappings: Mapping[str, str]) -> Path | None:
     if path.resolve().parent != MODELS_DIR:
         return None
     files = sorted(p for p in MODELS_DIR.iterdir() if p.is_file())
-    key = [_xacro_version(), path.name, sorted(mappings.items())]
+    key = [xacro_version(), path.name, sorted(mappings.items())]
     key += [(p.name, _content_hash(str(p), p.stat().st_mtime_ns, p.stat().st_size)) for p in files]
     return cache_entry(f"xacro/{hashlib.sha1(repr(key).encode()).hexdigest()[:24]}.urdf")
 
 
 @functools.cache
-def _xacro_version() -> str:
+def xacro_version() -> str:
+    """The installed xacro's version (a part of every cached expansion's key)."""
     return importlib.metadata.version("xacro")
 
 
@@ -215,6 +216,15 @@ def drake_mesh(src: Path, *, collision: bool) -> Path:
         _log.info("converting %s -> %s", src, dst)
         convert_mesh(src, dst)
     return dst
+
+
+def file_hash(path: str | Path) -> str | None:
+    """The hash of the bytes of the file ``path`` (None if it cannot be read)."""
+    try:
+        stat = os.stat(path)
+        return _content_hash(str(path), stat.st_mtime_ns, stat.st_size)
+    except OSError:
+        return None
 
 
 @functools.lru_cache(maxsize=4096)

@@ -33,6 +33,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.cell.described_models import drake_errors
 from omtp_drake.errors import ConfigError, MissingPackageError, WorkspaceError
+from omtp_drake.launch.parse_verdicts import known_accepted, remember_accepted
 from omtp_drake.launch.plugins import GazeboPlugin, plugins_in
 from omtp_drake.launch.sdf_warnings import not_sdf_line, strip_strays
 from omtp_drake.launch.xml_lines import XmlFile, parse_xml
@@ -331,7 +332,12 @@ def with_drake(model_dirs: list[Path], workspace: Workspace) -> bool:
         f"<include><uri>{folder}</uri><name>model_{i}</name></include>" for i, folder in enumerate(model_dirs)
     )
     world = f'<?xml version="1.0"?><sdf version="1.6"><world name="check">{includes}</world></sdf>'
-    return _drake_refusal(lambda parser: parser.AddModelsFromString(world, "sdf"), workspace) is None
+    if known_accepted(model_dirs, workspace):
+        return True
+    if _drake_refusal(lambda parser: parser.AddModelsFromString(world, "sdf"), workspace) is not None:
+        return False
+    remember_accepted(model_dirs, workspace)
+    return True
 
 
 def _drake_refusal(parse, workspace: Workspace) -> str | None:

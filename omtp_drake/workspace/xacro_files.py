@@ -16,6 +16,7 @@ are the only ones found (a ROS 2 install's ``AMENT_PREFIX_PATH`` is not searched
 from __future__ import annotations
 
 import hashlib
+import json
 import os
 import re
 import tempfile
@@ -56,19 +57,24 @@ def expand_xacro_in(
     known = _EXPANDED.get(key)
     if known is not None and all(_stamp(f) == stamp for f, stamp in known[1]):
         return known[0]
+    kept = _kept_expansion(key)
+    if kept is not None:
+        _remember(key, *kept)
+        return kept[0]
     with _XACRO_LOCK, environment_set(AMENT_PREFIX_PATH, str(prefix)):
         first = len(xacro.all_includes)
         try:
             doc = xacro.process_file(str(path), mappings=dict(args or {}))
         except Exception as e:
             raise _explained(workspace, path, e) from None
-        read = [str(path), *xacro.all_includes[first:]]
+        read = [str(path.resolve()), *xacro.all_includes[first:]]
     try:
         text = doc.toprettyxml(indent="  ")
     finally:
         doc.unlink()  # freed now, not by the cyclic collector (as omtp_drake.assets.expand_xacro)
     text = _real_folders(text, prefix, workspace)
-    _remember(key, text, read)
+    if _remember(key, text, read):
+        _keep_expansion(key, text, read)
     return text
 
 
@@ -88,18 +94,59 @@ def _stamp(file: str) -> tuple[int, int] | None:
     return stat.st_mtime_ns, stat.st_size
 
 
-def _remember(key: tuple, text: str, files: list[str]) -> None:
+def _remember(key: tuple, text: str, files: list[str]) -> bool:
+    """Keeps the expansion ``key`` in this process; False for one that cannot be kept (it
+    reads the environment, or a file it read is gone)."""
     stamps = tuple((f, _stamp(f)) for f in dict.fromkeys(files))
     for file, _ in stamps:
         try:
             source = Path(file).read_text(errors="replace")
         except OSError:
-            return
+            return False
         if "$(env" in source or "$(optenv" in source:
-            return
+            return False
     if len(_EXPANDED) >= _EXPANDED_MAX:
         _EXPANDED.pop(next(iter(_EXPANDED)))
     _EXPANDED[key] = (text, stamps)
+    return True
+
+
+# The model cache keeps what _remember keeps, for the next process: a command's first build
+# of a launch expanded its xacro files again (about 0.2 CPU s of a course launch's 0.5,
+# bench/bench_launch.py --cold). An entry is the text and the content hash of every file
+# xacro read (the file, its includes, its yaml); it is used while each hashes the same.
+
+
+def _cache_file(key: tuple) -> Path:
+    from omtp_drake.assets import cache_entry, xacro_version
+
+    digest = hashlib.sha1(repr((xacro_version(), _INDEX_VERSION, key)).encode()).hexdigest()[:24]
+    return cache_entry(f"xacro-in/{digest}.json")
+
+
+def _kept_expansion(key: tuple) -> tuple[str, list[str]] | None:
+    """(text, files read) of the cache's expansion ``key``, if every file still has the
+    content it had."""
+    from omtp_drake.assets import file_hash
+
+    try:
+        kept = json.loads(_cache_file(key).read_text())
+        files = [(str(f), str(h)) for f, h in kept["files"]]
+        text = str(kept["text"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return None
+    if any(file_hash(f) != h for f, h in files):
+        return None
+    return text, [f for f, _ in files]
+
+
+def _keep_expansion(key: tuple, text: str, files: list[str]) -> None:
+    from omtp_drake.assets import file_hash, write_atomic
+
+    hashes = [(f, file_hash(f)) for f in dict.fromkeys(files)]
+    if any(h is None for _, h in hashes):
+        return
+    write_atomic(_cache_file(key), json.dumps({"files": hashes, "text": text}).encode())
 
 
 def _real_folders(text: str, prefix: Path, workspace: Workspace) -> str:
