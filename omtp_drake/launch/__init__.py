@@ -22,6 +22,7 @@ Modules (one job each):
 - ``pieces``: the course's pieces in a spawned URDF: arms, grippers, pedestals, bins, the beam
 - ``own_links``: links a student added beside or on those pieces (a shelf, a wrist camera), as written
 - ``mesh_bins``: a bin of mesh collisions (the course's own), measured and kept open
+- ``parse_verdicts``: Drake's verdict on a world's model folders, kept in the model cache by content
 - ``sdf_warnings``: what sdformat warns about and loads without (stray elements), one line each
 - ``sdf_world``: a Gazebo world's models (includes by model://, poses, names), checked by Drake's parser
 - ``world_pieces``: the course's pieces in a world's models: cameras, the belt, the deletion wall
