@@ -159,3 +159,33 @@ def test_a_model_not_seen_yet_under_their_frame_prefix_is_said_so_not_unknown(wo
             cell.tf.lookup_transform("world", "belt_cam_object_1_frame")
     finally:
         cell.close()
+
+
+def test_the_camera_command_echoes_what_their_plugin_publishes(workspace, capsys):
+    """``omtp-drake camera --launch``: the message of the camera's topic, by their plugin's
+    rules: camera 2 the belt and the bin as two ``model``s (anonymized), not the pedestal
+    it also sees; camera 1 only the hall and parts (their known types), not the belt."""
+    from omtp_drake.cli import main
+
+    listed = {}
+    for camera in ("logical_camera_1", "logical_camera_2"):
+        argv = ["camera", "--launch", LAUNCH, "--workspace", str(workspace), "--camera", camera]
+        assert main([*argv, "--time", "1", "--json"]) == 0
+        listed[camera] = [(m["name"], m["type"]) for m in json.loads(capsys.readouterr().out)["models"]]
+    assert listed["logical_camera_2"] == [("", "model"), ("", "model")]
+    assert ("workcell_", "workcell") in listed["logical_camera_1"]
+    assert {t for _, t in listed["logical_camera_1"]} <= {"workcell", "object"}
+
+
+def test_the_camera_command_of_a_camera_whose_plugin_stopped_is_one_line(tmp_path, capsys):
+    from omtp_drake.cli import main
+
+    scenario = tmp_path / "stopped.yaml"
+    scenario.write_text(json.dumps({
+        "base": "lecture6_assignment1",
+        "plugin_names": {"camera_listings": {
+            "logical_camera_1": {"known_model_types": [], "advertised": False}}},
+    }))
+    assert main(["camera", str(scenario), "--camera", "logical_camera_1"]) == 2
+    err = capsys.readouterr().err
+    assert "logical camera 'logical_camera_1' publishes nothing" in err and err.count("\n") == 1

@@ -44,6 +44,7 @@ from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.scenario.plugin_names import CameraListing
 
 if TYPE_CHECKING:
+    from omtp_drake.cell.station import Station
     from omtp_drake.script import Cell
 
 #: The lecture's single-camera topic.
@@ -99,14 +100,16 @@ class PluginListing:
         return DetectedModel("", model_type(name), X_CM) if self.publishes(name) else None
 
 
+def camera_view(station: Station, camera: str) -> GazeboCameraView:
+    """The course plugin's view of ``station``'s camera ``camera`` (what its topic, and tf's
+    frames, list), by the rules of its plugin in the station's scenario."""
+    listing = station.scenario.plugin_names.camera_listing(camera)
+    return GazeboCameraView(station, camera, PluginListing(camera, listing))
+
+
 def camera_views(cell: Cell) -> dict[str, GazeboCameraView]:
-    """Camera -> the course plugin's view of it (what its topic, and tf's frames, list),
-    by its plugin's rules."""
-    names = cell.scenario.plugin_names
-    return {
-        name: GazeboCameraView(cell.station, name, PluginListing(name, names.camera_listing(name)))
-        for name in cell.station.cameras
-    }
+    """Camera -> the course plugin's view of it (:func:`camera_view`)."""
+    return {name: camera_view(cell.station, name) for name in cell.station.cameras}
 
 
 class NewImages:
