@@ -26,7 +26,14 @@ def ur_description_dir() -> Path:
     return path
 
 
-def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = math.pi) -> Path:
+def ur_urdf(
+    model: str,
+    prefix: str,
+    *,
+    joint_limit: float | Sequence[float] = math.pi,
+    velocity: Sequence[float] = (),
+    effort: Sequence[float] = (),
+) -> Path:
     """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
 
     Args:
@@ -34,6 +41,10 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = m
         prefix: prepended to link, joint and actuator names (``"robot1_"``).
         joint_limit: symmetric position limit of every joint (the course: pi), or of each
             revolute joint in the file's order (pan, lift, elbow, wrist 1, 2, 3).
+        velocity: each revolute joint's velocity limit (rad/s), in that order; empty:
+            the file's.
+        effort: each revolute joint's effort limit (N m), likewise (Drake's plant clamps
+            the arm's actuation to them).
 
     The ``world`` link and its joint are dropped (the station welds
     ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
@@ -44,7 +55,12 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = m
         raise UnknownNameError("arm model", model, UR_MODELS)
     src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
     name = prefix.rstrip("_") or model
-    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}.urdf")
+    rates = "".join(
+        f"_{tag}" + "_".join(f"{v:.6g}" for v in values)
+        for tag, values in (("v", velocity), ("e", effort))
+        if values
+    )
+    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{rates}.urdf")
     if dst.exists():
         return dst
 
@@ -53,9 +69,25 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = m
     root.set("name", name)
     _drop_world_and_ee_collision(root)
     _prefix_names(root, prefix, joint_limit)
+    _set_rates(root, velocity, effort)
     _point_meshes_to(root)
     write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
+
+
+@functools.cache
+def model_rates(model: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """(velocity limits, effort limits) of ``model``'s revolute joints in its file's order
+    (pan, lift, elbow, wrist 1, 2, 3), as ur_description writes them."""
+    if model not in UR_MODELS:
+        raise UnknownNameError("arm model", model, UR_MODELS)
+    root = ET.parse(ur_description_dir() / "urdf" / f"{model}_robot.urdf").getroot()
+    limits = [j.find("limit") for j in root.findall("joint") if j.get("type") == "revolute"]
+    found = [limit for limit in limits if limit is not None]
+    return (
+        tuple(float(limit.get("velocity", "inf")) for limit in found),
+        tuple(float(limit.get("effort", "inf")) for limit in found),
+    )
 
 
 def _drop_world_and_ee_collision(root: ET.Element) -> None:
@@ -103,6 +135,23 @@ def _prefix_names(root: ET.Element, prefix: str, joint_limit: float | Sequence[f
         trans_joint.set("name", prefix + _attr(trans_joint, "name"))
         actuator = _child(trans, "actuator")
         actuator.set("name", prefix + _attr(actuator, "name"))
+
+
+def _set_rates(root: ET.Element, velocity: Sequence[float], effort: Sequence[float]) -> None:
+    """Sets the revolute joints' velocity and effort limits (in the file's order) where given."""
+    limits = [
+        j.find("limit")
+        for j in root.findall("joint")
+        if j.get("type") == "revolute" and j.find("limit") is not None
+    ]
+    for attribute, values in (("velocity", velocity), ("effort", effort)):
+        if not values:
+            continue
+        if len(values) != len(limits):
+            raise ConfigError(f"UR model: {len(values)} {attribute} limits for {len(limits)} revolute joints")
+        for limit, value in zip(limits, values):
+            if limit is not None:
+                limit.set(attribute, repr(float(value)))
 
 
 def _point_meshes_to(root: ET.Element) -> None:

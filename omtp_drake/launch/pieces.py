@@ -29,6 +29,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.arm_rates import ARM_JOINTS, arm_joint_rates
 from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import (
     WORKCELL_LINK,
@@ -63,10 +64,7 @@ PIECE_LINKS = {
     "break_beam": ("world_interface", "base_link", "optical_link"),
 }  # fmt: skip
 #: An arm's six joints, after its prefix (ur_description's).
-PIECE_JOINTS = (
-    "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-    "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
-)  # fmt: skip
+PIECE_JOINTS = ARM_JOINTS
 
 
 @dataclass
@@ -315,8 +313,9 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
         "gripper": _gripper(pieces, model, prefix, where, name),
     }
     limits, lines = arm_joint_limit(model, prefix, where)
-    pieces.warnings += lines
-    robot.update(limits)
+    rates, rate_lines = arm_joint_rates(model, prefix, kinds[0], where)
+    pieces.warnings += lines + rate_lines
+    robot.update(limits, **rates)
     if any(j.startswith(prefix) for j in joints):
         given = " ".join(f"-J {k} {v}" for k, v in joints.items())
         pieces.warnings.append(

@@ -51,6 +51,12 @@ class RobotConfig:
     #: file gives them apart (ur_description's unlimited arm: 2 pi, the elbow pi); empty:
     #: ``joint_limit`` for every joint.
     joint_limits: list[float] = field(default_factory=list)
+    #: Each joint's velocity limit (rad/s) and effort limit (N m), pan ... wrist 3, as the
+    #: arm's file writes them; empty: ``model``'s (ur_description's). The velocities bound
+    #: DiffIK, the planners' timing and MoveIt's (where no joint_limits.yaml says otherwise);
+    #: the efforts bound the arm's actuators in the plant, as Gazebo's joint limits do.
+    velocity_limits: list[float] = field(default_factory=list)
+    effort_limits: list[float] = field(default_factory=list)
     #: Rate (Hz) at which the servo samples the position command and
     #: differentiates it into a desired velocity (a real UR: 125 Hz). Match a
     #: discrete commander's rate (DiffIK runs at 100 Hz) so velocities are smooth.
@@ -89,6 +95,10 @@ class RobotConfig:
             raise ConfigError(
                 f"{where}.joint_limits must be 6 limits in (0, 2 pi] (or empty), got {self.joint_limits}"
             )
+        for what in ("velocity_limits", "effort_limits"):
+            values = getattr(self, what)
+            if values and (len(values) != 6 or not all(0 < v < math.inf for v in values)):
+                raise ConfigError(f"{where}.{what} must be 6 finite limits > 0 (or empty), got {values}")
         for gain in ("kp", "kd", "ki"):
             if getattr(self, gain) < 0:
                 raise ConfigError(f"{where}.{gain} must be >= 0, got {getattr(self, gain)}")

@@ -1,0 +1,105 @@
+"""An arm's joint velocity and effort limits as the student's URDF writes them
+(tests/fixtures/group_ws with a ur_description of their own in its workspace, found before
+the project's stand-in, whose UR5 they slowed down and weakened):
+
+- the scenario's robot 2 carries them, robot 1 (untouched UR10) the model's (empty fields);
+- the plant's joints and actuators take them (Drake clamps the actuation to the efforts,
+  as Gazebo truncates a joint's force to its effort limit);
+- DiffIK's bounds and the planners' timing stay within the velocities, as MoveIt's
+  (no joint_limits.yaml) and the course's trajectories do."""
+
+from __future__ import annotations
+
+import dataclasses
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from omtp_drake.launch import own_cell
+from omtp_drake.launch.standins import STANDINS_DIR, standin_dirs
+
+FIXTURES = Path(__file__).resolve().parent / "fixtures"
+LAUNCH = "omtp_lecture6 lecture6_assignment1.launch"
+SLOW = [1.0, 1.0, 1.2, 1.5, 1.5, 1.5]
+WEAK = [100.0, 100.0, 90.0, 20.0, 20.0, 20.0]
+
+
+@pytest.fixture(scope="module")
+def cell(tmp_path_factory):
+    src = tmp_path_factory.mktemp("rates_ws") / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    own = src / "ur_description"
+    shutil.copytree(STANDINS_DIR / "ur_description", own)
+    (own / "meshes").symlink_to(standin_dirs()[0] / "ur_description" / "meshes")
+    ur5 = own / "urdf" / "ur5.urdf.xacro"
+    text = ur5.read_text()
+    assert 'efforts="150 150 150 28 28 28" velocities="3.15 3.15 3.15 3.2 3.2 3.2"' in text
+    ur5.write_text(
+        text.replace(
+            'efforts="150 150 150 28 28 28" velocities="3.15 3.15 3.15 3.2 3.2 3.2"',
+            f'efforts="{" ".join(map(str, WEAK))}" velocities="{" ".join(map(str, SLOW))}"',
+        )
+    )
+    return own_cell(LAUNCH, workspace=[src], environ={})
+
+
+def test_their_slower_weaker_arm_is_the_scenarios(cell):
+    robot1, robot2 = cell.scenario.robots
+    assert (robot1.velocity_limits, robot1.effort_limits) == ([], [])
+    assert robot2.velocity_limits == pytest.approx(SLOW)
+    assert robot2.effort_limits == pytest.approx(WEAK)
+    assert not [w for w in cell.warnings if "limits" in w]
+
+
+def test_the_plant_diffik_and_the_timing_keep_within_them(cell):
+    from omtp_drake.cell import arms
+    from omtp_drake.control.joint_plan import diffik_parameters
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    robot1, robot2 = cell.scenario.robots
+    runtime = FactoryRuntime(cell.scenario, auto_spawn=False)
+    try:
+        plant = runtime.station.plant
+        for k, joint_name in enumerate(arms.JOINT_NAMES):
+            joint = plant.GetJointByName(f"robot2_{joint_name}")
+            assert joint.velocity_upper_limits()[0] == pytest.approx(SLOW[k])
+            actuator = next(
+                plant.get_joint_actuator(i)
+                for i in plant.GetJointActuatorIndices()
+                if plant.get_joint_actuator(i).joint().index() == joint.index()
+            )
+            assert actuator.effort_limit() == pytest.approx(WEAK[k])
+        pan1 = plant.GetJointByName("robot1_shoulder_pan_joint")
+        assert pan1.velocity_upper_limits()[0] == pytest.approx(2.16)
+    finally:
+        runtime.close()
+    lower, upper = diffik_parameters(robot2, 6, 0.01).get_joint_velocity_limits()
+    np.testing.assert_allclose(upper, SLOW)
+    np.testing.assert_allclose(lower, -np.array(SLOW))
+    # The same move, timed within their limits and within the model's: slower, and never
+    # faster than half their limit (the trajectory's speed_fraction) on any joint.
+    theirs = arms.joint_trajectory(robot2, ["R2Home", "R2Place"], dwell=0.0)
+    as_model = dataclasses.replace(robot2, velocity_limits=[])
+    model = arms.joint_trajectory(as_model, ["R2Home", "R2Place"], dwell=0.0)
+    assert theirs.end_time() > model.end_time() * 1.5
+    speeds = np.abs(np.hstack([theirs.EvalDerivative(t) for t in np.linspace(0, theirs.end_time(), 200)]))
+    assert np.all(speeds.max(axis=1) <= 0.5 * np.array(SLOW) * (1 + 1e-6))
+
+
+def test_a_limit_that_is_no_number_above_zero_is_one_warning_and_the_models_are_kept():
+    from omtp_drake.launch.arm_rates import ARM_JOINTS, arm_joint_rates
+    from omtp_drake.launch.urdf_model import UrdfModel
+
+    joints = "".join(
+        f'<joint name="r_{j}" type="revolute"><parent link="a"/><child link="b{k}"/>'
+        f'<limit lower="-3.14" upper="3.14" effort="{-5 if k == 2 else 40}" velocity="2"/></joint>'
+        for k, j in enumerate(ARM_JOINTS)
+    )
+    links = "".join(f'<link name="b{k}"/>' for k in range(6))
+    model = UrdfModel.from_text(f'<robot name="r"><link name="a"/>{links}{joints}</robot>', "arm.urdf")
+    rates, (line,) = arm_joint_rates(model, "r_", "ur5", "spawn.launch:9")
+    assert rates == {"velocity_limits": [2.0] * 6}
+    assert line.startswith("spawn.launch:9: arm 'r': effort limits shoulder_pan_joint 40, ")
+    assert "elbow_joint -5" in line and line.endswith("keeps ur5's 150 150 150 28 28 28")
