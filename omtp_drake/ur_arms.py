@@ -6,10 +6,11 @@ once into the model cache (:func:`~omtp_drake.assets.cache_entry`) with its mesh
 from __future__ import annotations
 
 import functools
+import hashlib
 import importlib.metadata
 import math
 import xml.etree.ElementTree as ET
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from omtp_drake.assets import DRAKE_NS, UR_MODELS, cache_entry, drake_mesh, write_atomic
@@ -33,6 +34,7 @@ def ur_urdf(
     joint_limit: float | Sequence[float] = math.pi,
     velocity: Sequence[float] = (),
     effort: Sequence[float] = (),
+    inertials: Mapping[str, Sequence[float]] | None = None,
 ) -> Path:
     """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
 
@@ -45,6 +47,9 @@ def ur_urdf(
             the file's.
         effort: each revolute joint's effort limit (N m), likewise (Drake's plant clamps
             the arm's actuation to them).
+        inertials: link (unprefixed) -> [mass, x, y, z, ixx, iyy, izz, ixy, ixz, iyz], the
+            link's inertial in its frame (centre of mass, inertia about it); a link not
+            given: the file's.
 
     The ``world`` link and its joint are dropped (the station welds
     ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
@@ -60,6 +65,9 @@ def ur_urdf(
         for tag, values in (("v", velocity), ("e", effort))
         if values
     )
+    if inertials:
+        text = repr(sorted((k, [float(v) for v in vs]) for k, vs in inertials.items()))
+        rates += "_i" + hashlib.sha1(text.encode()).hexdigest()[:12]
     dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{rates}.urdf")
     if dst.exists():
         return dst
@@ -70,6 +78,7 @@ def ur_urdf(
     _drop_world_and_ee_collision(root)
     _prefix_names(root, prefix, joint_limit)
     _set_rates(root, velocity, effort)
+    _set_inertials(root, prefix, inertials or {})
     _point_meshes_to(root)
     write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
@@ -152,6 +161,22 @@ def _set_rates(root: ET.Element, velocity: Sequence[float], effort: Sequence[flo
         for limit, value in zip(limits, values):
             if limit is not None:
                 limit.set(attribute, repr(float(value)))
+
+
+def _set_inertials(root: ET.Element, prefix: str, inertials: Mapping[str, Sequence[float]]) -> None:
+    """Writes each given link's inertial (see :func:`ur_urdf`) in place of the file's."""
+    for link_name, values in inertials.items():
+        link = root.find(f"link[@name='{prefix}{link_name}']")
+        if link is None:
+            raise UnknownNameError("UR link", link_name, [_attr(k, "name") for k in root.findall("link")])
+        for old in link.findall("inertial"):
+            link.remove(old)
+        m, x, y, z, ixx, iyy, izz, ixy, ixz, iyz = (float(v) for v in values)
+        inertial = ET.SubElement(link, "inertial")
+        ET.SubElement(inertial, "mass", value=repr(m))
+        ET.SubElement(inertial, "origin", xyz=f"{x!r} {y!r} {z!r}", rpy="0 0 0")
+        moments = {"ixx": ixx, "iyy": iyy, "izz": izz, "ixy": ixy, "ixz": ixz, "iyz": iyz}
+        ET.SubElement(inertial, "inertia", {k: repr(v) for k, v in moments.items()})
 
 
 def _point_meshes_to(root: ET.Element) -> None:

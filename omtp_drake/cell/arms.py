@@ -100,13 +100,14 @@ def check_joint_positions(q, robot: RobotConfig) -> np.ndarray:
 
 def arm_urdf(robot: RobotConfig) -> Path:
     """The URDF of ``robot``'s arm: its model's, with the position, velocity and effort
-    limits its scenario gives."""
+    limits and the links' inertials its scenario gives."""
     return ur_urdf(
         robot.model,
         robot.name + "_",
         joint_limit=robot.limits(),
         velocity=robot.velocity_limits,
         effort=robot.effort_limits,
+        inertials=robot.inertials,
     )
 
 

@@ -20,7 +20,7 @@ Modules (one job each):
 - ``controller_spawners``: controller_manager's spawners: which controllers start on which robot
 - ``urdf_model``: a URDF's links as frames (joint tree, link poses) and its <gazebo> tags
 - ``pieces``: the course's pieces in a spawned URDF: arms, grippers, pedestals, bins, the beam
-- ``arm_rates``: an arm's joint velocity and effort limits as the student's URDF writes them
+- ``arm_dynamics``: an arm's joint velocity and effort limits and its links' inertia, as written
 - ``own_links``: links a student added beside or on those pieces (a shelf, a wrist camera), as written
 - ``mesh_bins``: a bin of mesh collisions (the course's own), measured and kept open
 - ``sdf_warnings``: what sdformat warns about and loads without (stray elements), one line each

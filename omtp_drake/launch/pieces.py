@@ -29,7 +29,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
-from omtp_drake.launch.arm_rates import ARM_JOINTS, arm_joint_rates
+from omtp_drake.launch.arm_dynamics import ARM_JOINTS, arm_inertials, arm_joint_rates
 from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import (
     WORKCELL_LINK,
@@ -314,8 +314,9 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
     }
     limits, lines = arm_joint_limit(model, prefix, where)
     rates, rate_lines = arm_joint_rates(model, prefix, kinds[0], where)
-    pieces.warnings += lines + rate_lines
-    robot.update(limits, **rates)
+    inertials, inertial_lines = arm_inertials(model, prefix, kinds[0], where)
+    pieces.warnings += lines + rate_lines + inertial_lines
+    robot.update(limits, **rates, **inertials)
     if any(j.startswith(prefix) for j in joints):
         given = " ".join(f"-J {k} {v}" for k, v in joints.items())
         pieces.warnings.append(

@@ -1,10 +1,12 @@
 """An arm's joint velocity and effort limits as the student's URDF writes them
 (tests/fixtures/group_ws with a ur_description of their own in its workspace, found before
-the project's stand-in, whose UR5 they slowed down and weakened):
+the project's stand-in, whose UR5 they slowed down and weakened, with a heavier forearm
+and flange):
 
 - the scenario's robot 2 carries them, robot 1 (untouched UR10) the model's (empty fields);
 - the plant's joints and actuators take them (Drake clamps the actuation to the efforts,
   as Gazebo truncates a joint's force to its effort limit);
+- the plant's arm and its servo's model have their links' inertia: the arm holds its pose;
 - DiffIK's bounds and the planners' timing stay within the velocities, as MoveIt's
   (no joint_limits.yaml) and the course's trajectories do."""
 
@@ -36,11 +38,13 @@ def cell(tmp_path_factory):
     ur5 = own / "urdf" / "ur5.urdf.xacro"
     text = ur5.read_text()
     assert 'efforts="150 150 150 28 28 28" velocities="3.15 3.15 3.15 3.2 3.2 3.2"' in text
+    assert 'masses="4.0 3.7 8.393 2.275 1.219 1.219 0.1879"' in text
     ur5.write_text(
         text.replace(
             'efforts="150 150 150 28 28 28" velocities="3.15 3.15 3.15 3.2 3.2 3.2"',
             f'efforts="{" ".join(map(str, WEAK))}" velocities="{" ".join(map(str, SLOW))}"',
-        )
+        ).replace('masses="4.0 3.7 8.393 2.275 1.219 1.219 0.1879"',
+                  'masses="4.0 3.7 8.393 3.5 1.219 1.219 0.5"')
     )
     return own_cell(LAUNCH, workspace=[src], environ={})
 
@@ -50,7 +54,11 @@ def test_their_slower_weaker_arm_is_the_scenarios(cell):
     assert (robot1.velocity_limits, robot1.effort_limits) == ([], [])
     assert robot2.velocity_limits == pytest.approx(SLOW)
     assert robot2.effort_limits == pytest.approx(WEAK)
-    assert not [w for w in cell.warnings if "limits" in w]
+    assert not [w for w in cell.warnings if "limits" in w or "inertial" in w]
+    assert robot1.inertials == {}
+    assert sorted(robot2.inertials) == ["forearm_link", "wrist_3_link"]
+    assert robot2.inertials["forearm_link"] == pytest.approx([3.5, 0, 0, 0, 0.035, 0.035, 0.035, 0, 0, 0])
+    assert robot2.inertials["wrist_3_link"][0] == pytest.approx(0.5)
 
 
 def test_the_plant_diffik_and_the_timing_keep_within_them(cell):
@@ -71,6 +79,13 @@ def test_the_plant_diffik_and_the_timing_keep_within_them(cell):
                 if plant.get_joint_actuator(i).joint().index() == joint.index()
             )
             assert actuator.effort_limit() == pytest.approx(WEAK[k])
+        context = plant.GetMyContextFromRoot(runtime.context)
+        assert plant.GetBodyByName("robot2_forearm_link").get_mass(context) == pytest.approx(3.5)
+        assert plant.GetBodyByName("robot1_forearm_link").get_mass(context) != pytest.approx(3.5)
+        q0 = plant.GetPositions(context, plant.GetModelInstanceByName("robot2")).copy()
+        runtime.advance_to(1.0)
+        q1 = plant.GetPositions(context, plant.GetModelInstanceByName("robot2"))
+        assert np.abs(q1 - q0).max() < 1e-3, q1 - q0
         pan1 = plant.GetJointByName("robot1_shoulder_pan_joint")
         assert pan1.velocity_upper_limits()[0] == pytest.approx(2.16)
     finally:
@@ -89,7 +104,7 @@ def test_the_plant_diffik_and_the_timing_keep_within_them(cell):
 
 
 def test_a_limit_that_is_no_number_above_zero_is_one_warning_and_the_models_are_kept():
-    from omtp_drake.launch.arm_rates import ARM_JOINTS, arm_joint_rates
+    from omtp_drake.launch.arm_dynamics import ARM_JOINTS, arm_joint_rates
     from omtp_drake.launch.urdf_model import UrdfModel
 
     joints = "".join(
@@ -103,3 +118,39 @@ def test_a_limit_that_is_no_number_above_zero_is_one_warning_and_the_models_are_
     assert rates == {"velocity_limits": [2.0] * 6}
     assert line.startswith("spawn.launch:9: arm 'r': effort limits shoulder_pan_joint 40, ")
     assert "elbow_joint -5" in line and line.endswith("keeps ur5's 150 150 150 28 28 28")
+
+
+def test_an_inertial_no_body_can_have_is_one_warning_and_the_models_is_kept():
+    from omtp_drake.launch.arm_dynamics import arm_inertials
+    from omtp_drake.launch.urdf_model import UrdfModel
+
+    inertial = ('<inertial><mass value="{}"/>'
+                '<inertia ixx="{}" iyy="1" izz="1" ixy="0" ixz="0" iyz="0"/></inertial>')
+    links = (
+        f'<link name="r_forearm_link">{inertial.format(-2, 1)}</link>'
+        f'<link name="r_wrist_1_link">{inertial.format(1, 5)}</link>'
+        f'<link name="r_wrist_2_link">{inertial.format(2, 1)}</link>'
+        '<joint name="a" type="fixed"><parent link="r_forearm_link"/><child link="r_wrist_1_link"/></joint>'
+        '<joint name="b" type="fixed"><parent link="r_wrist_1_link"/><child link="r_wrist_2_link"/></joint>'
+    )
+    model = UrdfModel.from_text(f'<robot name="r">{links}</robot>', "arm.urdf")
+    found, lines = arm_inertials(model, "r_", "ur10", "spawn.launch:9")
+    assert found == {"inertials": {"wrist_2_link": [2.0, 0, 0, 0, 1.0, 1.0, 1.0, 0, 0, 0]}}
+    named = [line.split(": ")[2].split("'s")[0] for line in lines]
+    assert named == ["link forearm_link", "link wrist_1_link"]
+    assert all(line.endswith("the cell's arm keeps ur10's") for line in lines)
+
+
+@pytest.mark.parametrize("field, value, message", [
+    ("velocity_limits", [1.0] * 5, "robots[robot1].velocity_limits must be 6 finite limits > 0"),
+    ("effort_limits", [1.0, 1.0, 0.0, 1.0, 1.0, 1.0], "robots[robot1].effort_limits must be 6 finite"),
+    ("inertials", {"elbow_link": [1.0] + [0.0] * 9}, "unknown link in robots[robot1].inertials 'elbow_link'"),
+    ("inertials", {"forearm_link": [0.0] * 10}, "robots[robot1].inertials[forearm_link] must be [mass > 0"),
+])
+def test_a_bad_field_is_one_error_naming_it(field, value, message):
+    from omtp_drake.errors import OmtpError
+    from omtp_drake.scenario import RobotConfig
+
+    with pytest.raises(OmtpError) as raised:
+        RobotConfig(**{field: value}).validate()
+    assert message in str(raised.value) and "\n" not in str(raised.value)
