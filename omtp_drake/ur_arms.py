@@ -35,6 +35,7 @@ def ur_urdf(
     velocity: Sequence[float] = (),
     effort: Sequence[float] = (),
     inertials: Mapping[str, Sequence[float]] | None = None,
+    dropped: Sequence[str] = (),
 ) -> Path:
     """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
 
@@ -50,6 +51,8 @@ def ur_urdf(
         inertials: link (unprefixed) -> [mass, x, y, z, ixx, iyy, izz, ixy, ixz, iyz], the
             link's inertial in its frame (centre of mass, inertia about it); a link not
             given: the file's.
+        dropped: ``<link>/visual`` or ``<link>/collision`` (unprefixed): geometry of the
+            file's removed (a student's file replaced it; theirs is loaded beside).
 
     The ``world`` link and its joint are dropped (the station welds
     ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
@@ -68,6 +71,8 @@ def ur_urdf(
     if inertials:
         text = repr(sorted((k, [float(v) for v in vs]) for k, vs in inertials.items()))
         rates += "_i" + hashlib.sha1(text.encode()).hexdigest()[:12]
+    if dropped:
+        rates += "_d" + hashlib.sha1(" ".join(sorted(dropped)).encode()).hexdigest()[:12]
     dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{rates}.urdf")
     if dst.exists():
         return dst
@@ -79,6 +84,7 @@ def ur_urdf(
     _prefix_names(root, prefix, joint_limit)
     _set_rates(root, velocity, effort)
     _set_inertials(root, prefix, inertials or {})
+    _drop_geometry(root, prefix, dropped)
     _point_meshes_to(root)
     write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
@@ -177,6 +183,17 @@ def _set_inertials(root: ET.Element, prefix: str, inertials: Mapping[str, Sequen
         ET.SubElement(inertial, "origin", xyz=f"{x!r} {y!r} {z!r}", rpy="0 0 0")
         moments = {"ixx": ixx, "iyy": iyy, "izz": izz, "ixy": ixy, "ixz": ixz, "iyz": iyz}
         ET.SubElement(inertial, "inertia", {k: repr(v) for k, v in moments.items()})
+
+
+def _drop_geometry(root: ET.Element, prefix: str, dropped: Sequence[str]) -> None:
+    """Removes the file's visuals or collisions of each ``<link>/<kind>`` of ``dropped``."""
+    for entry in dropped:
+        link_name, _, kind = entry.partition("/")
+        link = root.find(f"link[@name='{prefix}{link_name}']")
+        if link is None or kind not in ("visual", "collision"):
+            raise UnknownNameError("UR link geometry", entry, [])
+        for element in link.findall(kind):
+            link.remove(element)
 
 
 def _point_meshes_to(root: ET.Element) -> None:

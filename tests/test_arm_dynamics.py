@@ -1,9 +1,10 @@
-"""An arm's joint velocity and effort limits as the student's URDF writes them
+"""An arm's joint velocity and effort limits, inertia and geometry as the student's URDF writes them
 (tests/fixtures/group_ws with a ur_description of their own in its workspace, found before
 the project's stand-in, whose UR5 they slowed down and weakened, with a heavier forearm
-and flange):
+and flange, and a box for the forearm's visual):
 
-- the scenario's robot 2 carries them, robot 1 (untouched UR10) the model's (empty fields);
+- the scenario's robot 2 carries them, robot 1 (a UR10: only its forearm's visual changed) the
+  model's (empty fields);
 - the plant's joints and actuators take them (Drake clamps the actuation to the efforts,
   as Gazebo truncates a joint's force to its effort limit);
 - the plant's arm and its servo's model have their links' inertia: the arm holds its pose;
@@ -46,7 +47,27 @@ def cell(tmp_path_factory):
         ).replace('masses="4.0 3.7 8.393 2.275 1.219 1.219 0.1879"',
                   'masses="4.0 3.7 8.393 3.5 1.219 1.219 0.5"')
     )
+    # Their forearm's visual: a box of their own in place of ur_description's mesh.
+    arm = own / "urdf" / "ur_arm.xacro"
+    line = ('<xacro:omtp_standin_ur_link name="${prefix}forearm_link" mesh="forearm" '
+            'model="${model}" mass="${m[3]}"/>')
+    assert line in arm.read_text()
+    arm.write_text(arm.read_text().replace(line, FOREARM))
     return own_cell(LAUNCH, workspace=[src], environ={})
+
+
+FOREARM = """
+    <link name="${prefix}forearm_link">
+      <visual><origin xyz="0 0 0.2"/><geometry><box size="0.07 0.07 0.4"/></geometry></visual>
+      <collision>
+        <geometry><mesh filename="package://ur_description/meshes/${model}/collision/forearm.stl"/></geometry>
+      </collision>
+      <inertial>
+        <mass value="${m[3]}"/>
+        <origin xyz="0 0 0" rpy="0 0 0"/>
+        <inertia ixx="${m[3] * 0.01}" ixy="0" ixz="0" iyy="${m[3] * 0.01}" iyz="0" izz="${m[3] * 0.01}"/>
+      </inertial>
+    </link>"""
 
 
 def test_their_slower_weaker_arm_is_the_scenarios(cell):
@@ -154,3 +175,32 @@ def test_a_bad_field_is_one_error_naming_it(field, value, message):
     with pytest.raises(OmtpError) as raised:
         RobotConfig(**{field: value}).validate()
     assert message in str(raised.value) and "\n" not in str(raised.value)
+
+
+def test_their_forearm_visual_replaces_the_models(cell):
+    """The box they wrote in place of the forearm's visual mesh is loaded (on the cell's
+    forearm), and the cell's arm has no visual of its own there; its collision is the
+    course's mesh, kept."""
+    from omtp_drake.sim.runtime import FactoryRuntime
+
+    for robot in cell.scenario.robots:
+        assert robot.own_geometry == ["forearm_link/visual"]
+    models = {m.name: m for m in cell.scenario.models}
+    own = models["robot2_forearm_link_own"]
+    assert own.parent == "robot2_forearm_link"
+    runtime = FactoryRuntime(cell.scenario, auto_spawn=False)
+    try:
+        from pydrake.geometry import Role
+
+        plant, inspector = runtime.station.plant, runtime.station.scene_graph.model_inspector()
+
+        def shapes(body: str, role) -> list[str]:
+            frame = plant.GetBodyFrameIdOrThrow(plant.GetBodyByName(body).index())
+            return [inspector.GetShape(g).__class__.__name__ for g in inspector.GetGeometries(frame, role)]
+
+        assert shapes("robot2_forearm_link", Role.kIllustration) == []
+        assert shapes("robot2_forearm_link", Role.kProximity) != []
+        assert shapes("robot2_forearm_link_own", Role.kIllustration) == ["Box"]
+        assert shapes("robot2_upper_arm_link", Role.kIllustration) != []
+    finally:
+        runtime.close()

@@ -100,7 +100,7 @@ def check_joint_positions(q, robot: RobotConfig) -> np.ndarray:
 
 def arm_urdf(robot: RobotConfig) -> Path:
     """The URDF of ``robot``'s arm: its model's, with the position, velocity and effort
-    limits and the links' inertials its scenario gives."""
+    limits, the links' inertials and the geometry its scenario gives."""
     return ur_urdf(
         robot.model,
         robot.name + "_",
@@ -108,6 +108,7 @@ def arm_urdf(robot: RobotConfig) -> Path:
         velocity=robot.velocity_limits,
         effort=robot.effort_limits,
         inertials=robot.inertials,
+        dropped=robot.own_geometry,
     )
 
 

@@ -42,10 +42,12 @@ from omtp_drake.launch.own_links import (
     own_links,
     own_links_urdf,
     piece_urdf,
+    replaced_kinds,
 )
 from omtp_drake.launch.plugins import beam_names, check_break_beam, gripper_names, plugins_in, suction_checks
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import RobotConfig
+from omtp_drake.scenario.arm_dynamics import ARM_LINKS
 
 #: Length of the upper arm (the elbow joint's offset along the link) -> the arm model.
 UR_UPPER_ARMS = {"ur10": 0.612, "ur5": 0.425}
@@ -152,7 +154,14 @@ def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where
     already)."""
     built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
     built += [WORKCELL_LINK] if WORKCELL_LINK in model.links else []
-    for link, extras in inner_additions(model, built).items():
+    bodies = {f"{r['name']}_{link}": r for r in pieces.robots for link in ARM_LINKS}
+    for link in sorted(set(built) & set(bodies)):
+        robot = bodies[link]
+        unprefixed = link[len(robot["name"]) + 1 :]
+        replaced = [f"{unprefixed}/{kind}" for kind in replaced_kinds(model, link)]
+        if replaced:
+            robot["own_geometry"] = [*robot.get("own_geometry", []), *replaced]
+    for link, extras in inner_additions(model, built, set(built) & set(bodies)).items():
         taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
         own = f"{link}_own" if f"{link}_own" not in taken else f"{link}_own_model"
         text = inner_additions_urdf(link, extras, own)

@@ -1,5 +1,5 @@
-"""An arm's dynamics as its file writes them, where they are not its model's: each joint's
-velocity and effort limit, each link's inertial (fields of
+"""An arm as its file writes it, where it is not its model: each joint's velocity and
+effort limit, each link's inertial, the links' geometry it replaced (fields of
 :class:`~omtp_drake.scenario.configs.RobotConfig`), and their checks."""
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ def check_arm_dynamics(
     velocity_limits: Sequence[float],
     effort_limits: Sequence[float],
     inertials: Mapping[str, Sequence[float]],
+    own_geometry: Sequence[str] = (),
 ) -> None:
     """Raises :class:`ConfigError` (:class:`UnknownNameError` for a link) naming the robot's
     field, its value and what is valid."""
@@ -35,3 +36,7 @@ def check_arm_dynamics(
                 f"{where}.inertials[{link}] must be [mass > 0, x, y, z, ixx, iyy, izz, ixy, ixz, iyz], "
                 f"got {list(inertial)}"
             )
+    valid = [f"{link}/{kind}" for link in ARM_LINKS for kind in ("visual", "collision")]
+    for entry in own_geometry:
+        if entry not in valid:
+            raise UnknownNameError(f"entry of {where}.own_geometry", entry, valid)

@@ -63,6 +63,9 @@ class RobotConfig:
     #: ixz, iyz (kg m^2) about it], all in the link's frame (``scenario.arm_dynamics``). A link
     #: not listed: the model's.
     inertials: dict[str, list[float]] = field(default_factory=dict)
+    #: ``<link>/visual`` or ``<link>/collision`` where the arm's file replaced the model's
+    #: geometry: the cell's arm drops its own there (theirs is the ``<robot>_<link>_own`` model).
+    own_geometry: list[str] = field(default_factory=list)
     #: Rate (Hz) at which the servo samples the position command and
     #: differentiates it into a desired velocity (a real UR: 125 Hz). Match a
     #: discrete commander's rate (DiffIK runs at 100 Hz) so velocities are smooth.
@@ -101,7 +104,7 @@ class RobotConfig:
             raise ConfigError(
                 f"{where}.joint_limits must be 6 limits in (0, 2 pi] (or empty), got {self.joint_limits}"
             )
-        check_arm_dynamics(where, self.velocity_limits, self.effort_limits, self.inertials)
+        check_arm_dynamics(where, self.velocity_limits, self.effort_limits, self.inertials, self.own_geometry)
         for gain in ("kp", "kd", "ki"):
             if getattr(self, gain) < 0:
                 raise ConfigError(f"{where}.{gain} must be >= 0, got {getattr(self, gain)}")
