@@ -189,3 +189,34 @@ def test_the_camera_command_of_a_camera_whose_plugin_stopped_is_one_line(tmp_pat
     assert main(["camera", str(scenario), "--camera", "logical_camera_1"]) == 2
     err = capsys.readouterr().err
     assert "logical camera 'logical_camera_1' publishes nothing" in err and err.count("\n") == 1
+
+
+def test_an_agvs_kit_tray_is_a_tf_frame_under_it_not_in_the_message():
+    """ARIAC's AGV in the plugin: a model of type ``agv1`` in view gets its kit tray's
+    frame, 0.15 m along its y and 0.75 m up, under its own; the message lists the AGV only."""
+    import dataclasses
+
+    import numpy as np
+
+    from omtp_drake.gazebo.logical_camera import camera_views
+    from omtp_drake.scenario import ModelConfig, load_scenario
+    from omtp_drake.script import Cell
+
+    box = ('<robot name="agv1"><link name="agv1_base"><visual><geometry><box size="0.3 0.3 0.1"/>'
+           '</geometry></visual><collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision>'
+           '</link></robot>')
+    scenario = load_scenario("lecture6_assignment1")
+    agv = ModelConfig(name="agv1", file="agv1.urdf", description=box, xyz=[1.2, 1.6, 1.2], static=True)
+    scenario = dataclasses.replace(scenario, models=[*scenario.models, agv])
+    cell = Cell(scenario, auto_spawn=False)
+    try:
+        views = camera_views(cell)
+        cell.tf.use_images(lambda camera: views[camera].image_of)
+        cell.wait(0.25)
+        image = views["logical_camera_1"].image(cell.runtime.context)
+        assert ("agv1", "agv1") in [(m.name, m.type) for m in image.models]
+        assert not [m for m in image.models if "kit_tray" in m.type]
+        X_WT = cell.tf.lookup_transform("world", "logical_camera_1_kit_tray_1_frame").transform
+        np.testing.assert_allclose(X_WT.translation(), [1.2, 1.75, 1.95], atol=2e-3)
+    finally:
+        cell.close()
