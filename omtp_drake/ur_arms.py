@@ -63,17 +63,8 @@ def ur_urdf(
         raise UnknownNameError("arm model", model, UR_MODELS)
     src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
     name = prefix.rstrip("_") or model
-    rates = "".join(
-        f"_{tag}" + "_".join(f"{v:.6g}" for v in values)
-        for tag, values in (("v", velocity), ("e", effort))
-        if values
-    )
-    if inertials:
-        text = repr(sorted((k, [float(v) for v in vs]) for k, vs in inertials.items()))
-        rates += "_i" + hashlib.sha1(text.encode()).hexdigest()[:12]
-    if dropped:
-        rates += "_d" + hashlib.sha1(" ".join(sorted(dropped)).encode()).hexdigest()[:12]
-    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{rates}.urdf")
+    edits = _edits_tag(velocity, effort, inertials or {}, dropped)
+    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{edits}.urdf")
     if dst.exists():
         return dst
 
@@ -222,6 +213,23 @@ def _attr(element: ET.Element, name: str) -> str:
     if value is None:
         raise ConfigError(f"UR model: <{element.tag}> has no attribute {name!r}")
     return value
+
+
+def _edits_tag(
+    velocity: Sequence[float], effort: Sequence[float], inertials: Mapping, dropped: Sequence[str]
+) -> str:
+    """The cache name's part for what a scenario changes of the file ('' for nothing)."""
+    rates = "".join(
+        f"_{tag}" + "_".join(f"{v:.6g}" for v in values)
+        for tag, values in (("v", velocity), ("e", effort))
+        if values
+    )
+    if inertials:
+        text = repr(sorted((k, [float(v) for v in vs]) for k, vs in inertials.items()))
+        rates += "_i" + hashlib.sha1(text.encode()).hexdigest()[:12]
+    if dropped:
+        rates += "_d" + hashlib.sha1(" ".join(sorted(dropped)).encode()).hexdigest()[:12]
+    return rates
 
 
 def _limit_tag(limit: float | Sequence[float]) -> str:
