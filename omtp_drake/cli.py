@@ -178,9 +178,16 @@ def cmd_camera(args: argparse.Namespace) -> int:
                 f"camera {args.camera!r} of {scenario.name} has no RGB-D view for --image; enable it in a "
                 f"scenario with base: {scenario.name} and cameras: [{{name: {args.camera}, rgbd: true}}]"
             )
+    from omtp_drake.gazebo.logical_camera import camera_view
+
     station, context = _simulated_station(args.scenario, args.time, camera=args.camera)
-    station_context = station.diagram.GetMyContextFromRoot(context)
-    image = station.diagram.GetOutputPort(f"{args.camera}.image").Eval(station_context)
+    if not station.scenario.plugin_names.camera_listing(args.camera).advertised:
+        raise ConfigError(
+            f"logical camera {args.camera!r} publishes nothing: its plugin stopped loading "
+            "(a <known_model_types> without <type>); valid: a camera whose plugin loads"
+        )
+    # What the camera's topic (/omtp/<camera>) carries, by its plugin's rules, as rostopic echo shows.
+    image = camera_view(station, args.camera).image(context)
     print(json.dumps(image.to_dict()) if args.json else str(image))
     if args.image:
         from omtp_drake.cell.rgbd import color_image, save_png

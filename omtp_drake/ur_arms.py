@@ -6,10 +6,11 @@ once into the model cache (:func:`~omtp_drake.assets.cache_entry`) with its mesh
 from __future__ import annotations
 
 import functools
+import hashlib
 import importlib.metadata
 import math
 import xml.etree.ElementTree as ET
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 from omtp_drake.assets import DRAKE_NS, UR_MODELS, cache_entry, drake_mesh, write_atomic
@@ -26,7 +27,16 @@ def ur_description_dir() -> Path:
     return path
 
 
-def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = math.pi) -> Path:
+def ur_urdf(
+    model: str,
+    prefix: str,
+    *,
+    joint_limit: float | Sequence[float] = math.pi,
+    velocity: Sequence[float] = (),
+    effort: Sequence[float] = (),
+    inertials: Mapping[str, Sequence[float]] | None = None,
+    dropped: Sequence[str] = (),
+) -> Path:
     """A Drake-ready URDF of a classic UR arm, with every link and joint prefixed.
 
     Args:
@@ -34,6 +44,15 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = m
         prefix: prepended to link, joint and actuator names (``"robot1_"``).
         joint_limit: symmetric position limit of every joint (the course: pi), or of each
             revolute joint in the file's order (pan, lift, elbow, wrist 1, 2, 3).
+        velocity: each revolute joint's velocity limit (rad/s), in that order; empty:
+            the file's.
+        effort: each revolute joint's effort limit (N m), likewise (Drake's plant clamps
+            the arm's actuation to them).
+        inertials: link (unprefixed) -> [mass, x, y, z, ixx, iyy, izz, ixy, ixz, iyz], the
+            link's inertial in its frame (centre of mass, inertia about it); a link not
+            given: the file's.
+        dropped: ``<link>/visual`` or ``<link>/collision`` (unprefixed): geometry of the
+            file's removed (a student's file replaced it; theirs is loaded beside).
 
     The ``world`` link and its joint are dropped (the station welds
     ``<prefix>base_link`` where it belongs), ``ee_link``'s 1 cm collision box is
@@ -44,7 +63,8 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = m
         raise UnknownNameError("arm model", model, UR_MODELS)
     src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
     name = prefix.rstrip("_") or model
-    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}.urdf")
+    edits = _edits_tag(velocity, effort, inertials or {}, dropped)
+    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{edits}.urdf")
     if dst.exists():
         return dst
 
@@ -53,9 +73,27 @@ def ur_urdf(model: str, prefix: str, *, joint_limit: float | Sequence[float] = m
     root.set("name", name)
     _drop_world_and_ee_collision(root)
     _prefix_names(root, prefix, joint_limit)
+    _set_rates(root, velocity, effort)
+    _set_inertials(root, prefix, inertials or {})
+    _drop_geometry(root, prefix, dropped)
     _point_meshes_to(root)
     write_atomic(dst, ET.tostring(root, encoding="utf-8", xml_declaration=True))
     return dst
+
+
+@functools.cache
+def model_rates(model: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
+    """(velocity limits, effort limits) of ``model``'s revolute joints in its file's order
+    (pan, lift, elbow, wrist 1, 2, 3), as ur_description writes them."""
+    if model not in UR_MODELS:
+        raise UnknownNameError("arm model", model, UR_MODELS)
+    root = ET.parse(ur_description_dir() / "urdf" / f"{model}_robot.urdf").getroot()
+    limits = [j.find("limit") for j in root.findall("joint") if j.get("type") == "revolute"]
+    found = [limit for limit in limits if limit is not None]
+    return (
+        tuple(float(limit.get("velocity", "inf")) for limit in found),
+        tuple(float(limit.get("effort", "inf")) for limit in found),
+    )
 
 
 def _drop_world_and_ee_collision(root: ET.Element) -> None:
@@ -105,6 +143,50 @@ def _prefix_names(root: ET.Element, prefix: str, joint_limit: float | Sequence[f
         actuator.set("name", prefix + _attr(actuator, "name"))
 
 
+def _set_rates(root: ET.Element, velocity: Sequence[float], effort: Sequence[float]) -> None:
+    """Sets the revolute joints' velocity and effort limits (in the file's order) where given."""
+    limits = [
+        j.find("limit")
+        for j in root.findall("joint")
+        if j.get("type") == "revolute" and j.find("limit") is not None
+    ]
+    for attribute, values in (("velocity", velocity), ("effort", effort)):
+        if not values:
+            continue
+        if len(values) != len(limits):
+            raise ConfigError(f"UR model: {len(values)} {attribute} limits for {len(limits)} revolute joints")
+        for limit, value in zip(limits, values):
+            if limit is not None:
+                limit.set(attribute, repr(float(value)))
+
+
+def _set_inertials(root: ET.Element, prefix: str, inertials: Mapping[str, Sequence[float]]) -> None:
+    """Writes each given link's inertial (see :func:`ur_urdf`) in place of the file's."""
+    for link_name, values in inertials.items():
+        link = root.find(f"link[@name='{prefix}{link_name}']")
+        if link is None:
+            raise UnknownNameError("UR link", link_name, [_attr(k, "name") for k in root.findall("link")])
+        for old in link.findall("inertial"):
+            link.remove(old)
+        m, x, y, z, ixx, iyy, izz, ixy, ixz, iyz = (float(v) for v in values)
+        inertial = ET.SubElement(link, "inertial")
+        ET.SubElement(inertial, "mass", value=repr(m))
+        ET.SubElement(inertial, "origin", xyz=f"{x!r} {y!r} {z!r}", rpy="0 0 0")
+        moments = {"ixx": ixx, "iyy": iyy, "izz": izz, "ixy": ixy, "ixz": ixz, "iyz": iyz}
+        ET.SubElement(inertial, "inertia", {k: repr(v) for k, v in moments.items()})
+
+
+def _drop_geometry(root: ET.Element, prefix: str, dropped: Sequence[str]) -> None:
+    """Removes the file's visuals or collisions of each ``<link>/<kind>`` of ``dropped``."""
+    for entry in dropped:
+        link_name, _, kind = entry.partition("/")
+        link = root.find(f"link[@name='{prefix}{link_name}']")
+        if link is None or kind not in ("visual", "collision"):
+            raise UnknownNameError("UR link geometry", entry, [])
+        for element in link.findall(kind):
+            link.remove(element)
+
+
 def _point_meshes_to(root: ET.Element) -> None:
     """Points every mesh at its converted file (:func:`drake_mesh`); collision meshes are declared convex."""
     package = "package://example-robot-data/robots/ur_description/"
@@ -131,6 +213,23 @@ def _attr(element: ET.Element, name: str) -> str:
     if value is None:
         raise ConfigError(f"UR model: <{element.tag}> has no attribute {name!r}")
     return value
+
+
+def _edits_tag(
+    velocity: Sequence[float], effort: Sequence[float], inertials: Mapping, dropped: Sequence[str]
+) -> str:
+    """The cache name's part for what a scenario changes of the file ('' for nothing)."""
+    rates = "".join(
+        f"_{tag}" + "_".join(f"{v:.6g}" for v in values)
+        for tag, values in (("v", velocity), ("e", effort))
+        if values
+    )
+    if inertials:
+        text = repr(sorted((k, [float(v) for v in vs]) for k, vs in inertials.items()))
+        rates += "_i" + hashlib.sha1(text.encode()).hexdigest()[:12]
+    if dropped:
+        rates += "_d" + hashlib.sha1(" ".join(sorted(dropped)).encode()).hexdigest()[:12]
+    return rates
 
 
 def _limit_tag(limit: float | Sequence[float]) -> str:

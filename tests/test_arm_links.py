@@ -18,6 +18,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fixture_reports import assert_as_recorded
 
 from omtp_drake.cli import main
 from omtp_drake.launch import own_cell
@@ -227,6 +228,7 @@ def test_their_belt_script_still_picks_with_the_camera_on_the_wrist(workspace, t
     report = json.loads(out.read_text())
     assert report["exception"] is None, report["traceback"]
     assert sum(report["ledger"]["in_bin"].values()) >= 1, report["ledger"]
+    assert_as_recorded("wrist_camera_edits belt_to_bin_robot1.py 1", report)
 
 
 def test_a_link_on_a_moving_joint_of_its_own_is_one_warning():

@@ -18,8 +18,12 @@ def test_camera_json_has_the_part_on_the_belt(capsys):
     assert {"time", "camera_pose", "models"} <= set(out)
     assert out["time"] == pytest.approx(0.5)  # the sample due at --time is taken
     np.testing.assert_allclose(out["camera_pose"]["translation"], [1.2, 1.8, 2.0], atol=1e-9)
-    (model,) = out["models"]
-    assert (model["name"], model["type"]) == ("object_1", "object")
+    # What /omtp/logical_camera_1 carries: the course plugin lists every model in view
+    # (the belt, with its nested models unnamed, and the hall), the part among them.
+    listed = [(m["name"], m["type"]) for m in out["models"]]
+    assert listed == [("conveyor_belt", "conveyor_belt"), ("", "conveyor_belt_fixed"),
+                      ("", "conveyor_belt_moving"), ("workcell_", "workcell"), ("object_1", "object")]
+    model = out["models"][-1]
     # Straight below the camera (+Cx looks down): 2.0 - 1.021 = 0.979 m away.
     np.testing.assert_allclose(model["pose"]["translation"], [0.979, 0.0, 0.0], atol=2e-3)
 

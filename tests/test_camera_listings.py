@@ -159,3 +159,64 @@ def test_a_model_not_seen_yet_under_their_frame_prefix_is_said_so_not_unknown(wo
             cell.tf.lookup_transform("world", "belt_cam_object_1_frame")
     finally:
         cell.close()
+
+
+def test_the_camera_command_echoes_what_their_plugin_publishes(workspace, capsys):
+    """``omtp-drake camera --launch``: the message of the camera's topic, by their plugin's
+    rules: camera 2 the belt and the bin as two ``model``s (anonymized), not the pedestal
+    it also sees; camera 1 only the hall and parts (their known types), not the belt."""
+    from omtp_drake.cli import main
+
+    listed = {}
+    for camera in ("logical_camera_1", "logical_camera_2"):
+        argv = ["camera", "--launch", LAUNCH, "--workspace", str(workspace), "--camera", camera]
+        assert main([*argv, "--time", "1", "--json"]) == 0
+        listed[camera] = [(m["name"], m["type"]) for m in json.loads(capsys.readouterr().out)["models"]]
+    assert listed["logical_camera_2"] == [("", "model"), ("", "model")]
+    assert ("workcell_", "workcell") in listed["logical_camera_1"]
+    assert {t for _, t in listed["logical_camera_1"]} <= {"workcell", "object"}
+
+
+def test_the_camera_command_of_a_camera_whose_plugin_stopped_is_one_line(tmp_path, capsys):
+    from omtp_drake.cli import main
+
+    scenario = tmp_path / "stopped.yaml"
+    scenario.write_text(json.dumps({
+        "base": "lecture6_assignment1",
+        "plugin_names": {"camera_listings": {
+            "logical_camera_1": {"known_model_types": [], "advertised": False}}},
+    }))
+    assert main(["camera", str(scenario), "--camera", "logical_camera_1"]) == 2
+    err = capsys.readouterr().err
+    assert "logical camera 'logical_camera_1' publishes nothing" in err and err.count("\n") == 1
+
+
+def test_an_agvs_kit_tray_is_a_tf_frame_under_it_not_in_the_message():
+    """ARIAC's AGV in the plugin: a model of type ``agv1`` in view gets its kit tray's
+    frame, 0.15 m along its y and 0.75 m up, under its own; the message lists the AGV only."""
+    import dataclasses
+
+    import numpy as np
+
+    from omtp_drake.gazebo.logical_camera import camera_views
+    from omtp_drake.scenario import ModelConfig, load_scenario
+    from omtp_drake.script import Cell
+
+    box = ('<robot name="agv1"><link name="agv1_base"><visual><geometry><box size="0.3 0.3 0.1"/>'
+           '</geometry></visual><collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision>'
+           '</link></robot>')
+    scenario = load_scenario("lecture6_assignment1")
+    agv = ModelConfig(name="agv1", file="agv1.urdf", description=box, xyz=[1.2, 1.6, 1.2], static=True)
+    scenario = dataclasses.replace(scenario, models=[*scenario.models, agv])
+    cell = Cell(scenario, auto_spawn=False)
+    try:
+        views = camera_views(cell)
+        cell.tf.use_images(lambda camera: views[camera].image_of)
+        cell.wait(0.25)
+        image = views["logical_camera_1"].image(cell.runtime.context)
+        assert ("agv1", "agv1") in [(m.name, m.type) for m in image.models]
+        assert not [m for m in image.models if "kit_tray" in m.type]
+        X_WT = cell.tf.lookup_transform("world", "logical_camera_1_kit_tray_1_frame").transform
+        np.testing.assert_allclose(X_WT.translation(), [1.2, 1.75, 1.95], atol=2e-3)
+    finally:
+        cell.close()

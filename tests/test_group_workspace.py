@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fixture_reports import assert_as_recorded
 
 from omtp_drake.launch import own_cell
 from omtp_drake.sim.runtime import FactoryRuntime
@@ -78,6 +79,7 @@ def test_their_belt_script_puts_parts_in_their_bin_next_to_robot_1(tmp_path):
     report = json.loads(out.read_text())
     assert report["exception"] is None, report["traceback"]
     assert report["ledger"]["in_bin"]["bin_2"] >= 2, report["ledger"]
+    assert_as_recorded("group_ws belt_to_bin_robot1.py 2", report)
 
 
 SPAWN_WATCH = """

@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fixture_reports import assert_as_recorded
 from pydrake.math import RollPitchYaw
 from pydrake.multibody.tree import FrameIndex, JointIndex
 
@@ -207,6 +208,7 @@ def test_a_course_style_robot_1_script_drops_the_box_into_the_students_bin(stude
     assert report["scenario"] == "lecture6_assignment1"
     assert report["ledger"]["in_bin"] == {"bin_1": 0, "bin_2": 1}
     assert report["ledger"]["parts"] == {"object_1": "in_bin:bin_2"}
+    assert_as_recorded("student_edits lecture6_assignment4_robot1.py", report)
 
 
 def test_the_python_api_takes_the_launch_and_the_workspace():

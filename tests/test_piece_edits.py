@@ -142,3 +142,20 @@ def test_a_collision_in_a_link_the_course_leaves_bare_is_theirs_where_they_put_i
         np.testing.assert_allclose(station.break_beam.p_WE, X_WO.translation(), atol=1e-6)
     finally:
         runtime.close()
+
+
+def test_a_collision_added_beside_the_grippers_own_is_theirs(tmp_path):
+    """The workspaces' gripper gives its base_link a visual and a collision, as the
+    course's file does: one collision more of theirs (a bumper plate, nothing else
+    changed) is loaded on the cell's gripper, the course's pair is not."""
+    src = tmp_path / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    gripper = src / "omtp_support" / "urdf" / "vacuum_gripper" / "vacuum_gripper.urdf.xacro"
+    text = gripper.read_text()
+    plate = '<collision><origin xyz="0 0 0.05"/><geometry><box size="0.09 0.09 0.01"/></geometry></collision>'
+    gripper.write_text(text.replace("      <inertial>", f"      {plate}\n      <inertial>", 1))
+    models = {m.name: m for m in own_cell(LAUNCH, workspace=[src], environ={}).scenario.models}
+    for n in (1, 2):
+        (link,) = ET.fromstring(models[f"vacuum_gripper{n}_base_link_own"].description).iter("link")
+        assert [c.find("geometry/box").get("size") for c in link.iter("collision")] == ["0.09 0.09 0.01"]
+        assert list(link.iter("visual")) == []

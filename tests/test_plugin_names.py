@@ -12,6 +12,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+from fixture_reports import assert_as_recorded
 from test_ros2 import hold_domain, needs_ros2, run_cell_with_node
 
 from omtp_drake.errors import WorkspaceError
@@ -62,6 +63,7 @@ def test_a_rospy_script_on_their_names_picks_a_part_into_their_bin(workspace, tm
     result = json.loads(report.read_text())
     assert result["exception"] is None, result["traceback"]
     assert result["ledger"]["in_bin"]["bin_2"] == 1, result["ledger"]
+    assert_as_recorded("renamed_topics pick_one_renamed.py", result)
     assert json.loads(seen.read_text()) == {
         "enabled": True,
         "attached": True,

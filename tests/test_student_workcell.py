@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from bin_meshes import write_bin_meshes
+from fixture_reports import assert_as_recorded
 
 from omtp_drake.cli import main
 from omtp_drake.launch import own_cell
@@ -188,6 +189,7 @@ def test_their_belt_script_still_puts_parts_in_their_bin(workspace, tmp_path):
     report = json.loads(out.read_text())
     assert report["exception"] is None, report["traceback"]
     assert report["ledger"]["in_bin"]["bin_2"] >= 1, report["ledger"]
+    assert_as_recorded("workcell edits belt_to_bin_robot1.py 1", report)
 
 
 ARM_WITH_MOUNT = """<robot name="robot1">

@@ -11,6 +11,7 @@ from __future__ import annotations
 import functools
 import math
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 
 import numpy as np
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -97,6 +98,25 @@ def check_joint_positions(q, robot: RobotConfig) -> np.ndarray:
     return q
 
 
+def arm_urdf(robot: RobotConfig) -> Path:
+    """The URDF of ``robot``'s arm: its model's, with the position, velocity and effort
+    limits, the links' inertials and the geometry its scenario gives."""
+    return ur_urdf(
+        robot.model,
+        robot.name + "_",
+        joint_limit=robot.limits(),
+        velocity=robot.velocity_limits,
+        effort=robot.effort_limits,
+        inertials=robot.inertials,
+        dropped=robot.own_geometry,
+    )
+
+
+def joint_velocity_limits(robot: RobotConfig) -> np.ndarray:
+    """``robot``'s joint velocity limits (rad/s, pan ... wrist 3): its scenario's, else its model's."""
+    return np.array(robot.velocity_limits or VELOCITY_LIMITS[robot.model], dtype=float)
+
+
 def add_arm_models(
     parser: Parser, robot: RobotConfig
 ) -> tuple[ModelInstanceIndex, ModelInstanceIndex | None]:
@@ -106,7 +126,7 @@ def add_arm_models(
     Returns (arm instance, gripper instance or None).
     """
     plant = parser.plant()
-    (arm,) = parser.AddModels(str(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.limits())))
+    (arm,) = parser.AddModels(str(arm_urdf(robot)))
     gripper = None
     if robot.gripper:
         text = expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper})
@@ -361,7 +381,7 @@ def joint_trajectory(
     if not 0 < speed_fraction <= 1:
         raise ConfigError(f"speed_fraction must be in (0, 1], got {speed_fraction}")
     vmax = np.asarray(
-        velocity_limits if velocity_limits is not None else VELOCITY_LIMITS[robot.model], dtype=float
+        velocity_limits if velocity_limits is not None else joint_velocity_limits(robot), dtype=float
     )
     qs = [named_pose(p, robot) for p in poses]
     times, knots = [start_time], [qs[0]]

@@ -58,6 +58,8 @@ class DetectedModel:
             does not test occlusion.
         frame: its tf frame as the camera's plugin names it ("": ``<camera>_<name>_frame``
             for a named model, none for an unnamed one).
+        tf_children: frames the plugin broadcasts under the model's frame and not in the
+            message, each (name, X_MF) (the course plugin's AGV kit trays).
     """
 
     name: str
@@ -65,6 +67,7 @@ class DetectedModel:
     X_CM: RigidTransform
     visible_fraction: float = 1.0
     frame: str = ""
+    tf_children: tuple[tuple[str, RigidTransform], ...] = ()
 
 
 @dataclass(frozen=True)

@@ -51,7 +51,7 @@ def diffik_parameters(
     limits, joints centred on Home (gain 0.05), at ``time_step``."""
     params = DifferentialInverseKinematicsParameters(n, n)
     params.set_time_step(time_step)
-    vmax = np.array(arms.VELOCITY_LIMITS[robot.model])
+    vmax = arms.joint_velocity_limits(robot)
     params.set_joint_velocity_limits((-vmax, vmax))
     params.set_joint_position_limits((-robot.limits(), robot.limits()))
     params.set_nominal_joint_position(arms.named_pose("Home", robot))

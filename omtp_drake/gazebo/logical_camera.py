@@ -26,7 +26,12 @@ Which models it publishes, and how it names them, are the plugin's rules
   ARIAC's ``DetermineModelId``: ``object_3`` -> ``model_3``). Nested models get their type
   (never anonymized) and no frame, as the plugin's;
 - a plugin whose Load stopped (a ``<known_model_types>`` without ``<type>``) advertises
-  nothing.
+  nothing;
+- for a published model of type ``agv1`` or ``agv2`` (ARIAC's AGVs), the plugin also
+  broadcasts its kit tray's tf frame ``<model_frame_prefix>kit_tray_1_frame`` (``_2``)
+  under the model's frame, 0.15 m along its y and 0.75 m up (:data:`X_AGV_KIT_TRAY`); the
+  message does not list it. (The plugin puts its noise on the tray there, not on the
+  AGV; here both have the camera's.)
 """
 
 from __future__ import annotations
@@ -44,12 +49,18 @@ from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.scenario.plugin_names import CameraListing
 
 if TYPE_CHECKING:
+    from omtp_drake.cell.station import Station
     from omtp_drake.script import Cell
 
 #: The lecture's single-camera topic.
 SINGLE_CAMERA_TOPIC = "/omtp/logical_camera"
 #: The default single camera when the scenario's task names none.
 DEFAULT_SINGLE_CAMERA = "logical_camera_1"
+#: The plugin's AGV types (ARIAC's) and the kit tray each carries: for an AGV it
+#: publishes, the plugin also broadcasts ``<prefix><tray>_frame`` under the AGV's frame.
+KIT_TRAYS = {"agv1": "kit_tray_1", "agv2": "kit_tray_2"}
+#: The kit tray's pose in its AGV's frame (the plugin's ``kitTrayToAgv``).
+X_AGV_KIT_TRAY = RigidTransform([0.0, 0.15, 0.75])
 
 
 def single_camera(cell: Cell) -> Optional[str]:
@@ -90,23 +101,30 @@ class PluginListing:
     def model(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]:
         if not self.publishes(name):
             return None
+        kind = model_type(name)
+        tray = KIT_TRAYS.get(kind)
+        # An AGV's kit tray: a tf frame under the AGV's, not in the message.
+        trays = ((f"{self._prefix}{tray}_frame", X_AGV_KIT_TRAY),) if tray else ()
         if self._listing.anonymize_models:
-            return DetectedModel("", "model", X_CM, frame=f"{self._prefix}model_{model_id(name)}_frame")
+            frame = f"{self._prefix}model_{model_id(name)}_frame"
+            return DetectedModel("", "model", X_CM, frame=frame, tf_children=trays)
         trimmed = name.rsplit("|", 1)[-1]
-        return DetectedModel(trimmed, model_type(name), X_CM, frame=f"{self._prefix}{trimmed}_frame")
+        return DetectedModel(trimmed, kind, X_CM, frame=f"{self._prefix}{trimmed}_frame", tf_children=trays)
 
     def nested(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]:
         return DetectedModel("", model_type(name), X_CM) if self.publishes(name) else None
 
 
+def camera_view(station: Station, camera: str) -> GazeboCameraView:
+    """The course plugin's view of ``station``'s camera ``camera`` (what its topic, and tf's
+    frames, list), by the rules of its plugin in the station's scenario."""
+    listing = station.scenario.plugin_names.camera_listing(camera)
+    return GazeboCameraView(station, camera, PluginListing(camera, listing))
+
+
 def camera_views(cell: Cell) -> dict[str, GazeboCameraView]:
-    """Camera -> the course plugin's view of it (what its topic, and tf's frames, list),
-    by its plugin's rules."""
-    names = cell.scenario.plugin_names
-    return {
-        name: GazeboCameraView(cell.station, name, PluginListing(name, names.camera_listing(name)))
-        for name in cell.station.cameras
-    }
+    """Camera -> the course plugin's view of it (:func:`camera_view`)."""
+    return {name: camera_view(cell.station, name) for name in cell.station.cameras}
 
 
 class NewImages:

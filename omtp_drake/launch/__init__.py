@@ -20,6 +20,7 @@ Modules (one job each):
 - ``controller_spawners``: controller_manager's spawners: which controllers start on which robot
 - ``urdf_model``: a URDF's links as frames (joint tree, link poses) and its <gazebo> tags
 - ``pieces``: the course's pieces in a spawned URDF: arms, grippers, pedestals, bins, the beam
+- ``arm_dynamics``: an arm's joint velocity and effort limits and its links' inertia, as written
 - ``own_links``: links a student added beside or on those pieces (a shelf, a wrist camera), as written
 - ``mesh_bins``: a bin of mesh collisions (the course's own), measured and kept open
 - ``parse_verdicts``: Drake's verdict on a world's model folders, kept in the model cache by content

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import copy
 import xml.etree.ElementTree as ET
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable
 from dataclasses import dataclass
 
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -265,7 +265,9 @@ def bin_walls(model: UrdfModel, link: str) -> list[float] | None:
     return [round(float(v), 9) for v in (*inner, max(f[4] for f in floors), max(b[4] for b in boxes))]
 
 
-def inner_additions(model: UrdfModel, links: Iterable[str]) -> dict[str, list[ET.Element]]:
+def inner_additions(
+    model: UrdfModel, links: Iterable[str], meshed: Collection[str] = ()
+) -> dict[str, list[ET.Element]]:
     """The visuals and collisions a student added inside the course's ``links`` of
     ``model`` (URDF's are unnamed, so told apart by the course's files' content): the
     course's files give each of these links (``ur_description``'s, the vacuum gripper's, the
@@ -273,7 +275,9 @@ def inner_additions(model: UrdfModel, links: Iterable[str]) -> dict[str, list[ET
     not the course's mesh (:data:`_COURSE_MESHES`) are the student's, and with none of the
     course's mesh, all but the first; in a link the course gives none (:data:`_BARE_LINKS`),
     every one; in the workcell's hall link (the course's gives it only its meshes), every
-    one that is not the course's mesh."""
+    one that is not the course's mesh. In a link of ``meshed`` (an arm's body: the course's
+    ``ur_description`` gives each a visual and a collision mesh), every one that is not the
+    course's mesh: a kind with none of it was replaced (:func:`replaced_kinds`)."""
     root = model.root_element
     out: dict[str, list[ET.Element]] = {}
     for link in links:
@@ -292,6 +296,9 @@ def inner_additions(model: UrdfModel, links: Iterable[str]) -> dict[str, list[ET
         extras = []
         for tag in ("visual", "collision"):
             found = element.findall(tag)
+            if link in meshed:
+                extras += [e for e in found if not _is_course_mesh(e)]
+                continue
             if len(found) < 2:
                 continue
             course = [e for e in found if _is_course_mesh(e)] or found[:1]
@@ -299,6 +306,20 @@ def inner_additions(model: UrdfModel, links: Iterable[str]) -> dict[str, list[ET
         if extras:
             out[link] = extras
     return out
+
+
+def replaced_kinds(model: UrdfModel, link: str) -> list[str]:
+    """The kinds (``visual``, ``collision``) of which ``link`` holds elements but none the
+    course's mesh: the student replaced the course's geometry of that kind."""
+    root = model.root_element
+    element = root.find(f"link[@name='{link}']") if root is not None else None
+    if element is None:
+        return []
+    return [
+        tag
+        for tag in ("visual", "collision")
+        if element.findall(tag) and not any(_is_course_mesh(e) for e in element.findall(tag))
+    ]
 
 
 def _is_course_mesh(element: ET.Element) -> bool:

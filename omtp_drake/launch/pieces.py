@@ -29,6 +29,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from omtp_drake.assets import model_dimensions
 from omtp_drake.cell.cell_models import X_W_BREAK_BEAM
 from omtp_drake.errors import WorkspaceError
+from omtp_drake.launch.arm_dynamics import ARM_JOINTS, arm_inertials, arm_joint_rates
 from omtp_drake.launch.mesh_bins import has_mesh_collision, mesh_bin_walls
 from omtp_drake.launch.own_links import (
     WORKCELL_LINK,
@@ -41,10 +42,12 @@ from omtp_drake.launch.own_links import (
     own_links,
     own_links_urdf,
     piece_urdf,
+    replaced_kinds,
 )
 from omtp_drake.launch.plugins import beam_names, check_break_beam, gripper_names, plugins_in, suction_checks
 from omtp_drake.launch.urdf_model import UrdfModel
 from omtp_drake.scenario import RobotConfig
+from omtp_drake.scenario.arm_dynamics import ARM_LINKS
 
 #: Length of the upper arm (the elbow joint's offset along the link) -> the arm model.
 UR_UPPER_ARMS = {"ur10": 0.612, "ur5": 0.425}
@@ -63,10 +66,7 @@ PIECE_LINKS = {
     "break_beam": ("world_interface", "base_link", "optical_link"),
 }  # fmt: skip
 #: An arm's six joints, after its prefix (ur_description's).
-PIECE_JOINTS = (
-    "shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-    "wrist_1_joint", "wrist_2_joint", "wrist_3_joint",
-)  # fmt: skip
+PIECE_JOINTS = ARM_JOINTS
 
 
 @dataclass
@@ -154,7 +154,14 @@ def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where
     already)."""
     built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
     built += [WORKCELL_LINK] if WORKCELL_LINK in model.links else []
-    for link, extras in inner_additions(model, built).items():
+    bodies = {f"{r['name']}_{link}": r for r in pieces.robots for link in ARM_LINKS}
+    for link in sorted(set(built) & set(bodies)):
+        robot = bodies[link]
+        unprefixed = link[len(robot["name"]) + 1 :]
+        replaced = [f"{unprefixed}/{kind}" for kind in replaced_kinds(model, link)]
+        if replaced:
+            robot["own_geometry"] = [*robot.get("own_geometry", []), *replaced]
+    for link, extras in inner_additions(model, built, set(built) & set(bodies)).items():
         taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
         own = f"{link}_own" if f"{link}_own" not in taken else f"{link}_own_model"
         text = inner_additions_urdf(link, extras, own)
@@ -315,8 +322,10 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
         "gripper": _gripper(pieces, model, prefix, where, name),
     }
     limits, lines = arm_joint_limit(model, prefix, where)
-    pieces.warnings += lines
-    robot.update(limits)
+    rates, rate_lines = arm_joint_rates(model, prefix, kinds[0], where)
+    inertials, inertial_lines = arm_inertials(model, prefix, kinds[0], where)
+    pieces.warnings += lines + rate_lines + inertial_lines
+    robot.update(limits, **rates, **inertials)
     if any(j.startswith(prefix) for j in joints):
         given = " ".join(f"-J {k} {v}" for k, v in joints.items())
         pieces.warnings.append(

@@ -4,6 +4,7 @@ Modules (one job each):
 
 - ``schema``: ``Scenario``: which world to build, the root of the schema
 - ``configs``: the scenario's pieces: robots, bins, parts, the belt, the spawner, the task
+- ``arm_dynamics``: an arm's joint velocity/effort limits and links' inertials as its file writes them
 - ``conveyor_spawner``: the course's conveyor spawner plugin: its parameters read once, its draws
 - ``camera``: a logical camera's settings
 - ``suction``: a vacuum gripper's settings

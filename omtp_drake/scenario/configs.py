@@ -15,6 +15,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 
 from omtp_drake.assets import UR_MODELS, model_dimensions
 from omtp_drake.errors import MAX_RATE_HZ, ConfigError, UnknownNameError, check_positive, check_rate
+from omtp_drake.scenario.arm_dynamics import check_arm_dynamics
 from omtp_drake.scenario.conveyor_spawner import SpawnObjectConfig
 
 #: The cell's floor: a square of this half width (m) about the world origin
@@ -51,6 +52,20 @@ class RobotConfig:
     #: file gives them apart (ur_description's unlimited arm: 2 pi, the elbow pi); empty:
     #: ``joint_limit`` for every joint.
     joint_limits: list[float] = field(default_factory=list)
+    #: Each joint's velocity limit (rad/s) and effort limit (N m), pan ... wrist 3, as the
+    #: arm's file writes them; empty: ``model``'s (ur_description's). The velocities bound
+    #: DiffIK, the planners' timing and MoveIt's (where no joint_limits.yaml says otherwise);
+    #: the efforts bound the arm's actuators in the plant, as Gazebo's joint limits do.
+    velocity_limits: list[float] = field(default_factory=list)
+    effort_limits: list[float] = field(default_factory=list)
+    #: A link's inertial as the arm's file writes it, where it is not the model's: link
+    #: (``ARM_LINKS``) -> [mass (kg), x, y, z of its centre of mass (m), ixx, iyy, izz, ixy,
+    #: ixz, iyz (kg m^2) about it], all in the link's frame (``scenario.arm_dynamics``). A link
+    #: not listed: the model's.
+    inertials: dict[str, list[float]] = field(default_factory=dict)
+    #: ``<link>/visual`` or ``<link>/collision`` where the arm's file replaced the model's
+    #: geometry: the cell's arm drops its own there (theirs is the ``<robot>_<link>_own`` model).
+    own_geometry: list[str] = field(default_factory=list)
     #: Rate (Hz) at which the servo samples the position command and
     #: differentiates it into a desired velocity (a real UR: 125 Hz). Match a
     #: discrete commander's rate (DiffIK runs at 100 Hz) so velocities are smooth.
@@ -89,6 +104,7 @@ class RobotConfig:
             raise ConfigError(
                 f"{where}.joint_limits must be 6 limits in (0, 2 pi] (or empty), got {self.joint_limits}"
             )
+        check_arm_dynamics(where, self.velocity_limits, self.effort_limits, self.inertials, self.own_geometry)
         for gain in ("kp", "kd", "ki"):
             if getattr(self, gain) < 0:
                 raise ConfigError(f"{where}.{gain} must be >= 0, got {getattr(self, gain)}")

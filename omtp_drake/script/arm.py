@@ -113,7 +113,7 @@ class Arm:
     @property
     def velocity_limits(self) -> tuple[float, ...]:
         """The joints' velocity limits (rad/s, :attr:`joint_names`' order): what plans are timed to."""
-        return tuple(arms.VELOCITY_LIMITS[self.config.model])
+        return tuple(arms.joint_velocity_limits(self.config).tolist())
 
     def named_poses(self) -> list[str]:
         """The course's named poses of this arm (``R2Home``...)."""

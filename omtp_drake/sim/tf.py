@@ -133,6 +133,9 @@ class _DetectedFrames:
                 )
                 continue
             frames[name] = (model.name or name, model.X_CM)
+            for child, X_MF in model.tf_children:
+                if child not in self._static:
+                    frames[child] = (model.name or name, model.X_CM @ X_MF)
         return frames
 
     def trim(self, time: float) -> None:

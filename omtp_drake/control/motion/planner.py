@@ -149,7 +149,7 @@ class ArmPlanner(ArmKinematicsQueries):
     @property
     def velocity_limits(self) -> np.ndarray:
         """Joint velocity limits (rad/s) of the arm's model."""
-        return np.array(arms.VELOCITY_LIMITS[self._config.model], dtype=float)
+        return arms.joint_velocity_limits(self._config)
 
     @property
     def acceleration_limits(self) -> np.ndarray:

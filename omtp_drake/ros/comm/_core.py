@@ -7,7 +7,14 @@ from __future__ import annotations
 from typing import Any, Optional
 
 from omtp_drake.assets import MODELS_DIR, expand_xacro
-from omtp_drake.cell.arms import JOINT_NAMES, NAMED_POSES, check_joint_positions, named_pose, tool_frame_names
+from omtp_drake.cell.arms import (
+    JOINT_NAMES,
+    NAMED_POSES,
+    arm_urdf,
+    check_joint_positions,
+    named_pose,
+    tool_frame_names,
+)
 from omtp_drake.cell.conveyor import BreakBeam
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
 from omtp_drake.cell.gazebo_models import gazebo_models
@@ -38,7 +45,6 @@ from omtp_drake.sim.ros_control import Controller, RosControl
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 from omtp_drake.sim.trajectory_goals import Goal, GoalOutcome, start_goal
 from omtp_drake.sim.trajectory_request import RequestPoint, TrajectoryRequest, trajectory_request
-from omtp_drake.ur_arms import ur_urdf
 
 __all__ = [
     "JOINT_NAMES",
@@ -46,6 +52,7 @@ __all__ = [
     "MODELS_DIR",
     "NAMED_POSES",
     "SETTLE_TIMEOUT",
+    "arm_urdf",
     "SETTLE_TOLERANCE",
     "Arm",
     "BreakBeam",
@@ -97,7 +104,6 @@ __all__ = [
     "unknown_plugins",
     "tool_frame_names",
     "trajectory_request",
-    "ur_urdf",
     "with_robot",
 ]
 

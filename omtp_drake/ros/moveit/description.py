@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 from pydrake.math import RollPitchYaw
 
-from omtp_drake.ros.comm._core import MODELS_DIR, expand_xacro, ur_urdf
+from omtp_drake.ros.comm._core import MODELS_DIR, arm_urdf, expand_xacro
 
 if TYPE_CHECKING:
     from omtp_drake.ros.comm._core import Cell
@@ -38,7 +38,7 @@ def _model_texts(cell: Cell) -> list[str]:
                     {"name": f"{robot.name}_pedestal", "height": robot.pedestal_height},
                 )
             )
-        texts.append(ur_urdf(robot.model, robot.name + "_", joint_limit=robot.limits()).read_text())
+        texts.append(arm_urdf(robot).read_text())
         if robot.gripper:
             texts.append(expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper}))
     # (a bin of the student's own is one of the models below, as their file writes it)
