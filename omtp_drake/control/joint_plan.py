@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
@@ -156,15 +157,20 @@ class JointPlan:
         i = min(max(math.floor(u + 1e-9), 0), self.pieces - 1)
         return i, min(max(u - i, 0.0), 1.0)
 
+    @cached_property
+    def _jerks(self) -> np.ndarray:
+        """Each piece's jerk (rows), worked out once: :meth:`jerk` is asked at every
+        update of the controller."""
+        Q = self.control
+        return (-Q[:-3] + 3 * Q[1:-2] - 3 * Q[2:-1] + Q[3:]) / self.period**3
+
     def jerk(self, t: float) -> np.ndarray:
         """The joints' jerk on the piece covering ``t`` (zero outside the plan)."""
         u = (t - self.t0) / self.period
         i = math.floor(u + 1e-9)
-        n = self.control.shape[1]
         if not 0 <= i < self.pieces:
-            return np.zeros(n)
-        Q = self.control[i : i + 4]
-        return (-Q[0] + 3 * Q[1] - 3 * Q[2] + Q[3]) / self.period**3
+            return np.zeros(self.control.shape[1])
+        return self._jerks[i].copy()
 
     def state(self, t: float) -> np.ndarray:
         """[q; v; a] at ``t``."""

@@ -37,7 +37,7 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.suction import GripperState
 from omtp_drake.control.joint_plan import JerkStream, JointPlan, PlanAhead
-from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory
+from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory, PickRecord
 from omtp_drake.control.pick_and_place.machine import PickMachine
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
 from omtp_drake.control.tool_paths import Path
@@ -244,6 +244,12 @@ class PickAndPlaceController(LeafSystem):
         machine; writes its decision, a new plan for a new path, the next jerk."""
         s = self._control_state(context)
         t = context.get_time()
+        plan: JointPlan = context.get_abstract_state(self._plan).get_value()
+        error = self._travel_check(context, s, t)
+        if error is not None:  # the arm travels and the checks pass: nothing to decide
+            state.get_mutable_discrete_state(self._jerk).set_value(self._motion.jerk(plan, t))
+            self._record(context, state, None, error)
+            return
         q = self._robot_state.Eval(context)[: self._nq]
         inputs = MachineInput(
             t=t,
@@ -256,7 +262,6 @@ class PickAndPlaceController(LeafSystem):
             X_WE_desired=self._table.Eval(context).pose(t),
         )
         decision = self._machine.step(inputs, s)
-        plan: JointPlan = context.get_abstract_state(self._plan).get_value()
         if decision.control is not s:
             state.get_mutable_abstract_state(self._control).set_value(decision.control)
             restart = decision.control.reset_ik and not s.reset_ik
@@ -264,8 +269,23 @@ class PickAndPlaceController(LeafSystem):
                 plan = self._motion.plan(decision.control.path, t, plan, q if restart else None)
                 state.get_mutable_abstract_state(self._plan).set_value(plan)
         state.get_mutable_discrete_state(self._jerk).set_value(self._motion.jerk(plan, t))
+        self._record(context, state, decision.record, decision.tracking_error)
+
+    def _travel_check(self, context: Context, s: ControlState, t: float) -> Optional[float]:
+        """The tracking error (m) if the machine's step at ``t`` would decide nothing
+        (:meth:`PickMachine.travel_check`), else None; reads only what that check needs."""
+        return self._machine.travel_check(
+            s,
+            t,
+            lambda: self._gripper.Eval(context).attached,
+            lambda: self._table.Eval(context).pose(t),
+            lambda: self._fk(context),
+        )
+
+    def _record(self, context: Context, state: State, record: Optional[PickRecord], error: float) -> None:
+        """The history with this update's ``record`` and tracking ``error``."""
         history: PickHistory = context.get_abstract_state(self._history).get_value()
-        updated = history.with_step(decision.record, decision.tracking_error)
+        updated = history.with_step(record, error)
         if updated is not history:
             state.get_mutable_abstract_state(self._history).set_value(updated)
 
