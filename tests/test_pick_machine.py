@@ -221,13 +221,14 @@ def test_images_are_read_only_when_the_machine_looks(machine):
 
 def test_the_travel_check_passes_only_where_the_step_decides_nothing(machine, task):
     """Issue 46, item 2: an update while the arm travels runs only the checks of every mode
-    (PickMachine.travel_check); wherever it passes, the full step returns the control state
+    (machine.travel_check); wherever it passes, the full step returns the control state
     itself, no record and the same tracking error; where the step would change anything
     (the path's end, a drop, a tracking error over the tolerance or counting, a DiffIK
     restart), it does not pass."""
     import itertools
     from dataclasses import replace
 
+    from omtp_drake.control.pick_and_place.machine import travel_check
     from omtp_drake.control.tool_paths import Path, Segment, SegmentKind
 
     X_far = tool_down(P_PART + [0.3, 0.1, 0.3], 0.0)
@@ -252,8 +253,9 @@ def test_the_travel_check_passes_only_where_the_step_decides_nothing(machine, ta
         def read(what, value, reads=reads):
             return lambda: reads.append(what) or value
 
-        error = machine.travel_check(
-            s, t, read("gripper", grip.attached), read("desired", inputs.X_WE_desired), read("fk", X_now)
+        error = travel_check(
+            s, t, task.tracking_tolerance,
+            read("gripper", grip.attached), read("desired", inputs.X_WE_desired), read("fk", X_now),
         )
         if error is None:
             continue

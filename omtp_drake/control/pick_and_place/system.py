@@ -38,7 +38,7 @@ from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.suction import GripperState
 from omtp_drake.control.joint_plan import JerkStream, JointPlan, PlanAhead
 from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory, PickRecord
-from omtp_drake.control.pick_and_place.machine import PickMachine
+from omtp_drake.control.pick_and_place.machine import PickMachine, travel_check
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
 from omtp_drake.control.tool_paths import Path
 from omtp_drake.errors import ConfigError
@@ -117,6 +117,7 @@ class PickAndPlaceController(LeafSystem):
         control_plant.SetPositions(home_context, np.asarray(arms.named_pose("Home", robot)))
         X_W_home = self._X_WB @ self._tip.CalcPoseInWorld(home_context)
         self._machine = PickMachine(config, robot, bin, part_size, X_W_home)
+        self._tolerance = config.tracking_tolerance
         self._motion = PlanAhead(
             control_plant, robot, self._X_WB, 1.0 / config.update_rate_hz, stream_step(config)
         )
@@ -273,10 +274,11 @@ class PickAndPlaceController(LeafSystem):
 
     def _travel_check(self, context: Context, s: ControlState, t: float) -> Optional[float]:
         """The tracking error (m) if the machine's step at ``t`` would decide nothing
-        (:meth:`PickMachine.travel_check`), else None; reads only what that check needs."""
-        return self._machine.travel_check(
+        (:func:`~.machine.travel_check`), else None; reads only what that check needs."""
+        return travel_check(
             s,
             t,
+            self._tolerance,
             lambda: self._gripper.Eval(context).attached,
             lambda: self._table.Eval(context).pose(t),
             lambda: self._fk(context),
