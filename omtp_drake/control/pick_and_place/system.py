@@ -25,6 +25,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.systems.framework import (
     Context,
     DiagramBuilder,
+    EventStatus,
     InputPort,
     LeafSystem,
     OutputPort,
@@ -85,14 +86,14 @@ class PickAndPlaceController(LeafSystem):
     writes it into the state. When the decision is a new tool path, DiffIK is
     integrated along it at once into a joint plan
     (:class:`~omtp_drake.control.joint_plan.PlanAhead`; from the measured joints when
-    the machine restarts the arm after a tracking failure); every update writes the
-    jerk of the plan's next period, which the stream (C++) integrates at
-    ``diffik_rate_hz`` until the next update. State (all in the Context, changed only
-    by the update): the control state, the history and the plan (abstract), the jerk
-    (discrete). A scratch Context of the arm's model, for forward kinematics of the
-    measured joints, is a cache entry (it depends on ``robot_state`` only); so is the
-    path's pose table (:class:`PoseTable`): the desired tool pose at each update time,
-    computed in one numpy call when the path changes, for the machine's tracking check.
+    the machine restarts the arm after a tracking failure). ``jerk`` is the plan's jerk of
+    its next period: the stream's hold samples it at the update times (after the update)
+    and the stream (C++) integrates it at ``diffik_rate_hz``. State (all in the Context,
+    changed only by the update): the control state, the history and the plan (abstract).
+    An update that decides nothing (most: the arm travels, the machine waits) says
+    ``DidNothing``: the state and what depends on it stay as they are. Cache entries: a
+    scratch Context of the arm's model (forward kinematics of ``robot_state``) and the
+    path's :class:`PoseTable` (the desired tool pose at each update time).
 
     Frames: W world, B the arm's base_link, E ``<gripper>_tip`` (the cup face,
     +z out of the tool), C a camera, P a part's origin (its centre).
@@ -137,7 +138,6 @@ class PickAndPlaceController(LeafSystem):
         self._plan = self.DeclareAbstractState(
             AbstractValue.Make(JointPlan.hold(0.0, self._motion.period, q0))
         )
-        self._jerk = self.DeclareDiscreteState(self._nq)
         self._table = self.DeclareCacheEntry(
             description="desired tool poses at the update times",
             value_producer=ValueProducer(
@@ -166,7 +166,13 @@ class PickAndPlaceController(LeafSystem):
     def _declare_output_ports(self) -> None:
         """The ports of the class doc's "Output ports" list."""
         control = self._control  # (C++ holds these callbacks: they must not hold self)
-        self._jerk_port = self.DeclareStateOutputPort("jerk", self._jerk)
+        motion, plan = self._motion, self._plan
+        self._jerk_port = self.DeclareVectorOutputPort(
+            "jerk",
+            self._nq,
+            lambda c, y: y.SetFromVector(motion.jerk(c.get_abstract_state(plan).get_value(), c.get_time())),
+            {self.time_ticket(), self.abstract_state_ticket(plan)},
+        )
         self._suction_port = self.DeclareVectorOutputPort(
             "suction_command",
             1,
@@ -232,25 +238,28 @@ class PickAndPlaceController(LeafSystem):
         return self._X_WB @ self._tip.CalcPoseInWorld(self._scratch.Eval(context))
 
     def _calc_table(self, context: Context, value: AbstractValue) -> None:
-        # Runs after every update (an update marks all of the state changed); the
-        # table is refilled only when the path is a new one.
+        # Runs after each update that changed the state: refilled for a new path only.
         table: PoseTable = value.get_mutable_value()
         path = context.get_abstract_state(self._control).get_value().path
         if table.path is not path:
             table.fill(path, context.get_time(), self._motion.period, RigidTransform())
 
-    def _update(self, context: Context, state: State) -> None:
+    def _update(self, context: Context, state: State) -> EventStatus:
         """Reads the arm's and the gripper's ports, and a camera's only if the machine
         asks for its image (a camera computes an image when it is read); asks the
-        machine; writes its decision, a new plan for a new path, the next jerk."""
+        machine; writes its decision, a new plan for a new path, the history."""
         s = self._control_state(context)
         t = context.get_time()
-        plan: JointPlan = context.get_abstract_state(self._plan).get_value()
-        error = self._travel_check(context, s, t)
-        if error is not None:  # the arm travels and the checks pass: nothing to decide
-            state.get_mutable_discrete_state(self._jerk).set_value(self._motion.jerk(plan, t))
-            self._record(context, state, None, error)
-            return
+        error = travel_check(  # the checks while the arm travels (reads only what they need)
+            s,
+            t,
+            self._tolerance,
+            lambda: self._gripper.Eval(context).attached,
+            lambda: self._table.Eval(context).pose(t),
+            lambda: self._fk(context),
+        )
+        if error is not None:  # they pass: nothing to decide
+            return self._record(context, state, None, error)
         q = self._robot_state.Eval(context)[: self._nq]
         inputs = MachineInput(
             t=t,
@@ -263,33 +272,25 @@ class PickAndPlaceController(LeafSystem):
             X_WE_desired=self._table.Eval(context).pose(t),
         )
         decision = self._machine.step(inputs, s)
-        if decision.control is not s:
-            state.get_mutable_abstract_state(self._control).set_value(decision.control)
-            restart = decision.control.reset_ik and not s.reset_ik
-            if decision.control.path is not s.path or restart:
-                plan = self._motion.plan(decision.control.path, t, plan, q if restart else None)
-                state.get_mutable_abstract_state(self._plan).set_value(plan)
-        state.get_mutable_discrete_state(self._jerk).set_value(self._motion.jerk(plan, t))
-        self._record(context, state, decision.record, decision.tracking_error)
+        recorded = self._record(context, state, decision.record, decision.tracking_error)
+        if decision.control is s:
+            return recorded
+        state.get_mutable_abstract_state(self._control).set_value(decision.control)
+        restart = decision.control.reset_ik and not s.reset_ik
+        if decision.control.path is not s.path or restart:
+            played: JointPlan = context.get_abstract_state(self._plan).get_value()
+            plan = self._motion.plan(decision.control.path, t, played, q if restart else None)
+            state.get_mutable_abstract_state(self._plan).set_value(plan)
+        return EventStatus.Succeeded()
 
-    def _travel_check(self, context: Context, s: ControlState, t: float) -> Optional[float]:
-        """The tracking error (m) if the machine's step at ``t`` would decide nothing
-        (:func:`~.machine.travel_check`), else None; reads only what that check needs."""
-        return travel_check(
-            s,
-            t,
-            self._tolerance,
-            lambda: self._gripper.Eval(context).attached,
-            lambda: self._table.Eval(context).pose(t),
-            lambda: self._fk(context),
-        )
-
-    def _record(self, context: Context, state: State, record: Optional[PickRecord], error: float) -> None:
-        """The history with this update's ``record`` and tracking ``error``."""
+    def _record(self, context: Context, state: State, record: Optional[PickRecord], e: float) -> EventStatus:
+        """The history with ``record`` and tracking error ``e``: DidNothing if unchanged."""
         history: PickHistory = context.get_abstract_state(self._history).get_value()
-        updated = history.with_step(record, error)
-        if updated is not history:
-            state.get_mutable_abstract_state(self._history).set_value(updated)
+        updated = history.with_step(record, e)
+        if updated is history:
+            return EventStatus.DidNothing()
+        state.get_mutable_abstract_state(self._history).set_value(updated)
+        return EventStatus.Succeeded()
 
 
 class PoseTable:
