@@ -91,7 +91,8 @@ class PickAndPlaceController(LeafSystem):
     and the stream (C++) integrates it at ``diffik_rate_hz``. State (all in the Context,
     changed only by the update): the control state, the history and the plan (abstract).
     An update that decides nothing (most: the arm travels, the machine waits) says
-    ``DidNothing``: the state and what depends on it stay as they are. Cache entries: a
+    ``DidNothing``: the state and what depends on it stay as they are, unless another
+    system's update at that time changed (Drake applies a diagram's together). Cache: a
     scratch Context of the arm's model (forward kinematics of ``robot_state``) and the
     path's :class:`PoseTable` (the desired tool pose at each update time).
 
