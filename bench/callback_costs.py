@@ -1,7 +1,7 @@
 """What each of our Python callbacks costs in a run (issue 20, bench/README.md item 9).
 
     python bench/callback_costs.py [fill_bin | lecture7_conveyor_pick | belt] [--seed 0]
-        [--time-step 0.002] [--cpu]
+        [--time-step 0.002] [--cpu] [--warm] [--by-mode]
 
 Wraps each system callback and world edit of ``omtp_drake`` with ``perf_counter`` (no
 profiler: a sampling profiler's own cost blurs calls of 10-200 us), runs the case once,
@@ -74,6 +74,30 @@ def instrument(clock=time.perf_counter) -> tuple[dict[str, float], collections.C
     return seconds, calls, nested
 
 
+def by_mode(clock=time.perf_counter) -> tuple[dict[str, float], collections.Counter]:
+    """Wraps the pick-and-place controller's update (before any is built, over the
+    wrapper :func:`instrument` put there) to count its time and calls by the mode it
+    starts in: the updates that plan (WAIT_PART, ATTACH) apart from those while the arm
+    travels (APPROACH, DESCEND, TRANSFER, HOME)."""
+    from omtp_drake.control.pick_and_place.system import PickAndPlaceController
+
+    seconds: dict[str, float] = collections.defaultdict(float)
+    calls: collections.Counter = collections.Counter()
+    update = PickAndPlaceController._update
+
+    def timed(self, context, state):
+        mode = self._control_state(context).mode.name
+        start = clock()
+        try:
+            return update(self, context, state)
+        finally:
+            seconds[mode] += clock() - start
+            calls[mode] += 1
+
+    PickAndPlaceController._update = timed
+    return seconds, calls
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -88,13 +112,31 @@ def main() -> None:
         action="store_true",
         help="time each call by the thread's CPU time, not the wall clock (a busy machine)",
     )
+    parser.add_argument(
+        "--warm",
+        action="store_true",
+        help="run the case 8 simulated s first (the lazy imports, e.g. scipy in the first tool path, "
+        "out of the figures: as `omtp-drake bench` times a run after recording one)",
+    )
+    parser.add_argument(
+        "--by-mode",
+        action="store_true",
+        help="also the controller's update split by the mode it starts in",
+    )
     args = parser.parse_args()
-    seconds, calls, nested = instrument(time.thread_time if args.cpu else time.perf_counter)
-    cpu0 = time.process_time()
+    clock = time.thread_time if args.cpu else time.perf_counter
+    seconds, calls, nested = instrument(clock)
+    modes, mode_calls = by_mode(clock) if args.by_mode else ({}, collections.Counter())
     from speed import belt_scenario  # bench/speed.py
 
     from omtp_drake.sim.runtime import FactoryRuntime
     from omtp_drake.tasks.run import prepare, run_task
+
+    if args.warm and args.case != "belt":
+        run_task(prepare(args.case, seed=args.seed), duration=8.0)
+        for counts in (seconds, calls, modes, mode_calls):
+            counts.clear()
+    cpu0 = time.process_time()
 
     if args.case == "belt":  # as `omtp-drake bench` runs it: 10 parts riding, 10 s
         scenario = belt_scenario(10)
@@ -129,6 +171,12 @@ def main() -> None:
         )
     total = sum(v for k, v in seconds.items() if k not in nested)
     print(f"| **all top-level callbacks** | | | **{1e3 * total / simulated:.2f}** |")
+    if mode_calls:
+        print("\n| the controller's update, by mode | calls per simulated s | us per call | ms per sim. s |")
+        print("|---|---:|---:|---:|")
+        for mode in sorted(modes, key=lambda m: -modes[m]):
+            n, cpu = mode_calls[mode], modes[mode]
+            print(f"| {mode} | {n / simulated:.2f} | {1e6 * cpu / n:.0f} | {1e3 * cpu / simulated:.2f} |")
 
 
 if __name__ == "__main__":

@@ -217,3 +217,57 @@ def test_images_are_read_only_when_the_machine_looks(machine):
     assert moving.mode is Mode.APPROACH and reads == []
     waiting = machine.step(inputs(0.30, X_ABOVE), ControlState(mode=Mode.WAIT_PART, path=hold(0.0, X_ABOVE)))
     assert waiting.record is None and "pick" in reads
+
+
+def test_the_travel_check_passes_only_where_the_step_decides_nothing(machine, task):
+    """Issue 46, item 2: an update while the arm travels runs only the checks of every mode
+    (machine.travel_check); wherever it passes, the full step returns the control state
+    itself, no record and the same tracking error; where the step would change anything
+    (the path's end, a drop, a tracking error over the tolerance or counting, a DiffIK
+    restart), it does not pass."""
+    import itertools
+    from dataclasses import replace
+
+    from omtp_drake.control.pick_and_place.machine import travel_check
+    from omtp_drake.control.tool_paths import Path, Segment, SegmentKind
+
+    X_far = tool_down(P_PART + [0.3, 0.1, 0.3], 0.0)
+    path = Path((Segment(SegmentKind.LINE, 1.0, 2.0, X_ABOVE, X_far),))
+    offsets = (0.0, 0.5 * task.tracking_tolerance, 2.0 * task.tracking_tolerance)
+    passed = 0
+    for mode, t, grip, offset, reset, bad in itertools.product(
+        (Mode.APPROACH, Mode.DESCEND, Mode.TRANSFER, Mode.HOME, Mode.WAIT_PART, Mode.RELEASE),
+        (1.5, 2.95, 3.0, 3.5),
+        (FREE, holding("object_1")),
+        offsets,
+        (False, True),
+        (math.nan, 1.2),
+    ):
+        s = ControlState(mode=mode, mode_start=1.0, path=path, suction=mode is Mode.TRANSFER, part="object_1",
+                         X_WP=RigidTransform(P_PART), pick_start=0.5, reset_ik=reset, bad_tracking_since=bad,
+                         last_seen=t)
+        X_now = RigidTransform(path.pose_at(t).rotation(), path.pose_at(t).translation() + [offset, 0.0, 0.0])
+        inputs = replace(seen(t, grip, X_now), X_WE_desired=path.pose_at(t))
+        reads: list[str] = []
+
+        def read(what, value, reads=reads):
+            return lambda: reads.append(what) or value
+
+        error = travel_check(
+            s, t, task.tracking_tolerance,
+            read("gripper", grip.attached), read("desired", inputs.X_WE_desired), read("fk", X_now),
+        )
+        if error is None:
+            continue
+        passed += 1
+        decision = machine.step(inputs, s)
+        assert decision.control is s and decision.record is None, (mode, t, grip, offset, reset, bad)
+        assert decision.tracking_error == error
+        assert mode in (Mode.APPROACH, Mode.DESCEND, Mode.TRANSFER, Mode.HOME) and t < path.end_time
+        assert not reset and math.isnan(bad) and (offset <= task.tracking_tolerance or mode is Mode.DESCEND)
+        assert ("fk" in reads) == (mode is not Mode.DESCEND)
+        assert ("gripper" in reads) == (mode is Mode.TRANSFER)
+    # On time (t 1.5 or 2.95), no restart, no failure counting: APPROACH and HOME with the
+    # tool within the tolerance (2 offsets, either gripper), DESCEND whatever the offset
+    # (no tracking check while pressing), TRANSFER only while holding.
+    assert passed == 2 * (2 * 2 * 2) + 2 * 2 * 3 + 2 * 1 * 2

@@ -11,8 +11,9 @@ those knots (a local quasi-interpolant, so a wrong start never rings along the p
 starting from the command's position, velocity and acceleration when it is decided and
 ending at rest. Each of its pieces is one cubic of constant jerk, so
 :class:`JerkStream` (a discrete ``LinearSystem``, C++) integrates the plan exactly at
-the command rate from the jerk of the current piece, which the controller writes once
-per period: between two periods no Python runs at the plant step.
+the command rate from the jerk of the current piece, which the controller's output gives
+once per period (the plan's, from the Context): between two periods no Python runs at
+the plant step.
 
 Frames: W world, B the arm's base_link, E the tool frame (``<gripper>_tip``).
 """
@@ -21,6 +22,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from pydrake.math import RigidTransform, RotationMatrix
@@ -156,15 +158,20 @@ class JointPlan:
         i = min(max(math.floor(u + 1e-9), 0), self.pieces - 1)
         return i, min(max(u - i, 0.0), 1.0)
 
+    @cached_property
+    def _jerks(self) -> np.ndarray:
+        """Each piece's jerk (rows), worked out once: :meth:`jerk` is asked at every
+        update of the controller."""
+        Q = self.control
+        return (-Q[:-3] + 3 * Q[1:-2] - 3 * Q[2:-1] + Q[3:]) / self.period**3
+
     def jerk(self, t: float) -> np.ndarray:
         """The joints' jerk on the piece covering ``t`` (zero outside the plan)."""
         u = (t - self.t0) / self.period
         i = math.floor(u + 1e-9)
-        n = self.control.shape[1]
         if not 0 <= i < self.pieces:
-            return np.zeros(n)
-        Q = self.control[i : i + 4]
-        return (-Q[0] + 3 * Q[1] - 3 * Q[2] + Q[3]) / self.period**3
+            return np.zeros(self.control.shape[1])
+        return self._jerks[i].copy()
 
     def state(self, t: float) -> np.ndarray:
         """[q; v; a] at ``t``."""
@@ -206,7 +213,7 @@ class JerkStream(Diagram):
     into [q; v; a].
 
     Order at an update time ``t``: Drake's simulator makes the unrestricted updates (the
-    controller's, which writes the jerk) before the discrete ones, and computes all the
+    controller's, which may decide a new plan, so a new jerk) before the discrete ones, and computes all the
     discrete ones (the hold's sample, the integrator's step) from the state before any
     is applied: the hold samples the new jerk, and the integrator's step from ``t``
     still plays the old one. So the hold at ``t`` plays as one at ``t + h / 2`` did,
@@ -221,7 +228,7 @@ class JerkStream(Diagram):
         output_ports:
         - state
 
-    Its state starts at rest at ``q0``; the jerk written at ``t`` is played from
+    Its state starts at rest at ``q0``; the jerk sampled at ``t`` is played from
     ``t + h`` to ``t + period + h``.
     """
 
@@ -247,9 +254,9 @@ class PlanAhead:
     path, and the jerk to play at each of its periods.
 
     Timing: the controller decides at ``t`` (a multiple of ``period``); the
-    :class:`JerkStream` plays the jerk written then from ``t + h`` on, so a plan decided
+    :class:`JerkStream` plays the jerk sampled then from ``t + h`` on, so a plan decided
     at ``t`` starts at ``t + h`` from the played plan's state there (which the stream
-    follows exactly), and its piece ``i`` is the jerk written at ``t + i period``.
+    follows exactly), and its piece ``i`` is the jerk sampled at ``t + i period``.
 
     Args:
         plant: the arm's model (base at the origin).
@@ -289,5 +296,5 @@ class PlanAhead:
         return JointPlan.through(t0, self.period, start, knots)
 
     def jerk(self, plan: JointPlan, t: float) -> np.ndarray:
-        """The jerk to write at ``t``: the plan's from ``t + h`` on."""
+        """The jerk to play from an update at ``t``: the plan's from ``t + h`` on."""
         return plan.jerk(t + self.h)

@@ -56,7 +56,56 @@ from omtp_drake.control.pick_policy import PickPlanner
 from omtp_drake.control.tool_paths import Path, SegmentKind, hold, yaw_of
 from omtp_drake.scenario import BinConfig, RobotConfig, Scenario, TaskConfig
 
-__all__ = ["NO_IMAGE", "Decision", "MachineInput", "PickMachine", "bin_capacity", "task_planner"]
+__all__ = [
+    "NO_IMAGE",
+    "Decision",
+    "MachineInput",
+    "PickMachine",
+    "bin_capacity",
+    "task_planner",
+    "travel_check",
+]
+
+
+#: The modes whose handler only waits for the end of the path the arm follows.
+_TRAVEL = frozenset({Mode.APPROACH, Mode.DESCEND, Mode.TRANSFER, Mode.HOME})
+
+
+def _tracks(s: ControlState) -> bool:
+    """Whether the tracking check runs in ``s``'s mode (not while pressing into a part)."""
+    return s.mode not in (Mode.DESCEND, Mode.ATTACH)
+
+
+def _tracking_error(X_WE_desired: RigidTransform, X_WE: RigidTransform) -> float:
+    """How far (m) the tool is from where its path wants it."""
+    d = X_WE_desired.translation() - X_WE.translation()
+    return math.sqrt(d.dot(d))  # np.linalg.norm's very sum, without its checks
+
+
+def travel_check(
+    s: ControlState,
+    t: float,
+    tolerance: float,
+    attached: Callable[[], bool],
+    desired: Callable[[], Optional[RigidTransform]],
+    X_now: Callable[[], RigidTransform],
+) -> Optional[float]:
+    """The checks of every mode (:meth:`PickMachine._watch`) at an update where the arm
+    travels with nothing else to decide: the mode's handler only waits for its path's end
+    (after ``t``), no DiffIK restart is pending and no tracking failure is counting.
+    Returns the tracking error (m) if :meth:`PickMachine.step` would return ``s`` itself
+    and no record (a carried part still ``attached()``, the tool ``X_now()`` within
+    ``tolerance`` of ``desired()``, the pose table's ``X_WE`` at ``t`` or None), else None:
+    the caller runs the step. Reads each input only if it needs it."""
+    if s.mode not in _TRAVEL or s.reset_ik or not math.isnan(s.bad_tracking_since) or s.path.done(t):
+        return None
+    if s.mode is Mode.TRANSFER and not attached():
+        return None
+    if not _tracks(s):
+        return 0.0
+    X_WE_desired = desired()
+    error = _tracking_error(X_WE_desired if X_WE_desired is not None else s.pose_at(t), X_now())
+    return None if error > tolerance else error
 
 
 def task_planner(config: TaskConfig, robot: RobotConfig) -> PickPlanner:
@@ -168,9 +217,8 @@ class PickMachine:
         t, X_now = inputs.t, inputs.X_WE
         desired = inputs.X_WE_desired if inputs.X_WE_desired is not None else s.pose_at(t)
         error = 0.0
-        if desired is not None and s.mode not in (Mode.DESCEND, Mode.ATTACH):
-            d = desired.translation() - X_now.translation()
-            error = math.sqrt(d.dot(d))  # np.linalg.norm's very sum, without its checks
+        if desired is not None and _tracks(s):
+            error = _tracking_error(desired, X_now)
             if error > self._config.tracking_tolerance:
                 if math.isnan(s.bad_tracking_since):
                     s = replace(s, bad_tracking_since=t)

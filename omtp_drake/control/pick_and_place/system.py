@@ -25,6 +25,7 @@ from pydrake.multibody.plant import MultibodyPlant
 from pydrake.systems.framework import (
     Context,
     DiagramBuilder,
+    EventStatus,
     InputPort,
     LeafSystem,
     OutputPort,
@@ -37,8 +38,8 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.suction import GripperState
 from omtp_drake.control.joint_plan import JerkStream, JointPlan, PlanAhead
-from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory
-from omtp_drake.control.pick_and_place.machine import PickMachine
+from omtp_drake.control.pick_and_place.controller_state import ControlState, PickHistory, PickRecord
+from omtp_drake.control.pick_and_place.machine import PickMachine, travel_check
 from omtp_drake.control.pick_and_place.machine_io import NO_IMAGE, MachineInput
 from omtp_drake.control.tool_paths import Path
 from omtp_drake.errors import ConfigError
@@ -85,14 +86,15 @@ class PickAndPlaceController(LeafSystem):
     writes it into the state. When the decision is a new tool path, DiffIK is
     integrated along it at once into a joint plan
     (:class:`~omtp_drake.control.joint_plan.PlanAhead`; from the measured joints when
-    the machine restarts the arm after a tracking failure); every update writes the
-    jerk of the plan's next period, which the stream (C++) integrates at
-    ``diffik_rate_hz`` until the next update. State (all in the Context, changed only
-    by the update): the control state, the history and the plan (abstract), the jerk
-    (discrete). A scratch Context of the arm's model, for forward kinematics of the
-    measured joints, is a cache entry (it depends on ``robot_state`` only); so is the
-    path's pose table (:class:`PoseTable`): the desired tool pose at each update time,
-    computed in one numpy call when the path changes, for the machine's tracking check.
+    the machine restarts the arm after a tracking failure). ``jerk`` is the plan's jerk of
+    its next period: the stream's hold samples it at the update times (after the update)
+    and the stream (C++) integrates it at ``diffik_rate_hz``. State (all in the Context,
+    changed only by the update): the control state, the history and the plan (abstract).
+    An update that decides nothing (most: the arm travels, the machine waits) says
+    ``DidNothing``: the state and what depends on it stay as they are, unless another
+    system's update at that time changed (Drake applies a diagram's together). Cache: a
+    scratch Context of the arm's model (forward kinematics of ``robot_state``) and the
+    path's :class:`PoseTable` (the desired tool pose at each update time).
 
     Frames: W world, B the arm's base_link, E ``<gripper>_tip`` (the cup face,
     +z out of the tool), C a camera, P a part's origin (its centre).
@@ -117,6 +119,7 @@ class PickAndPlaceController(LeafSystem):
         control_plant.SetPositions(home_context, np.asarray(arms.named_pose("Home", robot)))
         X_W_home = self._X_WB @ self._tip.CalcPoseInWorld(home_context)
         self._machine = PickMachine(config, robot, bin, part_size, X_W_home)
+        self._tolerance = config.tracking_tolerance
         self._motion = PlanAhead(
             control_plant, robot, self._X_WB, 1.0 / config.update_rate_hz, stream_step(config)
         )
@@ -136,7 +139,6 @@ class PickAndPlaceController(LeafSystem):
         self._plan = self.DeclareAbstractState(
             AbstractValue.Make(JointPlan.hold(0.0, self._motion.period, q0))
         )
-        self._jerk = self.DeclareDiscreteState(self._nq)
         self._table = self.DeclareCacheEntry(
             description="desired tool poses at the update times",
             value_producer=ValueProducer(
@@ -165,7 +167,13 @@ class PickAndPlaceController(LeafSystem):
     def _declare_output_ports(self) -> None:
         """The ports of the class doc's "Output ports" list."""
         control = self._control  # (C++ holds these callbacks: they must not hold self)
-        self._jerk_port = self.DeclareStateOutputPort("jerk", self._jerk)
+        motion, plan = self._motion, self._plan
+        self._jerk_port = self.DeclareVectorOutputPort(
+            "jerk",
+            self._nq,
+            lambda c, y: y.SetFromVector(motion.jerk(c.get_abstract_state(plan).get_value(), c.get_time())),
+            {self.time_ticket(), self.abstract_state_ticket(plan)},
+        )
         self._suction_port = self.DeclareVectorOutputPort(
             "suction_command",
             1,
@@ -231,19 +239,28 @@ class PickAndPlaceController(LeafSystem):
         return self._X_WB @ self._tip.CalcPoseInWorld(self._scratch.Eval(context))
 
     def _calc_table(self, context: Context, value: AbstractValue) -> None:
-        # Runs after every update (an update marks all of the state changed); the
-        # table is refilled only when the path is a new one.
+        # Runs after each update that changed the state: refilled for a new path only.
         table: PoseTable = value.get_mutable_value()
         path = context.get_abstract_state(self._control).get_value().path
         if table.path is not path:
             table.fill(path, context.get_time(), self._motion.period, RigidTransform())
 
-    def _update(self, context: Context, state: State) -> None:
+    def _update(self, context: Context, state: State) -> EventStatus:
         """Reads the arm's and the gripper's ports, and a camera's only if the machine
         asks for its image (a camera computes an image when it is read); asks the
-        machine; writes its decision, a new plan for a new path, the next jerk."""
+        machine; writes its decision, a new plan for a new path, the history."""
         s = self._control_state(context)
         t = context.get_time()
+        error = travel_check(  # the checks while the arm travels (reads only what they need)
+            s,
+            t,
+            self._tolerance,
+            lambda: self._gripper.Eval(context).attached,
+            lambda: self._table.Eval(context).pose(t),
+            lambda: self._fk(context),
+        )
+        if error is not None:  # they pass: nothing to decide
+            return self._record(context, state, None, error)
         q = self._robot_state.Eval(context)[: self._nq]
         inputs = MachineInput(
             t=t,
@@ -256,18 +273,25 @@ class PickAndPlaceController(LeafSystem):
             X_WE_desired=self._table.Eval(context).pose(t),
         )
         decision = self._machine.step(inputs, s)
-        plan: JointPlan = context.get_abstract_state(self._plan).get_value()
-        if decision.control is not s:
-            state.get_mutable_abstract_state(self._control).set_value(decision.control)
-            restart = decision.control.reset_ik and not s.reset_ik
-            if decision.control.path is not s.path or restart:
-                plan = self._motion.plan(decision.control.path, t, plan, q if restart else None)
-                state.get_mutable_abstract_state(self._plan).set_value(plan)
-        state.get_mutable_discrete_state(self._jerk).set_value(self._motion.jerk(plan, t))
+        recorded = self._record(context, state, decision.record, decision.tracking_error)
+        if decision.control is s:
+            return recorded
+        state.get_mutable_abstract_state(self._control).set_value(decision.control)
+        restart = decision.control.reset_ik and not s.reset_ik
+        if decision.control.path is not s.path or restart:
+            played: JointPlan = context.get_abstract_state(self._plan).get_value()
+            plan = self._motion.plan(decision.control.path, t, played, q if restart else None)
+            state.get_mutable_abstract_state(self._plan).set_value(plan)
+        return EventStatus.Succeeded()
+
+    def _record(self, context: Context, state: State, record: Optional[PickRecord], e: float) -> EventStatus:
+        """The history with ``record`` and tracking error ``e``: DidNothing if unchanged."""
         history: PickHistory = context.get_abstract_state(self._history).get_value()
-        updated = history.with_step(decision.record, decision.tracking_error)
-        if updated is not history:
-            state.get_mutable_abstract_state(self._history).set_value(updated)
+        updated = history.with_step(record, e)
+        if updated is history:
+            return EventStatus.DidNothing()
+        state.get_mutable_abstract_state(self._history).set_value(updated)
+        return EventStatus.Succeeded()
 
 
 class PoseTable:

@@ -1,0 +1,74 @@
+"""The pick-and-place controller's ``DidNothing`` (issue 46, item 2), measured in one process.
+
+    python bench/paired_did_nothing.py [scenario] [--chunk 1.0] [--until 60]
+
+An update of the controller that decides nothing says ``DidNothing``, and Drake then leaves
+its state as it was: nothing that depends on it (the pose table, the suction command, the
+control and history ports the run reads at its ticks) is computed again. This builds the
+scenario's task run twice: ``didnothing`` as it is, and ``applied`` whose updates always say
+``Succeeded`` (the same values written back, every dependent invalidated: as before). The
+two give the same run bit for bit (checked here: the plant's positions after every chunk).
+It advances each by ``--chunk`` simulated seconds in turn (which first alternating), timing
+each chunk's thread CPU, and prints the medians, the totals per simulated second and the
+paired ratio (as ``paired_chunks.py``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import time
+
+import numpy as np
+from pydrake.systems.framework import EventStatus
+
+from omtp_drake.tasks.run import TaskRun, prepare
+
+
+def _always_applied(run: TaskRun) -> None:
+    """The controller of ``run`` reports every update as ``Succeeded``."""
+    controller = run.controller
+    record = controller._record
+
+    def applied(*args):
+        record(*args)
+        return EventStatus.Succeeded()
+
+    controller._record = applied  # the instance's attribute: the update looks it up on self
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("scenario", nargs="?", default="fill_bin")
+    parser.add_argument("--chunk", type=float, default=1.0)
+    parser.add_argument("--until", type=float, default=60.0)
+    args = parser.parse_args()
+    runs = {"applied": TaskRun(prepare(args.scenario)), "didnothing": TaskRun(prepare(args.scenario))}
+    _always_applied(runs["applied"])
+    cpu: dict[str, list[float]] = {name: [] for name in runs}
+    t, pairs = 0.0, 0
+    while t < args.until - 1e-9:
+        t, pairs = min(t + args.chunk, args.until), pairs + 1
+        q = []
+        for name in ("applied", "didnothing") if pairs % 2 else ("didnothing", "applied"):
+            run = runs[name]
+            start = time.thread_time()
+            run.runtime.advance_to(t)
+            cpu[name].append(time.thread_time() - start)
+            plant = run.runtime.station.plant
+            q.append(plant.GetPositions(plant.GetMyContextFromRoot(run.runtime.context)))
+        if not np.array_equal(q[0], q[1]):
+            raise SystemExit(f"the two runs differ at t = {t:.2f} s")
+    ratios = [new / old for new, old in zip(cpu["didnothing"], cpu["applied"])]
+    for name, chunks in cpu.items():
+        print(
+            f"{name}: median {1e3 * statistics.median(chunks) / args.chunk:.1f}, "
+            f"total {1e3 * sum(chunks) / t:.1f} CPU ms per simulated s"
+        )
+    print(f"paired didnothing/applied: median {statistics.median(ratios):.3f} ({pairs} pairs)")
+    print(f"load average {os.getloadavg()[0]:.2f}")
+
+
+if __name__ == "__main__":
+    main()
