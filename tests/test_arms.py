@@ -12,6 +12,7 @@ from omtp_drake.cell import arms
 from omtp_drake.cell.station import build_station
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import RobotConfig, load_scenario
+from omtp_drake.ur_arms import model_rates
 
 DH = {  # classic UR standard DH: d1, a2, a3, d4, d5, d6
     "ur10": (0.1273, -0.612, -0.5723, 0.163941, 0.1157, 0.0922),
@@ -100,7 +101,7 @@ def test_joint_trajectory_respects_velocity_limits():
     trajectory = arms.joint_trajectory(robot, ["Home", "Place", "Up"], speed_fraction=0.5)
     t = np.linspace(trajectory.start_time(), trajectory.end_time(), 2000)
     v = np.abs(np.column_stack([trajectory.EvalDerivative(ti, 1) for ti in t]))
-    assert np.all(v.max(axis=1) <= 0.5 * np.array(arms.VELOCITY_LIMITS["ur10"]) + 1e-9)
+    assert np.all(v.max(axis=1) <= 0.5 * np.array(model_rates("ur10")[0]) + 1e-9)
     np.testing.assert_allclose(trajectory.value(trajectory.end_time()).ravel(),
                                arms.NAMED_POSES["R1Up"])
     with pytest.raises(ConfigError):

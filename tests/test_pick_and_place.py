@@ -7,11 +7,11 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from omtp_drake.cell import arms
 from omtp_drake.control.pick_and_place import Mode, bin_capacity
 from omtp_drake.errors import ConfigError
 from omtp_drake.scenario import load_scenario
 from omtp_drake.tasks.run import TaskResult, TaskRun, prepare
+from omtp_drake.ur_arms import model_rates
 
 
 def plant_context(rt):
@@ -67,7 +67,7 @@ def stepped_run():
 
 def test_limits_respected_during_a_run(stepped_run):
     peaks = stepped_run[0]
-    assert np.all(peaks["joint"] <= np.array(arms.VELOCITY_LIMITS["ur5"])), peaks
+    assert np.all(peaks["joint"] <= np.array(model_rates("ur5")[0])), peaks
     assert peaks["tool"] <= 1.02, peaks  # the arm's real cup-face speed: plans cruise at 1.0
     # DiffIK's 10 ms steps jitter a little around the plan (which peaks at 1.0 m/s).
     assert peaks["commanded"] <= 1.1, peaks

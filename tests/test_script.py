@@ -17,6 +17,7 @@ from omtp_drake.errors import (
     UnknownNameError,
     UnreachableError,
 )
+from omtp_drake.ur_arms import model_rates
 
 #: Cup face inside bin 1 (rim at 0.475 m), and just outside its wall toward robot 2.
 P_IN_BIN = [-8.0, -2.2, 0.35]
@@ -46,7 +47,7 @@ def test_cartesian_line_stays_on_the_line_within_the_limits(cell):
     plan = arm.compute_cartesian_path(goal, speed=0.3)
     assert plan.fraction == 1.0
     # The planned joint velocities, sampled every millisecond, stay within the UR5's limits.
-    limits = np.array(arms.VELOCITY_LIMITS["ur5"])
+    limits = np.array(model_rates("ur5")[0])
     times = np.arange(0.0, plan.duration, 1e-3)
     v = np.array([plan.trajectory.EvalDerivative(t, 1).ravel() for t in times])
     assert np.all(np.abs(v) <= limits + 1e-6)

@@ -27,7 +27,7 @@ from omtp_drake.assets import MODELS_DIR, expand_xacro
 from omtp_drake.cell.described_models import add_described_models
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import ModelConfig, RobotConfig
-from omtp_drake.ur_arms import ur_urdf
+from omtp_drake.ur_arms import model_rates, ur_urdf
 
 #: Joint order of every pose: pan, lift, elbow, wrist 1, wrist 2, wrist 3.
 JOINT_NAMES = (
@@ -113,8 +113,9 @@ def arm_urdf(robot: RobotConfig) -> Path:
 
 
 def joint_velocity_limits(robot: RobotConfig) -> np.ndarray:
-    """``robot``'s joint velocity limits (rad/s, pan ... wrist 3): its scenario's, else its model's."""
-    return np.array(robot.velocity_limits or VELOCITY_LIMITS[robot.model], dtype=float)
+    """``robot``'s joint velocity limits (rad/s, pan ... wrist 3): its scenario's, else its
+    model's (ur_description's, :func:`omtp_drake.ur_arms.model_rates`)."""
+    return np.array(robot.velocity_limits or model_rates(robot.model)[0], dtype=float)
 
 
 def add_arm_models(
@@ -411,10 +412,3 @@ def joint_trajectory(
     for segment in segments[1:]:
         trajectory.ConcatenateInTime(segment)
     return trajectory
-
-
-#: Joint velocity limits (rad/s) of the classic arms, pan ... wrist 3.
-VELOCITY_LIMITS: Mapping[str, tuple[float, ...]] = {
-    "ur10": (2.16, 2.16, 3.15, 3.2, 3.2, 3.2),
-    "ur5": (3.15, 3.15, 3.15, 3.2, 3.2, 3.2),
-}
