@@ -38,19 +38,19 @@ def _build(scenario: str, old: bool) -> TaskRun:
         joint_plan.ZeroOrderHold = ZeroOrderHold
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("scenario", nargs="?", default="fill_bin")
-    parser.add_argument("--chunk", type=float, default=1.0)
-    parser.add_argument("--until", type=float, default=60.0)
-    args = parser.parse_args()
-    runs = {"old": _build(args.scenario, old=True), "new": _build(args.scenario, old=False)}
+def advance_in_pairs(
+    runs: dict[str, TaskRun], chunk: float, until: float
+) -> tuple[dict[str, list[float]], float]:
+    """Advances the two ``runs`` by ``chunk`` simulated seconds in turn up to ``until`` (which
+    goes first alternating), checking after each pair that their plants' positions are equal;
+    (thread CPU of each chunk by run, the time reached)."""
+    names = list(runs)
     cpu: dict[str, list[float]] = {name: [] for name in runs}
     t, pairs = 0.0, 0
-    while t < args.until - 1e-9:
-        t, pairs = min(t + args.chunk, args.until), pairs + 1
+    while t < until - 1e-9:
+        t, pairs = min(t + chunk, until), pairs + 1
         q = []
-        for name in ("old", "new") if pairs % 2 else ("new", "old"):
+        for name in names if pairs % 2 else names[::-1]:
             run = runs[name]
             start = time.thread_time()
             run.runtime.advance_to(t)
@@ -59,6 +59,17 @@ def main() -> None:
             q.append(plant.GetPositions(plant.GetMyContextFromRoot(run.runtime.context)))
         if not np.array_equal(q[0], q[1]):
             raise SystemExit(f"the two runs differ at {t:g} s")
+    return cpu, t
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("scenario", nargs="?", default="fill_bin")
+    parser.add_argument("--chunk", type=float, default=1.0)
+    parser.add_argument("--until", type=float, default=60.0)
+    args = parser.parse_args()
+    runs = {"old": _build(args.scenario, old=True), "new": _build(args.scenario, old=False)}
+    cpu, t = advance_in_pairs(runs, args.chunk, args.until)
     for name, run in runs.items():
         seconds = cpu[name]
         print(

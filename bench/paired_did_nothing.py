@@ -18,9 +18,8 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
-import time
 
-import numpy as np
+from paired_chunks import advance_in_pairs
 from pydrake.systems.framework import EventStatus
 
 from omtp_drake.tasks.run import TaskRun, prepare
@@ -46,27 +45,14 @@ def main() -> None:
     args = parser.parse_args()
     runs = {"applied": TaskRun(prepare(args.scenario)), "didnothing": TaskRun(prepare(args.scenario))}
     _always_applied(runs["applied"])
-    cpu: dict[str, list[float]] = {name: [] for name in runs}
-    t, pairs = 0.0, 0
-    while t < args.until - 1e-9:
-        t, pairs = min(t + args.chunk, args.until), pairs + 1
-        q = []
-        for name in ("applied", "didnothing") if pairs % 2 else ("didnothing", "applied"):
-            run = runs[name]
-            start = time.thread_time()
-            run.runtime.advance_to(t)
-            cpu[name].append(time.thread_time() - start)
-            plant = run.runtime.station.plant
-            q.append(plant.GetPositions(plant.GetMyContextFromRoot(run.runtime.context)))
-        if not np.array_equal(q[0], q[1]):
-            raise SystemExit(f"the two runs differ at t = {t:.2f} s")
+    cpu, t = advance_in_pairs(runs, args.chunk, args.until)
     ratios = [new / old for new, old in zip(cpu["didnothing"], cpu["applied"])]
     for name, chunks in cpu.items():
         print(
             f"{name}: median {1e3 * statistics.median(chunks) / args.chunk:.1f}, "
             f"total {1e3 * sum(chunks) / t:.1f} CPU ms per simulated s"
         )
-    print(f"paired didnothing/applied: median {statistics.median(ratios):.3f} ({pairs} pairs)")
+    print(f"paired didnothing/applied: median {statistics.median(ratios):.3f} ({len(ratios)} pairs)")
     print(f"load average {os.getloadavg()[0]:.2f}")
 
 
