@@ -159,3 +159,28 @@ def test_a_collision_added_beside_the_grippers_own_is_theirs(tmp_path):
         (link,) = ET.fromstring(models[f"vacuum_gripper{n}_base_link_own"].description).iter("link")
         assert [c.find("geometry/box").get("size") for c in link.iter("collision")] == ["0.09 0.09 0.01"]
         assert list(link.iter("visual")) == []
+
+
+def test_the_planner_takes_their_bumper_for_the_grippers_geometry(cell):
+    """Their bumper (a box in the gripper's link) is robot geometry to the planner, as a
+    link's collisions are to MoveIt: a 1 cm block touching only its corner at robot 1's
+    start is a collision named after it (as environment, the checker would never test it)."""
+    from pydrake.geometry import Role
+    from pydrake.math import RigidTransform
+
+    from omtp_drake.control.motion.collision import CollisionModel
+
+    model = CollisionModel(cell.scenario, "robot1", margin=0.0, edge_step=0.05, self_collisions=False)
+    plant, checker = model.checker.plant(), model.checker
+    bumper = plant.GetBodyByName("vacuum_gripper1_base_link_own")
+    assert checker.IsPartOfRobot(bumper)
+    full = model.full(model.q_initial)
+    plant_context = checker.UpdatePositions(full)  # (the checker's plant's context)
+    inspector = checker.model().scene_graph().model_inspector()
+    (box,) = inspector.GetGeometries(plant.GetBodyFrameIdOrThrow(bumper.index()), Role.kProximity)
+    X_WB = bumper.EvalPoseInWorld(plant_context) @ inspector.GetPoseInFrame(box)
+    p_WO = X_WB @ np.array([0.045 + 0.004, 0.045 + 0.004, 0.0])  # outside the box's corner by 4 mm
+    assert model.config_free(full)
+    model.scene.set_obstacles([(RigidTransform(p_WO), 0.01)], ["block"])  # reaches 1 mm into it
+    assert not model.config_free(full)
+    assert model.pairs(full) == [("vacuum_gripper1_base_link_own", "block")]

@@ -63,9 +63,10 @@ class CollisionModel:
         models = add_cell_models(builder.plant(), builder.scene_graph(), scenario, parts=False)
         builder.plant().Finalize()
         handles = models.arms[robot]
+        robot_instances = _robot_instances(builder.plant(), handles, scenario)
         self.checker = SceneGraphCollisionChecker(
             model=builder.Build(),
-            robot_model_instances=_robot_instances(handles),
+            robot_model_instances=robot_instances,
             edge_step_size=edge_step,
             env_collision_padding=margin,
             self_collision_padding=margin,
@@ -79,9 +80,7 @@ class CollisionModel:
         self.cup: RigidBody | None = (
             plant.GetBodyByName(f"{gripper}_cup", handles.gripper) if gripper else None
         )
-        robot_bodies = [
-            plant.get_body(b) for inst in _robot_instances(handles) for b in plant.GetBodyIndices(inst)
-        ]
+        robot_bodies = [plant.get_body(b) for inst in robot_instances for b in plant.GetBodyIndices(inst)]
         if self_collisions:
             enable_self_collisions(self.checker, robot_bodies, handles.pedestal)
         #: What is added to the cell: obstacles and a held part.
@@ -244,9 +243,19 @@ class CollisionModel:
         return sorted(pairs)
 
 
-def _robot_instances(handles: ArmHandles) -> list[ModelInstanceIndex]:
-    """The model instances the planner moves: the arm, and its gripper if it has one."""
-    return [handles.arm] + ([handles.gripper] if handles.gripper is not None else [])
+def _robot_instances(
+    plant: MultibodyPlant, handles: ArmHandles, scenario: Scenario
+) -> list[ModelInstanceIndex]:
+    """The model instances the planner moves: the arm, its gripper if it has one, and what
+    the student's files hang on them (a bumper written into the gripper's link is the
+    gripper's geometry, as MoveIt takes a link's collisions; as environment the checker
+    would never test it against the cell)."""
+    robot = [handles.arm] + ([handles.gripper] if handles.gripper is not None else [])
+    for model in scenario.models:
+        if model.parent and plant.HasFrameNamed(model.parent) and plant.HasModelInstanceNamed(model.name):
+            if plant.GetFrameByName(model.parent).body().model_instance() in robot:
+                robot.append(plant.GetModelInstanceByName(model.name))
+    return robot
 
 
 def _joint_hops(plant: MultibodyPlant) -> tuple[dict[BodyIndex, BodyIndex], dict[BodyIndex, set]]:
