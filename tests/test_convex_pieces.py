@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-import trimesh
-from scipy.spatial import ConvexHull
 
 from omtp_drake.convex_pieces import PIECE_DEPTH, axis_box, convex_pieces, ray_distance
 
@@ -31,6 +29,9 @@ def cup() -> tuple[np.ndarray, np.ndarray]:
 
 def _containing(pieces, p) -> list[int]:
     """The pieces whose convex hull holds the point ``p`` (each hull's faces computed once)."""
+    from scipy.spatial import ConvexHull  # (here: scipy and trimesh cost each xdist worker ~1.8 s
+    #  CPU at collection; only the worker that runs these tests needs them)
+
     if _HULLS.get("pieces") is not pieces:  # (held here, so a new list is never taken for it)
         _HULLS.update(pieces=pieces, faces=[ConvexHull(points).equations for points in pieces])
     return [k for k, faces in enumerate(_HULLS["faces"]) if np.all(faces[:, :3] @ p + faces[:, 3] <= 1e-9)]
@@ -60,6 +61,8 @@ def test_a_closed_cup_is_its_skin_its_inside_stays_open(winding):
 
 def test_a_finely_meshed_cup_is_the_same_skin():
     vertices, faces = cup()
+    import trimesh
+
     vertices, faces = trimesh.remesh.subdivide(vertices, faces)
     pieces = convex_pieces(vertices, faces, max_depth=PIECE_DEPTH)
     assert not _containing(pieces, [0, 0, 0.2]) and not _containing(pieces, [-0.27, 0.1, 0.3])
@@ -78,6 +81,8 @@ def test_open_surfaces_are_thickened_outwards_either_way_round(flip):
 
 
 def test_a_closed_box_is_one_piece_and_an_axis_box():
+    import trimesh
+
     box = trimesh.creation.box(bounds=[[-0.3, -0.2, 0], [0.3, 0.2, 0.05]])
     (piece,) = convex_pieces(box.vertices, box.faces, max_depth=0.01)
     centre, size = axis_box(piece)
@@ -100,6 +105,8 @@ def test_the_pieces_are_cut_once_and_cached_by_the_meshs_content(tmp_path, monke
 
     monkeypatch.setenv("OMTP_DRAKE_CACHE", str(tmp_path / "cache"))
     mesh = tmp_path / "cup.obj"
+    import trimesh
+
     mesh.write_text(trimesh.Trimesh(*cup()).export(file_type="obj"))
     first = assets.convex_piece_files(mesh)
     assert len(first) > 5 and all(path.is_file() for path, _ in first)

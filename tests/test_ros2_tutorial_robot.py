@@ -26,10 +26,14 @@ from test_ros2 import (
 SCRIPTS = Path(__file__).parent / "ros2_scripts"
 FIXTURE = Path(__file__).parent / "fixtures" / "tutorial_ws"
 ROBOT = FIXTURE / "src" / "slider_arm_description" / "urdf" / "slider_arm.urdf.xacro"
-#: The trajectory's stamp and the end of the recording (simulated s). The node sends it
-#: at its first /clock; the cell is paced (--realtime), so that is well before START (4 s of
-#: wall time for DDS discovery, 1.3 s seen on a quiet machine).
-START, END = 5.0, 6.5
+#: The trajectory's stamp START (simulated s) is chosen by the node once it hears the cell
+#: (its /clock, a /joint_states message, a subscriber of its trajectory: DDS discovery is
+#: over, however long it took): the first whole half second at least LEAD after that /clock,
+#: so that the recording of [START - 1, END] is already under way and the trajectory has over
+#: 0.5 simulated s (wall s: the cell is paced, --realtime) to reach the cell. The recording
+#: ends at END = START + SPAN. (A fixed START of 5 s, for the worst discovery, paced every
+#: run to 6.5 s.)
+LEAD, SPAN = 1.5, 1.5
 SPEC = json.loads((SCRIPTS / "trajectory.json").read_text())
 #: The plugins' rates in the fixture: joint states 20 Hz, trajectory updates 2 Hz, camera 20 Hz.
 STATE_PERIOD, CAMERA_PERIOD = 0.05, 0.05
@@ -37,18 +41,18 @@ STATE_PERIOD, CAMERA_PERIOD = 0.05, 0.05
 
 def _ros2(tmp_path: Path, domain: int) -> tuple[dict, str]:
     out = tmp_path / "seen.json"
-    node = [str(SCRIPTS / "tutorial_node.py"), str(out), str(START), str(END)]
+    node = [str(SCRIPTS / "tutorial_node.py"), str(out), str(LEAD), str(SPAN)]
     _, cell_err = run_cell_with_node([str(ROBOT), "--realtime"], node, domain)
     return json.loads(out.read_text()), cell_err
 
 
-def _ros1(tmp_path: Path) -> dict:
+def _ros1(tmp_path: Path, start: float, end: float) -> dict:
     from omtp_drake.ros.run.runner import run_script
 
     out = tmp_path / "ros1.json"
     report = run_script(
-        SCRIPTS / "ros1_tutorial_script.py", [str(out), str(START), str(END)],
-        robot=ROBOT, workspace=[FIXTURE / "src"], timeout=END + 2.0,
+        SCRIPTS / "ros1_tutorial_script.py", [str(out), str(start), str(end)],
+        robot=ROBOT, workspace=[FIXTURE / "src"], timeout=end + 2.0,
     )  # fmt: skip
     assert report.exception is None, report.exception
     return json.loads(out.read_text())
@@ -56,11 +60,13 @@ def _ros1(tmp_path: Path) -> dict:
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory):
-    """(what the rclpy node saw, the cell's stderr, what the rospy script saw)."""
+    """(what the rclpy node saw, the cell's stderr, what the rospy script saw: the same
+    trajectory, stamped the node's START)."""
     tmp = tmp_path_factory.mktemp("tutorial")
     with hold_domain() as held:
         seen, cell_err = _ros2(tmp, held)
-    return seen, cell_err, _ros1(tmp)
+    assert seen["start"] >= seen["sent_at"] + LEAD and seen["end"] == seen["start"] + SPAN
+    return seen, cell_err, _ros1(tmp, seen["start"], seen["end"])
 
 
 def _samples(states: list, lo: float, hi: float) -> dict[float, dict[str, float]]:
@@ -71,6 +77,7 @@ def _samples(states: list, lo: float, hi: float) -> dict[float, dict[str, float]
 @needs_ros2
 def test_joint_states_name_the_plugins_joints_at_its_rate(runs):
     seen, _, _ = runs
+    START, END = seen["start"], seen["end"]
     assert seen["states"], "no /joint_states"
     assert all(names == ["slider_joint", "arm_joint"] for _, names, _ in seen["states"])
     # 20 Hz in simulated time: every 50 ms stamp of [START - 1, END - 0.5], each once.
@@ -95,6 +102,7 @@ def test_robot_description_is_the_robots_urdf_under_world(runs):
 @needs_ros2
 def test_set_joint_trajectory_plays_as_gazebos_plugin(runs):
     seen, cell_err, _ = runs
+    START, END = seen["start"], seen["end"]
     assert seen["sent_at"] < START - 1.0, "the node sent the trajectory too late to test its stamp"
     (first, _), (bad, _), (last, _) = SPEC["points"]
     q = _samples(seen["states"], START - 1.0, END)
@@ -114,6 +122,7 @@ def test_set_joint_trajectory_plays_as_gazebos_plugin(runs):
 def test_both_transports_give_the_same_samples(runs):
     """One trajectory, ``ros-run`` (ROS 1) and ``ros2``: the same stamps, the same positions."""
     seen, _, ros1 = runs
+    START, END = seen["start"], seen["end"]
     assert ros1["sent_at"] < START
     a = _samples(seen["states"], START - 1.0, END - 0.5)
     b = _samples(ros1["states"], START - 1.0, END - 0.5)

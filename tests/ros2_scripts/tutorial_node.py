@@ -2,15 +2,19 @@
 as they would write it (nothing of omtp_drake imported): it sends one trajectory on
 /set_joint_trajectory, watches /joint_states, and looks at the depth camera's topics.
 
-    python tutorial_node.py OUT.json START END
+    python tutorial_node.py OUT.json LEAD SPAN
 
-The trajectory is tests/ros2_scripts/trajectory.json's, its header stamped START
-(simulated s). The node records every /joint_states message until /clock reaches END,
-and one message of each camera topic (then unsubscribes: the camera renders only while
-someone listens). Writes what it saw to OUT.json; every wait has a wall-clock bound.
+Once it hears the cell (/clock, a /joint_states message, a subscriber of
+/set_joint_trajectory), it sends tests/ros2_scripts/trajectory.json's trajectory, its header
+stamped START: the first whole half second at least LEAD simulated seconds after the
+/clock it heard last (so START does not depend on how long DDS discovery took). The node
+records every /joint_states message until /clock reaches END = START + SPAN, and one
+message of each camera topic (then unsubscribes: the camera renders only while someone
+listens). Writes what it saw, START and END to OUT.json; every wait has a wall-clock bound.
 """
 
 import json
+import math
 import sys
 import time
 from pathlib import Path
@@ -101,13 +105,16 @@ def describe(name, msg):
     return out
 
 
-def main(out, start, end):
+def main(out, lead, span):
     rclpy.init()
     node = TutorialNode()
     try:
         node.wait_for("clock", lambda: node.clock >= 0.0)
+        node.wait_for("/joint_states", lambda: node.states)
         node.wait_for("the trajectory's subscriber", lambda: node.trajectory.get_subscription_count() > 0)
         sent_at = node.clock
+        start = math.ceil((sent_at + lead) * 2.0) / 2.0
+        end = start + span
         node.trajectory.publish(trajectory_msg(start))
         node.wait_for("camera topics", lambda: len(node.camera) == len(CAMERA))
         for sub in node.camera_subs:
@@ -115,6 +122,8 @@ def main(out, start, end):
         node.wait_for(f"/clock at {end}", lambda: node.clock >= end)
         node.wait_for("/robot_description", lambda: node.descriptions)
         seen = {
+            "start": start,
+            "end": end,
             "sent_at": sent_at,
             "states": [[seconds(m.header.stamp), list(m.name), list(m.position)] for m in node.states],
             "camera": {name: describe(name, msg) for name, msg in node.camera.items()},
