@@ -18,16 +18,7 @@ import sys
 from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
-import numpy as np
-
-from omtp_drake.batch.command import add_batch_command, add_progress_options, show_progress
 from omtp_drake.errors import ConfigError, OmtpError
-from omtp_drake.grading.cli import add_commands as add_ros_commands
-from omtp_drake.launch.description import launch_description, world_description
-from omtp_drake.launch.options import CommandParser, add_cell_options, resolve_cell_options
-from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
-from omtp_drake.ros2.run import add_commands as add_ros2_commands
-from omtp_drake.viz.view_command import add_view_command
 
 if TYPE_CHECKING:
     from pydrake.systems.framework import Context
@@ -108,11 +99,15 @@ def _serve(meshcat) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
+    from omtp_drake.batch.command import show_progress
+
     return _run_and_report(args, args.scenario, progress=show_progress(args))
 
 
 def cmd_demo(args: argparse.Namespace) -> int:
     """The main demo: the fill-a-bin challenge."""
+    from omtp_drake.batch.command import show_progress
+
     return _run_and_report(args, "fill_bin", progress=show_progress(args))
 
 
@@ -233,6 +228,9 @@ def _add_view_options(p: argparse.ArgumentParser) -> None:
 
 def _add_task_commands(sub: argparse._SubParsersAction) -> None:
     """Registers the commands that list scenarios and run their tasks: scenarios, demo, run."""
+    from omtp_drake.batch.command import add_progress_options
+    from omtp_drake.launch.options import add_cell_options
+
     p = sub.add_parser("scenarios", help="list the scenario names")
     p.set_defaults(func=cmd_scenarios)
 
@@ -303,6 +301,8 @@ def _add_simulate_first_option(p: argparse.ArgumentParser, note: str = "") -> No
 
 def _add_tf_echo_command(sub: argparse._SubParsersAction) -> None:
     """Registers ``omtp-drake tf-echo``: a frame's pose in another, like ROS tf_echo."""
+    from omtp_drake.launch.options import add_cell_options
+
     p = sub.add_parser("tf-echo", help="pose of TARGET in SOURCE, like ROS tf_echo")
     add_cell_options(p, positional=True)
     p.add_argument("source", metavar="SOURCE")
@@ -321,6 +321,8 @@ def _add_tf_echo_command(sub: argparse._SubParsersAction) -> None:
 
 def _add_inspect_commands(sub: argparse._SubParsersAction) -> None:
     """Registers the commands that inspect the cell at a time, like ROS tools: tf-echo, camera, frames."""
+    from omtp_drake.launch.options import add_cell_options
+
     _add_tf_echo_command(sub)
     p = sub.add_parser("camera", help="what a logical camera sees, like rostopic echo")
     add_cell_options(p, positional=True)
@@ -384,6 +386,18 @@ def _values_that_look_like_options(argv: Sequence[str]) -> list[str]:
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``omtp-drake`` parser. Its commands' modules are imported here, not when this
+    module is: a Dask worker process (``grade``, ``batch``) imports this module again as its
+    ``__main__`` (multiprocessing's spawn) and never parses a command line, so it skips them
+    (about 1 CPU s of pydrake and the launch reader per worker)."""
+    from omtp_drake.batch.command import add_batch_command
+    from omtp_drake.grading.cli import add_commands as add_ros_commands
+    from omtp_drake.launch.description import launch_description, world_description
+    from omtp_drake.launch.options import CommandParser
+    from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
+    from omtp_drake.ros2.run import add_commands as add_ros2_commands
+    from omtp_drake.viz.view_command import add_view_command
+
     parser = CommandParser(prog="omtp-drake", description="The OMTP factory cell simulated with Drake.")
     parser.add_argument("-v", "--verbose", action="store_true", help="log progress")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -407,7 +421,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     )
     # Drake warns on every build that the floor plane takes no deformable contact.
     # (pydrake sets its logger's level when first imported, so import it first.)
+    import numpy as np
     import pydrake.common  # noqa: F401
+
+    from omtp_drake.launch.options import resolve_cell_options
 
     logging.getLogger("drake").setLevel(logging.INFO if args.verbose else logging.ERROR)
     np.set_printoptions(precision=4, suppress=True)

@@ -154,6 +154,20 @@ def test_importing_the_package_loads_nothing_heavy(heavy):
     assert out.stdout.strip() == "0"
 
 
+def test_importing_the_command_line_loads_nothing_heavy():
+    """A Dask worker of ``omtp-drake grade``/``batch`` imports ``omtp_drake.cli`` again as
+    its ``__main__`` (multiprocessing's spawn): its commands' modules load only when a
+    command line is parsed."""
+    code = (
+        "import sys, omtp_drake.cli\n"
+        "heavy = ('ompl', 'pydrake', 'matplotlib', 'dask', 'numpy', 'omtp_drake.launch')\n"
+        "print(sorted({m.split('.')[0] if not m.startswith('omtp_drake') else m for m in sys.modules\n"
+        "              if any(m == h or m.startswith(h + '.') for h in heavy)}))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"
+
+
 #: A line of a package's map of its modules: ``- ``name``: its job``.
 _MAP_LINE = re.compile(r"^ *- ``(\w+)``: \S", re.MULTILINE)
 

@@ -1,6 +1,8 @@
 """Tool paths and the pick policy (control.tool_paths, control.pick_policy): paths, timing, slots, grasps."""
 
 import math
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -20,6 +22,7 @@ from omtp_drake.control.tool_paths import (
     SegmentKind,
     hold,
     progress,
+    rotations_about,
     timing,
     tool_down,
     wrap,
@@ -89,6 +92,42 @@ def test_a_move_never_exceeds_its_speed_or_acceleration_and_is_no_slower_than_th
              w.max() >= 0.98 * MAX_TOOL_ROTATION_SPEED, alpha.max() >= 0.97 * MAX_TOOL_ROTATION_ACCELERATION,
              segment.duration == MIN_DURATION]
     assert any(binds), (segment.duration, v.max(), a.max(), w.max(), alpha.max())
+
+
+@settings(max_examples=30)
+@given(st.tuples(*[st.floats(-3.0, 3.0)] * 3), st.floats(0.0, 1.0), st.floats(0.0, 1.0))
+def test_a_straight_path_turns_at_a_steady_rate_about_one_axis(rpy, s1, s2):
+    """The slerp of a LINE: a rotation at each fraction, its end the goal's, and turning by
+    s1 then s2 is turning by s1 + s2 (one fixed axis, the angle proportional to s)."""
+    X0, X1 = tool_down(np.zeros(3), 0.3), RigidTransform(RollPitchYaw(*rpy), [0.1, 0.2, 0.3])
+    line = Segment(SegmentKind.LINE, 0.0, 1.0, X0, X1)
+    assert line.pose(1.0).IsNearlyEqualTo(X1, 1e-9)
+    R_SG = (X0.rotation().inverse() @ X1.rotation()).ToAngleAxis()
+    rotvec = R_SG.angle() * R_SG.axis()
+    R1, R2, R12 = rotations_about(rotvec, np.array([s1, s2, s1 + s2]))
+    assert np.allclose(R1 @ R1.T, np.eye(3), atol=1e-12) and np.linalg.det(R1) == pytest.approx(1.0)
+    assert np.allclose(R1 @ R2, R12, atol=1e-12)
+    R_goal = X0.rotation().matrix().T @ X1.rotation().matrix()
+    assert np.allclose(rotations_about(rotvec, np.array([1.0]))[0], R_goal)
+
+
+def test_a_pick_path_imports_no_scipy():
+    """A task's tool paths (slerps, blends) need no scipy: its import would cost each run's
+    process ~0.6 CPU s of start-up."""
+    code = (
+        "import sys\n"
+        "import numpy as np\n"
+        "from omtp_drake.control.pick_policy import _overlap\n"
+        "from omtp_drake.control.tool_paths import Segment, SegmentKind, tool_down\n"
+        "X0, X1 = tool_down(np.zeros(3), 0.0), tool_down(np.array([0.0, 0.0, 0.3]), 1.0)\n"
+        "up = Segment(SegmentKind.LINE, 0.0, 1.0, X0, X1)\n"
+        "over = Segment(SegmentKind.ARC, 1.0, 2.0, X1, tool_down(np.array([0.5, 0.5, 0.3]), 2.0))\n"
+        "up.motions(np.linspace(0.0, 1.0, 5))\n"
+        "print(round(_overlap(up, over, 0.01, 0.01), 9), 'scipy' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    overlap, scipy_loaded = out.stdout.split()
+    assert 0.0 < float(overlap) < 0.25 and scipy_loaded == "False"
 
 
 def test_path_pose_and_done():

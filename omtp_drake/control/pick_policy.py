@@ -274,7 +274,19 @@ def _overlap(previous: Segment, following: Segment, blend_up: float, blend_down:
 
     if moved(limit) <= allowed:
         return limit
-    from scipy.optimize import brentq  # here: scipy's import is ~1 CPU s of every run's start-up
-
     # moved grows with tau from 0 (at most ``allowed``) to more than ``allowed``.
-    return float(brentq(lambda tau: moved(tau) - allowed, 0.0, limit, xtol=1e-12))
+    return _crossing(moved, allowed, limit)
+
+
+def _crossing(f: Callable[[float], float], level: float, hi: float, tol: float = 1e-12) -> float:
+    """Where the increasing ``f`` (``f(0) <= level < f(hi)``) crosses ``level``, to
+    ``tol`` (s), by bisection: ~40 halvings of a ramp; scipy's ``brentq`` would do in
+    fewer, but importing scipy.optimize costs every run's process ~0.5 CPU s."""
+    lo = 0.0
+    while hi - lo > tol:
+        mid = 0.5 * (lo + hi)
+        if f(mid) > level:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)

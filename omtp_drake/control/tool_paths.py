@@ -93,6 +93,19 @@ def cylindrical(X_WE: RigidTransform, centre: tuple[float, float]) -> tuple[floa
     return math.hypot(dx, dy), angle, p[2], wrap(yaw_of(X_WE) - angle)
 
 
+def rotations_about(rotvec: np.ndarray, s: np.ndarray) -> np.ndarray:
+    """The rotations (N, 3, 3) by the angles ``s * |rotvec|`` about the axis of ``rotvec``
+    (a rotation vector: axis times angle), for each of the fractions ``s`` (N): Rodrigues'
+    formula ``I + sin(a) K + (1 - cos(a)) K^2`` with K the axis' cross-product matrix."""
+    angle = float(np.linalg.norm(rotvec))
+    if angle == 0.0:
+        return np.tile(np.eye(3), (len(s), 1, 1))
+    kx, ky, kz = np.asarray(rotvec, float) / angle
+    K = np.array([[0.0, -kz, ky], [kz, 0.0, -kx], [-ky, kx, 0.0]])
+    a = np.asarray(s, float) * angle
+    return np.eye(3) + np.sin(a)[:, None, None] * K + (1.0 - np.cos(a))[:, None, None] * (K @ K)
+
+
 @dataclass(frozen=True)
 class Segment:
     """A tool motion from ``t0`` to ``t0 + duration`` (smooth trapezoidal speed).
@@ -120,7 +133,8 @@ class Segment:
     def __post_init__(self) -> None:
         p0, p1 = self.X_start.translation().copy(), self.X_goal.translation().copy()
         R0 = self.X_start.rotation().matrix()
-        R_SG = R0.T @ self.X_goal.rotation().matrix()
+        R_SG_drake = self.X_start.rotation().inverse() @ self.X_goal.rotation()
+        R_SG = R_SG_drake.matrix()
         shape: Union[np.ndarray, tuple[float, ...], None] = None
         if self.kind is SegmentKind.ARC:
             (r0, a0, z0, y0), (r1, a1, z1, y1) = (
@@ -129,9 +143,10 @@ class Segment:
             )
             shape = (r0, a0, z0, y0, r1 - r0, wrap(a1 - a0), z1 - z0, wrap(y1 - y0))
         elif self.kind is SegmentKind.LINE:
-            from scipy.spatial.transform import Rotation  # here: ~1 CPU s of import a run without paths skips
-
-            shape = Rotation.from_matrix(R_SG).as_rotvec()  # the slerp's axis times its angle
+            # (Drake's log map, not scipy's Rotation: importing scipy.spatial costs a process
+            # ~0.6 CPU s of start-up)
+            angle_axis = R_SG_drake.ToAngleAxis()
+            shape = angle_axis.angle() * angle_axis.axis()  # the slerp's axis times its angle
         object.__setattr__(self, "_cache", (p0, p1, R0, R_SG, shape))
 
     @property
@@ -149,10 +164,8 @@ class Segment:
         else:
             s = progress_array(np.clip((t - self.t0) / self.duration, 0.0, 1.0), self.ramp)
             if self.kind is SegmentKind.LINE:
-                from scipy.spatial.transform import Rotation
-
                 p = (1 - s)[:, None] * p0 + s[:, None] * p1
-                R = Rotation.from_rotvec(s[:, None] * shape).as_matrix()  # the slerp at s
+                R = rotations_about(shape, s)  # the slerp at s
             else:
                 p, R_WE = self._arc(s)
                 R = R0.T @ R_WE
