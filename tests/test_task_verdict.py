@@ -101,6 +101,9 @@ def test_summary_counts_equal_the_records():
     assert summary["failed"] == sum(not p.success for p in result.picks)
     assert summary["failed"] == sum(summary["failure_reasons"].values())
     assert not result.success
+    assert summary["succeeded"] == 0 and "parts in bin_1; 0 picks ok, 0 failed; no pick finished; 3.0 s" in (
+        result.format()
+    )
 
 
 def test_the_bin_check_waits_for_an_image_taken_after_the_release():

@@ -138,7 +138,7 @@ class TaskResult:
         lines.append(
             f"{self.scenario} (seed {self.seed}): {summary['in_bin']}/{summary['parts']} parts "
             f"in {self.bin}; {summary['succeeded']} picks ok, {summary['failed']} failed; "
-            f"mean cycle {summary['mean_cycle_time_s']:.2f} s; "
+            f"{_mean_cycle(summary['succeeded'], summary['mean_cycle_time_s'])}; "
             f"{summary['sim_time_s']:.1f} s simulated in {summary['wall_time_s']:.1f} s "
             f"(real-time factor {summary['real_time_factor']:.1f})"
         )
@@ -397,3 +397,9 @@ def _result(run: TaskRun, wall: float) -> TaskResult:
         parts=n,
         faults=[r.to_dict() for r in rt.faults.reports] if rt.faults is not None else [],
     )
+
+
+def _mean_cycle(succeeded: int, mean_s: float) -> str:
+    """The summary line's cycle time: the successes' mean, or that no pick finished yet (its
+    mean is NaN, printed as ``nan s`` before)."""
+    return f"mean cycle {mean_s:.2f} s" if succeeded else "no pick finished"
