@@ -87,13 +87,17 @@ def model_rates(model: str) -> tuple[tuple[float, ...], tuple[float, ...]]:
     (pan, lift, elbow, wrist 1, 2, 3), as ur_description writes them."""
     if model not in UR_MODELS:
         raise UnknownNameError("arm model", model, UR_MODELS)
-    root = ET.parse(ur_description_dir() / "urdf" / f"{model}_robot.urdf").getroot()
-    limits = [j.find("limit") for j in root.findall("joint") if j.get("type") == "revolute"]
-    found = [limit for limit in limits if limit is not None]
+    limits = _revolute_limits(ET.parse(ur_description_dir() / "urdf" / f"{model}_robot.urdf").getroot())
     return (
-        tuple(float(limit.get("velocity", "inf")) for limit in found),
-        tuple(float(limit.get("effort", "inf")) for limit in found),
+        tuple(float(limit.get("velocity", "inf")) for limit in limits),
+        tuple(float(limit.get("effort", "inf")) for limit in limits),
     )
+
+
+def _revolute_limits(root: ET.Element) -> list[ET.Element]:
+    """The ``<limit>`` of each revolute joint of a UR file that has one, in the file's order."""
+    joints = [j for j in root.findall("joint") if j.get("type") == "revolute"]
+    return [limit for j in joints if (limit := j.find("limit")) is not None]
 
 
 def _drop_world_and_ee_collision(root: ET.Element) -> None:
@@ -145,19 +149,14 @@ def _prefix_names(root: ET.Element, prefix: str, joint_limit: float | Sequence[f
 
 def _set_rates(root: ET.Element, velocity: Sequence[float], effort: Sequence[float]) -> None:
     """Sets the revolute joints' velocity and effort limits (in the file's order) where given."""
-    limits = [
-        j.find("limit")
-        for j in root.findall("joint")
-        if j.get("type") == "revolute" and j.find("limit") is not None
-    ]
+    limits = _revolute_limits(root)
     for attribute, values in (("velocity", velocity), ("effort", effort)):
         if not values:
             continue
         if len(values) != len(limits):
             raise ConfigError(f"UR model: {len(values)} {attribute} limits for {len(limits)} revolute joints")
         for limit, value in zip(limits, values):
-            if limit is not None:
-                limit.set(attribute, repr(float(value)))
+            limit.set(attribute, repr(float(value)))
 
 
 def _set_inertials(root: ET.Element, prefix: str, inertials: Mapping[str, Sequence[float]]) -> None:

@@ -58,8 +58,8 @@ def expand_xacro_in(
     if known is not None and all(_stamp(f) == stamp for f, stamp in known[1]):
         return known[0]
     kept = _kept_expansion(key)
-    if kept is not None:
-        _remember(key, *kept)
+    if kept is not None:  # (kept only if it passed _remember's check: not read again)
+        _hold(key, *kept)
         return kept[0]
     with _XACRO_LOCK, environment_set(AMENT_PREFIX_PATH, str(prefix)):
         first = len(xacro.all_includes)
@@ -97,18 +97,22 @@ def _stamp(file: str) -> tuple[int, int] | None:
 def _remember(key: tuple, text: str, files: list[str]) -> bool:
     """Keeps the expansion ``key`` in this process; False for one that cannot be kept (it
     reads the environment, or a file it read is gone)."""
-    stamps = tuple((f, _stamp(f)) for f in dict.fromkeys(files))
-    for file, _ in stamps:
+    for file in dict.fromkeys(files):
         try:
             source = Path(file).read_text(errors="replace")
         except OSError:
             return False
         if "$(env" in source or "$(optenv" in source:
             return False
+    _hold(key, text, files)
+    return True
+
+
+def _hold(key: tuple, text: str, files: list[str]) -> None:
+    """Holds the expansion ``key`` in this process, with the stamps of the files it read."""
     if len(_EXPANDED) >= _EXPANDED_MAX:
         _EXPANDED.pop(next(iter(_EXPANDED)))
-    _EXPANDED[key] = (text, stamps)
-    return True
+    _EXPANDED[key] = (text, tuple((f, _stamp(f)) for f in dict.fromkeys(files)))
 
 
 # The model cache keeps what _remember keeps, for the next process: a command's first build
