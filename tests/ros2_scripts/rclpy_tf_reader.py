@@ -38,6 +38,12 @@ def transforms(msg):
     ]
 
 
+#: What rclpy's graph names a publisher whose node it does not know (yet).
+UNKNOWN = "_NODE_NAME_UNKNOWN_"
+#: How long the reader waits for the /tf publishers' node names (s).
+NAME_PATIENCE = 3.0
+
+
 def main(out):
     rclpy.init()
     node = rclpy.create_node("rclpy_tf_reader")
@@ -62,7 +68,16 @@ def main(out):
     ):
         rclpy.spin_once(node, timeout_sec=0.05)
     seen["types"] = {name: types for name, types in node.get_topic_names_and_types()}
-    seen["tf_publishers"] = sorted(i.node_name for i in node.get_publishers_info_by_topic("/tf"))
+    # A publisher's node name reaches the graph after its endpoint (ROS 2's discovery info is a
+    # topic of its own): until then rclpy says _NODE_NAME_UNKNOWN_. A writer with no ROS node
+    # (Cyclone DDS's) stays unknown: the wait is bounded.
+    names_by = time.monotonic() + NAME_PATIENCE
+    while True:
+        names = sorted(i.node_name for i in node.get_publishers_info_by_topic("/tf"))
+        if UNKNOWN not in names or time.monotonic() > names_by:
+            break
+        rclpy.spin_once(node, timeout_sec=0.05)
+    seen["tf_publishers"] = names
     node.destroy_node()
     rclpy.shutdown()
     with open(out, "w") as f:
