@@ -6,12 +6,12 @@ the launch line that spawned it."""
 
 from __future__ import annotations
 
-import dataclasses
 import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
+from camera_meshes import without_cameras
 
 from omtp_drake.launch import own_cell
 
@@ -59,9 +59,7 @@ def runtime(loaded):
     from omtp_drake.sim.runtime import FactoryRuntime
 
     cell, _ = loaded
-    scenario = dataclasses.replace(
-        cell.scenario, spawner=None, cameras=[], part_pool=2, pool_part_size=2 * HALF
-    )
+    scenario = without_cameras(cell.scenario, spawner=None, part_pool=2, pool_part_size=2 * HALF)
     scenario.task = None
     runtime = FactoryRuntime(scenario, auto_spawn=False)
     yield runtime

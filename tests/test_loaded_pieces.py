@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from camera_meshes import without_cameras
 
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
 from omtp_drake.cell.gazebo_models import gazebo_models
@@ -38,7 +39,7 @@ def _cell(tmp_path: Path, edits: list[tuple[str, str, str]]):
 
 
 def _runtime(cell, **changes) -> FactoryRuntime:
-    scenario = dataclasses.replace(cell.scenario, cameras=[], part_pool=2, **changes)
+    scenario = without_cameras(cell.scenario, part_pool=2, **changes)
     scenario.task = None
     return FactoryRuntime(scenario, auto_spawn=False)
 

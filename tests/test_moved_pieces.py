@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from camera_meshes import without_cameras
 
 from omtp_drake.launch import own_cell
 from omtp_drake.sim.runtime import FactoryRuntime
@@ -36,7 +37,7 @@ def _cell(tmp_path: Path, edits: list[tuple[str, str, str]]):
 
 
 def _runtime(cell, **changes):
-    scenario = dataclasses.replace(cell.scenario, cameras=[], spawner=None, part_pool=2, **changes)
+    scenario = without_cameras(cell.scenario, spawner=None, part_pool=2, **changes)
     scenario.task = None
     return FactoryRuntime(scenario)
 

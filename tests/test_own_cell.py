@@ -73,10 +73,13 @@ def test_the_course_launch_is_the_built_in_lecture6_assignment1(course):
     as_built_in = dataclasses.replace(course.scenario.spawner, objects=[])
     # The pedestals and the bin are the launch's own, as its files write them (the built-in's
     # are the catalogue's of the same size): model entries the arms stand on, the bin's inside
-    # measured on its collision meshes, the catalogue bin's.
+    # measured on its collision meshes, the catalogue bin's; the cameras' camera.dae housings
+    # are theirs too, on the cell's camera frames (the built-in draws its stand-in).
     pedestals = {r.pedestal_model for r in course.scenario.robots}
     assert pedestals == {"robot1_pedestal", "robot2_pedestal"}
-    assert {m.name for m in course.scenario.models} == pedestals | {"bin_1_"}
+    housings = {"logical_camera_1_own", "logical_camera_2_own"}
+    assert {m.name for m in course.scenario.models} == pedestals | {"bin_1_"} | housings
+    assert not any(c.housing for c in course.scenario.cameras)
     (bin_1,) = course.scenario.bins
     assert bin_1.model == "bin_1_"
     np.testing.assert_allclose(bin_1.walls, [0.19, 0.19, 0.12, 0.475], atol=1e-6)
@@ -86,6 +89,7 @@ def test_the_course_launch_is_the_built_in_lecture6_assignment1(course):
         models=[],
         robots=[dataclasses.replace(r, pedestal_model="") for r in course.scenario.robots],
         bins=[dataclasses.replace(b, model="", walls=[]) for b in course.scenario.bins],
+        cameras=[dataclasses.replace(c, housing=True) for c in course.scenario.cameras],
     )
     assert _scenario_fields(same) == _scenario_fields(built_in)
     # (frames: the links of the files that none of the cell's pieces has; see below)

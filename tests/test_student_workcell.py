@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from bin_meshes import write_bin_meshes
+from camera_meshes import without_cameras
 from fixture_reports import assert_as_recorded
 
 from omtp_drake.cli import main
@@ -98,7 +99,9 @@ def _X_WF(runtime, frame: str) -> np.ndarray:
 def test_the_shelf_they_added_is_a_model_of_their_cell_and_the_course_pieces_stay(cell):
     models = {m.name: m for m in cell.scenario.models}
     pedestals = ["robot1_pedestal", "robot2_pedestal"]
-    assert sorted(models) == ["bin_1_", "bin_2_", "fit_crate", *pedestals, "sorted_part", "workcell"]
+    housings = ["logical_camera_1_own", "logical_camera_2_own"]  # (their camera.dae, as written)
+    theirs = ["bin_1_", "bin_2_", "fit_crate", *housings, *pedestals, "sorted_part", "workcell"]
+    assert sorted(models) == theirs
     assert [r.pedestal_model for r in cell.scenario.robots] == pedestals
     shelf = ET.fromstring(models["workcell"].description)
     assert [link.get("name") for link in shelf.findall("link")] == ["world", "parts_shelf"]
@@ -318,11 +321,10 @@ def test_their_mesh_bin_is_their_geometry_kept_open(cell, runtime):
 @pytest.fixture(scope="module")
 def loose_parts(cell):
     """The cell of their launch with 0.1 m parts placed by hand (no spawner)."""
-    import dataclasses
 
     from omtp_drake.sim.runtime import FactoryRuntime
 
-    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=4, pool_part_size=0.1)
+    scenario = without_cameras(cell.scenario, spawner=None, part_pool=4, pool_part_size=0.1)
     scenario.task = None
     runtime = FactoryRuntime(scenario, auto_spawn=False)
     yield runtime
@@ -442,7 +444,6 @@ def test_a_table_they_wrote_inside_the_halls_link_holds_a_part(tmp_path):
     course's hall mesh, which the cell's floor, belt and wall stand in for) is loaded as
     written on that link, part of the hall's Gazebo model: a part dropped on it rests on
     its top (without it the part falls to the floor)."""
-    import dataclasses
 
     from omtp_drake.cell.gazebo_models import gazebo_models
     from omtp_drake.sim.runtime import FactoryRuntime
@@ -463,7 +464,7 @@ def test_a_table_they_wrote_inside_the_halls_link_holds_a_part(tmp_path):
     cell = own_cell(LAUNCH, workspace=[src], environ={})
     own = {m.name: m for m in cell.scenario.models}["workcell_own"]
     assert own.parent == "workcell"
-    scenario = dataclasses.replace(cell.scenario, spawner=None, cameras=[], part_pool=1, pool_part_size=0.1)
+    scenario = without_cameras(cell.scenario, spawner=None, part_pool=1, pool_part_size=0.1)
     scenario.task = None
     runtime = FactoryRuntime(scenario, auto_spawn=False)
     try:

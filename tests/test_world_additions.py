@@ -27,8 +27,9 @@ def workspace(tmp_path_factory) -> Path:
     src = tmp_path_factory.mktemp("rail_ws") / "src"
     shutil.copytree(FIXTURES / "group_ws" / "src", src)
     shutil.copytree(FIXTURES / "rail_edits", src, dirs_exist_ok=True)
-    camera = src / "omtp_gazebo" / "models" / "logical_camera1" / "model.sdf"
-    shutil.copyfile(FIXTURES / "camera_edits" / "logical_camera1.sdf", camera)
+    for n in (1, 2):
+        camera = src / "omtp_gazebo" / "models" / f"logical_camera{n}" / "model.sdf"
+        shutil.copyfile(FIXTURES / "camera_edits" / f"logical_camera{n}.sdf", camera)
     return src
 
 
@@ -155,7 +156,7 @@ def test_what_they_added_to_a_camera_is_loaded_as_written_on_the_cells_camera(ce
     sdf = ET.fromstring(own.description)
     assert [link.get("name") for link in sdf.iter("link")] == ["logical_camera_1_link_own", "lens_hood"]
     plate = sdf.find(".//link[@name='logical_camera_1_link_own']")
-    assert [c.get("name") for c in plate.iter("collision")] == ["mount_plate_collision"]
+    assert [c.get("name") for c in plate.iter("collision")] == ["collision", "mount_plate_collision"]
     (cable,) = [w for w in cell.warnings if "loose_cable" in w]
     assert "logical_camera1/model.sdf" in cable and "not loaded" in cable
     plant = runtime.station.plant
@@ -170,6 +171,58 @@ def test_what_they_added_to_a_camera_is_loaded_as_written_on_the_cells_camera(ce
     assert hood in models["logical_camera_1"].instances and "logical_camera_1_own" not in models
     X_WC = plant.GetFrameByName("logical_camera_1_frame").CalcPoseInWorld(context).GetAsMatrix4()
     np.testing.assert_allclose(X_WC, X_W_CAMERA, atol=1e-5)  # (the world writes 1.5708)
+
+
+def _geometries(runtime, body: str) -> dict[str, list[tuple[str, np.ndarray, np.ndarray]]]:
+    """``role -> [(shape, corners low and high in the body's frame)]`` of ``body``'s geometry."""
+    plant, inspector = runtime.station.plant, runtime.station.scene_graph.model_inspector()
+    b = plant.GetBodyByName(body)
+    found: dict[str, list[tuple[str, np.ndarray, np.ndarray]]] = {}
+    for role, ids in (
+        ("collision", plant.GetCollisionGeometriesForBody(b)),
+        ("visual", plant.GetVisualGeometriesForBody(b)),
+    ):
+        for g in ids:
+            shape, X_BG = inspector.GetShape(g), inspector.GetPoseInFrame(g)
+            if type(shape).__name__ == "Box":
+                corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)])
+                vertices = corners * shape.size() / 2
+            else:  # a mesh: its convex hull's vertices (the mesh file's, scaled)
+                hull = shape.GetConvexHull()
+                vertices = np.array([hull.vertex(i) for i in range(hull.num_vertices())])
+            p_BV = (X_BG.GetAsMatrix4() @ np.c_[vertices, np.ones(len(vertices))].T).T[:, :3]
+            found.setdefault(role, []).append((type(shape).__name__, p_BV.min(0), p_BV.max(0)))
+    return found
+
+
+def test_the_courses_camera_housing_is_its_mesh_as_the_model_writes_it(runtime):
+    """The course's camera.dae (tests/camera_meshes.py: its 79.4 x 57.9 x 128.1 mm, in mm
+    units) at ``0 0.02 0``, turned -1.5708 about z in the camera's link, as visual and
+    collision on the cell's camera; the cell's stand-in housing is not drawn beside it."""
+    own = _geometries(runtime, "logical_camera_1_link_own")
+    # The mesh turned a quarter: its y is the link's x, its -x the link's y (plus 0.02).
+    low, high = np.array([-0.0381, 0.02 - 0.0397, -0.0678]), np.array([0.0197, 0.02 + 0.0397, 0.0603])
+    for role in ("collision", "visual"):
+        (mesh,) = [g for g in own[role] if g[0] != "Box"]  # (beside it: their mount plate)
+        np.testing.assert_allclose(mesh[1], low, atol=2e-4)
+        np.testing.assert_allclose(mesh[2], high, atol=2e-4)
+    assert _geometries(runtime, "logical_camera_1_frame") == {}
+
+
+def test_their_own_camera_housing_is_loaded_as_written_and_the_camera_still_sees(runtime):
+    """Camera 2's housing of theirs (a 0.12 x 0.06 x 0.04 box 3 cm forward and 1 cm up,
+    no collision): that box, where they put it, and nothing that collides; the camera
+    is the plugin's as before (over robot 2's bin, it sees the bin, not itself)."""
+    own = _geometries(runtime, "logical_camera_2_link_own")
+    assert list(own) == ["visual"]
+    ((shape, low, high),) = own["visual"]
+    assert shape == "Box"
+    np.testing.assert_allclose(low, [0.03 - 0.06, -0.03, 0.01 - 0.02], atol=1e-9)
+    np.testing.assert_allclose(high, [0.03 + 0.06, 0.03, 0.01 + 0.02], atol=1e-9)
+    assert _geometries(runtime, "logical_camera_2_frame") == {}
+    runtime.sample_cameras()
+    seen = [m.name for m in runtime.camera_image("logical_camera_2").models]
+    assert "bin_1_" in seen and not [s for s in seen if s.startswith("logical_camera")], seen
 
 
 def _wall(text: str, tmp_path: Path):

@@ -100,8 +100,9 @@ def test_a_stray_xacro_call_and_urdf_joint_in_a_world_are_one_warning_each(cours
     ]
     built_in = own_cell(COURSE_LAUNCH, workspace=[COURSE_WS], environ={})
     assert cell.scenario.cameras == built_in.scenario.cameras
-    # (no model of their own: the bin's and pedestals' model entries are the launch's, as in the course)
-    own = ["bin_1_", "robot1_pedestal", "robot2_pedestal"]
+    # (no model of their own: the cameras' housings, the bin's and pedestals' model entries are the
+    # launch's, as in the course)
+    own = ["logical_camera_1_own", "logical_camera_2_own", "bin_1_", "robot1_pedestal", "robot2_pedestal"]
     assert [m.name for m in cell.scenario.models] == [m.name for m in built_in.scenario.models] == own
 
 

@@ -230,7 +230,8 @@ def _add_camera_frames(parser: Parser, scenario: Scenario) -> dict[str, ModelIns
     plant = parser.plant()
     camera_instances = {}
     for cam in scenario.cameras:
-        camera_instances[cam.name] = _add_xacro(parser, "logical_camera.urdf.xacro", {"name": cam.name})
+        args = {"name": cam.name, "housing": "true" if cam.housing else "false"}
+        camera_instances[cam.name] = _add_xacro(parser, "logical_camera.urdf.xacro", args)
         parent = plant.GetFrameByName(cam.parent) if cam.parent != "world" else plant.world_frame()
         _weld(plant, f"{cam.name}_frame", cam.X_PC(), parent=parent)
     return camera_instances

@@ -3,12 +3,13 @@
 The cell builds the conveyor, the deletion wall and the logical cameras from its catalogue
 where the world's model (recognised by its plugin, :mod:`omtp_drake.launch.world_pieces`)
 puts them. What the student added to such a ``<model>`` is not dropped: a link the
-course's model does not have (a guard rail beside the belt, a lens hood on a camera), and
-a visual or collision the course's link does not have (a bigger plate on the deletion
-wall), are one model entry of the scenario (:class:`~omtp_drake.scenario.ModelConfig`,
-loaded by Drake's Parser as the file writes them: geometry, inertia, materials,
-friction), named ``<model>_own``, welded where the file puts them to the cell's body of the
-piece (``ModelConfig.parent``: ``conveyor_base``, ``deletion_wall``, ``<camera>_frame``), so
+course's model does not have (a guard rail beside the belt, a lens hood on a camera), a
+visual or collision the course's link does not have (a bigger plate on the deletion wall),
+and a camera link's own housing (the course's ``camera.dae`` or the student's) are one
+model entry of the scenario (:class:`~omtp_drake.scenario.ModelConfig`, loaded by Drake's
+Parser as the file writes them: geometry, inertia, materials, friction), named
+``<model>_own``, welded where the file puts them to the cell's body of the piece
+(``ModelConfig.parent``: ``conveyor_base``, ``deletion_wall``, ``<camera>_frame``), so
 they are part of its Gazebo model (what the logical cameras list).
 
 They are loaded when they stand still in Gazebo: a link of a ``<static>`` model (the
@@ -44,8 +45,10 @@ COURSE_LINKS: dict[str, dict[str, tuple[str, ...]]] = {
     "deletion_wall": {"sensing_link": ("collision", "visual")},
 }
 _GEOMETRY = ("visual", "collision")
-#: The course's logical camera link's own geometry (``logical_camera*/model.sdf``).
-_CAMERA_GEOMETRY = ("collision", "visual")
+#: The course's geometry of a logical camera link the cell builds: none. Its ``camera.dae``
+#: visual and collision (``logical_camera*/model.sdf``), or what the student wrote in
+#: their place, are loaded as written; the cell draws no housing of its own there.
+_CAMERA_GEOMETRY: tuple[str, ...] = ()
 
 
 def additions(
@@ -209,7 +212,8 @@ def _course_links(
 ) -> dict[str, tuple[str, ...]] | None:
     """The course's links of a piece of ``kind`` and their course geometry (None: no piece
     the cell builds): a logical camera's is the link holding its ``logical_camera`` sensor,
-    with the course's ``visual`` and ``collision`` (its ``camera.dae`` housing)."""
+    whose every visual and collision (the course's ``camera.dae`` housing, or the
+    student's in its place) is loaded as written."""
     if kind == "logical_camera":
         return {
             path: _CAMERA_GEOMETRY

@@ -95,7 +95,9 @@ def add_world_model(pieces: WorldPieces, model: WorldModel, workspace: Workspace
                     f"{plugin.where}: a logical camera model needs one logical_camera sensor"
                 )
             xyz, rpy = model.pose[:3], model.pose[3:]
-            pieces.cameras.append(logical_camera(plugin, sensors[0], model.name, xyz, rpy))
+            camera = logical_camera(plugin, sensors[0], model.name, xyz, rpy)
+            camera["housing"] = False  # (its link's visuals and collisions are loaded as written)
+            pieces.cameras.append(camera)
             pieces.camera_topics[model.name] = camera_topic(plugin, model.name)
             listing, lines = camera_listing(plugin)
             pieces.warnings += lines

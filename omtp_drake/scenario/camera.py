@@ -48,6 +48,9 @@ class LogicalCameraConfig:
             images rendered by VTK; see :mod:`omtp_drake.cell.rgbd`).
         rgbd_width: width of the RGB-D images [pixels]; their height is
             ``round(rgbd_width / aspect_ratio)``.
+        housing: draw the cell's stand-in housing on the camera's frame; off
+            where a world's camera model writes its own visuals and collisions
+            (they are loaded as written, a model entry on ``<name>_frame``).
     """
 
     name: str = "logical_camera"
@@ -72,6 +75,7 @@ class LogicalCameraConfig:
     min_visible_fraction: float = 0.05
     rgbd: bool = False
     rgbd_width: int = 320
+    housing: bool = True
 
     def validate(self) -> None:
         """Raises ConfigError naming the first invalid field, its value and the valid range."""
