@@ -106,9 +106,9 @@ def test_the_plugins_rules_name_as_ariac_does():
     assert [listing.publishes(n) for n in ("object_3", "object_clone_2", "bin_1_", "bin_2_", "robot1")] == [
         True, True, True, False, False,
     ]
-    assert listing.model("object_3", RigidTransform()).frame == "cam_object_3_frame"
+    assert listing.model("object_3", RigidTransform(), RigidTransform()).frame == "cam_object_3_frame"
     anonymous = PluginListing("cam", CameraListing(anonymize_models=True, model_frame_prefix=""))
-    seen = anonymous.model("object_12", RigidTransform())
+    seen = anonymous.model("object_12", RigidTransform(), RigidTransform())
     assert (seen.name, seen.type, seen.frame) == ("", "model", "model_12_frame")
     assert [model_id(n) for n in ("object_3", "robot2", "bin_1_", "a_3", "ns|part_7")] == [
         "3", "robot2", "", "a_3", "7",
@@ -193,7 +193,10 @@ def test_the_camera_command_of_a_camera_whose_plugin_stopped_is_one_line(tmp_pat
 
 def test_an_agvs_kit_tray_is_a_tf_frame_under_it_not_in_the_message():
     """ARIAC's AGV in the plugin: a model of type ``agv1`` in view gets its kit tray's
-    frame, 0.15 m along its y and 0.75 m up, under its own; the message lists the AGV only."""
+    frame, 0.15 m along its y and 0.75 m up, under its own; the message lists the AGV only.
+    With the camera's noise on, the plugin noises the tray, not the AGV: the AGV where it
+    stands, the tray off its 0.15/0.75 by the camera's draw (the Python layer's image has
+    the same draw on the AGV)."""
     import dataclasses
 
     import numpy as np
@@ -207,7 +210,9 @@ def test_an_agvs_kit_tray_is_a_tf_frame_under_it_not_in_the_message():
            '</link></robot>')
     scenario = load_scenario("lecture6_assignment1")
     agv = ModelConfig(name="agv1", file="agv1.urdf", description=box, xyz=[1.2, 1.6, 1.2], static=True)
-    scenario = dataclasses.replace(scenario, models=[*scenario.models, agv])
+    noisy = {"position_noise_sigma": 0.02, "orientation_noise_sigma": 0.05}
+    cameras = [dataclasses.replace(c, **noisy) for c in scenario.cameras]
+    scenario = dataclasses.replace(scenario, models=[*scenario.models, agv], cameras=cameras)
     cell = Cell(scenario, auto_spawn=False)
     try:
         views = camera_views(cell)
@@ -216,7 +221,17 @@ def test_an_agvs_kit_tray_is_a_tf_frame_under_it_not_in_the_message():
         image = views["logical_camera_1"].image(cell.runtime.context)
         assert ("agv1", "agv1") in [(m.name, m.type) for m in image.models]
         assert not [m for m in image.models if "kit_tray" in m.type]
+        (published,) = [m for m in image.models if m.name == "agv1"]
+        X_WA = image.X_WC @ published.X_CM
+        np.testing.assert_allclose(X_WA.translation(), [1.2, 1.6, 1.2], atol=1e-9)
+        assert X_WA.rotation().IsNearlyIdentity(1e-9)
+        (own,) = [m for m in cell.runtime.camera_image("logical_camera_1").models if m.name == "agv1"]
+        dp = own.X_CM.translation() - published.X_CM.translation()  # the camera's draw for it
+        assert np.linalg.norm(dp) > 1e-3
         X_WT = cell.tf.lookup_transform("world", "logical_camera_1_kit_tray_1_frame").transform
-        np.testing.assert_allclose(X_WT.translation(), [1.2, 1.75, 1.95], atol=2e-3)
+        X_AT = X_WA.inverse() @ X_WT
+        np.testing.assert_allclose(X_AT.translation(), np.array([0.0, 0.15, 0.75]) + dp, atol=1e-6)
+        R_noise = own.X_CM.rotation() @ published.X_CM.rotation().inverse()
+        np.testing.assert_allclose(X_AT.rotation().matrix(), R_noise.matrix(), atol=1e-6)
     finally:
         cell.close()

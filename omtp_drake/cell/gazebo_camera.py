@@ -46,7 +46,8 @@ class ModelListing(Protocol):
     """How a camera's plugin publishes a model in view (None: it does not): the plugin
     layer's rules (:mod:`omtp_drake.gazebo.logical_camera`)."""
 
-    def model(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]: ...
+    def model(self, name: str, X_CM: RigidTransform, X_CM_true: RigidTransform) -> Optional[DetectedModel]:
+        """``X_CM``: the model's pose with the camera's noise; ``X_CM_true``: without."""
 
     def nested(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]: ...
 
@@ -155,13 +156,14 @@ class GazeboCameraView:
         for k in sorted(in_view):
             model = self._models[k]
             X_WM = model.X_WM if model.X_WM is not None else X_WB[self._origins[k]]
-            X_CM = reported.get(model.name, X_CW @ X_WM)
+            X_CM_true = X_CW @ X_WM
+            X_CM = reported.get(model.name, X_CM_true)
             if self._listing is None:
                 listed.append(DetectedModel(model.name, model.type, X_CM))
                 # Nested models carry no name: the plugin broadcasts no frame for them.
                 listed += [DetectedModel("", model_type(name), X_CM @ X_MN) for name, X_MN in model.nested]
                 continue
-            top = self._listing.model(model.name, X_CM)
+            top = self._listing.model(model.name, X_CM, X_CM_true)
             nested = [self._listing.nested(name, X_CM @ X_MN) for name, X_MN in model.nested]
             listed += [m for m in (top, *nested) if m is not None]
         return LogicalCameraImage(own.time, self._name, own.X_WC, tuple(listed))

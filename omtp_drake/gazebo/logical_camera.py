@@ -30,8 +30,9 @@ Which models it publishes, and how it names them, are the plugin's rules
 - for a published model of type ``agv1`` or ``agv2`` (ARIAC's AGVs), the plugin also
   broadcasts its kit tray's tf frame ``<model_frame_prefix>kit_tray_1_frame`` (``_2``)
   under the model's frame, 0.15 m along its y and 0.75 m up (:data:`X_AGV_KIT_TRAY`); the
-  message does not list it. (The plugin puts its noise on the tray there, not on the
-  AGV; here both have the camera's.)
+  message does not list it. The plugin puts its noise on the tray there, not on the AGV
+  ("too much noise by the time the tray pose is extrapolated"): the AGV is published at
+  its true pose, and the camera's noise draw for it moves the tray in the AGV's frame.
 """
 
 from __future__ import annotations
@@ -61,6 +62,15 @@ DEFAULT_SINGLE_CAMERA = "logical_camera_1"
 KIT_TRAYS = {"agv1": "kit_tray_1", "agv2": "kit_tray_2"}
 #: The kit tray's pose in its AGV's frame (the plugin's ``kitTrayToAgv``).
 X_AGV_KIT_TRAY = RigidTransform([0.0, 0.15, 0.75])
+
+
+def noisy_tray(X_CM: RigidTransform, X_CM_true: RigidTransform) -> RigidTransform:
+    """The kit tray's pose in its AGV's frame with the noise the camera drew for the AGV
+    (``X_CM`` against ``X_CM_true``) put on it, as the plugin's ``AddNoise`` of the tray:
+    the position's offsets added, the rotation's perturbation applied before it."""
+    R_noise = X_CM.rotation() @ X_CM_true.rotation().inverse()
+    dp = X_CM.translation() - X_CM_true.translation()
+    return RigidTransform(R_noise @ X_AGV_KIT_TRAY.rotation(), X_AGV_KIT_TRAY.translation() + dp)
 
 
 def single_camera(cell: Cell) -> Optional[str]:
@@ -98,13 +108,17 @@ class PluginListing:
         known = model_type(name) in self._types or name.rsplit("|", 1)[-1] in self._names
         return known or not self._filtered
 
-    def model(self, name: str, X_CM: RigidTransform) -> Optional[DetectedModel]:
+    def model(self, name: str, X_CM: RigidTransform, X_CM_true: RigidTransform) -> Optional[DetectedModel]:
+        """The published model ``name`` at ``X_CM`` (the camera's noise on it; ``X_CM_true``
+        without), or None: the plugin does not publish it."""
         if not self.publishes(name):
             return None
         kind = model_type(name)
         tray = KIT_TRAYS.get(kind)
-        # An AGV's kit tray: a tf frame under the AGV's, not in the message.
-        trays = ((f"{self._prefix}{tray}_frame", X_AGV_KIT_TRAY),) if tray else ()
+        trays: tuple[tuple[str, RigidTransform], ...] = ()
+        if tray:  # an AGV's kit tray: a tf frame under the AGV's, not in the message
+            trays = ((f"{self._prefix}{tray}_frame", noisy_tray(X_CM, X_CM_true)),)
+            X_CM = X_CM_true
         if self._listing.anonymize_models:
             frame = f"{self._prefix}model_{model_id(name)}_frame"
             return DetectedModel("", "model", X_CM, frame=frame, tf_children=trays)
