@@ -210,12 +210,14 @@ def build_rig(
     log: bool = True,
     time_step: Optional[float] = None,
     near_rigid_threshold: Optional[float] = None,
+    collision: bool = True,
 ) -> Rig:
     """The rig with parts at (x, y, yaw) on the floor, the tool following ``motion``
     (a trajectory of :func:`tool_q` positions); the gripper's command is off.
 
     ``time_step`` [s] and ``near_rigid_threshold`` replace the station's plant step
-    and SAP near-rigid threshold (None keeps them); see :func:`plant_config`.
+    and SAP near-rigid threshold (None keeps them); see :func:`plant_config`. Without
+    ``collision`` the gripper has no collisions (a student's gripper file with none).
     """
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlant(plant_config(time_step, near_rigid_threshold), builder)
@@ -224,7 +226,7 @@ def build_rig(
     )
     tool, tool_body = _add_tool(plant)
     parser = Parser(plant)
-    _add_gripper(plant, parser, tool_body)
+    _add_gripper(plant, parser, tool_body, collision)
     part_bodies = _add_parts(plant, parser, parts, mass)
     cup = plant.GetBodyByName(f"{GRIPPER}_cup")
     config = config or SuctionConfig(backend=backend)
@@ -273,10 +275,11 @@ def _add_tool(plant: MultibodyPlant) -> tuple[ModelInstanceIndex, RigidBody]:
     return tool, links[-1]
 
 
-def _add_gripper(plant: MultibodyPlant, parser: Parser, tool_body: RigidBody) -> None:
+def _add_gripper(plant: MultibodyPlant, parser: Parser, tool_body: RigidBody, collision: bool = True) -> None:
     """The course's vacuum gripper, welded to ``tool_body`` with its cup pointing down."""
+    args = {"name": GRIPPER, "collision": "true" if collision else "false"}
     (gripper_instance,) = parser.AddModelsFromString(
-        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": GRIPPER}), "urdf"
+        expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", args), "urdf"
     )
     # Cup down: the gripper's +z (out of the tool) along world -z.
     plant.WeldFrames(

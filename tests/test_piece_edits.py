@@ -161,6 +161,43 @@ def test_a_collision_added_beside_the_grippers_own_is_theirs(tmp_path):
         assert list(link.iter("visual")) == []
 
 
+def test_a_gripper_file_with_no_collision_is_loaded_so_and_grasps_nothing(tmp_path):
+    """Their gripper's base_link without its collision (its suction_cup has none): the
+    course's VacuumGripperPlugin attaches on contacts of its suction cup link's collisions,
+    so in Gazebo nothing touches the cup and it grasps nothing. Here: one warning line per
+    gripper at its spawn line, the cell's gripper without collisions, and pressed on a part
+    with its vacuum on it holds nothing (with them, the same press holds the part)."""
+    from pydrake.multibody.parsing import Parser
+    from pydrake.multibody.plant import MultibodyPlant
+    from suction_rig import PRESS, TOP, build_rig, hold, tool_q
+
+    from omtp_drake.cell.arms import add_arm_models
+
+    src = tmp_path / "src"
+    shutil.copytree(FIXTURES / "group_ws" / "src", src)
+    gripper = src / "omtp_support" / "urdf" / "vacuum_gripper" / "vacuum_gripper.urdf.xacro"
+    text = gripper.read_text()
+    start, end = text.index("      <!-- Its collision"), text.index("</collision>") + len("</collision>\n")
+    gripper.write_text(text[:start] + text[end:])
+    cell = own_cell(LAUNCH, workspace=[src], environ={})
+    lines = [w for w in cell.warnings if "no <collision>" in w]
+    assert [line.split(": ", 1)[0].rsplit(":", 1)[0] for line in lines] == [
+        str(src / "omtp_gazebo" / "launch" / "spawn_robots.launch")
+    ] * 2, lines
+    assert "vacuum_gripper1_suction_cup" in lines[0] and "grasps nothing" in lines[0]
+    robot = cell.scenario.robots[0]
+    assert not robot.gripper_collision
+    plant = MultibodyPlant(0.01)
+    _, instance = add_arm_models(Parser(plant), robot)
+    bodies = [plant.get_body(b) for b in plant.GetBodyIndices(instance)]
+    assert bodies and not any(plant.GetCollisionGeometriesForBody(b) for b in bodies)
+    for collision, held in ((True, True), (False, False)):
+        rig = build_rig("weld", hold(tool_q(0.0, 0, TOP - PRESS)), log=False, collision=collision)
+        rig.command(True)
+        rig.advance_to(0.3)
+        assert rig.state().attached is held, collision
+
+
 def test_the_planner_takes_their_bumper_for_the_grippers_geometry(cell):
     """Their bumper (a box in the gripper's link) is robot geometry to the planner, as a
     link's collisions are to MoveIt: a 1 cm block touching only its corner at robot 1's

@@ -112,6 +112,12 @@ def arm_urdf(robot: RobotConfig) -> Path:
     )
 
 
+def gripper_urdf(robot: RobotConfig) -> str:
+    """The URDF text of ``robot``'s vacuum gripper (without collisions where its file has none)."""
+    args = {"name": robot.gripper, "collision": "true" if robot.gripper_collision else "false"}
+    return expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", args)
+
+
 def joint_velocity_limits(robot: RobotConfig) -> np.ndarray:
     """``robot``'s joint velocity limits (rad/s, pan ... wrist 3): its scenario's, else its
     model's (ur_description's, :func:`omtp_drake.ur_arms.model_rates`)."""
@@ -130,8 +136,7 @@ def add_arm_models(
     (arm,) = parser.AddModels(str(arm_urdf(robot)))
     gripper = None
     if robot.gripper:
-        text = expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper})
-        (gripper,) = parser.AddModelsFromString(text, "urdf")
+        (gripper,) = parser.AddModelsFromString(gripper_urdf(robot), "urdf")
         plant.WeldFrames(
             plant.GetFrameByName(f"{robot.name}_tool0", arm),
             plant.GetFrameByName(f"{robot.gripper}_base_link", gripper),

@@ -324,7 +324,9 @@ def _add_robot(pieces, model: UrdfModel, prefix: str, X_WM, X_M, where: str, joi
     limits, lines = arm_joint_limit(model, prefix, where)
     rates, rate_lines = arm_joint_rates(model, prefix, kinds[0], where)
     inertials, inertial_lines = arm_inertials(model, prefix, kinds[0], where)
-    pieces.warnings += lines + rate_lines + inertial_lines
+    bare, bare_lines = gripper_collision(model, prefix, where)
+    pieces.warnings += lines + rate_lines + inertial_lines + bare_lines
+    robot.update(bare)
     robot.update(limits, **rates, **inertials)
     if any(j.startswith(prefix) for j in joints):
         given = " ".join(f"-J {k} {v}" for k, v in joints.items())
@@ -366,6 +368,30 @@ def arm_joint_limit(model: UrdfModel, prefix: str, where: str) -> tuple[dict, li
         f"{where}: arm {prefix.rstrip('_')!r}: joint limits {written} are not symmetric limits in "
         f"(0, 2 pi] of its six joints; the cell's arm takes those and keeps the course's +/-{math.pi:g}"
     ]
+
+
+def gripper_collision(model: UrdfModel, prefix: str, where: str) -> tuple[dict, list[str]]:
+    """``gripper_collision: False`` and one warning line where the gripper on the arm's
+    tool0 has no ``<collision>`` in its links (``base_link``, ``suction_cup``): loaded as
+    written, nothing touches its cup, and the course's VacuumGripperPlugin, which attaches
+    on contacts of its ``suction_cup_link``'s collisions (none: it never sees one), grasps
+    nothing, as in Gazebo."""
+    root = model.root_element
+    for joint in model.joints.values():
+        if root is None or joint.parent != prefix + "tool0" or not joint.child.endswith("base_link"):
+            continue
+        gripper = joint.child[: -len("base_link")]
+        links = [gripper + link for link in PIECE_LINKS["gripper"]]
+        if links[1] not in model.links or any(
+            root.find(f"link[@name='{n}']/collision") is not None for n in links
+        ):
+            continue
+        return {"gripper_collision": False}, [
+            f"{where}: gripper {gripper.rstrip('_')!r}: its links {', '.join(links)} have no <collision>; "
+            "loaded as written, nothing touches its cup, and its ROSVacuumGripperPlugin (which attaches on "
+            "contacts of its suction cup link's collisions) grasps nothing, as in Gazebo"
+        ]
+    return {}, []
 
 
 def _gripper(pieces: Pieces, model: UrdfModel, prefix: str, where: str, robot: str) -> str:

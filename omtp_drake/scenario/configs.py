@@ -46,6 +46,10 @@ class RobotConfig:
     initial_pose: str = "Home"
     #: Name of the vacuum gripper on tool0 (empty: none).
     gripper: str = "vacuum_gripper1"
+    #: Whether the gripper has its collisions; False where its file gives its links none:
+    #: then nothing touches its cup, and its plugin (which grasps on contacts of the cup
+    #: link's collisions) grasps nothing, as in Gazebo.
+    gripper_collision: bool = True
     #: Symmetric joint position limit (the course limits every joint to pi).
     joint_limit: float = math.pi
     #: Each joint's own symmetric limit (pan, lift, elbow, wrist 1, 2, 3), where the arm's

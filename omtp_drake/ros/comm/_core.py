@@ -12,6 +12,7 @@ from omtp_drake.cell.arms import (
     NAMED_POSES,
     arm_urdf,
     check_joint_positions,
+    gripper_urdf,
     named_pose,
     tool_frame_names,
 )
@@ -53,6 +54,7 @@ __all__ = [
     "NAMED_POSES",
     "SETTLE_TIMEOUT",
     "arm_urdf",
+    "gripper_urdf",
     "SETTLE_TOLERANCE",
     "Arm",
     "BreakBeam",

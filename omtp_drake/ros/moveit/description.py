@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 from pydrake.math import RollPitchYaw
 
-from omtp_drake.ros.comm._core import MODELS_DIR, arm_urdf, expand_xacro
+from omtp_drake.ros.comm._core import MODELS_DIR, arm_urdf, expand_xacro, gripper_urdf
 
 if TYPE_CHECKING:
     from omtp_drake.ros.comm._core import Cell
@@ -40,7 +40,7 @@ def _model_texts(cell: Cell) -> list[str]:
             )
         texts.append(arm_urdf(robot).read_text())
         if robot.gripper:
-            texts.append(expand_xacro(MODELS_DIR / "vacuum_gripper.urdf.xacro", {"name": robot.gripper}))
+            texts.append(gripper_urdf(robot))
     # (a bin of the student's own is one of the models below, as their file writes it)
     texts += [
         expand_xacro(MODELS_DIR / "bin.urdf.xacro", {"name": b.name}) for b in scenario.bins if not b.model
