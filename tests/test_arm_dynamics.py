@@ -53,6 +53,11 @@ def cell(tmp_path_factory):
             'model="${model}" mass="${m[3]}"/>')
     assert line in arm.read_text()
     arm.write_text(arm.read_text().replace(line, FOREARM))
+    # Their wrist 1: its visual mesh scaled up, its collision wrist 2's mesh file.
+    line = ('<xacro:omtp_standin_ur_link name="${prefix}wrist_1_link" mesh="wrist1" '
+            'model="${model}" mass="${m[4]}"/>')
+    assert line in arm.read_text()
+    arm.write_text(arm.read_text().replace(line, WRIST_1))
     return own_cell(LAUNCH, workspace=[src], environ={})
 
 
@@ -60,7 +65,10 @@ FOREARM = """
     <link name="${prefix}forearm_link">
       <visual><origin xyz="0 0 0.2"/><geometry><box size="0.07 0.07 0.4"/></geometry></visual>
       <collision>
-        <geometry><mesh filename="package://ur_description/meshes/${model}/collision/forearm.stl"/></geometry>
+        <geometry>
+          <mesh filename="package://ur_description/meshes/${model}/collision/forearm.stl"
+                scale="1.2 1.2 1.2"/>
+        </geometry>
       </collision>
       <inertial>
         <mass value="${m[3]}"/>
@@ -177,14 +185,40 @@ def test_a_bad_field_is_one_error_naming_it(field, value, message):
     assert message in str(raised.value) and "\n" not in str(raised.value)
 
 
+WRIST_1 = """
+    <link name="${prefix}wrist_1_link">
+      <visual>
+        <geometry>
+          <mesh filename="package://ur_description/meshes/${model}/visual/wrist1.dae" scale="1.5 1.5 1.5"/>
+        </geometry>
+      </visual>
+      <collision>
+        <geometry><mesh filename="package://ur_description/meshes/${model}/collision/wrist2.stl"/></geometry>
+      </collision>
+      <inertial>
+        <mass value="${m[4]}"/>
+        <origin xyz="0 0 0" rpy="0 0 0"/>
+        <inertia ixx="${m[4] * 0.01}" ixy="0" ixz="0" iyy="${m[4] * 0.01}" iyz="0" izz="${m[4] * 0.01}"/>
+      </inertial>
+    </link>"""
+
+
+def _hull_extents(shape, unscaled: bool = False) -> np.ndarray:
+    """The extents of a mesh shape's convex hull (its file's, without its scale if ``unscaled``)."""
+    hull = (type(shape)(str(shape.source().path()), 1.0) if unscaled else shape).GetConvexHull()
+    vertices = np.array([hull.vertex(i) for i in range(hull.num_vertices())])
+    return vertices.max(0) - vertices.min(0)
+
+
 def test_their_forearm_visual_replaces_the_models(cell):
     """The box they wrote in place of the forearm's visual mesh is loaded (on the cell's
     forearm), and the cell's arm has no visual of its own there; its collision is the
     course's mesh, kept."""
     from omtp_drake.sim.runtime import FactoryRuntime
 
+    mine = ["forearm_link/visual", "forearm_link/collision", "wrist_1_link/visual", "wrist_1_link/collision"]
     for robot in cell.scenario.robots:
-        assert robot.own_geometry == ["forearm_link/visual"]
+        assert robot.own_geometry == mine
     models = {m.name: m for m in cell.scenario.models}
     own = models["robot2_forearm_link_own"]
     assert own.parent == "robot2_forearm_link"
@@ -194,13 +228,26 @@ def test_their_forearm_visual_replaces_the_models(cell):
 
         plant, inspector = runtime.station.plant, runtime.station.scene_graph.model_inspector()
 
-        def shapes(body: str, role) -> list[str]:
+        def geometries(body: str, role) -> list:
             frame = plant.GetBodyFrameIdOrThrow(plant.GetBodyByName(body).index())
-            return [inspector.GetShape(g).__class__.__name__ for g in inspector.GetGeometries(frame, role)]
+            return [inspector.GetShape(g) for g in inspector.GetGeometries(frame, role)]
+
+        def shapes(body: str, role) -> list[str]:
+            return [shape.__class__.__name__ for shape in geometries(body, role)]
 
         assert shapes("robot2_forearm_link", Role.kIllustration) == []
-        assert shapes("robot2_forearm_link", Role.kProximity) != []
         assert shapes("robot2_forearm_link_own", Role.kIllustration) == ["Box"]
         assert shapes("robot2_upper_arm_link", Role.kIllustration) != []
+        # Their scaled meshes at their scale, another ur_description file as that file: the
+        # cell's arm has none of its own there.
+        for link in ("robot2_forearm_link", "robot2_wrist_1_link"):
+            assert shapes(link, Role.kIllustration) == shapes(link, Role.kProximity) == []
+        (forearm,) = geometries("robot2_forearm_link_own", Role.kProximity)
+        np.testing.assert_allclose(_hull_extents(forearm), 1.2 * _hull_extents(forearm, unscaled=True))
+        (wrist,) = geometries("robot2_wrist_1_link_own", Role.kIllustration)
+        np.testing.assert_allclose(_hull_extents(wrist), 1.5 * _hull_extents(wrist, unscaled=True))
+        (theirs,) = geometries("robot2_wrist_1_link_own", Role.kProximity)
+        (wrist_2,) = geometries("robot2_wrist_2_link", Role.kProximity)  # the cell's, the course's mesh
+        np.testing.assert_allclose(_hull_extents(theirs), _hull_extents(wrist_2), atol=1e-9)
     finally:
         runtime.close()

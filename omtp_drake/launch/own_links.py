@@ -27,8 +27,9 @@ line (the cell adds no joints to its arms).
 from __future__ import annotations
 
 import copy
+import re
 import xml.etree.ElementTree as ET
-from collections.abc import Collection, Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
 from pydrake.math import RigidTransform, RollPitchYaw
@@ -266,7 +267,7 @@ def bin_walls(model: UrdfModel, link: str) -> list[float] | None:
 
 
 def inner_additions(
-    model: UrdfModel, links: Iterable[str], meshed: Collection[str] = ()
+    model: UrdfModel, links: Iterable[str], meshed: Mapping[str, tuple[str, str]] | None = None
 ) -> dict[str, list[ET.Element]]:
     """The visuals and collisions a student added inside the course's ``links`` of
     ``model`` (URDF's are unnamed, so told apart by the course's files' content): the
@@ -275,10 +276,12 @@ def inner_additions(
     not the course's mesh (:data:`_COURSE_MESHES`) are the student's, and with none of the
     course's mesh, all but the first; in a link the course gives none (:data:`_BARE_LINKS`),
     every one; in the workcell's hall link (the course's gives it only its meshes), every
-    one that is not the course's mesh. In a link of ``meshed`` (an arm's body: the course's
-    ``ur_description`` gives each a visual and a collision mesh), every one that is not the
-    course's mesh: a kind with none of it was replaced (:func:`replaced_kinds`)."""
+    one that is not the course's mesh. In a link of ``meshed`` (an arm's body, mapped to its
+    unprefixed name and UR model: the course's ``ur_description`` gives each a visual and a
+    collision mesh), every one that is not that link's own mesh as the course writes it
+    (:func:`is_arm_mesh`): a kind with none of it was replaced (:func:`replaced_kinds`)."""
     root = model.root_element
+    meshed = meshed or {}
     out: dict[str, list[ET.Element]] = {}
     for link in links:
         element = root.find(f"link[@name='{link}']") if root is not None else None
@@ -297,7 +300,7 @@ def inner_additions(
         for tag in ("visual", "collision"):
             found = element.findall(tag)
             if link in meshed:
-                extras += [e for e in found if not _is_course_mesh(e)]
+                extras += [e for e in found if not is_arm_mesh(e, *meshed[link])]
                 continue
             if len(found) < 2:
                 continue
@@ -308,9 +311,11 @@ def inner_additions(
     return out
 
 
-def replaced_kinds(model: UrdfModel, link: str) -> list[str]:
-    """The kinds (``visual``, ``collision``) of which ``link`` holds elements but none the
-    course's mesh: the student replaced the course's geometry of that kind."""
+def replaced_kinds(model: UrdfModel, link: str, arm_link: str, ur_model: str) -> list[str]:
+    """The kinds (``visual``, ``collision``) of which the arm's ``link`` (``arm_link``
+    unprefixed, of a ``ur_model`` arm) holds elements but none its own course mesh
+    (:func:`is_arm_mesh`): the student replaced the course's geometry of that kind (a
+    shape, another mesh file, the mesh scaled)."""
     root = model.root_element
     element = root.find(f"link[@name='{link}']") if root is not None else None
     if element is None:
@@ -318,8 +323,42 @@ def replaced_kinds(model: UrdfModel, link: str) -> list[str]:
     return [
         tag
         for tag in ("visual", "collision")
-        if element.findall(tag) and not any(_is_course_mesh(e) for e in element.findall(tag))
+        if element.findall(tag) and not any(is_arm_mesh(e, arm_link, ur_model) for e in element.findall(tag))
     ]
+
+
+#: ur_description's mesh of each arm link: ``meshes/<model>/{visual,collision}/<name>.*``.
+UR_LINK_MESHES = {
+    "base_link": "base",
+    "shoulder_link": "shoulder",
+    "upper_arm_link": "upperarm",
+    "forearm_link": "forearm",
+    "wrist_1_link": "wrist1",
+    "wrist_2_link": "wrist2",
+    "wrist_3_link": "wrist3",
+}
+_UR_MESH = re.compile(r"ur_description/meshes/([^/]+)/(visual|collision)/([^/]+)\.[A-Za-z]+$")
+
+
+def is_arm_mesh(element: ET.Element, arm_link: str, ur_model: str) -> bool:
+    """Whether ``element`` (a ``<visual>`` or ``<collision>`` of the arm link ``arm_link``,
+    unprefixed, of a ``ur_model`` arm) is ur_description's own mesh of that link, model and
+    kind, unscaled: the geometry the cell's arm has there. Another file of ur_description
+    (the upper arm's mesh on the forearm, a UR10's on a UR5, a collision mesh as the
+    visual) or a ``scale`` is the student's, loaded as written."""
+    mesh = element.find("geometry/mesh")
+    match = _UR_MESH.search(mesh.get("filename", "")) if mesh is not None else None
+    if (
+        mesh is None
+        or match is None
+        or match.groups() != (ur_model, element.tag, UR_LINK_MESHES.get(arm_link))
+    ):
+        return False
+    try:
+        scale = [float(v) for v in (mesh.get("scale") or "1 1 1").split()]
+    except ValueError:
+        return False
+    return all(abs(v - 1.0) < 1e-9 for v in scale)
 
 
 def _is_course_mesh(element: ET.Element) -> bool:

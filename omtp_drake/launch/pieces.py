@@ -155,13 +155,14 @@ def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where
     built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
     built += [WORKCELL_LINK] if WORKCELL_LINK in model.links else []
     bodies = {f"{r['name']}_{link}": r for r in pieces.robots for link in ARM_LINKS}
-    for link in sorted(set(built) & set(bodies)):
+    meshed = {link: (link[len(bodies[link]["name"]) + 1 :], bodies[link]["model"]) for link in bodies}
+    meshed = {link: meshed[link] for link in sorted(set(built) & set(bodies))}
+    for link, (unprefixed, ur_model) in meshed.items():
         robot = bodies[link]
-        unprefixed = link[len(robot["name"]) + 1 :]
-        replaced = [f"{unprefixed}/{kind}" for kind in replaced_kinds(model, link)]
+        replaced = [f"{unprefixed}/{kind}" for kind in replaced_kinds(model, link, unprefixed, ur_model)]
         if replaced:
             robot["own_geometry"] = [*robot.get("own_geometry", []), *replaced]
-    for link, extras in inner_additions(model, built, set(built) & set(bodies)).items():
+    for link, extras in inner_additions(model, built, meshed).items():
         taken = {p["name"] for p in (*pieces.robots, *pieces.bins)} | {o.name for o in pieces.own}
         own = f"{link}_own" if f"{link}_own" not in taken else f"{link}_own_model"
         text = inner_additions_urdf(link, extras, own)
