@@ -52,13 +52,23 @@ def cell(tmp_path_factory):
     line = ('<xacro:omtp_standin_ur_link name="${prefix}forearm_link" mesh="forearm" '
             'model="${model}" mass="${m[3]}"/>')
     assert line in arm.read_text()
-    arm.write_text(arm.read_text().replace(line, FOREARM))
+    arm.write_text(arm.read_text().replace(line, FOREARM.replace("{inertial}", _inertial(3))))
     # Their wrist 1: its visual mesh scaled up, its collision wrist 2's mesh file.
     line = ('<xacro:omtp_standin_ur_link name="${prefix}wrist_1_link" mesh="wrist1" '
             'model="${model}" mass="${m[4]}"/>')
     assert line in arm.read_text()
-    arm.write_text(arm.read_text().replace(line, WRIST_1))
+    arm.write_text(arm.read_text().replace(line, WRIST_1.replace("{inertial}", _inertial(4))))
     return own_cell(LAUNCH, workspace=[src], environ={})
+
+
+def _inertial(i: int) -> str:
+    """The inertial the stand-in gives the arm's link ``i`` (its mass ``m[i]``), as written there."""
+    return (
+        f'<inertial><mass value="${{m[{i}]}}"/><origin xyz="0 0 0" rpy="0 0 0"/>'
+        f'<inertia ixx="${{m[{i}] * 0.01}}" ixy="0" ixz="0" iyy="${{m[{i}] * 0.01}}" iyz="0" '
+        f'izz="${{m[{i}] * 0.01}}"/>'
+        "</inertial>"
+    )
 
 
 FOREARM = """
@@ -70,11 +80,7 @@ FOREARM = """
                 scale="1.2 1.2 1.2"/>
         </geometry>
       </collision>
-      <inertial>
-        <mass value="${m[3]}"/>
-        <origin xyz="0 0 0" rpy="0 0 0"/>
-        <inertia ixx="${m[3] * 0.01}" ixy="0" ixz="0" iyy="${m[3] * 0.01}" iyz="0" izz="${m[3] * 0.01}"/>
-      </inertial>
+      {inertial}
     </link>"""
 
 
@@ -195,11 +201,7 @@ WRIST_1 = """
       <collision>
         <geometry><mesh filename="package://ur_description/meshes/${model}/collision/wrist2.stl"/></geometry>
       </collision>
-      <inertial>
-        <mass value="${m[4]}"/>
-        <origin xyz="0 0 0" rpy="0 0 0"/>
-        <inertia ixx="${m[4] * 0.01}" ixy="0" ixz="0" iyy="${m[4] * 0.01}" iyz="0" izz="${m[4] * 0.01}"/>
-      </inertial>
+      {inertial}
     </link>"""
 
 
