@@ -1,7 +1,9 @@
 """``grade`` passes ros-run's options on: ``--moveit`` for the class, ``grade.yaml`` per script."""
 
 import csv
+import io
 import json
+import sys
 
 import pytest
 
@@ -49,28 +51,56 @@ def statuses(grades):
     return {g.script: g.status for g in grades}
 
 
-def test_grade_moveit_melodic_is_passed_to_every_script_and_grade_yaml_overrides_it(
-    mixed_class, tmp_path, capsys
-):
-    """One grade (a grade's cluster and its runs cost seconds): ``--moveit melodic`` for the
-    class reaches every script (Noetic's habit fails under it), and grade.yaml gives one script
-    its own MoveIt."""
-    (mixed_class / "noetic_in_yaml.py").write_text(NOETIC)
-    (mixed_class / "grade.yaml").write_text("noetic_in_yaml.py:\n  moveit: noetic\n")
-    argv = ["grade", str(mixed_class), "--scenario", "lecture6_assignment3", "--workers", "1"]
-    assert main(argv + ["--moveit", "melodic", "--out", str(tmp_path / "out")]) == 1
-    assert "melodic_student.py ok " in capsys.readouterr().out
-    rows = {r["script"]: r for r in csv.DictReader(open(tmp_path / "out" / "grades.csv"))}
+@pytest.fixture(scope="module")
+def graded_class(tmp_path_factory):
+    """One grade of a class (a grade's cluster and its runs cost seconds, so the two tests
+    below share it), run as ``grade ... --moveit melodic``: MoveIt's Melodic and Noetic habits,
+    one Noetic student given his own MoveIt in grade.yaml, and lecture 5's named pose with the
+    student's SRDF and the slides' set-up call in grade.yaml (lena) and without them (tom).
+    (exit code, what it printed, the CSV's rows by script, each run's JSON by script stem)."""
+    tmp = tmp_path_factory.mktemp("graded_class")
+    folder = tmp / "class"
+    (folder / "lena").mkdir(parents=True)
+    (folder / "melodic_student.py").write_text(MELODIC)
+    (folder / "noetic_student.py").write_text(NOETIC)
+    (folder / "noetic_in_yaml.py").write_text(NOETIC)
+    (folder / "lena" / "omtp.srdf").write_text(STUDENT_SRDF)
+    (folder / "lena.py").write_text(HIGH_POSE)
+    (folder / "tom.py").write_text(HIGH_POSE)
+    (folder / "grade.yaml").write_text(
+        "noetic_in_yaml.py:\n  moveit: noetic\n"
+        "lena.py:\n  srdf: lena/omtp.srdf\n  call: [/spawn_object_at_robot2]\n  settle: 0.5\n"
+    )
+    out = tmp / "out"
+    argv = ["grade", str(folder), "--scenario", "lecture6_assignment3", "--workers", "1"]
+    with pytest.MonkeyPatch.context() as mp:
+        printed = io.StringIO()
+        mp.setattr(sys, "stdout", printed)
+        code = main(argv + ["--moveit", "melodic", "--out", str(out)])
+    rows = {r["script"]: r for r in csv.DictReader(open(out / "grades.csv"))}
+    runs = {p.stem: json.loads(p.read_text()) for p in (out / "runs").glob("*.json")}
+    return code, printed.getvalue(), rows, runs
+
+
+def test_grade_moveit_melodic_is_passed_to_every_script_and_grade_yaml_overrides_it(graded_class):
+    """``--moveit melodic`` for the class reaches every script (Noetic's habit fails under it),
+    and grade.yaml gives one script its own MoveIt."""
+    code, printed, rows, runs = graded_class
+    assert code == 1
+    assert "melodic_student.py ok " in printed
     assert {name: row["status"] for name, row in rows.items()} == {
-        "melodic_student.py": "ok", "noetic_in_yaml.py": "ok", "noetic_student.py": "exception"}
+        "melodic_student.py": "ok", "noetic_in_yaml.py": "ok", "noetic_student.py": "exception",
+        "lena.py": "ok", "tom.py": "exception"}  # lena and tom: the test after this one
     message = (
         "TypeError: cannot unpack non-iterable RobotTrajectory object (at noetic_student.py:8 in <module>)"
     )
     assert rows["noetic_student.py"]["message"] == message
-    options = {p.stem: json.loads(p.read_text())["isolation"]["options"]
-               for p in (tmp_path / "out" / "runs").glob("*.json")}
-    assert options == {"melodic_student": {"moveit": "melodic"}, "noetic_in_yaml": {"moveit": "noetic"},
-                       "noetic_student": {"moveit": "melodic"}}
+    options = {name: run["isolation"]["options"] for name, run in runs.items()}
+    melodic = {"moveit": "melodic"}
+    assert {name: value for name, value in options.items() if name != "lena"} == {
+        "melodic_student": melodic, "noetic_in_yaml": {"moveit": "noetic"}, "noetic_student": melodic,
+        "tom": melodic}
+    assert options["lena"]["moveit"] == "melodic"  # the class's, under her own srdf and call
 
 
 def test_grade_yaml_must_name_scripts_of_the_folder(mixed_class):
@@ -120,21 +150,13 @@ STUDENT_SRDF = """<?xml version="1.0" ?>
 """
 
 
-def test_grade_yaml_passes_a_students_srdf_and_set_up_calls(tmp_path):
-    folder = tmp_path / "class"
-    (folder / "lena").mkdir(parents=True)
-    (folder / "lena" / "omtp.srdf").write_text(STUDENT_SRDF)
-    (folder / "lena.py").write_text(HIGH_POSE)
-    (folder / "tom.py").write_text(HIGH_POSE)
-    (folder / "grade.yaml").write_text(
-        "lena.py:\n  srdf: lena/omtp.srdf\n  call: [/spawn_object_at_robot2]\n  settle: 0.5\n"
-    )
-    grades = {g.script: g for g in grade_folder(folder, "lecture6_assignment3", workers=1, sandbox="none")}
-    assert grades["lena.py"].status == "ok", grades["lena.py"].message
-    assert grades["lena.py"].report["sim_time_s"] >= 0.5  # the settle ran before the script
-    assert grades["lena.py"].report["empty_spawn_calls"]  # object_1 is there: the call spawns nothing
-    assert grades["tom.py"].status == "exception"  # no "high" in the cell's own SRDF
-    assert "high" in grades["tom.py"].message
+def test_grade_yaml_passes_a_students_srdf_and_set_up_calls(graded_class):
+    _, _, rows, runs = graded_class
+    assert rows["lena.py"]["status"] == "ok", rows["lena.py"]["message"]
+    assert runs["lena"]["report"]["sim_time_s"] >= 0.5  # the settle ran before the script
+    assert runs["lena"]["report"]["empty_spawn_calls"]  # object_1 is there: the call spawns nothing
+    assert rows["tom.py"]["status"] == "exception"  # no "high" in the cell's own SRDF
+    assert "high" in rows["tom.py"]["message"]
 
 
 def test_ros_run_sandbox_passes_the_course_options_on(tmp_path, capsys):

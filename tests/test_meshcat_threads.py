@@ -33,3 +33,37 @@ print("alive")
 def test_a_dropped_meshcat_cell_does_not_abort_the_process_when_a_batch_thread_collects():
     done = subprocess.run([sys.executable, "-c", SCRIPT], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0 and "alive" in done.stdout, done.stderr[-2000:]
+
+
+#: A screenshot taken from a running asyncio loop (a Jupyter kernel's cell) runs Playwright on
+#: a thread of its own; whatever that thread's allocations collect is stood in for here by the
+#: capture itself collecting.
+SCREENSHOT_SCRIPT = """
+import asyncio, gc
+from pydrake.geometry import Meshcat
+from omtp_drake.viz import browser
+
+class Cell:
+    pass
+
+cell = Cell()
+cell.meshcat, cell.me = Meshcat(), cell
+del cell
+gc.disable()
+browser._capture = lambda *args: [(gc.collect(), 0.0)]
+
+async def notebook_cell():
+    return browser._outside_event_loop(browser._capture)
+
+asyncio.run(notebook_cell())
+print("alive")
+"""
+
+
+def test_a_dropped_meshcat_cell_does_not_abort_a_screenshot_taken_from_a_notebook():
+    """Seen as 'Fatal Python error: Aborted' while Playwright's thread imported its modules,
+    in test_replay_render's pictures after the recorded run was dropped."""
+    done = subprocess.run(
+        [sys.executable, "-c", SCREENSHOT_SCRIPT], capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0 and "alive" in done.stdout, done.stderr[-2000:]

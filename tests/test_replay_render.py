@@ -3,6 +3,7 @@ with the scene, robot 2, the logical cameras' frusta and a detection marker on
 screen, seen from the task's view; markers float over detected parts only."""
 
 import asyncio
+import dataclasses
 import shutil
 
 import numpy as np
@@ -30,9 +31,15 @@ needs_chromium = pytest.mark.skipif(
 
 @pytest.fixture(scope="module")
 def replay(tmp_path_factory):
-    """Robot 2 picking the part of assignment 4, recorded for 3 s."""
+    """Robot 2 picking the part of assignment 4, recorded for 3 s, without robot 1: 9 m behind
+    the view, a speck in its top left corner, it is in no test's region, and its UR10 meshes
+    were 4 of the replay's 9.5 MB that chromium decodes and draws in software for each picture
+    (the pictures' process tree 27 -> 21-24 CPU s)."""
     html = tmp_path_factory.mktemp("replay") / "replay.html"
-    result = run_task("lecture6_assignment4", parts=1, duration=3.0, record=html)
+    task = load_scenario("lecture6_assignment4")
+    task = dataclasses.replace(task, robots=[r for r in task.robots if r.name == "robot2"])
+    task.validate()
+    result = run_task(task, parts=1, duration=3.0, record=html)
     assert result.sim_time_s == pytest.approx(3.0)
     return html
 
@@ -77,6 +84,12 @@ def colours(png):
     return image, image[..., 0], image[..., 1], image[..., 2]
 
 
+def distinct_colours(image: np.ndarray) -> int:
+    """How many RGB colours ``image`` shows (each packed into one integer: np.unique over
+    rows, axis=0, took 2 CPU s on a 1280 x 800 picture, this 0.05)."""
+    return len(np.unique((image[..., 0] << 16) | (image[..., 1] << 8) | image[..., 2]))
+
+
 def masks(png) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """The image and, by name, where it shows the things the tests look for."""
     image, r, g, b = colours(png)
@@ -115,7 +128,7 @@ def test_replay_shows_robot2_frusta_and_marker(replay, shots):
     # At 1.0 s robot 2 is on its way down to the part, which camera 2 reports.
     image, seen = masks(shots["main"])
     assert image.shape == (800, 1280, 3)
-    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000   # a lit 3D scene, not a blank page
+    assert distinct_colours(image) > 1000   # a lit 3D scene, not a blank page
     centre = (slice(200, 600), slice(320, 960))
     assert seen["ur_blue"][centre].sum() > 200, "robot 2 is not in the middle of the view"
     assert seen["frustum_orange"][centre].sum() > 200, "no camera frustum in the middle of the view"
@@ -147,7 +160,7 @@ def test_replay_time_moves_the_robot(shots):
 def test_a_shot_of_its_own_size(shots):
     image = colours(shots["small"])[0]
     assert image.shape == (200, 320, 3)
-    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 500
+    assert distinct_colours(image) > 500
 
 
 @needs_chromium
@@ -168,7 +181,7 @@ def test_cli_screenshot(shapes_replay, tmp_path, capsys):
     assert f"screenshot: {png}" in capsys.readouterr().out
     image = colours(png)[0]
     assert image.shape == (400, 640, 3)
-    assert len(np.unique(image.reshape(-1, 3), axis=0)) > 1000
+    assert distinct_colours(image) > 1000
 
 
 @needs_chromium

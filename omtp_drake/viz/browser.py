@@ -189,6 +189,9 @@ def _outside_event_loop(function: Callable[..., T], *args: Any) -> T:
         asyncio.get_running_loop()
     except RuntimeError:
         return function(*args)
+    from omtp_drake.viz.meshcat import free_meshcats_here
+
+    free_meshcats_here()  # before Playwright's thread runs Python (a dropped cell's Meshcat)
     with ThreadPoolExecutor(max_workers=1) as pool:
         return pool.submit(function, *args).result()
 
