@@ -64,7 +64,7 @@ def ur_urdf(
     src = ur_description_dir() / "urdf" / f"{model}_robot.urdf"
     name = prefix.rstrip("_") or model
     edits = _edits_tag(velocity, effort, inertials or {}, dropped)
-    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{edits}.urdf")
+    dst = cache_entry(f"{name}_{model}_{_limit_tag(joint_limit)}{edits}{_FORM}.urdf")
     if dst.exists():
         return dst
 
@@ -187,7 +187,8 @@ def _drop_geometry(root: ET.Element, prefix: str, dropped: Sequence[str]) -> Non
 
 
 def _point_meshes_to(root: ET.Element) -> None:
-    """Points every mesh at its converted file (:func:`drake_mesh`); collision meshes are declared convex."""
+    """Points every mesh at its converted file (:func:`drake_mesh`); collision meshes are declared
+    convex, each pointing at its convex hull (:func:`convex_hull_file`)."""
     package = "package://example-robot-data/robots/ur_description/"
     for kind in ("visual", "collision"):
         for mesh in root.iterfind(f"link/{kind}/geometry/mesh"):
@@ -195,9 +196,42 @@ def _point_meshes_to(root: ET.Element) -> None:
             if not filename.startswith(package):
                 raise ConfigError(f"UR model: mesh {filename!r} is not in {package}")
             src = ur_description_dir() / filename[len(package) :]
-            mesh.set("filename", str(drake_mesh(src, collision=kind == "collision")))
+            converted = drake_mesh(src, collision=kind == "collision")
+            mesh.set("filename", str(converted if kind == "visual" else convex_hull_file(converted)))
             if kind == "collision":
                 ET.SubElement(mesh, f"{{{DRAKE_NS}}}declare_convex")
+
+
+#: In a cached URDF's name: its collision meshes are their hulls' files.
+_FORM = "_hulls"
+
+
+def convex_hull_file(obj: Path) -> Path:
+    """The convex hull of the mesh ``obj`` as an ``.obj`` of its vertices and faces (Drake's own
+    hull, the one its point contact uses for a mesh declared convex), written once into the
+    model cache by the mesh's name (itself the source's content hash).
+
+    A mesh declared convex is its hull to Drake: the same vertices come back when Drake takes
+    the hull of this file, and so the same contact, bounding boxes and distances; but each
+    geometry registered with a SceneGraph reads, checksums and hulls its file (5 ms a UR link,
+    7 links an arm, twice a cell: the plant and the planner's), and this file is 2-5 times
+    smaller and hulled at once. Measured: a UR10's URDF into a SceneGraph 43 -> 33 ms."""
+    dst = cache_entry(f"meshes/{obj.stem}-hull.obj")
+    if dst.exists():
+        return dst
+    from pydrake.geometry import Mesh
+
+    hull = Mesh(str(obj)).GetConvexHull()
+    lines = [
+        f"v {x!r} {y!r} {z!r}" for x, y, z in (map(float, hull.vertex(i)) for i in range(hull.num_vertices()))
+    ]
+    faces, i = hull.face_data(), 0
+    while i < len(faces):
+        count = faces[i]
+        lines.append("f " + " ".join(str(v + 1) for v in faces[i + 1 : i + 1 + count]))
+        i += 1 + count
+    write_atomic(dst, ("\n".join(lines) + "\n").encode())
+    return dst
 
 
 def _child(element: ET.Element, tag: str) -> ET.Element:

@@ -21,12 +21,14 @@ still points at the student's line. What 2to3 does not change stays Python 3:
 from __future__ import annotations
 
 import contextlib
+import functools
 import importlib.abc
 import importlib.machinery
 import importlib.util
 import io
 import logging
 import sys
+import threading
 import tokenize
 import types
 from collections.abc import Iterator, Sequence
@@ -135,18 +137,33 @@ def python2_indentation(source: str) -> str:
     return "".join(out)
 
 
+#: One 2to3 run at a time per process: a tool's fixers keep the tree they work on.
+_TOOL_LOCK = threading.Lock()
+
+
+@functools.lru_cache(maxsize=2)
+def _refactoring_tool(in_package: bool) -> Any:
+    """2to3's tool with every fixer (but the relative imports' outside a package), made once
+    per process: making one (its fixers' patterns compiled) costs ~0.1 CPU s, a script's
+    translation with it ~2 ms, and 2to3 itself runs one tool over many files (each fixer
+    starts afresh on each file's tree)."""
+    from fissix.refactor import RefactoringTool, get_fixers_from_package
+
+    fixers = [f for f in get_fixers_from_package("fissix.fixes") if in_package or f != _RELATIVE_IMPORTS]
+    return RefactoringTool(fixers)
+
+
 def translate(source: str, path: str | Path, *, in_package: bool) -> Optional[str]:
     """``source`` (Python 2) as Python 3; None when 2to3 cannot parse it.
     ``in_package``: a package's module (implicit relative imports are relative)."""
     from fissix.pgen2.parse import ParseError
-    from fissix.refactor import RefactoringTool, get_fixers_from_package
 
-    fixers = [f for f in get_fixers_from_package("fissix.fixes") if in_package or f != _RELATIVE_IMPORTS]
     source = python2_indentation(source if source.endswith("\n") else source + "\n")
-    try:
-        return str(RefactoringTool(fixers).refactor_string(source, str(path)))
-    except ParseError:
-        return None
+    with _TOOL_LOCK:
+        try:
+            return str(_refactoring_tool(in_package).refactor_string(source, str(path)))
+        except ParseError:
+            return None
 
 
 def run_as_main(script: ScriptCode, path: Path) -> None:
