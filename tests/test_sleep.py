@@ -212,7 +212,7 @@ def test_rest_clock_counts_a_part_still_only_below_both_speeds():
         parts[name] = plant.AddModelInstance(name)
         plant.AddRigidBody(name, parts[name], SpatialInertia.SolidCubeWithDensity(1000.0, 0.1))
     plant.Finalize()
-    clock = RestClock.AddToDiagram(builder, plant, parts, SleepConfig())
+    clock = RestClock.AddToDiagram(builder, plant, parts, SleepConfig(check_rate_hz=20.0))
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()
     plant_context = plant.GetMyMutableContextFromRoot(context)
@@ -247,8 +247,9 @@ def test_a_rest_clock_its_owner_samples_says_what_a_periodic_one_says():
     for name, instance in parts.items():
         plant.AddRigidBody(name, instance, SpatialInertia.SolidCubeWithDensity(1000.0, 0.1))
     plant.Finalize()
-    periodic = RestClock.AddToDiagram(builder, plant, parts, SleepConfig())
-    owned = builder.AddNamedSystem("owned_clock", RestClock(plant, parts, SleepConfig(), periodic=False))
+    config = SleepConfig(check_rate_hz=20.0)  # the owner samples every 50 ms below
+    periodic = RestClock.AddToDiagram(builder, plant, parts, config)
+    owned = builder.AddNamedSystem("owned_clock", RestClock(plant, parts, config, periodic=False))
     builder.Connect(plant.get_state_output_port(), owned.plant_state_input_port())
     diagram = builder.Build()
     context = diagram.CreateDefaultContext()

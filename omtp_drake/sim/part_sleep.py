@@ -14,7 +14,7 @@ check (``sleep.check_rate_hz``), :class:`PartSleep`:
 Touching is geometric (SceneGraph's penetration query between collision
 geometries), as for the deletion wall. Between checks a sleeping part is as
 fixed as the floor: a part dropped onto it rests on it until the next check
-wakes it (at most one check period, 50 ms by default).
+wakes it (at most one check period, 100 ms by default).
 
 The rest clock's samples are :class:`PartSleep`'s too (right before the advance
 from each check time, where the clock's own periodic event would run), taken only
