@@ -231,7 +231,8 @@ def test_an_agvs_kit_tray_is_a_tf_frame_under_it_not_in_the_message():
         X_WT = cell.tf.lookup_transform("world", "logical_camera_1_kit_tray_1_frame").transform
         X_AT = X_WA.inverse() @ X_WT
         np.testing.assert_allclose(X_AT.translation(), np.array([0.0, 0.15, 0.75]) + dp, atol=1e-6)
-        R_noise = own.X_CM.rotation() @ published.X_CM.rotation().inverse()
-        np.testing.assert_allclose(X_AT.rotation().matrix(), R_noise.matrix(), atol=1e-6)
+        R_pert = published.X_CM.rotation().inverse() @ own.X_CM.rotation()  # AddNoise: Rot *= pert
+        assert not R_pert.IsNearlyIdentity(1e-3)
+        np.testing.assert_allclose(X_AT.rotation().matrix(), R_pert.matrix(), atol=1e-6)
     finally:
         cell.close()

@@ -551,7 +551,7 @@ def _noisy_samples(world: World, count: int) -> np.ndarray:
     rows = []
     for k in range(count):
         (model,) = world.capture(root, "noisy", time=k / 10).models
-        R_error = model.X_CM.rotation() @ X_CM.rotation().inverse()
+        R_error = X_CM.rotation().inverse() @ model.X_CM.rotation()  # the draw: R_CM @ R_pert
         rows.append([*(model.X_CM.translation() - X_CM.translation()),
                      *RollPitchYaw(R_error).vector()])
     return np.array(rows)
@@ -569,6 +569,24 @@ def test_noise_statistics(world: World) -> None:
         (model,) = world.capture(root, camera, time=0.7).models
         error = np.linalg.norm(model.X_CM.translation() - [0.5, 0, 0])
         assert (error < 1e-12) == (camera == "cam")
+
+
+def test_orientation_noise_is_composed_on_the_model_axes(world: World) -> None:
+    """ROSLogicalCameraPlugin::AddNoise perturbs the orientation as ``Rot *= pert``: the
+    published rotation is R_CM @ R_pert (about the model's own axes), not R_pert @ R_CM.
+    The draw at one time is read off an unrotated model, then checked on a rotated one."""
+    root = world.new_context()
+    p_CM = np.array([0.5, 0.05, 0.0])
+    world.place(root, "object_0", RigidTransform(p_CM))
+    (model,) = world.capture(root, "noisy", time=0.3).models
+    R_pert, dp = model.X_CM.rotation(), model.X_CM.translation() - p_CM  # the draw at 0.3 s
+    R_CM = RollPitchYaw(0.2, 0.3, -0.4).ToRotationMatrix()
+    world.place(root, "object_0", RigidTransform(R_CM, p_CM))
+    (model,) = world.capture(root, "noisy", time=0.3).models
+    np.testing.assert_allclose(model.X_CM.rotation().matrix(), (R_CM @ R_pert).matrix(), atol=1e-9)
+    np.testing.assert_allclose(model.X_CM.translation(), p_CM + dp, atol=1e-12)
+    # The draw is large enough for the two orders to differ.
+    assert np.abs((R_pert @ R_CM).matrix() - (R_CM @ R_pert).matrix()).max() > 1e-4
 
 
 def test_noise_is_a_function_of_seed_and_time(world: World, tmp_path: Path) -> None:

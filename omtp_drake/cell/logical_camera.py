@@ -63,6 +63,7 @@ __all__ = [
     "LogicalCameraImage",
     "X_CameraOptical",
     "add_logical_camera",
+    "add_pose_noise",
     "model_type",
 ]
 
@@ -71,6 +72,15 @@ def X_CameraOptical() -> RigidTransform:
     """The optical frame O in the camera frame C: Oz = Cx, Ox = -Cy, Oy = -Cz."""
     R_CO = RotationMatrix(np.array([[0.0, 0.0, 1.0], [-1.0, 0.0, 0.0], [0.0, -1.0, 0.0]]))
     return RigidTransform(R_CO, np.zeros(3))
+
+
+def add_pose_noise(X_CM: RigidTransform, dp: Any, R_pert: RotationMatrix) -> RigidTransform:
+    """``X_CM`` with a noise draw on it, as the course's ``ROSLogicalCameraPlugin::AddNoise``:
+    the offsets ``dp`` added to the position, and the orientation perturbation ``R_pert``
+    (the draw's roll, pitch, yaw) composed on the right, ``Rot *= pert``: R_CM @ R_pert,
+    a perturbation about the model's own axes. The one rule of the camera's pose noise (the
+    message's models and an AGV's kit tray alike)."""
+    return RigidTransform(X_CM.rotation() @ R_pert, X_CM.translation() + np.asarray(dp))
 
 
 @dataclass(frozen=True)
@@ -275,10 +285,7 @@ class LogicalCamera(LeafSystem):
             candidate = self._candidates[k]
             X_CM = X_CW @ X_WB[candidate.origin_body]
             if noise is not None:
-                X_CM = RigidTransform(
-                    RollPitchYaw(noise[k, 3:]).ToRotationMatrix() @ X_CM.rotation(),
-                    X_CM.translation() + noise[k, :3],
-                )
+                X_CM = add_pose_noise(X_CM, noise[k, :3], RollPitchYaw(noise[k, 3:]).ToRotationMatrix())
             models.append(DetectedModel(candidate.name, candidate.type, X_CM, fraction))
         return LogicalCameraImage(time, self._name, X_WC, tuple(models), occlusion)
 

@@ -46,6 +46,7 @@ from pydrake.math import RigidTransform
 from omtp_drake.cell.camera_image import DetectedModel, LogicalCameraImage
 from omtp_drake.cell.gazebo_camera import GazeboCameraView
 from omtp_drake.cell.gazebo_models import model_type
+from omtp_drake.cell.logical_camera import add_pose_noise
 from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.scenario.plugin_names import CameraListing
 
@@ -66,11 +67,11 @@ X_AGV_KIT_TRAY = RigidTransform([0.0, 0.15, 0.75])
 
 def noisy_tray(X_CM: RigidTransform, X_CM_true: RigidTransform) -> RigidTransform:
     """The kit tray's pose in its AGV's frame with the noise the camera drew for the AGV
-    (``X_CM`` against ``X_CM_true``) put on it, as the plugin's ``AddNoise`` of the tray:
-    the position's offsets added, the rotation's perturbation applied before it."""
-    R_noise = X_CM.rotation() @ X_CM_true.rotation().inverse()
-    dp = X_CM.translation() - X_CM_true.translation()
-    return RigidTransform(R_noise @ X_AGV_KIT_TRAY.rotation(), X_AGV_KIT_TRAY.translation() + dp)
+    (``X_CM`` against ``X_CM_true``) put on it, as the plugin's ``AddNoise`` of the tray
+    (:func:`~omtp_drake.cell.logical_camera.add_pose_noise`: offsets added, the rotation's
+    perturbation composed on the right)."""
+    R_pert = X_CM_true.rotation().inverse() @ X_CM.rotation()
+    return add_pose_noise(X_AGV_KIT_TRAY, X_CM.translation() - X_CM_true.translation(), R_pert)
 
 
 def single_camera(cell: Cell) -> Optional[str]:

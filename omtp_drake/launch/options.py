@@ -104,7 +104,8 @@ def cell_of(
         cell = own_cell(launch, world, folders)
         if with_nodes and any(node.replaces for node in cell.nodes):
             name = cell.scenario.name
-            cell.scenario = scenario_from_dict(cell.document_for(with_nodes=True), source=name, name=name)
+            document = {**cell.document_for(with_nodes=True), "models": []}  # (typed already:)
+            cell.scenario = scenario_from_dict(document, source=name, name=name, models=cell.scenario.models)
         base: Optional[Scenario] = cell.scenario
     else:
         cell, base = OwnCell(Scenario()), as_scenario(scenario) if scenario else None

@@ -142,7 +142,10 @@ def own_cell(
     merge_pedestals(mapping.pieces)
     document = _document(mapping, name, f"{launch or source} (a student's own files)")
     try:
-        scenario = scenario_from_dict(document, source=str(source), name=name)
+        # (the loader's models are typed already: three quarters of the document's text)
+        scenario = scenario_from_dict(
+            {**document, "models": []}, source=str(source), name=name, models=mapping.world.models
+        )
     except ConfigError as e:
         if isinstance(e, WorkspaceError):
             raise

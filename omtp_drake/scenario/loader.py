@@ -45,6 +45,7 @@ from pydrake.math import RollPitchYaw
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.scenario.camera import LogicalCameraConfig
 from omtp_drake.scenario.configs import PartConfig
+from omtp_drake.scenario.models import ModelConfig
 from omtp_drake.scenario.refusals import LOADER_ERRORS, refusal_message
 from omtp_drake.scenario.schema import Scenario
 
@@ -280,9 +281,13 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
     return scenario_from_dict(raw, source=path.name, name=stem)
 
 
-def scenario_from_dict(raw: dict, *, source: str = "scenario", name: str = "") -> Scenario:
+def scenario_from_dict(
+    raw: dict, *, source: str = "scenario", name: str = "", models: Sequence[ModelConfig] = ()
+) -> Scenario:
     """A validated Scenario from plain data (a scenario file's mapping, bases
-    already merged). ``source`` names it in error messages."""
+    already merged). ``source`` names it in error messages. ``models``: entries typed
+    already (a launch's loaded models), copied in after ``raw``'s before the checks
+    (not dumped to YAML and read back)."""
     if not isinstance(raw, dict):
         raise ScenarioError(f"{source}: a scenario must be a mapping of keys, got {type(raw).__name__}")
     try:
@@ -292,6 +297,7 @@ def scenario_from_dict(raw: dict, *, source: str = "scenario", name: str = "") -
     if not raw.get("name"):
         scenario.name = name
     scenario.base = ""
+    scenario.models += copy.deepcopy(list(models))
     _apply_poses(scenario, raw, source)
     scenario.validate()
     return scenario
