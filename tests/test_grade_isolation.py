@@ -24,11 +24,16 @@ from omtp_drake.grading.isolation import Limits, bwrap_works
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "ros"
 SCENARIO = "lecture6_assignment3"
+#: The scenario of the runs whose verdicts need no cell (all but the killer's honest one): the
+#: floor alone. A run's start-up on it costs 1.4-1.5 CPU s against 1.9-2.3 s on SCENARIO, and
+#: the spinner's simulated seconds cost next to nothing (measured back to back, ros-run, load 8).
+EMPTY_CELL = 'description: "the floor alone: a run whose verdict needs no cell"\nseed: 0\n'
 #: Limits the hogs hit at once, far from what a script of the class needs, however slow or busy
-#: the machine: a run of the class takes 1.0-1.7 CPU s (start-up; measured at load 4-8: the
-#: spinner 1.4-1.7 to its 3 s timeout, the output flood's 6 MB in long lines 1.3-1.5, os._exit's
-#: 1.0-1.2), the CPU limit is 4 (over 2x: CPU seconds do not grow with a busy machine, only with
-#: a slower one); the busy loop reaches it whatever the machine's share of a core, long before
+#: the machine: a run of the class on lecture6_assignment3 took 1.0-1.7 CPU s (start-up; measured
+#: at load 4-8: the spinner 1.4-1.7 to its 3 s timeout, the output flood's 6 MB in long lines
+#: 1.3-1.5, os._exit's 1.0-1.2; at load 12 the spinner took 2.5), on EMPTY_CELL about 0.5 s less;
+#: the CPU limit is 4 (over 2x: CPU seconds do not grow with a busy machine, only with a slower
+#: one); the busy loop reaches it whatever the machine's share of a core, long before
 #: WALL_TIMEOUT. Each CPU second of the busy loop is a second of this test.
 LIMITS = Limits(memory_mb=1024, processes=12, cpu_s=4, open_files=256, output_kb=64)
 #: Simulated seconds per run: the spinner reaches it at a small CPU cost (~0.1 CPU s per
@@ -44,6 +49,14 @@ SANDBOXES = [
         "bwrap", marks=pytest.mark.skipif(not bwrap_works(), reason="bubblewrap does not work here")
     ),
 ]
+
+
+@pytest.fixture(scope="module")
+def empty_cell(tmp_path_factory) -> str:
+    """The path of EMPTY_CELL's scenario file (its folder is readable inside bubblewrap)."""
+    path = tmp_path_factory.mktemp("scenario") / "empty_cell.yaml"
+    path.write_text(EMPTY_CELL)
+    return str(path)
 
 
 @pytest.fixture(scope="module")
@@ -128,7 +141,9 @@ def processes_with(tag: str) -> list[int]:
 
 
 @pytest.mark.parametrize("sandbox", SANDBOXES)
-def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(tmp_path, sandbox, client):
+def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(
+    tmp_path, sandbox, client, empty_cell
+):
     folder = tmp_path / "class"
     folder.mkdir()
     tag = f"omtp-hostile-{uuid.uuid4().hex[:8]}"
@@ -137,7 +152,7 @@ def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(tmp_path
     expected = hostile_class(folder, tag, listener.getsockname()[1])
     out = tmp_path / "out"
     grades = grade_folder(
-        folder, SCENARIO, timeout=TIMEOUT, wall_timeout=WALL_TIMEOUT, out=out, limits=LIMITS,
+        folder, empty_cell, timeout=TIMEOUT, wall_timeout=WALL_TIMEOUT, out=out, limits=LIMITS,
         sandbox=sandbox, client=client,
     )  # fmt: skip
     by_name = {g.script: g for g in grades}
@@ -171,7 +186,7 @@ def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(tmp_path
 
 
 @pytest.mark.parametrize("sandbox", SANDBOXES)
-def test_a_script_sleeping_in_wall_time_gets_the_wall_timeout(tmp_path, sandbox, client):
+def test_a_script_sleeping_in_wall_time_gets_the_wall_timeout(tmp_path, sandbox, client, empty_cell):
     """time.sleep: wall time, not simulated time (the course's classic mistake). The script
     sleeps far longer than the wall timeout, however fast the machine. The wall timeout is
     short (its verdict comes first, whatever the run was doing when it was reached): each of
@@ -180,7 +195,7 @@ def test_a_script_sleeping_in_wall_time_gets_the_wall_timeout(tmp_path, sandbox,
     folder.mkdir()
     (folder / "wall_sleeper.py").write_text("import time\ntime.sleep(600)\n")
     out = tmp_path / "out"
-    (grade,) = grade_folder(folder, SCENARIO, wall_timeout=2.0, out=out, sandbox=sandbox, client=client)
+    (grade,) = grade_folder(folder, empty_cell, wall_timeout=2.0, out=out, sandbox=sandbox, client=client)
     assert grade.status == "wall timeout" and grade.message == "over 2 s wall time (killed)"
     assert grade.report is None and grade.isolation["timed_out"]
 
@@ -234,12 +249,12 @@ def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox, client
     )
 
 
-def test_ros_run_sandbox_runs_one_script_isolated(tmp_path, capsys):
+def test_ros_run_sandbox_runs_one_script_isolated(tmp_path, capsys, empty_cell):
     tag = uuid.uuid4().hex[:8]
     script = tmp_path / "writer.py"
     script.write_text(f"print('writing')\nopen('/var/tmp/escape_{tag}.txt', 'w').write('x')\n")
     result = tmp_path / "result.json"
-    argv = ["ros-run", str(script), "--scenario", SCENARIO, "--sandbox", "auto", "--json", str(result)]
+    argv = ["ros-run", str(script), "--scenario", empty_cell, "--sandbox", "auto", "--json", str(result)]
     assert main(argv) == 1
     out = capsys.readouterr().out
     assert "writing" in out and "verdict: exception: PermissionError" in out
@@ -275,7 +290,7 @@ print("ctypes connect:", libc.connect(s.fileno(), address, 16), os.strerror(ctyp
 
 
 @pytest.mark.skipif(not bwrap_works(), reason="bubblewrap does not work here")
-def test_bubblewrap_refuses_what_gets_past_the_guard(tmp_path, client):
+def test_bubblewrap_refuses_what_gets_past_the_guard(tmp_path, client, empty_cell):
     folder = tmp_path / "class"
     folder.mkdir()
     tag = uuid.uuid4().hex[:8]
@@ -283,7 +298,7 @@ def test_bubblewrap_refuses_what_gets_past_the_guard(tmp_path, client):
     listener.settimeout(0.1)
     port = listener.getsockname()[1]
     (folder / "bypass.py").write_text(BYPASS.format(tag=tag, port_hi=port >> 8, port_lo=port & 255))
-    (grade,) = grade_folder(folder, SCENARIO, out=tmp_path / "out", sandbox="bwrap", client=client)
+    (grade,) = grade_folder(folder, empty_cell, out=tmp_path / "out", sandbox="bwrap", client=client)
     assert grade.status == "ok"
     assert f"write to /var/tmp/escape_{tag}.txt (read-only)" in grade.refused
     out = (tmp_path / "out" / "runs" / "bypass.stdout.txt").read_text()
@@ -297,7 +312,7 @@ def test_bubblewrap_refuses_what_gets_past_the_guard(tmp_path, client):
     listener.close()
 
 
-def test_a_script_sees_its_own_copy_of_the_folder_only(tmp_path, client):
+def test_a_script_sees_its_own_copy_of_the_folder_only(tmp_path, client, empty_cell):
     folder = tmp_path / "class"
     folder.mkdir()
     (folder / "data.csv").write_text("1,2\n")
@@ -307,7 +322,7 @@ def test_a_script_sees_its_own_copy_of_the_folder_only(tmp_path, client):
     (folder / "alice.py").write_text(looker)
     (folder / "bob.py").write_text(looker + "open('notes.txt', 'w').write('mine')\n")
     out = folder / "results"  # inside the class folder: never copied
-    grade_folder(folder, SCENARIO, out=out, sandbox="none", client=client)
+    grade_folder(folder, empty_cell, out=out, sandbox="none", client=client)
     seen = (out / "runs" / "alice.stdout.txt").read_text().splitlines()[0]
     assert seen == "hello ['.tmp', '_helpers.py', 'alice.py', 'data.csv']"
     assert "'bob.py'" in (out / "runs" / "bob.stdout.txt").read_text()
