@@ -122,13 +122,14 @@ _TYPED: dict[str, Scenario] = {}
 #: How many of each are kept (the oldest goes first).
 _KEPT = 64
 _MEMO_LOCK = threading.Lock()
+_MISSING = object()
 
 
 def _kept(memo: dict, key: Any, make: Callable[[], Any]) -> Any:
     """A deep copy of ``memo[key]``, made by ``make()`` the first time."""
     with _MEMO_LOCK:
-        value = memo.get(key, _MEMO_LOCK)
-    if value is _MEMO_LOCK:
+        value = memo.get(key, _MISSING)
+    if value is _MISSING:
         value = make()
         with _MEMO_LOCK:
             while len(memo) >= _KEPT:
