@@ -192,7 +192,8 @@ def main() -> None:
     print("| part | share | what |\n|---|---:|---|")
     for name, what, _ in CATEGORIES + [OTHER]:
         print(f"| {name} | {100 * totals[name] / samples:.1f} % | {what} |")
-    print(f"\n({samples} samples inside the run; the build and the rest of run_task: {build} more)")
+    where = "the replay's AdvanceTo" if args.replay else "the run"
+    print(f"\n({samples} samples inside {where}; the build and the rest: {build} more)")
     if args.overhead:
         print("\n| simulator overhead: part | share of the run |\n|---|---:|")
         parts = overhead_parts(args.profile, args.replay)

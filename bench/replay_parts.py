@@ -175,6 +175,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--profile-replay", help="py-spy raw samples of the plain replays, here")
+    parser.add_argument("--with-parts", action="store_true", help="profile the replays with the parts")
     args = parser.parse_args()
     speed = speed_module()
     fill = prepare("fill_bin")
@@ -189,7 +190,12 @@ def main() -> None:
         flush=True,
     )
     if args.profile_replay:
-        _profile_replays(args.profile_replay, args.rounds, lambda: speed.replay_seconds(floor, motion)[0])
+        if args.with_parts:
+            _profile_replays(
+                args.profile_replay, args.rounds, lambda: speed.replay_seconds(fill, motion, True)[0]
+            )
+        else:
+            _profile_replays(args.profile_replay, args.rounds, lambda: speed.replay_seconds(floor, motion)[0])
         return
 
     def full_run() -> float:
