@@ -260,3 +260,18 @@ def test_replay_with_parts_carries_the_runs_part_into_the_bin():
     body = plant.GetBodyByName("object_1", models.parts["object_1"])
     p_end = plant.EvalBodyPoseInWorld(context, body).translation()
     assert scenario.bin("bin_1").contains(p_end)  # carried, not left on the floor
+
+
+def test_the_replay_with_parts_row_stands_beside_the_issues_row():
+    report = SpeedReport(
+        cases=(), station_build_s=0.2, task_build_s=0.3, cycles=(5.5,), repeats=1,
+        replays=(ReplayTiming("fill_bin", replay=0.080, full=0.180, replay_parts=0.090),))
+    by_what = rows(report)
+    issue = by_what["fill_bin: CPU ms/s, full / same motion replayed"]
+    carried = by_what["fill_bin: CPU ms/s, full / same motion and parts replayed"]
+    assert (issue.measured, issue.target, issue.met) == ("180 / 80 = 2.25x", "<= 1.5x", False)
+    assert (carried.measured, carried.target) == ("180 / 90 = 2.00x", "(reference)")
+    without = SpeedReport(
+        cases=(), station_build_s=0.2, task_build_s=0.3, cycles=(5.5,), repeats=1,
+        replays=(ReplayTiming("fill_bin", replay=0.080, full=0.180),))
+    assert "fill_bin: CPU ms/s, full / same motion and parts replayed" not in rows(without)
