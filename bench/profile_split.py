@@ -61,20 +61,31 @@ ATTACH_AFTER_S = 2.0
 
 #: A frame of the run: the driver advancing the simulation.
 RUN_FRAME = re.compile(r"advance_to \(.*omtp_drake/sim/driver\.py")
+#: A frame of the bare plant's replay (bench/speed.py), and its simulation inside it.
+REPLAY_FRAME = re.compile(r"replay_seconds \(.*speed\.py")
+ADVANCE_FRAME = "Simulator<double>::AdvanceTo"
 
 
-def split(path: str) -> tuple[int, collections.Counter, int]:
+def split(path: str, replay: bool = False) -> tuple[int, collections.Counter, int]:
     """The samples inside the run, their count per category, and the samples of
-    ``run_task`` outside the run (the build)."""
+    ``run_task`` outside the run (the build). With ``replay``: the samples inside the bare
+    plant's replay (``speed.replay_seconds``'s ``AdvanceTo``) instead, and its build."""
     totals: collections.Counter = collections.Counter()
     samples = build = 0
+    outer, inner = (REPLAY_FRAME, ADVANCE_FRAME) if replay else (None, None)
     for line in open(path):
         stack, _, count = line.rstrip().rpartition(" ")
         frames = stack.split(";")
-        if not any("run_task" in f for f in frames):
+        if outer is not None:
+            if not any(outer.search(f) for f in frames):
+                continue
+            inside = any(inner in f for f in frames)
+        elif not any("run_task" in f for f in frames):
             continue
+        else:
+            inside = any(RUN_FRAME.search(f) for f in frames)
         n = int(count)
-        if not any(RUN_FRAME.search(f) for f in frames):
+        if not inside:
             build += n
             continue
         samples += n
@@ -138,16 +149,56 @@ def profile_parts(scenario: str = "fill_bin", rate: int = 100) -> tuple[tuple[tu
     return tuple((name, totals[name] / samples) for name in names), note
 
 
+#: "simulator overhead" split further (``--overhead``): (part, frame patterns), the first
+#: any frame of a sample matches takes it.
+OVERHEAD_PARTS = [
+    ("invalidation (DependencyTracker, NotifySubscribers)",
+     ["DependencyTracker", "NotifySubscribers", "NotePrerequisiteChange"]),
+    ("event collections (Clear, AddToEnd, ...)", ["EventCollection"]),
+    ("next update time", ["CalcNextUpdateTime", "DoCalcNextUpdateTime"]),
+    ("heap (malloc, free, new, delete)", ["malloc", "_int_free", "cfree", "operator new", "operator delete"]),
+    ("caches, contexts, ports", ["Cache", "Context", "Port"]),
+    ("the rest", [""]),
+]
+
+
+def overhead_parts(path: str, replay: bool = False) -> collections.Counter:
+    """The "simulator overhead" samples per :data:`OVERHEAD_PARTS`."""
+    parts: collections.Counter = collections.Counter()
+    for line in open(path):
+        stack, _, count = line.rstrip().rpartition(" ")
+        frames = stack.split(";")
+        inside = (
+            any(REPLAY_FRAME.search(f) for f in frames) and any(ADVANCE_FRAME in f for f in frames)
+            if replay
+            else any(RUN_FRAME.search(f) for f in frames)
+        )
+        if inside and _category(frames) == "simulator overhead":
+            part = next(n for n, ps in OVERHEAD_PARTS if any(p in f for f in frames for p in ps))
+            parts[part] += int(count)
+    return parts
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("profile", help="a py-spy --native -f raw file")
     parser.add_argument("--modules", action="store_true", help="our Python by omtp_drake module")
+    parser.add_argument(
+        "--replay", action="store_true", help="split the bare plant's replay (bench/replay_parts.py) instead"
+    )
+    parser.add_argument("--overhead", action="store_true", help="the simulator overhead split further")
     args = parser.parse_args()
-    samples, totals, build = split(args.profile)
+    samples, totals, build = split(args.profile, args.replay)
     print("| part | share | what |\n|---|---:|---|")
     for name, what, _ in CATEGORIES + [OTHER]:
         print(f"| {name} | {100 * totals[name] / samples:.1f} % | {what} |")
-    print(f"\n({samples} samples inside the run; the build and the rest of run_task: {build} more)")
+    where = "the replay's AdvanceTo" if args.replay else "the run"
+    print(f"\n({samples} samples inside {where}; the build and the rest: {build} more)")
+    if args.overhead:
+        print("\n| simulator overhead: part | share of the run |\n|---|---:|")
+        parts = overhead_parts(args.profile, args.replay)
+        for name, _ in OVERHEAD_PARTS:
+            print(f"| {name} | {100 * parts[name] / samples:.1f} % |")
     if args.modules:
         print("\n| our Python: module | share of the run |\n|---|---:|")
         for module, n in ours_by_module(args.profile).most_common():

@@ -41,6 +41,7 @@ import importlib.util
 import logging
 import math
 import statistics
+import sys
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -82,15 +83,21 @@ def _on_belt(y: float, size: float = 0.2) -> list[float]:
     return [_BELT.x, y, _BELT.top + size / 2 + 0.001]
 
 
-def bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> tuple[Simulator, object]:
+def bare_simulator(
+    scenario: Scenario, motion: Optional[ArmMotion] = None, holds: Optional[dict] = None
+) -> tuple[Simulator, object]:
     """The bare plant of ``scenario`` (see the module doc), initialized: each arm held
     at its initial pose, or replaying its commands from ``motion``. Also returns what
-    the simulator needs kept alive (the servos' arm models)."""
+    the simulator needs kept alive (the servos' arm models). ``holds``: filled with the
+    weld grippers' constraints (declared, off), for a replay that carries the parts
+    (bench/replay_parts.py)."""
     tune_heap()  # as the driver does: the same heap for the full run and the bare plant
     builder = DiagramBuilder()
     plant, scene_graph = AddMultibodyPlant(scenario.plant_config, builder)
     plant.mutable_gravity_field().set_gravity_vector(scenario.gravity)
     models = add_cell_models(plant, scene_graph, scenario)
+    if holds is not None:
+        holds.update(_sibling("replay_parts").declare_holds(plant, models))
     plant.Finalize()
     samplers = {}
     for name, handles in models.arms.items():
@@ -118,6 +125,8 @@ def bare_simulator(scenario: Scenario, motion: Optional[ArmMotion] = None) -> tu
     part_states = PartStates(plant, scene_graph, models.parts)
     for name in models.pool:  # parked as the station parks them
         part_states.park(context, name)
+    for constraints in (holds or {}).values():
+        constraints.deactivate_all(plant, plant_context)
     if motion is not None:  # as the station locks an arm whose command is held
         for name in set(models.arms) - set(motion.moving):
             arms.lock_arm(plant, plant_context, models.arms[name].arm, True)
@@ -146,6 +155,8 @@ class ArmMotion:
     #: The arms whose command changed in the run (a task's controller drives them);
     #: the others' commands were held, and the station locked them.
     moving: frozenset[str] = frozenset()
+    #: The run's edits of its parts (bench/replay_parts.py), for a replay that carries them.
+    parts: tuple = ()
 
 
 def record_arm_motion(name: Scenario | str) -> tuple[ArmMotion, TaskResult]:
@@ -154,6 +165,7 @@ def record_arm_motion(name: Scenario | str) -> tuple[ArmMotion, TaskResult]:
     instant)."""
     samples: dict[str, dict[int, np.ndarray]] = {}
     periods: dict[str, float] = {}
+    edits: list = []
 
     def start(run: TaskRun) -> None:
         station = run.runtime.station
@@ -163,6 +175,8 @@ def record_arm_motion(name: Scenario | str) -> tuple[ArmMotion, TaskResult]:
             periods[robot.name] = 1.0 / robot.command_rate_hz
             ports[robot.name] = station.diagram.GetInputPort(f"{robot.name}.position")
             samples[robot.name] = {}
+        run_edits, after_step = _sibling("replay_parts").watch_parts(run)
+        edits.append(run_edits)
 
         def monitor(context: Context) -> EventStatus:
             # Called after each step, before the updates at its end time: the
@@ -172,6 +186,7 @@ def record_arm_motion(name: Scenario | str) -> tuple[ArmMotion, TaskResult]:
                 k = round(t / periods[robot])
                 if abs(t - k * periods[robot]) < 1e-9 and k not in samples[robot]:
                     samples[robot][k] = np.array(port.Eval(station_context))
+            after_step(context)
             return EventStatus.Succeeded()
 
         monitor(run.runtime.context)  # the sample at t = 0
@@ -188,7 +203,7 @@ def record_arm_motion(name: Scenario | str) -> tuple[ArmMotion, TaskResult]:
     moving = frozenset(
         robot for robot, by_k in samples.items() if np.ptp(np.stack(list(by_k.values())), axis=0).max() > 0
     )
-    return ArmMotion(commands, result.sim_time_s, moving), result
+    return ArmMotion(commands, result.sim_time_s, moving, tuple(edits[0])), result
 
 
 def replay_cpu_seconds(scenario: Scenario, motion: ArmMotion) -> float:
@@ -197,12 +212,17 @@ def replay_cpu_seconds(scenario: Scenario, motion: ArmMotion) -> float:
     return replay_seconds(scenario, motion)[0]
 
 
-def replay_seconds(scenario: Scenario, motion: ArmMotion) -> tuple[float, float]:
+def replay_seconds(scenario: Scenario, motion: ArmMotion, parts: bool = False) -> tuple[float, float]:
     """CPU (this process) and wall seconds per simulated second of ``scenario``'s bare
-    plant replaying ``motion``."""
-    simulator, _models = bare_simulator(scenario, motion)
+    plant replaying ``motion``; with ``parts``, also carrying the run's parts as it did
+    (``scenario``: the run's own, with its pool; bench/replay_parts.py)."""
+    holds: Optional[dict] = {} if parts else None
+    simulator, models = bare_simulator(scenario, motion, holds)
     cpu, wall = time.process_time(), time.perf_counter()
-    simulator.AdvanceTo(motion.duration)
+    if parts:
+        _sibling("replay_parts").advance_with_parts(simulator, models, holds, motion.parts, motion.duration)
+    else:
+        simulator.AdvanceTo(motion.duration)
     return (time.process_time() - cpu) / motion.duration, (time.perf_counter() - wall) / motion.duration
 
 
@@ -269,11 +289,18 @@ class ReplayTiming:
     full: float
     replay_wall: float = math.nan
     full_wall: float = math.nan
+    #: The replay carrying the run's parts as it did (bench/replay_parts.py); nan: not measured.
+    replay_parts: float = math.nan
 
     @property
     def ratio(self) -> float:
         """The full run's cost over the replay's (target: <= 1.5, issue 38)."""
         return self.full / self.replay
+
+    @property
+    def parts_ratio(self) -> float:
+        """The full run's cost over the replay that carries its parts."""
+        return self.full / self.replay_parts
 
     @property
     def wall_ratio(self) -> float:
@@ -338,6 +365,16 @@ class SpeedReport:
                 r.ratio <= REPLAY_RATIO_TARGET,
             )
             for r in self.replays
+        ]
+        rows += [
+            SpeedRow(
+                f"{r.case}: CPU ms/s, full / same motion and parts replayed",
+                f"{1e3 * r.full:.0f} / {1e3 * r.replay_parts:.0f} = {r.parts_ratio:.2f}x",
+                "(reference)",
+                True,
+            )
+            for r in self.replays
+            if math.isfinite(r.replay_parts)
         ]
         rows += [
             SpeedRow(
@@ -475,7 +512,7 @@ def measure(
     ]
     say("fill_bin, at its step and at 2 ms, against the same arm motion replayed")
     replays = (
-        replay_timing("fill_bin", fill, fill_floor, repeats),
+        replay_timing("fill_bin", fill, fill_floor, repeats, with_parts=fill),
         replay_timing(fine_label, fill.with_time_step(fine), fill_floor.with_time_step(fine), repeats),
     )
     fill_runs = [r for r in results if r.scenario == "fill_bin"]
@@ -492,11 +529,15 @@ def measure(
     )
 
 
-def replay_timing(label: str, scenario: Scenario, bare: Scenario, repeats: int) -> ReplayTiming:
+def replay_timing(
+    label: str, scenario: Scenario, bare: Scenario, repeats: int, with_parts: Optional[Scenario] = None
+) -> ReplayTiming:
     """``scenario``'s task (CPU per simulated second, the median of ``repeats``) against
-    ``bare`` replaying the arm commands recorded in one more run of it; interleaved."""
+    ``bare`` replaying the arm commands recorded in one more run of it; interleaved. With
+    ``with_parts`` (the run's scenario, its pool), also against that bare plant replaying
+    the same commands and carrying the run's parts as it did (bench/replay_parts.py)."""
     motion, _ = record_arm_motion(scenario)
-    full, replay, full_wall, replay_wall = [], [], [], []
+    full, replay, full_wall, replay_wall, carried = [], [], [], [], []
     for _ in range(repeats):
         cpu, wall = time.process_time(), time.perf_counter()
         result = run_task(scenario)
@@ -505,21 +546,33 @@ def replay_timing(label: str, scenario: Scenario, bare: Scenario, repeats: int) 
         replayed = replay_seconds(bare, motion)
         replay.append(replayed[0])
         replay_wall.append(replayed[1])
+        if with_parts is not None:
+            carried.append(replay_seconds(with_parts, motion, parts=True)[0])
     return ReplayTiming(
         label,
         statistics.median(replay),
         statistics.median(full),
         statistics.median(replay_wall),
         statistics.median(full_wall),
+        statistics.median(carried) if carried else math.nan,
     )
 
 
 def _profile_split_module():
     """bench/profile_split.py (beside this file), imported by path."""
-    path = Path(__file__).resolve().parent / "profile_split.py"
-    spec = importlib.util.spec_from_file_location("omtp_bench_profile_split", path)
+    return _sibling("profile_split")
+
+
+def _sibling(stem: str):
+    """bench/<stem>.py (beside this file), imported by path once."""
+    name = f"omtp_bench_{stem}"
+    if name in sys.modules:
+        return sys.modules[name]
+    path = Path(__file__).resolve().parent / f"{stem}.py"
+    spec = importlib.util.spec_from_file_location(name, path)
     if spec is None or spec.loader is None:
         raise BenchmarkError(f"cannot load {path}")
     module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # (its dataclasses look their module up by name)
     spec.loader.exec_module(module)
     return module
