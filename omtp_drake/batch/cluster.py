@@ -64,6 +64,12 @@ _LOCAL_CLUSTER_CONFIG = {
     "distributed.admin.tick.interval": "1s",
     "distributed.admin.system-monitor.interval": "2s",
     "distributed.worker.memory.monitor-interval": "1s",
+    # A worker that died (a run killed it) is started again by its nanny; the cluster closes
+    # that nanny, and the worker it is starting, when the new worker has not registered within
+    # this time (Dask's 15 s). One core beside a busy loop, a restart took 25 s: the cluster
+    # closed the new worker as it began the next task (a grade's next script then got
+    # "worker died") and was left with no workers. 5 minutes: a restart on a slow machine.
+    "distributed.deploy.lost-worker-timeout": "300s",
 }
 
 
