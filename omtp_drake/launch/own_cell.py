@@ -115,30 +115,14 @@ def own_cell(
     if world is not None:  # the package holding the world too (its models, as a sourced workspace has)
         dirs += [f for f in Path(world).expanduser().resolve().parents if (f / "package.xml").is_file()][:1]
     ws = student_workspace(dirs, environ)
-    mapping = NodeMapping()
-    moveit = None
+    moveit: Path | None = None
     controllers: list[str] = []
     if launch is not None:
-        pkg, file, args = parse_launch_spec(launch)
-        path = find_launch_file(ws, pkg, file)
-        read = read_launch_file(path, args, ws, environ)
-        controllers = read.controllers
-        mapping = map_nodes(read, ws)
-        mapping.warnings[:0] = read.warnings
-        # controller_manager's spawners start the controllers of the models loaded as they are
-        # (the course's arms' spawners: the cell drives its arms itself).
-        mapping.world.models[:] = start_spawned_controllers(
-            mapping.world.models, read, cell_namespaces=[robot["name"] for robot in mapping.pieces.robots]
-        )
-        mapping.world.models[:], lines = activate_ros2_controllers(
-            mapping.world.models, controllers, str(path)
-        )
-        mapping.warnings += lines
-        moveit, source, name = read.moveit_config, path, path.stem
+        mapping, controllers, moveit, source = _mapped_launch(launch, ws, environ)
     else:
-        source = Path(world).expanduser().resolve()  # type: ignore[arg-type]
+        mapping, source = NodeMapping(), Path(world).expanduser().resolve()  # type: ignore[arg-type]
         add_world(mapping.world, source, ws)
-        name = source.stem
+    name = source.stem
     merge_pedestals(mapping.pieces)
     document = _document(mapping, name, f"{launch or source} (a student's own files)")
     try:
@@ -162,6 +146,28 @@ def own_cell(
         controllers,
         mapping.ros2_only,
     )
+
+
+def _mapped_launch(
+    launch: str, ws: Workspace, environ: Mapping[str, str] | None
+) -> tuple[NodeMapping, list[str], Path | None, Path]:
+    """What the launch ``launch`` starts, mapped onto the cell (its models' controllers
+    started as its spawners start them), the controllers it names, its MoveIt config and
+    its file."""
+    pkg, file, args = parse_launch_spec(launch)
+    path = find_launch_file(ws, pkg, file)
+    read = read_launch_file(path, args, ws, environ)
+    mapping = map_nodes(read, ws)
+    mapping.warnings[:0] = read.warnings
+    # controller_manager's spawners start the controllers of the models loaded as they are
+    # (the course's arms' spawners: the cell drives its arms itself).
+    mapping.world.models[:] = start_spawned_controllers(
+        mapping.world.models, read, cell_namespaces=[robot["name"] for robot in mapping.pieces.robots]
+    )
+    models = mapping.world.models
+    mapping.world.models[:], lines = activate_ros2_controllers(models, read.controllers, str(path))
+    mapping.warnings += lines
+    return mapping, read.controllers, read.moveit_config, path
 
 
 def _frame(name: str, X_WL: RigidTransform) -> dict:
