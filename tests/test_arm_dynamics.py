@@ -139,16 +139,13 @@ def test_the_plant_diffik_and_the_timing_keep_within_them(cell):
 
 
 def test_a_limit_that_is_no_number_above_zero_is_one_warning_and_the_models_are_kept():
-    from omtp_drake.launch.arm_dynamics import ARM_JOINTS, arm_joint_rates
-    from omtp_drake.launch.urdf_model import UrdfModel
+    from arm_text import arm_with_limits
 
-    joints = "".join(
-        f'<joint name="r_{j}" type="revolute"><parent link="a"/><child link="b{k}"/>'
-        f'<limit lower="-3.14" upper="3.14" effort="{-5 if k == 2 else 40}" velocity="2"/></joint>'
-        for k, j in enumerate(ARM_JOINTS)
+    from omtp_drake.launch.arm_dynamics import arm_joint_rates
+
+    model = arm_with_limits(
+        lambda k: f'lower="-3.14" upper="3.14" effort="{-5 if k == 2 else 40}" velocity="2"'
     )
-    links = "".join(f'<link name="b{k}"/>' for k in range(6))
-    model = UrdfModel.from_text(f'<robot name="r"><link name="a"/>{links}{joints}</robot>', "arm.urdf")
     rates, (line,) = arm_joint_rates(model, "r_", "ur5", "spawn.launch:9")
     assert rates == {"velocity_limits": [2.0] * 6}
     assert line.startswith("spawn.launch:9: arm 'r': effort limits shoulder_pan_joint 40, ")

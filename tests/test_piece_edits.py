@@ -99,15 +99,13 @@ def test_their_unlimited_arm_is_the_scenarios(cell):
 
 
 def test_limits_that_are_not_one_symmetric_limit_are_one_warning():
-    from omtp_drake.launch.pieces import PIECE_JOINTS, arm_joint_limit
+    from arm_text import arm_with_limits
 
-    joints = "".join(
-        f'<joint name="r_{j}" type="revolute"><parent link="a"/><child link="b{k}"/>'
-        f'<limit lower="{-1.5 if k == 0 else -3.14}" upper="3.14" effort="1" velocity="1"/></joint>'
-        for k, j in enumerate(PIECE_JOINTS)
+    from omtp_drake.launch.pieces import arm_joint_limit
+
+    model = arm_with_limits(
+        lambda k: f'lower="{-1.5 if k == 0 else -3.14}" upper="3.14" effort="1" velocity="1"'
     )
-    links = "".join(f'<link name="b{k}"/>' for k in range(6))
-    model = UrdfModel.from_text(f'<robot name="r"><link name="a"/>{links}{joints}</robot>', "arm.urdf")
     limits, (line,) = arm_joint_limit(model, "r_", "spawn.launch:9")
     assert limits == {}
     assert line.startswith("spawn.launch:9: arm 'r': joint limits shoulder_pan_joint [-1.5, 3.14], ")
