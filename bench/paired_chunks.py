@@ -62,12 +62,18 @@ def advance_in_pairs(
     return cpu, t
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def pair_arguments(doc: str) -> argparse.Namespace:
+    """A paired-chunk script's command line: the scenario, the chunk and the end (simulated s);
+    the script's doc's first paragraph as its description."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
     parser.add_argument("scenario", nargs="?", default="fill_bin")
     parser.add_argument("--chunk", type=float, default=1.0)
     parser.add_argument("--until", type=float, default=60.0)
-    args = parser.parse_args()
+    return parser.parse_args()
+
+
+def main() -> None:
+    args = pair_arguments(__doc__)
     runs = {"old": _build(args.scenario, old=True), "new": _build(args.scenario, old=False)}
     cpu, t = advance_in_pairs(runs, args.chunk, args.until)
     for name, run in runs.items():

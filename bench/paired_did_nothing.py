@@ -15,11 +15,10 @@ paired ratio (as ``paired_chunks.py``).
 
 from __future__ import annotations
 
-import argparse
 import os
 import statistics
 
-from paired_chunks import advance_in_pairs
+from paired_chunks import advance_in_pairs, pair_arguments
 from pydrake.systems.framework import EventStatus
 
 from omtp_drake.tasks.run import TaskRun, prepare
@@ -38,11 +37,7 @@ def _always_applied(run: TaskRun) -> None:
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("scenario", nargs="?", default="fill_bin")
-    parser.add_argument("--chunk", type=float, default=1.0)
-    parser.add_argument("--until", type=float, default=60.0)
-    args = parser.parse_args()
+    args = pair_arguments(__doc__)
     runs = {"applied": TaskRun(prepare(args.scenario)), "didnothing": TaskRun(prepare(args.scenario))}
     _always_applied(runs["applied"])
     cpu, t = advance_in_pairs(runs, args.chunk, args.until)
