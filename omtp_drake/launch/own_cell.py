@@ -38,7 +38,7 @@ from omtp_drake.launch.pieces import merge_pedestals
 from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
 from omtp_drake.launch.standins import standin_dirs
 from omtp_drake.launch.urdf_model import UrdfModel
-from omtp_drake.scenario import Scenario, scenario_from_dict, scenario_text
+from omtp_drake.scenario import FrameConfig, Scenario, scenario_from_dict, scenario_text
 from omtp_drake.scenario.plugin_names import CameraListing, GripperNames, PluginNames
 from omtp_drake.workspace import Workspace
 
@@ -126,9 +126,14 @@ def own_cell(
     merge_pedestals(mapping.pieces)
     document = _document(mapping, name, f"{launch or source} (a student's own files)")
     try:
-        # (the loader's models are typed already: three quarters of the document's text)
+        # (the loader's models and fixed links are typed already: most of the document's
+        # text, which Drake's pure-Python YAML reader would otherwise read back)
         scenario = scenario_from_dict(
-            {**document, "models": []}, source=str(source), name=name, models=mapping.world.models
+            {**document, "models": [], "frames": []},
+            source=str(source),
+            name=name,
+            models=mapping.world.models,
+            frames=[FrameConfig(**frame) for frame in document["frames"]],
         )
     except ConfigError as e:
         if isinstance(e, WorkspaceError):

@@ -44,7 +44,7 @@ from pydrake.math import RollPitchYaw
 
 from omtp_drake.errors import ConfigError, ScenarioError, UnknownNameError
 from omtp_drake.scenario.camera import LogicalCameraConfig
-from omtp_drake.scenario.configs import PartConfig
+from omtp_drake.scenario.configs import FrameConfig, PartConfig
 from omtp_drake.scenario.models import ModelConfig
 from omtp_drake.scenario.refusals import LOADER_ERRORS, refusal_message
 from omtp_drake.scenario.schema import Scenario
@@ -95,8 +95,9 @@ def _construct_tagged(loader: yaml.SafeLoader, suffix: str, node: yaml.Node) -> 
     return _Tagged("!" + suffix, value)
 
 
-class _Dumper(yaml.SafeDumper):
-    pass
+class _Dumper(getattr(yaml, "CSafeDumper", yaml.SafeDumper)):  # type: ignore[misc]
+    """libyaml's emitter where PyYAML has it (the same text, a quarter of the pure-Python
+    emitter's time: a launch's scenario is dumped once per build for Drake's typed load)."""
 
 
 _Loader.add_multi_constructor("!", _construct_tagged)
@@ -283,12 +284,17 @@ def load_scenario(name_or_path: str | Path) -> Scenario:
 
 
 def scenario_from_dict(
-    raw: dict, *, source: str = "scenario", name: str = "", models: Sequence[ModelConfig] = ()
+    raw: dict,
+    *,
+    source: str = "scenario",
+    name: str = "",
+    models: Sequence[ModelConfig] = (),
+    frames: Sequence[FrameConfig] = (),
 ) -> Scenario:
     """A validated Scenario from plain data (a scenario file's mapping, bases
-    already merged). ``source`` names it in error messages. ``models``: entries typed
-    already (a launch's loaded models), copied in after ``raw``'s before the checks
-    (not dumped to YAML and read back)."""
+    already merged). ``source`` names it in error messages. ``models`` and ``frames``:
+    entries typed already (a launch's loaded models, its links fixed to the world), copied
+    in after ``raw``'s before the checks (not dumped to YAML and read back)."""
     if not isinstance(raw, dict):
         raise ScenarioError(f"{source}: a scenario must be a mapping of keys, got {type(raw).__name__}")
     try:
@@ -299,6 +305,7 @@ def scenario_from_dict(
         scenario.name = name
     scenario.base = ""
     scenario.models += copy.deepcopy(list(models))
+    scenario.frames += copy.deepcopy(list(frames))
     _apply_poses(scenario, raw, source)
     scenario.validate()
     return scenario
