@@ -12,6 +12,7 @@ the key (its package's folder is): Drake's parse of the cell reads it again at t
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import importlib.metadata
 from pathlib import Path
@@ -35,7 +36,7 @@ def remember_accepted(model_dirs: list[Path], workspace: Workspace) -> None:
 
 def _entry(model_dirs: list[Path], workspace: Workspace) -> Path | None:
     """The cache entry of the folders' verdict (None: a file could not be read)."""
-    key: list[object] = [importlib.metadata.version("drake")]
+    key: list[object] = [_drake_version()]
     named = {**workspace.models, **workspace.packages}
     key.append(sorted((name, str(folder)) for name, folder in named.items()))
     for folder in model_dirs:
@@ -46,3 +47,10 @@ def _entry(model_dirs: list[Path], workspace: Workspace) -> Path | None:
         key.append((str(folder), hashes))
     digest = hashlib.sha1(repr(key).encode()).hexdigest()[:24]
     return cache_entry(f"drake-verdicts/{digest}")
+
+
+@functools.cache
+def _drake_version() -> str:
+    """The installed drake's version (a metadata lookup is 1-5 ms; the loaded pydrake is this
+    process's for its whole life)."""
+    return importlib.metadata.version("drake")
