@@ -21,8 +21,10 @@ its model's.
 from __future__ import annotations
 
 import functools
+import json
 import math
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 from pydrake.math import RollPitchYaw
@@ -106,14 +108,36 @@ def arm_inertials(model: UrdfModel, prefix: str, kind: str, where: str) -> tuple
     return ({"inertials": out} if out else {}), lines
 
 
+#: Bump when what :func:`course_inertials` keeps in the model cache changes.
+_KEPT_INERTIALS = "1"
+
+
 @functools.cache
 def course_inertials(kind: str) -> dict[str, list[float]]:
     """The inertials the course's ``ur_description`` gives a ``kind`` arm's links (the
-    project's stand-in, expanded for that model)."""
+    project's stand-in, expanded for that model). Kept in the model cache by the stand-ins'
+    content (their folder's name), xacro's version and ``kind``: a command's first read of a
+    launch expanded the stand-in again (a workspace, its prefix, the kept expansion's hashes)."""
+    from omtp_drake.assets import xacro_version
     from omtp_drake.launch.standins import standin_dirs
+
+    (standins,) = standin_dirs()
+    kept = cache_entry(f"course-inertials/{standins.name}-{xacro_version()}-{_KEPT_INERTIALS}-{kind}.json")
+    try:
+        values = json.loads(kept.read_text())
+        return {str(link): [float(v) for v in numbers] for link, numbers in values.items()}
+    except (OSError, ValueError, AttributeError, TypeError):
+        pass
+    out = _expanded_inertials(kind, standins)
+    write_atomic(kept, json.dumps(out).encode())
+    return out
+
+
+def _expanded_inertials(kind: str, standins: Path) -> dict[str, list[float]]:
+    """:func:`course_inertials` of the stand-ins in ``standins``, expanded with xacro."""
     from omtp_drake.workspace import Workspace, expand_xacro_in
 
-    workspace = Workspace.from_dirs((), environ={}, bundled=standin_dirs())
+    workspace = Workspace.from_dirs((), environ={}, bundled=(standins,))
     call = cache_entry(f"course_{kind}_arm.urdf.xacro")
     if not call.exists():
         write_atomic(
