@@ -94,6 +94,14 @@ def test_same_seeds_same_spawns_other_seeds_other_spawns():
     assert {d.kind for d in first} == {0, 1}
 
 
+def test_an_object_with_no_variance_spawns_where_its_config_puts_it_at_each_tick():
+    spawner = SpawnerConfig(objects=[SpawnObjectConfig(name="box", xyz=[1.2, 1.8, 1.0])])
+    for k in range(5):
+        d = draw(spawner, 3, k)
+        assert (d.kind, d.lateral, d.yaw, d.delay) == (0, 0.0, 0.0, 0.0)
+        np.testing.assert_allclose(object_pose(spawner, d).translation(), [1.2, 1.8, 1.0])
+
+
 def test_each_draw_is_within_its_objects_ranges_and_moves_along_y():
     spawner = _spawner()
     for k in range(200):
