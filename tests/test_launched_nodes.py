@@ -5,6 +5,7 @@ the run SIGINT, then SIGTERM, then SIGKILL for a node that will not stop."""
 from __future__ import annotations
 
 import os
+import signal
 import textwrap
 import time
 
@@ -70,7 +71,13 @@ def test_the_run_ending_stops_each_node_sigint_first_then_sigterm(tmp_path, monk
             time.sleep(0.05)
         """,
     )
-    lines = _run([(polite, []), (stubborn, [])], "[polite-1] up", "[stubborn-2] up")
+    # Run as from 'pytest ... &' (a shell's background job ignores SIGINT): each node still gets
+    # SIGINT at its default, as ros2 launch's nodes do, and its Ctrl-C handler runs.
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        lines = _run([(polite, []), (stubborn, [])], "[polite-1] up", "[stubborn-2] up")
+    finally:
+        signal.signal(signal.SIGINT, previous)
     assert "[polite-1] stopping on Ctrl-C" in lines
     assert any(line.startswith("[polite-1] finished cleanly") for line in lines)
     assert any(line.startswith("[stubborn-2] died") and line.endswith("exit code -15]") for line in lines)
