@@ -24,6 +24,17 @@ from omtp_drake.launch.ros2_nodes import Ros2NodeProgram
 GRACE_S = 5.0
 
 
+def _sigint_as_at_a_terminal() -> None:
+    """In the child before its program starts: SIGINT at its default, as ``ros2 launch``'s nodes
+    get it (launch catches SIGINT, and a caught signal is reset to its default by exec). An
+    ignored one is inherited as ignored: a caller started in the background of a shell (``cmd &``
+    without job control ignores SIGINT), e.g. pytest in a ``pytest ... &`` run, would give every
+    node an ignored SIGINT, Python would then install no KeyboardInterrupt handler, and each node
+    would skip its Ctrl-C cleanup and be killed by the SIGTERM that follows. (``omtp-drake ros2``
+    catches SIGINT itself while its nodes run, so there they got the default already.)"""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 def _start(
     program: Ros2NodeProgram,
     argv: Sequence[str],
@@ -44,6 +55,7 @@ def _start(
         stderr=subprocess.STDOUT,
         text=True,
         process_group=0,  # Ctrl-C reaches the run only; it passes it on, as ros2 launch does
+        preexec_fn=_sigint_as_at_a_terminal,
     )
     say(f"[{label}] started [pid {process.pid}]: {shlex.join(command)}")
     reader = threading.Thread(target=_relay, args=(process, label, say), daemon=True)
