@@ -95,8 +95,10 @@ def _construct_tagged(loader: yaml.SafeLoader, suffix: str, node: yaml.Node) -> 
     return _Tagged("!" + suffix, value)
 
 
-class _Dumper(yaml.SafeDumper):
-    pass
+class _Dumper(getattr(yaml, "CSafeDumper", yaml.SafeDumper)):  # type: ignore[misc]
+    """YAML's safe dumper; LibYAML's emitter where PyYAML has it (the same
+    documents, 4x faster: every scenario that is not memoized is dumped for Drake's
+    loader, and a refused one once per piece asked about)."""
 
 
 _Loader.add_multi_constructor("!", _construct_tagged)
