@@ -9,6 +9,7 @@ nesting). bench/bench_fuzz.py runs many more examples.
 
 import copy
 import dataclasses
+import functools
 import math
 import os
 import typing
@@ -33,6 +34,7 @@ BAD = st.sampled_from([
 ])
 
 
+@functools.cache  # get_type_hints is slow and asked for every mapping of every drawn document
 def _fields(schema) -> dict:
     if dataclasses.is_dataclass(schema):
         hints = typing.get_type_hints(schema)

@@ -36,8 +36,11 @@ def finish(run, limit):
 def stepped_run():
     """lecture6_assignment4 with one part, advanced 5 ms at a time (half DiffIK's period: at
     most one DiffIK step per advance) until done: the peak speeds seen at each stop, and
-    :func:`_run_in_steps`'s record of it. Two tests read it (one run, not two)."""
+    :func:`_run_in_steps`'s record of it, and the controller's input ports. Three tests read
+    it (one cell, not three)."""
     run = TaskRun(prepare("lecture6_assignment4", parts=1))
+    controller = run.controller
+    inputs = {controller.get_input_port(i).get_name() for i in range(controller.num_input_ports())}
     rt = run.runtime
     station = rt.station
     robot = station.arm("robot2")
@@ -62,7 +65,7 @@ def stepped_run():
             peaks["commanded"] = max(peaks["commanded"], np.linalg.norm(p - last["p"]) / 0.01)
         last["p"] = p
     assert run.done(), run.history().picks
-    return peaks, (run.history().picks, attached, replace(rt.ledger(), time=0.0))
+    return peaks, (run.history().picks, attached, replace(rt.ledger(), time=0.0)), inputs
 
 
 def test_limits_respected_during_a_run(stepped_run):
@@ -99,11 +102,9 @@ def test_a_run_advanced_in_steps_shorter_than_the_plants_is_the_same_run(stepped
     assert stepped_run[1] == (picks, attached, ledger)
 
 
-def test_controller_sees_only_cameras_gripper_and_joints():
-    run = TaskRun(prepare("lecture6_assignment4", parts=1))
-    controller = run.controller
-    names = {controller.get_input_port(i).get_name() for i in range(controller.num_input_ports())}
+def test_controller_sees_only_cameras_gripper_and_joints(stepped_run):
     # The other cameras help find a part that fell out of the pick camera's view.
+    names = stepped_run[2]
     assert names == {"camera_image", "bin_camera_image", "search_camera_0", "gripper_state", "robot_state"}
 
 

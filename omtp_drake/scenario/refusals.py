@@ -122,7 +122,14 @@ def _first_refused(value: Any, schema: Any, source: str, path: str, judge: _Judg
     for key, item in value.items():
         inner = f"{path}.{key}" if path else str(key)
         item_schema = unwrap_optional(fields[key])
-        if item is not None and is_record(item_schema):
+        nested = (item is not None and is_record(item_schema)) or (
+            isinstance(item, list) and _record_items(item_schema)
+        )
+        if nested and not judge.refuses(schema, key, item):
+            # A mapping (or list of them) the loader takes whole has no refused piece:
+            # one question instead of one per key inside it.
+            found = None
+        elif item is not None and is_record(item_schema):
             found = _first_refused(item, item_schema, source, inner, judge)
         elif isinstance(item, list) and _record_items(item_schema):
             found = _first_refused_item(item, typing.get_args(item_schema)[0], source, inner, judge)

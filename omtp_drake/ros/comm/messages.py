@@ -168,6 +168,11 @@ class Message(metaclass=_MessageType):
 
     def __init__(self, *args: Any, **kwargs: Any):
         names = self.__slots__
+        if not kwargs and len(args) == len(names):
+            # Every field in order (Point(x, y, z): each pose of each published state).
+            for name, value in zip(names, args):
+                setattr(self, name, value)
+            return
         if len(args) > len(names):
             raise TypeError(
                 f"{self._type} takes at most {len(names)} fields ({', '.join(names)}), got {len(args)}"
