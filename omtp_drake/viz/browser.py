@@ -115,6 +115,10 @@ _SEEK = """
 """
 
 
+#: Side (pixels) of the window the replay loads in, before the shots' own sizes.
+_LOAD_SIZE = 64
+
+
 @dataclass(frozen=True)
 class Shot:
     """One picture of a replay: written to ``png``, the replay at ``time`` (s; ``None``: its
@@ -198,8 +202,11 @@ def _capture(
         raise BrowserError(
             f"the browser exited before starting ({first}); is {browser!r} a chromium?"
         ) from None
-    width, height = shots[0].size
-    context = chromium.new_context(viewport={"width": width, "height": height}, device_scale_factor=1)
+    # The page loads in a small window: the replay plays its animation as it loads, each frame
+    # drawn in software (SwiftShader); each shot sets its own size before it is drawn.
+    context = chromium.new_context(
+        viewport={"width": _LOAD_SIZE, "height": _LOAD_SIZE}, device_scale_factor=1
+    )
     try:
         page = context.new_page()
         duration = _load(page, html, deadline)
