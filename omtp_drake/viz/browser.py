@@ -204,9 +204,12 @@ def _capture(
         ) from None
     # The page loads in a small window: the replay plays its animation as it loads, each frame
     # drawn in software (SwiftShader); each shot sets its own size before it is drawn.
-    context = chromium.new_context(
-        viewport={"width": _LOAD_SIZE, "height": _LOAD_SIZE}, device_scale_factor=1
-    )
+    try:
+        context = chromium.new_context(
+            viewport={"width": _LOAD_SIZE, "height": _LOAD_SIZE}, device_scale_factor=1
+        )
+    except PlaywrightError as e:
+        raise BrowserError(f"chromium failed to open a page: {str(e).splitlines()[0]}") from None
     try:
         page = context.new_page()
         duration = _load(page, html, deadline)
