@@ -35,13 +35,13 @@ def test_a_dropped_meshcat_cell_does_not_abort_the_process_when_a_batch_thread_c
     assert done.returncode == 0 and "alive" in done.stdout, done.stderr[-2000:]
 
 
-#: A screenshot taken from a running asyncio loop (a Jupyter kernel's cell) runs Playwright on
-#: a thread of its own; whatever that thread's allocations collect is stood in for here by the
-#: capture itself collecting.
+#: A screenshot (from a script, or from a running asyncio loop as in a Jupyter kernel's cell)
+#: runs Playwright on the process's browser thread; whatever that thread's allocations collect
+#: is stood in for here by the job itself collecting.
 SCREENSHOT_SCRIPT = """
 import asyncio, gc
 from pydrake.geometry import Meshcat
-from omtp_drake.viz import browser
+from omtp_drake.viz import browser_host
 
 class Cell:
     pass
@@ -50,10 +50,9 @@ cell = Cell()
 cell.meshcat, cell.me = Meshcat(), cell
 del cell
 gc.disable()
-browser._capture = lambda *args: [(gc.collect(), 0.0)]
 
 async def notebook_cell():
-    return browser._outside_event_loop(browser._capture)
+    return browser_host.on_browser_thread(lambda thread: gc.collect(), timeout_s=60)
 
 asyncio.run(notebook_cell())
 print("alive")

@@ -15,6 +15,7 @@ from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
 from omtp_drake.scenario import load_scenario
 from omtp_drake.tasks.run import TaskRun, prepare, run_task
 from omtp_drake.viz.browser import Shot, find_browser, screenshot, screenshots
+from omtp_drake.viz.browser_host import on_browser_thread
 from omtp_drake.viz.meshcat import (
     DEFAULT_VIEW,
     DetectionMarkers,
@@ -186,8 +187,11 @@ def test_cli_screenshot(shapes_replay, tmp_path, capsys):
 
 @needs_chromium
 def test_a_page_that_is_not_a_replay_is_refused(tmp_path):
+    """... by a browser started again: the process's browser had gone away (crashed, killed)."""
     page = tmp_path / "page.html"
     page.write_text("<html><body>hello</body></html>")
+    gone = on_browser_thread(lambda thread: thread.browser(CHROMIUM, (), 60_000).close(), timeout_s=60)
+    assert gone is None
     with pytest.raises(BrowserError, match="page.html is not a Meshcat replay"):
         screenshot(page, tmp_path / "page.png", browser=CHROMIUM, timeout_s=60)
 

@@ -7,6 +7,8 @@ to ``time`` (seconds of simulated time; default: its end), and saves what a
 user would see in a 1280 x 800 browser window. ``screenshots(replay.html, [Shot(...), ...])``
 takes several pictures of one replay (other times, sizes, hidden paths) in one page load: the
 browser's start and the replay's ~200 decoded commands are paid once, not once a picture.
+The browser itself is started once a process and kept (:mod:`omtp_drake.viz.browser_host`):
+each call opens a fresh page in it.
 
 It drives the system's chromium (``find_browser``) through Playwright, which
 downloads nothing when given the browser's path, and it waits on the page's
@@ -17,31 +19,35 @@ scene through ~200 ``fetch("data:...")`` calls.
 
 from __future__ import annotations
 
-import asyncio
 import json
 import logging
 import os
 import shutil
 import time as _time
-from collections.abc import Callable, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, Optional, TypeVar
+from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.errors import BrowserError, ConfigError, UnknownNameError
+from omtp_drake.viz.browser_host import BrowserThread, on_browser_thread
 
 if TYPE_CHECKING:
     from playwright.sync_api import Page
 
 _log = logging.getLogger(__name__)
-T = TypeVar("T")
 
 #: Names under which Debian and other distributions install chromium.
 BROWSER_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 
-#: Switches added to Playwright's own: software WebGL (SwiftShader), as on a machine without a GPU.
-_CHROMIUM_ARGS = ("--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--mute-audio")
+#: Switches added to Playwright's own: software WebGL (SwiftShader), as on a machine without a GPU;
+#: the page's layers composited in software rather than through SwiftShader too (about 11 % less CPU).
+_CHROMIUM_ARGS = (
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+    "--disable-gpu-compositing",
+    "--mute-audio",
+)
 
 
 def find_browser() -> Optional[str]:
@@ -115,6 +121,10 @@ _SEEK = """
 """
 
 
+#: Side (pixels) of the window the replay loads in, before the shots' own sizes.
+_LOAD_SIZE = 64
+
+
 @dataclass(frozen=True)
 class Shot:
     """One picture of a replay: written to ``png``, the replay at ``time`` (s; ``None``: its
@@ -171,7 +181,7 @@ def screenshots(
             f"no headless browser found on PATH (looked for: "
             f"{', '.join(BROWSER_NAMES)}); on Debian: apt-get install chromium"
         )
-    images = _outside_event_loop(_capture, browser, html, list(shots), timeout_s)
+    images = on_browser_thread(_capture, browser, html, list(shots), timeout_s, timeout_s=timeout_s + 30.0)
     written = []
     for shot, (image, shown) in zip(shots, images):
         png = Path(shot.png)
@@ -182,51 +192,42 @@ def screenshots(
     return written
 
 
-def _outside_event_loop(function: Callable[..., T], *args: Any) -> T:
-    """``function(*args)`` here, or in a thread of its own if this thread runs an asyncio
-    loop (a Jupyter kernel's), which Playwright's sync API refuses."""
-    try:
-        asyncio.get_running_loop()
-    except RuntimeError:
-        return function(*args)
-    from omtp_drake.viz.meshcat import free_meshcats_here
-
-    free_meshcats_here()  # before Playwright's thread runs Python (a dropped cell's Meshcat)
-    with ThreadPoolExecutor(max_workers=1) as pool:
-        return pool.submit(function, *args).result()
-
-
-def _capture(browser: str, html: Path, shots: list[Shot], timeout_s: float) -> list[tuple[bytes, float]]:
-    """Launches ``browser``, loads ``html`` in it once and returns each shot's (PNG bytes,
-    replay time shown)."""
+def _capture(
+    thread: BrowserThread, browser: str, html: Path, shots: list[Shot], timeout_s: float
+) -> list[tuple[bytes, float]]:
+    """On the browser's ``thread``: loads ``html`` once in a fresh page of the running
+    ``browser`` (launched if need be) and returns each shot's (PNG bytes, replay time shown)."""
     from playwright.sync_api import Error as PlaywrightError
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
-    from playwright.sync_api import sync_playwright
 
     deadline = _time.monotonic() + timeout_s
-    with sync_playwright() as playwright:
-        try:
-            chromium = playwright.chromium.launch(
-                executable_path=browser, args=list(_CHROMIUM_ARGS), timeout=_ms_left(deadline)
-            )
-        except PlaywrightError as e:
-            first = str(e).splitlines()[0]
-            raise BrowserError(
-                f"the browser exited before starting ({first}); is {browser!r} a chromium?"
-            ) from None
-        try:
-            width, height = shots[0].size
-            page = chromium.new_page(viewport={"width": width, "height": height}, device_scale_factor=1)
-            duration = _load(page, html, deadline)
-            for shot in shots:
-                _check_time(html, duration, shot.time)
-            return [_render(page, html, duration, shot, deadline) for shot in shots]
-        except PlaywrightTimeout:
-            raise BrowserError(f"chromium did not finish {html.name} within {timeout_s} s") from None
-        except PlaywrightError as e:
-            raise BrowserError(f"chromium failed on {html.name}: {str(e).splitlines()[0]}") from None
-        finally:
-            chromium.close()
+    try:
+        chromium = thread.browser(browser, _CHROMIUM_ARGS, _ms_left(deadline))
+    except PlaywrightError as e:
+        first = str(e).splitlines()[0]
+        raise BrowserError(
+            f"the browser exited before starting ({first}); is {browser!r} a chromium?"
+        ) from None
+    # The page loads in a small window: the replay plays its animation as it loads, each frame
+    # drawn in software (SwiftShader); each shot sets its own size before it is drawn.
+    try:
+        context = chromium.new_context(
+            viewport={"width": _LOAD_SIZE, "height": _LOAD_SIZE}, device_scale_factor=1
+        )
+    except PlaywrightError as e:
+        raise BrowserError(f"chromium failed to open a page: {str(e).splitlines()[0]}") from None
+    try:
+        page = context.new_page()
+        duration = _load(page, html, deadline)
+        for shot in shots:
+            _check_time(html, duration, shot.time)
+        return [_render(page, html, duration, shot, deadline) for shot in shots]
+    except PlaywrightTimeout:
+        raise BrowserError(f"chromium did not finish {html.name} within {timeout_s} s") from None
+    except PlaywrightError as e:
+        raise BrowserError(f"chromium failed on {html.name}: {str(e).splitlines()[0]}") from None
+    finally:
+        context.close()
 
 
 def _check_request(html: Path, size: tuple[int, int], time: Optional[float]) -> None:
