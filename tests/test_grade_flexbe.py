@@ -25,7 +25,7 @@ def flexbe_class(tmp_path):
 
 def test_each_students_behaviour_is_graded_on_its_own(flexbe_class, tmp_path, capsys):
     out = tmp_path / "out"
-    argv = ["grade", str(flexbe_class), "--flexbe", "--scenario", SCENARIO, "--workers", "1"]
+    argv = ["grade", str(flexbe_class), "--flexbe", "--scenario", SCENARIO, "--workers", "2"]
     code = main(argv + ["--timeout", "40", "--sandbox", "none", "--out", str(out)])
     assert code == 1  # ben's behaviour failed
     rows = {r["script"]: r for r in csv.DictReader(open(out / "grades.csv"))}

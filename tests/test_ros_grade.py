@@ -35,7 +35,7 @@ def test_grade_runs_every_script_and_writes_one_row_each(tmp_path, capsys):
     shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "alice.py")
     (folder / "bob.py").write_text("import rospy\nrospy.init_node('bob')\nrospy.sleep(0.2)\n1 / 0\n")
     (folder / "carol.py").write_text(CAROL)
-    grades = grade_folder(folder, "lecture6_assignment3", workers=1, out=tmp_path / "out")
+    grades = grade_folder(folder, "lecture6_assignment3", workers=2, out=tmp_path / "out")
     assert [g.script for g in grades] == ["alice.py", "bob.py", "carol.py"]
     assert [g.status for g in grades] == [OK, EXCEPTION, COLLISION]
     assert "robot2 touched something it should not: vacuum_gripper2_base_link - floor" in grades[2].message
