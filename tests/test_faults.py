@@ -27,21 +27,22 @@ def _with_faults(name: str, *faults: FaultConfig):
 
 def test_a_camera_blackout_at_a_time_publishes_no_image_for_its_duration():
     blackout = FaultConfig(
-        name="dark", kind="camera_blackout", camera="logical_camera_2", at=1.0, duration=0.6
+        name="dark", kind="camera_blackout", camera="logical_camera_2", at=0.5, duration=0.6
     )
     rt = FactoryRuntime(_with_faults("lecture6_assignment3", blackout))
     stamps = []
-    for t in np.arange(0.5, 2.2, 0.1):
+    for t in np.arange(0.2, 1.7, 0.1):
         rt.advance_to(t)
         stamps.append((round(t, 2), round(rt.camera_image("logical_camera_2").time, 2)))
-    during = [stamp for t, stamp in stamps if 1.1 <= t <= 1.6]
-    after = [stamp for t, stamp in stamps if t >= 1.7]
-    assert during and all(stamp <= 1.0 for stamp in during)  # the last image before the blackout
-    assert after and after[-1] >= 2.0  # publishing again
+    assert [stamp for t, stamp in stamps if t <= 0.5][-1] >= 0.4  # publishing before it
+    during = [stamp for t, stamp in stamps if 0.6 <= t <= 1.1]
+    after = [stamp for t, stamp in stamps if t >= 1.2]
+    assert during and all(stamp <= 0.5 for stamp in during)  # the last image before the blackout
+    assert after and after[-1] >= 1.5  # publishing again
     [report] = rt.faults.reports
     assert (report.name, report.kind, report.target) == ("dark", "camera_blackout", "logical_camera_2")
-    assert report.time == pytest.approx(1.0, abs=FAULT_CHECK_PERIOD)
-    assert report.until == pytest.approx(1.6, abs=FAULT_CHECK_PERIOD)
+    assert report.time == pytest.approx(0.5, abs=FAULT_CHECK_PERIOD)
+    assert report.until == pytest.approx(1.1, abs=FAULT_CHECK_PERIOD)
 
 
 def test_a_vacuum_failure_after_holding_drops_the_part_near_its_trigger_and_says_where_it_landed():
@@ -210,14 +211,14 @@ def test_a_batch_sweeps_a_faults_time_and_records_each_one(tmp_path):
         str(scenario),
         [0],
         parts=1,
-        duration=3.0,
-        settings={"faults.dark.at": [0.5, 2.5]},
+        duration=1.0,  # each swept time falls inside the run; a longer one adds nothing
+        settings={"faults.dark.at": [0.25, 0.75]},
         workers=1,
         out=tmp_path / "out",
         progress=False,
     )
     struck = sorted((r.settings["faults.dark.at"], r.result.faults[0]["time"]) for r in records)
-    assert struck == [(0.5, 0.5), (2.5, 2.5)]
+    assert struck == [(0.25, 0.25), (0.75, 0.75)]
     saved = json.loads(next((tmp_path / "out" / "runs").glob("*.json")).read_text())
     assert saved["faults"][0]["name"] == "dark"
 

@@ -46,10 +46,13 @@ WORLD = "omtp_gazebo/worlds/lecture6_assignment1.world"
 
 
 def test_the_course_files_keep_the_course_poses(tmp_path):
+    """And the course's 1 m wall is the cell's own box: a part dropped on the line of its
+    top 0.8 m off the belt's axis falls past it (test_their_wider_wall_... widens it)."""
     cell = own_cell(LAUNCH, workspace=[FIXTURES / "catkin_ws" / "src"], environ={})
     conveyor = cell.scenario.conveyor
     assert conveyor is not None and conveyor.xyz == [1.2, 0.0, 0.0] and conveyor.yaw == 0.0
     assert cell.scenario.break_beam_pose == [] and cell.scenario.deletion_wall_pose == []
+    _drop_on_the_wall(cell, disposed=0)
 
 
 def test_a_turned_belt_carries_parts_along_its_axis_to_the_moved_wall(tmp_path):
@@ -107,19 +110,15 @@ def test_a_moved_break_beam_stops_the_belt_where_it_now_stands(tmp_path):
 WALL = "omtp_gazebo/models/deletion_wall/model.sdf"
 
 
-@pytest.mark.parametrize("width, disposed", [(1, 0), (2, 1)])
-def test_their_wider_wall_is_loaded_as_written_and_disposes_where_it_reaches(tmp_path, width, disposed):
-    """The student widened the wall's collision to 2 m: the wall is their model as written
-    (the cell's 1 m box is not built) and a part dropped on its top 0.8 m off the belt's
-    axis is disposed of; with the course's 1 m wall the same part falls past it."""
-    edits = [(WALL, "<size>0.1 1 1</size>", f"<size>0.1 {width} 1</size>")] if width != 1 else []
-    cell = _cell(tmp_path, edits)
+def _drop_on_the_wall(cell, disposed: int) -> None:
+    """A part dropped 1 cm onto the deletion wall's top, 0.8 m along it from its middle:
+    ``disposed`` (1) or falling past it (0)."""
     assert cell.scenario.deletion_wall
-    assert cell.scenario.deletion_wall_model == ("deletion_wall" if width != 1 else "")
+    assert cell.scenario.deletion_wall_model == ("deletion_wall" if disposed else "")
     assert not [w for w in cell.warnings if "sensing_link" in w], cell.warnings
     rt = _runtime(cell)
     try:
-        assert rt.station.plant.HasBodyNamed("deletion_wall") == (width == 1)
+        assert rt.station.plant.HasBodyNamed("deletion_wall") == (not disposed)
         # The wall across the belt's end (0.1 m thick along y, its top at z 1.925): a part
         # dropped 1 cm onto its top, 0.8 m along it from its middle (x 1.2).
         part = rt.spawn_part(xyz=[2.0, -5.1, 1.925 + 0.1 + 0.01])
@@ -128,6 +127,15 @@ def test_their_wider_wall_is_loaded_as_written_and_disposes_where_it_reaches(tmp
         assert rt.ledger().disposed == disposed
     finally:
         rt.close()
+
+
+def test_their_wider_wall_is_loaded_as_written_and_disposes_where_it_reaches(tmp_path):
+    """The student widened the wall's collision to 2 m: the wall is their model as written
+    (the cell's 1 m box is not built) and a part dropped on its top 0.8 m off the belt's
+    axis is disposed of; with the course's 1 m wall the same part falls past it (in
+    test_the_course_files_keep_the_course_poses, on the unedited workspace)."""
+    cell = _cell(tmp_path, [(WALL, "<size>0.1 1 1</size>", "<size>0.1 2 1</size>")])
+    _drop_on_the_wall(cell, disposed=1)
 
 
 CONVEYOR = "omtp_gazebo/models/conveyor/model.sdf"
