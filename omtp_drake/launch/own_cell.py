@@ -170,7 +170,7 @@ def _mapped_launch(
         mapping.world.models, read, cell_namespaces=[robot["name"] for robot in mapping.pieces.robots]
     )
     models = mapping.world.models
-    mapping.world.models[:], lines = activate_ros2_controllers(models, read.controllers, str(path))
+    models[:], lines = activate_ros2_controllers(models, read.controllers, str(path))
     mapping.warnings += lines
     return mapping, read.controllers, read.moveit_config, path
 

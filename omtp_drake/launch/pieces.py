@@ -155,8 +155,10 @@ def _add_inner_additions(pieces: Pieces, model: UrdfModel, claims: Claims, where
     built = [link for link in sorted(claims.names) if not link.endswith("pedestal_link")]
     built += [WORKCELL_LINK] if WORKCELL_LINK in model.links else []
     bodies = {f"{r['name']}_{link}": r for r in pieces.robots for link in ARM_LINKS}
-    meshed = {link: (link[len(bodies[link]["name"]) + 1 :], bodies[link]["model"]) for link in bodies}
-    meshed = {link: meshed[link] for link in sorted(set(built) & set(bodies))}
+    meshed = {
+        link: (link[len(bodies[link]["name"]) + 1 :], bodies[link]["model"])
+        for link in sorted(set(built) & set(bodies))
+    }
     for link, (unprefixed, ur_model) in meshed.items():
         robot = bodies[link]
         replaced = [f"{unprefixed}/{kind}" for kind in replaced_kinds(model, link, unprefixed, ur_model)]
