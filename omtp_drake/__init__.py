@@ -19,6 +19,7 @@ is held and checked by tests/test_layering.py):
 
 - ``errors``: one exception hierarchy for every user-facing error
 - ``convex_pieces``: a mesh as convex pieces that keep it open (an open bin's skin)
+- ``lazy``: a package's public names, imported from their modules on first use
 - ``assets``: model files: the project's xacro sources, meshes for Drake, the model cache
 - ``ur_arms``: the classic UR arms from example-robot-data, prefixed and Drake-ready
 - ``workspace``: a student's own ROS workspace: packages and Gazebo models by name

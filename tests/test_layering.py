@@ -22,6 +22,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "omtp_drake"
 LAYERS = {
     "errors": 0,
     "convex_pieces": 0,
+    "lazy": 0,
     "assets": 1,
     "ur_arms": 2,
     "workspace": 2,  # (its xacro expansions are model-cache entries: assets)

@@ -14,11 +14,45 @@ Modules (one job each):
 May import: ``omtp_drake.tasks`` and everything below it (``launch``: a batch of a student's own cell).
 """
 
-from omtp_drake.batch.cluster import connect, default_workers, run_batch
-from omtp_drake.batch.run_records import RunRecord
-from omtp_drake.batch.sandbox import Sandbox, simulate
-from omtp_drake.batch.summary import format_summary, summarize, wilson_interval
-from omtp_drake.batch.sweep import parse_seeds, parse_sets, plan_batch
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from omtp_drake.lazy import lazy_names
+
+if TYPE_CHECKING:  # the names for type checkers (``X as X``: re-exported)
+    from omtp_drake.batch.cluster import connect as connect
+    from omtp_drake.batch.cluster import default_workers as default_workers
+    from omtp_drake.batch.cluster import run_batch as run_batch
+    from omtp_drake.batch.run_records import RunRecord as RunRecord
+    from omtp_drake.batch.sandbox import Sandbox as Sandbox
+    from omtp_drake.batch.sandbox import simulate as simulate
+    from omtp_drake.batch.summary import format_summary as format_summary
+    from omtp_drake.batch.summary import summarize as summarize
+    from omtp_drake.batch.summary import wilson_interval as wilson_interval
+    from omtp_drake.batch.sweep import parse_seeds as parse_seeds
+    from omtp_drake.batch.sweep import parse_sets as parse_sets
+    from omtp_drake.batch.sweep import plan_batch as plan_batch
+
+#: The public names, by the module that defines them: each is imported on first use
+#: (:mod:`omtp_drake.lazy`), so that importing one module of this package imports only it.
+__getattr__, __dir__ = lazy_names(
+    __name__,
+    {
+        "connect": "cluster",
+        "default_workers": "cluster",
+        "format_summary": "summary",
+        "parse_seeds": "sweep",
+        "parse_sets": "sweep",
+        "plan_batch": "sweep",
+        "run_batch": "cluster",
+        "RunRecord": "run_records",
+        "Sandbox": "sandbox",
+        "simulate": "sandbox",
+        "summarize": "summary",
+        "wilson_interval": "summary",
+    },
+)
 
 __all__ = [
     "RunRecord",

@@ -13,14 +13,15 @@ import os
 import xml.etree.ElementTree as ET
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from omtp_drake.errors import WorkspaceError
-from omtp_drake.launch.launch_py import read_launch_file
-from omtp_drake.launch.own_cell import student_workspace
-from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
-from omtp_drake.launch.sdf_world import model_config, read_world
-from omtp_drake.scenario import ModelConfig, model_from_text
+
+if TYPE_CHECKING:
+    from omtp_drake.scenario import ModelConfig
+
+# The readers are imported when a description is read: the CLI hands these functions to
+# ``view``'s parser, and a command line that runs another command never reads one.
 
 #: The parameter rviz's RobotModel display reads by default.
 ROBOT_DESCRIPTION = "/robot_description"
@@ -32,6 +33,11 @@ def launch_description(
     """The model on parameter ``param`` of the launch ``spec`` (``'PKG FILE.launch
     [ARG:=VALUE ...]'``) in ``workspace``; WorkspaceError naming the launch and the
     description parameters it has when ``param`` is not one of them."""
+    from omtp_drake.launch.launch_py import read_launch_file
+    from omtp_drake.launch.own_cell import student_workspace
+    from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
+    from omtp_drake.scenario import model_from_text
+
     ws = student_workspace(workspace)
     pkg, file, args = parse_launch_spec(spec)
     path = find_launch_file(ws, pkg, file)
@@ -71,6 +77,9 @@ def world_description(
     too, for ``omtp-drake view FILE.world``), its ``model://`` includes found in
     ``workspace``, ``GAZEBO_MODEL_PATH`` and the package holding the world; and the lines
     sdformat would warn with."""
+    from omtp_drake.launch.own_cell import student_workspace
+    from omtp_drake.launch.sdf_world import model_config, read_world
+
     world_file = Path(path).expanduser().resolve()
     own = [f for f in world_file.parents if (f / "package.xml").is_file()][:1]
     ws = student_workspace([*workspace, *own])

@@ -30,13 +30,14 @@ import shlex
 import tempfile
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, NoReturn, Optional
+from typing import TYPE_CHECKING, Any, NoReturn, Optional
 
 from omtp_drake.errors import ConfigError
 from omtp_drake.launch.own_cell import OwnCell, own_cell
-from omtp_drake.scenario import Scenario, as_scenario, scenario_from_dict
-from omtp_drake.scenario.loader import ROBOT_FILE_SUFFIXES
-from omtp_drake.scenario.robot_world import ROBOT_SYNTAX, RobotSpawn, parse_robot, with_robot
+from omtp_drake.scenario.robot_world import ROBOT_FILE_SUFFIXES, ROBOT_SYNTAX, RobotSpawn, parse_robot
+
+if TYPE_CHECKING:
+    from omtp_drake.scenario import Scenario
 
 _log = logging.getLogger("omtp_drake")
 
@@ -76,6 +77,9 @@ def cell_of(
     launch's Python nodes itself, so the scenario's flags that stand in for them are off.
     ``strict_workspace=False``: ``workspace`` is also the command's own (``flexbe-run``'s,
     ``grade --flexbe``'s catkin folders), so a scenario without files of its own ignores it."""
+    # (The schema and Drake load here, not with this module: a parser declares these options.)
+    from omtp_drake.scenario import Scenario, as_scenario, scenario_from_dict, with_robot
+
     folders = [workspace] if isinstance(workspace, (str, os.PathLike)) else list(workspace)
     spawns = [r if isinstance(r, RobotSpawn) else parse_robot(os.fspath(r)) for r in robots]
     if isinstance(scenario, (str, os.PathLike)) and str(scenario).endswith(ROBOT_FILE_SUFFIXES):

@@ -20,27 +20,22 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-
-from pydrake.math import RigidTransform, RollPitchYaw
+from typing import TYPE_CHECKING
 
 from omtp_drake.errors import ConfigError, WorkspaceError
-from omtp_drake.launch.controller_spawners import activate_ros2_controllers, start_spawned_controllers
-from omtp_drake.launch.launch_py import read_launch_file
-from omtp_drake.launch.nodes import (
-    SPAWNER_POOL,
-    NodeMapping,
-    NodeScript,
-    add_world,
-    map_nodes,
-    rest_standins_on_belt,
-)
-from omtp_drake.launch.pieces import merge_pedestals
-from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
 from omtp_drake.launch.standins import standin_dirs
-from omtp_drake.launch.urdf_model import UrdfModel
-from omtp_drake.scenario import FrameConfig, Scenario, scenario_from_dict, scenario_text
-from omtp_drake.scenario.plugin_names import CameraListing, GripperNames, PluginNames
 from omtp_drake.workspace import Workspace
+
+if TYPE_CHECKING:
+    from pydrake.math import RigidTransform
+
+    from omtp_drake.launch.nodes import NodeMapping, NodeScript
+    from omtp_drake.launch.urdf_model import UrdfModel
+    from omtp_drake.scenario import Scenario
+
+# The launch and world readers (and Drake) are imported by the functions that read a student's
+# files: a scenario's cell is an ``OwnCell`` too (``launch.options.cell_of``), and a command run
+# on a scenario reads no launch file.
 
 
 @dataclass
@@ -68,6 +63,8 @@ class OwnCell:
         """The scenario as a YAML file in ``folder`` (for the commands that take a file).
         ``with_nodes``: for a run that runs :attr:`nodes` themselves, so the scenario flags
         that stand in for them are off."""
+        from omtp_drake.scenario import scenario_text
+
         path = Path(folder) / f"{self.scenario.name or 'own_cell'}.yaml"
         path.write_text(scenario_text(self.document_for(with_nodes=with_nodes)))
         return path
@@ -109,6 +106,10 @@ def own_cell(
 ) -> OwnCell:
     """The cell of ``launch`` (``'PKG FILE.launch [ARG:=VALUE ...]'``) or ``world`` (a
     ``.world`` file) in ``workspace`` (folders); see module doc."""
+    from omtp_drake.launch.nodes import NodeMapping, add_world
+    from omtp_drake.launch.pieces import merge_pedestals
+    from omtp_drake.scenario import FrameConfig, scenario_from_dict
+
     if (launch is None) == (world is None):
         raise WorkspaceError("give one of --launch 'PKG FILE.launch [ARG:=VALUE ...]' or --world FILE.world")
     dirs = [workspace] if isinstance(workspace, (str, os.PathLike)) else list(workspace)
@@ -159,6 +160,11 @@ def _mapped_launch(
     """What the launch ``launch`` starts, mapped onto the cell (its models' controllers
     started as its spawners start them), the controllers it names, its MoveIt config and
     its file."""
+    from omtp_drake.launch.controller_spawners import activate_ros2_controllers, start_spawned_controllers
+    from omtp_drake.launch.launch_py import read_launch_file
+    from omtp_drake.launch.nodes import map_nodes
+    from omtp_drake.launch.roslaunch import find_launch_file, parse_launch_spec
+
     pkg, file, args = parse_launch_spec(launch)
     path = find_launch_file(ws, pkg, file)
     read = read_launch_file(path, args, ws, environ)
@@ -177,6 +183,8 @@ def _mapped_launch(
 
 def _frame(name: str, X_WL: RigidTransform) -> dict:
     """An extra frame of the scenario: a link fixed to the world where its file puts it."""
+    from pydrake.math import RollPitchYaw
+
     xyz = [round(float(v), 9) for v in X_WL.translation()]
     rpy = [round(float(v), 9) for v in RollPitchYaw(X_WL.rotation()).vector()]
     return {"name": name, "parent": "world", "xyz": xyz, "rpy": rpy}
@@ -184,6 +192,8 @@ def _frame(name: str, X_WL: RigidTransform) -> dict:
 
 def _plugin_names(mapping: NodeMapping) -> dict:
     """The plugins' names the files set, where they differ from the course's."""
+    from omtp_drake.scenario.plugin_names import CameraListing, GripperNames, PluginNames
+
     pieces, world = mapping.pieces, mapping.world
     names = PluginNames(
         grippers=[GripperNames(**g) for g in pieces.plugin_names["grippers"]],
@@ -198,6 +208,8 @@ def _plugin_names(mapping: NodeMapping) -> dict:
 
 def _document(mapping: NodeMapping, name: str, description: str) -> dict:
     """The scenario document of what the nodes made of the cell."""
+    from omtp_drake.launch.nodes import SPAWNER_POOL, rest_standins_on_belt
+
     pieces, world = mapping.pieces, mapping.world
     document: dict = {
         "name": name,

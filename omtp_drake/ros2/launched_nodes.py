@@ -16,8 +16,10 @@ import subprocess
 import sys
 import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING
 
-from omtp_drake.launch.ros2_nodes import Ros2NodeProgram
+if TYPE_CHECKING:
+    from omtp_drake.launch.ros2_nodes import Ros2NodeProgram
 
 #: Seconds a node gets after SIGINT, then after SIGTERM (``ros2 launch``'s sigterm_timeout
 #: and sigkill_timeout).

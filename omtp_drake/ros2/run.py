@@ -22,12 +22,12 @@ from typing import TYPE_CHECKING, Optional
 
 from omtp_drake.errors import check_duration
 from omtp_drake.launch.options import add_cell_options
-from omtp_drake.launch.ros2_nodes import Ros2NodeProgram
 from omtp_drake.ros.run.command import add_shared_options, print_line
 from omtp_drake.ros2.launched_nodes import launched_nodes
 from omtp_drake.ros2.network import Ros2Network, choose_network, import_rclpy
 
 if TYPE_CHECKING:
+    from omtp_drake.launch.ros2_nodes import Ros2NodeProgram
     from omtp_drake.ros.bag.writer import Ros2Bag
     from omtp_drake.scenario import Scenario
     from omtp_drake.script import Cell

@@ -25,36 +25,87 @@ Modules (one job each):
 May import: ``omtp_drake.errors``, ``omtp_drake.assets`` and ``omtp_drake.workspace`` (the layers below).
 """
 
-from omtp_drake.scenario.camera import LogicalCameraConfig
-from omtp_drake.scenario.configs import (
-    BinConfig,
-    BinGeometry,
-    ConveyorConfig,
-    FrameConfig,
-    PartConfig,
-    RobotConfig,
-    SleepConfig,
-    SpawnerConfig,
-    TaskConfig,
-    check_in_cell,
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from omtp_drake.lazy import lazy_names
+
+if TYPE_CHECKING:  # the names for type checkers (``X as X``: re-exported)
+    from omtp_drake.scenario.camera import LogicalCameraConfig as LogicalCameraConfig
+    from omtp_drake.scenario.configs import BinConfig as BinConfig
+    from omtp_drake.scenario.configs import BinGeometry as BinGeometry
+    from omtp_drake.scenario.configs import ConveyorConfig as ConveyorConfig
+    from omtp_drake.scenario.configs import FrameConfig as FrameConfig
+    from omtp_drake.scenario.configs import PartConfig as PartConfig
+    from omtp_drake.scenario.configs import RobotConfig as RobotConfig
+    from omtp_drake.scenario.configs import SleepConfig as SleepConfig
+    from omtp_drake.scenario.configs import SpawnerConfig as SpawnerConfig
+    from omtp_drake.scenario.configs import TaskConfig as TaskConfig
+    from omtp_drake.scenario.configs import check_in_cell as check_in_cell
+    from omtp_drake.scenario.faults import FaultConfig as FaultConfig
+    from omtp_drake.scenario.gazebo_tags import GazeboExtensions as GazeboExtensions
+    from omtp_drake.scenario.gazebo_tags import SensorConfig as SensorConfig
+    from omtp_drake.scenario.latency import RosLatencyConfig as RosLatencyConfig
+    from omtp_drake.scenario.loader import as_scenario as as_scenario
+    from omtp_drake.scenario.loader import load_scenario as load_scenario
+    from omtp_drake.scenario.loader import require_scenario as require_scenario
+    from omtp_drake.scenario.loader import scenario_document as scenario_document
+    from omtp_drake.scenario.loader import scenario_from_dict as scenario_from_dict
+    from omtp_drake.scenario.loader import scenario_names as scenario_names
+    from omtp_drake.scenario.loader import scenario_text as scenario_text
+    from omtp_drake.scenario.models import ModelConfig as ModelConfig
+    from omtp_drake.scenario.models import model_from_file as model_from_file
+    from omtp_drake.scenario.models import model_from_text as model_from_text
+    from omtp_drake.scenario.refusals import closest_name as closest_name
+    from omtp_drake.scenario.refusals import is_record as is_record
+    from omtp_drake.scenario.refusals import schema_fields as schema_fields
+    from omtp_drake.scenario.refusals import unwrap_optional as unwrap_optional
+    from omtp_drake.scenario.robot_world import EMPTY_WORLD as EMPTY_WORLD
+    from omtp_drake.scenario.robot_world import with_robot as with_robot
+    from omtp_drake.scenario.schema import Scenario as Scenario
+    from omtp_drake.scenario.suction import SuctionConfig as SuctionConfig
+
+#: The public names, by the module that defines them: each is imported on first use
+#: (:mod:`omtp_drake.lazy`), so that importing one module of this package imports only it.
+__getattr__, __dir__ = lazy_names(
+    __name__,
+    {
+        "as_scenario": "loader",
+        "BinConfig": "configs",
+        "BinGeometry": "configs",
+        "check_in_cell": "configs",
+        "closest_name": "refusals",
+        "ConveyorConfig": "configs",
+        "EMPTY_WORLD": "robot_world",
+        "FaultConfig": "faults",
+        "FrameConfig": "configs",
+        "GazeboExtensions": "gazebo_tags",
+        "is_record": "refusals",
+        "load_scenario": "loader",
+        "LogicalCameraConfig": "camera",
+        "model_from_file": "models",
+        "model_from_text": "models",
+        "ModelConfig": "models",
+        "PartConfig": "configs",
+        "require_scenario": "loader",
+        "RobotConfig": "configs",
+        "RosLatencyConfig": "latency",
+        "Scenario": "schema",
+        "scenario_document": "loader",
+        "scenario_from_dict": "loader",
+        "scenario_names": "loader",
+        "scenario_text": "loader",
+        "schema_fields": "refusals",
+        "SensorConfig": "gazebo_tags",
+        "SleepConfig": "configs",
+        "SpawnerConfig": "configs",
+        "SuctionConfig": "suction",
+        "TaskConfig": "configs",
+        "unwrap_optional": "refusals",
+        "with_robot": "robot_world",
+    },
 )
-from omtp_drake.scenario.faults import FaultConfig
-from omtp_drake.scenario.gazebo_tags import GazeboExtensions, SensorConfig
-from omtp_drake.scenario.latency import RosLatencyConfig
-from omtp_drake.scenario.loader import (
-    as_scenario,
-    load_scenario,
-    require_scenario,
-    scenario_document,
-    scenario_from_dict,
-    scenario_names,
-    scenario_text,
-)
-from omtp_drake.scenario.models import ModelConfig, model_from_file, model_from_text
-from omtp_drake.scenario.refusals import closest_name, is_record, schema_fields, unwrap_optional
-from omtp_drake.scenario.robot_world import EMPTY_WORLD, with_robot
-from omtp_drake.scenario.schema import Scenario
-from omtp_drake.scenario.suction import SuctionConfig
 
 __all__ = [
     "EMPTY_WORLD",

@@ -47,6 +47,7 @@ from omtp_drake.scenario.camera import LogicalCameraConfig
 from omtp_drake.scenario.configs import FrameConfig, PartConfig
 from omtp_drake.scenario.models import ModelConfig
 from omtp_drake.scenario.refusals import LOADER_ERRORS, refusal_message
+from omtp_drake.scenario.robot_world import ROBOT_FILE_SUFFIXES, with_robot
 from omtp_drake.scenario.schema import Scenario
 
 #: Folder of the scenario files shipped with the package.
@@ -370,11 +371,5 @@ def as_scenario(scenario: "Scenario | str | Path") -> Scenario:
     if isinstance(scenario, Scenario):
         return scenario
     if str(scenario).endswith(ROBOT_FILE_SUFFIXES):
-        from omtp_drake.scenario.robot_world import with_robot
-
         return with_robot(None, scenario)
     return load_scenario(scenario)
-
-
-#: File names that are a robot's description, not a scenario.
-ROBOT_FILE_SUFFIXES = (".urdf", ".xacro", ".sdf")

@@ -2,21 +2,29 @@
 
 Without a scenario the robot goes into Gazebo's empty world (a ground plane: the cell's
 floor), as the URDF tutorial's launch file spawns it.
+
+``--robot``'s syntax and parser are here without the schema (a command line declares and
+reads its options without importing Drake); :func:`with_robot` imports it when called.
 """
+
+from __future__ import annotations
 
 import dataclasses
 import math
 import os
 import re
 from collections.abc import Sequence
-from typing import Any, Optional
+from typing import TYPE_CHECKING, Any, Optional
 
 from omtp_drake.errors import ConfigError
-from omtp_drake.scenario.models import file_workspace, model_from_file
-from omtp_drake.scenario.schema import Scenario
+
+if TYPE_CHECKING:
+    from omtp_drake.scenario.schema import Scenario
 
 #: The world ``--robot`` spawns into without a scenario: Gazebo's empty world.
 EMPTY_WORLD = "empty_world"
+#: File names that are a robot's description, not a scenario.
+ROBOT_FILE_SUFFIXES = (".urdf", ".xacro", ".sdf")
 #: ``--robot``'s syntax, as its help and its errors say it.
 ROBOT_SYNTAX = "[NAME=]FILE[@X,Y,Z[,R,P,Y]]"
 
@@ -31,6 +39,9 @@ def with_robot(
     file ``robot`` spawned in it as ``spawn_model`` spawns it; its packages are found in the
     folders ``workspace`` and next to it. ``placement``: ``model_from_file``'s ``name``,
     ``xyz``, ``rpy``, ``args``."""
+    from omtp_drake.scenario.models import file_workspace, model_from_file
+    from omtp_drake.scenario.schema import Scenario
+
     base = scenario if scenario is not None else Scenario(name=EMPTY_WORLD, description="a ground plane")
     model = model_from_file(robot, file_workspace(robot, workspace), **placement)
     out = dataclasses.replace(base, models=[*base.models, model])

@@ -26,7 +26,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
-from typing import Optional, Union
+from typing import TYPE_CHECKING, Optional, Union
 
 import numpy as np
 from pydrake.math import RigidTransform
@@ -34,8 +34,6 @@ from pydrake.trajectories import PiecewisePolynomial
 
 from omtp_drake.cell import arms
 from omtp_drake.cell.poses import PoseStamped
-from omtp_drake.control.motion import ArmPlanner
-from omtp_drake.control.motion.scene import CupBox
 from omtp_drake.errors import (
     ConfigError,
     GoalInCollisionError,
@@ -50,6 +48,10 @@ from omtp_drake.script.motion import SETTLE_TIMEOUT, SETTLE_TOLERANCE, MoveResul
 from omtp_drake.script.scene import CellPlanningScene, world_pose
 from omtp_drake.sim.runtime import FactoryRuntime
 from omtp_drake.sim.tf import TfBuffer
+
+if TYPE_CHECKING:  # (the planner, OMPL and Drake's planning load when an arm first plans)
+    from omtp_drake.control.motion import ArmPlanner
+    from omtp_drake.control.motion.scene import CupBox
 
 __all__ = ["SETTLE_TIMEOUT", "SETTLE_TOLERANCE", "Arm", "ArmCommander", "MoveResult", "Plan", "Target"]
 
@@ -84,6 +86,8 @@ class Arm:
     def planner(self) -> ArmPlanner:
         """The arm's planner (built on first use, about 0.3 s)."""
         if self._planner is None:
+            from omtp_drake.control.motion import ArmPlanner
+
             self._planner = ArmPlanner(self._runtime.scenario, self.name)
         return self._planner
 
