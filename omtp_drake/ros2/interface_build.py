@@ -19,6 +19,7 @@ them without ``LD_LIBRARY_PATH``. :func:`interfaces_path` gives that folder for
 
 from __future__ import annotations
 
+import compileall
 import fcntl
 import hashlib
 import os
@@ -86,6 +87,10 @@ def _build_all(folder: Path) -> None:
         for package in PACKAGES:
             _build(package, staged)
         shutil.rmtree(staged / "build")
+        # Their bytecode too (~120 kB of generated Python): every process that imports them (a
+        # ros2 cell, a student's node) compiled it again where nothing writes bytecode
+        # (PYTHONDONTWRITEBYTECODE=1, a read-only cache): ~0.1 CPU s a process.
+        compileall.compile_dir(staged, quiet=1)
         (staged / "COMPLETE").write_text("")
         os.rename(staged, folder)
     finally:
