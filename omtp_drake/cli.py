@@ -413,22 +413,29 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _quiet_drake(verbose: bool) -> None:
+    """Drake warns on every build that the floor plane takes no deformable contact: its log
+    shows errors only, unless ``--verbose``. (pydrake sets its logger's level when first
+    imported, so it is imported first.)"""
+    import numpy as np
+    import pydrake.common  # noqa: F401
+
+    logging.getLogger("drake").setLevel(logging.INFO if verbose else logging.ERROR)
+    np.set_printoptions(precision=4, suppress=True)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(_values_that_look_like_options(sys.argv[1:] if argv is None else argv))
     logging.basicConfig(
         level=logging.INFO if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s"
     )
-    # Drake warns on every build that the floor plane takes no deformable contact.
-    # (pydrake sets its logger's level when first imported, so import it first.)
-    import numpy as np
-    import pydrake.common  # noqa: F401
-
     from omtp_drake.launch.options import resolve_cell_options
 
-    logging.getLogger("drake").setLevel(logging.INFO if args.verbose else logging.ERROR)
-    np.set_printoptions(precision=4, suppress=True)
     try:
+        if getattr(args, "prerequisite", None) is not None:
+            args.prerequisite()  # what the command needs installed (an extra), said before Drake loads
+        _quiet_drake(args.verbose)
         resolve_cell_options(args, warn=_warn)
         return args.func(args)
     except OmtpError as e:

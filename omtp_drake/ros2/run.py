@@ -183,7 +183,8 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="let DDS discovery reach other machines of the local network (default: this machine only)",
     )
-    p.set_defaults(func=cmd_ros2, ros2_nodes=[])
+    # (rclpy first: without the extra, the command says so before it loads Drake and the cell)
+    p.set_defaults(func=cmd_ros2, ros2_nodes=[], prerequisite=import_rclpy)
 
     about = (
         "print the folder of the ROS 2 interface packages no wheel ships (gazebo_msgs, control_msgs, "
