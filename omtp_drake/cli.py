@@ -10,6 +10,7 @@ no traceback.
 from __future__ import annotations
 
 import argparse
+import gc
 import json
 import logging
 import math
@@ -437,6 +438,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             args.prerequisite()  # what the command needs installed (an extra), said before Drake loads
         _quiet_drake(args.verbose)
         resolve_cell_options(args, warn=_warn)
+        if argv is None:  # the process's own command line: its modules and scenario live as long as it,
+            gc.freeze()  # and the collections of the run skip them
         return args.func(args)
     except OmtpError as e:
         print(f"omtp-drake: error: {e}", file=sys.stderr)

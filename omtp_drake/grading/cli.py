@@ -8,6 +8,7 @@ isolated run (:mod:`omtp_drake.grading.isolation`) starts so, its guard first.
 from __future__ import annotations
 
 import argparse
+import gc
 import logging
 import sys
 from collections.abc import Sequence
@@ -141,6 +142,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     logging.getLogger("drake").setLevel(logging.ERROR)
     try:
         resolve_cell_options(args, warn=lambda line: sys.stderr.write(f"omtp-drake: warning: {line}\n"))
+        if argv is None:  # the process's own command line: its modules and scenario live as long as it,
+            gc.freeze()  # and the collections of the run skip them
         return args.func(args)
     except OmtpError as e:
         sys.stderr.write(f"omtp-drake: error: {e}\n")
