@@ -80,7 +80,7 @@ def test_a_camera_nobody_reads_has_no_renderer_and_renders_nothing(run):
     assert not scene_graph.HasRenderer(
         scene_graph.GetMyContextFromRoot(simulator.get_context()), GAZEBO_RENDERER
     )
-    assert not render.has_renderer(render.GetMyContextFromRoot(simulator.get_context()))
+    assert not render.has_renderer()
 
 
 def test_read_later_the_images_are_those_of_the_last_sample(run):
@@ -88,7 +88,7 @@ def test_read_later_the_images_are_those_of_the_last_sample(run):
     context = simulator.get_context()
     # Run after the other test: this one renders.
     render = station.diagram.GetSubsystemByName("tip_camera.rgbd")
-    assert not render.has_renderer(render.GetMyContextFromRoot(context))
+    assert not render.has_renderer()
     at_sample = _drake_images(station, context)  # the scene the sample at SAMPLE holds
     simulator.AdvanceTo(READ)
     read = [
@@ -96,7 +96,7 @@ def test_read_later_the_images_are_those_of_the_last_sample(run):
         for port in ("color_image", "depth_image_32f")
     ]
     now = _drake_images(station, context)
-    assert render.has_renderer(render.GetMyContextFromRoot(context))
+    assert render.has_renderer()
     assert not np.array_equal(now[1], at_sample[1])  # the camera moved since the sample
     assert np.array_equal(read[0], at_sample[0]) and np.array_equal(read[1], at_sample[1])
     depth = np.asarray(station.diagram.GetOutputPort("tip_camera.depth_image").Eval(context).data)

@@ -66,7 +66,7 @@ from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.perception import BaseField, DepthImageToPointCloud
-from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, OutputPort, ValueProducer
+from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, OutputPort
 from pydrake.systems.primitives import ZeroOrderHold
 from pydrake.systems.sensors import CameraInfo, ImageDepth32F, ImageRgba8U, PixelType
 
@@ -168,26 +168,22 @@ class ColorNoise(LeafSystem):
         output.set_value(noisy)
 
 
-class _Scene:
-    """A SceneGraph context of its own with the renderer, made at the first render (the
-    value of :class:`CameraRender`'s scratch cache entry; a copied Context starts without)."""
-
-    def __init__(self) -> None:
-        self.context: Optional[Context] = None
-
-    def __deepcopy__(self, memo: dict) -> _Scene:
-        return _Scene()
-
-
 class CameraRender(LeafSystem):
     """A camera's colour and depth images, rendered when read, of the scene at the
     geometry poses it is given: those the sensor sampled (held at its rate) or the live
-    ones. It renders on its own SceneGraph context (a scratch cache entry) where
-    :data:`GAZEBO_RENDERER` is added at the first image read, so a cell whose camera
-    nobody reads builds no renderer and renders nothing; the images are those Drake's
+    ones. It renders on a SceneGraph context of its own where :data:`GAZEBO_RENDERER`
+    is added at the first image read, so a cell whose camera nobody reads builds no
+    renderer and renders nothing; the images are those Drake's
     ``RgbdSensor`` renders at the same poses (``QueryObject.Render*Image`` at the
     sensor's pose ``X_PO`` in its parent frame P). Before the first sample (no pose of
-    P) both images are blank, a hold's initial value.
+    P) both images are blank, a hold's initial value. The scene is the geometry as the
+    SceneGraph's model holds it, at the given poses (the cell changes only proximity
+    roles in a Context, never what a camera sees).
+
+    That scene context is a member, not a cache entry: it holds no state (each render
+    sets all of its poses first, so any Context may use it), and a Python value in a
+    Context aborts the process when C++ frees that Context without the GIL (Drake's
+    ``JointSliders.Run`` does, under ``omtp-drake view``).
 
     .. pydrake_system::
 
@@ -210,11 +206,7 @@ class CameraRender(LeafSystem):
         poses = Value(FramePoseVector())
         self._sampled = self.DeclareAbstractInputPort("sampled_poses", poses)
         self._now = self.DeclareAbstractInputPort("geometry_pose", poses)
-        self._scratch = self.DeclareCacheEntry(
-            description="the camera's SceneGraph context with the renderer",
-            value_producer=ValueProducer(allocate=Value[object](_Scene()).Clone, calc=lambda *_: None),
-            prerequisites_of_calc={self.nothing_ticket()},
-        )
+        self._scene: Optional[Context] = None  # (made at the first render; see the class doc)
         sampled = {self.input_port_ticket(self._sampled.get_index())}
         # C++ holds a port's calc: a weak one lets the system be freed (omtp_drake.cell.lifetime).
         self.DeclareAbstractOutputPort(
@@ -230,22 +222,20 @@ class CameraRender(LeafSystem):
             {self.input_port_ticket(self._now.get_index())},
         )
 
-    def has_renderer(self, context: Context) -> bool:
-        """Whether an image was rendered in ``context`` (its renderer made), ever."""
-        scene: _Scene = self._scratch.Eval(context)
-        return scene.context is not None
+    def has_renderer(self) -> bool:
+        """Whether this camera has rendered an image (and so made its renderer), ever."""
+        return self._scene is not None
 
     def _query(self, context: Context):
         """The scene at the sampled poses (None before the first sample)."""
         poses: FramePoseVector = self._sampled.Eval(context)
         if not poses.has_id(self._parent):
             return None
-        scene: _Scene = self._scratch.Eval(context)
-        if scene.context is None:
-            scene.context = self._scene_graph.CreateDefaultContext()
-            add_gazebo_renderer(self._scene_graph, scene.context)
-        self._scene_graph.get_source_pose_port(self._source).FixValue(scene.context, poses)
-        return self._scene_graph.get_query_output_port().Eval(scene.context)
+        if self._scene is None:
+            self._scene = self._scene_graph.CreateDefaultContext()
+            add_gazebo_renderer(self._scene_graph, self._scene)
+        self._scene_graph.get_source_pose_port(self._source).FixValue(self._scene, poses)
+        return self._scene_graph.get_query_output_port().Eval(self._scene)
 
     def _calc_color(self, context: Context, output) -> None:
         query = self._query(context)
