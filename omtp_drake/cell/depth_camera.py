@@ -1,12 +1,18 @@
 """A Gazebo ``camera`` or ``depth`` sensor as Drake's RGB-D rendering, with its point cloud.
 
 :func:`add_depth_camera` turns a sensor of a description's ``<gazebo>`` tags
-(:class:`~omtp_drake.scenario.SensorConfig`, checked where it was read) into Drake's
-``RgbdSensor`` on a VTK renderer lit as Gazebo's worlds are (:data:`GAZEBO_LIGHTS`;
-the logical cameras' views of :mod:`omtp_drake.cell.rgbd` keep theirs), sampled at the
-sensor's rate, its colour image with
-the camera's Gaussian noise and, for a ``depth`` sensor, Drake's
+(:class:`~omtp_drake.scenario.SensorConfig`, checked where it was read) into VTK
+images lit as Gazebo's worlds are (:data:`GAZEBO_LIGHTS`; the logical cameras' views of
+:mod:`omtp_drake.cell.rgbd` keep theirs), sampled at the sensor's rate, its colour
+image with the camera's Gaussian noise and, for a ``depth`` sensor, Drake's
 ``DepthImageToPointCloud`` of its depth and colour images.
+
+Sampled, rendered when read: at each sample a ``ZeroOrderHold`` keeps the scene's
+geometry poses (cheap), and :class:`CameraRender` renders the held scene only when an
+image is read (a subscriber, a script, a test), so the images are those of the sample
+time while a camera nobody reads costs neither a renderer nor a render. (Holding the
+images themselves rendered every sample: a student's 64 x 48 wrist camera made a
+belt-script run pay VTK's renderer and a render every 0.1 s for images nobody read.)
 
 Frames (monogram notation): ``L`` is the sensor's link, ``S`` the sensor
 (``<pose>`` in L; it looks along +Sx, Gazebo's convention), ``O`` its optical frame
@@ -48,6 +54,7 @@ from pydrake.geometry import (
     ColorRenderCamera,
     DepthRange,
     DepthRenderCamera,
+    FramePoseVector,
     LightParameter,
     MakeRenderEngineVtk,
     Meshcat,
@@ -61,7 +68,7 @@ from pydrake.multibody.tree import ModelInstanceIndex
 from pydrake.perception import BaseField, DepthImageToPointCloud
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, OutputPort
 from pydrake.systems.primitives import ZeroOrderHold
-from pydrake.systems.sensors import CameraInfo, ImageDepth32F, ImageRgba8U, PixelType, RgbdSensor
+from pydrake.systems.sensors import CameraInfo, ImageDepth32F, ImageRgba8U, PixelType
 
 from omtp_drake.cell.lifetime import weak_method
 from omtp_drake.cell.logical_camera import X_CameraOptical
@@ -80,11 +87,12 @@ GAZEBO_LIGHTS = (
 )
 
 
-def add_gazebo_renderer(scene_graph: SceneGraph) -> None:
-    """Adds :data:`GAZEBO_RENDERER` (VTK, Gazebo's lighting) to ``scene_graph`` unless it has it."""
-    if not scene_graph.HasRenderer(GAZEBO_RENDERER):
+def add_gazebo_renderer(scene_graph: SceneGraph, context: Context) -> None:
+    """Adds :data:`GAZEBO_RENDERER` (VTK, Gazebo's lighting) to ``scene_graph``'s ``context``
+    unless it has it (the perception geometries registered so far join it)."""
+    if not scene_graph.HasRenderer(context, GAZEBO_RENDERER):
         params = RenderEngineVtkParams(lights=list(GAZEBO_LIGHTS), cast_shadows=False)
-        scene_graph.AddRenderer(GAZEBO_RENDERER, MakeRenderEngineVtk(params))
+        scene_graph.AddRenderer(context, GAZEBO_RENDERER, MakeRenderEngineVtk(params))
 
 
 def camera_info(sensor: SensorConfig, *, pixel_centres_at_integers: bool = True) -> CameraInfo:
@@ -160,6 +168,94 @@ class ColorNoise(LeafSystem):
         output.set_value(noisy)
 
 
+class CameraRender(LeafSystem):
+    """A camera's colour and depth images, rendered when read, of the scene at the
+    geometry poses it is given: those the sensor sampled (held at its rate) or the live
+    ones. It renders on a SceneGraph context of its own where :data:`GAZEBO_RENDERER`
+    is added at the first image read, so a cell whose camera nobody reads builds no
+    renderer and renders nothing; the images are those Drake's
+    ``RgbdSensor`` renders at the same poses (``QueryObject.Render*Image`` at the
+    sensor's pose ``X_PO`` in its parent frame P). Before the first sample (no pose of
+    P) both images are blank, a hold's initial value. The scene is the geometry as the
+    SceneGraph's model holds it, at the given poses (the cell changes only proximity
+    roles in a Context, never what a camera sees).
+
+    That scene context is a member, not a cache entry: it holds no state (each render
+    sets all of its poses first, so any Context may use it), and a Python value in a
+    Context aborts the process when C++ frees that Context without the GIL (Drake's
+    ``JointSliders.Run`` does, under ``omtp-drake view``).
+
+    .. pydrake_system::
+
+        name: CameraRender
+        input_ports:
+        - sampled_poses   (FramePoseVector: X_WF of the plant's frames, as sampled)
+        - geometry_pose   (FramePoseVector: now)
+        output_ports:
+        - color_image       (ImageRgba8U)
+        - depth_image_32f   (ImageDepth32F, m)
+        - body_pose_in_world  (RigidTransform X_WO, now)
+    """
+
+    def __init__(self, scene_graph: SceneGraph, source, parent, X_PO: RigidTransform, color, depth):
+        super().__init__()
+        self._scene_graph, self._source = scene_graph, source
+        self._parent, self._X_PO = parent, X_PO
+        self._color, self._depth = color, depth
+        self._size = size = (color.core().intrinsics().width(), color.core().intrinsics().height())
+        poses = Value(FramePoseVector())
+        self._sampled = self.DeclareAbstractInputPort("sampled_poses", poses)
+        self._now = self.DeclareAbstractInputPort("geometry_pose", poses)
+        self._scene: Optional[Context] = None  # (made at the first render; see the class doc)
+        sampled = {self.input_port_ticket(self._sampled.get_index())}
+        # C++ holds a port's calc: a weak one lets the system be freed (omtp_drake.cell.lifetime).
+        self.DeclareAbstractOutputPort(
+            "color_image", lambda: Value(ImageRgba8U(*size)), weak_method(self._calc_color), sampled
+        )
+        self.DeclareAbstractOutputPort(
+            "depth_image_32f", lambda: Value(ImageDepth32F(*size)), weak_method(self._calc_depth), sampled
+        )
+        self.DeclareAbstractOutputPort(
+            "body_pose_in_world",
+            lambda: Value(RigidTransform()),
+            weak_method(self._calc_pose),
+            {self.input_port_ticket(self._now.get_index())},
+        )
+
+    def has_renderer(self) -> bool:
+        """Whether this camera has rendered an image (and so made its renderer), ever."""
+        return self._scene is not None
+
+    def _query(self, context: Context):
+        """The scene at the sampled poses (None before the first sample)."""
+        poses: FramePoseVector = self._sampled.Eval(context)
+        if not poses.has_id(self._parent):
+            return None
+        if self._scene is None:
+            self._scene = self._scene_graph.CreateDefaultContext()
+            add_gazebo_renderer(self._scene_graph, self._scene)
+        self._scene_graph.get_source_pose_port(self._source).FixValue(self._scene, poses)
+        return self._scene_graph.get_query_output_port().Eval(self._scene)
+
+    def _calc_color(self, context: Context, output) -> None:
+        query = self._query(context)
+        image = ImageRgba8U(*self._size) if query is None else query.RenderColorImage(*self._at(self._color))
+        output.set_value(image)
+
+    def _calc_depth(self, context: Context, output) -> None:
+        query = self._query(context)
+        image = (
+            ImageDepth32F(*self._size) if query is None else query.RenderDepthImage(*self._at(self._depth))
+        )
+        output.set_value(image)
+
+    def _at(self, camera) -> tuple:
+        return camera, self._parent, self._X_PO
+
+    def _calc_pose(self, context: Context, output) -> None:
+        output.set_value(self._now.Eval(context).value(self._parent) @ self._X_PO)
+
+
 @dataclass
 class DepthCamera:
     """A built sensor: its settings, the model it is on, and its output ports."""
@@ -187,10 +283,10 @@ def add_depth_camera(
     sampled: bool = True,
 ) -> DepthCamera:
     """Adds ``sensor`` (on a link of model ``instance``, named ``model``) to the diagram:
-    the renderer if the SceneGraph lacks it, the sensor sampled at its rate, the noisy
-    colour image and (a ``depth`` sensor) the point cloud. ``key`` tells the sensors'
-    noise apart. ``sampled=False``: images rendered whenever read (a model viewed, not
-    simulated)."""
+    its :class:`CameraRender` of the scene as sampled at its rate, the noisy colour
+    image and (a ``depth`` sensor) the point cloud. ``key`` tells the sensors' noise
+    apart. ``sampled=False``: images of the scene as it is when read (a model viewed,
+    not simulated)."""
     camera = _camera(sensor)
     link = plant.GetBodyByName(sensor.link, instance)
     parent = plant.GetBodyFrameIdIfExists(link.index())
@@ -202,22 +298,29 @@ def add_depth_camera(
     core = RenderCameraCore(GAZEBO_RENDERER, render_info, clipping, RigidTransform())
     color = ColorRenderCamera(core, False)
     depth = DepthRenderCamera(core, DepthRange(*depth_range(sensor)))
-    add_gazebo_renderer(scene_graph)
     X_LS = RigidTransform(RollPitchYaw(sensor.rpy), sensor.xyz)
     X_PO = X_LS @ X_CameraOptical()
-    rgbd = builder.AddNamedSystem(f"{sensor.name}.rgbd", RgbdSensor(parent, X_PO, color, depth))
-    builder.Connect(scene_graph.get_query_output_port(), rgbd.query_object_input_port())
+    source = plant.get_source_id()
+    render = CameraRender(scene_graph, source, parent, X_PO, color, depth)
+    rgbd = builder.AddNamedSystem(f"{sensor.name}.rgbd", render)
+    poses = plant.get_geometry_pose_output_port()
+    builder.Connect(poses, rgbd.GetInputPort("geometry_pose"))
     period = 1.0 / sensor.rate
-    color_out, depth_out = rgbd.color_image_output_port(), rgbd.depth_image_32F_output_port()
     if sampled:
-        color_out, depth_out = _held(builder, sensor.name, info, period, color_out, depth_out)
+        hold = builder.AddNamedSystem(
+            f"{sensor.name}.pose_hold", ZeroOrderHold(period, Value(FramePoseVector()))
+        )
+        builder.Connect(poses, hold.get_input_port())
+        poses = hold.get_output_port()
+    builder.Connect(poses, rgbd.GetInputPort("sampled_poses"))
+    color_out, depth_out = rgbd.GetOutputPort("color_image"), rgbd.GetOutputPort("depth_image_32f")
     if camera.noise_type == "gaussian" and camera.noise_stddev > 0:
         noise = builder.AddNamedSystem(
             f"{sensor.name}.noise", ColorNoise(camera.noise_mean, camera.noise_stddev, period, seed, key)
         )
         builder.Connect(color_out, noise.get_input_port())
         color_out = noise.get_output_port()
-    handles = DepthCamera(sensor, model, info, color_out, depth_out, rgbd.body_pose_in_world_output_port())
+    handles = DepthCamera(sensor, model, info, color_out, depth_out, rgbd.GetOutputPort("body_pose_in_world"))
     if sensor.type == "depth":
         cloud = builder.AddNamedSystem(
             f"{sensor.name}.point_cloud",
@@ -227,21 +330,6 @@ def add_depth_camera(
         builder.Connect(color_out, cloud.color_image_input_port())
         handles.point_cloud = cloud.point_cloud_output_port()
     return handles
-
-
-def _held(
-    builder: DiagramBuilder, name: str, info: CameraInfo, period: float, color: OutputPort, depth: OutputPort
-) -> tuple[OutputPort, OutputPort]:
-    """The colour and depth images sampled every ``period`` s (zero-order holds)."""
-    color_hold = builder.AddNamedSystem(
-        f"{name}.color_hold", ZeroOrderHold(period, Value(ImageRgba8U(info.width(), info.height())))
-    )
-    depth_hold = builder.AddNamedSystem(
-        f"{name}.depth_hold", ZeroOrderHold(period, Value(ImageDepth32F(info.width(), info.height())))
-    )
-    builder.Connect(color, color_hold.get_input_port())
-    builder.Connect(depth, depth_hold.get_input_port())
-    return color_hold.get_output_port(), depth_hold.get_output_port()
 
 
 def show_point_cloud(builder: DiagramBuilder, meshcat: Meshcat, camera: DepthCamera) -> None:
