@@ -148,13 +148,18 @@ class CollisionModel:
         itself, or of two environment bodies (never checked) are skipped."""
         plant = self.checker.plant()
         filtered = []
+        matrix = self.checker.GetFilteredCollisionMatrix().copy()  # set once (see enable_self_collisions)
         for a, b in pairs:
             if a == b or not (plant.HasBodyNamed(a) and plant.HasBodyNamed(b)):
                 continue
             body_a, body_b = plant.GetBodyByName(a), plant.GetBodyByName(b)
             if self.checker.IsPartOfRobot(body_a) or self.checker.IsPartOfRobot(body_b):
-                self.checker.SetCollisionFilteredBetween(body_a, body_b, True)
+                i, j = int(body_a.index()), int(body_b.index())
+                if matrix[i, j] != -1:  # -1: two anchored bodies, never checked
+                    matrix[i, j] = matrix[j, i] = 1
                 filtered.append((a, b))
+        if filtered:
+            self.checker.SetCollisionFilterMatrix(matrix)
         return filtered
 
     # -------------------------------------------------------------- queries
@@ -301,13 +306,23 @@ def enable_self_collisions(
     moving = [b for b in robot_bodies if has_geometry(b) and group[b.index()] != world]
     anchored = [b for b in robot_bodies if has_geometry(b) and group[b.index()] == world]
     anchored += [plant.get_body(b) for b in plant.GetBodyIndices(pedestal) if has_geometry(plant.get_body(b))]
+    # The pairs are un-filtered in a copy of the checker's filter matrix, set once: each
+    # SetCollisionFilteredBetween call applied the whole matrix again (~24 pairs an arm: a
+    # quarter of a planner's build, 0.22 -> 0.17 CPU s, in every run that plans).
+    matrix = checker.GetFilteredCollisionMatrix().copy()
     for i, a in enumerate(moving):
         distance = hops(group[a.index()])
         for b in moving[i + 1 :]:
             if distance.get(group[b.index()], 99) >= 3:
-                checker.SetCollisionFilteredBetween(a, b, False)
+                _unfilter(matrix, a, b)
         for b in anchored:
             # Forearm and beyond: the upper arm's convex hull grazes the pedestal
             # (within the margin) whenever the arm reaches down near its base.
             if distance.get(group[b.index()], 99) >= 3:
-                checker.SetCollisionFilteredBetween(a, b, False)
+                _unfilter(matrix, a, b)
+    checker.SetCollisionFilterMatrix(matrix)
+
+
+def _unfilter(matrix: np.ndarray, a: RigidBody, b: RigidBody) -> None:
+    """Marks the pair (a, b) checked in a collision filter matrix (0: not filtered)."""
+    matrix[int(a.index()), int(b.index())] = matrix[int(b.index()), int(a.index())] = 0

@@ -63,7 +63,7 @@ class PickAndReleaseSM(Behavior):
 
 			# x:630 y:40
 			OperatableStateMachine.add('feed one part',
-										WaitState(wait_time=3.5),
+										WaitState(wait_time=1.5),
 										transitions={'done': 'stop feeder'},
 										autonomy={'done': Autonomy.Off})
 
