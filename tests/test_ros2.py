@@ -168,27 +168,41 @@ def _end(process: subprocess.Popen) -> None:
     process.wait(timeout=PATIENCE)
 
 
-def run_cell_with_node(cell_args: list[str], node_args: list[str], domain: int) -> tuple[str, str]:
+def run_cell_with_node(
+    cell_args: list[str], node_args: list[str], domain: int, env: dict[str, str] | None = None
+) -> tuple[str, str]:
     """``omtp-drake ros2 CELL_ARGS`` and the node ``python NODE_ARGS`` on ``domain`` (loopback),
     each in its own session: the node runs to its end, then the cell gets Ctrl-C. Both must
     exit 0 and leave no process and none of the domain's Fast DDS shared memory behind.
     Returns the cell's (stdout, stderr)."""
-    env = _loopback_env(domain)
+    return run_cell_with_nodes(cell_args, [node_args], domain, env)
+
+
+def run_cell_with_nodes(
+    cell_args: list[str], nodes: list[list[str]], domain: int, env: dict[str, str] | None = None
+) -> tuple[str, str]:
+    """As :func:`run_cell_with_node`, with the nodes ``python NODES[i]`` run one after another
+    against the one cell (each to its end, the next started then), every one in its own session
+    (``env``: extra environment variables of the cell and the nodes)."""
+    env = {**_loopback_env(domain), **(env or {})}
     shm_before = _dds_files()
     spawn = dict(env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     cell_command = [sys.executable, "-m", "omtp_drake.cli", "ros2", *cell_args, "--domain-id", str(domain)]
     cell = subprocess.Popen(cell_command, **spawn)  # type: ignore[call-overload]
-    node = subprocess.Popen([sys.executable, *node_args], **spawn)  # type: ignore[call-overload]
+    ran: list[subprocess.Popen] = []
     try:
-        _, node_err = node.communicate(timeout=PATIENCE)
+        for node_args in nodes:
+            ran.append(subprocess.Popen([sys.executable, *node_args], **spawn))  # type: ignore[call-overload]
+            _, node_err = ran[-1].communicate(timeout=PATIENCE)
+            assert ran[-1].returncode == 0, node_err[-3000:]
         cell.send_signal(signal.SIGINT)  # Ctrl-C
         cell_out, cell_err = cell.communicate(timeout=PATIENCE)
     finally:
-        _end(node)
+        for process in ran:
+            _end(process)
         _end(cell)
-    assert node.returncode == 0, node_err[-3000:]
     assert cell.returncode == 0, cell_err[-3000:]
-    assert not _session_members(cell.pid) and not _session_members(node.pid)
+    assert not _session_members(cell.pid) and not any(_session_members(p.pid) for p in ran)
     assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     return cell_out, cell_err
 
