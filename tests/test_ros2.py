@@ -222,17 +222,31 @@ def run_cell_with_nodes(
     return cell_out, cell_err
 
 
-def run_cell_until(cell_args: list[str], until: str, domain: int, patience: float = PATIENCE) -> str:
+def run_cell_until(
+    cell_args: list[str],
+    until: str,
+    domain: int,
+    patience: float = PATIENCE,
+    node_args: list[str] | None = None,
+) -> str:
     """``omtp-drake ros2 CELL_ARGS`` on ``domain`` (loopback) in its own session until a line
     of its output holds ``until`` (at most ``patience`` wall seconds), then Ctrl-C: it must exit 0
     and leave no process (nor any node it started) and none of the domain's Fast DDS shared
-    memory behind. Returns its output (stdout and stderr)."""
+    memory behind. With ``node_args``, the node ``python NODE_ARGS`` runs beside the cell in its
+    own session and must end by itself with 0 before the Ctrl-C. Returns the cell's output
+    (stdout and stderr)."""
     shm_before = _dds_files()
+    env = _loopback_env(domain)
     command = [sys.executable, "-m", "omtp_drake.cli", "ros2", *cell_args, "--domain-id", str(domain)]
     cell = subprocess.Popen(
-        command, env=_loopback_env(domain), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        start_new_session=True,
+        command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
     )  # fmt: skip
+    node = None
+    if node_args is not None:
+        node = subprocess.Popen(
+            [sys.executable, *node_args], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            start_new_session=True,
+        )  # fmt: skip
     lines: list[str] = []
     seen = threading.Event()
 
@@ -245,15 +259,20 @@ def run_cell_until(cell_args: list[str], until: str, domain: int, patience: floa
     reader = threading.Thread(target=read, daemon=True)
     reader.start()
     try:
+        if node is not None:
+            _, node_err = node.communicate(timeout=patience)
+            assert node.returncode == 0, node_err[-3000:]
         seen.wait(timeout=patience)
         cell.send_signal(signal.SIGINT)  # Ctrl-C
         cell.wait(timeout=PATIENCE)
         reader.join(timeout=PATIENCE)
     finally:
+        if node is not None:
+            _end(node)
         _end(cell)
     out = "".join(lines)
     assert cell.returncode == 0, out[-3000:]
-    assert not _session_members(cell.pid)
+    assert not _session_members(cell.pid) and (node is None or not _session_members(node.pid))
     assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     return out
 
