@@ -15,9 +15,9 @@ import pytest
 from test_ros2 import (
     SCRIPTS,
     domain,
+    hold_domain,
     needs_ros2,
     run_cell_until,
-    run_cell_with_node,
 )
 
 from omtp_drake.errors import WorkspaceError
@@ -187,13 +187,26 @@ def test_spawn_entity_of_a_topic_nobody_publishes_is_one_error(tmp_path):
         read_launch_py(path, {}, ws)
 
 
+@pytest.fixture(scope="module")
+def reach_run(tmp_path_factory) -> tuple[str, dict, dict]:
+    """slider_arm_moves' reach.launch.py (the tutorial's rsp_sim.launch.py included, and the
+    workspace's ``reach`` node) under ``omtp-drake ros2 --realtime`` until ``reach`` finished, with
+    a student's plain rclpy node (tests/ros2_scripts/joint_names_node.py) started beside it by
+    the test: (the cell's output, what ``reach`` reported, what the student's node saw)."""
+    tmp = tmp_path_factory.mktemp("reach")
+    report, seen = tmp / "reached.json", tmp / "seen.json"
+    cell_args = ["--launch", "slider_arm_moves reach.launch.py", "--workspace", str(TUTORIAL_SRC)]
+    with hold_domain() as held:
+        cell_args += ["--arg", f"report:={report}", "--realtime"]
+        node = [str(SCRIPTS / "joint_names_node.py"), str(seen)]
+        out = run_cell_until(cell_args, "[reach-1] finished", held, patience=120, node_args=node)
+    return out, json.loads(report.read_text()), json.loads(seen.read_text())
+
+
 @needs_ros2
-def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(tmp_path, domain):
-    out = tmp_path / "seen.json"
-    cell_args = ["--launch", LAUNCH, "--workspace", str(TUTORIAL_SRC)]
-    cell_out, _ = run_cell_with_node(cell_args, [str(SCRIPTS / "joint_names_node.py"), str(out)], domain)
-    assert "rsp_sim.launch as node /omtp_cell" in cell_out and "stopped at t=" in cell_out
-    seen = json.loads(out.read_text())
+def test_under_ros2_a_plain_rclpy_node_sees_the_robots_joint_states(reach_run):
+    cell_out, _, seen = reach_run
+    assert "reach.launch as node /omtp_cell" in cell_out and "stopped at t=" in cell_out
     assert seen["names"] == ["slider_joint", "arm_joint"]
     assert len(seen["positions"]) == 2 and all(abs(q) < 10.0 for q in seen["positions"])
 
@@ -219,22 +232,17 @@ def test_the_launch_starts_the_workspaces_own_rclpy_node_beside_the_cell(tmp_pat
 
 
 @needs_ros2
-def test_the_launched_node_and_the_cell_exchange_messages(tmp_path, domain):
+def test_the_launched_node_and_the_cell_exchange_messages(reach_run):
     """slider_arm_moves' reach.launch.py includes the tutorial's launch and starts ``reach``
     (parameters, a remapping) the moment the cell is up: the node's trajectory reaches the cell
     and the cell's /joint_states reach the node, which reports the pose it saw and ends by itself.
     (It once never matched the cell's topics in 3 of about 17 runs: a Fast DDS peer's type lookup
     answered by the cell's Cyclone participant; omtp_drake.ros2.network.cell_participant_profile.)"""
-    report = tmp_path / "reached.json"
-    cell_args = ["--launch", "slider_arm_moves reach.launch.py", "--workspace", str(TUTORIAL_SRC)]
-    out = run_cell_until(
-        [*cell_args, "--arg", f"report:={report}", "--realtime"], "[reach-1] finished", domain, patience=120
-    )
+    out, seen, _ = reach_run
     assert "[reach-1] finished cleanly" in out, out[-3000:]
     assert "Inconsistent TypeObject" not in out, out[-3000:]
     # No parts, no spawner: nothing Gazebo's model services would act on, so no line about them.
     assert "not served on ROS 2" not in out, out[-3000:]
-    seen = json.loads(report.read_text())
     assert seen["names"] == ["slider_joint", "arm_joint"]
     assert seen["positions"] == pytest.approx([0.8, 0.6], abs=0.01)
 

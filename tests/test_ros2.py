@@ -81,6 +81,21 @@ def domain() -> Iterator[int]:
         yield held
 
 
+@pytest.fixture
+def network(monkeypatch) -> Iterator[Ros2Network]:
+    """A network of a domain of the test's own, for a cell in this process: the variables the
+    node writes into the environment (and the paths it adds for the packages it builds) are
+    restored after the test."""
+    with hold_domain() as domain:
+        network = Ros2Network(domain)
+        for name, value in network.environment().items():
+            monkeypatch.setenv(name, value)  # restored after the test (the node writes them)
+        # The node puts the packages it builds on both (interface_build.activate): restored too.
+        monkeypatch.setenv("PYTHONPATH", os.environ.get("PYTHONPATH", ""))
+        monkeypatch.setattr(sys, "path", list(sys.path))
+        yield network
+
+
 def _loopback_env(domain: int) -> dict[str, str]:
     env = dict(os.environ)
     env.update(Ros2Network(domain).environment())
@@ -168,42 +183,70 @@ def _end(process: subprocess.Popen) -> None:
     process.wait(timeout=PATIENCE)
 
 
-def run_cell_with_node(cell_args: list[str], node_args: list[str], domain: int) -> tuple[str, str]:
+def run_cell_with_node(
+    cell_args: list[str], node_args: list[str], domain: int, env: dict[str, str] | None = None
+) -> tuple[str, str]:
     """``omtp-drake ros2 CELL_ARGS`` and the node ``python NODE_ARGS`` on ``domain`` (loopback),
     each in its own session: the node runs to its end, then the cell gets Ctrl-C. Both must
     exit 0 and leave no process and none of the domain's Fast DDS shared memory behind.
     Returns the cell's (stdout, stderr)."""
-    env = _loopback_env(domain)
+    return run_cell_with_nodes(cell_args, [node_args], domain, env)
+
+
+def run_cell_with_nodes(
+    cell_args: list[str], nodes: list[list[str]], domain: int, env: dict[str, str] | None = None
+) -> tuple[str, str]:
+    """As :func:`run_cell_with_node`, with the nodes ``python NODES[i]`` run one after another
+    against the one cell (each to its end, the next started then), every one in its own session
+    (``env``: extra environment variables of the cell and the nodes)."""
+    env = {**_loopback_env(domain), **(env or {})}
     shm_before = _dds_files()
     spawn = dict(env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
     cell_command = [sys.executable, "-m", "omtp_drake.cli", "ros2", *cell_args, "--domain-id", str(domain)]
     cell = subprocess.Popen(cell_command, **spawn)  # type: ignore[call-overload]
-    node = subprocess.Popen([sys.executable, *node_args], **spawn)  # type: ignore[call-overload]
+    ran: list[subprocess.Popen] = []
     try:
-        _, node_err = node.communicate(timeout=PATIENCE)
+        for node_args in nodes:
+            ran.append(subprocess.Popen([sys.executable, *node_args], **spawn))  # type: ignore[call-overload]
+            _, node_err = ran[-1].communicate(timeout=PATIENCE)
+            assert ran[-1].returncode == 0, node_err[-3000:]
         cell.send_signal(signal.SIGINT)  # Ctrl-C
         cell_out, cell_err = cell.communicate(timeout=PATIENCE)
     finally:
-        _end(node)
+        for process in ran:
+            _end(process)
         _end(cell)
-    assert node.returncode == 0, node_err[-3000:]
     assert cell.returncode == 0, cell_err[-3000:]
-    assert not _session_members(cell.pid) and not _session_members(node.pid)
+    assert not _session_members(cell.pid) and not any(_session_members(p.pid) for p in ran)
     assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     return cell_out, cell_err
 
 
-def run_cell_until(cell_args: list[str], until: str, domain: int, patience: float = PATIENCE) -> str:
+def run_cell_until(
+    cell_args: list[str],
+    until: str,
+    domain: int,
+    patience: float = PATIENCE,
+    node_args: list[str] | None = None,
+) -> str:
     """``omtp-drake ros2 CELL_ARGS`` on ``domain`` (loopback) in its own session until a line
     of its output holds ``until`` (at most ``patience`` wall seconds), then Ctrl-C: it must exit 0
     and leave no process (nor any node it started) and none of the domain's Fast DDS shared
-    memory behind. Returns its output (stdout and stderr)."""
+    memory behind. With ``node_args``, the node ``python NODE_ARGS`` runs beside the cell in its
+    own session and must end by itself with 0 before the Ctrl-C. Returns the cell's output
+    (stdout and stderr)."""
     shm_before = _dds_files()
+    env = _loopback_env(domain)
     command = [sys.executable, "-m", "omtp_drake.cli", "ros2", *cell_args, "--domain-id", str(domain)]
     cell = subprocess.Popen(
-        command, env=_loopback_env(domain), stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        start_new_session=True,
+        command, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, start_new_session=True
     )  # fmt: skip
+    node = None
+    if node_args is not None:
+        node = subprocess.Popen(
+            [sys.executable, *node_args], env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+            start_new_session=True,
+        )  # fmt: skip
     lines: list[str] = []
     seen = threading.Event()
 
@@ -216,15 +259,20 @@ def run_cell_until(cell_args: list[str], until: str, domain: int, patience: floa
     reader = threading.Thread(target=read, daemon=True)
     reader.start()
     try:
+        if node is not None:
+            _, node_err = node.communicate(timeout=patience)
+            assert node.returncode == 0, node_err[-3000:]
         seen.wait(timeout=patience)
         cell.send_signal(signal.SIGINT)  # Ctrl-C
         cell.wait(timeout=PATIENCE)
         reader.join(timeout=PATIENCE)
     finally:
+        if node is not None:
+            _end(node)
         _end(cell)
     out = "".join(lines)
     assert cell.returncode == 0, out[-3000:]
-    assert not _session_members(cell.pid)
+    assert not _session_members(cell.pid) and (node is None or not _session_members(node.pid))
     assert not _leaked_dds_files(shm_before, domain), "Fast DDS left shared memory behind"
     return out
 
@@ -358,10 +406,9 @@ def test_without_the_extra_the_command_names_it(tmp_path, missing):
 
 
 @needs_ros2
-@pytest.mark.parametrize("pace", [[], ["--realtime"]], ids=["fast", "realtime"])
-def test_timeout_ends_the_run_at_that_simulated_time(pace, domain):
+def test_timeout_ends_the_run_at_that_simulated_time(domain):
     done = subprocess.run(
-        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--timeout", "0.25", *pace],
+        [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--timeout", "0.25"],
         env=_loopback_env(domain),
         capture_output=True,
         text=True,
@@ -369,6 +416,20 @@ def test_timeout_ends_the_run_at_that_simulated_time(pace, domain):
     )
     assert done.returncode == 0, done.stderr[-3000:]
     assert "stopped at t=0.25 s" in done.stdout
+
+
+@needs_ros2
+def test_timeout_ends_a_realtime_run_at_that_simulated_time(network):
+    """``--realtime --timeout``: the paced run ends at the timeout too (in-process: the command's
+    own function; the process boundary is the test above's)."""
+    from omtp_drake.ros2.run import Ros2RunOptions, run_ros2
+
+    said: list[str] = []
+    reached = run_ros2(
+        Ros2RunOptions("lecture6_assignment1", timeout=0.25, realtime=True), network, said.append
+    )
+    assert reached == pytest.approx(0.25, abs=1e-9)
+    assert "stopped at t=0.25 s" in said[-1], said
 
 
 def test_set_joint_values_puts_the_arm_there_and_holds_it():

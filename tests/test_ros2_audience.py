@@ -7,27 +7,13 @@ In-process (a peer node in a second rclpy context), loopback, a domain of its ow
 
 from __future__ import annotations
 
-import os
-import sys
 import time
 from collections import Counter
 
 import pytest
-from test_ros2 import PATIENCE, _dds_files, _leaked_dds_files, hold_domain, needs_ros2
+from test_ros2 import PATIENCE, _dds_files, _leaked_dds_files, needs_ros2, network
 
-
-@pytest.fixture
-def network(monkeypatch):
-    from omtp_drake.ros2.network import Ros2Network
-
-    with hold_domain() as domain:
-        network = Ros2Network(domain)
-        for name, value in network.environment().items():
-            monkeypatch.setenv(name, value)  # restored after the test (the node writes them)
-        # The node puts the packages it builds on both (interface_build.activate): restored too.
-        monkeypatch.setenv("PYTHONPATH", os.environ.get("PYTHONPATH", ""))
-        monkeypatch.setattr(sys, "path", list(sys.path))
-        yield network
+__all__ = ["network"]  # test_ros2's fixture, used by name
 
 
 def _count_publishes(node) -> Counter:

@@ -4,7 +4,9 @@ process (tests/ros2_scripts/ros2_control_node.py) on loopback, in a domain of it
 joints start at their initial values, follow a trajectory sent to
 ``/arm_controller/joint_trajectory`` within the controller's tolerances, and ``/joint_states``
 comes from the broadcaster at the YAML's rate (counted over simulated time); the trajectory
-controller's ``~/controller_state`` follows the trajectory at each controller update."""
+controller's ``~/controller_state`` follows the trajectory at each controller update; then a
+second node's FollowJointTrajectory goal is followed. One cell serves both nodes, one after the
+other (the module's fixture ``runs``): the tests only read what the nodes saw."""
 
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from test_ros2 import SCRIPTS, domain, needs_ros2, run_cell_with_node
+from test_ros2 import SCRIPTS, hold_domain, needs_ros2, run_cell_with_nodes
 
 ROBOT = (
     Path(__file__).parent
@@ -35,14 +37,36 @@ BROADCASTER_HZ = 25.0
 #: Humble-era state_publish_rate: 50 is ignored, as ros2_controllers ignores it since Iron).
 UPDATE_HZ = 100.0
 
-__all__ = ["domain"]  # the fixture, used by name
+HAVE_COMPILER = shutil.which("cc") is not None and shutil.which("c++") is not None
+needs_compiler = pytest.mark.skipif(not HAVE_COMPILER, reason="no compiler: apt-get install g++")
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory) -> dict:
+    """One cell of ROBOT, and in turn: a student's node sending a trajectory on
+    ~/joint_trajectory and watching /joint_states (and, with control_msgs built here, the
+    controller's state); then, with control_msgs, a student's FollowJointTrajectory client.
+    What each saw, by name ("joints", "controller_state", "action"), and the cell's stderr."""
+    tmp = tmp_path_factory.mktemp("ros2_control")
+    paths = {name: tmp / f"{name}.json" for name in ("joints", "controller_state", "action")}
+    nodes = [[str(SCRIPTS / "ros2_control_node.py"), str(paths["joints"])]]
+    env = {}
+    if HAVE_COMPILER:
+        from omtp_drake.ros2 import interface_build
+
+        built = (str(interface_build.interfaces_path()), os.environ.get("PYTHONPATH", ""))
+        env["PYTHONPATH"] = os.pathsep.join(p for p in built if p)
+        nodes[0].append(str(paths["controller_state"]))
+        nodes.append([str(SCRIPTS / "follow_joint_trajectory_node.py"), str(paths["action"])])
+    with hold_domain() as domain:
+        _, cell_err = run_cell_with_nodes([str(ROBOT)], nodes, domain, env)
+    seen = {name: json.loads(path.read_text()) for name, path in paths.items() if path.exists()}
+    return {**seen, "cell_err": cell_err}
 
 
 @needs_ros2
-def test_a_ros2_control_robot_follows_a_trajectory_and_broadcasts_its_joints(tmp_path, domain):
-    out = tmp_path / "seen.json"
-    run_cell_with_node([str(ROBOT)], [str(SCRIPTS / "ros2_control_node.py"), str(out)], domain)
-    result = json.loads(out.read_text())
+def test_a_ros2_control_robot_follows_a_trajectory_and_broadcasts_its_joints(runs):
+    result = runs["joints"]
     states = [(t, dict(zip(names, q))) for t, names, q in result["states"]]
     assert all(list(q) == ["shoulder_joint", "slide_joint"] for _, q in states)
 
@@ -97,22 +121,13 @@ def test_a_launch_files_spawners_activate_the_controllers_in_their_order(tmp_pat
 
 
 @needs_ros2
-@pytest.mark.skipif(
-    shutil.which("cc") is None or shutil.which("c++") is None, reason="no compiler: apt-get install g++"
-)
-def test_a_follow_joint_trajectory_goal_is_followed_within_the_goal_tolerances(tmp_path, domain, monkeypatch):
+@needs_compiler
+def test_a_follow_joint_trajectory_goal_is_followed_within_the_goal_tolerances(runs):
     """A student's rclpy action client (control_msgs built here): a goal naming an unknown joint is
     rejected; a good one succeeds (status 4, SUCCESSFUL) with feedback at the action monitor rate,
-    and the joints end at its last point within the controller's goal tolerances."""
-    from omtp_drake.ros2 import interface_build
-
-    paths = (str(interface_build.interfaces_path()), os.environ.get("PYTHONPATH", ""))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(p for p in paths if p))
-    out = tmp_path / "seen.json"
-    _, cell_err = run_cell_with_node(
-        [str(ROBOT)], [str(SCRIPTS / "follow_joint_trajectory_node.py"), str(out)], domain
-    )
-    seen = json.loads(out.read_text())
+    and the joints end at its last point within the controller's goal tolerances. (The joints
+    start where the first node's trajectory left them: its last point.)"""
+    seen, cell_err = runs["action"], runs["cell_err"]
     assert seen["bad_accepted"] is False
     assert "goal rejected" in cell_err and "elbow_joint" in cell_err, cell_err[-2000:]
     assert seen["accepted"] is True
@@ -132,21 +147,13 @@ def test_a_follow_joint_trajectory_goal_is_followed_within_the_goal_tolerances(t
 
 
 @needs_ros2
-@pytest.mark.skipif(
-    shutil.which("cc") is None or shutil.which("c++") is None, reason="no compiler: apt-get install g++"
-)
-def test_the_controller_state_follows_a_trajectory_at_each_update(tmp_path, domain, monkeypatch):
+@needs_compiler
+def test_the_controller_state_follows_a_trajectory_at_each_update(runs):
     """A student's rclpy node on /arm_controller/controller_state (control_msgs built here) while a
     trajectory sent on ~/joint_trajectory plays: the controller's joints, a reference moving from
     where the joints were to the trajectory's points, a feedback following it and within the goal
     tolerances at the end, error = reference - feedback, stamped on the update rate's grid."""
-    from omtp_drake.ros2 import interface_build
-
-    paths = (str(interface_build.interfaces_path()), os.environ.get("PYTHONPATH", ""))
-    monkeypatch.setenv("PYTHONPATH", os.pathsep.join(p for p in paths if p))
-    out = tmp_path / "seen.json"
-    run_cell_with_node([str(ROBOT)], [str(SCRIPTS / "controller_state_node.py"), str(out)], domain)
-    seen = json.loads(out.read_text())
+    seen = runs["controller_state"]
     states, start = seen["states"], seen["start"]
     joints = ["shoulder_joint", "slide_joint"]
     assert all(s["joint_names"] == joints for s in states)

@@ -221,9 +221,11 @@ def test_a_late_rclpy_reader_gets_every_link_of_the_urdf_at_the_plants_pose(tmp_
     out = tmp_path / "tf.json"
     shm_before = _dds_files()
     spawn = dict(stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    # Paced (--realtime): the reader needs a few /tf messages, not a cell running flat out (and
+    # recording all of it) while the reader starts and waits for the /tf publishers' names.
     cell = subprocess.Popen(
         [sys.executable, "-m", "omtp_drake.cli", "ros2", "lecture6_assignment1", "--domain-id", str(domain)]
-        + ["--bag", str(tmp_path / "run.mcap")],
+        + ["--bag", str(tmp_path / "run.mcap"), "--realtime"],
         env=cell_env,
         **spawn,  # type: ignore[call-overload]
     )
