@@ -259,6 +259,31 @@ def convert_mesh(src: Path, dst: Path) -> None:
     write_atomic(dst, files["model.gltf"])
 
 
+def obj_bounds(path: Path) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """The (lo, hi) corners of the axis-aligned box of the vertices the faces of the
+    ``.obj`` file ``path`` use (as trimesh's ``bounds``: a vertex no face uses is not
+    counted), read as written (an OBJ has no transforms). Read here, not with trimesh,
+    whose import (with scipy's spatial module) costs a command ~1 CPU s; ConfigError for a
+    file whose faces use no vertex."""
+    vertices: list[tuple[float, float, float]] = []
+    used: set[int] = set()
+    with open(path, encoding="utf-8", errors="replace") as f:
+        for line in f:
+            if line.startswith("v "):
+                x, y, z = line.split()[1:4]
+                vertices.append((float(x), float(y), float(z)))
+            elif line.startswith("f "):
+                for corner in line.split()[1:]:
+                    i = int(corner.split("/", 1)[0])
+                    used.add(i - 1 if i > 0 else len(vertices) + i)  # (negative: relative)
+    if not used:
+        raise ConfigError(f"{path}: the mesh has no faces")
+    points = [vertices[i] for i in sorted(used)]
+    lo = tuple(min(p[k] for p in points) for k in range(3))
+    hi = tuple(max(p[k] for p in points) for k in range(3))
+    return lo, hi  # type: ignore[return-value]
+
+
 def _collada_unit(src: Path) -> float:
     """Metres per unit of a Collada file (``<asset><unit meter=...>``; 1 without one)."""
     for _, element in ET.iterparse(src):

@@ -181,8 +181,15 @@ def test_their_links_are_part_of_robot_1s_gazebo_model(moved):
     assert bracket in models["robot1"].instances and "wrist_camera_bracket" not in models
 
 
-def test_tf_echo_and_frames_give_their_camera_where_the_arm_holds_it(workspace, urdf, capsys, tmp_path):
+def test_tf_echo_and_frames_give_their_camera_where_the_arm_holds_it(
+    workspace, urdf, moved, capsys, tmp_path
+):
+    """tf-echo through the command line (its own cell of their launch); the frame tree drawn
+    from the module's cell (the ``frames`` command's drawing; that command's own run with a
+    launch is test_docs_run's and test_cell_options')."""
     from omtp_drake.cell import arms
+    from omtp_drake.sim.tf import TfBuffer
+    from omtp_drake.viz.tree import view_frames
 
     q = arms.named_pose("R1PreGrasp")
     X = forward_kinematics(urdf, {f"robot1_{j}_joint": float(v) for j, v in zip(JOINTS, q)})
@@ -190,10 +197,11 @@ def test_tf_echo_and_frames_give_their_camera_where_the_arm_holds_it(workspace, 
     assert main([*argv, "world", "robot1_wrist_camera_optical", "--json"]) == 0, capsys.readouterr().err
     echoed = json.loads(capsys.readouterr().out)["translation"]
     np.testing.assert_allclose(echoed, X["robot1_wrist_camera_optical"][:3, 3], atol=1e-3)
-    out = tmp_path / "frames"
-    argv = ["frames", "--launch", LAUNCH, "--workspace", str(workspace), "-o", str(out)]
-    assert main(argv) == 0, capsys.readouterr().err
-    assert out.with_suffix(".pdf").is_file()
+    runtime, _ = moved
+    buffer = TfBuffer.from_context(runtime.station, runtime.context)
+    assert set(THEIRS) <= {child for _, child in buffer.edges(None)}  # (in the tree it draws)
+    pdf, png = view_frames(buffer, tmp_path / "frames")
+    assert pdf.suffix == ".pdf" and pdf.is_file() and png.is_file()
 
 
 def test_the_frame_tree_hangs_their_links_on_the_wrist(moved):

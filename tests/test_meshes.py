@@ -13,8 +13,8 @@ from pydrake.geometry import Mesh, SceneGraph
 from pydrake.multibody.parsing import Parser
 from pydrake.multibody.plant import MultibodyPlant
 
-from omtp_drake.assets import drake_mesh, drake_ready_meshes
-from omtp_drake.errors import UnknownNameError
+from omtp_drake.assets import drake_mesh, drake_ready_meshes, obj_bounds
+from omtp_drake.errors import ConfigError, UnknownNameError
 
 MESHES = Path(__file__).parent / "fixtures" / "franka_ws" / "src" / "fr7_description" / "meshes"
 DRAKE = "{http://drake.mit.edu}"
@@ -66,6 +66,24 @@ def test_stl_any_case_becomes_obj_and_obj_gltf_are_read_as_they_are(tmp_path):
     assert np.allclose(np.ptp(_hull_bounds(gltf), axis=0), [0.1, 0.3, 0.2])
     with pytest.raises(UnknownNameError, match=r"\.3ds.*\.stl"):
         drake_mesh(tmp_path / "part.3ds", collision=False)
+
+
+def test_an_objs_bounds_are_trimeshs(tmp_path):
+    """The box of the vertices its faces use (an unused vertex, relative indices, quads,
+    v/vt/vn corners), as trimesh's bounds; a converted STL's too."""
+    obj = tmp_path / "part.obj"
+    obj.write_text(
+        "v 9 9 9\nv 0 0 0\nv 1 0 0\nv 1 2 0\nv 0 2 -0.5 0.1 0.2 0.3\nvt 0 0\nvn 0 0 1\n"
+        "f 2/1/1 3/1/1 4/1/1 5/1/1\nv 0.5 1 3\nf -1 -3 -4\n"
+    )
+    expected = trimesh.load(obj, force="mesh").bounds
+    np.testing.assert_array_equal(obj_bounds(obj), expected)
+    np.testing.assert_array_equal(expected, [[0, 0, -0.5], [1, 2, 3]])
+    finger = drake_mesh(MESHES / "collision" / "finger.STL", collision=True)
+    np.testing.assert_array_equal(obj_bounds(finger), trimesh.load(finger, force="mesh").bounds)
+    obj.write_text("v 0 0 0\nv 1 0 0\n")
+    with pytest.raises(ConfigError, match="part.obj: the mesh has no faces"):
+        obj_bounds(obj)
 
 
 def test_a_collada_unit_is_applied(tmp_path):

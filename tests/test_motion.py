@@ -199,3 +199,30 @@ def test_cartesian_trajectory_stays_on_the_line(planner):
     v = np.abs(np.array([trajectory.EvalDerivative(t, 1).ravel()
                          for t in np.linspace(0.0, trajectory.end_time(), 2001)]))
     assert np.all(v <= planner.velocity_limits * (1 + 1e-6))
+
+
+TOPPRA_WITHOUT_PYPLOT = """
+import sys
+import numpy as np
+from omtp_drake.control.motion.timing import time_parameterize
+trajectory = time_parameterize([np.zeros(6), np.full(6, 0.5)], np.full(6, 3.0), np.full(6, 4.0))
+assert trajectory.end_time() > 0.1
+assert "toppra" in sys.modules and "matplotlib.pyplot" not in sys.modules, "pyplot imported"
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import toppra.algorithm.algorithm as algorithm
+assert type(plt).__name__ == "module" and plt.figure is algorithm.plt.figure
+print("ok")
+"""
+
+
+def test_timing_imports_toppra_without_pyplot_and_pyplot_stays_real():
+    """TOPP-RA's first use does not import matplotlib's pyplot (toppra's algorithm module
+    imports it for a plotting method); pyplot imported afterwards is the real module, and
+    toppra's own plots reach it. (A fresh process: this one may hold pyplot already.)"""
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", TOPPRA_WITHOUT_PYPLOT], capture_output=True, text=True)
+    assert done.returncode == 0 and done.stdout.strip() == "ok", done.stderr

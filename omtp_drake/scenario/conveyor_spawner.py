@@ -141,12 +141,14 @@ def object_mesh(path: str) -> tuple[Path, tuple[tuple[float, ...], tuple[float, 
     """The mesh file Drake reads for an object's mesh file ``path`` (converted once, cached
     by content: :func:`omtp_drake.assets.drake_mesh`) and its bounds (lo, hi corners of its
     bounding box, in the object's frame, m); ConfigError when the file is missing."""
-    import trimesh
-
     src = Path(path)
     if not src.is_file():
         raise ConfigError(f"spawner object mesh {path}: no such file")
     dst = assets.drake_mesh(src, collision=True)
+    if dst.suffix.lower() == ".obj":
+        return dst, assets.obj_bounds(dst)
+    import trimesh  # (a .gltf: its nodes' transforms apply)
+
     lo, hi = trimesh.load(dst, force="mesh").bounds
     return dst, (tuple(map(float, lo)), tuple(map(float, hi)))
 

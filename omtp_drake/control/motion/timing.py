@@ -1,12 +1,16 @@
 """Timing a joint path: a rest-to-rest, time-optimal trajectory (TOPP-RA) within
 joint velocity and acceleration limits, as a Drake ``PiecewisePolynomial``.
 
-The first call imports TOPP-RA (scipy, about 0.7 s); later ones take 10-40 ms.
+The first call imports TOPP-RA (scipy's interpolate, about 0.5 s; not matplotlib's pyplot:
+:func:`_import_toppra`); later ones take 10-40 ms.
 """
 
 from __future__ import annotations
 
+import importlib
 import math
+import sys
+import types
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -61,7 +65,7 @@ def time_parameterize(
     <omtp_drake.control.motion.planner.ArmPlanner.time_parameterize>`. ``grid_step`` (rad of path length) is
     the largest spacing of TOPP-RA's grid.
     """
-    # toppra imports scipy and matplotlib (about 1 s): only when needed.
+    _import_toppra()  # (only when needed)
     import toppra.constraint
 
     vlim = np.asarray(velocity_limits, dtype=float)
@@ -83,6 +87,35 @@ def time_parameterize(
         else:
             trajectory.ConcatenateInTime(piece)
     return trajectory
+
+
+class _PyplotOnUse(types.ModuleType):
+    """What toppra's modules hold as ``plt``: the real ``matplotlib.pyplot``, imported at
+    their first use of it (toppra uses it only in its plotting methods)."""
+
+    def __getattr__(self, name: str):
+        return getattr(importlib.import_module("matplotlib.pyplot"), name)
+
+
+def _import_toppra() -> None:
+    """Imports toppra without importing ``matplotlib.pyplot``: its algorithm module imports
+    pyplot at the top for a plotting method omtp_drake never calls, and pyplot's figure
+    machinery was ~0.6 of the ~1.2 CPU s a process (a ros-run, a graded script's child)
+    spent importing toppra. While toppra is imported, ``matplotlib.pyplot`` is a
+    :class:`_PyplotOnUse`; then it is taken out again, so every other import of pyplot
+    (before or after) gets the real module."""
+    if "toppra" in sys.modules or "matplotlib.pyplot" in sys.modules:
+        return
+    import matplotlib  # (the package itself: ~0.1 s; an `import a.b` needs `a`)
+
+    sys.modules["matplotlib.pyplot"] = _PyplotOnUse("matplotlib.pyplot")
+    try:
+        import toppra  # noqa: F401
+    finally:
+        if isinstance(sys.modules.get("matplotlib.pyplot"), _PyplotOnUse):
+            del sys.modules["matplotlib.pyplot"]
+        if isinstance(vars(matplotlib).get("pyplot"), _PyplotOnUse):
+            del matplotlib.pyplot
 
 
 #: Waypoints closer than this (rad) are one: TOPP-RA cannot grid a shorter path (it fails
