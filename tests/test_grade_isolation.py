@@ -67,11 +67,19 @@ def client():
         yield shared
 
 
-#: The scripts whose verdict comes the same way in either sandbox (from the run's report, the
-#: guard's limits in the run's own process, the grader's pipes), graded without bubblewrap
-#: only: the rest meet the kernel's refusals, the namespace's process limit and init, or
-#: bubblewrap's exit status (128 + a signal) there.
-SANDBOX_ALIKE = ("spinner.py", "memory_hog.py", "output_flood.py")
+#: The scripts whose verdict comes the same way in either sandbox, graded without bubblewrap
+#: only: from the run's report or its exit code (spinner, os_exit), the guard's limits in the
+#: run's own process (memory_hog; busy_loop's SIGXCPU, whose 128 + signal exit status of
+#: bubblewrap's is self_signal's there), the grader's pipes (output_flood), the guard's audit
+#: hook, which refuses before the kernel would (write_outside, network; the guard's refusal
+#: inside bubblewrap is test_ros_run_sandbox_runs_one_script_isolated's, the kernel's
+#: test_bubblewrap_refuses_what_gets_past_the_guard's). The rest meet the namespace's process
+#: limit and init (fork_sleepers, leaves_children, kills_parent: its parent is the init) or
+#: bubblewrap's exit status (self_signal) there. Each run costs 1-1.5 CPU s, busy_loop 4.
+SANDBOX_ALIKE = (
+    "spinner.py", "memory_hog.py", "output_flood.py", "busy_loop.py", "os_exit.py", "write_outside.py",
+    "network.py",
+)  # fmt: skip
 
 
 def hostile_class(folder: Path, tag: str, port: int, sandbox: str = "none") -> dict[str, str]:
@@ -126,7 +134,8 @@ def hostile_class(folder: Path, tag: str, port: int, sandbox: str = "none") -> d
         "self_signal.py": ("import os, signal\nos.kill(os.getpid(), signal.SIGSEGV)\n", "killed by signal"),
     }
     # An honest script's row (ok, and its stdout) has its own test in each sandbox: the one
-    # graded after the killer (test_a_script_that_kills_its_worker_is_its_own_row); an
+    # graded after the killer (test_a_script_that_kills_its_worker_is_its_own_row[none]), the
+    # bypass's (test_bubblewrap_refuses_what_gets_past_the_guard); an
     # exception's message with its line is write_outside's here (test_ros_grade's bob too).
     if sandbox == "bwrap":
         scripts = {name: script for name, script in scripts.items() if name not in SANDBOX_ALIKE}
@@ -168,15 +177,16 @@ def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(
     by_name = {g.script: g for g in grades}
     assert {name: g.status for name, g in by_name.items()} == expected
     # What the sandbox refused, in the script's row; the exception names the script's line.
-    assert f"write to /var/tmp/escape_{tag}.txt" in by_name["write_outside.py"].refused
-    assert by_name["write_outside.py"].message.startswith("PermissionError: ")
-    assert by_name["write_outside.py"].message.endswith(" (at write_outside.py:3 in <module>)")
-    assert "network connect" in by_name["network.py"].refused
+    if sandbox == "none":
+        assert f"write to /var/tmp/escape_{tag}.txt" in by_name["write_outside.py"].refused
+        assert by_name["write_outside.py"].message.startswith("PermissionError: ")
+        assert by_name["write_outside.py"].message.endswith(" (at write_outside.py:3 in <module>)")
+        assert "network connect" in by_name["network.py"].refused
+        assert by_name["os_exit.py"].message.startswith("exited early with code 0")
     assert "signal to process" in by_name["kills_parent.py"].refused
     # Children left behind are killed, and say so; the run did not wait for their pipes (they
     # sleep 301 s, past the wall timeout: its verdict would be "wall timeout").
     assert "2 process(es) left running, killed" in by_name["leaves_children.py"].message
-    assert by_name["os_exit.py"].message.startswith("exited early with code 0")
     # Output: the first 64 KB kept in a file, the rest counted.
     if sandbox == "none":
         flood = by_name["output_flood.py"].isolation["stdout"]
@@ -192,7 +202,7 @@ def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(
     rows = list(csv.DictReader(open(out / "grades.csv")))
     assert [r["status"] for r in rows] == [g.status for g in grades]
     assert (out / "grades.png").stat().st_size > 1000
-    run = json.loads((out / "runs" / "busy_loop.json").read_text())
+    run = json.loads((out / "runs" / "kills_parent.json").read_text())
     assert run["isolation"]["sandbox"] == sandbox and run["isolation"]["limits"]["memory_mb"] == 1024
 
 
@@ -224,37 +234,47 @@ raise RuntimeError("still here after killing my parent")
 
 
 @pytest.mark.parametrize("sandbox", SANDBOXES)
-def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox, client):
+def test_a_script_that_kills_its_worker_is_its_own_row(tmp_path, sandbox, client, empty_cell):
     folder = tmp_path / "class"
     folder.mkdir()
     tag = f"omtp-killer-{uuid.uuid4().hex[:8]}"
     killer_name = f"a_killer_{sandbox}"  # its own temp folders' names: the other sandbox's run may be on
     (folder / f"{killer_name}.py").write_text(WORKER_KILLER.format(tag=tag))
-    shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "b_honest.py")
+    if sandbox == "none":  # graded after the killer, on the worker started again
+        shutil.copy(EXAMPLES / "lecture6_assignment3.py", folder / "b_honest.py")
     # The wall timeout, far past the honest run's time: 1.6 s alone, 3.9 s pinned to one core
     # beside a busy loop (taskset -c 0), about 5 s beside the rest of the suite (-n 2): 15 s is
     # 1.5x that on a machine twice as slow. The killer's kill comes about 1 s after its start.
     # No sandbox: a cluster of its own, of one worker: the honest script runs after the killer,
     # on the worker started again in place of the one killed. Bubblewrap: its init, not the
-    # worker, is the killer's parent, so the module's cluster (a new one costs about 2 CPU s);
+    # worker, is the killer's parent, so the module's cluster (a new one costs about 2 CPU s)
+    # and the killer alone, on the floor (an honest row in bubblewrap, ok with its stdout, is
+    # test_bubblewrap_refuses_what_gets_past_the_guard's; on this scenario test_grade_cache's);
     # a kill that got through would make the killer's row "worker died" (its nanny starts the
     # worker again for the next test).
     own = {"workers": 1} if sandbox == "none" else {"client": client}
-    grades = grade_folder(folder, SCENARIO, wall_timeout=15.0, out=tmp_path / "out", sandbox=sandbox, **own)
-    killer, honest = grades
+    scenario = SCENARIO if sandbox == "none" else empty_cell
+    grades = grade_folder(folder, scenario, wall_timeout=15.0, out=tmp_path / "out", sandbox=sandbox, **own)
+    killer = grades[0]
     if sandbox == "none":  # its parent is the worker: it dies, and the row says so
         assert killer.status == "worker died" and "KilledWorker" in killer.message
+        # The honest script is graded as without the killer (after it, on a new worker).
+        honest = grades[1]
+        assert honest.status == "ok" and honest.report["sim_time_s"] > 1.5
+        stdout = (tmp_path / "out" / "runs" / "b_honest.stdout.txt").read_text()
+        assert "part in vacuum_gripper2_suction_cup: (" in stdout
     else:  # its parent is bubblewrap's init, which the kernel does not let it kill: it goes on
         assert killer.status == "exception" and killer.message.startswith(
             "RuntimeError: still here after killing my parent (at a_killer_bwrap.py:7 in <module>)"
         ), killer.message
-    # The honest script is graded as without the sandbox (after the killer, without one).
-    assert honest.status == "ok" and honest.report["sim_time_s"] > 1.5
-    stdout = (tmp_path / "out" / "runs" / "b_honest.stdout.txt").read_text()
-    assert "part in vacuum_gripper2_suction_cup: (" in stdout
     assert processes_with(tag) == []
-    assert len(list(csv.DictReader(open(tmp_path / "out" / "grades.csv")))) == 2
-    assert sorted(p.suffix for p in (tmp_path / "out" / "runs").iterdir()) == [".json"] * 2 + [".txt"] * 4
+    rows = len(grades)
+    assert rows == (2 if sandbox == "none" else 1)
+    assert len(list(csv.DictReader(open(tmp_path / "out" / "grades.csv")))) == rows
+    assert (
+        sorted(p.suffix for p in (tmp_path / "out" / "runs").iterdir())
+        == [".json"] * rows + [".txt"] * 2 * rows
+    )
     assert killer.isolation["sandbox"] == sandbox and not glob.glob(
         f"{tempfile.gettempdir()}/omtp-grade-{killer_name}-*"
     )
