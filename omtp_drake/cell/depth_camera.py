@@ -44,6 +44,7 @@ camera renders them.
 from __future__ import annotations
 
 import math
+import threading
 from dataclasses import dataclass
 from typing import Optional
 
@@ -183,7 +184,8 @@ class CameraRender(LeafSystem):
     That scene context is a member, not a cache entry: it holds no state (each render
     sets all of its poses first, so any Context may use it), and a Python value in a
     Context aborts the process when C++ frees that Context without the GIL (Drake's
-    ``JointSliders.Run`` does, under ``omtp-drake view``).
+    ``JointSliders.Run`` does, under ``omtp-drake view``). A lock makes each render's
+    poses and image one step, should two Contexts of one diagram render at once.
 
     .. pydrake_system::
 
@@ -207,6 +209,7 @@ class CameraRender(LeafSystem):
         self._sampled = self.DeclareAbstractInputPort("sampled_poses", poses)
         self._now = self.DeclareAbstractInputPort("geometry_pose", poses)
         self._scene: Optional[Context] = None  # (made at the first render; see the class doc)
+        self._scene_lock = threading.Lock()
         sampled = {self.input_port_ticket(self._sampled.get_index())}
         # C++ holds a port's calc: a weak one lets the system be freed (omtp_drake.cell.lifetime).
         self.DeclareAbstractOutputPort(
@@ -226,31 +229,27 @@ class CameraRender(LeafSystem):
         """Whether this camera has rendered an image (and so made its renderer), ever."""
         return self._scene is not None
 
-    def _query(self, context: Context):
-        """The scene at the sampled poses (None before the first sample)."""
+    def _render(self, context: Context, camera, image_type):
+        """The image of ``camera`` (``query.Render*Image`` by type) of the scene at the
+        sampled poses; a blank ``image_type`` before the first sample."""
         poses: FramePoseVector = self._sampled.Eval(context)
         if not poses.has_id(self._parent):
-            return None
-        if self._scene is None:
-            self._scene = self._scene_graph.CreateDefaultContext()
-            add_gazebo_renderer(self._scene_graph, self._scene)
-        self._scene_graph.get_source_pose_port(self._source).FixValue(self._scene, poses)
-        return self._scene_graph.get_query_output_port().Eval(self._scene)
+            return image_type(*self._size)
+        with self._scene_lock:
+            if self._scene is None:
+                self._scene = self._scene_graph.CreateDefaultContext()
+                add_gazebo_renderer(self._scene_graph, self._scene)
+            self._scene_graph.get_source_pose_port(self._source).FixValue(self._scene, poses)
+            query = self._scene_graph.get_query_output_port().Eval(self._scene)
+            if isinstance(camera, ColorRenderCamera):
+                return query.RenderColorImage(camera, self._parent, self._X_PO)
+            return query.RenderDepthImage(camera, self._parent, self._X_PO)
 
     def _calc_color(self, context: Context, output) -> None:
-        query = self._query(context)
-        image = ImageRgba8U(*self._size) if query is None else query.RenderColorImage(*self._at(self._color))
-        output.set_value(image)
+        output.set_value(self._render(context, self._color, ImageRgba8U))
 
     def _calc_depth(self, context: Context, output) -> None:
-        query = self._query(context)
-        image = (
-            ImageDepth32F(*self._size) if query is None else query.RenderDepthImage(*self._at(self._depth))
-        )
-        output.set_value(image)
-
-    def _at(self, camera) -> tuple:
-        return camera, self._parent, self._X_PO
+        output.set_value(self._render(context, self._depth, ImageDepth32F))
 
     def _calc_pose(self, context: Context, output) -> None:
         output.set_value(self._now.Eval(context).value(self._parent) @ self._X_PO)
