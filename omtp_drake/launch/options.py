@@ -81,12 +81,7 @@ def cell_of(
     from omtp_drake.scenario import Scenario, as_scenario, scenario_from_dict, with_robot
 
     folders = [workspace] if isinstance(workspace, (str, os.PathLike)) else list(workspace)
-    spawns = [r if isinstance(r, RobotSpawn) else parse_robot(os.fspath(r)) for r in robots]
-    if isinstance(scenario, (str, os.PathLike)) and str(scenario).endswith(ROBOT_FILE_SUFFIXES):
-        spawns.insert(0, RobotSpawn(os.fspath(scenario)))
-        scenario = None
-    elif isinstance(scenario, (str, os.PathLike)) and str(scenario).endswith(".world") and not world:
-        scenario, world = None, scenario
+    scenario, world, spawns = _sources(scenario, world, robots)
     given = [
         name for name, value in (("scenario", scenario), ("--launch", launch), ("--world", world)) if value
     ]
@@ -121,6 +116,23 @@ def cell_of(
         raise ConfigError(f"give {CHOICES}")
     cell.scenario = base
     return cell
+
+
+def _sources(
+    scenario: Scenario | str | Path | None,
+    world: Optional[str | os.PathLike],
+    robots: Sequence[RobotSpawn | str | os.PathLike],
+) -> tuple[Scenario | str | Path | None, Optional[str | os.PathLike], list[RobotSpawn]]:
+    """(scenario, world, robots to spawn) of :func:`cell_of`'s arguments: a ``scenario`` that
+    is a robot file is the first robot spawned (in the empty world); one that is a ``.world``
+    file is the world."""
+    spawns = [r if isinstance(r, RobotSpawn) else parse_robot(os.fspath(r)) for r in robots]
+    if isinstance(scenario, (str, os.PathLike)) and str(scenario).endswith(ROBOT_FILE_SUFFIXES):
+        spawns.insert(0, RobotSpawn(os.fspath(scenario)))
+        scenario = None
+    elif isinstance(scenario, (str, os.PathLike)) and str(scenario).endswith(".world") and not world:
+        scenario, world = None, scenario
+    return scenario, world, spawns
 
 
 def chosen_cell(
