@@ -4,13 +4,15 @@ as they would write it (nothing of omtp_drake imported): it sends one trajectory
 
     python tutorial_node.py OUT.json LEAD SPAN
 
-Once it hears the cell (/clock, a /joint_states message, a subscriber of
-/set_joint_trajectory), it sends tests/ros2_scripts/trajectory.json's trajectory, its header
+Once it hears the cell (/clock, a /joint_states message, each camera topic, a subscriber
+of /set_joint_trajectory), it sends tests/ros2_scripts/trajectory.json's trajectory, its header
 stamped START: the first whole half second at least LEAD simulated seconds after the
 /clock it heard last (so START does not depend on how long DDS discovery took). The node
-records every /joint_states message until /clock reaches END = START + SPAN, and one
-message of each camera topic (then unsubscribes: the camera renders only while someone
-listens). Writes what it saw, START and END to OUT.json; every wait has a wall-clock bound.
+records every /joint_states message until /clock, and then /joint_states, reach
+END = START + SPAN. Before it sends, it takes one message of each camera topic and
+unsubscribes (the camera renders only while someone listens), so that a 640 x 480 cloud
+stream is not what the joint states of the recorded span queue behind. Writes what it saw,
+START and END to OUT.json; every wait has a wall-clock bound.
 """
 
 import json
@@ -111,15 +113,16 @@ def main(out, lead, span):
     try:
         node.wait_for("clock", lambda: node.clock >= 0.0)
         node.wait_for("/joint_states", lambda: node.states)
+        node.wait_for("camera topics", lambda: len(node.camera) == len(CAMERA))
+        for sub in node.camera_subs:
+            node.destroy_subscription(sub)
         node.wait_for("the trajectory's subscriber", lambda: node.trajectory.get_subscription_count() > 0)
         sent_at = node.clock
         start = math.ceil((sent_at + lead) * 2.0) / 2.0
         end = start + span
         node.trajectory.publish(trajectory_msg(start))
-        node.wait_for("camera topics", lambda: len(node.camera) == len(CAMERA))
-        for sub in node.camera_subs:
-            node.destroy_subscription(sub)
         node.wait_for(f"/clock at {end}", lambda: node.clock >= end)
+        node.wait_for(f"/joint_states at {end}", lambda: seconds(node.states[-1].header.stamp) >= end)
         node.wait_for("/robot_description", lambda: node.descriptions)
         seen = {
             "start": start,
