@@ -202,36 +202,75 @@ def _point_meshes_to(root: ET.Element) -> None:
                 ET.SubElement(mesh, f"{{{DRAKE_NS}}}declare_convex")
 
 
-#: In a cached URDF's name: its collision meshes are their hulls' files.
-_FORM = "_hulls"
+#: How far (m) a UR link's collision hull may lie inside Drake's exact hull of its mesh
+#: (:func:`convex_hull_file`): the hull keeps the fewest vertices that stay this close.
+HULL_TOLERANCE = 0.002
+#: In a cached URDF's name: its collision meshes are their hulls' files (of this tolerance).
+_FORM = f"_hulls{HULL_TOLERANCE * 1000:g}mm"
 
 
 def convex_hull_file(obj: Path) -> Path:
-    """The convex hull of the mesh ``obj`` as an ``.obj`` of its vertices and faces (Drake's own
-    hull, the one its point contact uses for a mesh declared convex), written once into the
-    model cache by the mesh's name (itself the source's content hash).
+    """A convex hull of the mesh ``obj`` as an ``.obj`` of its vertices and faces, written once
+    into the model cache by the mesh's name (itself the source's content hash): Drake's own
+    hull (the one its point contact uses for a mesh declared convex), with only the vertices
+    it needs to stay within :data:`HULL_TOLERANCE` of it (:func:`_fewer_vertices`).
 
-    A mesh declared convex is its hull to Drake: the same vertices come back when Drake takes
-    the hull of this file, and so the same contact, bounding boxes and distances; but each
-    geometry registered with a SceneGraph reads, checksums and hulls its file (5 ms a UR link,
-    7 links an arm, twice a cell: the plant and the planner's), and this file is 2-5 times
-    smaller and hulled at once. Measured: a UR10's URDF into a SceneGraph 43 -> 33 ms."""
-    dst = cache_entry(f"meshes/{obj.stem}-hull.obj")
+    A mesh declared convex is its hull to Drake, and each geometry registered with a
+    SceneGraph reads, checksums and hulls its file, then builds its collision shape: for a UR
+    link's 120-245 hull vertices that is 10-16 ms, superlinear in the vertices, 7 links an
+    arm, an arm in every cell and in every planner's copy of the cell. The UR's collision
+    meshes are themselves coarse stand-ins for the links (ur_description's), and the 2 mm
+    hull has 43-85 vertices: a UR10's seven collision hulls into a SceneGraph 72 -> 22 ms."""
+    dst = cache_entry(f"meshes/{obj.stem}-hull-{HULL_TOLERANCE * 1000:g}mm.obj")
     if dst.exists():
         return dst
+    import numpy as np
     from pydrake.geometry import Mesh
 
     hull = Mesh(str(obj)).GetConvexHull()
-    lines = [
-        f"v {x!r} {y!r} {z!r}" for x, y, z in (map(float, hull.vertex(i)) for i in range(hull.num_vertices()))
-    ]
-    faces, i = hull.face_data(), 0
-    while i < len(faces):
-        count = faces[i]
-        lines.append("f " + " ".join(str(v + 1) for v in faces[i + 1 : i + 1 + count]))
-        i += 1 + count
-    write_atomic(dst, ("\n".join(lines) + "\n").encode())
+    p_MV = np.array([hull.vertex(i) for i in range(hull.num_vertices())], dtype=float)
+    write_atomic(dst, _obj_of_hull(p_MV[_fewer_vertices(p_MV, HULL_TOLERANCE)]).encode())
     return dst
+
+
+def _fewer_vertices(p_MV, tolerance: float) -> list[int]:
+    """Indices of a subset of the points ``p_MV`` (N x 3, the vertices of a convex hull) whose
+    hull every point lies within ``tolerance`` of: the six extreme points along the axes, then,
+    one at a time, the point farthest outside the subset's hull (deterministic)."""
+    import numpy as np
+    from scipy.spatial import ConvexHull
+
+    chosen = list(dict.fromkeys(int(i) for i in (*p_MV.argmin(axis=0), *p_MV.argmax(axis=0))))
+    while len(chosen) < 4 or not _spans_a_volume(p_MV[chosen]):
+        distance = np.min(np.linalg.norm(p_MV[:, None, :] - p_MV[chosen][None, :, :], axis=2), axis=1)
+        chosen.append(int(np.argmax(distance)))
+    while True:
+        planes = ConvexHull(p_MV[chosen]).equations  # n.x + d <= 0 inside, n unit
+        outside = (p_MV @ planes[:, :3].T + planes[:, 3]).max(axis=1)
+        farthest = int(np.argmax(outside))
+        if outside[farthest] <= tolerance:
+            return chosen
+        chosen.append(farthest)
+
+
+def _spans_a_volume(points) -> bool:
+    import numpy as np
+
+    return bool(np.linalg.matrix_rank(points[1:] - points[0], tol=1e-9) == 3)
+
+
+def _obj_of_hull(p_MV) -> str:
+    """The convex hull of the points ``p_MV`` as ``.obj`` text, each face wound outwards."""
+    import numpy as np
+    from scipy.spatial import ConvexHull
+
+    hull = ConvexHull(p_MV)
+    lines = [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in p_MV]
+    for (a, b, c), plane in zip(hull.simplices, hull.equations):
+        if np.cross(p_MV[b] - p_MV[a], p_MV[c] - p_MV[a]) @ plane[:3] < 0:
+            b, c = c, b
+        lines.append(f"f {a + 1} {b + 1} {c + 1}")
+    return "\n".join(lines) + "\n"
 
 
 def _child(element: ET.Element, tag: str) -> ET.Element:

