@@ -342,45 +342,47 @@ class Driver:
             raise ConfigError(f"cannot advance to {t}: give a finite time")
         if t < self.time - _EPS:
             raise SimulationError(f"cannot go back in time: now {self.time:.3f} s, asked {t:.3f} s")
-        context, sources = self.context, self._sources
-        while context.get_time() < t - _EPS:
+        # (Run at every stop: the loop's own work stays a small part of the step's.)
+        context, sources, advance = self.context, self._sources, self.simulator.AdvanceTo
+        get_time = context.get_time
+        end = t - _EPS
+        while get_time() < end:
             for source in sources:
                 source.before_advance(context)
             events = [source.next_time(context) for source in sources]
-            self.simulator.AdvanceTo(self._next_stop(t, events))
+            advance(self._next_stop(t, events))
             self._apply_due(events)
 
     def _next_stop(self, t: float, events: list[float]) -> float:
         """The first of ``t``, the sources' ``events`` and the edits' and callbacks'
-        next multiples of their periods."""
+        next multiples of their periods (the first ``k period`` after now, rounding errors
+        below a multiple counted as on it; none for an infinite period)."""
         now = self.context.get_time()
-        periods = [e.period for e in self.edits] + [c.period for c in self._callbacks]
-        return min([t, *events] + [_next_multiple(now, period) for period in periods])
+        stop = min([t, *events])
+        for periodic in (self.edits, self._callbacks):
+            for item in periodic:
+                period = item.period
+                if period != math.inf:
+                    multiple = (math.floor(now / period + _EPS) + 1) * period
+                    if multiple < stop:
+                        stop = multiple
+        return stop
 
     def _apply_due(self, events: list[float]) -> None:
         """Applies the edits due now (their event, or a multiple of their period), then
-        the callbacks due now."""
+        the callbacks due now (now within a rounding error of a multiple of their period;
+        never for an infinite period)."""
         context = self.context
         now = context.get_time()
         due = [s for s, e in zip(self._sources, events) if abs(now - e) < _EPS]
         tolerance = _EPS * max(1.0, abs(now))
         for edit in self.edits:
-            if any(edit is s for s in due) or _multiple_within(now, edit.period, tolerance):
+            period = edit.period
+            if (period != math.inf and abs(round(now / period) * period - now) < tolerance) or (
+                due and any(edit is s for s in due)
+            ):
                 edit(context)
         for callback in self._callbacks:
-            if _multiple_within(now, callback.period, tolerance):
+            period = callback.period
+            if period != math.inf and abs(round(now / period) * period - now) < tolerance:
                 callback.function()
-
-
-def _next_multiple(t: float, period: float) -> float:
-    """The first multiple of ``period`` after ``t`` (inf for an infinite period)."""
-    if period == math.inf:
-        return math.inf
-    return (math.floor(t / period + _EPS) + 1) * period
-
-
-def _multiple_within(t: float, period: float, tolerance: float) -> bool:
-    """Whether ``t`` is within ``tolerance`` of a multiple of ``period`` (never for inf)."""
-    if period == math.inf:
-        return False
-    return abs(round(t / period) * period - t) < tolerance

@@ -73,6 +73,8 @@ class GripperEvents:
         #: Times at which a gripper's rule is due (robot -> times), and weld syncs.
         self._runs: dict[str, list[float]] = {r: [] for r in self._grippers}
         self._syncs: list[float] = []
+        #: (robot, gripper, whether it welds), in the grippers' order.
+        self._kinds = [(r, g, isinstance(g, WeldSuctionGripper)) for r, g in self._grippers.items()]
 
     def serve(self, robots: Iterable[str]) -> None:
         """``robots``' grippers are commanded by services (their command inputs are
@@ -115,6 +117,11 @@ class GripperEvents:
 
     # ------------------------------------------------------------------ the driver's
 
+    def _in(self, root_context: Context) -> list[tuple[str, SuctionGripper, Context, bool]]:
+        """Each gripper's robot, the gripper, its Context in ``root_context`` and whether
+        it welds."""
+        return [(r, g, g.GetMyMutableContextFromRoot(root_context), weld) for r, g, weld in self._kinds]
+
     def next_time(self, root_context: Context) -> float:
         """The next time (after now) one of these events is due."""
         now = root_context.get_time()
@@ -123,13 +130,11 @@ class GripperEvents:
         for runs in self._runs.values():
             first = _first_after(runs, after, first)
         first = _first_after(self._syncs, after, first)
-        for robot, gripper in self._grippers.items():
-            context = gripper.GetMyContextFromRoot(root_context)
+        for robot, gripper, context, weld in self._in(root_context):
             memory = memory_of(gripper, context)
             driver = self._driver_check(robot, gripper, memory)
             if after < driver < first:
                 first = driver
-            weld = isinstance(gripper, WeldSuctionGripper)
             if weld and memory.pending_body >= 0:
                 # An attach already decided: its weld one step after the deciding check,
                 # also when the driver stopped inside that step (a caller's stop).
@@ -177,30 +182,41 @@ class GripperEvents:
         rule decided an attach or a disable released a part."""
         now = root_context.get_time()
         after = now + _EPS
-        self._overdue_attaches(root_context, after)
-        for robot, gripper in self._grippers.items():
+        found = self._in(root_context)
+        memories = self._overdue_attaches(root_context, after, found)
+        for i, (robot, gripper, context, weld) in enumerate(found):
             runs = self._runs[robot]
-            due = any(t <= after for t in runs)
-            if due:
-                self._runs[robot] = [t for t in runs if t > after]
-            context = gripper.GetMyMutableContextFromRoot(root_context)
-            due = due or self._driver_check(robot, gripper, memory_of(gripper, context)) <= after
+            due = False
+            if runs:
+                due = any(t <= after for t in runs)
+                if due:
+                    self._runs[robot] = [t for t in runs if t > after]
+            memory = memories[i] if memories else memory_of(gripper, context)
+            due = due or self._driver_check(robot, gripper, memory) <= after
             if not due:
                 continue
             gripper.ExecuteForcedEvents(context)
-            if isinstance(gripper, WeldSuctionGripper) and self._needs_sync(gripper, context, root_context):
+            if weld and self._needs_sync(gripper, context, root_context):
                 self._syncs.append(_step_after(now, self._step))
 
-    def _overdue_attaches(self, root_context: Context, after: float) -> None:
+    def _overdue_attaches(
+        self, root_context: Context, after: float, found: list[tuple[str, SuctionGripper, Context, bool]]
+    ) -> list[GripperMemory]:
         """Makes now a decided attach whose step has passed without a stop (a check no
         stop announced: the command switched on inside an advance and the first check
         decided, ``consecutive_checks: 1``), instead of never; the idle sync then runs
-        while it holds, as after an attach made at its step."""
-        for gripper in self._welds:
-            memory = memory_of(gripper, gripper.GetMyContextFromRoot(root_context))
-            if memory.pending_body >= 0 and _pending_sync(memory, self._step) <= after:
+        while it holds, as after an attach made at its step. Returns the grippers'
+        memories (as ``found``) when it made none, else [] (a sync changes them)."""
+        memories = []
+        synced = False
+        for _robot, gripper, context, weld in found:
+            memory = memory_of(gripper, context)
+            memories.append(memory)
+            if weld and memory.pending_body >= 0 and _pending_sync(memory, self._step) <= after:
                 sync_weld(gripper, self._plant, root_context)
                 self._holding = self._any_holding(root_context)
+                synced = True
+        return [] if synced else memories
 
     def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
         """After a rule run: an attach is pending, or the command's disable released a

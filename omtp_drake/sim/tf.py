@@ -295,12 +295,12 @@ class TfBuffer:
         of a diagram containing the station) at the Context's time."""
         time = root_context.get_time()
         plant_context = self._plant.GetMyContextFromRoot(root_context)
-        X_WB = tuple(self._plant.get_body_poses_output_port().Eval(plant_context))
+        poses = self._plant.get_body_poses_output_port().EvalAbstract(plant_context).Clone()
         i = bisect.bisect_left(self._times, time - TIME_EPS)
         if i < len(self._times) and abs(self._times[i] - time) <= TIME_EPS:
-            self._snapshots[i] = Snapshot(time, X_WB)
+            self._snapshots[i] = Snapshot(time, poses)
         else:
-            self._snapshots.insert(i, Snapshot(time, X_WB))
+            self._snapshots.insert(i, Snapshot(time, poses))
             self._times.insert(i, time)
         for camera, system in self._camera_systems:
             sample = system.sample(system.GetMyContextFromRoot(root_context))

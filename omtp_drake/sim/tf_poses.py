@@ -10,10 +10,12 @@ a function that gives their camera and pose in the camera.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Optional
 
+from pydrake.common.value import AbstractValue
 from pydrake.math import RigidTransform
 
 from omtp_drake.cell.frames import FrameTree
@@ -26,8 +28,15 @@ Detection = Callable[[str, float], tuple[str, RigidTransform]]
 @dataclass(frozen=True)
 class Snapshot:
     time: float
-    #: X_WB of every body, by body index.
-    X_WB: tuple[RigidTransform, ...]
+    #: The plant's body poses output at ``time``, copied (``Clone`` of its value): one
+    #: C++ copy, where a tuple of RigidTransform is a Python object per body; most
+    #: snapshots are never read.
+    poses: AbstractValue
+
+    @functools.cached_property
+    def X_WB(self) -> tuple[RigidTransform, ...]:
+        """X_WB of every body, by body index (made at the first read)."""
+        return tuple(self.poses.get_value())
 
 
 class PlantFramePoses:

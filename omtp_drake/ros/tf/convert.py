@@ -14,10 +14,11 @@ from omtp_drake.ros.comm.messages import Message, Point, Pose, Quaternion, Trans
 
 
 def pose_msg(X: RigidTransform) -> Message:
-    """``X`` as a geometry_msgs/Pose."""
-    q = X.rotation().ToQuaternion()
-    p = X.translation()
-    return Pose(Point(*map(float, p)), Quaternion(float(q.x()), float(q.y()), float(q.z()), float(q.w())))
+    """``X`` as a geometry_msgs/Pose (plain floats by ``tolist``: every model of every
+    published model and link state, at each physics update)."""
+    x, y, z = X.translation().tolist()
+    w, qx, qy, qz = X.rotation().ToQuaternion().wxyz().tolist()
+    return Pose(Point(x, y, z), Quaternion(qx, qy, qz, w))
 
 
 def transform_msg(X: RigidTransform) -> Message:
