@@ -56,7 +56,7 @@ def main() -> None:
             plain, recorded = (rclpy.create_node(f"bench_tf_{route}{i}", context=context) for i in (1, 2))
             record_publishers(recorded, bag, lambda: cell.time)
             for name, node, with_bag in ((f"{route} unheard", plain, None), (f"{route}+bag", recorded, bag)):
-                topics = PackedTopics(node, dds, with_bag)
+                topics = PackedTopics(node, lambda: dds, with_bag)
                 topics.route = route  # as chosen where the types cannot be built, for "cyclone"
                 jobs[name] = TfTopics(cell, topics)
         cpu = dict.fromkeys(jobs, 0.0)

@@ -2,7 +2,8 @@
 (``known_model_types``, ``known_model_names``, ``anonymize_models``, ``model_frame_prefix``;
 tests/fixtures/camera_listings laid over a copy of tests/fixtures/group_ws): read once into
 the scenario's ``plugin_names.camera_listings``, applied by the plugin layer to what both
-transports serve (the camera topics and tf's detected frames)."""
+transports serve (the camera topics and tf's detected frames). Its ROS 2 test (the cameras'
+rviz2 markers) is in tests/test_plugin_names.py, whose ROS 2 cell it shares."""
 
 from __future__ import annotations
 
@@ -12,7 +13,6 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
-from test_ros2 import hold_domain, needs_ros2, run_cell_with_node
 
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.gazebo.logical_camera import PluginListing, model_id
@@ -77,22 +77,6 @@ def test_each_camera_lists_only_what_it_knows_named_as_the_plugin_names_it(works
     assert max(abs(v) for v in seen_by["hall"]) < 1e-3, seen_by["hall"]
 
 
-@needs_ros2
-def test_on_ros2_each_camera_lists_only_what_it_knows_named_as_the_plugin_names_it(workspace, tmp_path):
-    """``omtp-drake ros2``: the cameras' rviz2 markers label what the plugin publishes (a
-    model's name, or its type when anonymized): camera 1 the hall only, camera 2 two
-    ``model``s (the belt and the bin)."""
-    out = tmp_path / "markers.json"
-    node = [str(Path(__file__).parent / "ros2_scripts" / "camera_markers_node.py"), str(out)]
-    node += ["logical_camera_1", "logical_camera_2"]
-    with hold_domain() as domain:
-        run_cell_with_node(["--launch", LAUNCH, "--workspace", str(workspace)], node, domain)
-    assert json.loads(out.read_text()) == {
-        "logical_camera_1": ["workcell_"],
-        "logical_camera_2": ["model", "model"],
-    }
-
-
 def _camera(xml: str):
     plugin = f'<plugin name="cam" filename="libROSLogicalCameraPlugin.so">{xml}</plugin>'
     return plugins_in(ET.fromstring(f"<model>{plugin}</model>"), "cams.world:12")[0]
@@ -104,14 +88,22 @@ def test_the_plugins_rules_name_as_ariac_does():
 
     listing = PluginListing("cam", CameraListing(known_model_types=["object"], known_model_names=["bin_1_"]))
     assert [listing.publishes(n) for n in ("object_3", "object_clone_2", "bin_1_", "bin_2_", "robot1")] == [
-        True, True, True, False, False,
+        True,
+        True,
+        True,
+        False,
+        False,
     ]
     assert listing.model("object_3", RigidTransform(), RigidTransform()).frame == "cam_object_3_frame"
     anonymous = PluginListing("cam", CameraListing(anonymize_models=True, model_frame_prefix=""))
     seen = anonymous.model("object_12", RigidTransform(), RigidTransform())
     assert (seen.name, seen.type, seen.frame) == ("", "model", "model_12_frame")
     assert [model_id(n) for n in ("object_3", "robot2", "bin_1_", "a_3", "ns|part_7")] == [
-        "3", "robot2", "", "a_3", "7",
+        "3",
+        "robot2",
+        "",
+        "a_3",
+        "7",
     ]
     # Nested models: published by their own type and rules, never named.
     assert anonymous.nested("conveyor_belt_fixed", RigidTransform()).type == "conveyor_belt_fixed"
@@ -181,11 +173,16 @@ def test_the_camera_command_of_a_camera_whose_plugin_stopped_is_one_line(tmp_pat
     from omtp_drake.cli import main
 
     scenario = tmp_path / "stopped.yaml"
-    scenario.write_text(json.dumps({
-        "base": "lecture6_assignment1",
-        "plugin_names": {"camera_listings": {
-            "logical_camera_1": {"known_model_types": [], "advertised": False}}},
-    }))
+    scenario.write_text(
+        json.dumps(
+            {
+                "base": "lecture6_assignment1",
+                "plugin_names": {
+                    "camera_listings": {"logical_camera_1": {"known_model_types": [], "advertised": False}}
+                },
+            }
+        )
+    )
     assert main(["camera", str(scenario), "--camera", "logical_camera_1"]) == 2
     err = capsys.readouterr().err
     assert "logical camera 'logical_camera_1' publishes nothing" in err and err.count("\n") == 1
@@ -205,9 +202,11 @@ def test_an_agvs_kit_tray_is_a_tf_frame_under_it_not_in_the_message():
     from omtp_drake.scenario import ModelConfig, load_scenario
     from omtp_drake.script import Cell
 
-    box = ('<robot name="agv1"><link name="agv1_base"><visual><geometry><box size="0.3 0.3 0.1"/>'
-           '</geometry></visual><collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision>'
-           '</link></robot>')
+    box = (
+        '<robot name="agv1"><link name="agv1_base"><visual><geometry><box size="0.3 0.3 0.1"/>'
+        '</geometry></visual><collision><geometry><box size="0.3 0.3 0.1"/></geometry></collision>'
+        "</link></robot>"
+    )
     scenario = load_scenario("lecture6_assignment1")
     agv = ModelConfig(name="agv1", file="agv1.urdf", description=box, xyz=[1.2, 1.6, 1.2], static=True)
     noisy = {"position_noise_sigma": 0.02, "orientation_noise_sigma": 0.05}

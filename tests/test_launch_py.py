@@ -219,7 +219,9 @@ def test_the_launch_starts_the_workspaces_own_rclpy_node_beside_the_cell(tmp_pat
     spinning when the run ends, is stopped with Ctrl-C and ends cleanly."""
     report = tmp_path / "settings.json"
     cell_args = ["--launch", "slider_arm_moves settings.launch.py", "--workspace", str(TUTORIAL_SRC)]
-    out = run_cell_until([*cell_args, "--arg", f"report:={report}"], "settings written", domain, patience=240)
+    # Paced (--realtime): the node starts in wall time; the cell need not run flat out meanwhile.
+    cell_args += ["--arg", f"report:={report}", "--realtime"]
+    out = run_cell_until(cell_args, "settings written", domain, patience=240)
     assert "[settings-1] started" in out, out[-3000:]
     assert "[settings-1] finished cleanly" in out, out[-3000:]
     assert json.loads(report.read_text()) == {

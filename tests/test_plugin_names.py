@@ -2,7 +2,9 @@
 (tests/fixtures/renamed_topics laid over a copy of tests/fixtures/group_ws): read once into
 the scenario's ``plugin_names``, served under those names by ``ros-run`` (a course-style
 rospy script picks a part into their bin on them) and by ``omtp-drake ros2`` (a plain rclpy
-node sees them on the graph, and not the course's defaults)."""
+node sees them on the graph, and not the course's defaults). The ROS 2 cell is shared with
+tests/test_camera_listings.py's ROS 2 test (the module's fixture ``ros2_seen``: its camera
+edits and these in one workspace; each test reads what its own node saw)."""
 
 from __future__ import annotations
 
@@ -13,7 +15,7 @@ from pathlib import Path
 
 import pytest
 from fixture_reports import assert_as_recorded
-from test_ros2 import hold_domain, needs_ros2, run_cell_with_node
+from test_ros2 import SCRIPTS, hold_domain, needs_ros2, run_cell_with_nodes
 
 from omtp_drake.errors import WorkspaceError
 from omtp_drake.launch import own_cell
@@ -38,6 +40,36 @@ def workspace(tmp_path_factory) -> Path:
     for edit, target in OVERLAY.items():
         shutil.copyfile(EDITS / edit, src / target)
     return src
+
+
+#: tests/test_camera_listings.py's edits: its camera 1, and its camera 2 on this module's topic.
+LISTINGS = FIXTURES / "camera_listings"
+
+
+@pytest.fixture(scope="module")
+def ros2_seen(workspace, tmp_path_factory) -> dict:
+    """One ``omtp-drake ros2`` cell of LAUNCH on a copy of the workspace with camera_listings'
+    cameras too (camera 2 keeps this module's topic, /cell/bin_camera), and in turn: a node
+    listing the graph's names, then a node reading the cameras' markers. What each saw, by name
+    ("graph", "markers")."""
+    src = tmp_path_factory.mktemp("names_and_listings") / "src"
+    shutil.copytree(workspace, src)
+    cameras = src / "omtp_gazebo" / "models"
+    shutil.copyfile(LISTINGS / "logical_camera1.sdf", cameras / "logical_camera1" / "model.sdf")
+    camera2 = (LISTINGS / "logical_camera2.sdf").read_text()
+    renamed = "<robotNamespace>cell</robotNamespace><image_topic_ros>bin_camera</image_topic_ros>"
+    camera2 = camera2.replace("<robotNamespace>omtp</robotNamespace>", renamed)
+    assert renamed in camera2
+    (cameras / "logical_camera2" / "model.sdf").write_text(camera2)
+    out = {name: src.parent / f"{name}.json" for name in ("graph", "markers")}
+    wanted = ["/cell/gripper1/my_state", "/cell/beam/state", "/cell/gripper1/suction", "/omtp/belt/power"]
+    wanted += ["/cell/bin_camera/poses"]
+    markers = ["logical_camera_1", "logical_camera_2:/cell/bin_camera"]
+    nodes = [[str(SCRIPTS / "graph_names_node.py"), str(out["graph"]), *wanted]]
+    nodes.append([str(SCRIPTS / "camera_markers_node.py"), str(out["markers"]), *markers])
+    with hold_domain() as domain:
+        run_cell_with_nodes(["--launch", LAUNCH, "--workspace", str(src)], nodes, domain)
+    return {name: json.loads(path.read_text()) for name, path in out.items()}
 
 
 def test_their_parameters_are_read_once_into_the_scenario(workspace):
@@ -73,14 +105,8 @@ def test_a_rospy_script_on_their_names_picks_a_part_into_their_bin(workspace, tm
 
 
 @needs_ros2
-def test_the_ros2_graph_has_their_names_and_not_the_courses(workspace, tmp_path):
-    out = tmp_path / "graph.json"
-    wanted = ["/cell/gripper1/my_state", "/cell/beam/state", "/cell/gripper1/suction", "/omtp/belt/power"]
-    wanted += ["/cell/bin_camera/poses"]
-    node = [str(Path(__file__).parent / "ros2_scripts" / "graph_names_node.py"), str(out), *wanted]
-    with hold_domain() as domain:
-        run_cell_with_node(["--launch", LAUNCH, "--workspace", str(workspace)], node, domain)
-    graph = json.loads(out.read_text())
+def test_the_ros2_graph_has_their_names_and_not_the_courses(ros2_seen):
+    graph = ros2_seen["graph"]
     assert graph["topics"]["/cell/gripper1/my_state"] == ["omtp_gazebo/msg/VacuumGripperState"]
     assert graph["topics"]["/cell/beam/state"] == ["omtp_gazebo/msg/Proximity"]
     assert "/cell/beam/change" in graph["topics"]
@@ -130,3 +156,14 @@ def test_a_bad_name_is_one_error_naming_the_place_the_value_and_the_valid_choice
     assert message.startswith(f"robot.xacro:7: libROSVacuumGripperPlugin.so (gripper1) <{tag}>"), message
     assert ET.fromstring(f"<x>{xml}</x>")[0].text in message and "valid: a ROS name" in message
     assert "\n" not in message
+
+
+@needs_ros2
+def test_on_ros2_each_camera_lists_only_what_it_knows_named_as_the_plugin_names_it(ros2_seen):
+    """``omtp-drake ros2`` (tests/test_camera_listings.py's rules, camera 2 on its renamed topic):
+    the cameras' rviz2 markers label what the plugin publishes (a model's name, or its type when
+    anonymized): camera 1 the hall only, camera 2 two ``model``s (the belt and the bin)."""
+    assert ros2_seen["markers"] == {
+        "logical_camera_1": ["workcell_"],
+        "logical_camera_2": ["model", "model"],
+    }

@@ -31,7 +31,6 @@ from omtp_drake.ros.moveit.description import robot_description
 from omtp_drake.ros2.bag import record_publishers
 from omtp_drake.ros2.commands import CellCommands
 from omtp_drake.ros2.course_topics import CourseTopics
-from omtp_drake.ros2.dds_types import CycloneParticipant
 from omtp_drake.ros2.gazebo_world import GazeboWorldTopics
 from omtp_drake.ros2.network import Ros2Network, cell_participant_profile, import_rclpy
 from omtp_drake.ros2.packed_topics import PackedTopics
@@ -42,6 +41,7 @@ from omtp_drake.viz.meshcat import free_meshcats_here
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
+    from omtp_drake.ros2.dds_types import CycloneParticipant
     from omtp_drake.script import Cell
 
 _log = logging.getLogger("gazebo")
@@ -109,6 +109,26 @@ class CellClock:
         )
 
 
+class CellCyclone:
+    """The cell's Cyclone DDS participant on ``network`` (:mod:`omtp_drake.ros2.dds_types`), made at
+    the first call and the same after: only the course's own types (the grippers, the break beam),
+    and /tf and Gazebo's states where their rclpy types cannot be built, need it. A cell without
+    them (a robot of the user's own, with the types built) neither imports Cyclone DDS (0.3-0.5 s
+    of CPU at every start) nor puts a second participant on the domain for every peer to discover.
+    """
+
+    def __init__(self, network: Ros2Network):
+        self._network = network
+        self._participant: Optional[CycloneParticipant] = None
+
+    def __call__(self) -> CycloneParticipant:
+        if self._participant is None:
+            from omtp_drake.ros2.dds_types import CycloneParticipant
+
+            self._participant = CycloneParticipant(self._network)
+        return self._participant
+
+
 class Ros2Cell:
     """``cell`` as the ROS 2 node :data:`NODE_NAME` on ``network``.
 
@@ -142,7 +162,7 @@ class Ros2Cell:
             # (omtp_drake.ros2.tf_publisher) and Gazebo's states by rclpy with the types built
             # here, else by Cyclone too (packed_topics); /tf at the joint states' rate, as
             # robot_state_publisher follows /joint_states
-            self._dds = dds = CycloneParticipant(network)
+            dds = CellCyclone(network)
             self._course_topics = CourseTopics(self.node, dds, plugins.publications, bag)
             #: Who writes /tf and Gazebo's states (``.route``: "rclpy" or "cyclone").
             self.packed = PackedTopics(self.node, dds, bag)

@@ -17,11 +17,14 @@ When, and what the messages say, is the plugin layer's (:mod:`omtp_drake.gazebo.
 :mod:`omtp_drake.gazebo.proximity_ray`); a latched topic is transient local (depth 1) here,
 its view too, so a late reader gets the last message. A topic that is not latched, and each of
 its views, goes out only while someone would get it (:mod:`omtp_drake.ros2.audience`: the
-gripper's state is due at every step).
+gripper's state is due at every step). Cyclone DDS (its import, its participant) is asked for
+only when a topic of these types is made: a cell without them (a robot of the user's own) runs
+without it.
 """
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Optional
@@ -31,19 +34,23 @@ from omtp_drake.gazebo.schedule import Publication
 from omtp_drake.gazebo.vacuum_gripper import VacuumGripperState
 from omtp_drake.ros2 import cdr
 from omtp_drake.ros2.audience import dds_heard, heard
-from omtp_drake.ros2.course_types import Proximity_, VacuumGripperState_, ros_type
-from omtp_drake.ros2.dds_types import CycloneParticipant, Header_, Time_, write_cdr
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
+    from omtp_drake.ros2.course_types import Proximity_, VacuumGripperState_
+    from omtp_drake.ros2.dds_types import CycloneParticipant, Time_
 
 
 def _time(t: float) -> Time_:
+    from omtp_drake.ros2.dds_types import Time_
+
     ns = int(round(t * 1e9))
     return Time_(sec=ns // 1_000_000_000, nanosec=ns % 1_000_000_000)
 
 
 def _gripper_state(m: VacuumGripperState) -> VacuumGripperState_:
+    from omtp_drake.ros2.course_types import VacuumGripperState_
+
     return VacuumGripperState_(enabled=m.enabled, attached=m.attached)
 
 
@@ -54,6 +61,9 @@ def _pack_gripper_state(m: VacuumGripperState) -> bytes:
 
 
 def _proximity(m: Proximity) -> Proximity_:
+    from omtp_drake.ros2.course_types import Proximity_
+    from omtp_drake.ros2.dds_types import Header_
+
     return Proximity_(
         header=Header_(stamp=_time(m.stamp), frame_id=m.frame_id),
         object_detected=m.object_detected,
@@ -74,15 +84,21 @@ def _below(topic: str, name: str) -> str:
 
 @dataclass(frozen=True)
 class CourseType:
-    """How a plugin message goes out: its mirror, the conversion to a mirror's sample, its
-    Bool views' fields and where their topics go (beside or below the message's topic), and
-    ``pack``, its XCDR1 bytes at once (None: the sample's, as Cyclone serializes it)."""
+    """How a plugin message goes out: its mirror (by its name in
+    :mod:`~omtp_drake.ros2.course_types`), the conversion to a mirror's sample, its Bool views'
+    fields and where their topics go (beside or below the message's topic), and ``pack``, its
+    XCDR1 bytes at once (None: the sample's, as Cyclone serializes it)."""
 
-    mirror: type
+    mirror_name: str
     convert: Callable[[Any], Any]
     view_fields: tuple[str, ...]
     view_topic: Callable[[str, str], str]
     pack: Optional[Callable[[Any], bytes]] = None
+
+    @property
+    def mirror(self) -> type:
+        """The mirror (imported here: Cyclone DDS comes with it)."""
+        return getattr(importlib.import_module("omtp_drake.ros2.course_types"), self.mirror_name)
 
     def data(self, message: Any) -> bytes:
         """``message``'s XCDR1 bytes (with their encapsulation header)."""
@@ -94,9 +110,9 @@ class CourseType:
 #: The plugin layer's messages of the course's types -> how they go out.
 COURSE_TYPES: dict[type, CourseType] = {
     VacuumGripperState: CourseType(
-        VacuumGripperState_, _gripper_state, ("enabled", "attached"), _beside, _pack_gripper_state
+        "VacuumGripperState_", _gripper_state, ("enabled", "attached"), _beside, _pack_gripper_state
     ),
-    Proximity: CourseType(Proximity_, _proximity, ("object_detected",), _below),
+    Proximity: CourseType("Proximity_", _proximity, ("object_detected",), _below),
 }
 
 
@@ -107,6 +123,10 @@ class CourseTopic:
         from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
         from std_msgs.msg import Bool
 
+        from omtp_drake.ros2.course_types import ros_type
+        from omtp_drake.ros2.dds_types import write_cdr
+
+        self._write_cdr = write_cdr
         self._kind = COURSE_TYPES[publication.message]
         self._topic = publication.topic
         self._poll = publication.poll
@@ -140,7 +160,7 @@ class CourseTopic:
         for message in self._poll(t):
             if self._latched or dds_heard(self._writer, self._bag):
                 data = self._kind.data(message)
-                write_cdr(self._writer, data)
+                self._write_cdr(self._writer, data)
                 if self._bag is not None:
                     stamp = getattr(message, "stamp", None)
                     self._bag.write_cdr(self._topic, self._type_name, data, t, stamp)
@@ -150,16 +170,17 @@ class CourseTopic:
 
 
 class CourseTopics:
-    """The topics above for ``publications`` (those of a course type) on ``node`` and ``network``."""
+    """The topics above for ``publications`` (those of a course type) on ``node``, their writers on
+    the Cyclone DDS participant ``dds()`` gives (asked for only if there is one)."""
 
     def __init__(
         self,
         node: Any,
-        dds: CycloneParticipant,
+        dds: Callable[[], CycloneParticipant],
         publications: list[Publication],
         bag: Optional[Ros2Bag] = None,
     ):
-        self._topics = [CourseTopic(node, dds, p, bag) for p in publications if p.message in COURSE_TYPES]
+        self._topics = [CourseTopic(node, dds(), p, bag) for p in publications if p.message in COURSE_TYPES]
 
     def __call__(self, t: float) -> None:
         for topic in self._topics:

@@ -31,9 +31,8 @@ from omtp_drake.gazebo.spawner import spawner
 from omtp_drake.gazebo.world import GazeboWorld
 from omtp_drake.gazebo.world_services import WorldServices
 from omtp_drake.ros2 import cdr, messages
-from omtp_drake.ros2.dds_types import LinkStates_, ModelStates_
 from omtp_drake.ros2.gazebo_services import PhysicsServices, serve_gazebo_services
-from omtp_drake.ros2.packed_topics import PackedTopics
+from omtp_drake.ros2.packed_topics import LINK_STATES, MODEL_STATES, PackedTopics
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -65,8 +64,8 @@ class GazeboWorldTopics:
         self.world = GazeboWorld(cell)
         self._cell = cell
         self._states = [
-            (p.poll, topics.topic(p.topic, mirror, depth=1))
-            for p, mirror in zip(state_publications(self.world, "ros2"), (ModelStates_, LinkStates_))
+            (p.poll, topics.topic(p.topic, type_name, depth=1))
+            for p, type_name in zip(state_publications(self.world, "ros2"), (MODEL_STATES, LINK_STATES))
         ]
         #: Spawner calls that spawned nothing (each logged once).
         self.empty_calls: list[str] = []

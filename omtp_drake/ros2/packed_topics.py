@@ -18,14 +18,15 @@ from __future__ import annotations
 
 import importlib
 import logging
+from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Optional, Protocol
 
 from omtp_drake.ros2 import interface_build
 from omtp_drake.ros2.audience import heard
-from omtp_drake.ros2.dds_types import ROS_TYPES, CdrTopic, CycloneParticipant
 
 if TYPE_CHECKING:
     from omtp_drake.ros.bag.writer import Ros2Bag
+    from omtp_drake.ros2.dds_types import CycloneParticipant
 
 _log = logging.getLogger("gazebo")
 
@@ -35,6 +36,12 @@ BY_CYCLONE = (
     "beside rclpy (a reader with the types reads them; the graph lists no node publishing them): "
     "tf2_msgs and gazebo_msgs have no PyPI package and their type support could not be built here"
 )
+
+
+#: The packed topics' ROS 2 types (their mirrors' :data:`~omtp_drake.ros2.dds_types.ROS_TYPES`).
+TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+MODEL_STATES = "gazebo_msgs/msg/ModelStates"
+LINK_STATES = "gazebo_msgs/msg/LinkStates"
 
 
 class PackedTopic(Protocol):
@@ -81,15 +88,20 @@ class RclpyPackedTopic:
 class PackedTopics:
     """The route of a node's packed topics: rclpy on ``node`` if ``tf2_msgs`` and ``gazebo_msgs``
     can be built here (the one rule, :func:`~omtp_drake.ros2.interface_build.activated`), else
-    Cyclone DDS on ``dds`` with one warning; ``bag``: the run's (``--bag``)."""
+    Cyclone DDS on the participant ``dds()`` gives (asked for only on that route: rclpy's needs no
+    Cyclone at all) with one warning; ``bag``: the run's (``--bag``)."""
 
-    def __init__(self, node: Any, dds: CycloneParticipant, bag: Optional[Ros2Bag] = None):
+    def __init__(self, node: Any, dds: Callable[[], CycloneParticipant], bag: Optional[Ros2Bag] = None):
         self._node, self._dds, self._bag = node, dds, bag
         #: ``"rclpy"`` or ``"cyclone"``: who writes the topics.
         self.route = "rclpy" if interface_build.activated(BY_CYCLONE, _log.warning) else "cyclone"
 
-    def topic(self, topic: str, mirror: type, *, latched: bool = False, depth: int = 100) -> PackedTopic:
-        """The topic ``topic`` of ``mirror``'s ROS type (:data:`~omtp_drake.ros2.dds_types.ROS_TYPES`)."""
+    def topic(self, topic: str, type_name: str, *, latched: bool = False, depth: int = 100) -> PackedTopic:
+        """The topic ``topic`` of the ROS type ``type_name`` (``pkg/msg/Name``, one of a mirror's
+        :data:`~omtp_drake.ros2.dds_types.ROS_TYPES`)."""
         if self.route == "rclpy":
-            return RclpyPackedTopic(self._node, topic, ROS_TYPES[mirror], latched=latched, depth=depth)
-        return CdrTopic(self._dds, topic, mirror, self._bag, latched=latched, depth=depth)
+            return RclpyPackedTopic(self._node, topic, type_name, latched=latched, depth=depth)
+        from omtp_drake.ros2.dds_types import ROS_TYPES, CdrTopic
+
+        (mirror,) = [m for m, name in ROS_TYPES.items() if name == type_name]
+        return CdrTopic(self._dds(), topic, mirror, self._bag, latched=latched, depth=depth)

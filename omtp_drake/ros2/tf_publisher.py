@@ -18,8 +18,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from omtp_drake.ros2 import cdr
-from omtp_drake.ros2.dds_types import TFMessage_
-from omtp_drake.ros2.packed_topics import PackedTopics
+from omtp_drake.ros2.packed_topics import TF_MESSAGE, PackedTopics
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 
 if TYPE_CHECKING:
@@ -45,8 +44,8 @@ class TfTopics:
     def __init__(self, cell: Cell, topics: PackedTopics):
         self._cell = cell
         self._broadcast = TfBroadcast(cell.station.plant, cell.tf)
-        self._static = topics.topic("/tf_static", TFMessage_, latched=True, depth=1)
-        self._tf = topics.topic("/tf", TFMessage_)
+        self._static = topics.topic("/tf_static", TF_MESSAGE, latched=True, depth=1)
+        self._tf = topics.topic("/tf", TF_MESSAGE)
         self._static.write(tf_message(self._broadcast.static(cell.runtime.context)), cell.time)
 
     def __call__(self, t: float) -> None:

@@ -1,7 +1,9 @@
 """A plain rclpy node (nothing of omtp_drake imported) that reads the rviz2 markers of the
 logical cameras given until each has sent one message (or a generous wall-clock bound).
 
-    python camera_markers_node.py OUT.json CAMERA [CAMERA ...]
+    python camera_markers_node.py OUT.json CAMERA[:TOPIC] [CAMERA[:TOPIC] ...]
+
+(TOPIC: the camera plugin's topic where it is not the course's ``/omtp/CAMERA``.)
 
 Writes ``{camera: [the labels of its first message]}`` to OUT.json; the test judges it.
 """
@@ -29,8 +31,10 @@ def main(out, cameras):
 
         return on_markers
 
-    for camera in cameras:
-        node.create_subscription(MarkerArray, f"/omtp/{camera}/markers", reader(camera), 10)
+    topics = dict(arg.partition(":")[::2] for arg in cameras)
+    cameras = list(topics)
+    for camera, topic in topics.items():
+        node.create_subscription(MarkerArray, f"{topic or '/omtp/' + camera}/markers", reader(camera), 10)
     try:
         end = time.monotonic() + PATIENCE
         while set(seen) != set(cameras) and time.monotonic() < end:
