@@ -82,10 +82,15 @@ def _expansion_entry(path: Path, mappings: Mapping[str, str]) -> Path | None:
     (they include each other), the xacro version, the file and its arguments."""
     if path.resolve().parent != MODELS_DIR:
         return None
-    files = sorted(p for p in MODELS_DIR.iterdir() if p.is_file())
-    key = [xacro_version(), path.name, sorted(mappings.items())]
-    key += [(p.name, _content_hash(str(p), p.stat().st_mtime_ns, p.stat().st_size)) for p in files]
+    key = [xacro_version(), path.name, sorted(mappings.items()), _models_digest()]
     return cache_entry(f"xacro/{hashlib.sha1(repr(key).encode()).hexdigest()[:24]}.urdf")
+
+
+def _models_digest() -> list[tuple[str, str]]:
+    """Each ``models/`` file's name and content hash, in name order: one listing and one stat a
+    file (the listing's entries; each expansion asks, 16 times a cell's build)."""
+    files = sorted((entry for entry in os.scandir(MODELS_DIR) if entry.is_file()), key=lambda e: e.name)
+    return [(e.name, _content_hash(e.path, st.st_mtime_ns, st.st_size)) for e in files for st in (e.stat(),)]
 
 
 @functools.cache

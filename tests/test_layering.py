@@ -9,9 +9,12 @@ layers (it imports nothing when loaded) and is left out of the import graph.
 from __future__ import annotations
 
 import ast
+import functools
 import re
 import subprocess
 import sys
+from collections.abc import Mapping
+from collections.abc import Set as AbstractSet
 from pathlib import Path
 
 import pytest
@@ -75,9 +78,12 @@ def _unit(module: str) -> str:
     return module.split(".")[1]
 
 
-def _graph() -> dict[str, set[str]]:
+@functools.cache
+def _graph() -> dict[str, frozenset[str]]:
+    """Each module's omtp_drake imports: read once per test process (the sources do not change
+    while the tests run; four tests ask)."""
     modules = _modules()
-    return {name: _imports(path, modules) - {name} for name, path in modules.items()}
+    return {name: frozenset(_imports(path, modules) - {name}) for name, path in modules.items()}
 
 
 def test_every_unit_has_a_layer():
@@ -98,7 +104,7 @@ def test_layers_point_one_way():
     assert not wrong, "\n".join(sorted(wrong))
 
 
-def _circles(graph: dict[str, set[str]]) -> list[list[str]]:
+def _circles(graph: Mapping[str, AbstractSet[str]]) -> list[list[str]]:
     """Tarjan's strongly connected components; each of 2+ modules is a circle."""
     index: dict[str, int] = {}
     low: dict[str, int] = {}
@@ -248,7 +254,7 @@ _AROUND_THE_DOOR = {
 }
 
 
-def _core_door_breaches(graph: dict[str, set[str]]) -> list[str]:
+def _core_door_breaches(graph: Mapping[str, AbstractSet[str]]) -> list[str]:
     """Imports of a layer below ``ros`` by a ``ros`` module other than ``ros.comm._core``
     (``errors`` aside: every layer raises its errors; :data:`_AROUND_THE_DOOR` aside)."""
     door = "omtp_drake.ros.comm._core"
@@ -280,12 +286,11 @@ def test_the_door_check_finds_a_module_going_around_it():
 def test_every_import_of_omtp_drake_names_a_module_that_exists():
     """An import of a moved or removed module fails here, not only when its function runs
     (imports inside functions count too)."""
-    modules = _modules()
-    known = set(modules) | {"omtp_drake"}
+    known = set(_modules()) | {"omtp_drake"}
     stale = {
         f"{name} imports {target}"
-        for name, path in modules.items()
-        for target in _imports(path, modules)
+        for name, imported in _graph().items()
+        for target in imported
         if target not in known
     }
     assert not stale, sorted(stale)
