@@ -125,14 +125,15 @@ def test_options_are_checked_against_ros_runs_flags(tmp_path):
         "--call", "/spawn_object_at_robot2", "--call", "/gripper2/control true", "--settle", "1.5"]
 
 
-#: A student's own named pose (lecture 5's SRDF), used after the slides' set-up call.
+#: A student's own named pose (lecture 5's SRDF), set as the target after the slides' set-up
+#: call: an unknown name raises. (Moving there is tests/ros_conformance/test_srdf's: here the
+#: move cost each of the two runs that made it about 2 CPU s, TOPP-RA's import and the motion.)
 HIGH_POSE = """
 import moveit_commander, rospy
 rospy.init_node("high_student")
 group = moveit_commander.MoveGroupCommander("robot2")
 group.set_named_target("high")
-if not group.go(wait=True):
-    raise RuntimeError("the move to 'high' failed")
+print("high:", sorted(group.get_named_target_values("high").items()))
 """
 
 STUDENT_SRDF = """<?xml version="1.0" ?>
@@ -153,7 +154,7 @@ STUDENT_SRDF = """<?xml version="1.0" ?>
 def test_grade_yaml_passes_a_students_srdf_and_set_up_calls(graded_class):
     _, _, rows, runs = graded_class
     assert rows["lena.py"]["status"] == "ok", rows["lena.py"]["message"]
-    assert runs["lena"]["report"]["sim_time_s"] >= 0.5  # the settle ran before the script
+    assert runs["lena"]["report"]["sim_time_s"] >= 0.5 - 1e-9  # the settle ran before the script
     assert runs["lena"]["report"]["empty_spawn_calls"]  # object_1 is there: the call spawns nothing
     assert rows["tom.py"]["status"] == "exception"  # no "high" in the cell's own SRDF
     assert "high" in rows["tom.py"]["message"]
@@ -175,6 +176,7 @@ def test_ros_run_sandbox_passes_the_course_options_on(tmp_path, capsys):
     assert main(argv + ["--srdf", str(srdf), "--settle", "0.5"]) == 0
     out = capsys.readouterr().out
     assert "start 0.50" in out and "verdict: ok" in out
+    assert "('robot2_shoulder_pan_joint', 1.2)" in out  # the student's "high"
 
 
 @pytest.mark.parametrize("bad", [float("inf"), float("nan"), -1.0])
