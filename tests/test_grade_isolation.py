@@ -68,16 +68,12 @@ def client():
 #: The scripts whose verdict comes the same way in either sandbox, graded without bubblewrap
 #: only: from the run's report or its exit code (spinner, os_exit), the guard's limits in the
 #: run's own process (memory_hog; busy_loop's SIGXCPU, whose 128 + signal exit status of
-#: bubblewrap's is self_signal's there), the grader's pipes (output_flood), the guard's audit
-#: hook, which refuses before the kernel would (write_outside, network; the guard's refusal
-#: inside bubblewrap is test_ros_run_sandbox_runs_one_script_isolated's, the kernel's
-#: test_bubblewrap_refuses_what_gets_past_the_guard's). The rest meet the namespace's process
-#: limit and init (fork_sleepers, leaves_children, kills_parent: its parent is the init) or
+#: bubblewrap's is self_signal's there), the grader's pipes (output_flood). The rest meet the
+#: namespace's process limit and init (fork_sleepers, leaves_children, trespasser: its parent
+#: is the init; the guard's audit hook refuses its connection and write before the kernel
+#: would, the kernel's refusals are test_bubblewrap_refuses_what_gets_past_the_guard's) or
 #: bubblewrap's exit status (self_signal) there. Each run costs 1-1.5 CPU s, busy_loop 4.
-SANDBOX_ALIKE = (
-    "spinner.py", "memory_hog.py", "output_flood.py", "busy_loop.py", "os_exit.py", "write_outside.py",
-    "network.py",
-)  # fmt: skip
+SANDBOX_ALIKE = ("spinner.py", "memory_hog.py", "output_flood.py", "busy_loop.py", "os_exit.py")
 
 
 def hostile_class(folder: Path, tag: str, port: int, sandbox: str = "none") -> dict[str, str]:
@@ -110,24 +106,30 @@ def hostile_class(folder: Path, tag: str, port: int, sandbox: str = "none") -> d
             """,
             "ok",
         ),
-        "write_outside.py": (
+        # Each of the guard's refusals in turn, the last uncaught: a connection, a signal to its
+        # parent (in bubblewrap, the namespace's init), a write outside its folder.
+        "trespasser.py": (
             f"""
+            import os, signal, socket
             import rospy
-            rospy.init_node("writer")
+            rospy.init_node("trespasser")
+            try:
+                socket.create_connection(("127.0.0.1", {port}), timeout=2).sendall(b"hi")
+            except OSError as e:
+                print("network:", e)
+            try:
+                os.kill(os.getppid(), signal.SIGKILL)
+            except OSError as e:
+                print("kill:", e)
             with open("/var/tmp/escape_{tag}.txt", "w") as f:
                 f.write("I was here")
             """,
-            "exception",
-        ),
-        "network.py": (
-            f"import socket\nsocket.create_connection(('127.0.0.1', {port}), timeout=2).sendall(b'hi')\n",
             "exception",
         ),
         "os_exit.py": ("import os\nprint('leaving', flush=True)\nos._exit(0)\n", "exited early"),
         # 6 MB in 600 long lines: 200000 short ones cost 2-2.5 CPU s more (the script's and
         # the grader's), and a CPU limit that had to stay 2x above them.
         "output_flood.py": ("for i in range(600):\n    print('spam ' * 2000, i)\n", "output cut"),
-        "kills_parent.py": ("import os, signal\nos.kill(os.getppid(), signal.SIGKILL)\n", "exception"),
         "self_signal.py": ("import os, signal\nos.kill(os.getpid(), signal.SIGSEGV)\n", "killed by signal"),
     }
     if sandbox == "none":  # a script that looks at its folder's copy and writes in it
@@ -138,7 +140,7 @@ def hostile_class(folder: Path, tag: str, port: int, sandbox: str = "none") -> d
     # An honest script's row (ok, and its stdout) has its own test in each sandbox: the one
     # graded after the killer (test_a_script_that_kills_its_worker_is_its_own_row[none]), the
     # bypass's (test_bubblewrap_refuses_what_gets_past_the_guard); an
-    # exception's message with its line is write_outside's here (test_ros_grade's bob too).
+    # exception's message with its line is trespasser's here (test_ros_grade's bob too).
     if sandbox == "bwrap":
         scripts = {name: script for name, script in scripts.items() if name not in SANDBOX_ALIKE}
     for name, (text, _) in scripts.items():
@@ -189,13 +191,13 @@ def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(
     by_name = {g.script: g for g in grades}
     assert {name: g.status for name, g in by_name.items()} == expected
     # What the sandbox refused, in the script's row; the exception names the script's line.
+    trespasser = by_name["trespasser.py"]
+    assert f"write to /var/tmp/escape_{tag}.txt" in trespasser.refused
+    assert "network connect" in trespasser.refused and "signal to process" in trespasser.refused
+    assert trespasser.message.startswith("PermissionError: ")
+    assert trespasser.message.endswith(" (at trespasser.py:12 in <module>)"), trespasser.message
     if sandbox == "none":
-        assert f"write to /var/tmp/escape_{tag}.txt" in by_name["write_outside.py"].refused
-        assert by_name["write_outside.py"].message.startswith("PermissionError: ")
-        assert by_name["write_outside.py"].message.endswith(" (at write_outside.py:3 in <module>)")
-        assert "network connect" in by_name["network.py"].refused
         assert by_name["os_exit.py"].message.startswith("exited early with code 0")
-    assert "signal to process" in by_name["kills_parent.py"].refused
     # Children left behind are killed, and say so; the run did not wait for their pipes (they
     # sleep 301 s, past the wall timeout: its verdict would be "wall timeout").
     assert "2 process(es) left running, killed" in by_name["leaves_children.py"].message
@@ -219,7 +221,7 @@ def test_a_hostile_class_gets_one_verdict_per_script_and_leaves_nothing(
     rows = list(csv.DictReader(open(out / "grades.csv")))
     assert [r["status"] for r in rows] == [g.status for g in grades]
     assert (out / "grades.png").stat().st_size > 1000
-    run = json.loads((out / "runs" / "kills_parent.json").read_text())
+    run = json.loads((out / "runs" / "trespasser.json").read_text())
     assert run["isolation"]["sandbox"] == sandbox and run["isolation"]["limits"]["memory_mb"] == 1024
 
 
