@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import gc
+import importlib
 import logging
 import sys
 from collections.abc import Sequence
@@ -125,10 +126,40 @@ def add_commands(sub: argparse._SubParsersAction) -> None:
     _add_grade(sub, ros_run)
 
 
+#: The modules a command's run needs, imported during the start-up (collector off) when it
+#: runs a script here rather than isolated elsewhere.
+_RUN_MODULES = {"ros-run": "omtp_drake.ros.run.runner", "flexbe-run": "omtp_drake.ros.flexbe.run"}
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     from omtp_drake.grading.guard import install_from_env
 
     install_from_env()  # an isolated run's limits and guard (omtp_drake.grading.isolation), if it is one
+    # Start-up without the cyclic collector: importing drake, numpy and the simulator makes
+    # objects that live as long as the process, and the collections the imports set off find
+    # no garbage. A graded run's start took 1.30 instead of 1.41 CPU s (ten alternating
+    # pairs). It is on again (and the start-up's objects frozen) before the script runs.
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        args = _start_up(argv)
+    except OmtpError as e:
+        sys.stderr.write(f"omtp-drake: error: {e}\n")
+        return 2
+    finally:
+        if argv is None:  # the process's own command line: its modules and scenario live as long as it,
+            gc.freeze()  # and the collections of the run skip them
+        if collecting:
+            gc.enable()
+    try:
+        return args.func(args)
+    except OmtpError as e:
+        sys.stderr.write(f"omtp-drake: error: {e}\n")
+        return 2
+
+
+def _start_up(argv: Sequence[str] | None) -> argparse.Namespace:
+    """The command line parsed, the cell's options resolved and the run's modules imported."""
     from omtp_drake.ros.flexbe.cli import add_commands as add_flexbe_commands
 
     parser = CommandParser(prog="omtp-drake", description="ROS scripts on the OMTP cell.")
@@ -140,14 +171,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     import pydrake.common  # noqa: F401  (sets the drake logger's level first)
 
     logging.getLogger("drake").setLevel(logging.ERROR)
-    try:
-        resolve_cell_options(args, warn=lambda line: sys.stderr.write(f"omtp-drake: warning: {line}\n"))
-        if argv is None:  # the process's own command line: its modules and scenario live as long as it,
-            gc.freeze()  # and the collections of the run skip them
-        return args.func(args)
-    except OmtpError as e:
-        sys.stderr.write(f"omtp-drake: error: {e}\n")
-        return 2
+    resolve_cell_options(args, warn=lambda line: sys.stderr.write(f"omtp-drake: warning: {line}\n"))
+    if args.command in _RUN_MODULES and getattr(args, "sandbox", None) is None:
+        importlib.import_module(_RUN_MODULES[args.command])
+    return args
 
 
 if __name__ == "__main__":
