@@ -79,14 +79,13 @@ def test_cluster_runs_equal_serial_runs(local_client, tmp_path):
     assert [(r.seed, r.settings) for r in records] == [(s.seed, s.settings) for s in plan.runs]
     assert all(r.status == "finished" and r.attempts == 1 for r in records)
     assert len({r.worker for r in records}) == 2  # both worker processes took runs
-    # Each worker's first run against the same run in this process: one a worker covers its
-    # runner and the children it forks (all four cost four serial runs, about 1.5 CPU s each).
-    firsts = {r.worker: i for i, r in reversed(list(enumerate(records)))}
-    for i in sorted(firsts.values()):
-        record, expected = records[i], run_task(plan.runs[i].scenario())
-        assert [p.to_dict() for p in record.result.picks] == [p.to_dict() for p in expected.picks]
-        assert record.result.ledger == expected.ledger
-        assert (record.success, record.result.sim_time_s) == (expected.success, expected.sim_time_s)
+    # The first run submitted (a worker's first, in a child of its new runner) against the same
+    # run in this process: the workers are forks of one server, alike (each serial run costs
+    # about 1.3 CPU s; the other records are checked against each other below).
+    record, expected = records[0], run_task(plan.runs[0].scenario())
+    assert [p.to_dict() for p in record.result.picks] == [p.to_dict() for p in expected.picks]
+    assert record.result.ledger == expected.ledger
+    assert (record.success, record.result.sim_time_s) == (expected.success, expected.sim_time_s)
     # The seeds differ (spawn yaw), and so do the settings (tool speed).
     assert len({r.result.picks[0].end for r in records}) >= 3
     rows = (out / "runs.csv").read_text().splitlines()
