@@ -122,9 +122,11 @@ def test_faults_are_reported_in_the_run_json_and_printed(tmp_path, capsys):
         "  - {name: dark, kind: camera_blackout, camera: logical_camera_2, at: 2.0, duration: 1.0}\n"
     )
     out = tmp_path / "r.json"
-    code = main(["run", str(scenario), "--parts", "1", "--json", str(out)])
+    # Stopped just after the fault's end (the part's placing, ~3 s more, adds nothing here):
+    # the goal is not met yet, exit code 1.
+    code = main(["run", str(scenario), "--parts", "1", "--duration", "3.1", "--json", str(out)])
     printed = capsys.readouterr()
-    assert code == 0, printed.err
+    assert code == 1 and "FAILED: goal not met" in printed.out, printed.err
     assert "fault: dark (camera_blackout logical_camera_2) at 2.00-3.00 s" in printed.out
     [fault] = json.loads(out.read_text())["faults"]
     assert (fault["name"], fault["time"], fault["until"]) == ("dark", 2.0, 3.0)
