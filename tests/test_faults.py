@@ -9,7 +9,6 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from omtp_drake.batch import run_batch
 from omtp_drake.control.tool_paths import tool_down
 from omtp_drake.errors import ConfigError, UnknownNameError
 from omtp_drake.scenario import FaultConfig, load_scenario, scenario_from_dict
@@ -123,9 +122,11 @@ def test_faults_are_reported_in_the_run_json_and_printed(tmp_path, capsys):
         "  - {name: dark, kind: camera_blackout, camera: logical_camera_2, at: 2.0, duration: 1.0}\n"
     )
     out = tmp_path / "r.json"
-    code = main(["run", str(scenario), "--parts", "1", "--json", str(out)])
+    # Stopped just after the fault's end (the part's placing, ~3 s more, adds nothing here):
+    # the goal is not met yet, exit code 1.
+    code = main(["run", str(scenario), "--parts", "1", "--duration", "3.1", "--json", str(out)])
     printed = capsys.readouterr()
-    assert code == 0, printed.err
+    assert code == 1 and "FAILED: goal not met" in printed.out, printed.err
     assert "fault: dark (camera_blackout logical_camera_2) at 2.00-3.00 s" in printed.out
     [fault] = json.loads(out.read_text())["faults"]
     assert (fault["name"], fault["time"], fault["until"]) == ("dark", 2.0, 3.0)
@@ -198,29 +199,6 @@ def test_a_bad_fault_is_one_error_naming_it(fault, error, words):
     }
     with pytest.raises(error, match=re.escape(words)):
         scenario_from_dict(raw, source="trial.yaml")
-
-
-def test_a_batch_sweeps_a_faults_time_and_records_each_one(tmp_path):
-    scenario = tmp_path / "dark.yaml"
-    scenario.write_text(
-        "base: lecture6_assignment4\n"
-        "faults:\n"
-        "  - {name: dark, kind: camera_blackout, camera: logical_camera_2, at: 2.0, duration: 0.5}\n"
-    )
-    records = run_batch(
-        str(scenario),
-        [0],
-        parts=1,
-        duration=1.0,  # each swept time falls inside the run; a longer one adds nothing
-        settings={"faults.dark.at": [0.25, 0.75]},
-        workers=1,
-        out=tmp_path / "out",
-        progress=False,
-    )
-    struck = sorted((r.settings["faults.dark.at"], r.result.faults[0]["time"]) for r in records)
-    assert struck == [(0.25, 0.25), (0.75, 0.75)]
-    saved = json.loads(next((tmp_path / "out" / "runs").glob("*.json")).read_text())
-    assert saved["faults"][0]["name"] == "dark"
 
 
 def test_a_script_on_cell_meets_the_scenarios_faults(tmp_path):
