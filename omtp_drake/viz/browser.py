@@ -110,7 +110,8 @@ _SETTLE = """
 """
 
 # Sets the visibility checkbox of each path in Meshcat's scene tree (what a user
-# does in the controls) to VISIBLE; reports the paths that are not in the tree (and then sets none).
+# does in the controls) to VISIBLE (null: none, a check); reports the paths that are not in the
+# tree (and then sets none).
 _SET_VISIBLE = """
 ((paths, visible) => {
   const missing = [], found = [];
@@ -119,7 +120,9 @@ _SET_VISIBLE = """
     for (const name of path.split("/").filter(Boolean)) { node = node && node.children[name]; }
     if (node) { found.push(node); } else { missing.push(path); }
   }
-  if (missing.length === 0) { for (const node of found) { node.vis_controller.setValue(visible); } }
+  if (missing.length === 0 && visible !== null) {
+    for (const node of found) { node.vis_controller.setValue(visible); }
+  }
   const top = Object.keys(viewer.scene_tree.children).map(name => "/" + name);
   return {missing: missing, valid: top};
 })(%s, %s)
@@ -187,8 +190,9 @@ def screenshots(
 ) -> list[Path]:
     """Renders the standalone replay ``html`` once and writes each of ``shots`` (see
     :class:`Shot`; the rules of :func:`screenshot`), in their order; returns their paths.
-    Every shot is checked before the browser starts; a shot the replay refuses (a time past
-    its end, a path not in its scene) stops the run, and no PNG is written.
+    Every shot is checked before the browser starts, and against the replay before the first
+    is drawn: a shot the replay refuses (a time past its end, a path not in its scene) stops
+    the run, and no PNG is written.
     ``timeout_s`` bounds the whole run."""
     html = Path(html).resolve()
     if not shots:
@@ -254,6 +258,7 @@ def _capture(
         kept = _page_of(thread, chromium, html, deadline)
         for shot in shots:
             _check_time(html, kept.duration, shot.time)
+        _set_visible(kept.page, [path for shot in shots for path in shot.hide], None, deadline)  # a check
         images = [_render(kept.page, html, kept.duration, shot, deadline) for shot in shots]
         thread.kept["replay"], kept = _held(kept), None
         return images
@@ -363,8 +368,9 @@ def _check_time(html: Path, duration: float, time: Optional[float]) -> None:
         raise ConfigError(f"replay time {time} s is past the end of {html.name} (0..{duration:.2f} s)")
 
 
-def _set_visible(page: Page, paths: Sequence[str], visible: bool, deadline: float) -> None:
-    """Ticks (``visible``) or unticks the paths' checkboxes; a path not in the scene raises."""
+def _set_visible(page: Page, paths: Sequence[str], visible: Optional[bool], deadline: float) -> None:
+    """Ticks (``visible``) or unticks the paths' checkboxes (None: neither); a path not in the
+    scene raises, and then none is changed."""
     if not paths:
         return
     result = _evaluate(page, _SET_VISIBLE % (json.dumps(list(paths)), json.dumps(visible)), deadline)
