@@ -276,7 +276,8 @@ def _capture(
 
 def _page_of(thread: BrowserThread, chromium: Any, html: Path, deadline: float) -> _Kept:
     """The kept page of ``html`` if it is of this file as it is now, in this browser (its
-    frames let go); else a new page that has loaded it (the kept one closed)."""
+    frames let go); else the kept page (or a new one) that has loaded ``html`` now: a page
+    that opens another file keeps its renderer process (a new page's costs chromium ~1 CPU s)."""
     from playwright.sync_api import Error as PlaywrightError
 
     stat = html.stat()
@@ -284,10 +285,12 @@ def _page_of(thread: BrowserThread, chromium: Any, html: Path, deadline: float) 
     kept: Optional[_Kept] = thread.kept.pop("replay", None)
     if kept is not None:
         try:
-            if kept.key == key and kept.browser is chromium and not kept.page.is_closed():
-                kept.page.evaluate("window.__omtpRelease()")
-                return kept
-        except PlaywrightError:  # the page has crashed: load the replay again
+            if kept.browser is chromium and not kept.page.is_closed():
+                if kept.key == key:
+                    kept.page.evaluate("window.__omtpRelease()")
+                    return kept
+                return _reload(kept, key, html, deadline)
+        except PlaywrightError:  # the page has crashed: load the replay in a new one
             pass
         kept.close()
     # The page loads in a small window: the replay plays its animation as it loads, each frame
@@ -301,11 +304,23 @@ def _page_of(thread: BrowserThread, chromium: Any, html: Path, deadline: float) 
     fresh = _Kept(key, chromium, context, None, 0.0)
     try:
         fresh.page = context.new_page()
-        fresh.duration = _load(fresh.page, html, deadline)
+        fresh.page.add_init_script(_TRACK_FETCHES)
+        return _reload(fresh, key, html, deadline)
     except BaseException:
         fresh.close()
         raise
-    return fresh
+
+
+def _reload(kept: _Kept, key: tuple[str, int, int], html: Path, deadline: float) -> _Kept:
+    """``kept``'s page with ``html`` loaded in it (in the small window); closed if it fails."""
+    try:
+        kept.key, kept.duration = key, 0.0
+        kept.page.set_viewport_size({"width": _LOAD_SIZE, "height": _LOAD_SIZE})
+        kept.duration = _load(kept.page, html, deadline)
+    except BaseException:
+        kept.close()
+        raise
+    return kept
 
 
 def _held(kept: Optional[_Kept]) -> Optional[_Kept]:
@@ -351,8 +366,8 @@ def _evaluate(page: Page, expression: str, deadline: float) -> Any:
 
 
 def _load(page: Page, html: Path, deadline: float) -> float:
-    """Opens ``html`` and waits until its replay's commands are applied; returns its duration (s)."""
-    page.add_init_script(_TRACK_FETCHES)
+    """Opens ``html`` (in ``page``, whose init script is _TRACK_FETCHES) and waits until its
+    replay's commands are applied; returns its duration (s)."""
     page.goto(html.as_uri(), wait_until="load", timeout=_ms_left(deadline))
     state = _evaluate(page, _SETTLE, deadline)
     if not state or not state.get("ok"):
