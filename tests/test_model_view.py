@@ -63,6 +63,23 @@ def test_a_slider_per_movable_joint_within_its_limits():
     assert meshcat.HasPath("/drake/tip_camera/points") and meshcat.HasPath("/images/tip_camera/depth")
 
 
+def test_meshcat_is_sent_the_finite_points_with_their_colours():
+    """A depth image's pixels with no depth give points at infinity or NaN: not drawn, not sent."""
+    from pydrake.perception import BaseField, Fields, PointCloud
+
+    from omtp_drake.cell.depth_camera import FinitePoints
+
+    cloud = PointCloud(3, Fields(BaseField.kXYZs | BaseField.kRGBs))
+    cloud.mutable_xyzs()[:] = [[np.inf, 0.5, np.nan], [0.0, 0.1, 0.0], [0.0, 2.0, 0.0]]
+    cloud.mutable_rgbs()[:] = [[10, 20, 30], [11, 21, 31], [12, 22, 32]]
+    system = FinitePoints()
+    context = system.CreateDefaultContext()
+    system.get_input_port().FixValue(context, cloud)
+    finite = system.get_output_port().Eval(context)
+    np.testing.assert_allclose(finite.xyzs(), [[0.5], [0.1], [2.0]], rtol=1e-6)
+    assert finite.rgbs().ravel().tolist() == [20, 21, 22]
+
+
 def test_a_position_outside_the_limits_is_one_error(capsys):
     assert main(["view", str(ROBOT), "--screenshot", "x.png", "--position", "arm_joint=2.0"]) == 2
     assert "joint 'arm_joint': position 2.0 is outside its limits" in capsys.readouterr().err

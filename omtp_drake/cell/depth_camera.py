@@ -66,7 +66,7 @@ from pydrake.geometry import (
 from pydrake.math import RigidTransform, RollPitchYaw
 from pydrake.multibody.plant import MultibodyPlant
 from pydrake.multibody.tree import ModelInstanceIndex
-from pydrake.perception import BaseField, DepthImageToPointCloud
+from pydrake.perception import BaseField, DepthImageToPointCloud, PointCloud
 from pydrake.systems.framework import Context, DiagramBuilder, LeafSystem, OutputPort
 from pydrake.systems.primitives import ZeroOrderHold
 from pydrake.systems.sensors import CameraInfo, ImageDepth32F, ImageRgba8U, PixelType
@@ -331,17 +331,38 @@ def add_depth_camera(
     return handles
 
 
+class FinitePoints(LeafSystem):
+    """The finite points of a point cloud, with their fields: a depth image's pixels with no
+    depth (``inf`` beyond ``max_depth``, 0 nearer than ``min_depth``) give points at infinity or
+    NaN, which Meshcat draws nowhere yet is sent (the tutorial robot's camera: over half of its
+    307,200 points, 7.4 MB of its view's 12.7 MB replay, which chromium decodes).
+
+    Ports: ``cloud`` (PointCloud) -> ``finite`` (PointCloud)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self._cloud = self.DeclareAbstractInputPort("cloud", Value(PointCloud()))
+        self.DeclareAbstractOutputPort("finite", lambda: Value(PointCloud()), weak_method(self._calc))
+
+    def _calc(self, context: Context, output: Value) -> None:
+        big = float(np.finfo(np.float32).max)  # inf and NaN are outside; every float32 inside
+        output.set_value(self._cloud.Eval(context).Crop(np.full(3, -big), np.full(3, big)))
+
+
 def show_point_cloud(builder: DiagramBuilder, meshcat: Meshcat, camera: DepthCamera) -> None:
-    """Shows ``camera``'s point cloud in Meshcat at ``/drake/<sensor>/points``, at its rate."""
+    """Shows ``camera``'s point cloud (its finite points) in Meshcat at ``/drake/<sensor>/points``,
+    at its rate."""
     if camera.point_cloud is None:
         return
     from pydrake.geometry import MeshcatPointCloudVisualizer
 
+    finite = builder.AddNamedSystem(f"{camera.config.name}.finite_points", FinitePoints())
     visualizer = builder.AddNamedSystem(
         f"{camera.config.name}.cloud_view",
         MeshcatPointCloudVisualizer(meshcat, f"{camera.config.name}/points", 1.0 / camera.config.rate),
     )
-    builder.Connect(camera.point_cloud, visualizer.cloud_input_port())
+    builder.Connect(camera.point_cloud, finite.get_input_port())
+    builder.Connect(finite.get_output_port(), visualizer.cloud_input_port())
     builder.Connect(camera.pose, visualizer.pose_input_port())
 
 

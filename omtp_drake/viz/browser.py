@@ -7,8 +7,11 @@ to ``time`` (seconds of simulated time; default: its end), and saves what a
 user would see in a 1280 x 800 browser window. ``screenshots(replay.html, [Shot(...), ...])``
 takes several pictures of one replay (other times, sizes, hidden paths) in one page load: the
 browser's start and the replay's ~200 decoded commands are paid once, not once a picture.
-The browser itself is started once a process and kept (:mod:`omtp_drake.viz.browser_host`):
-each call opens a fresh page in it.
+The browser itself is started once a process and kept (:mod:`omtp_drake.viz.browser_host`),
+and so is the page of the last replay shown: another call for the same file, unchanged, takes
+its pictures without loading it again (Meshcat's page, its WebGL context and shaders cost
+chromium 3-4 CPU s a load, even for a replay of three shapes); a kept page draws nothing
+meanwhile.
 
 It drives the system's chromium (``find_browser``) through Playwright, which
 downloads nothing when given the browser's path, and it waits on the page's
@@ -62,7 +65,8 @@ def find_browser() -> Optional[str]:
 
 # Runs in the page before its own scripts: remembers every fetch() and every
 # Response.arrayBuffer() promise, so the page can tell when the replay's
-# embedded commands (fetched from data: URLs, then decoded) have all arrived.
+# embedded commands (fetched from data: URLs, then decoded) have all arrived; and
+# gates requestAnimationFrame, so that a kept page can be held (see _HOLD_FRAMES).
 _TRACK_FETCHES = """
 window.__omtpPending = [];
 const omtpFetch = window.fetch.bind(window);
@@ -71,7 +75,22 @@ const omtpArrayBuffer = Response.prototype.arrayBuffer;
 Response.prototype.arrayBuffer = function () {
   const p = omtpArrayBuffer.call(this); window.__omtpPending.push(p); return p;
 };
+window.__omtpHeld = null;
+const omtpFrame = window.requestAnimationFrame.bind(window);
+window.requestAnimationFrame = (callback) => {
+  if (window.__omtpHeld !== null) { window.__omtpHeld.push(callback); return 0; }
+  return omtpFrame(callback);
+};
+window.__omtpRelease = () => {
+  const held = window.__omtpHeld || [];
+  window.__omtpHeld = null;
+  for (const callback of held) { omtpFrame(callback); }
+};
 """
+
+# Holds the page's animation frames while it is kept between calls (a Meshcat page left open
+# redraws its stats panel every frame: 0.16 CPU s a second); __omtpRelease() lets them go.
+_HOLD_FRAMES = "window.__omtpHeld = window.__omtpHeld || []"
 
 # Resolves once no tracked promise is pending (the decode promises are created by
 # the fetches' continuations, hence the loop), then one more task so that the
@@ -91,14 +110,18 @@ _SETTLE = """
 """
 
 # Sets the visibility checkbox of each path in Meshcat's scene tree (what a user
-# does in the controls) to VISIBLE; reports the paths that are not in the tree.
+# does in the controls) to VISIBLE (null: none, a check); reports the paths that are not in the
+# tree (and then sets none).
 _SET_VISIBLE = """
 ((paths, visible) => {
-  const missing = [];
+  const missing = [], found = [];
   for (const path of paths) {
     let node = viewer.scene_tree;
     for (const name of path.split("/").filter(Boolean)) { node = node && node.children[name]; }
-    if (node) { node.vis_controller.setValue(visible); } else { missing.push(path); }
+    if (node) { found.push(node); } else { missing.push(path); }
+  }
+  if (missing.length === 0 && visible !== null) {
+    for (const node of found) { node.vis_controller.setValue(visible); }
   }
   const top = Object.keys(viewer.scene_tree.children).map(name => "/" + name);
   return {missing: missing, valid: top};
@@ -167,8 +190,9 @@ def screenshots(
 ) -> list[Path]:
     """Renders the standalone replay ``html`` once and writes each of ``shots`` (see
     :class:`Shot`; the rules of :func:`screenshot`), in their order; returns their paths.
-    Every shot is checked before the browser starts; a shot the replay refuses (a time past
-    its end, a path not in its scene) stops the run, and no PNG is written.
+    Every shot is checked before the browser starts, and against the replay before the first
+    is drawn: a shot the replay refuses (a time past its end, a path not in its scene) stops
+    the run, and no PNG is written.
     ``timeout_s`` bounds the whole run."""
     html = Path(html).resolve()
     if not shots:
@@ -192,11 +216,32 @@ def screenshots(
     return written
 
 
+@dataclass
+class _Kept:
+    """A loaded replay page, kept on the browser's thread for the next call on the same file."""
+
+    key: tuple[str, int, int]  # the replay's path, mtime (ns) and size when it was loaded
+    browser: Any
+    context: Any
+    page: Any
+    duration: float
+
+    def close(self) -> None:
+        from playwright.sync_api import Error as PlaywrightError
+
+        try:
+            self.context.close()
+        except PlaywrightError:  # its browser has gone: nothing left to close
+            pass
+
+
 def _capture(
     thread: BrowserThread, browser: str, html: Path, shots: list[Shot], timeout_s: float
 ) -> list[tuple[bytes, float]]:
-    """On the browser's ``thread``: loads ``html`` once in a fresh page of the running
-    ``browser`` (launched if need be) and returns each shot's (PNG bytes, replay time shown)."""
+    """On the browser's ``thread``: the loaded page of ``html`` (kept from the last call if
+    that was of this file unchanged, else loaded now in a fresh page of the running ``browser``,
+    launched if need be); returns each shot's (PNG bytes, replay time shown). The page is kept
+    after the shots, or after a shot refused before it changed the page; else closed."""
     from playwright.sync_api import Error as PlaywrightError
     from playwright.sync_api import TimeoutError as PlaywrightTimeout
 
@@ -208,6 +253,46 @@ def _capture(
         raise BrowserError(
             f"the browser exited before starting ({first}); is {browser!r} a chromium?"
         ) from None
+    kept = None
+    try:
+        kept = _page_of(thread, chromium, html, deadline)
+        for shot in shots:
+            _check_time(html, kept.duration, shot.time)
+        _set_visible(kept.page, [path for shot in shots for path in shot.hide], None, deadline)  # a check
+        images = [_render(kept.page, html, kept.duration, shot, deadline) for shot in shots]
+        thread.kept["replay"], kept = _held(kept), None
+        return images
+    except (ConfigError, UnknownNameError):
+        thread.kept["replay"], kept = _held(kept), None  # refused before changing the page
+        raise
+    except PlaywrightTimeout:
+        raise BrowserError(f"chromium did not finish {html.name} within {timeout_s} s") from None
+    except PlaywrightError as e:
+        raise BrowserError(f"chromium failed on {html.name}: {str(e).splitlines()[0]}") from None
+    finally:
+        if kept is not None:
+            kept.close()
+
+
+def _page_of(thread: BrowserThread, chromium: Any, html: Path, deadline: float) -> _Kept:
+    """The kept page of ``html`` if it is of this file as it is now, in this browser (its
+    frames let go); else the kept page (or a new one) that has loaded ``html`` now: a page
+    that opens another file keeps its renderer process (a new page's costs chromium ~1 CPU s)."""
+    from playwright.sync_api import Error as PlaywrightError
+
+    stat = html.stat()
+    key = (str(html), stat.st_mtime_ns, stat.st_size)
+    kept: Optional[_Kept] = thread.kept.pop("replay", None)
+    if kept is not None:
+        try:
+            if kept.browser is chromium and not kept.page.is_closed():
+                if kept.key == key:
+                    kept.page.evaluate("window.__omtpRelease()")
+                    return kept
+                return _reload(kept, key, html, deadline)
+        except PlaywrightError:  # the page has crashed: load the replay in a new one
+            pass
+        kept.close()
     # The page loads in a small window: the replay plays its animation as it loads, each frame
     # drawn in software (SwiftShader); each shot sets its own size before it is drawn.
     try:
@@ -216,18 +301,40 @@ def _capture(
         )
     except PlaywrightError as e:
         raise BrowserError(f"chromium failed to open a page: {str(e).splitlines()[0]}") from None
+    fresh = _Kept(key, chromium, context, None, 0.0)
     try:
-        page = context.new_page()
-        duration = _load(page, html, deadline)
-        for shot in shots:
-            _check_time(html, duration, shot.time)
-        return [_render(page, html, duration, shot, deadline) for shot in shots]
-    except PlaywrightTimeout:
-        raise BrowserError(f"chromium did not finish {html.name} within {timeout_s} s") from None
-    except PlaywrightError as e:
-        raise BrowserError(f"chromium failed on {html.name}: {str(e).splitlines()[0]}") from None
-    finally:
-        context.close()
+        fresh.page = context.new_page()
+        fresh.page.add_init_script(_TRACK_FETCHES)
+        return _reload(fresh, key, html, deadline)
+    except BaseException:
+        fresh.close()
+        raise
+
+
+def _reload(kept: _Kept, key: tuple[str, int, int], html: Path, deadline: float) -> _Kept:
+    """``kept``'s page with ``html`` loaded in it (in the small window); closed if it fails."""
+    try:
+        kept.key, kept.duration = key, 0.0
+        kept.page.set_viewport_size({"width": _LOAD_SIZE, "height": _LOAD_SIZE})
+        kept.duration = _load(kept.page, html, deadline)
+    except BaseException:
+        kept.close()
+        raise
+    return kept
+
+
+def _held(kept: Optional[_Kept]) -> Optional[_Kept]:
+    """``kept`` with its page's frames held (it draws nothing until the next call); None
+    (and the page closed) if the page does not answer."""
+    from playwright.sync_api import Error as PlaywrightError
+
+    if kept is not None:
+        try:
+            kept.page.evaluate(_HOLD_FRAMES)
+        except PlaywrightError:
+            kept.close()
+            return None
+    return kept
 
 
 def _check_request(html: Path, size: tuple[int, int], time: Optional[float]) -> None:
@@ -259,8 +366,8 @@ def _evaluate(page: Page, expression: str, deadline: float) -> Any:
 
 
 def _load(page: Page, html: Path, deadline: float) -> float:
-    """Opens ``html`` and waits until its replay's commands are applied; returns its duration (s)."""
-    page.add_init_script(_TRACK_FETCHES)
+    """Opens ``html`` (in ``page``, whose init script is _TRACK_FETCHES) and waits until its
+    replay's commands are applied; returns its duration (s)."""
     page.goto(html.as_uri(), wait_until="load", timeout=_ms_left(deadline))
     state = _evaluate(page, _SETTLE, deadline)
     if not state or not state.get("ok"):
@@ -276,8 +383,9 @@ def _check_time(html: Path, duration: float, time: Optional[float]) -> None:
         raise ConfigError(f"replay time {time} s is past the end of {html.name} (0..{duration:.2f} s)")
 
 
-def _set_visible(page: Page, paths: Sequence[str], visible: bool, deadline: float) -> None:
-    """Ticks (``visible``) or unticks the paths' checkboxes; a path not in the scene raises."""
+def _set_visible(page: Page, paths: Sequence[str], visible: Optional[bool], deadline: float) -> None:
+    """Ticks (``visible``) or unticks the paths' checkboxes (None: neither); a path not in the
+    scene raises, and then none is changed."""
     if not paths:
         return
     result = _evaluate(page, _SET_VISIBLE % (json.dumps(list(paths)), json.dumps(visible)), deadline)

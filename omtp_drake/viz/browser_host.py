@@ -35,6 +35,8 @@ class BrowserThread:
         self._jobs: SimpleQueue[Optional[Callable[[], None]]] = SimpleQueue()
         self._playwright: Any = None
         self._browsers: dict[str, Any] = {}
+        #: What jobs keep between calls, by name (a loaded page); only touched on this thread.
+        self.kept: dict[str, Any] = {}
         self._thread = threading.Thread(target=self._serve, name="omtp-drake-browser", daemon=True)
         self._thread.start()
 
