@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Optional
 
 from pydrake.systems.framework import Context
 
@@ -191,7 +191,7 @@ class GripperEvents:
                 due = any(t <= after for t in runs)
                 if due:
                     self._runs[robot] = [t for t in runs if t > after]
-            memory = memories[i] if memories else memory_of(gripper, context)
+            memory = memories[i] if memories is not None else memory_of(gripper, context)
             due = due or self._driver_check(robot, gripper, memory) <= after
             if not due:
                 continue
@@ -201,12 +201,12 @@ class GripperEvents:
 
     def _overdue_attaches(
         self, root_context: Context, after: float, found: list[tuple[str, SuctionGripper, Context, bool]]
-    ) -> list[GripperMemory]:
+    ) -> Optional[list[GripperMemory]]:
         """Makes now a decided attach whose step has passed without a stop (a check no
         stop announced: the command switched on inside an advance and the first check
         decided, ``consecutive_checks: 1``), instead of never; the idle sync then runs
         while it holds, as after an attach made at its step. Returns the grippers'
-        memories (as ``found``) when it made none, else [] (a sync changes them)."""
+        memories (as ``found``) when it made none, else None (a sync changes them)."""
         memories = []
         synced = False
         for _robot, gripper, context, weld in found:
@@ -216,7 +216,7 @@ class GripperEvents:
                 sync_weld(gripper, self._plant, root_context)
                 self._holding = self._any_holding(root_context)
                 synced = True
-        return [] if synced else memories
+        return None if synced else memories
 
     def _needs_sync(self, gripper: WeldSuctionGripper, context: Context, root_context: Context) -> bool:
         """After a rule run: an attach is pending, or the command's disable released a
