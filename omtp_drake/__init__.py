@@ -43,8 +43,9 @@ is held and checked by tests/test_layering.py):
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+from omtp_drake.lazy import lazy_names
 
 #: The public names, by the module that defines them.
 _LAZY = {
@@ -91,13 +92,4 @@ if TYPE_CHECKING:  # the names for type checkers (``X as X``: re-exported)
     from omtp_drake.viz.tree import view_frames as view_frames
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _LAZY:
-        raise AttributeError(f"module 'omtp_drake' has no attribute {name!r}")
-    value = getattr(importlib.import_module(_LAZY[name]), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *__all__])
+__getattr__, __dir__ = lazy_names(__name__, _LAZY)

@@ -5,11 +5,14 @@ of its modules (``omtp_drake.scenario.robot_world``) import all of them, and wit
 Drake: a command line that only declares its options paid for the whole cell. Such a
 package says where each name lives instead::
 
-    __getattr__, __dir__ = lazy_names(__name__, {"Scenario": "schema", ...})
+    __getattr__, __dir__ = lazy_names(__name__, {"Scenario": ".schema", ...})
 
 ``from omtp_drake.scenario import Scenario`` then imports ``omtp_drake.scenario.schema``
-then, and the name is kept on the package (the next lookup is a plain attribute). Type
-checkers read the package's ``if TYPE_CHECKING:`` imports of the same names.
+then (a module named as ``importlib.import_module`` takes it: relative to the package, or
+absolute, as the top-level facade ``omtp_drake`` names its modules), and the name is kept
+on the package (the next lookup is a plain attribute). Type checkers read the package's
+``if TYPE_CHECKING:`` imports of the same names (tests/test_layering.py holds the two
+lists equal).
 """
 
 from __future__ import annotations
@@ -24,13 +27,14 @@ def lazy_names(
     package: str, modules: Mapping[str, str]
 ) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
     """The module ``__getattr__`` and ``__dir__`` of ``package`` whose public names are
-    ``modules``' keys, each defined in the submodule its value names."""
+    ``modules``' keys, each defined in the module its value names (``.sub``: relative to
+    ``package``)."""
 
     def __getattr__(name: str) -> Any:
         module = modules.get(name)
         if module is None:
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
-        value = getattr(importlib.import_module(f"{package}.{module}"), name)
+        value = getattr(importlib.import_module(module, package), name)
         setattr(sys.modules[package], name, value)
         return value
 

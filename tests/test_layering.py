@@ -294,3 +294,31 @@ def test_every_import_of_omtp_drake_names_a_module_that_exists():
         if target not in known
     }
     assert not stale, sorted(stale)
+
+
+@pytest.mark.parametrize("init", ["__init__.py", "scenario/__init__.py", "batch/__init__.py"])
+def test_a_lazy_packages_names_for_type_checkers_are_its_lazy_names(init):
+    """A lazy package (omtp_drake.lazy) names each public name twice: in its map of where the
+    name lives (read at run time) and in its ``if TYPE_CHECKING:`` imports (read by mypy). The
+    two agree, name for name and module for module."""
+    path = PACKAGE / init
+    package = ".".join(["omtp_drake", *path.relative_to(PACKAGE).parent.parts])
+    tree = ast.parse(path.read_text())
+    (mapping,) = [
+        node.value
+        for node in tree.body
+        if isinstance(node, ast.Assign)
+        and isinstance(node.targets[0], ast.Name)
+        and node.targets[0].id in ("_LAZY", "_MODULES")
+    ]
+    lazy = {
+        name: module if not module.startswith(".") else package + module
+        for name, module in ast.literal_eval(mapping).items()
+    }
+    (checking,) = [
+        node
+        for node in tree.body
+        if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING"
+    ]
+    typed = {alias.name: node.module for node in checking.body for alias in node.names}  # type: ignore[attr-defined]
+    assert typed == lazy

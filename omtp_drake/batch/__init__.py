@@ -37,18 +37,18 @@ if TYPE_CHECKING:  # the names for type checkers (``X as X``: re-exported)
 #: The public names, by the module that defines them: each is imported on first use
 #: (:mod:`omtp_drake.lazy`), so that importing one module of this package imports only it.
 _MODULES = {
-    "connect": "cluster",
-    "default_workers": "cluster",
-    "format_summary": "summary",
-    "parse_seeds": "sweep",
-    "parse_sets": "sweep",
-    "plan_batch": "sweep",
-    "run_batch": "cluster",
-    "RunRecord": "run_records",
-    "Sandbox": "sandbox",
-    "simulate": "sandbox",
-    "summarize": "summary",
-    "wilson_interval": "summary",
+    "connect": ".cluster",
+    "default_workers": ".cluster",
+    "format_summary": ".summary",
+    "parse_seeds": ".sweep",
+    "parse_sets": ".sweep",
+    "plan_batch": ".sweep",
+    "run_batch": ".cluster",
+    "RunRecord": ".run_records",
+    "Sandbox": ".sandbox",
+    "simulate": ".sandbox",
+    "summarize": ".summary",
+    "wilson_interval": ".summary",
 }
 __getattr__, __dir__ = lazy_names(__name__, _MODULES)
 
