@@ -30,9 +30,10 @@ from omtp_drake.gazebo.model_states import state_publications
 from omtp_drake.gazebo.spawner import spawner
 from omtp_drake.gazebo.world import GazeboWorld
 from omtp_drake.gazebo.world_services import WorldServices
+from omtp_drake.ros.bag.definitions import LINK_STATES_TYPE, MODEL_STATES_TYPE
 from omtp_drake.ros2 import cdr, messages
 from omtp_drake.ros2.gazebo_services import PhysicsServices, serve_gazebo_services
-from omtp_drake.ros2.packed_topics import LINK_STATES, MODEL_STATES, PackedTopics
+from omtp_drake.ros2.packed_topics import PackedTopics
 
 if TYPE_CHECKING:
     from omtp_drake.script import Cell
@@ -65,7 +66,9 @@ class GazeboWorldTopics:
         self._cell = cell
         self._states = [
             (p.poll, topics.topic(p.topic, type_name, depth=1))
-            for p, type_name in zip(state_publications(self.world, "ros2"), (MODEL_STATES, LINK_STATES))
+            for p, type_name in zip(
+                state_publications(self.world, "ros2"), (MODEL_STATES_TYPE, LINK_STATES_TYPE)
+            )
         ]
         #: Spawner calls that spawned nothing (each logged once).
         self.empty_calls: list[str] = []

@@ -38,12 +38,6 @@ BY_CYCLONE = (
 )
 
 
-#: The packed topics' ROS 2 types (their mirrors' :data:`~omtp_drake.ros2.dds_types.ROS_TYPES`).
-TF_MESSAGE = "tf2_msgs/msg/TFMessage"
-MODEL_STATES = "gazebo_msgs/msg/ModelStates"
-LINK_STATES = "gazebo_msgs/msg/LinkStates"
-
-
 class PackedTopic(Protocol):
     """One topic written as packed CDR bytes, by either route."""
 

@@ -17,8 +17,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from omtp_drake.ros.bag.definitions import TF_MESSAGE
 from omtp_drake.ros2 import cdr
-from omtp_drake.ros2.packed_topics import TF_MESSAGE, PackedTopics
+from omtp_drake.ros2.packed_topics import PackedTopics
 from omtp_drake.sim.tf_broadcast import TfBroadcast, TfEdge
 
 if TYPE_CHECKING:

@@ -25,13 +25,18 @@ PRIMITIVES = frozenset(
     "bool byte char float32 float64 int8 uint8 int16 uint16 int32 uint32 int64 uint64 string wstring".split()
 )
 
+#: The ROS 2 types of /tf and Gazebo's model and link states (a bag's, and the ROS 2 node's).
+TF_MESSAGE = "tf2_msgs/msg/TFMessage"
+MODEL_STATES_TYPE = "gazebo_msgs/msg/ModelStates"
+LINK_STATES_TYPE = "gazebo_msgs/msg/LinkStates"
+
 #: The ROS 2 types the cell publishes that no PyPI wheel ships (their .msg text, field for field
 #: ROS 2's: tf2_msgs, gazebo_msgs; see omtp_drake.ros2.dds_types for their DDS mirrors).
 _STATES = "string[] name\ngeometry_msgs/Pose[] pose\ngeometry_msgs/Twist[] twist\n"
 NO_PACKAGE: dict[str, str] = {
-    "tf2_msgs/msg/TFMessage": "geometry_msgs/TransformStamped[] transforms\n",
-    "gazebo_msgs/msg/ModelStates": _STATES,
-    "gazebo_msgs/msg/LinkStates": _STATES,
+    TF_MESSAGE: "geometry_msgs/TransformStamped[] transforms\n",
+    MODEL_STATES_TYPE: _STATES,
+    LINK_STATES_TYPE: _STATES,
     "builtin_interfaces/msg/Time": "int32 sec\nuint32 nanosec\n",
     "builtin_interfaces/msg/Duration": "int32 sec\nuint32 nanosec\n",
 }

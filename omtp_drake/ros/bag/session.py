@@ -22,7 +22,7 @@ import logging
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Optional
 
-from omtp_drake.ros.bag.definitions import concatenated, installed_text
+from omtp_drake.ros.bag.definitions import TF_MESSAGE, concatenated, installed_text
 from omtp_drake.ros.bag.ros1 import ros2_text, ros2_type, ros2_value, stamp_of
 from omtp_drake.ros.bag.writer import Ros2Bag
 from omtp_drake.ros.comm._core import JOINT_STATE_RATE_HZ, TfBroadcast, TfEdge
@@ -37,7 +37,6 @@ _log = logging.getLogger(__name__)
 CLOCK_RATE_HZ = 100.0
 #: Topics a bag leaves out (see the module doc).
 EXCLUDED = frozenset({MODEL_STATES, LINK_STATES})
-TF_MESSAGE = "tf2_msgs/msg/TFMessage"
 CLOCK = "rosgraph_msgs/msg/Clock"
 
 
