@@ -225,11 +225,15 @@ def convex_hull_file(obj: Path) -> Path:
     if dst.exists():
         return dst
     import numpy as np
+    import trimesh
     from pydrake.geometry import Mesh
 
     hull = Mesh(str(obj)).GetConvexHull()
     p_MV = np.array([hull.vertex(i) for i in range(hull.num_vertices())], dtype=float)
-    write_atomic(dst, _obj_of_hull(p_MV[_fewer_vertices(p_MV, HULL_TOLERANCE)]).encode())
+    kept = trimesh.convex.convex_hull(
+        p_MV[_fewer_vertices(p_MV, HULL_TOLERANCE)]
+    )  # as convex_pieces writes one
+    write_atomic(dst, kept.export(file_type="obj", digits=17).encode())
     return dst
 
 
@@ -257,20 +261,6 @@ def _spans_a_volume(points) -> bool:
     import numpy as np
 
     return bool(np.linalg.matrix_rank(points[1:] - points[0], tol=1e-9) == 3)
-
-
-def _obj_of_hull(p_MV) -> str:
-    """The convex hull of the points ``p_MV`` as ``.obj`` text, each face wound outwards."""
-    import numpy as np
-    from scipy.spatial import ConvexHull
-
-    hull = ConvexHull(p_MV)
-    lines = [f"v {float(x)!r} {float(y)!r} {float(z)!r}" for x, y, z in p_MV]
-    for (a, b, c), plane in zip(hull.simplices, hull.equations):
-        if np.cross(p_MV[b] - p_MV[a], p_MV[c] - p_MV[a]) @ plane[:3] < 0:
-            b, c = c, b
-        lines.append(f"f {a + 1} {b + 1} {c + 1}")
-    return "\n".join(lines) + "\n"
 
 
 def _child(element: ET.Element, tag: str) -> ET.Element:
