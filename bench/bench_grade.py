@@ -8,9 +8,11 @@
    output capture, process watch) and with ``--sandbox bwrap``. The cost per script is the
    difference of the medians to the bare run (target: <= 0.3 s for bwrap); and
    bubblewrap's own start (``bwrap ... true`` against ``true``).
-2. ``grade`` on a class of ``--class-size`` copies of that script on ``--workers`` workers,
-   with bubblewrap (when it works) and with ``--sandbox none``: runs per minute, cluster
-   start included, and whether the rows are the same but for the sandbox line.
+2. ``grade`` on a class of ``--class-size`` scripts on ``--workers`` workers, every other one
+   that script and every other one a MoveIt script (``grade_move_home.py``: robot 1 to a
+   named state), ``--moveit melodic`` as the course's class, with bubblewrap (when it works)
+   and with ``--sandbox none``: runs per minute, cluster start included, the rows holding
+   refusals, and whether the rows are the same but for the sandbox line.
 """
 
 from __future__ import annotations
@@ -28,6 +30,8 @@ from omtp_drake.grading.grade import Grade, GradeSettings, grade_folder, grade_o
 from omtp_drake.grading.isolation import Limits, bwrap_works, sandbox_prefix
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "ros" / "lecture6_assignment3.py"
+#: The class's MoveIt half: a student's moveit_commander script (robot 1 to a named state).
+MOVE_HOME = Path(__file__).resolve().parent / "grade_move_home.py"
 SCENARIO = "lecture6_assignment3"
 
 
@@ -97,7 +101,7 @@ def bench_class(size: int, workers: int) -> None:
         folder = Path(tmp) / "class"
         folder.mkdir()
         for i in range(size):
-            shutil.copy(EXAMPLE, folder / f"student_{i:02d}.py")
+            shutil.copy(MOVE_HOME if i % 2 else EXAMPLE, folder / f"student_{i:02d}.py")
         for sandbox in sandboxes:
             start = time.perf_counter()
             grades = grade_folder(

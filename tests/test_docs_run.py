@@ -1,6 +1,7 @@
-"""Documentation that runs (issue 45 item 2): every ``omtp-drake`` command in README.md and
-docs/*.md (fenced and indented blocks, and every backticked command in the text and tables:
-the "here" and "run it" columns, and ros_conformance's "command" column) is collected and run.
+"""Documentation that runs (issue 45 item 2): every ``omtp-drake`` command in README.md,
+docs/*.md and the READMEs of bench/ and examples/ (fenced and indented blocks, and every
+backticked command in the text and tables: the "here" and "run it" columns, and
+ros_conformance's "command" column) is collected and run.
 
 Each command's placeholders become real things (:data:`PLACES`): ``$WS`` and ``~/catkin_ws/src``
 the course-layout workspace ``tests/fixtures/catkin_ws/src``, ``$T`` the tutorial's robot in
@@ -31,7 +32,14 @@ from omtp_drake.cli import _values_that_look_like_options, build_parser, main
 from omtp_drake.launch.options import resolve_cell_options
 
 ROOT = Path(__file__).resolve().parents[1]
-DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+#: What people read: the README, docs/, then the READMEs of bench/ and the examples (their
+#: commands too are copied into terminals). README first: a command's first form is the one run.
+DOCS = [
+    ROOT / "README.md",
+    *sorted((ROOT / "docs").glob("*.md")),
+    *sorted((ROOT / "bench").rglob("*.md")),
+    *sorted((ROOT / "examples").rglob("*.md")),
+]
 FIXTURES = ROOT / "tests" / "fixtures"
 CATKIN = FIXTURES / "catkin_ws" / "src"
 TUTORIAL_ROBOT = (
@@ -223,6 +231,14 @@ def test_the_docs_hold_the_commands():
     for test in REAL_RUN_ELSEWHERE.values():
         file, _, function = test.partition("::")
         assert (ROOT / file).is_file() and f"def {function}(" in (ROOT / file).read_text(), test
+
+
+def test_every_markdown_file_outside_the_tests_is_read():
+    """A new page of documentation is collected too: every Markdown file of the project's
+    folders but tests/ (whose READMEs describe fixtures)."""
+    tops = ["omtp_drake", "models", "diagrams", "examples", "notebooks", "bench", "docs"]
+    pages = {p for top in tops for p in (ROOT / top).rglob("*.md")}
+    assert pages | {ROOT / "README.md"} == set(DOCS), sorted(pages ^ set(DOCS))
 
 
 @pytest.mark.parametrize("doc", COMMANDS, ids=lambda d: f"{d.where} {d.command}")
