@@ -9,8 +9,8 @@
    difference of the medians to the bare run (target: <= 0.3 s for bwrap); and
    bubblewrap's own start (``bwrap ... true`` against ``true``).
 2. ``grade`` on a class of ``--class-size`` scripts on ``--workers`` workers, every other one
-   that script and every other one a MoveIt script (``grade_move_home.py``: robot 1 to a
-   named state), ``--moveit melodic`` as the course's class, with bubblewrap (when it works)
+   that script and every other one a MoveIt script (tests/fixtures/grade_class/move_home.py:
+   robot 1 to a named state), ``--moveit melodic`` as the course's class, with bubblewrap (when it works)
    and with ``--sandbox none``: runs per minute, cluster start included, the rows holding
    refusals, and whether the rows are the same but for the sandbox line.
 """
@@ -31,7 +31,7 @@ from omtp_drake.grading.isolation import Limits, bwrap_works, sandbox_prefix
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "ros" / "lecture6_assignment3.py"
 #: The class's MoveIt half: a student's moveit_commander script (robot 1 to a named state).
-MOVE_HOME = Path(__file__).resolve().parent / "grade_move_home.py"
+MOVE_HOME = Path(__file__).resolve().parent.parent / "tests" / "fixtures" / "grade_class" / "move_home.py"
 SCENARIO = "lecture6_assignment3"
 
 

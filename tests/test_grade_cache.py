@@ -33,21 +33,7 @@ CLASS = {
         print("cup at %.3f %.3f %.3f" % (t.transform.translation.x, t.transform.translation.y,
                                          t.transform.translation.z))
         """,
-    "move_home.py": """
-        #!/usr/bin/env python
-        import sys
-        import rospy
-        import moveit_commander
-
-        moveit_commander.roscpp_initialize(sys.argv)
-        rospy.init_node("move_home", anonymous=True)
-        group = moveit_commander.MoveGroupCommander("robot1")
-        group.set_named_target("R1Home")
-        group.go(wait=True)
-        group.stop()
-        print("joints", group.get_current_joint_values())
-        moveit_commander.roscpp_shutdown()
-        """,
+    "move_home.py": (Path(__file__).parent / "fixtures" / "grade_class" / "move_home.py").read_text(),
     "notes_in_cache.py": """
         #!/usr/bin/env python
         import glob
