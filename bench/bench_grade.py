@@ -29,9 +29,10 @@ from pathlib import Path
 from omtp_drake.grading.grade import Grade, GradeSettings, grade_folder, grade_one
 from omtp_drake.grading.isolation import Limits, bwrap_works, sandbox_prefix
 
-EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "ros" / "lecture6_assignment3.py"
+ROOT = Path(__file__).resolve().parent.parent
+EXAMPLE = ROOT / "examples" / "ros" / "lecture6_assignment3.py"
 #: The class's MoveIt half: a student's moveit_commander script (robot 1 to a named state).
-MOVE_HOME = Path(__file__).resolve().parent.parent / "tests" / "fixtures" / "grade_class" / "move_home.py"
+MOVE_HOME = ROOT / "tests" / "fixtures" / "grade_class" / "move_home.py"
 SCENARIO = "lecture6_assignment3"
 
 
